@@ -1,0 +1,89 @@
+# xdyna build. `make` builds bin/xdyna; `make check` installs what is missing
+# and runs the tests; see README.md for the other targets.
+
+PRECISION ?= double
+FC := mpif90
+PY := /usr/bin/python3
+
+# HDF5's Fortran API (Debian's serial build): include and library paths
+H5SHOW := $(shell h5fc -shlib -show 2>/dev/null)
+H5INC := $(filter -I%,$(H5SHOW))
+H5LIB := $(filter -L%,$(H5SHOW)) -lhdf5_fortran -lhdf5
+LIBS := $(H5LIB) -llapack -lblas
+
+ifeq ($(PRECISION),single)
+  PFLAGS := -DXD_SINGLE
+  SUFFIX := _single
+else
+  PFLAGS :=
+  SUFFIX :=
+endif
+
+COMMON := -cpp -fopenmp -ffree-line-length-132 -std=f2018 -fall-intrinsics -Wall -Wno-maybe-uninitialized \
+          -Wno-unused-dummy-argument -Wno-surprising $(PFLAGS) $(H5INC)
+RELEASE_FLAGS := -O3 -march=native -funroll-loops $(COMMON)
+DEBUG_FLAGS := -O0 -g -fcheck=all,no-array-temps -ffpe-trap=invalid,zero,overflow -finit-real=snan -finit-integer=-77777 \
+               -fbacktrace $(COMMON)
+
+SRC := $(shell find src -name '*.f90' -o -name '*.F90' | grep -v '^src/main/' | sort)
+MAIN := src/main/xdyna.f90
+TEST_SRC := $(sort $(wildcard tests/unit/test_*.f90))
+
+flat = $(subst /,_,$(patsubst src/%,%,$(patsubst tests/%,tests_%,$(basename $(1))))).o
+
+.PHONY: all deps check demo bench debug clean verify tests
+all: bin/xdyna$(SUFFIX) bin/thdiff
+
+deps:
+	@sh tools/deps.sh
+
+# compile rules and module dependencies, generated from the sources
+ALL_SRC := $(SRC) $(MAIN) $(TEST_SRC) tests/unit/testing.f90
+build/rules$(SUFFIX).mk: $(ALL_SRC) tools/mkrules.sh
+	@mkdir -p build
+	@sh tools/mkrules.sh "build/release$(SUFFIX):RELEASE_FLAGS build/debug$(SUFFIX):DEBUG_FLAGS" $(ALL_SRC) > $@
+
+-include build/rules$(SUFFIX).mk
+
+R_OBJ := $(addprefix build/release$(SUFFIX)/,$(foreach f,$(SRC),$(call flat,$(f))))
+D_OBJ := $(addprefix build/debug$(SUFFIX)/,$(foreach f,$(SRC),$(call flat,$(f))))
+
+bin/xdyna$(SUFFIX): $(R_OBJ) build/release$(SUFFIX)/$(call flat,$(MAIN))
+	@mkdir -p bin
+	$(FC) -fopenmp -o $@ $^ $(LIBS)
+
+bin/xdyna_debug$(SUFFIX): $(D_OBJ) build/debug$(SUFFIX)/$(call flat,$(MAIN))
+	@mkdir -p bin
+	$(FC) -fopenmp -g -o $@ $^ $(LIBS)
+
+bin/thdiff: src/tools/thdiff.py
+	@mkdir -p bin
+	cp $< $@
+	chmod +x $@
+
+TEST_BIN := $(patsubst tests/unit/%.f90,build/tests$(SUFFIX)/%,$(TEST_SRC))
+build/tests$(SUFFIX)/%: build/debug$(SUFFIX)/tests_unit_%.o build/debug$(SUFFIX)/tests_unit_testing.o $(D_OBJ)
+	@mkdir -p $(@D)
+	$(FC) -fopenmp -g -o $@ $^ $(LIBS)
+
+tests: $(TEST_BIN)
+
+debug: deps
+	@$(MAKE) --no-print-directory bin/xdyna_debug$(SUFFIX)
+
+check: deps
+	@$(MAKE) --no-print-directory all tests
+	@$(PY) tests/run_tests.py
+
+demo: deps
+	@$(MAKE) --no-print-directory all
+	@mkdir -p out/demo
+	./bin/xdyna i=input_decks/demo_cantilever.k outdir=out/demo
+	@echo "demo output (log d3hsp, glstat, matsum, nodout, thist.h5) is in out/demo/"
+
+bench: deps
+	@$(MAKE) --no-print-directory all
+	@sh bench/run_bench.sh
+
+clean:
+	rm -rf build bin out

@@ -1,0 +1,154 @@
+!> Allocation wrappers: every large allocate goes through here so that a
+!> failure names the array and its size instead of crashing.
+module xd_core_memory
+    use xd_kinds, only: wp, dp, i8
+    use xd_core_parallel_env, only: terminate
+    use xd_core_errors, only: exit_run
+    use, intrinsic :: iso_fortran_env, only: error_unit
+    implicit none
+    private
+    public :: alloc, alloc_dp, grow
+
+    interface alloc
+        module procedure alloc_r1, alloc_r2, alloc_r3, alloc_i1, alloc_i2
+    end interface alloc
+
+    interface grow
+        module procedure grow_r2, grow_i1, grow_i2
+    end interface grow
+
+contains
+
+    subroutine failed(name, nbytes, msg)
+        character(len=*), intent(in) :: name, msg
+        integer(i8), intent(in) :: nbytes
+        write (error_unit, '(a,a,a,i0,a,a)') 'xdyna: cannot allocate ', name, ' (', nbytes, &
+            ' bytes): ', trim(msg)
+        call terminate(exit_run)
+    end subroutine failed
+
+    subroutine alloc_r1(a, n, name)
+        real(wp), allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: n
+        character(len=*), intent(in) :: name
+        integer :: st
+        character(len=256) :: msg
+        if (allocated(a)) deallocate (a)
+        allocate (a(n), stat=st, errmsg=msg)
+        if (st /= 0) call failed(name, int(n, i8)*storage_size(1.0_wp)/8, msg)
+        a = 0.0_wp
+    end subroutine alloc_r1
+
+    subroutine alloc_r2(a, n1, n2, name)
+        real(wp), allocatable, intent(inout) :: a(:, :)
+        integer, intent(in) :: n1, n2
+        character(len=*), intent(in) :: name
+        integer :: st
+        character(len=256) :: msg
+        if (allocated(a)) deallocate (a)
+        allocate (a(n1, n2), stat=st, errmsg=msg)
+        if (st /= 0) call failed(name, int(n1, i8)*n2*storage_size(1.0_wp)/8, msg)
+        a = 0.0_wp
+    end subroutine alloc_r2
+
+    subroutine alloc_r3(a, n1, n2, n3, name)
+        real(wp), allocatable, intent(inout) :: a(:, :, :)
+        integer, intent(in) :: n1, n2, n3
+        character(len=*), intent(in) :: name
+        integer :: st
+        character(len=256) :: msg
+        if (allocated(a)) deallocate (a)
+        allocate (a(n1, n2, n3), stat=st, errmsg=msg)
+        if (st /= 0) call failed(name, int(n1, i8)*n2*n3*storage_size(1.0_wp)/8, msg)
+        a = 0.0_wp
+    end subroutine alloc_r3
+
+    subroutine alloc_i1(a, n, name)
+        integer, allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: n
+        character(len=*), intent(in) :: name
+        integer :: st
+        character(len=256) :: msg
+        if (allocated(a)) deallocate (a)
+        allocate (a(n), stat=st, errmsg=msg)
+        if (st /= 0) call failed(name, int(n, i8)*4, msg)
+        a = 0
+    end subroutine alloc_i1
+
+    subroutine alloc_i2(a, n1, n2, name)
+        integer, allocatable, intent(inout) :: a(:, :)
+        integer, intent(in) :: n1, n2
+        character(len=*), intent(in) :: name
+        integer :: st
+        character(len=256) :: msg
+        if (allocated(a)) deallocate (a)
+        allocate (a(n1, n2), stat=st, errmsg=msg)
+        if (st /= 0) call failed(name, int(n1, i8)*n2*4, msg)
+        a = 0
+    end subroutine alloc_i2
+
+    subroutine alloc_dp(a, n, name)
+        real(dp), allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: n
+        character(len=*), intent(in) :: name
+        integer :: st
+        character(len=256) :: msg
+        if (allocated(a)) deallocate (a)
+        allocate (a(n), stat=st, errmsg=msg)
+        if (st /= 0) call failed(name, int(n, i8)*8, msg)
+        a = 0.0_dp
+    end subroutine alloc_dp
+
+    !> Make room for at least `need` columns, doubling, keeping the contents.
+    subroutine grow_r2(a, need, name)
+        real(wp), allocatable, intent(inout) :: a(:, :)
+        integer, intent(in) :: need
+        character(len=*), intent(in) :: name
+        real(wp), allocatable :: tmp(:, :)
+        integer :: n
+        if (.not. allocated(a)) then
+            call alloc_r2(a, 3, max(need, 1024), name)
+            return
+        end if
+        if (size(a, 2) >= need) return
+        n = max(need, 2*size(a, 2))
+        call alloc_r2(tmp, size(a, 1), n, name)
+        tmp(:, 1:size(a, 2)) = a
+        call move_alloc(tmp, a)
+    end subroutine grow_r2
+
+    subroutine grow_i1(a, need, name)
+        integer, allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: need
+        character(len=*), intent(in) :: name
+        integer, allocatable :: tmp(:)
+        integer :: n
+        if (.not. allocated(a)) then
+            call alloc_i1(a, max(need, 1024), name)
+            return
+        end if
+        if (size(a) >= need) return
+        n = max(need, 2*size(a))
+        call alloc_i1(tmp, n, name)
+        tmp(1:size(a)) = a
+        call move_alloc(tmp, a)
+    end subroutine grow_i1
+
+    subroutine grow_i2(a, n1, need, name)
+        integer, allocatable, intent(inout) :: a(:, :)
+        integer, intent(in) :: n1, need
+        character(len=*), intent(in) :: name
+        integer, allocatable :: tmp(:, :)
+        integer :: n
+        if (.not. allocated(a)) then
+            call alloc_i2(a, n1, max(need, 1024), name)
+            return
+        end if
+        if (size(a, 2) >= need) return
+        n = max(need, 2*size(a, 2))
+        call alloc_i2(tmp, n1, n, name)
+        tmp(:, 1:size(a, 2)) = a
+        call move_alloc(tmp, a)
+    end subroutine grow_i2
+
+end module xd_core_memory

@@ -1,0 +1,58 @@
+!> MPI and OpenMP environment: start-up, rank and thread counts, and the one
+!> routine that ends the program (MPI_Abort when more than one rank runs).
+module xd_core_parallel_env
+    use mpi_f08, only: MPI_Init_thread, MPI_Finalize, MPI_Initialized, MPI_Finalized, &
+                       MPI_Abort, MPI_Comm_rank, MPI_Comm_size, MPI_COMM_WORLD, &
+                       MPI_THREAD_FUNNELED
+    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+    !$ use omp_lib, only: omp_get_max_threads
+    implicit none
+    private
+    public :: parallel_env_t, parallel_start, parallel_stop, terminate
+
+    type :: parallel_env_t
+        integer :: rank = 0
+        integer :: nranks = 1
+        integer :: nthreads = 1
+    end type parallel_env_t
+
+contains
+
+    subroutine parallel_start(env)
+        type(parallel_env_t), intent(out) :: env
+        integer :: provided
+        logical :: up
+        call MPI_Initialized(up)
+        if (.not. up) call MPI_Init_thread(MPI_THREAD_FUNNELED, provided)
+        call MPI_Comm_rank(MPI_COMM_WORLD, env%rank)
+        call MPI_Comm_size(MPI_COMM_WORLD, env%nranks)
+        env%nthreads = 1
+        !$ env%nthreads = omp_get_max_threads()
+    end subroutine parallel_start
+
+    subroutine parallel_stop()
+        logical :: up, down
+        call MPI_Initialized(up)
+        call MPI_Finalized(down)
+        if (up .and. .not. down) call MPI_Finalize()
+    end subroutine parallel_stop
+
+    !> End the program with exit status `code`. Flushes standard streams; aborts
+    !> the whole MPI job when several ranks run, so no rank is left waiting.
+    subroutine terminate(code)
+        integer, intent(in) :: code
+        logical :: up, down
+        integer :: nranks
+        flush (output_unit)
+        flush (error_unit)
+        call MPI_Initialized(up)
+        call MPI_Finalized(down)
+        if (up .and. .not. down) then
+            call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+            if (nranks > 1 .and. code /= 0) call MPI_Abort(MPI_COMM_WORLD, code)
+            call MPI_Finalize()
+        end if
+        stop code, quiet=.true.
+    end subroutine terminate
+
+end module xd_core_parallel_env

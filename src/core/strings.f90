@@ -1,0 +1,86 @@
+!> Small string helpers for the deck reader and the writers.
+module xd_core_strings
+    use xd_kinds, only: wp, dp
+    implicit none
+    private
+    public :: to_upper, to_lower, itoa, rtoa, dirname, join_path, starts_with
+
+contains
+
+    pure function to_upper(s) result(u)
+        character(len=*), intent(in) :: s
+        character(len=len(s)) :: u
+        integer :: i, c
+        u = s
+        do i = 1, len(s)
+            c = iachar(s(i:i))
+            if (c >= iachar('a') .and. c <= iachar('z')) u(i:i) = achar(c - 32)
+        end do
+    end function to_upper
+
+    pure function to_lower(s) result(u)
+        character(len=*), intent(in) :: s
+        character(len=len(s)) :: u
+        integer :: i, c
+        u = s
+        do i = 1, len(s)
+            c = iachar(s(i:i))
+            if (c >= iachar('A') .and. c <= iachar('Z')) u(i:i) = achar(c + 32)
+        end do
+    end function to_lower
+
+    pure function itoa(i) result(s)
+        integer, intent(in) :: i
+        character(len=:), allocatable :: s
+        character(len=24) :: buf
+        write (buf, '(i0)') i
+        s = trim(buf)
+    end function itoa
+
+    pure function rtoa(x) result(s)
+        real(dp), intent(in) :: x
+        character(len=:), allocatable :: s
+        character(len=32) :: buf
+        write (buf, '(es13.6)') x
+        s = trim(adjustl(buf))
+    end function rtoa
+
+    !> Directory part of a path, '.' when there is none.
+    pure function dirname(path) result(d)
+        character(len=*), intent(in) :: path
+        character(len=:), allocatable :: d
+        integer :: k
+        k = index(path, '/', back=.true.)
+        if (k == 0) then
+            d = '.'
+        else if (k == 1) then
+            d = '/'
+        else
+            d = path(1:k - 1)
+        end if
+    end function dirname
+
+    !> `name` relative to `dir` unless it is absolute.
+    pure function join_path(dir, name) result(p)
+        character(len=*), intent(in) :: dir, name
+        character(len=:), allocatable :: p
+        if (len(name) > 0) then
+            if (name(1:1) == '/') then
+                p = name
+                return
+            end if
+        end if
+        if (dir == '.' .or. len(dir) == 0) then
+            p = name
+        else
+            p = dir//'/'//name
+        end if
+    end function join_path
+
+    pure logical function starts_with(s, prefix)
+        character(len=*), intent(in) :: s, prefix
+        starts_with = .false.
+        if (len(s) >= len(prefix)) starts_with = s(1:len(prefix)) == prefix
+    end function starts_with
+
+end module xd_core_strings

@@ -1,0 +1,85 @@
+!> What every keyword reader needs: the deck lines, the parameters, and the
+!> helpers that turn card i of a keyword into fields.
+module xd_input_context
+    use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: itoa
+    use xd_input_deck_source, only: deck_source_t
+    use xd_input_field_reader, only: card_format_t, card_t, param_table_t, split_card, card_format, card_blank
+    use xd_input_keyword_table, only: keyword_t
+    use xd_model, only: model_t
+    implicit none
+    private
+    public :: read_ctx_t, get_card, first_card, add_warning, extra_card_error, no_more_cards
+
+    type :: read_ctx_t
+        type(deck_source_t) :: src
+        type(param_table_t) :: params
+        logical :: warn_unsupported = .false.
+    end type read_ctx_t
+
+contains
+
+    !> Card `icard` (1-based among the keyword's cards) split by `spec`.
+    !> `cardno` is the number the card has in the manual (for messages).
+    subroutine get_card(ctx, kw, icard, spec, cardno, card, error, raw)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        integer, intent(in) :: icard, cardno
+        character(len=*), intent(in) :: spec
+        type(card_t), intent(out) :: card
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(in), optional :: raw
+        type(card_format_t) :: fmt
+        integer :: ln
+        fmt = card_format(spec, kw%width_mode)
+        ln = kw%card_line(icard)
+        call split_card(ctx%src%line(ln), ctx%src%where(ln), trim(kw%written), cardno, fmt, &
+                        ctx%params, card, error, raw)
+    end subroutine get_card
+
+    !> Index of the first data card: after the _TITLE or _ID card if present.
+    integer function first_card(kw)
+        type(keyword_t), intent(in) :: kw
+        first_card = 1
+        if (kw%title .or. kw%has_id) first_card = 2
+    end function first_card
+
+    subroutine add_warning(model, text)
+        type(model_t), intent(inout) :: model
+        character(len=*), intent(in) :: text
+        model%nwarn = model%nwarn + 1
+        if (.not. allocated(model%warnings)) model%warnings = ''
+        model%warnings = model%warnings//' *** Warning: '//text//new_line('a')
+    end subroutine add_warning
+
+    !> A non-blank card where the keyword has no more cards.
+    subroutine extra_card_error(ctx, kw, icard, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        integer, intent(in) :: icard
+        type(error_t), allocatable, intent(out) :: error
+        integer :: ln
+        ln = kw%card_line(icard)
+        call make_error(error, ctx%src%where(ln)//': '//trim(kw%written)//' card '//itoa(icard)// &
+                        ': unexpected card (the keyword has fewer cards): '''// &
+                        trim(ctx%src%line(ln))//'''')
+    end subroutine extra_card_error
+
+    !> Cards from `from` on must be blank: the keyword has no more.
+    subroutine no_more_cards(ctx, kw, from, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        integer, intent(in) :: from
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        integer :: ic
+        do ic = from, kw%ncard
+            call get_card(ctx, kw, ic, 'X', ic, card, error, raw=.true.)
+            if (.not. card_blank(card)) then
+                call extra_card_error(ctx, kw, ic, error)
+                return
+            end if
+        end do
+    end subroutine no_more_cards
+
+end module xd_input_context

@@ -1,0 +1,241 @@
+!> The deck as a list of lines in reading order: files loaded whole, `*INCLUDE`
+!> expanded in place, `*END` honoured per file, every line tagged with its
+!> file and line number for error messages.
+module xd_input_deck_source
+    use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: to_upper, dirname, join_path, itoa
+    use xd_core_memory, only: grow
+    implicit none
+    private
+    public :: deck_source_t, load_deck, max_include_depth
+
+    integer, parameter :: max_include_depth = 32
+
+    type :: file_text_t
+        character(len=:), allocatable :: name
+        character(len=:), allocatable :: text
+    end type file_text_t
+
+    type :: deck_source_t
+        integer :: nfile = 0
+        type(file_text_t), allocatable :: files(:)
+        integer :: nline = 0
+        integer, allocatable :: lfile(:)    !< file index of line
+        integer, allocatable :: lstart(:)   !< first character in that file's text
+        integer, allocatable :: llen(:)     !< length without the newline
+        integer, allocatable :: lnum(:)     !< line number in its file
+    contains
+        procedure :: line => source_line
+        procedure :: where => source_where
+        procedure :: file_of => source_file_of
+        procedure :: is_comment => source_is_comment
+        procedure :: is_keyword => source_is_keyword
+    end type deck_source_t
+
+contains
+
+    !> Load `path` and every file it includes.
+    subroutine load_deck(src, path, error)
+        type(deck_source_t), intent(out) :: src
+        character(len=*), intent(in) :: path
+        type(error_t), allocatable, intent(out) :: error
+        allocate (src%files(8))
+        call load_file(src, path, 0, 0, 0, error)
+    end subroutine load_deck
+
+    recursive subroutine load_file(src, path, depth, from_file, from_line, error)
+        type(deck_source_t), intent(inout) :: src
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: depth, from_file, from_line
+        type(error_t), allocatable, intent(out) :: error
+        integer :: ifile, pos, n, lineno, eol, k, j
+        character(len=:), allocatable :: word, fname, cont
+        logical :: more
+
+        if (depth > max_include_depth) then
+            call make_error(error, '*INCLUDE nested more than '//itoa(max_include_depth)// &
+                            ' deep (an include cycle?)', src%files(from_file)%name, from_line)
+            return
+        end if
+        call add_file(src, path, ifile)
+        call read_whole(src%files(ifile)%text, path, n, error)
+        if (allocated(error)) then
+            if (from_file > 0) then
+                call make_error(error, '*INCLUDE: cannot open '''//path//'''', &
+                                src%files(from_file)%name, from_line)
+            else
+                call make_error(error, 'cannot open deck '''//path//'''')
+            end if
+            return
+        end if
+
+        pos = 1
+        lineno = 0
+        do while (pos <= n)
+            eol = index(src%files(ifile)%text(pos:n), achar(10))
+            if (eol == 0) then
+                eol = n + 1
+            else
+                eol = pos + eol - 1
+            end if
+            lineno = lineno + 1
+            k = eol - 1
+            if (k >= pos) then
+                if (src%files(ifile)%text(k:k) == achar(13)) k = k - 1
+            end if
+            call add_line(src, ifile, pos, k - pos + 1, lineno)
+            pos = eol + 1
+            if (.not. src%is_keyword(src%nline)) cycle
+            word = first_token(src%line(src%nline))
+            if (word == '*END') then
+                src%nline = src%nline - 1
+                exit
+            end if
+            if (word /= '*INCLUDE') cycle
+            ! *INCLUDE: the file name is the next non-comment card, ' +' continues it
+            src%nline = src%nline - 1
+            fname = ''
+            more = .true.
+            do while (more .and. pos <= n)
+                eol = index(src%files(ifile)%text(pos:n), achar(10))
+                if (eol == 0) then
+                    eol = n + 1
+                else
+                    eol = pos + eol - 1
+                end if
+                lineno = lineno + 1
+                k = eol - 1
+                if (k >= pos) then
+                    if (src%files(ifile)%text(k:k) == achar(13)) k = k - 1
+                end if
+                cont = src%files(ifile)%text(pos:k)
+                pos = eol + 1
+                if (len(cont) > 0) then
+                    if (cont(1:1) == '$') cycle
+                end if
+                j = len_trim(cont)
+                more = .false.
+                if (j >= 2) then
+                    if (cont(j - 1:j) == ' +') then
+                        more = .true.
+                        j = j - 2
+                    end if
+                end if
+                fname = fname//trim(adjustl(cont(1:j)))
+            end do
+            if (len(fname) == 0) then
+                call make_error(error, '*INCLUDE card 1 field FILENAME: no file name given', &
+                                src%files(ifile)%name, lineno)
+                return
+            end if
+            call load_file(src, join_path(dirname(path), fname), depth + 1, ifile, lineno, error)
+            if (allocated(error)) return
+        end do
+    end subroutine load_file
+
+    subroutine add_file(src, path, ifile)
+        type(deck_source_t), intent(inout) :: src
+        character(len=*), intent(in) :: path
+        integer, intent(out) :: ifile
+        type(file_text_t), allocatable :: tmp(:)
+        if (src%nfile == size(src%files)) then
+            allocate (tmp(2*size(src%files)))
+            tmp(1:src%nfile) = src%files(1:src%nfile)
+            call move_alloc(tmp, src%files)
+        end if
+        src%nfile = src%nfile + 1
+        ifile = src%nfile
+        src%files(ifile)%name = path
+    end subroutine add_file
+
+    subroutine add_line(src, ifile, start, length, lineno)
+        type(deck_source_t), intent(inout) :: src
+        integer, intent(in) :: ifile, start, length, lineno
+        integer :: i
+        i = src%nline + 1
+        call grow(src%lfile, i, 'deck line table')
+        call grow(src%lstart, i, 'deck line table')
+        call grow(src%llen, i, 'deck line table')
+        call grow(src%lnum, i, 'deck line table')
+        src%lfile(i) = ifile
+        src%lstart(i) = start
+        src%llen(i) = max(length, 0)
+        src%lnum(i) = lineno
+        src%nline = i
+    end subroutine add_line
+
+    subroutine read_whole(text, path, n, error)
+        character(len=:), allocatable, intent(out) :: text
+        character(len=*), intent(in) :: path
+        integer, intent(out) :: n
+        type(error_t), allocatable, intent(out) :: error
+        integer :: u, st
+        logical :: there
+        inquire (file=path, exist=there)
+        n = 0
+        if (.not. there) then
+            call make_error(error, 'no such file')
+            return
+        end if
+        open (newunit=u, file=path, access='stream', form='unformatted', status='old', &
+              action='read', iostat=st)
+        if (st /= 0) then
+            call make_error(error, 'cannot open')
+            return
+        end if
+        inquire (unit=u, size=n)
+        allocate (character(len=max(n, 0)) :: text)
+        if (n > 0) read (u, iostat=st) text
+        close (u)
+        if (st /= 0) call make_error(error, 'cannot read')
+    end subroutine read_whole
+
+    pure function first_token(s) result(w)
+        character(len=*), intent(in) :: s
+        character(len=:), allocatable :: w
+        integer :: k
+        k = index(s, ' ')
+        if (k == 0) then
+            w = to_upper(s)
+        else
+            w = to_upper(s(1:k - 1))
+        end if
+    end function first_token
+
+    function source_line(self, i) result(s)
+        class(deck_source_t), intent(in) :: self
+        integer, intent(in) :: i
+        character(len=:), allocatable :: s
+        s = self%files(self%lfile(i))%text(self%lstart(i):self%lstart(i) + self%llen(i) - 1)
+    end function source_line
+
+    !> `file:line` of line i, for messages.
+    function source_where(self, i) result(s)
+        class(deck_source_t), intent(in) :: self
+        integer, intent(in) :: i
+        character(len=:), allocatable :: s
+        s = self%files(self%lfile(i))%name//':'//itoa(self%lnum(i))
+    end function source_where
+
+    function source_file_of(self, i) result(s)
+        class(deck_source_t), intent(in) :: self
+        integer, intent(in) :: i
+        character(len=:), allocatable :: s
+        s = self%files(self%lfile(i))%name
+    end function source_file_of
+
+    logical function source_is_comment(self, i)
+        class(deck_source_t), intent(in) :: self
+        integer, intent(in) :: i
+        source_is_comment = .false.
+        if (self%llen(i) > 0) source_is_comment = self%files(self%lfile(i))%text(self%lstart(i):self%lstart(i)) == '$'
+    end function source_is_comment
+
+    logical function source_is_keyword(self, i)
+        class(deck_source_t), intent(in) :: self
+        integer, intent(in) :: i
+        source_is_keyword = .false.
+        if (self%llen(i) > 0) source_is_keyword = self%files(self%lfile(i))%text(self%lstart(i):self%lstart(i)) == '*'
+    end function source_is_keyword
+
+end module xd_input_deck_source

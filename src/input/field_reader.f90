@@ -1,0 +1,408 @@
+!> Reads the fields of one card: fixed columns (10 wide unless the keyword says
+!> otherwise; LONG and I10 widening), free format on commas, `&name` parameters,
+!> Fortran-style numbers (touching fields, E-less exponents, D exponents).
+!> Every error names file, line, keyword, card, field and the offending text,
+!> and echoes the line with a caret under the field.
+module xd_input_field_reader
+    use xd_kinds, only: wp, dp
+    use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: to_upper, itoa
+    implicit none
+    private
+    public :: card_format_t, card_format, card_t, param_table_t
+    public :: width_standard, width_long, width_i10
+    public :: split_card, get_real, get_int, get_text, field_blank, card_blank
+    public :: parse_real, parse_int, card_error
+
+    integer, parameter :: maxf = 16
+    integer, parameter :: width_standard = 0, width_long = 1, width_i10 = 2
+
+    !> Field names and widths of one card layout.
+    type :: card_format_t
+        integer :: nfield = 0
+        integer :: width(maxf) = 10
+        character(len=8) :: name(maxf) = ''
+    end type card_format_t
+
+    !> `*PARAMETER` values: name (upper case), type letter, value text.
+    type :: param_table_t
+        integer :: n = 0
+        character(len=32), allocatable :: name(:)
+        character(len=1), allocatable :: ptype(:)
+        character(len=80), allocatable :: value(:)
+    contains
+        procedure :: add => param_add
+        procedure :: find => param_find
+    end type param_table_t
+
+    !> One card split into field texts, with what is needed to report on it.
+    type :: card_t
+        integer :: nf = 0
+        character(len=80) :: f(maxf) = ''
+        integer :: col(maxf) = 1
+        character(len=8) :: name(maxf) = ''
+        character(len=:), allocatable :: text
+        character(len=:), allocatable :: where
+        character(len=:), allocatable :: keyword
+        integer :: cardno = 0
+    end type card_t
+
+contains
+
+    !> Layout from a spec such as 'NID:8 X:16 Y:16 Z:16 TC:8 RC:8' (width 10 if
+    !> omitted), widened by the LONG (20) or I10 (10) rule.
+    function card_format(spec, mode) result(fmt)
+        character(len=*), intent(in) :: spec
+        integer, intent(in), optional :: mode
+        type(card_format_t) :: fmt
+        integer :: p, q, k, w
+        character(len=:), allocatable :: tok
+        p = 1
+        do
+            do while (p <= len(spec))
+                if (spec(p:p) /= ' ') exit
+                p = p + 1
+            end do
+            if (p > len(spec)) exit
+            q = index(spec(p:), ' ')
+            if (q == 0) then
+                q = len(spec)
+            else
+                q = p + q - 2
+            end if
+            tok = spec(p:q)
+            p = q + 2
+            fmt%nfield = fmt%nfield + 1
+            k = index(tok, ':')
+            w = 10
+            if (k > 0) then
+                read (tok(k + 1:), *) w
+                tok = tok(1:k - 1)
+            end if
+            fmt%name(fmt%nfield) = tok
+            fmt%width(fmt%nfield) = w
+        end do
+        if (present(mode)) then
+            select case (mode)
+            case (width_long)
+                where (fmt%width < 20) fmt%width = 20
+            case (width_i10)
+                where (fmt%width < 10) fmt%width = 10
+            end select
+        end if
+    end function card_format
+
+    !> Split `text` by `fmt` (or on commas when it has one) into `card`,
+    !> substituting `&name` parameters. `raw` cards (titles, file names) are one
+    !> field, the whole line.
+    subroutine split_card(text, where, keyword, cardno, fmt, params, card, error, raw)
+        character(len=*), intent(in) :: text, where, keyword
+        integer, intent(in) :: cardno
+        type(card_format_t), intent(in) :: fmt
+        type(param_table_t), intent(in) :: params
+        type(card_t), intent(out) :: card
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(in), optional :: raw
+        integer :: i, p, q, w, k
+        logical :: is_raw
+
+        card%text = text
+        card%where = where
+        card%keyword = keyword
+        card%cardno = cardno
+        card%nf = fmt%nfield
+        card%name(1:fmt%nfield) = fmt%name(1:fmt%nfield)
+        is_raw = .false.
+        if (present(raw)) is_raw = raw
+        if (is_raw) then
+            card%nf = 1
+            card%f(1) = text
+            return
+        end if
+
+        if (index(text, ',') > 0) then
+            p = 1
+            do i = 1, maxf
+                q = index(text(p:), ',')
+                if (q == 0) then
+                    q = len(text) + 1
+                else
+                    q = p + q - 1
+                end if
+                if (i <= fmt%nfield) then
+                    card%f(i) = adjustl(text(p:q - 1))
+                    card%col(i) = p
+                else if (len_trim(text(p:q - 1)) > 0) then
+                    call card_error(card, i, 'more fields than the card has ('// &
+                                    itoa(fmt%nfield)//')', error, use_name=.false.)
+                    return
+                end if
+                p = q + 1
+                if (p > len(text) + 1) exit
+            end do
+        else
+            p = 1
+            do i = 1, fmt%nfield
+                w = fmt%width(i)
+                card%col(i) = p
+                if (p <= len(text)) then
+                    q = min(len(text), p + w - 1)
+                    card%f(i) = adjustl(text(p:q))
+                end if
+                p = p + w
+            end do
+        end if
+
+        do i = 1, card%nf
+            k = 0
+            if (card%f(i)(1:1) == '&') k = 2
+            if (card%f(i)(1:2) == '-&') k = 3
+            if (k > 0) then
+                call substitute(card, i, k, params, error)
+                if (allocated(error)) return
+            end if
+        end do
+    end subroutine split_card
+
+    subroutine substitute(card, i, k, params, error)
+        type(card_t), intent(inout) :: card
+        integer, intent(in) :: i, k
+        type(param_table_t), intent(in) :: params
+        type(error_t), allocatable, intent(out) :: error
+        integer :: ip
+        character(len=80) :: v
+        ip = params%find(card%f(i)(k:))
+        if (ip == 0) then
+            call card_error(card, i, 'parameter '''//trim(card%f(i)(k:))//''' is not defined', error)
+            return
+        end if
+        v = adjustl(params%value(ip))
+        if (k == 3) then
+            if (v(1:1) == '-') then
+                v = v(2:)
+            else if (v(1:1) == '+') then
+                v = '-'//v(2:)
+            else
+                v = '-'//v
+            end if
+        end if
+        card%f(i) = v
+    end subroutine substitute
+
+    logical function field_blank(card, i)
+        type(card_t), intent(in) :: card
+        integer, intent(in) :: i
+        field_blank = .true.
+        if (i <= card%nf) field_blank = len_trim(card%f(i)) == 0
+    end function field_blank
+
+    logical function card_blank(card)
+        type(card_t), intent(in) :: card
+        card_blank = len_trim(card%text) == 0
+    end function card_blank
+
+    !> Real field i; blank gives `default`; with `zero_default`, 0 does too.
+    subroutine get_real(card, i, x, default, error, zero_default)
+        type(card_t), intent(in) :: card
+        integer, intent(in) :: i
+        real(wp), intent(out) :: x
+        real(wp), intent(in) :: default
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(in), optional :: zero_default
+        real(dp) :: v
+        logical :: ok
+        x = default
+        if (field_blank(card, i)) return
+        call parse_real(trim(card%f(i)), v, ok)
+        if (.not. ok) then
+            call card_error(card, i, ''''//trim(card%f(i))//''' is not a number', error)
+            return
+        end if
+        if (abs(v) > real(huge(x), dp)) then
+            call card_error(card, i, ''''//trim(card%f(i))//''' is out of range', error)
+            return
+        end if
+        x = real(v, wp)
+        if (present(zero_default)) then
+            if (zero_default .and. x == 0.0_wp) x = default
+        end if
+    end subroutine get_real
+
+    !> Integer field i; blank gives `default`; with `zero_default`, 0 does too.
+    subroutine get_int(card, i, n, default, error, zero_default)
+        type(card_t), intent(in) :: card
+        integer, intent(in) :: i
+        integer, intent(out) :: n
+        integer, intent(in) :: default
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(in), optional :: zero_default
+        logical :: ok
+        n = default
+        if (field_blank(card, i)) return
+        call parse_int(trim(card%f(i)), n, ok)
+        if (.not. ok) then
+            call card_error(card, i, ''''//trim(card%f(i))//''' is not an integer', error)
+            n = default
+            return
+        end if
+        if (present(zero_default)) then
+            if (zero_default .and. n == 0) n = default
+        end if
+    end subroutine get_int
+
+    function get_text(card, i) result(s)
+        type(card_t), intent(in) :: card
+        integer, intent(in) :: i
+        character(len=:), allocatable :: s
+        s = ''
+        if (i <= card%nf) s = trim(card%f(i))
+    end function get_text
+
+    !> Fortran-style real: [sign] digits [. digits] [exponent], the exponent
+    !> being [EeDd][sign]digits or sign digits (E-less, as in 2.00000-3).
+    pure subroutine parse_real(s, x, ok)
+        character(len=*), intent(in) :: s
+        real(dp), intent(out) :: x
+        logical, intent(out) :: ok
+        integer :: i, n, ndig, st
+        character(len=64) :: buf
+        x = 0.0_dp
+        ok = .false.
+        n = len_trim(s)
+        if (n == 0 .or. n > 60) return
+        i = 1
+        if (s(i:i) == '+' .or. s(i:i) == '-') i = i + 1
+        ndig = 0
+        do while (i <= n)
+            if (.not. is_digit(s(i:i))) exit
+            ndig = ndig + 1
+            i = i + 1
+        end do
+        if (i <= n) then
+            if (s(i:i) == '.') then
+                i = i + 1
+                do while (i <= n)
+                    if (.not. is_digit(s(i:i))) exit
+                    ndig = ndig + 1
+                    i = i + 1
+                end do
+            end if
+        end if
+        if (ndig == 0) return
+        buf = s(1:i - 1)
+        if (i <= n) then
+            select case (s(i:i))
+            case ('e', 'E', 'd', 'D')
+                i = i + 1
+            case ('+', '-')
+            case default
+                return
+            end select
+            if (i > n) return
+            buf = trim(buf)//'e'
+            if (s(i:i) == '+' .or. s(i:i) == '-') then
+                buf = trim(buf)//s(i:i)
+                i = i + 1
+            end if
+            if (i > n) return
+            do while (i <= n)
+                if (.not. is_digit(s(i:i))) return
+                buf = trim(buf)//s(i:i)
+                i = i + 1
+            end do
+        end if
+        read (buf, '(f64.0)', iostat=st) x
+        ok = st == 0
+        if (ok) ok = x == x .and. abs(x) <= huge(x)
+    end subroutine parse_real
+
+    !> Integer: [sign] digits, or a real with an integral value (1. or 1.0E3).
+    pure subroutine parse_int(s, n, ok)
+        character(len=*), intent(in) :: s
+        integer, intent(out) :: n
+        logical, intent(out) :: ok
+        real(dp) :: x
+        n = 0
+        call parse_real(s, x, ok)
+        if (.not. ok) return
+        ok = x == aint(x) .and. abs(x) <= real(huge(n), dp)
+        if (ok) n = nint(x)
+    end subroutine parse_int
+
+    pure logical function is_digit(c)
+        character(len=1), intent(in) :: c
+        is_digit = c >= '0' .and. c <= '9'
+    end function is_digit
+
+    !> Error on field i of `card`: 'file:line: *KW card N field NAME: text',
+    !> then the line with a caret under the field.
+    subroutine card_error(card, i, text, error, use_name)
+        type(card_t), intent(in) :: card
+        integer, intent(in) :: i
+        character(len=*), intent(in) :: text
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(in), optional :: use_name
+        character(len=:), allocatable :: msg, fname
+        integer :: c
+        fname = 'field '//itoa(i)
+        if (i <= maxf) then
+            if (len_trim(card%name(i)) > 0) fname = 'field '//trim(card%name(i))
+        end if
+        if (present(use_name)) then
+            if (.not. use_name) fname = 'field '//itoa(i)
+        end if
+        msg = card%where//': '//card%keyword//' card '//itoa(card%cardno)//' '//fname//': '//text
+        c = 1
+        if (i <= maxf) c = card%col(i)
+        if (allocated(card%text)) then
+            ! caret under the first non-blank character of the field
+            do while (c < len(card%text))
+                if (card%text(c:c) /= ' ') exit
+                c = c + 1
+            end do
+            msg = msg//new_line('a')//'    | '//card%text//new_line('a')//'    | '//repeat(' ', max(c - 1, 0))//'^'
+        end if
+        call make_error(error, msg)
+    end subroutine card_error
+
+    subroutine param_add(self, name, ptype, value)
+        class(param_table_t), intent(inout) :: self
+        character(len=*), intent(in) :: name, ptype, value
+        character(len=32), allocatable :: tn(:)
+        character(len=1), allocatable :: tt(:)
+        character(len=80), allocatable :: tv(:)
+        integer :: k
+        if (.not. allocated(self%name)) then
+            allocate (self%name(16), self%ptype(16), self%value(16))
+        end if
+        k = self%find(name)
+        if (k == 0) then
+            if (self%n == size(self%name)) then
+                allocate (tn(2*self%n), tt(2*self%n), tv(2*self%n))
+                tn(1:self%n) = self%name(1:self%n)
+                tt(1:self%n) = self%ptype(1:self%n)
+                tv(1:self%n) = self%value(1:self%n)
+                call move_alloc(tn, self%name)
+                call move_alloc(tt, self%ptype)
+                call move_alloc(tv, self%value)
+            end if
+            self%n = self%n + 1
+            k = self%n
+        end if
+        self%name(k) = to_upper(name)
+        self%ptype(k) = to_upper(ptype)
+        self%value(k) = adjustl(value)
+    end subroutine param_add
+
+    integer function param_find(self, name) result(k)
+        class(param_table_t), intent(in) :: self
+        character(len=*), intent(in) :: name
+        character(len=32) :: key
+        key = to_upper(adjustl(name))
+        do k = 1, self%n
+            if (self%name(k) == key) return
+        end do
+        k = 0
+    end function param_find
+
+end module xd_input_field_reader

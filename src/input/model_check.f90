@@ -1,0 +1,356 @@
+!> Model checks before the run: every referenced id exists, no id is defined
+!> twice, densities and moduli are positive, no hexahedron is inverted or
+!> degenerate. Resolves ids to indices on the way.
+module xd_input_model_check
+    use xd_kinds, only: wp
+    use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: itoa
+    use xd_core_sorting, only: id_map_t
+    use xd_input_context, only: read_ctx_t, add_warning
+    use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
+                                hex_regular, hex_wedge, hex_tet, hex_bad
+    use xd_model, only: model_t, find_set, set_node, set_part, iv_node_set, iv_node, iv_generation
+    implicit none
+    private
+    public :: check_model, id_maps_t
+
+    type :: id_maps_t
+        type(id_map_t) :: node, hex, part, sec, mat, hg
+    end type id_maps_t
+
+contains
+
+    subroutine check_model(ctx, model, maps, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_maps_t), intent(out) :: maps
+        type(error_t), allocatable, intent(out) :: error
+        call build_maps(ctx, model, maps, error); if (allocated(error)) return
+        call check_parts(ctx, model, maps, error); if (allocated(error)) return
+        call check_hexes(ctx, model, maps, error); if (allocated(error)) return
+        call check_sets(ctx, model, maps, error); if (allocated(error)) return
+        call check_conditions(ctx, model, maps, error); if (allocated(error)) return
+        call check_controls(model, error); if (allocated(error)) return
+    end subroutine check_model
+
+    subroutine build_maps(ctx, model, maps, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_maps_t), intent(out) :: maps
+        type(error_t), allocatable, intent(out) :: error
+        integer :: dup, i
+        if (model%nnode == 0) then
+            call make_error(error, model%deck_path//': the deck defines no nodes')
+            return
+        end if
+        call maps%node%build(model%node_id(1:model%nnode), dup)
+        if (dup /= 0) then
+            do i = model%nnode, 1, -1
+                if (model%node_id(i) == dup) exit
+            end do
+            call make_error(error, ctx%src%where(model%node_src(i))//': *NODE '//itoa(dup)//' is defined twice')
+            return
+        end if
+        call maps%hex%build(model%hex_id(1:model%nhex), dup)
+        if (dup /= 0) then
+            do i = model%nhex, 1, -1
+                if (model%hex_id(i) == dup) exit
+            end do
+            call make_error(error, ctx%src%where(model%hex_src(i))//': *ELEMENT_SOLID '//itoa(dup)// &
+                            ' is defined twice')
+            return
+        end if
+        call maps%part%build(model%part(1:model%npart)%id, dup)
+        if (dup /= 0) then
+            call dup_error('*PART', dup, model%part(1:model%npart)%id, model%part(1:model%npart)%src)
+            return
+        end if
+        call maps%sec%build(model%sec_solid(1:model%nsec_solid)%id, dup)
+        if (dup /= 0) then
+            call dup_error('*SECTION_SOLID', dup, model%sec_solid(1:model%nsec_solid)%id, &
+                           model%sec_solid(1:model%nsec_solid)%src)
+            return
+        end if
+        call maps%mat%build(model%mat(1:model%nmat)%id, dup)
+        if (dup /= 0) then
+            call dup_error('material', dup, model%mat(1:model%nmat)%id, model%mat(1:model%nmat)%src)
+            return
+        end if
+        call maps%hg%build(model%hg(1:model%nhg)%id, dup)
+        if (dup /= 0) then
+            call dup_error('*HOURGLASS', dup, model%hg(1:model%nhg)%id, model%hg(1:model%nhg)%src)
+            return
+        end if
+    contains
+        subroutine dup_error(what, id, ids, src)
+            character(len=*), intent(in) :: what
+            integer, intent(in) :: id, ids(:), src(:)
+            integer :: k
+            do k = size(ids), 1, -1
+                if (ids(k) == id) exit
+            end do
+            call make_error(error, ctx%src%where(src(k))//': '//what//' '//itoa(id)//' is defined twice')
+        end subroutine dup_error
+    end subroutine build_maps
+
+    subroutine check_parts(ctx, model, maps, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_maps_t), intent(in) :: maps
+        type(error_t), allocatable, intent(out) :: error
+        integer :: i
+        do i = 1, model%npart
+            associate (p => model%part(i))
+                p%sec_ix = maps%sec%find(p%secid)
+                p%mat_ix = maps%mat%find(p%mid)
+                p%hg_ix = 0
+                if (p%hgid /= 0) p%hg_ix = maps%hg%find(p%hgid)
+                if (p%sec_ix == 0) then
+                    call make_error(error, ctx%src%where(p%src)//': *PART '//itoa(p%id)// &
+                                    ' field SECID: section '//itoa(p%secid)//' is not defined')
+                    return
+                end if
+                if (p%mat_ix == 0) then
+                    call make_error(error, ctx%src%where(p%src)//': *PART '//itoa(p%id)// &
+                                    ' field MID: material '//itoa(p%mid)//' is not defined')
+                    return
+                end if
+                if (p%hgid /= 0 .and. p%hg_ix == 0) then
+                    call make_error(error, ctx%src%where(p%src)//': *PART '//itoa(p%id)// &
+                                    ' field HGID: *HOURGLASS '//itoa(p%hgid)//' is not defined')
+                    return
+                end if
+            end associate
+        end do
+    end subroutine check_parts
+
+    !> Resolve element nodes and parts; reject inverted and degenerate shapes.
+    !> Wedges (N5=N6, N7=N8) and tetrahedra (N4=...=N8) are accepted.
+    subroutine check_hexes(ctx, model, maps, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_maps_t), intent(in) :: maps
+        type(error_t), allocatable, intent(out) :: error
+        integer :: e, k, nid, kind, nwedge, ntet
+        real(wp) :: xe(8, 3), b(8, 3), vol, cj(8)
+        character(len=:), allocatable :: at
+        allocate (model%hex_part(model%nhex))
+        nwedge = 0
+        ntet = 0
+        do e = 1, model%nhex
+            at = ctx%src%where(model%hex_src(e))//': *ELEMENT_SOLID '//itoa(model%hex_id(e))
+            model%hex_part(e) = maps%part%find(model%hex_pid(e))
+            if (model%hex_part(e) == 0) then
+                call make_error(error, at//' field PID: part '//itoa(model%hex_pid(e))//' is not defined')
+                return
+            end if
+            do k = 1, 8
+                nid = model%hex_conn(k, e)
+                model%hex_conn(k, e) = maps%node%find(nid)
+                if (model%hex_conn(k, e) == 0) then
+                    call make_error(error, at//' field N'//itoa(k)//': node '//itoa(nid)//' is not defined')
+                    return
+                end if
+            end do
+            kind = hex_shape_kind(model%hex_conn(:, e))
+            if (kind == hex_bad) then
+                call make_error(error, at//' is degenerate: repeated nodes other than the wedge '// &
+                                '(N5=N6, N7=N8) or tetrahedron (N4=...=N8) patterns')
+                return
+            end if
+            if (kind == hex_wedge) nwedge = nwedge + 1
+            if (kind == hex_tet) ntet = ntet + 1
+            do k = 1, 8
+                xe(k, :) = model%x0(:, model%hex_conn(k, e))
+            end do
+            call hex_volume_operator(xe, b, vol)
+            if (.not. (vol > 0.0_wp)) then
+                call make_error(error, at//' is inverted (volume '//trim(rtoa_short(vol))// &
+                                '): number its nodes counter-clockwise seen from outside the N1-N4 face')
+                return
+            end if
+            if (kind == hex_regular) then
+                call hex_corner_jacobians(xe, cj)
+                if (any(cj <= 0.0_wp)) then
+                    call make_error(error, at//' is distorted: its corner at node '// &
+                                    itoa(model%node_id(model%hex_conn(minloc(cj, 1), e)))// &
+                                    ' is inverted (non-positive corner Jacobian)')
+                    return
+                end if
+            end if
+        end do
+        if (nwedge > 0) call add_warning(model, itoa(nwedge)//' solid elements are degenerate wedges '// &
+                                         '(treated as one-point hexahedra)')
+        if (ntet > 0) call add_warning(model, itoa(ntet)//' solid elements are degenerate tetrahedra '// &
+                                       '(treated as one-point hexahedra)')
+    end subroutine check_hexes
+
+    function rtoa_short(x) result(s)
+        real(wp), intent(in) :: x
+        character(len=16) :: s
+        write (s, '(es12.4)') x
+        s = adjustl(s)
+    end function rtoa_short
+
+    subroutine check_sets(ctx, model, maps, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_maps_t), intent(in) :: maps
+        type(error_t), allocatable, intent(out) :: error
+        integer :: i, j, k
+        do i = 1, model%nset
+            associate (s => model%set(i))
+                do j = 1, i - 1
+                    if (model%set(j)%id == s%id .and. model%set(j)%kind == s%kind) then
+                        call make_error(error, ctx%src%where(s%src)//': '//set_word(s%kind)//' '// &
+                                        itoa(s%id)//' is defined twice')
+                        return
+                    end if
+                end do
+                allocate (s%member_ix(s%n))
+                do k = 1, s%n
+                    if (s%kind == set_node) then
+                        s%member_ix(k) = maps%node%find(s%member(k))
+                    else
+                        s%member_ix(k) = maps%part%find(s%member(k))
+                    end if
+                    if (s%member_ix(k) == 0) then
+                        call make_error(error, ctx%src%where(s%src)//': '//set_word(s%kind)//' '// &
+                                        itoa(s%id)//': '//member_word(s%kind)//' '//itoa(s%member(k))// &
+                                        ' is not defined')
+                        return
+                    end if
+                end do
+            end associate
+        end do
+    end subroutine check_sets
+
+    pure function set_word(kind) result(w)
+        integer, intent(in) :: kind
+        character(len=:), allocatable :: w
+        w = '*SET_NODE_LIST'
+        if (kind == set_part) w = '*SET_PART_LIST'
+    end function set_word
+
+    pure function member_word(kind) result(w)
+        integer, intent(in) :: kind
+        character(len=:), allocatable :: w
+        w = 'node'
+        if (kind == set_part) w = 'part'
+    end function member_word
+
+    subroutine check_conditions(ctx, model, maps, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_maps_t), intent(in) :: maps
+        type(error_t), allocatable, intent(out) :: error
+        integer :: i, k
+        do i = 1, model%nspc
+            associate (c => model%spc(i))
+                if (c%is_set) then
+                    if (find_set(model, set_node, c%id) == 0) then
+                        call make_error(error, ctx%src%where(c%src)//': *BOUNDARY_SPC_SET field NSID: '// &
+                                        'node set '//itoa(c%id)//' is not defined')
+                        return
+                    end if
+                else
+                    c%ix = maps%node%find(c%id)
+                end if
+                if (.not. c%is_set .and. c%ix == 0) then
+                    call make_error(error, ctx%src%where(c%src)//': *BOUNDARY_SPC_NODE field NID: node '// &
+                                    itoa(c%id)//' is not defined')
+                    return
+                end if
+            end associate
+        end do
+        do i = 1, model%nivel
+            associate (v => model%ivel(i))
+                select case (v%kind)
+                case (iv_node)
+                    v%ix = maps%node%find(v%id)
+                    if (v%ix == 0) then
+                        call make_error(error, ctx%src%where(v%src)//': *INITIAL_VELOCITY_NODE field NID: node '// &
+                                        itoa(v%id)//' is not defined')
+                        return
+                    end if
+                case (iv_node_set)
+                    if (v%id /= 0 .and. find_set(model, set_node, v%id) == 0) then
+                        call make_error(error, ctx%src%where(v%src)//': *INITIAL_VELOCITY field NSID: node set '// &
+                                        itoa(v%id)//' is not defined')
+                        return
+                    end if
+                    if (v%exempt /= 0 .and. find_set(model, set_node, v%exempt) == 0) then
+                        call make_error(error, ctx%src%where(v%src)//': *INITIAL_VELOCITY field NSIDEX: node set '// &
+                                        itoa(v%exempt)//' is not defined')
+                        return
+                    end if
+                case (iv_generation)
+                    select case (v%styp)
+                    case (1); k = find_set(model, set_part, v%id)
+                    case (2); k = maps%part%find(v%id)
+                    case default; k = find_set(model, set_node, v%id)
+                    end select
+                    if (k == 0) then
+                        call make_error(error, ctx%src%where(v%src)//': *INITIAL_VELOCITY_GENERATION field ID: '// &
+                                        trim(styp_word(v%styp))//' '//itoa(v%id)//' is not defined')
+                        return
+                    end if
+                end select
+            end associate
+        end do
+        do i = 1, model%nistress
+            if (maps%hex%find(model%istress(i)%eid) == 0) then
+                call make_error(error, ctx%src%where(model%istress(i)%src)// &
+                                ': *INITIAL_STRESS_SOLID field EID: solid element '// &
+                                itoa(model%istress(i)%eid)//' is not defined')
+                return
+            end if
+        end do
+        if (allocated(model%db%hist_node)) then
+            allocate (model%db%hist_node_ix(size(model%db%hist_node)))
+            do k = 1, size(model%db%hist_node)
+                model%db%hist_node_ix(k) = maps%node%find(model%db%hist_node(k))
+                if (model%db%hist_node_ix(k) == 0) then
+                    call make_error(error, model%deck_path//': *DATABASE_HISTORY_NODE: node '// &
+                                    itoa(model%db%hist_node(k))//' is not defined')
+                    return
+                end if
+            end do
+        end if
+        if (allocated(model%db%hist_set)) then
+            do k = 1, size(model%db%hist_set)
+                if (find_set(model, set_node, model%db%hist_set(k)) == 0) then
+                    call make_error(error, model%deck_path//': *DATABASE_HISTORY_NODE_SET: node set '// &
+                                    itoa(model%db%hist_set(k))//' is not defined')
+                    return
+                end if
+            end do
+        end if
+    end subroutine check_conditions
+
+    subroutine check_controls(model, error)
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        if (.not. model%ctl%termination_given .or. &
+            (model%ctl%endtim <= 0.0_wp .and. model%ctl%endcyc <= 0)) then
+            call make_error(error, model%deck_path//': *CONTROL_TERMINATION with ENDTIM > 0 '// &
+                            '(or ENDCYC > 0) is required')
+            return
+        end if
+        if (model%nhex == 0) then
+            call make_error(error, model%deck_path//': the deck defines no elements')
+            return
+        end if
+    end subroutine check_controls
+
+    pure function styp_word(styp) result(w)
+        integer, intent(in) :: styp
+        character(len=8) :: w
+        select case (styp)
+        case (1); w = 'part set'
+        case (2); w = 'part'
+        case default; w = 'node set'
+        end select
+    end function styp_word
+
+end module xd_input_model_check

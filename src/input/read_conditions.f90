@@ -1,0 +1,283 @@
+!> Readers for boundary and initial conditions: *BOUNDARY_SPC_NODE/_SET,
+!> *INITIAL_VELOCITY (+_NODE, _GENERATION), *INITIAL_STRESS_SOLID.
+module xd_input_read_conditions
+    use xd_kinds, only: wp
+    use xd_core_errors, only: error_t, make_error
+    use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
+    use xd_input_keyword_table, only: keyword_t
+    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
+    use xd_model, only: model_t, spc_t, init_vel_t, init_stress_t, iv_node_set, iv_node, iv_generation
+    implicit none
+    private
+    public :: read_condition
+
+contains
+
+    subroutine read_condition(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        select case (kw%name)
+        case ('BOUNDARY_SPC_NODE', 'BOUNDARY_SPC_SET')
+            call read_spc(ctx, kw, model, error)
+        case ('INITIAL_VELOCITY')
+            call read_initial_velocity(ctx, kw, model, error)
+        case ('INITIAL_VELOCITY_NODE')
+            call read_initial_velocity_node(ctx, kw, model, error)
+        case ('INITIAL_VELOCITY_GENERATION')
+            call read_initial_velocity_generation(ctx, kw, model, error)
+        case ('INITIAL_STRESS_SOLID')
+            call read_initial_stress_solid(ctx, kw, model, error)
+        end select
+    end subroutine read_condition
+
+    subroutine read_spc(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(spc_t) :: c
+        integer :: ic, k, cid
+        character(len=:), allocatable :: spec
+        if (kw%name == 'BOUNDARY_SPC_SET') then
+            spec = 'NSID CID DOFX DOFY DOFZ DOFRX DOFRY DOFRZ'
+        else
+            spec = 'NID CID DOFX DOFY DOFZ DOFRX DOFRY DOFRZ'
+        end if
+        do ic = first_card(kw), kw%ncard
+            call get_card(ctx, kw, ic, spec, 1, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            c = spc_t()
+            c%is_set = kw%name == 'BOUNDARY_SPC_SET'
+            call get_int(card, 1, c%id, 0, error); if (allocated(error)) return
+            call get_int(card, 2, cid, 0, error); if (allocated(error)) return
+            if (c%id <= 0) then
+                call card_error(card, 1, 'id must be a positive integer', error); return
+            end if
+            if (cid /= 0) then
+                call card_error(card, 2, 'local coordinate systems are not supported (CID must be 0)', error)
+                return
+            end if
+            do k = 1, 6
+                call get_int(card, 2 + k, c%dof(k), 0, error); if (allocated(error)) return
+                if (c%dof(k) /= 0 .and. c%dof(k) /= 1) then
+                    call card_error(card, 2 + k, 'must be 0 (free) or 1 (fixed)', error); return
+                end if
+            end do
+            c%src = kw%card_line(ic)
+            if (.not. allocated(model%spc)) allocate (model%spc(16))
+            if (model%nspc == size(model%spc)) model%spc = [model%spc, model%spc]
+            model%nspc = model%nspc + 1
+            model%spc(model%nspc) = c
+        end do
+    end subroutine read_spc
+
+    !> Card 1 NSID NSIDEX BOXID IRIGID ICID; card 2 the velocity; card 3 (when
+    !> NSIDEX is given) the velocity of the exempted nodes.
+    subroutine read_initial_velocity(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(init_vel_t) :: iv, ex
+        integer :: ic, boxid, icid
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        call get_card(ctx, kw, ic, 'NSID NSIDEX BOXID IRIGID ICID', 1, card, error)
+        if (allocated(error)) return
+        iv%kind = iv_node_set
+        call get_int(card, 1, iv%id, 0, error); if (allocated(error)) return
+        call get_int(card, 2, iv%exempt, 0, error); if (allocated(error)) return
+        call get_int(card, 3, boxid, 0, error); if (allocated(error)) return
+        call get_int(card, 5, icid, 0, error); if (allocated(error)) return
+        if (boxid /= 0) then
+            call card_error(card, 3, 'boxes are not supported (BOXID must be 0)', error); return
+        end if
+        if (icid /= 0) then
+            call card_error(card, 5, 'local coordinate systems are not supported (ICID must be 0)', error)
+            return
+        end if
+        iv%src = kw%card_line(ic)
+        if (ic + 1 > kw%ncard) then
+            call make_error(error, ctx%src%where(kw%kw_line)//': '//trim(kw%written)// &
+                            ' card 2 (VX VY VZ VXR VYR VZR) is missing')
+            return
+        end if
+        call read_velocity_card(ctx, kw, ic + 1, 2, iv, error); if (allocated(error)) return
+        call push_ivel(model, iv)
+        if (iv%exempt /= 0 .and. ic + 2 <= kw%ncard) then
+            ex = init_vel_t(kind=iv_node_set, id=iv%exempt, src=kw%card_line(ic + 2))
+            call read_velocity_card(ctx, kw, ic + 2, 3, ex, error); if (allocated(error)) return
+            call push_ivel(model, ex)
+            call no_more_cards(ctx, kw, ic + 3, error)
+        else
+            call no_more_cards(ctx, kw, ic + 2, error)
+        end if
+    end subroutine read_initial_velocity
+
+    subroutine read_velocity_card(ctx, kw, ic, cardno, iv, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        integer, intent(in) :: ic, cardno
+        type(init_vel_t), intent(inout) :: iv
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        integer :: k
+        call get_card(ctx, kw, ic, 'VX VY VZ VXR VYR VZR', cardno, card, error)
+        if (allocated(error)) return
+        do k = 1, 3
+            call get_real(card, k, iv%v(k), 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 3 + k, iv%vr(k), 0.0_wp, error); if (allocated(error)) return
+        end do
+    end subroutine read_velocity_card
+
+    subroutine read_initial_velocity_node(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(init_vel_t) :: iv
+        integer :: ic, k, icid
+        do ic = first_card(kw), kw%ncard
+            call get_card(ctx, kw, ic, 'NID VX VY VZ VXR VYR VZR ICID', 1, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            iv = init_vel_t(kind=iv_node, src=kw%card_line(ic))
+            call get_int(card, 1, iv%id, 0, error); if (allocated(error)) return
+            do k = 1, 3
+                call get_real(card, 1 + k, iv%v(k), 0.0_wp, error); if (allocated(error)) return
+                call get_real(card, 4 + k, iv%vr(k), 0.0_wp, error); if (allocated(error)) return
+            end do
+            call get_int(card, 8, icid, 0, error); if (allocated(error)) return
+            if (icid /= 0) then
+                call card_error(card, 8, 'local coordinate systems are not supported (ICID must be 0)', error)
+                return
+            end if
+            call push_ivel(model, iv)
+        end do
+    end subroutine read_initial_velocity_node
+
+    !> Pairs: ID STYP OMEGA VX VY VZ IVATN ICID / XC YC ZC NX NY NZ PHASE IRIGID.
+    !> Velocity = (VX,VY,VZ) + OMEGA n x (x - xc), n the unit axis.
+    subroutine read_initial_velocity_generation(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card, card2
+        type(init_vel_t) :: iv
+        integer :: ic, k, icid, ivatn, phase, irigid
+        ic = first_card(kw)
+        do while (ic <= kw%ncard)
+            call get_card(ctx, kw, ic, 'ID STYP OMEGA VX VY VZ IVATN ICID', 1, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) then
+                ic = ic + 1
+                cycle
+            end if
+            iv = init_vel_t(kind=iv_generation, src=kw%card_line(ic))
+            call get_int(card, 1, iv%id, 0, error); if (allocated(error)) return
+            call get_int(card, 2, iv%styp, 0, error); if (allocated(error)) return
+            call get_real(card, 3, iv%omega, 0.0_wp, error); if (allocated(error)) return
+            do k = 1, 3
+                call get_real(card, 3 + k, iv%v(k), 0.0_wp, error); if (allocated(error)) return
+            end do
+            call get_int(card, 7, ivatn, 0, error); if (allocated(error)) return
+            call get_int(card, 8, icid, 0, error); if (allocated(error)) return
+            if (iv%styp < 1 .or. iv%styp > 3) then
+                call card_error(card, 2, 'STYP must be 1 (part set), 2 (part) or 3 (node set)', error)
+                return
+            end if
+            if (icid /= 0) then
+                call card_error(card, 8, 'local coordinate systems are not supported (ICID must be 0)', error)
+                return
+            end if
+            if (ic + 1 > kw%ncard) then
+                call make_error(error, ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)// &
+                                ' card 2 (XC YC ZC NX NY NZ PHASE IRIGID) is missing')
+                return
+            end if
+            call get_card(ctx, kw, ic + 1, 'XC YC ZC NX NY NZ PHASE IRIGID', 2, card2, error)
+            if (allocated(error)) return
+            do k = 1, 3
+                call get_real(card2, k, iv%xc(k), 0.0_wp, error); if (allocated(error)) return
+                call get_real(card2, 3 + k, iv%axis(k), 0.0_wp, error); if (allocated(error)) return
+            end do
+            call get_int(card2, 7, phase, 0, error); if (allocated(error)) return
+            call get_int(card2, 8, irigid, 0, error); if (allocated(error)) return
+            if (iv%omega /= 0.0_wp .and. norm2(iv%axis) == 0.0_wp) then
+                call card_error(card2, 4, 'OMEGA is given but the axis NX NY NZ is zero', error)
+                return
+            end if
+            if (norm2(iv%axis) > 0.0_wp) iv%axis = iv%axis/norm2(iv%axis)
+            if (ivatn /= 0 .or. phase /= 0 .or. irigid /= 0) call add_warning(model, &
+                ctx%src%where(kw%card_line(ic))//': *INITIAL_VELOCITY_GENERATION fields IVATN/PHASE/IRIGID ignored')
+            call push_ivel(model, iv)
+            ic = ic + 2
+        end do
+    end subroutine read_initial_velocity_generation
+
+    !> Card 1 EID NINT NHISV LARGE ...; then NINT cards SIGXX SIGYY SIGZZ SIGXY
+    !> SIGYZ SIGZX EPS, averaged onto the one-point element.
+    subroutine read_initial_stress_solid(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(init_stress_t) :: is
+        integer :: ic, nint, nhisv, large, k, ip
+        real(wp) :: s
+        ic = first_card(kw)
+        do while (ic <= kw%ncard)
+            call get_card(ctx, kw, ic, 'EID NINT NHISV LARGE IVEFLG IALEGP NTHINT NTHHSV', 1, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) then
+                ic = ic + 1
+                cycle
+            end if
+            is = init_stress_t(src=kw%card_line(ic))
+            call get_int(card, 1, is%eid, 0, error); if (allocated(error)) return
+            call get_int(card, 2, nint, 1, error, zero_default=.true.); if (allocated(error)) return
+            call get_int(card, 3, nhisv, 0, error); if (allocated(error)) return
+            call get_int(card, 4, large, 0, error); if (allocated(error)) return
+            if (nhisv /= 0) then
+                call card_error(card, 3, 'history variables are not supported (NHISV must be 0)', error); return
+            end if
+            if (large /= 0) then
+                call card_error(card, 4, 'the LARGE format is not supported', error); return
+            end if
+            if (nint < 1 .or. ic + nint > kw%ncard) then
+                call card_error(card, 2, 'NINT stress cards are not all there', error); return
+            end if
+            do ip = 1, nint
+                call get_card(ctx, kw, ic + ip, 'SIGXX SIGYY SIGZZ SIGXY SIGYZ SIGZX EPS', 2, card, error)
+                if (allocated(error)) return
+                do k = 1, 6
+                    call get_real(card, k, s, 0.0_wp, error); if (allocated(error)) return
+                    is%sig(k) = is%sig(k) + s/nint
+                end do
+            end do
+            if (.not. allocated(model%istress)) allocate (model%istress(64))
+            if (model%nistress == size(model%istress)) model%istress = [model%istress, model%istress]
+            model%nistress = model%nistress + 1
+            model%istress(model%nistress) = is
+            ic = ic + 1 + nint
+        end do
+    end subroutine read_initial_stress_solid
+
+    subroutine push_ivel(model, iv)
+        type(model_t), intent(inout) :: model
+        type(init_vel_t), intent(in) :: iv
+        if (.not. allocated(model%ivel)) allocate (model%ivel(16))
+        if (model%nivel == size(model%ivel)) model%ivel = [model%ivel, model%ivel]
+        model%nivel = model%nivel + 1
+        model%ivel(model%nivel) = iv
+    end subroutine push_ivel
+
+end module xd_input_read_conditions

@@ -1,0 +1,154 @@
+!> Readers for *CONTROL_* and *DATABASE_* keywords.
+module xd_input_read_controls
+    use xd_kinds, only: wp
+    use xd_core_errors, only: error_t
+    use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
+    use xd_input_keyword_table, only: keyword_t
+    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
+    use xd_model, only: model_t, history_request_t
+    implicit none
+    private
+    public :: read_control, read_database
+
+contains
+
+    subroutine read_control(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        integer :: ic, isdo, lctm, erode, ms1st, btype
+        real(wp) :: endmas
+        character(len=:), allocatable :: at
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        at = ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)
+        associate (c => model%ctl)
+            select case (kw%name)
+            case ('CONTROL_TERMINATION')
+                call get_card(ctx, kw, ic, 'ENDTIM ENDCYC DTMIN ENDENG ENDMAS', 1, card, error)
+                if (allocated(error)) return
+                call get_real(card, 1, c%endtim, 0.0_wp, error); if (allocated(error)) return
+                call get_int(card, 2, c%endcyc, 0, error); if (allocated(error)) return
+                call get_real(card, 3, c%dtmin, 0.0_wp, error); if (allocated(error)) return
+                call get_real(card, 4, c%endeng, 0.0_wp, error); if (allocated(error)) return
+                call get_real(card, 5, endmas, 0.0_wp, error); if (allocated(error)) return
+                if (c%endtim < 0.0_wp) then
+                    call card_error(card, 1, 'termination time must not be negative', error); return
+                end if
+                if (endmas /= 0.0_wp) call add_warning(model, at//' field ENDMAS: mass scaling '// &
+                                                       'is not implemented; ignored')
+                c%termination_given = .true.
+            case ('CONTROL_TIMESTEP')
+                call get_card(ctx, kw, ic, 'DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST', 1, card, error)
+                if (allocated(error)) return
+                call get_real(card, 1, c%dtinit, 0.0_wp, error); if (allocated(error)) return
+                call get_real(card, 2, c%tssfac, 0.9_wp, error, zero_default=.true.); if (allocated(error)) return
+                call get_int(card, 3, isdo, 0, error); if (allocated(error)) return
+                call get_real(card, 4, c%tslimt, 0.0_wp, error); if (allocated(error)) return
+                call get_real(card, 5, c%dt2ms, 0.0_wp, error); if (allocated(error)) return
+                call get_int(card, 6, lctm, 0, error); if (allocated(error)) return
+                call get_int(card, 7, erode, 0, error); if (allocated(error)) return
+                call get_int(card, 8, ms1st, 0, error); if (allocated(error)) return
+                if (c%tssfac <= 0.0_wp .or. c%tssfac > 1.0_wp) then
+                    call card_error(card, 2, 'TSSFAC must lie in (0, 1]', error); return
+                end if
+                if (c%dt2ms /= 0.0_wp) call add_warning(model, at//' field DT2MS: mass scaling '// &
+                                                        'is not implemented; ignored')
+                if (lctm /= 0) call add_warning(model, at//' field LCTM: time step limit curve '// &
+                                                'is not implemented; ignored')
+                if (erode /= 0) call add_warning(model, at//' field ERODE: erosion on minimum time '// &
+                                                 'step is not implemented; ignored')
+            case ('CONTROL_HOURGLASS')
+                call get_card(ctx, kw, ic, 'IHQ QH', 1, card, error)
+                if (allocated(error)) return
+                call get_int(card, 1, c%ihq, 1, error, zero_default=.true.); if (allocated(error)) return
+                call get_real(card, 2, c%qh, 0.1_wp, error, zero_default=.true.); if (allocated(error)) return
+                if (c%ihq < 1 .or. c%ihq > 5) then
+                    call card_error(card, 1, 'IHQ '//trim(card%f(1))//' is not supported (1-5)', error); return
+                end if
+            case ('CONTROL_BULK_VISCOSITY')
+                call get_card(ctx, kw, ic, 'Q1 Q2 TYPE', 1, card, error)
+                if (allocated(error)) return
+                call get_real(card, 1, c%q1, 1.5_wp, error, zero_default=.true.); if (allocated(error)) return
+                call get_real(card, 2, c%q2, 0.06_wp, error, zero_default=.true.); if (allocated(error)) return
+                call get_int(card, 3, btype, 1, error, zero_default=.true.); if (allocated(error)) return
+                if (btype /= 1) call add_warning(model, at//' field TYPE: only the standard form (1) is implemented')
+            case ('CONTROL_ENERGY')
+                call get_card(ctx, kw, ic, 'HGEN RWEN SLNTEN RYLEN', 1, card, error)
+                if (allocated(error)) return
+                call get_int(card, 1, c%hgen, 1, error, zero_default=.true.); if (allocated(error)) return
+                call get_int(card, 2, c%rwen, 2, error, zero_default=.true.); if (allocated(error)) return
+                call get_int(card, 3, c%slnten, 1, error, zero_default=.true.); if (allocated(error)) return
+                call get_int(card, 4, c%rylen, 1, error, zero_default=.true.); if (allocated(error)) return
+            end select
+        end associate
+        call no_more_cards(ctx, kw, ic + 1, error)
+    end subroutine read_control
+
+    subroutine read_database(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(history_request_t) :: h
+        integer :: ic, k, id, dump
+        real(wp) :: lcdt
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        select case (kw%name)
+        case ('DATABASE_GLSTAT', 'DATABASE_MATSUM', 'DATABASE_NODOUT', 'DATABASE_RCFORC', 'DATABASE_RWFORC')
+            call get_card(ctx, kw, ic, 'DT BINARY LCUR IOOPT', 1, card, error)
+            if (allocated(error)) return
+            call get_real(card, 1, h%dt, 0.0_wp, error); if (allocated(error)) return
+            call get_int(card, 2, h%binary, 0, error); if (allocated(error)) return
+            if (h%dt < 0.0_wp) then
+                call card_error(card, 1, 'output interval must not be negative', error); return
+            end if
+            h%on = h%dt > 0.0_wp
+            select case (kw%name)
+            case ('DATABASE_GLSTAT'); model%db%glstat = h
+            case ('DATABASE_MATSUM'); model%db%matsum = h
+            case ('DATABASE_NODOUT'); model%db%nodout = h
+            end select
+            call no_more_cards(ctx, kw, ic + 1, error)
+        case ('DATABASE_HISTORY_NODE', 'DATABASE_HISTORY_NODE_SET')
+            do ic = first_card(kw), kw%ncard
+                call get_card(ctx, kw, ic, 'ID1 ID2 ID3 ID4 ID5 ID6 ID7 ID8', 1, card, error)
+                if (allocated(error)) return
+                do k = 1, 8
+                    call get_int(card, k, id, 0, error); if (allocated(error)) return
+                    if (id < 0) then
+                        call card_error(card, k, 'ids must be positive', error); return
+                    end if
+                    if (id == 0) cycle
+                    if (kw%name == 'DATABASE_HISTORY_NODE') then
+                        call push(model%db%hist_node, id)
+                    else
+                        call push(model%db%hist_set, id)
+                    end if
+                end do
+            end do
+        case ('DATABASE_BINARY_D3PLOT')
+            call get_card(ctx, kw, ic, 'DT LCDT BEAM NPLTC PSETID', 1, card, error)
+            if (allocated(error)) return
+            call get_real(card, 1, model%db%d3plot_dt, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 2, lcdt, 0.0_wp, error); if (allocated(error)) return
+            call get_int(card, 4, model%db%d3plot_npltc, 0, error); if (allocated(error)) return
+        case ('DATABASE_BINARY_D3DUMP')
+            call get_card(ctx, kw, ic, 'CYCL', 1, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, dump, 0, error); if (allocated(error)) return
+        end select
+    end subroutine read_database
+
+    subroutine push(a, v)
+        integer, allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: v
+        if (.not. allocated(a)) allocate (a(0))
+        a = [a, v]
+    end subroutine push
+
+end module xd_input_read_controls

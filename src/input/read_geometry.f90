@@ -1,0 +1,183 @@
+!> Readers for *NODE, *ELEMENT_SOLID and *PART.
+module xd_input_read_geometry
+    use xd_kinds, only: wp
+    use xd_core_errors, only: error_t, make_error
+    use xd_core_memory, only: grow
+    use xd_core_strings, only: itoa
+    use xd_input_field_reader, only: card_t, get_real, get_int, get_text, field_blank, card_blank, &
+                                     card_error
+    use xd_input_keyword_table, only: keyword_t
+    use xd_input_context, only: read_ctx_t, get_card, add_warning
+    use xd_model, only: model_t, part_t
+    implicit none
+    private
+    public :: read_geometry
+
+contains
+
+    subroutine read_geometry(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        select case (kw%name)
+        case ('NODE')
+            call read_node(ctx, kw, model, error)
+        case ('ELEMENT_SOLID')
+            call read_element_solid(ctx, kw, model, error)
+        case ('PART')
+            call read_part(ctx, kw, model, error)
+        end select
+    end subroutine read_geometry
+
+    subroutine read_node(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        integer :: ic, n, tc, rc
+        real(wp) :: xyz(3)
+        do ic = 1, kw%ncard
+            call get_card(ctx, kw, ic, 'NID:8 X:16 Y:16 Z:16 TC:8 RC:8', 1, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            call get_int(card, 1, n, 0, error); if (allocated(error)) return
+            if (n <= 0) then
+                call card_error(card, 1, 'node id must be a positive integer', error)
+                return
+            end if
+            call get_real(card, 2, xyz(1), 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 3, xyz(2), 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 4, xyz(3), 0.0_wp, error); if (allocated(error)) return
+            call get_int(card, 5, tc, 0, error); if (allocated(error)) return
+            call get_int(card, 6, rc, 0, error); if (allocated(error)) return
+            if (tc < 0 .or. tc > 7) then
+                call card_error(card, 5, 'constraint code '//itoa(tc)//' is not 0-7', error)
+                return
+            end if
+            if (rc < 0 .or. rc > 7) then
+                call card_error(card, 6, 'constraint code '//itoa(rc)//' is not 0-7', error)
+                return
+            end if
+            model%nnode = model%nnode + 1
+            call grow(model%node_id, model%nnode, 'node ids')
+            call grow(model%x0, model%nnode, 'node coordinates')
+            call grow(model%node_tc, model%nnode, 'node constraints')
+            call grow(model%node_rc, model%nnode, 'node constraints')
+            call grow(model%node_src, model%nnode, 'node lines')
+            model%node_id(model%nnode) = n
+            model%x0(:, model%nnode) = xyz
+            model%node_tc(model%nnode) = tc
+            model%node_rc(model%nnode) = rc
+            model%node_src(model%nnode) = kw%card_line(ic)
+        end do
+    end subroutine read_node
+
+    !> One-line form EID PID N1..N8, or two-line form (EID PID, then N1..N10),
+    !> told apart by whether the third field of the first card holds a node.
+    subroutine read_element_solid(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card, card2
+        integer :: ic, eid, pid, k, nodes(8), e
+        ic = 0
+        do while (ic < kw%ncard)
+            ic = ic + 1
+            call get_card(ctx, kw, ic, 'EID:8 PID:8 N1:8 N2:8 N3:8 N4:8 N5:8 N6:8 N7:8 N8:8', 1, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            call get_int(card, 1, eid, 0, error); if (allocated(error)) return
+            call get_int(card, 2, pid, 0, error); if (allocated(error)) return
+            if (eid <= 0) then
+                call card_error(card, 1, 'element id must be a positive integer', error)
+                return
+            end if
+            if (field_blank(card, 3)) then
+                if (ic == kw%ncard) then
+                    call card_error(card, 3, 'two-line form: the card of nodes N1..N10 is missing', error)
+                    return
+                end if
+                ic = ic + 1
+                call get_card(ctx, kw, ic, 'N1:8 N2:8 N3:8 N4:8 N5:8 N6:8 N7:8 N8:8 N9:8 N10:8', 2, card2, error)
+                if (allocated(error)) return
+                do k = 1, 8
+                    call get_int(card2, k, nodes(k), 0, error); if (allocated(error)) return
+                end do
+                if (any(nodes <= 0)) then
+                    call card_error(card2, minloc(nodes, 1), 'node id must be a positive integer', error)
+                    return
+                end if
+            else
+                do k = 1, 8
+                    call get_int(card, 2 + k, nodes(k), 0, error); if (allocated(error)) return
+                end do
+                if (any(nodes <= 0)) then
+                    call card_error(card, 2 + minloc(nodes, 1), 'node id must be a positive integer', error)
+                    return
+                end if
+            end if
+            model%nhex = model%nhex + 1
+            e = model%nhex
+            call grow(model%hex_id, e, 'solid element ids')
+            call grow(model%hex_pid, e, 'solid element parts')
+            call grow(model%hex_conn, 8, e, 'solid connectivity')
+            call grow(model%hex_src, e, 'solid element lines')
+            model%hex_id(e) = eid
+            model%hex_pid(e) = pid
+            model%hex_conn(:, e) = nodes
+            model%hex_src(e) = kw%card_line(ic)
+        end do
+    end subroutine read_element_solid
+
+    !> Pairs of cards: HEADING, then PID SECID MID EOSID HGID GRAV ADPOPT TMID.
+    subroutine read_part(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: head, card
+        type(part_t) :: p
+        integer :: ic, eosid, tmid
+        ic = 1
+        do while (ic <= kw%ncard)
+            call get_card(ctx, kw, ic, 'HEADING:70', 1, head, error, raw=.true.)
+            if (allocated(error)) return
+            if (ic == kw%ncard) then
+                if (card_blank(head)) exit
+                call make_error(error, ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)// &
+                                ' card 2: missing (PID SECID MID ... after the heading)')
+                return
+            end if
+            call get_card(ctx, kw, ic + 1, 'PID SECID MID EOSID HGID GRAV ADPOPT TMID', 2, card, error)
+            if (allocated(error)) return
+            p = part_t()
+            p%heading = get_text(head, 1)
+            call get_int(card, 1, p%id, 0, error); if (allocated(error)) return
+            call get_int(card, 2, p%secid, 0, error); if (allocated(error)) return
+            call get_int(card, 3, p%mid, 0, error); if (allocated(error)) return
+            call get_int(card, 4, eosid, 0, error); if (allocated(error)) return
+            call get_int(card, 5, p%hgid, 0, error); if (allocated(error)) return
+            call get_int(card, 8, tmid, 0, error); if (allocated(error)) return
+            if (p%id <= 0) then
+                call card_error(card, 1, 'part id must be a positive integer', error)
+                return
+            end if
+            if (eosid /= 0) then
+                call card_error(card, 4, 'equations of state are not supported (EOSID must be 0)', error)
+                return
+            end if
+            if (tmid /= 0) call add_warning(model, ctx%src%where(kw%card_line(ic + 1))// &
+                                            ': *PART field TMID: thermal material ignored')
+            p%src = kw%card_line(ic + 1)
+            if (.not. allocated(model%part)) allocate (model%part(8))
+            if (model%npart == size(model%part)) model%part = [model%part, model%part]
+            model%npart = model%npart + 1
+            model%part(model%npart) = p
+            ic = ic + 2
+        end do
+    end subroutine read_part
+
+end module xd_input_read_geometry

@@ -1,0 +1,92 @@
+!> Readers for node and part sets (*SET_NODE_LIST, *SET_PART_LIST, _GENERATE).
+module xd_input_read_sets
+    use xd_core_errors, only: error_t
+    use xd_core_strings, only: itoa
+    use xd_input_field_reader, only: card_t, get_int, card_error, card_blank
+    use xd_input_keyword_table, only: keyword_t
+    use xd_input_context, only: read_ctx_t, get_card, first_card
+    use xd_model, only: model_t, set_t, set_node, set_part
+    implicit none
+    private
+    public :: read_set
+
+contains
+
+    subroutine read_set(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(set_t) :: s
+        integer :: ic, k, v, b, e, j
+        logical :: generate
+        character(len=:), allocatable :: spec
+
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        call get_card(ctx, kw, ic, 'SID DA1 DA2 DA3 DA4 SOLVER', 1, card, error)
+        if (allocated(error)) return
+        call get_int(card, 1, s%id, 0, error); if (allocated(error)) return
+        if (s%id <= 0) then
+            call card_error(card, 1, 'set id must be a positive integer', error); return
+        end if
+        s%kind = set_node
+        if (kw%name(1:8) == 'SET_PART') s%kind = set_part
+        generate = index(kw%name, '_GENERATE') > 0
+        s%src = kw%card_line(ic)
+        allocate (s%member(64))
+        if (generate) then
+            spec = 'B1BEG B1END B2BEG B2END B3BEG B3END B4BEG B4END'
+        else
+            spec = 'ID1 ID2 ID3 ID4 ID5 ID6 ID7 ID8'
+        end if
+        do ic = ic + 1, kw%ncard
+            call get_card(ctx, kw, ic, spec, ic, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            if (generate) then
+                do k = 1, 7, 2
+                    call get_int(card, k, b, 0, error); if (allocated(error)) return
+                    call get_int(card, k + 1, e, 0, error); if (allocated(error)) return
+                    if (b == 0 .and. e == 0) cycle
+                    if (b <= 0 .or. e < b) then
+                        call card_error(card, k + 1, 'range '//itoa(b)//' to '//itoa(e)// &
+                                        ' is empty or not positive', error)
+                        return
+                    end if
+                    do j = b, e
+                        call push(s, j)
+                    end do
+                end do
+            else
+                do k = 1, 8
+                    call get_int(card, k, v, 0, error); if (allocated(error)) return
+                    if (v < 0) then
+                        call card_error(card, k, 'ids must be positive', error); return
+                    end if
+                    if (v > 0) call push(s, v)
+                end do
+            end if
+        end do
+        s%member = s%member(1:s%n)
+        if (.not. allocated(model%set)) allocate (model%set(8))
+        if (model%nset == size(model%set)) model%set = [model%set, model%set]
+        model%nset = model%nset + 1
+        model%set(model%nset) = s
+    end subroutine read_set
+
+    subroutine push(s, v)
+        type(set_t), intent(inout) :: s
+        integer, intent(in) :: v
+        integer, allocatable :: tmp(:)
+        if (s%n == size(s%member)) then
+            allocate (tmp(2*size(s%member)))
+            tmp(1:s%n) = s%member(1:s%n)
+            call move_alloc(tmp, s%member)
+        end if
+        s%n = s%n + 1
+        s%member(s%n) = v
+    end subroutine push
+
+end module xd_input_read_sets

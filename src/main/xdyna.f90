@@ -1,0 +1,215 @@
+!> xdyna: read a keyword deck, check it, run the explicit time loop, write
+!> the log and the time histories. Exit 0 normal, 1 input error, 2 error
+!> termination during the run, 3 stopped by a signal (see the manual).
+program xdyna
+    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+    use xd_kinds, only: wp, dp
+    use xd_core_errors, only: error_t, exit_normal, exit_input, exit_run
+    use xd_core_strings, only: to_lower, itoa
+    use xd_core_parallel_env, only: parallel_env_t, parallel_start, parallel_stop, terminate
+    use xd_core_timers, only: timers_t, ph_input, ph_init
+    use xd_input_deck_reader, only: read_deck, read_options_t
+    use xd_input_context, only: read_ctx_t, add_warning
+    use xd_input_field_reader, only: parse_real, parse_int
+    use xd_input_model_check, only: check_model, id_maps_t
+    use xd_input_keyword_table, only: skip_list_text
+    use xd_model, only: model_t
+    use xd_elements_solid_groups, only: solids_t
+    use xd_solver_state, only: state_t
+    use xd_solver_assembly, only: assembly_t
+    use xd_solver_setup, only: setup_run
+    use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
+    use xd_output_histories, only: histories_t, open_histories, close_histories
+    use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
+    !$ use omp_lib, only: omp_set_num_threads
+    implicit none
+
+    type(parallel_env_t) :: env
+    type(read_options_t) :: ropts
+    type(run_options_t) :: opts
+    type(model_t) :: model
+    type(read_ctx_t) :: ctx
+    type(id_maps_t) :: maps
+    type(state_t) :: st
+    type(solids_t) :: solids
+    type(assembly_t) :: asm
+    type(histories_t) :: hist
+    type(log_t) :: lg
+    type(timers_t) :: tm
+    type(run_result_t) :: res
+    type(error_t), allocatable :: error
+    character(len=:), allocatable :: deck, outdir, arg, restart
+    logical :: check_only, ok
+    real(dp) :: endtim_cli
+    integer :: i, ncpu, nfree
+
+    call parallel_start(env)
+    call tm%start(ph_input)
+    deck = ''
+    outdir = '.'
+    restart = ''
+    check_only = .false.
+    endtim_cli = -1.0_dp
+    ncpu = 0
+    do i = 1, command_argument_count()
+        arg = get_arg(i)
+        select case (to_lower(arg))
+        case ('--help', '-h')
+            call usage()
+            call finish(exit_normal)
+        case ('--version')
+            write (output_unit, '(a)') 'xdyna 0.1.0'
+            call finish(exit_normal)
+        case ('--check')
+            check_only = .true.
+        case default
+            call keyword_arg(arg)
+        end select
+    end do
+    if (len(deck) == 0) then
+        write (error_unit, '(a)') 'xdyna: no input deck (i=deck.k); see xdyna --help'
+        call finish(exit_input)
+    end if
+    if (len(restart) > 0) then
+        write (error_unit, '(a)') 'xdyna: r='//restart//': restart is not implemented in this version'
+        call finish(exit_input)
+    end if
+    !$ if (ncpu > 0) call omp_set_num_threads(ncpu)
+
+    if (env%rank > 0) then
+        ! domain decomposition is not there yet: rank 0 runs the whole model
+        call finish(exit_normal)
+    end if
+    if (.not. check_only) then
+        call execute_command_line('mkdir -p "'//outdir//'"')
+        call log_open(outdir, lg, ok)
+        if (.not. ok) then
+            write (error_unit, '(a)') 'xdyna: cannot write the log in '//outdir
+            call finish(exit_input)
+        end if
+        call log_line(lg, ' command line: xdyna i='//deck//' outdir='//outdir)
+        call log_line(lg, ' ranks '//itoa(env%nranks)//', threads per rank '//itoa(env%nthreads))
+        if (env%nranks > 1) call log_line(lg, ' *** Warning: several MPI ranks: rank 0 runs the whole model '// &
+                                          '(domain decomposition is not implemented yet)')
+    end if
+
+    call read_deck(deck, ropts, model, ctx, error)
+    if (.not. allocated(error)) call check_model(ctx, model, maps, error)
+    if (allocated(error)) then
+        write (error_unit, '(a)') error%message
+        call log_line(lg, ' *** Error: '//error%message)
+        call log_line(lg, ' E r r o r   t e r m i n a t i o n   (input)')
+        call finish(exit_input)
+    end if
+    call tm%stop(ph_input)
+
+    call tm%start(ph_init)
+    call setup_run(model, maps%hex, st, solids, asm, nfree)
+    if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')
+    if (check_only) then
+        write (output_unit, '(a)') model_summary(model, solids)
+        write (output_unit, '(a)') ' xdyna --check: input is valid; nothing was run'
+        call finish(exit_normal)
+    end if
+    call log_line(lg, model_summary(model, solids))
+    opts%endtim = real(model%ctl%endtim, dp)
+    if (endtim_cli > 0.0_dp) opts%endtim = endtim_cli
+    if (opts%endtim <= 0.0_dp) opts%endtim = huge(1.0_dp)
+    call open_histories(model, outdir, hist, ok)
+    if (.not. ok) then
+        write (error_unit, '(a)') 'xdyna: cannot create the time-history files in '//outdir
+        call finish(exit_run)
+    end if
+    call tm%stop(ph_init)
+
+    call run_time_loop(model, st, solids, asm, hist, lg, tm, opts, res)
+    call close_histories(hist)
+    call timing_table(lg, tm, res%ncycle, solids%n, tm%elapsed())
+    if (res%status /= exit_normal) then
+        write (error_unit, '(a)') 'xdyna: '//res%message
+        call log_line(lg, ' E r r o r   t e r m i n a t i o n')
+        call finish(res%status)
+    end if
+    write (output_unit, '(a)') ' normal termination: '//itoa(res%ncycle)//' cycles; output in '//outdir
+    call finish(exit_normal)
+
+contains
+
+    function get_arg(k) result(a)
+        integer, intent(in) :: k
+        character(len=:), allocatable :: a
+        integer :: n
+        call get_command_argument(k, length=n)
+        allocate (character(len=n) :: a)
+        call get_command_argument(k, a)
+    end function get_arg
+
+    !> name=value arguments, LS-DYNA style.
+    subroutine keyword_arg(a)
+        character(len=*), intent(in) :: a
+        integer :: k
+        character(len=:), allocatable :: key, val
+        logical :: good
+        k = index(a, '=')
+        if (k == 0) then
+            write (error_unit, '(a)') 'xdyna: unknown argument '''//a//'''; see xdyna --help'
+            call finish(exit_input)
+        end if
+        key = to_lower(a(1:k - 1))
+        val = a(k + 1:)
+        select case (key)
+        case ('i')
+            deck = val
+        case ('outdir', 'o')
+            outdir = val
+        case ('r')
+            restart = val
+        case ('endtim')
+            call parse_real(val, endtim_cli, good)
+            if (.not. good .or. endtim_cli <= 0.0_dp) then
+                write (error_unit, '(a)') 'xdyna: endtim='//val//' is not a positive number'
+                call finish(exit_input)
+            end if
+        case ('ncpu')
+            call parse_int(val, ncpu, good)
+            if (.not. good .or. ncpu < 1) then
+                write (error_unit, '(a)') 'xdyna: ncpu='//val//' is not a positive integer'
+                call finish(exit_input)
+            end if
+        case ('unsupported')
+            select case (to_lower(val))
+            case ('warn'); ropts%warn_unsupported = .true.
+            case ('error'); ropts%warn_unsupported = .false.
+            case default
+                write (error_unit, '(a)') 'xdyna: unsupported='//val//' must be error or warn'
+                call finish(exit_input)
+            end select
+        case default
+            write (error_unit, '(a)') 'xdyna: unknown argument '''//a//'''; see xdyna --help'
+            call finish(exit_input)
+        end select
+    end subroutine keyword_arg
+
+    subroutine usage()
+        write (output_unit, '(a)') &
+            'usage: xdyna i=deck.k [outdir=DIR] [endtim=T] [ncpu=N] [unsupported=error|warn]', &
+            '       xdyna --check i=deck.k    read and validate the deck, print the model summary, run nothing', &
+            '       xdyna --help | --version', &
+            '       mpirun -np N xdyna i=deck.k', &
+            '', &
+            'Writes d3hsp (log), glstat, matsum, nodout (LS-DYNA ASCII layout) and thist.h5', &
+            'into the current directory or outdir=DIR.', &
+            'Exit status: 0 normal, 1 input error, 2 error termination during the run,', &
+            '3 stopped by a signal or wall-clock limit.', &
+            '', &
+            'Keywords skipped with a warning (output-only or tuning for another code):'
+        write (output_unit, '(a)', advance='no') skip_list_text()
+    end subroutine usage
+
+    subroutine finish(code)
+        integer, intent(in) :: code
+        call log_close(lg)
+        call terminate(code)
+    end subroutine finish
+
+end program xdyna

@@ -1,0 +1,162 @@
+!> The model as read from the deck: nodes, elements, parts, sections,
+!> materials, sets, conditions, controls and output requests. Ids are the
+!> user's until the model check resolves them to indices (`*_ix` fields).
+module xd_model
+    use xd_kinds, only: wp, dp
+    implicit none
+    private
+    public :: model_t, part_t, section_solid_t, material_t, hourglass_t, set_t
+    public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
+    public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
+    public :: set_node, set_part, find_set
+    public :: iv_node_set, iv_node, iv_generation
+
+    integer, parameter :: mat_elastic = 1, mat_plastic_kinematic = 3, mat_rigid = 20, &
+                          mat_piecewise_linear = 24
+    integer, parameter :: set_node = 1, set_part = 2
+    integer, parameter :: iv_node_set = 1, iv_node = 2, iv_generation = 3
+
+    type :: part_t
+        integer :: id = 0
+        character(len=70) :: heading = ''
+        integer :: secid = 0, mid = 0, hgid = 0
+        integer :: sec_ix = 0, mat_ix = 0, hg_ix = 0
+        integer :: src = 0                  !< deck line of its card
+    end type part_t
+
+    type :: section_solid_t
+        integer :: id = 0
+        integer :: elform = 1
+        integer :: src = 0
+    end type section_solid_t
+
+    type :: material_t
+        integer :: id = 0
+        integer :: mtype = 0                !< LS-DYNA material number (1, 3, 20, 24)
+        character(len=40) :: keyword = ''
+        real(wp) :: ro = 0, e = 0, pr = 0
+        integer :: src = 0
+    end type material_t
+
+    type :: hourglass_t
+        integer :: id = 0
+        integer :: ihq = 0                  !< 0: take *CONTROL_HOURGLASS
+        real(wp) :: qm = 0.1_wp
+        real(wp) :: q1 = 1.5_wp, q2 = 0.06_wp
+        integer :: src = 0
+    end type hourglass_t
+
+    !> Node or part set; `member` holds ids, `member_ix` indices once checked.
+    type :: set_t
+        integer :: id = 0
+        integer :: kind = 0
+        integer :: n = 0
+        integer, allocatable :: member(:)
+        integer, allocatable :: member_ix(:)
+        integer :: src = 0
+    end type set_t
+
+    !> Constraint on a node (is_set false) or on a node set.
+    type :: spc_t
+        integer :: id = 0
+        logical :: is_set = .false.
+        integer :: ix = 0                   !< node index once checked
+        integer :: dof(6) = 0               !< 1: that degree of freedom is fixed
+        integer :: src = 0
+    end type spc_t
+
+    type :: init_vel_t
+        integer :: kind = 0                 !< iv_node_set, iv_node, iv_generation
+        integer :: id = 0                   !< node set, node, or part/part set/node set
+        integer :: ix = 0                   !< node index once checked (iv_node)
+        integer :: exempt = 0               !< NSIDEX: node set left out
+        integer :: styp = 0                 !< generation: 1 part set, 2 part, 3 node set
+        real(wp) :: v(3) = 0, vr(3) = 0
+        real(wp) :: omega = 0
+        real(wp) :: xc(3) = 0, axis(3) = 0
+        integer :: src = 0
+    end type init_vel_t
+
+    type :: init_stress_t
+        integer :: eid = 0
+        real(wp) :: sig(6) = 0              !< xx yy zz xy yz zx
+        integer :: src = 0
+    end type init_stress_t
+
+    type :: controls_t
+        real(wp) :: endtim = 0
+        integer :: endcyc = 0
+        real(wp) :: dtmin = 0
+        real(wp) :: endeng = 0
+        real(wp) :: dtinit = 0
+        real(wp) :: tssfac = 0.9_wp
+        real(wp) :: tslimt = 0
+        real(wp) :: dt2ms = 0
+        integer :: ihq = 1
+        real(wp) :: qh = 0.1_wp
+        real(wp) :: q1 = 1.5_wp, q2 = 0.06_wp
+        integer :: hgen = 1, rwen = 2, slnten = 1, rylen = 1
+        logical :: termination_given = .false.
+    end type controls_t
+
+    type :: history_request_t
+        real(wp) :: dt = 0
+        integer :: binary = 0
+        logical :: on = .false.
+    end type history_request_t
+
+    type :: database_t
+        type(history_request_t) :: glstat, matsum, nodout
+        real(wp) :: d3plot_dt = 0
+        integer :: d3plot_npltc = 0
+        integer, allocatable :: hist_node(:)     !< node ids for nodout
+        integer, allocatable :: hist_node_ix(:)
+        integer, allocatable :: hist_set(:)      !< node set ids for nodout
+    end type database_t
+
+    type :: model_t
+        character(len=80) :: title = ''
+        character(len=:), allocatable :: deck_path
+        ! nodes, structure of arrays
+        integer :: nnode = 0
+        integer, allocatable :: node_id(:)
+        real(wp), allocatable :: x0(:, :)        !< (3, nnode)
+        integer, allocatable :: node_tc(:), node_rc(:)
+        integer, allocatable :: node_src(:)
+        ! solid elements
+        integer :: nhex = 0
+        integer, allocatable :: hex_id(:)
+        integer, allocatable :: hex_pid(:)       !< part id as read
+        integer, allocatable :: hex_part(:)      !< part index once checked
+        integer, allocatable :: hex_conn(:, :)   !< (8, nhex) node ids, then indices
+        integer, allocatable :: hex_src(:)
+        ! tables
+        integer :: npart = 0, nsec_solid = 0, nmat = 0, nhg = 0, nset = 0
+        type(part_t), allocatable :: part(:)
+        type(section_solid_t), allocatable :: sec_solid(:)
+        type(material_t), allocatable :: mat(:)
+        type(hourglass_t), allocatable :: hg(:)
+        type(set_t), allocatable :: set(:)
+        integer :: nspc = 0, nivel = 0, nistress = 0
+        type(spc_t), allocatable :: spc(:)
+        type(init_vel_t), allocatable :: ivel(:)
+        type(init_stress_t), allocatable :: istress(:)
+        type(controls_t) :: ctl
+        type(database_t) :: db
+        integer :: nwarn = 0
+        character(len=:), allocatable :: warnings   !< newline-separated, for d3hsp
+    end type model_t
+
+contains
+
+    !> Index of the set of `kind` with id `id`, 0 if none.
+    pure integer function find_set(model, kind, id) result(ix)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: kind, id
+        do ix = 1, model%nset
+            if (model%set(ix)%kind == kind .and. model%set(ix)%id == id) return
+        end do
+        ix = 0
+    end function find_set
+
+end module xd_model

@@ -1,0 +1,151 @@
+!> The d3hsp log: banner, model summary with the subsystems in use, warnings,
+!> energy ratio at intervals, the termination message and the timing table.
+module xd_output_d3hsp
+    use xd_kinds, only: wp, dp
+    use xd_core_strings, only: itoa, join_path
+    use xd_core_timers, only: timers_t, nphase, phase_name, ph_elements, ph_assembly, ph_integrate, &
+                              ph_contact, ph_output
+    use xd_model, only: model_t
+    use xd_elements_solid_groups, only: solids_t, hg_stiffness
+    use xd_output_histories, only: version_line
+    implicit none
+    private
+    public :: log_t, log_open, log_line, log_close, model_summary, timing_table
+
+    type :: log_t
+        integer :: unit = 0
+        logical :: open = .false.
+    end type log_t
+
+contains
+
+    subroutine log_open(outdir, lg, ok)
+        character(len=*), intent(in) :: outdir
+        type(log_t), intent(out) :: lg
+        logical, intent(out) :: ok
+        integer :: st
+        open (newunit=lg%unit, file=join_path(outdir, 'd3hsp'), status='replace', action='write', iostat=st)
+        ok = st == 0
+        lg%open = ok
+        if (.not. ok) return
+        write (lg%unit, '(a)') ' xdyna: explicit finite elements with automatic contact', version_line(), ''
+    end subroutine log_open
+
+    subroutine log_line(lg, text)
+        type(log_t), intent(in) :: lg
+        character(len=*), intent(in) :: text
+        if (.not. lg%open) return
+        write (lg%unit, '(a)') text
+        flush (lg%unit)
+    end subroutine log_line
+
+    subroutine log_close(lg)
+        type(log_t), intent(inout) :: lg
+        if (lg%open) close (lg%unit)
+        lg%open = .false.
+    end subroutine log_close
+
+    !> Model summary as text (for d3hsp and for --check on stdout).
+    function model_summary(model, solids) result(s)
+        type(model_t), intent(in) :: model
+        type(solids_t), intent(in) :: solids
+        character(len=:), allocatable :: s
+        character(len=160) :: buf
+        character(len=1), parameter :: nl = new_line('a')
+        integer :: p, ne, m
+        s = ' input deck: '//model%deck_path//nl
+        if (len_trim(model%title) > 0) s = s//' title: '//trim(model%title)//nl
+        s = s//nl//' m o d e l   s u m m a r y'//nl
+        write (buf, '(a,i12)') '   nodes ............................', model%nnode
+        s = s//trim(buf)//nl
+        write (buf, '(a,i12)') '   solid elements (hexahedra) .......', model%nhex
+        s = s//trim(buf)//nl
+        write (buf, '(a,i12)') '   solid element groups .............', solids%ngroup
+        s = s//trim(buf)//nl
+        write (buf, '(a,i12)') '   parts ............................', model%npart
+        s = s//trim(buf)//nl
+        write (buf, '(a,i12)') '   materials ........................', model%nmat
+        s = s//trim(buf)//nl
+        s = s//nl//'   part      material   type          elements  heading'//nl
+        do p = 1, model%npart
+            ne = count(solids%part == p)
+            m = model%part(p)%mat_ix
+            write (buf, '(i7,i14,3x,a12,i10,2x,a)') model%part(p)%id, model%mat(m)%id, &
+                model%mat(m)%keyword(5:16), ne, trim(model%part(p)%heading)
+            s = s//trim(buf)//nl
+        end do
+        s = s//nl//' subsystems in use (a deck pays only for these)'//nl
+        s = s//'   solid elements ............ on  (one-point hexahedron, Flanagan-Belytschko)'//nl
+        if (solids%ngroup > 0) then
+            if (any(solids%group%hg_form == hg_stiffness)) then
+                s = s//'   hourglass control ......... on  (stiffness form in some parts)'//nl
+            else
+                s = s//'   hourglass control ......... on  (viscous form)'//nl
+            end if
+        end if
+        s = s//'   bulk viscosity ............ on  (Q1 '//trim(fmt(model%ctl%q1))//', Q2 '// &
+            trim(fmt(model%ctl%q2))//')'//nl
+        s = s//'   shell elements ............ off (none in the deck)'//nl
+        s = s//'   rigid bodies .............. off (none in the deck)'//nl
+        s = s//'   contact ................... off (no contact keyword)'//nl
+        s = s//'   rigid walls ............... off (none in the deck)'//nl
+        s = s//'   boundary constraints ...... '//onoff(model%nspc > 0 .or. any(model%node_tc(1:model%nnode) > 0))//nl
+        s = s//'   initial velocities ........ '//onoff(model%nivel > 0)//nl
+        s = s//'   initial stresses .......... '//onoff(model%nistress > 0)//nl
+        s = s//nl//' c o n t r o l s'//nl
+        s = s//'   termination time .......... '//trim(fmt(model%ctl%endtim))//nl
+        if (model%ctl%endcyc > 0) s = s//'   termination cycle ......... '//itoa(model%ctl%endcyc)//nl
+        s = s//'   time step scale TSSFAC .... '//trim(fmt(model%ctl%tssfac))//nl
+        s = s//'   glstat / matsum / nodout .. '//trim(fmt(model%db%glstat%dt))//' / '// &
+            trim(fmt(model%db%matsum%dt))//' / '//trim(fmt(model%db%nodout%dt))//nl
+        if (model%nwarn > 0) s = s//nl//model%warnings
+    contains
+        function fmt(x) result(t)
+            real(wp), intent(in) :: x
+            character(len=16) :: t
+            write (t, '(es12.4)') x
+            t = adjustl(t)
+        end function fmt
+        function onoff(b) result(t)
+            logical, intent(in) :: b
+            character(len=:), allocatable :: t
+            t = 'off'
+            if (b) t = 'on'
+        end function onoff
+    end function model_summary
+
+    !> Wall and CPU seconds per phase, contact share, time per zone cycle.
+    subroutine timing_table(lg, tm, ncycle, nelem, total_wall)
+        type(log_t), intent(in) :: lg
+        type(timers_t), intent(in) :: tm
+        integer, intent(in) :: ncycle, nelem
+        real(dp), intent(in) :: total_wall
+        integer :: k
+        real(dp) :: loop_wall, ns
+        character(len=160) :: buf
+        call log_line(lg, '')
+        call log_line(lg, ' t i m i n g   i n f o r m a t i o n')
+        call log_line(lg, '')
+        call log_line(lg, '   phase                        wall (s)     cpu (s)    % wall')
+        do k = 1, nphase
+            write (buf, '(3x,a24,2f13.3,f9.1)') phase_name(k), tm%wall(k), tm%cpu(k), &
+                100.0_dp*tm%wall(k)/max(total_wall, 1.0e-12_dp)
+            call log_line(lg, trim(buf))
+        end do
+        write (buf, '(3x,a24,f13.3)') 'total', total_wall
+        call log_line(lg, trim(buf))
+        loop_wall = tm%wall(ph_elements) + tm%wall(ph_assembly) + tm%wall(ph_integrate) + &
+                    tm%wall(ph_contact) + tm%wall(ph_output)
+        ns = 0
+        if (ncycle > 0 .and. nelem > 0) ns = 1.0e9_dp*loop_wall/(real(ncycle, dp)*nelem)
+        call log_line(lg, '')
+        write (buf, '(a,f6.1,a)') '   contact share of the time loop ....... ', &
+            100.0_dp*tm%wall(ph_contact)/max(loop_wall, 1.0e-12_dp), ' %'
+        call log_line(lg, trim(buf))
+        write (buf, '(a,i12)') '   cycles ............................... ', ncycle
+        call log_line(lg, trim(buf))
+        write (buf, '(a,f12.1)') '   time per zone cycle (nanosec) ........ ', ns
+        call log_line(lg, trim(buf))
+    end subroutine timing_table
+
+end module xd_output_d3hsp

@@ -1,0 +1,269 @@
+!> Time-history databases: glstat, matsum and nodout in LS-DYNA's ASCII
+!> layout, and the same series in thist.h5. Written at the *DATABASE_*
+!> intervals (the first cycle at or past each output time) and at the end.
+module xd_output_histories
+    use xd_kinds, only: wp, dp
+    use xd_core_strings, only: itoa, join_path
+    use xd_model, only: model_t, find_set, set_node
+    use xd_elements_solid_groups, only: solids_t
+    use xd_solver_state, only: state_t
+    use xd_solver_energies, only: energies_t
+    use xd_output_thist_h5, only: h5file_t, h5series_t, h5_open, h5_close, series_create, series_append
+    implicit none
+    private
+    public :: histories_t, open_histories, histories_due, write_histories, close_histories, version_line
+
+    character(len=*), parameter :: xdyna_version = '0.1.0'
+    integer, parameter :: s_glstat = 1, s_matsum = 2, s_nodout = 3
+
+    type :: histories_t
+        logical :: on(3) = .false.
+        integer :: unit(3) = 0
+        real(dp) :: dt(3) = 0, next(3) = 0
+        type(h5file_t) :: h5
+        type(h5series_t) :: ser(3)
+        integer, allocatable :: nodes(:)     !< node indices for nodout
+        integer, allocatable :: node_ids(:)  !< and their user ids
+        character(len=72) :: title = ''
+        integer :: nwritten = 0
+    end type histories_t
+
+contains
+
+    function version_line() result(s)
+        character(len=:), allocatable :: s
+        character(len=8) :: d
+        call date_and_time(date=d)
+        s = repeat(' ', 20)//'xdyna '//xdyna_version//'  date '//d(5:6)//'/'//d(7:8)//'/'//d(1:4)
+    end function version_line
+
+    subroutine open_histories(model, outdir, h, ok)
+        type(model_t), intent(in) :: model
+        character(len=*), intent(in) :: outdir
+        type(histories_t), intent(out) :: h
+        logical, intent(out) :: ok
+        character(len=32), allocatable :: cols(:), units(:)
+        integer :: k, s, j
+        integer, allocatable :: ids(:)
+
+        h%title = model%title(1:72)
+        h%dt = [real(model%db%glstat%dt, dp), real(model%db%matsum%dt, dp), real(model%db%nodout%dt, dp)]
+        h%on = h%dt > 0.0_dp
+        ! nodout nodes: *DATABASE_HISTORY_NODE ids, then node sets
+        allocate (h%nodes(0))
+        if (allocated(model%db%hist_node_ix)) h%nodes = model%db%hist_node_ix
+        if (allocated(model%db%hist_set)) then
+            do k = 1, size(model%db%hist_set)
+                s = find_set(model, set_node, model%db%hist_set(k))
+                h%nodes = [h%nodes, model%set(s)%member_ix]
+            end do
+        end if
+        if (size(h%nodes) == 0) h%on(s_nodout) = .false.
+
+        call h5_open(join_path(outdir, 'thist.h5'), h%h5, ok)
+        if (.not. ok) return
+        if (h%on(s_glstat)) then
+            open (newunit=h%unit(s_glstat), file=join_path(outdir, 'glstat'), status='replace', action='write')
+            call header(h%unit(s_glstat))
+            cols = [character(len=32) :: 'time_step', 'kinetic_energy', 'internal_energy', 'hourglass_energy', &
+                    'external_work', 'total_energy', 'energy_ratio', 'x_velocity', 'y_velocity', 'z_velocity']
+            units = [character(len=32) :: 'time', 'energy', 'energy', 'energy', 'energy', 'energy', '1', &
+                     'length/time', 'length/time', 'length/time']
+            call series_create(h%h5, 'glstat', cols, units, 0, [0], h%ser(s_glstat))
+        end if
+        if (h%on(s_matsum)) then
+            open (newunit=h%unit(s_matsum), file=join_path(outdir, 'matsum'), status='replace', action='write')
+            call header(h%unit(s_matsum))
+            call legend(h%unit(s_matsum), model%part(1:model%npart)%id, model%part(1:model%npart)%heading)
+            write (h%unit(s_matsum), '(a)') '', '', ''
+            cols = [character(len=32) :: 'internal_energy', 'kinetic_energy', 'hourglass_energy', 'x_momentum', &
+                    'y_momentum', 'z_momentum', 'mass']
+            units = [character(len=32) :: 'energy', 'energy', 'energy', 'mass*length/time', 'mass*length/time', &
+                     'mass*length/time', 'mass']
+            call series_create(h%h5, 'matsum', cols, units, model%npart, model%part(1:model%npart)%id, &
+                               h%ser(s_matsum))
+        end if
+        if (h%on(s_nodout)) then
+            open (newunit=h%unit(s_nodout), file=join_path(outdir, 'nodout'), status='replace', action='write')
+            call header(h%unit(s_nodout))
+            ids = model%node_id(h%nodes)
+            h%node_ids = ids
+            call legend(h%unit(s_nodout), ids, [(repeat(' ', 70), j=1, size(ids))])
+            cols = [character(len=32) :: 'x_displacement', 'y_displacement', 'z_displacement', 'x_velocity', &
+                    'y_velocity', 'z_velocity', 'x_acceleration', 'y_acceleration', 'z_acceleration', &
+                    'x_coordinate', 'y_coordinate', 'z_coordinate']
+            units = [character(len=32) :: 'length', 'length', 'length', 'length/time', 'length/time', 'length/time', &
+                     'length/time^2', 'length/time^2', 'length/time^2', 'length', 'length', 'length']
+            call series_create(h%h5, 'nodout', cols, units, size(ids), ids, h%ser(s_nodout))
+        end if
+    contains
+        subroutine header(u)
+            integer, intent(in) :: u
+            write (u, '(a)') ' '//h%title
+            write (u, '(a)') version_line()
+        end subroutine header
+        subroutine legend(u, ids, titles)
+            integer, intent(in) :: u, ids(:)
+            character(len=*), intent(in) :: titles(:)
+            integer :: i
+            write (u, '(a)') '', '{BEGIN LEGEND}', ' Entity #        Title'
+            do i = 1, size(ids)
+                write (u, '(i9,5x,a)') ids(i), titles(i)(1:min(70, len(titles(i))))
+            end do
+            write (u, '(a)') '{END LEGEND}'
+        end subroutine legend
+    end subroutine open_histories
+
+    !> Is any database due at time t?
+    logical function histories_due(h, t)
+        type(histories_t), intent(in) :: h
+        real(dp), intent(in) :: t
+        histories_due = any(h%on .and. t >= h%next*(1.0_dp - 1.0e-9_dp))
+    end function histories_due
+
+    !> Write the databases that are due at the state's time (all of them if
+    !> `force`). vn: full-step velocities; a: accelerations.
+    subroutine write_histories(h, model, st, solids, en, vn, crit_part, zone_ns, force)
+        type(histories_t), intent(inout) :: h
+        type(model_t), intent(in) :: model
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(in) :: solids
+        type(energies_t), intent(in) :: en
+        real(wp), intent(in) :: vn(:, :)
+        integer, intent(in) :: crit_part
+        real(dp), intent(in) :: zone_ns
+        logical, intent(in) :: force
+        logical :: due(3)
+        due = h%on .and. (force .or. st%time >= h%next*(1.0_dp - 1.0e-9_dp))
+        if (due(s_glstat)) call write_glstat(h, st, solids, en, crit_part, zone_ns)
+        if (due(s_matsum)) call write_matsum(h, model, st, en)
+        if (due(s_nodout)) call write_nodout(h, st, vn)
+        where (due)
+            h%next = h%next + h%dt
+        end where
+        ! skip output times already passed (a step longer than the interval)
+        where (h%on .and. h%next <= st%time)
+            h%next = st%time + h%dt
+        end where
+        if (any(due)) h%nwritten = h%nwritten + 1
+    end subroutine write_histories
+
+    subroutine write_glstat(h, st, solids, en, crit_part, zone_ns)
+        type(histories_t), intent(inout) :: h
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(in) :: solids
+        type(energies_t), intent(in) :: en
+        integer, intent(in) :: crit_part
+        real(dp), intent(in) :: zone_ns
+        integer :: u, eid
+        u = h%unit(s_glstat)
+        eid = 0
+        if (st%crit_elem > 0) eid = solids%eid(st%crit_elem)
+        write (u, '(a)') '', ''
+        write (u, '(a,i8,a,i10,a,i10)') ' dt of cycle', st%cycle, ' is controlled by solid     ', eid, &
+            ' of part', crit_part
+        write (u, '(a)') ''
+        call row('time', st%time)
+        call row('time step', real(st%dt, dp))
+        call row('kinetic energy', en%ke)
+        call row('internal energy', en%ie)
+        call row('spring and damper energy', 0.0_dp)
+        call row('hourglass energy ', en%hg)
+        call row('system damping energy', 0.0_dp)
+        call row('sliding interface energy', 0.0_dp)
+        call row('external work', en%ext)
+        call row('total energy', en%total)
+        call row('total energy / initial energy', en%ratio)
+        call row('energy ratio w/o eroded energy', en%ratio)
+        call row('global x velocity', en%vel(1))
+        call row('global y velocity', en%vel(2))
+        call row('global z velocity', en%vel(3))
+        write (u, '(a,i14)') ' '//dots('time per zone cycle.(nanosec)'), nint(zone_ns)
+        flush (u)
+        call series_append(h%ser(s_glstat), st%time, reshape([real(st%dt, dp), en%ke, en%ie, en%hg, en%ext, &
+                           en%total, en%ratio, en%vel], [1, 10]))
+    contains
+        subroutine row(label, x)
+            character(len=*), intent(in) :: label
+            real(dp), intent(in) :: x
+            write (u, '(a,es14.5)') ' '//dots(label), x
+        end subroutine row
+    end subroutine write_glstat
+
+    !> A label padded with dots to 31 characters, as LS-DYNA prints them.
+    pure function dots(label) result(s)
+        character(len=*), intent(in) :: label
+        character(len=31) :: s
+        s = repeat('.', 31)
+        s(1:min(31, len(label))) = label
+    end function dots
+
+    subroutine write_matsum(h, model, st, en)
+        type(histories_t), intent(inout) :: h
+        type(model_t), intent(in) :: model
+        type(state_t), intent(in) :: st
+        type(energies_t), intent(in) :: en
+        integer :: u, p
+        real(dp) :: rbv(3)
+        real(dp), allocatable :: vals(:, :)
+        u = h%unit(s_matsum)
+        write (u, '(a,es13.4)') ' time =', st%time
+        do p = 1, model%npart
+            rbv = 0
+            if (en%part_mass(p) > 0) rbv = en%part_mom(:, p)/en%part_mass(p)
+            write (u, '(a,i5,3x,a,es13.4,a,es13.4)') ' mat.#=', model%part(p)%id, '          inten=', &
+                en%part_ie(p), '     kinen=', en%part_ke(p)
+            write (u, '(a,es13.4,a,es13.4,a,es13.4)') ' x-mom=', en%part_mom(1, p), '     y-mom=', &
+                en%part_mom(2, p), '     z-mom=', en%part_mom(3, p)
+            write (u, '(a,es13.4,a,es13.4,a,es13.4)') ' x-rbv=', rbv(1), '     y-rbv=', rbv(2), '     z-rbv=', rbv(3)
+            write (u, '(a,es13.4,a,es13.4)') '                         hgeng=', en%part_hg(p), '     +mass=', 0.0_dp
+            write (u, '(a)') '', ''
+        end do
+        flush (u)
+        allocate (vals(model%npart, 7))
+        vals(:, 1) = en%part_ie
+        vals(:, 2) = en%part_ke
+        vals(:, 3) = en%part_hg
+        vals(:, 4) = en%part_mom(1, :)
+        vals(:, 5) = en%part_mom(2, :)
+        vals(:, 6) = en%part_mom(3, :)
+        vals(:, 7) = en%part_mass
+        call series_append(h%ser(s_matsum), st%time, vals)
+    end subroutine write_matsum
+
+    subroutine write_nodout(h, st, vn)
+        type(histories_t), intent(inout) :: h
+        type(state_t), intent(in) :: st
+        real(wp), intent(in) :: vn(:, :)
+        integer :: u, k, nd
+        real(dp), allocatable :: vals(:, :)
+        u = h%unit(s_nodout)
+        write (u, '(a,i8,a,es14.7,a)') ' n o d a l   p r i n t   o u t   f o r   t i m e  s t e p', st%cycle, &
+            '                              ( at time', st%time, ' )'
+        write (u, '(a)') '', ' nodal point  x-disp     y-disp      z-disp      x-vel       y-vel       z-vel  '// &
+            '    x-accl      y-accl      z-accl      x-coor      y-coor      z-coor'
+        allocate (vals(size(h%nodes), 12))
+        do k = 1, size(h%nodes)
+            nd = h%nodes(k)
+            vals(k, 1:3) = st%x(:, nd) - st%x0(:, nd)
+            vals(k, 4:6) = vn(:, nd)
+            vals(k, 7:9) = st%a(:, nd)
+            vals(k, 10:12) = st%x(:, nd)
+            write (u, '(i9,es13.4,11es12.4)') h%node_ids(k), vals(k, :)
+        end do
+        write (u, '(a)') ''
+        flush (u)
+        call series_append(h%ser(s_nodout), st%time, vals)
+    end subroutine write_nodout
+
+    subroutine close_histories(h)
+        type(histories_t), intent(inout) :: h
+        integer :: k
+        do k = 1, 3
+            if (h%on(k) .and. h%unit(k) /= 0) close (h%unit(k))
+            h%unit(k) = 0
+        end do
+        call h5_close(h%h5, h%ser)
+    end subroutine close_histories
+
+end module xd_output_histories

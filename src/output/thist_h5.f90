@@ -1,0 +1,168 @@
+!> Time histories in one HDF5 file, `thist.h5`: one group per database
+!> (glstat, matsum, nodout), a `time` dataset and one dataset per named
+!> column, each with a `units` attribute; per-entity series are 2-D
+!> (time x entity) with the entity ids beside them. Datasets grow by one row
+!> per output and the file is flushed each time, so a killed run leaves every
+!> finished row readable.
+module xd_output_thist_h5
+    use hdf5
+    use xd_kinds, only: wp, dp
+    implicit none
+    private
+    public :: h5file_t, h5series_t, h5_open, h5_close, series_create, series_append
+
+    type :: h5file_t
+        integer(hid_t) :: id = -1
+        logical :: open = .false.
+    end type h5file_t
+
+    type :: h5series_t
+        integer(hid_t) :: gid = -1
+        integer :: ncol = 0, nent = 0, nt = 0
+        integer(hid_t), allocatable :: dset(:)
+        integer(hid_t) :: tset = -1
+        integer(hid_t) :: file = -1
+    end type h5series_t
+
+contains
+
+    subroutine h5_open(path, f, ok)
+        character(len=*), intent(in) :: path
+        type(h5file_t), intent(out) :: f
+        logical, intent(out) :: ok
+        integer :: err
+        call h5open_f(err)
+        call h5fcreate_f(path, H5F_ACC_TRUNC_F, f%id, err)
+        ok = err == 0
+        f%open = ok
+    end subroutine h5_open
+
+    subroutine h5_close(f, series)
+        type(h5file_t), intent(inout) :: f
+        type(h5series_t), intent(inout) :: series(:)
+        integer :: err, i, k
+        if (.not. f%open) return
+        do i = 1, size(series)
+            if (series(i)%gid < 0) cycle
+            do k = 1, series(i)%ncol
+                call h5dclose_f(series(i)%dset(k), err)
+            end do
+            call h5dclose_f(series(i)%tset, err)
+            call h5gclose_f(series(i)%gid, err)
+            series(i)%gid = -1
+        end do
+        call h5fclose_f(f%id, err)
+        call h5close_f(err)
+        f%open = .false.
+    end subroutine h5_close
+
+    !> A group `name` with columns `cols` (units `units`) for `nent` entities
+    !> (0: one scalar series) whose ids are `ids`.
+    subroutine series_create(f, name, cols, units, nent, ids, s)
+        type(h5file_t), intent(in) :: f
+        character(len=*), intent(in) :: name
+        character(len=*), intent(in) :: cols(:), units(:)
+        integer, intent(in) :: nent
+        integer, intent(in) :: ids(:)
+        type(h5series_t), intent(out) :: s
+        integer :: err, k
+        integer(hid_t) :: sp, ds
+        integer(hsize_t) :: d1(1)
+        s%ncol = size(cols)
+        s%nent = nent
+        s%file = f%id
+        call h5gcreate_f(f%id, name, s%gid, err)
+        allocate (s%dset(s%ncol))
+        call make_dataset(s%gid, 'time', 0, 'time', s%tset)
+        do k = 1, s%ncol
+            call make_dataset(s%gid, trim(cols(k)), nent, trim(units(k)), s%dset(k))
+        end do
+        if (nent > 0) then
+            d1 = nent
+            call h5screate_simple_f(1, d1, sp, err)
+            call h5dcreate_f(s%gid, 'ids', H5T_NATIVE_INTEGER, sp, ds, err)
+            call h5dwrite_f(ds, H5T_NATIVE_INTEGER, ids(1:nent), d1, err)
+            call h5dclose_f(ds, err)
+            call h5sclose_f(sp, err)
+        end if
+    end subroutine series_create
+
+    subroutine make_dataset(gid, name, nent, units, ds)
+        integer(hid_t), intent(in) :: gid
+        character(len=*), intent(in) :: name, units
+        integer, intent(in) :: nent
+        integer(hid_t), intent(out) :: ds
+        integer(hid_t) :: sp, pl, at, aspace, atype
+        integer(hsize_t) :: dims(2), maxd(2), chunk(2), adim(1)
+        integer :: err, rank
+        if (nent > 0) then
+            rank = 2
+            dims = [int(nent, hsize_t), 0_hsize_t]
+            maxd = [int(nent, hsize_t), H5S_UNLIMITED_F]
+            chunk = [int(nent, hsize_t), int(max(1, min(64, 65536/max(nent, 1))), hsize_t)]
+        else
+            rank = 1
+            dims = [0_hsize_t, 0_hsize_t]
+            maxd = [H5S_UNLIMITED_F, 0_hsize_t]
+            chunk = [256_hsize_t, 0_hsize_t]
+        end if
+        call h5screate_simple_f(rank, dims(1:rank), sp, err, maxd(1:rank))
+        call h5pcreate_f(H5P_DATASET_CREATE_F, pl, err)
+        call h5pset_chunk_f(pl, rank, chunk(1:rank), err)
+        call h5dcreate_f(gid, name, H5T_NATIVE_DOUBLE, sp, ds, err, pl)
+        call h5pclose_f(pl, err)
+        call h5sclose_f(sp, err)
+        ! units attribute (a string)
+        adim = 1
+        call h5screate_simple_f(1, adim, aspace, err)
+        call h5tcopy_f(H5T_FORTRAN_S1, atype, err)
+        call h5tset_size_f(atype, int(max(len(units), 1), size_t), err)
+        call h5acreate_f(ds, 'units', atype, aspace, at, err)
+        call h5awrite_f(at, atype, [units], adim, err)
+        call h5aclose_f(at, err)
+        call h5tclose_f(atype, err)
+        call h5sclose_f(aspace, err)
+    end subroutine make_dataset
+
+    !> Append one output time: values(nent or 1, ncol).
+    subroutine series_append(s, time, values)
+        type(h5series_t), intent(inout) :: s
+        real(dp), intent(in) :: time
+        real(dp), intent(in) :: values(:, :)
+        integer :: k, err
+        s%nt = s%nt + 1
+        call append_row(s%tset, 0, [time])
+        do k = 1, s%ncol
+            call append_row(s%dset(k), s%nent, values(:, k))
+        end do
+        call h5fflush_f(s%file, H5F_SCOPE_GLOBAL_F, err)
+    contains
+        subroutine append_row(ds, nent, row)
+            integer(hid_t), intent(in) :: ds
+            integer, intent(in) :: nent
+            real(dp), intent(in) :: row(:)
+            integer(hid_t) :: fs, ms
+            integer(hsize_t) :: newd(2), off(2), cnt(2)
+            integer :: rank, e
+            if (nent > 0) then
+                rank = 2
+                newd = [int(nent, hsize_t), int(s%nt, hsize_t)]
+                off = [0_hsize_t, int(s%nt - 1, hsize_t)]
+                cnt = [int(nent, hsize_t), 1_hsize_t]
+            else
+                rank = 1
+                newd = [int(s%nt, hsize_t), 0_hsize_t]
+                off = [int(s%nt - 1, hsize_t), 0_hsize_t]
+                cnt = [1_hsize_t, 0_hsize_t]
+            end if
+            call h5dset_extent_f(ds, newd(1:rank), e)
+            call h5dget_space_f(ds, fs, e)
+            call h5sselect_hyperslab_f(fs, H5S_SELECT_SET_F, off(1:rank), cnt(1:rank), e)
+            call h5screate_simple_f(rank, cnt(1:rank), ms, e)
+            call h5dwrite_f(ds, H5T_NATIVE_DOUBLE, row, cnt(1:rank), e, ms, fs)
+            call h5sclose_f(ms, e)
+            call h5sclose_f(fs, e)
+        end subroutine append_row
+    end subroutine series_append
+
+end module xd_output_thist_h5

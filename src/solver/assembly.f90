@@ -1,0 +1,72 @@
+!> Deterministic force assembly: each element-node incidence has its own force
+!> slot; a node's force is the sum of its slots in a fixed (element) order,
+!> whatever the thread or rank count ("parith on").
+module xd_solver_assembly
+    use xd_kinds, only: wp
+    use xd_core_memory, only: alloc
+    implicit none
+    private
+    public :: assembly_t, build_assembly, assemble
+
+    type :: assembly_t
+        integer :: nnode = 0
+        integer, allocatable :: ptr(:)    !< (nnode+1) start of each node's slot list
+        integer, allocatable :: slot(:)   !< slot indices, ascending for each node
+    end type assembly_t
+
+contains
+
+    !> Node -> slot lists for connectivity conn(nen, nel); slot 8(e-1)+k style.
+    subroutine build_assembly(nnode, conn, asm)
+        integer, intent(in) :: nnode
+        integer, intent(in) :: conn(:, :)
+        type(assembly_t), intent(out) :: asm
+        integer :: nen, nel, e, k, nd
+        integer, allocatable :: fill(:)
+        nen = size(conn, 1)
+        nel = size(conn, 2)
+        asm%nnode = nnode
+        call alloc(asm%ptr, nnode + 1, 'assembly pointers')
+        call alloc(asm%slot, nen*nel, 'assembly slots')
+        do e = 1, nel
+            do k = 1, nen
+                nd = conn(k, e)
+                asm%ptr(nd + 1) = asm%ptr(nd + 1) + 1
+            end do
+        end do
+        asm%ptr(1) = 1
+        do nd = 1, nnode
+            asm%ptr(nd + 1) = asm%ptr(nd + 1) + asm%ptr(nd)
+        end do
+        allocate (fill(nnode))
+        fill = asm%ptr(1:nnode)
+        do e = 1, nel
+            do k = 1, nen
+                nd = conn(k, e)
+                asm%slot(fill(nd)) = nen*(e - 1) + k
+                fill(nd) = fill(nd) + 1
+            end do
+        end do
+    end subroutine build_assembly
+
+    !> f(:, node) = sum of its slots, in slot order.
+    subroutine assemble(asm, fslot, f)
+        type(assembly_t), intent(in) :: asm
+        real(wp), intent(in) :: fslot(:, :)
+        real(wp), intent(inout) :: f(:, :)
+        integer :: nd, j
+        real(wp) :: s1, s2, s3
+        !$omp parallel do schedule(static) private(nd, j, s1, s2, s3)
+        do nd = 1, asm%nnode
+            s1 = 0; s2 = 0; s3 = 0
+            do j = asm%ptr(nd), asm%ptr(nd + 1) - 1
+                s1 = s1 + fslot(1, asm%slot(j))
+                s2 = s2 + fslot(2, asm%slot(j))
+                s3 = s3 + fslot(3, asm%slot(j))
+            end do
+            f(1, nd) = s1; f(2, nd) = s2; f(3, nd) = s3
+        end do
+        !$omp end parallel do
+    end subroutine assemble
+
+end module xd_solver_assembly

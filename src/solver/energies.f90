@@ -1,0 +1,69 @@
+!> Energy bookkeeping, global and per part: kinetic (from full-step
+!> velocities), internal, hourglass, external work, total and energy ratio,
+!> momentum and mass per part.
+module xd_solver_energies
+    use xd_kinds, only: wp, dp
+    use xd_model, only: model_t
+    use xd_elements_solid_groups, only: solids_t
+    use xd_solver_state, only: state_t
+    implicit none
+    private
+    public :: energies_t, compute_energies
+
+    type :: energies_t
+        real(dp) :: ke = 0, ie = 0, hg = 0, ext = 0, total = 0, ratio = 1
+        real(dp) :: vel(3) = 0              !< velocity of the centre of mass
+        real(dp) :: mass = 0
+        real(dp), allocatable :: part_ie(:), part_ke(:), part_hg(:), part_mass(:)
+        real(dp), allocatable :: part_mom(:, :)   !< (3, npart)
+    end type energies_t
+
+contains
+
+    !> Energies at the current time; vn are the full-step nodal velocities.
+    subroutine compute_energies(model, st, solids, vn, en)
+        type(model_t), intent(in) :: model
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(in) :: solids
+        real(wp), intent(in) :: vn(:, :)
+        type(energies_t), intent(inout) :: en
+        integer :: e, k, p, nd
+        real(dp) :: mshare, mom(3)
+        if (.not. allocated(en%part_ie)) then
+            allocate (en%part_ie(model%npart), en%part_ke(model%npart), en%part_hg(model%npart), &
+                      en%part_mass(model%npart), en%part_mom(3, model%npart))
+        end if
+        en%part_ie = 0; en%part_ke = 0; en%part_hg = 0; en%part_mass = 0; en%part_mom = 0
+        do e = 1, solids%n
+            p = solids%part(e)
+            mshare = real(model%mat(model%part(p)%mat_ix)%ro, dp)*solids%vol0(e)/8.0_dp
+            en%part_ie(p) = en%part_ie(p) + solids%eint(e)
+            en%part_hg(p) = en%part_hg(p) + solids%ehg(e)
+            en%part_mass(p) = en%part_mass(p) + 8.0_dp*mshare
+            do k = 1, 8
+                nd = solids%conn(k, e)
+                en%part_ke(p) = en%part_ke(p) + 0.5_dp*mshare*sum(real(vn(:, nd), dp)**2)
+                en%part_mom(:, p) = en%part_mom(:, p) + mshare*real(vn(:, nd), dp)
+            end do
+        end do
+        en%ie = sum(en%part_ie)
+        en%hg = sum(en%part_hg)
+        en%ke = 0
+        mom = 0
+        do nd = 1, st%nnode
+            en%ke = en%ke + 0.5_dp*st%mass(nd)*sum(real(vn(:, nd), dp)**2)
+            mom = mom + st%mass(nd)*real(vn(:, nd), dp)
+        end do
+        en%mass = sum(real(st%mass, dp))
+        en%vel = 0
+        if (en%mass > 0) en%vel = mom/en%mass
+        en%ext = st%ext_work
+        en%total = en%ke + en%ie + en%hg
+        if (abs(st%e_initial + en%ext) > tiny(1.0_dp)) then
+            en%ratio = en%total/(st%e_initial + en%ext)
+        else
+            en%ratio = 1.0_dp
+        end if
+    end subroutine compute_energies
+
+end module xd_solver_energies

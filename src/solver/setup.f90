@@ -1,0 +1,217 @@
+!> From a checked model to the initial state: element groups, volumes, lumped
+!> masses, constraint masks, initial velocities and stresses.
+module xd_solver_setup
+    use xd_kinds, only: wp, dp
+    use xd_core_memory, only: alloc
+    use xd_model, only: model_t, find_set, set_node, set_part, iv_node_set, iv_node, iv_generation, &
+                        mat_elastic
+    use xd_core_sorting, only: id_map_t
+    use xd_elements_hex8, only: hex_b_matrix
+    use xd_elements_solid_groups, only: solids_t, build_solids
+    use xd_solver_state, only: state_t
+    use xd_solver_assembly, only: assembly_t, build_assembly
+    implicit none
+    private
+    public :: setup_run
+
+contains
+
+    subroutine setup_run(model, hex_map, st, solids, asm, nfree_nodes)
+        type(model_t), intent(in) :: model
+        type(id_map_t), intent(in) :: hex_map
+        type(state_t), intent(out) :: st
+        type(solids_t), intent(out) :: solids
+        type(assembly_t), intent(out) :: asm
+        integer, intent(out) :: nfree_nodes
+        st%nnode = model%nnode
+        call alloc(st%x, 3, st%nnode, 'coordinates')
+        call alloc(st%x0, 3, st%nnode, 'initial coordinates')
+        call alloc(st%v, 3, st%nnode, 'velocities')
+        call alloc(st%a, 3, st%nnode, 'accelerations')
+        call alloc(st%f, 3, st%nnode, 'nodal forces')
+        call alloc(st%mass, st%nnode, 'nodal masses')
+        call alloc(st%free, 3, st%nnode, 'constraint masks')
+        st%x0 = model%x0(:, 1:st%nnode)
+        st%x = st%x0
+        call build_solids(model, solids)
+        call build_assembly(st%nnode, solids%conn, asm)
+        call initial_volumes_and_mass(solids, st)
+        nfree_nodes = count(st%mass <= 0.0_wp)
+        call constraint_masks(model, st)
+        call initial_velocities(model, solids, st)
+        st%v = st%v*st%free
+        call initial_stresses(model, hex_map, solids, st)
+    end subroutine setup_run
+
+    subroutine initial_volumes_and_mass(s, st)
+        type(solids_t), intent(inout) :: s
+        type(state_t), intent(inout) :: st
+        integer :: g, a, b, n, i, k
+        real(wp), allocatable :: xl(:, :), yl(:, :), zl(:, :), bx(:, :), by(:, :), bz(:, :), vol(:)
+        do g = 1, s%ngroup
+            a = s%group(g)%first
+            b = s%group(g)%last
+            n = b - a + 1
+            allocate (xl(n, 8), yl(n, 8), zl(n, 8), bx(n, 8), by(n, 8), bz(n, 8), vol(n))
+            do k = 1, 8
+                xl(:, k) = st%x(1, s%conn(k, a:b))
+                yl(:, k) = st%x(2, s%conn(k, a:b))
+                zl(:, k) = st%x(3, s%conn(k, a:b))
+            end do
+            call hex_b_matrix(n, xl, yl, zl, bx, by, bz, vol)
+            s%vol0(a:b) = vol
+            s%vol(a:b) = vol
+            do i = 1, n
+                do k = 1, 8
+                    st%mass(s%conn(k, a + i - 1)) = st%mass(s%conn(k, a + i - 1)) + &
+                                                    s%group(g)%ro*vol(i)/8.0_wp
+                end do
+            end do
+            deallocate (xl, yl, zl, bx, by, bz, vol)
+        end do
+    end subroutine initial_volumes_and_mass
+
+    !> *NODE TC codes and *BOUNDARY_SPC: 0 in `free` for each fixed translation.
+    subroutine constraint_masks(model, st)
+        type(model_t), intent(in) :: model
+        type(state_t), intent(inout) :: st
+        integer :: i, k, s
+        st%free = 1.0_wp
+        do i = 1, st%nnode
+            call apply_code(model%node_tc(i), i)
+        end do
+        do i = 1, model%nspc
+            associate (c => model%spc(i))
+                if (c%is_set) then
+                    s = find_set(model, set_node, c%id)
+                    do k = 1, model%set(s)%n
+                        call apply_dofs(c%dof, model%set(s)%member_ix(k))
+                    end do
+                else
+                    call apply_dofs(c%dof, c%ix)
+                end if
+            end associate
+        end do
+        ! massless nodes do not move
+        do i = 1, st%nnode
+            if (st%mass(i) <= 0.0_wp) st%free(:, i) = 0.0_wp
+        end do
+    contains
+        subroutine apply_code(code, nd)
+            integer, intent(in) :: code, nd
+            select case (code)
+            case (1); st%free(1, nd) = 0
+            case (2); st%free(2, nd) = 0
+            case (3); st%free(3, nd) = 0
+            case (4); st%free(1:2, nd) = 0
+            case (5); st%free(2:3, nd) = 0
+            case (6); st%free(1, nd) = 0; st%free(3, nd) = 0
+            case (7); st%free(:, nd) = 0
+            end select
+        end subroutine apply_code
+        subroutine apply_dofs(dof, nd)
+            integer, intent(in) :: dof(6), nd
+            integer :: j
+            do j = 1, 3
+                if (dof(j) == 1) st%free(j, nd) = 0
+            end do
+        end subroutine apply_dofs
+    end subroutine constraint_masks
+
+    !> Node-set velocities first (NSID 0: every node), then generations,
+    !> then single nodes, so the most specific definition wins.
+    subroutine initial_velocities(model, solids, st)
+        type(model_t), intent(in) :: model
+        type(solids_t), intent(in) :: solids
+        type(state_t), intent(inout) :: st
+        integer :: i, k, s, pass
+        logical, allocatable :: mark(:), exempt(:)
+        allocate (mark(st%nnode), exempt(st%nnode))
+        do pass = 1, 3
+            do i = 1, model%nivel
+                associate (iv => model%ivel(i))
+                    if (pass == 1 .and. iv%kind == iv_node_set) then
+                        exempt = .false.
+                        if (iv%exempt /= 0) then
+                            s = find_set(model, set_node, iv%exempt)
+                            exempt(model%set(s)%member_ix) = .true.
+                        end if
+                        if (iv%id == 0) then
+                            mark = .true.
+                        else
+                            mark = .false.
+                            s = find_set(model, set_node, iv%id)
+                            mark(model%set(s)%member_ix) = .true.
+                        end if
+                        mark = mark .and. .not. exempt
+                        do k = 1, st%nnode
+                            if (mark(k)) st%v(:, k) = iv%v
+                        end do
+                    else if (pass == 2 .and. iv%kind == iv_generation) then
+                        mark = .false.
+                        select case (iv%styp)
+                        case (1)
+                            s = find_set(model, set_part, iv%id)
+                            do k = 1, model%set(s)%n
+                                call mark_part(model%set(s)%member_ix(k))
+                            end do
+                        case (2)
+                            do k = 1, model%npart
+                                if (model%part(k)%id == iv%id) call mark_part(k)
+                            end do
+                        case (3)
+                            s = find_set(model, set_node, iv%id)
+                            mark(model%set(s)%member_ix) = .true.
+                        end select
+                        do k = 1, st%nnode
+                            if (mark(k)) st%v(:, k) = iv%v + iv%omega*cross(iv%axis, st%x(:, k) - iv%xc)
+                        end do
+                    else if (pass == 3 .and. iv%kind == iv_node) then
+                        st%v(:, iv%ix) = iv%v
+                    end if
+                end associate
+            end do
+        end do
+    contains
+        subroutine mark_part(p)
+            integer, intent(in) :: p
+            integer :: e
+            do e = 1, solids%n
+                if (solids%part(e) == p) mark(solids%conn(:, e)) = .true.
+            end do
+        end subroutine mark_part
+    end subroutine initial_velocities
+
+    pure function cross(a, b) result(c)
+        real(wp), intent(in) :: a(3), b(3)
+        real(wp) :: c(3)
+        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+    end function cross
+
+    !> *INITIAL_STRESS_SOLID, and the strain energy it stores (linear elastic).
+    subroutine initial_stresses(model, hex_map, s, st)
+        type(model_t), intent(in) :: model
+        type(id_map_t), intent(in) :: hex_map
+        type(solids_t), intent(inout) :: s
+        type(state_t), intent(inout) :: st
+        integer :: i, e, m
+        integer, allocatable :: where(:)
+        real(wp) :: sg(6), em, nu
+        if (model%nistress == 0) return
+        allocate (where(s%n))
+        where(s%model_ix) = [(e, e=1, s%n)]
+        do i = 1, model%nistress
+            e = where(hex_map%find(model%istress(i)%eid))
+            sg = model%istress(i)%sig
+            s%sig(:, e) = sg
+            m = model%part(s%part(e))%mat_ix
+            if (model%mat(m)%mtype == mat_elastic) then
+                em = model%mat(m)%e
+                nu = model%mat(m)%pr
+                s%eint(e) = real(s%vol0(e), dp)/(2.0_dp*em)*((1.0_dp + nu)*(sum(real(sg(1:3), dp)**2) &
+                            + 2.0_dp*sum(real(sg(4:6), dp)**2)) - nu*sum(real(sg(1:3), dp))**2)
+            end if
+        end do
+    end subroutine initial_stresses
+
+end module xd_solver_setup

@@ -1,0 +1,28 @@
+!> Nodal state of the run: positions, half-step velocities, forces, masses,
+!> constraint masks, time and step. Passed down the call chain, never global.
+module xd_solver_state
+    use xd_kinds, only: wp, dp
+    implicit none
+    private
+    public :: state_t
+
+    type :: state_t
+        integer :: nnode = 0
+        real(wp), allocatable :: x(:, :)      !< (3, nnode) current coordinates
+        real(wp), allocatable :: x0(:, :)     !< (3, nnode) initial coordinates
+        real(wp), allocatable :: v(:, :)      !< (3, nnode) velocity at t - dt/2 (t at start)
+        real(wp), allocatable :: a(:, :)      !< (3, nnode) acceleration
+        real(wp), allocatable :: f(:, :)      !< (3, nnode) nodal force (internal, sign: on the node)
+        real(wp), allocatable :: mass(:)      !< lumped nodal mass
+        real(wp), allocatable :: free(:, :)   !< (3, nnode) 1 free, 0 fixed by an SPC
+        real(dp) :: time = 0.0_dp
+        real(wp) :: dt = 0.0_wp               !< step about to be taken (t -> t + dt)
+        real(wp) :: dt_old = 0.0_wp           !< step just taken
+        real(wp) :: dt_first = 0.0_wp         !< first step, for DTMIN
+        integer :: cycle = 0
+        integer :: crit_elem = 0              !< solids index that set the step
+        real(dp) :: ext_work = 0.0_dp         !< external work so far
+        real(dp) :: e_initial = 0.0_dp        !< total energy at t = 0
+    end type state_t
+
+end module xd_solver_state

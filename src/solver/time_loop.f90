@@ -1,0 +1,248 @@
+!> The explicit time loop: central differences with a variable step,
+!> element forces, deterministic assembly, constraints, energies, output,
+!> and the checks that stop a run gone bad (exit 2) with a diagnostic.
+module xd_solver_time_loop
+    use, intrinsic :: iso_fortran_env, only: output_unit
+    use xd_kinds, only: wp, dp
+    use xd_core_strings, only: itoa
+    use xd_core_errors, only: exit_normal, exit_run
+    use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output
+    use xd_model, only: model_t
+    use xd_elements_solid_groups, only: solids_t, solid_forces
+    use xd_solver_state, only: state_t
+    use xd_solver_assembly, only: assembly_t, assemble
+    use xd_solver_energies, only: energies_t, compute_energies
+    use xd_output_histories, only: histories_t, histories_due, write_histories
+    use xd_output_d3hsp, only: log_t, log_line
+    implicit none
+    private
+    public :: run_options_t, run_result_t, run_time_loop
+
+    type :: run_options_t
+        real(dp) :: endtim = 0.0_dp          !< termination time (deck, or endtim= on the command line)
+        logical :: progress = .true.
+        real(dp) :: progress_every = 5.0_dp  !< wall seconds between progress lines
+        integer :: energy_check_every = 100  !< cycles between energy checks
+    end type run_options_t
+
+    type :: run_result_t
+        integer :: status = exit_normal
+        character(len=:), allocatable :: message
+        integer :: ncycle = 0
+        real(dp) :: loop_wall = 0.0_dp
+    end type run_result_t
+
+contains
+
+    subroutine run_time_loop(model, st, solids, asm, hist, lg, tm, opts, res)
+        type(model_t), intent(in) :: model
+        type(state_t), intent(inout) :: st
+        type(solids_t), intent(inout) :: solids
+        type(assembly_t), intent(in) :: asm
+        type(histories_t), intent(inout) :: hist
+        type(log_t), intent(in) :: lg
+        type(timers_t), intent(inout) :: tm
+        type(run_options_t), intent(in) :: opts
+        type(run_result_t), intent(out) :: res
+        type(energies_t) :: en
+        real(wp), allocatable :: vn(:, :)
+        real(wp) :: dtc, dt_avg
+        real(dp) :: t_last_progress, ratio_limit, t0_wall
+        logical :: done, due
+        integer :: nd
+
+        allocate (vn(3, st%nnode))
+        ratio_limit = 1.5_dp
+        if (model%ctl%endeng > 0.0_wp) ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
+        t0_wall = tm%elapsed()
+
+        ! cycle 0: forces of the initial state, first step
+        call element_pass(0.0_wp, dtc)
+        if (res%status /= exit_normal) return
+        st%dt = real(model%ctl%tssfac, wp)*dtc
+        if (model%ctl%dtinit > 0.0_wp) st%dt = min(st%dt, model%ctl%dtinit)
+        st%dt_first = st%dt
+        call accelerations()
+        vn = st%v
+        call compute_energies(model, st, solids, vn, en)
+        st%e_initial = en%total
+        en%ratio = 1.0_dp
+        call output(force=.true.)
+        t_last_progress = tm%elapsed()
+        if (opts%progress) call progress()
+
+        done = .false.
+        do while (.not. done)
+            ! central differences: v(n+1/2) = v(n-1/2) + a(n) (dt(n-1/2) + dt(n+1/2))/2
+            call tm%start(ph_integrate)
+            dt_avg = 0.5_wp*(st%dt_old + st%dt)
+            !$omp parallel do schedule(static)
+            do nd = 1, st%nnode
+                st%v(:, nd) = st%v(:, nd) + dt_avg*st%a(:, nd)
+                st%x(:, nd) = st%x(:, nd) + st%dt*st%v(:, nd)
+            end do
+            !$omp end parallel do
+            st%time = st%time + real(st%dt, dp)
+            st%cycle = st%cycle + 1
+            st%dt_old = st%dt
+            call tm%stop(ph_integrate)
+
+            call element_pass(st%dt_old, dtc)
+            if (res%status /= exit_normal) exit
+            st%dt = real(model%ctl%tssfac, wp)*dtc
+            if (model%ctl%dtmin > 0.0_wp .and. st%dt < model%ctl%dtmin*st%dt_first) then
+                call fail('time step '//sci(real(st%dt, dp))//' fell below DTMIN x first step; '// &
+                          'controlling solid '//itoa(solids%eid(st%crit_elem))//' of part '// &
+                          itoa(model%part(solids%part(st%crit_elem))%id))
+                exit
+            end if
+            call tm%start(ph_integrate)
+            call accelerations()
+            call tm%stop(ph_integrate)
+
+            done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
+            if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
+            due = histories_due(hist, st%time) .or. done
+            if (due .or. mod(st%cycle, opts%energy_check_every) == 0) then
+                call tm%start(ph_output)
+                vn = st%v + 0.5_wp*st%dt_old*st%a
+                call compute_energies(model, st, solids, vn, en)
+                call tm%stop(ph_output)
+                call check_energy()
+                if (res%status /= exit_normal) exit
+                if (due) call output(force=done)
+            end if
+            if (opts%progress .and. (tm%elapsed() - t_last_progress >= opts%progress_every .or. done)) then
+                t_last_progress = tm%elapsed()
+                call progress()
+            end if
+        end do
+        res%ncycle = st%cycle
+        res%loop_wall = tm%elapsed() - t0_wall
+        if (res%status == exit_normal) then
+            call log_line(lg, '')
+            call log_line(lg, ' N o r m a l    t e r m i n a t i o n   at time '//sci(st%time)// &
+                          ', cycle '//itoa(st%cycle))
+        end if
+
+    contains
+
+        !> Element forces and the stable step; stops on a bad element.
+        subroutine element_pass(dt, dtcrit)
+            real(wp), intent(in) :: dt
+            real(wp), intent(out) :: dtcrit
+            integer :: g, e
+            call tm%start(ph_elements)
+            call solid_forces(solids, st%x, st%v, dt)
+            call tm%stop(ph_elements)
+            dtcrit = huge(1.0_wp)
+            do g = 1, solids%ngroup
+                if (solids%gbad(g) /= 0) then
+                    e = solids%gbad(g)
+                    if (solids%vol(e) /= solids%vol(e) .or. any(st%x(:, solids%conn(:, e)) /= st%x(:, solids%conn(:, e)))) then
+                        call fail('NaN in the coordinates of solid '//itoa(solids%eid(e))//' of part '// &
+                                  itoa(model%part(solids%part(e))%id))
+                    else
+                        call fail('negative volume in solid '//itoa(solids%eid(e))//' of part '// &
+                                  itoa(model%part(solids%part(e))%id))
+                    end if
+                    return
+                end if
+                if (solids%gdt(g) < 0.0_wp) then
+                    e = solids%gcrit(g)
+                    call fail('NaN in solid '//itoa(solids%eid(e))//' of part '// &
+                              itoa(model%part(solids%part(e))%id)//' (its nodes'' velocities)')
+                    return
+                end if
+                if (solids%gdt(g) < dtcrit) then
+                    dtcrit = solids%gdt(g)
+                    st%crit_elem = solids%gcrit(g)
+                end if
+            end do
+            call tm%start(ph_assembly)
+            call assemble(asm, solids%fslot, st%f)
+            call tm%stop(ph_assembly)
+        end subroutine element_pass
+
+        subroutine accelerations()
+            integer :: i
+            !$omp parallel do schedule(static)
+            do i = 1, st%nnode
+                if (st%mass(i) > 0.0_wp) then
+                    st%a(:, i) = st%f(:, i)/st%mass(i)*st%free(:, i)
+                else
+                    st%a(:, i) = 0.0_wp
+                end if
+            end do
+            !$omp end parallel do
+        end subroutine accelerations
+
+        subroutine check_energy()
+            integer :: i
+            if (en%total /= en%total .or. abs(en%total) > huge(1.0_wp)) then
+                do i = 1, st%nnode
+                    if (any(st%v(:, i) /= st%v(:, i)) .or. any(abs(st%v(:, i)) > huge(1.0_wp))) exit
+                end do
+                if (i > st%nnode) i = 1
+                call fail('energy is NaN or infinite; first bad node '//itoa(model%node_id(i)))
+            else if (en%ratio > ratio_limit) then
+                i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
+                call fail('energy blow-up: total energy ratio '//fixed(en%ratio)//' exceeds '// &
+                          fixed(ratio_limit)//'; fastest node '//itoa(model%node_id(i)))
+            end if
+        end subroutine check_energy
+
+        subroutine fail(text)
+            character(len=*), intent(in) :: text
+            res%status = exit_run
+            res%message = 'error termination at time '//sci(st%time)//', cycle '//itoa(st%cycle)//': '//text
+            call log_line(lg, '')
+            call log_line(lg, ' *** '//res%message)
+        end subroutine fail
+
+        subroutine output(force)
+            logical, intent(in) :: force
+            integer :: crit_part
+            real(dp) :: ns
+            call tm%start(ph_output)
+            crit_part = 0
+            if (st%crit_elem > 0) crit_part = model%part(solids%part(st%crit_elem))%id
+            ns = 0
+            if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - t0_wall)/(real(st%cycle, dp)*max(solids%n, 1))
+            call write_histories(hist, model, st, solids, en, vn, crit_part, ns, force)
+            call tm%stop(ph_output)
+        end subroutine output
+
+        subroutine progress()
+            real(dp) :: frac, el, left
+            character(len=200) :: buf
+            el = tm%elapsed() - t0_wall
+            frac = min(1.0_dp, st%time/max(opts%endtim, tiny(1.0_dp)))
+            left = 0
+            if (frac > 0) left = el*(1.0_dp - frac)/frac
+            write (buf, '(a,i9,a,es11.4,a,es10.3,a,f6.1,a,f8.5,a,f9.1,a,f9.1,a)') ' cycle', st%cycle, &
+                '  t', st%time, '  dt', st%dt, '  ', 100*frac, '%  ratio', en%ratio, '  elapsed', el, &
+                's  left', left, 's'
+            write (output_unit, '(a)') trim(buf)
+            flush (output_unit)
+        end subroutine progress
+
+    end subroutine run_time_loop
+
+    pure function sci(x) result(s)
+        real(dp), intent(in) :: x
+        character(len=:), allocatable :: s
+        character(len=16) :: b
+        write (b, '(es12.5)') x
+        s = trim(adjustl(b))
+    end function sci
+
+    pure function fixed(x) result(s)
+        real(dp), intent(in) :: x
+        character(len=:), allocatable :: s
+        character(len=16) :: b
+        write (b, '(f10.4)') x
+        s = trim(adjustl(b))
+    end function fixed
+
+end module xd_solver_time_loop

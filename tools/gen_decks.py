@@ -1,0 +1,204 @@
+#!/usr/bin/python3
+"""Generate xdyna's verification, demo and benchmark decks.
+
+    gen_decks.py [--outdir input_decks] [--bench NX NY NZ FILE]
+
+The decks in input_decks/ are committed; rerun this script to regenerate
+them (or to refine a mesh) after changing it. Units are SI (m, kg, s, Pa).
+"""
+import argparse
+import math
+import os
+
+
+def block_mesh(nx, ny, nz, lx, ly, lz, origin=(0.0, 0.0, 0.0), nid0=1, eid0=1):
+    """Nodes {id: (x,y,z)} and hexes [(eid, n1..n8)] of a structured block."""
+    nodes = {}
+    def nid(i, j, k):
+        return nid0 + i + (nx + 1) * (j + (ny + 1) * k)
+    for k in range(nz + 1):
+        for j in range(ny + 1):
+            for i in range(nx + 1):
+                nodes[nid(i, j, k)] = (origin[0] + lx * i / nx, origin[1] + ly * j / ny,
+                                       origin[2] + lz * k / nz)
+    hexes = []
+    e = eid0
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                hexes.append((e, nid(i, j, k), nid(i + 1, j, k), nid(i + 1, j + 1, k), nid(i, j + 1, k),
+                              nid(i, j, k + 1), nid(i + 1, j, k + 1), nid(i + 1, j + 1, k + 1),
+                              nid(i, j + 1, k + 1)))
+                e += 1
+    return nodes, hexes
+
+
+def node_cards(nodes):
+    out = ["*NODE", "$#   nid               x               y               z      tc      rc"]
+    for n, (x, y, z) in sorted(nodes.items()):
+        out.append(f"{n:8d}{x:16.9e}{y:16.9e}{z:16.9e}{0:8d}{0:8d}")
+    return out
+
+
+def solid_cards(hexes, pid):
+    out = ["*ELEMENT_SOLID", "$#   eid     pid      n1      n2      n3      n4      n5      n6      n7      n8"]
+    for h in hexes:
+        out.append(f"{h[0]:8d}{pid:8d}" + "".join(f"{n:8d}" for n in h[1:]))
+    return out
+
+
+def f10(*vals):
+    """Fields of ten columns: ints right-justified, reals in 10 characters."""
+    s = ""
+    for v in vals:
+        if isinstance(v, int):
+            s += f"{v:10d}"
+        elif isinstance(v, str):
+            s += f"{v:>10s}"
+        else:
+            t = f"{v:10.4g}"
+            if len(t) > 10 or "e" in t:
+                t = f"{v:10.3e}"
+            s += t
+    return s
+
+
+def node_set(sid, ids):
+    out = ["*SET_NODE_LIST", f10(sid)]
+    ids = list(ids)
+    for i in range(0, len(ids), 8):
+        out.append("".join(f"{n:10d}" for n in ids[i:i + 8]))
+    return out
+
+
+def part(pid, mid, title, hgid=0):
+    return ["*PART", title, f10(pid, 1, mid, 0, hgid)]
+
+
+def common(title, endtim, dt_out, endcyc=0):
+    return ["*KEYWORD", "*TITLE", title,
+            "*CONTROL_TERMINATION", f10(endtim, endcyc),
+            "*CONTROL_TIMESTEP", f10(0.0, 0.9),
+            "*DATABASE_GLSTAT", f10(dt_out),
+            "*DATABASE_MATSUM", f10(dt_out),
+            "*SECTION_SOLID", f10(1, 1)]
+
+
+def write(path, lines):
+    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n*END\n")
+
+
+def nodes_where(nodes, pred):
+    return [n for n, x in sorted(nodes.items()) if pred(*x)]
+
+
+def bar_impact(outdir):
+    """Elastic bar (nu = 0) moving at v0 stopped at x = 0 by SPCs: a stress
+    wave of amplitude rho c v0 runs along it at c = sqrt(E/rho)."""
+    L, a, n = 1.0, 0.005, 200
+    E, rho, v0 = 200e9, 7850.0, 10.0
+    nodes, hexes = block_mesh(n, 1, 1, L, a, a)
+    fixed = nodes_where(nodes, lambda x, y, z: abs(x) < 1e-12)
+    hist = [n_ for n_, x in sorted(nodes.items()) if x[1] == 0.0 and x[2] == 0.0 and
+            any(abs(x[0] - d) < 1e-9 for d in (0.2, 0.25, 0.3, 0.5, 0.75))]
+    lines = common("elastic bar struck at one end (1-D wave check)", 1.5e-4, 1.0e-6)
+    lines += ["*DATABASE_NODOUT", f10(1.0e-6), "*DATABASE_HISTORY_NODE", "".join(f"{h:10d}" for h in hist)]
+    lines += ["*MAT_ELASTIC", f10(1, rho, E, 0.0)]
+    lines += part(1, 1, "bar")
+    lines += node_set(1, fixed)
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1, 0, 0, 0)]
+    lines += ["*INITIAL_VELOCITY", f10(0), f10(-v0, 0.0, 0.0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", "bar_impact.k"), lines)
+
+
+def free_block_spin(outdir):
+    """A free elastic block translating and spinning: energy must stay put."""
+    nodes, hexes = block_mesh(4, 4, 4, 0.1, 0.1, 0.1)
+    lines = common("free block translating and spinning (energy conservation)", 1.0, 1.0e-4, endcyc=10000)
+    lines += ["*MAT_ELASTIC", f10(1, 2700.0, 70e9, 0.33)]
+    lines += part(1, 1, "block")
+    lines += ["*INITIAL_VELOCITY_GENERATION", f10(1, 2, 100.0, 3.0, -2.0, 1.0, 0, 0),
+              f10(0.05, 0.05, 0.05, 0.3, 0.4, 1.0, 0, 0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", "free_block_spin.k"), lines)
+
+
+def prestressed_block(outdir):
+    """A column with the axial stress of its first vibration mode, released
+    on symmetry SPCs: the stored strain energy turns into vibration and the
+    total energy is conserved. The stress is smooth (sigma0 cos(pi z / 2L),
+    fixed base, free top) so that little energy sits in the mesh's highest
+    modes, where central differences start with an O((omega dt)^2) error."""
+    n, a, L = 4, 0.05, 0.2
+    nodes, hexes = block_mesh(n, n, 2 * n, a, a, L)
+    lines = common("pre-stressed column released under SPCs (energy balance)", 2.0e-4, 1.0e-6)
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.3)]
+    lines += part(1, 1, "column")
+    lines += node_set(1, nodes_where(nodes, lambda x, y, z: z == 0.0))
+    lines += node_set(2, nodes_where(nodes, lambda x, y, z: x == 0.0))
+    lines += node_set(3, nodes_where(nodes, lambda x, y, z: y == 0.0))
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 0, 0, 1), f10(2, 0, 1, 0, 0), f10(3, 0, 0, 1, 0)]
+    lines += ["*INITIAL_STRESS_SOLID"]
+    for h in hexes:
+        zc = sum(nodes[k][2] for k in h[1:]) / 8
+        lines += [f10(h[0], 1), f10(0.0, 0.0, 1.0e8 * math.cos(math.pi * zc / (2 * L)), 0.0, 0.0, 0.0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", "prestressed_block.k"), lines)
+
+
+def demo_cantilever(outdir):
+    """A clamped steel cantilever of hexahedra set swinging by an initial
+    velocity that grows along its length."""
+    L, b, nx = 1.0, 0.1, 20
+    nodes, hexes = block_mesh(nx, 2, 2, L, b, b)
+    lines = common("demo: clamped elastic cantilever of hexahedra, swinging", 0.02, 1.0e-4)
+    tip = [n for n, x in sorted(nodes.items()) if abs(x[0] - L) < 1e-12 and x[1] == 0.0 and x[2] == 0.0]
+    lines += ["*DATABASE_NODOUT", f10(1.0e-4), "*DATABASE_HISTORY_NODE", f10(tip[0])]
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 210e9, 0.3)]
+    lines += ["*HOURGLASS", f10(1, 4, 0.05)]
+    lines += part(1, 1, "cantilever", hgid=1)
+    lines += node_set(1, nodes_where(nodes, lambda x, y, z: x == 0.0))
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1, 1, 1, 1)]
+    lines += ["*INITIAL_VELOCITY_NODE"]
+    for n, (x, y, z) in sorted(nodes.items()):
+        if x > 0:
+            lines.append(f"{n:10d}{0.0:10.4g}{0.0:10.4g}{2.0 * x / L:10.4g}")
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "demo_cantilever.k"), lines)
+
+
+def bench_block(nx, ny, nz, path, ncycle):
+    """Benchmark: an nx x ny x nz block, clamped at one end, moving: every
+    element deforms. Runs ncycle cycles."""
+    nodes, hexes = block_mesh(nx, ny, nz, nx * 0.01, ny * 0.01, nz * 0.01)
+    lines = common(f"benchmark block {nx}x{ny}x{nz} hexahedra", 1.0, 1.0, endcyc=ncycle)
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 210e9, 0.3)]
+    lines += part(1, 1, "block")
+    lines += node_set(1, nodes_where(nodes, lambda x, y, z: x == 0.0))
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1, 0, 0, 0)]
+    lines += ["*INITIAL_VELOCITY", f10(0), f10(-5.0, 2.0, 1.0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(path, lines)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--outdir", default="input_decks")
+    ap.add_argument("--bench", nargs=4, metavar=("NX", "NY", "NZ", "FILE"))
+    ap.add_argument("--cycles", type=int, default=200)
+    args = ap.parse_args()
+    if args.bench:
+        nx, ny, nz = (int(v) for v in args.bench[:3])
+        bench_block(nx, ny, nz, args.bench[3], args.cycles)
+        return
+    bar_impact(args.outdir)
+    free_block_spin(args.outdir)
+    prestressed_block(args.outdir)
+    demo_cantilever(args.outdir)
+
+
+if __name__ == "__main__":
+    main()
