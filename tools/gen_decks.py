@@ -144,7 +144,8 @@ def prestressed_block(outdir):
     lines += ["*INITIAL_STRESS_SOLID"]
     for h in hexes:
         zc = sum(nodes[k][2] for k in h[1:]) / 8
-        lines += [f10(h[0], 1), f10(0.0, 0.0, 1.0e8 * math.cos(math.pi * zc / (2 * L)), 0.0, 0.0, 0.0)]
+        # free format keeps every digit of the stress
+        lines += [f"{h[0]},1", f"0.0,0.0,{1.0e8 * math.cos(math.pi * zc / (2 * L)):.12e},0.0,0.0,0.0"]
     lines += node_cards(nodes) + solid_cards(hexes, 1)
     write(os.path.join(outdir, "verify", "prestressed_block.k"), lines)
 

@@ -38,7 +38,9 @@ module xd_elements_solid_groups
         real(wp), allocatable :: sig(:, :)     !< (6, n) Cauchy stress, xx yy zz xy yz zx
         real(wp), allocatable :: vol0(:)       !< initial volume
         real(wp), allocatable :: vol(:)        !< current volume
-        real(wp), allocatable :: qhg(:, :, :)  !< (3, 4, n) hourglass stresses, stiffness form
+        real(wp), allocatable :: qhg(:, :, :)  !< (3, 4, n) hourglass generalized forces (stiffness:
+                                               !< the state; viscous: last step's, for the energy)
+        real(wp), allocatable :: qbv(:)        !< bulk viscosity pressure of the last step
         real(dp), allocatable :: eint(:)       !< internal energy (incl. bulk viscosity work)
         real(dp), allocatable :: ehg(:)        !< hourglass energy
         real(wp), allocatable :: fslot(:, :)   !< (3, 8n) force on each element-node incidence
@@ -92,7 +94,8 @@ contains
         call alloc(s%gdt, s%ngroup, 'group time steps')
         call alloc(s%gcrit, s%ngroup, 'group time steps')
         call alloc(s%gbad, s%ngroup, 'group flags')
-        if (any(s%group%hg_form == hg_stiffness)) call alloc(s%qhg, 3, 4, s%n, 'hourglass stresses')
+        if (any(s%group%qm > 0.0_wp)) call alloc(s%qhg, 3, 4, s%n, 'hourglass forces')
+        call alloc(s%qbv, s%n, 'bulk viscosity')
     contains
         subroutine close_group(a, b)
             integer, intent(in) :: a, b
@@ -195,7 +198,9 @@ contains
             call elastic_update(n, gr%lam, gr%mu, d, dt, s%sig(:, a:b))
         end select
 
-        ! bulk viscosity and internal energy (trapezoidal stress power)
+        ! bulk viscosity and internal energy: the work of the stress and of the
+        ! bulk viscosity over the step, trapezoidal in time (old and new values),
+        ! which is exactly the work their nodal forces do in central differences
         do i = 1, n
             rho(i) = gr%ro*s%vol0(a + i - 1)/vol(i)
             c(i) = sqrt((gr%lam + 2.0_wp*gr%mu)/rho(i))
@@ -209,7 +214,8 @@ contains
             pw = 0.5_wp*((sold(1, i) + s%sig(1, e))*d(i, 1) + (sold(2, i) + s%sig(2, e))*d(i, 2) &
                          + (sold(3, i) + s%sig(3, e))*d(i, 3)) &
                  + (sold(4, i) + s%sig(4, e))*d(i, 4) + (sold(5, i) + s%sig(5, e))*d(i, 5) &
-                 + (sold(6, i) + s%sig(6, e))*d(i, 6) - q(i)*tr
+                 + (sold(6, i) + s%sig(6, e))*d(i, 6) - 0.5_wp*(s%qbv(e) + q(i))*tr
+            s%qbv(e) = q(i)
             s%eint(e) = s%eint(e) + real(pw*volh(i)*dt, dp)
             ! element time step with the bulk viscosity's reduction
             if (tr < 0.0_wp) then
@@ -227,9 +233,12 @@ contains
             call hex_hourglass_rates(n, vx, vy, vz, gam, h)
             if (gr%hg_form == hg_viscous) then
                 do i = 1, n
+                    e = a + i - 1
                     ah = gr%qm*rho(i)*c(i)*vol(i)**(2.0_wp/3.0_wp)/4.0_wp
                     fh(i, :, :) = ah*h(i, :, :)
-                    s%ehg(a + i - 1) = s%ehg(a + i - 1) + real(ah*sum(h(i, :, :)**2)*dt, dp)
+                    ! trapezoidal work of the old and new hourglass forces
+                    s%ehg(e) = s%ehg(e) + real(0.5_wp*sum((s%qhg(:, :, e) + fh(i, :, :))*h(i, :, :))*dt, dp)
+                    s%qhg(:, :, e) = fh(i, :, :)
                 end do
             else
                 do i = 1, n

@@ -20,12 +20,15 @@ module xd_solver_energies
 
 contains
 
-    !> Energies at the current time; vn are the full-step nodal velocities.
-    subroutine compute_energies(model, st, solids, vn, en)
+    !> Energies at time t(n). Kinetic energy is 1/2 m v(n-1/2).v(n+1/2), the
+    !> form that central differences conserve exactly with the trapezoidal
+    !> internal work (it differs from 1/2 m v(n)^2 by O(dt^2)); momentum and
+    !> velocities use v(n) = (v(n-1/2) + v(n+1/2))/2.
+    subroutine compute_energies(model, st, solids, vminus, vplus, en)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
-        real(wp), intent(in) :: vn(:, :)
+        real(wp), intent(in) :: vminus(:, :), vplus(:, :)
         type(energies_t), intent(inout) :: en
         integer :: e, k, p, nd
         real(dp) :: mshare, mom(3)
@@ -42,8 +45,8 @@ contains
             en%part_mass(p) = en%part_mass(p) + 8.0_dp*mshare
             do k = 1, 8
                 nd = solids%conn(k, e)
-                en%part_ke(p) = en%part_ke(p) + 0.5_dp*mshare*sum(real(vn(:, nd), dp)**2)
-                en%part_mom(:, p) = en%part_mom(:, p) + mshare*real(vn(:, nd), dp)
+                en%part_ke(p) = en%part_ke(p) + 0.5_dp*mshare*sum(real(vminus(:, nd), dp)*vplus(:, nd))
+                en%part_mom(:, p) = en%part_mom(:, p) + 0.5_dp*mshare*real(vminus(:, nd) + vplus(:, nd), dp)
             end do
         end do
         en%ie = sum(en%part_ie)
@@ -51,8 +54,8 @@ contains
         en%ke = 0
         mom = 0
         do nd = 1, st%nnode
-            en%ke = en%ke + 0.5_dp*st%mass(nd)*sum(real(vn(:, nd), dp)**2)
-            mom = mom + st%mass(nd)*real(vn(:, nd), dp)
+            en%ke = en%ke + 0.5_dp*st%mass(nd)*sum(real(vminus(:, nd), dp)*vplus(:, nd))
+            mom = mom + 0.5_dp*st%mass(nd)*real(vminus(:, nd) + vplus(:, nd), dp)
         end do
         en%mass = sum(real(st%mass, dp))
         en%vel = 0

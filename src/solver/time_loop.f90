@@ -45,13 +45,13 @@ contains
         type(run_options_t), intent(in) :: opts
         type(run_result_t), intent(out) :: res
         type(energies_t) :: en
-        real(wp), allocatable :: vn(:, :)
+        real(wp), allocatable :: vn(:, :), vplus(:, :)
         real(wp) :: dtc, dt_avg
         real(dp) :: t_last_progress, ratio_limit, t0_wall
         logical :: done, due
         integer :: nd
 
-        allocate (vn(3, st%nnode))
+        allocate (vn(3, st%nnode), vplus(3, st%nnode))
         ratio_limit = 1.5_dp
         if (model%ctl%endeng > 0.0_wp) ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
         t0_wall = tm%elapsed()
@@ -63,8 +63,10 @@ contains
         if (model%ctl%dtinit > 0.0_wp) st%dt = min(st%dt, model%ctl%dtinit)
         st%dt_first = st%dt
         call accelerations()
+        ! at t = 0 the kinetic energy is that of the initial velocities (the
+        ! start v(1/2) = v(0) + a(0) dt/2 adds an O(dt^2) offset when a(0) /= 0)
         vn = st%v
-        call compute_energies(model, st, solids, vn, en)
+        call compute_energies(model, st, solids, st%v, st%v, en)
         st%e_initial = en%total
         en%ratio = 1.0_dp
         call output(force=.true.)
@@ -105,8 +107,9 @@ contains
             due = histories_due(hist, st%time) .or. done
             if (due .or. mod(st%cycle, opts%energy_check_every) == 0) then
                 call tm%start(ph_output)
-                vn = st%v + 0.5_wp*st%dt_old*st%a
-                call compute_energies(model, st, solids, vn, en)
+                vplus = st%v + 0.5_wp*(st%dt_old + st%dt)*st%a
+                vn = 0.5_wp*(st%v + vplus)
+                call compute_energies(model, st, solids, st%v, vplus, en)
                 call tm%stop(ph_output)
                 call check_energy()
                 if (res%status /= exit_normal) exit
