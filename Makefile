@@ -21,7 +21,7 @@ endif
 
 COMMON := -cpp -fopenmp -ffree-line-length-132 -std=f2018 -fall-intrinsics -Wall -Wno-maybe-uninitialized \
           -Wno-unused-dummy-argument -Wno-surprising $(PFLAGS) $(H5INC)
-RELEASE_FLAGS := -O3 -march=native -funroll-loops $(COMMON)
+RELEASE_FLAGS := -O3 -g -march=native -funroll-loops -fstack-arrays $(COMMON)
 DEBUG_FLAGS := -O0 -g -fcheck=all,no-array-temps -ffpe-trap=invalid,zero,overflow -finit-real=snan -finit-integer=-77777 \
                -fbacktrace $(COMMON)
 

@@ -85,32 +85,30 @@ contains
         real(wp), intent(in) :: vx(n, 8), vy(n, 8), vz(n, 8)
         real(wp), intent(in) :: bx(n, 8), by(n, 8), bz(n, 8), vol(n)
         real(wp), intent(out) :: d(n, 6), w(n, 3)
-        real(wp) :: lxx, lyy, lzz, lxy, lyx, lyz, lzy, lzx, lxz, r
-        integer :: i, k
-        do i = 1, n
-            lxx = 0; lyy = 0; lzz = 0; lxy = 0; lyx = 0; lyz = 0; lzy = 0; lzx = 0; lxz = 0
-            do k = 1, 8
-                lxx = lxx + vx(i, k)*bx(i, k)
-                lyy = lyy + vy(i, k)*by(i, k)
-                lzz = lzz + vz(i, k)*bz(i, k)
-                lxy = lxy + vx(i, k)*by(i, k)
-                lyx = lyx + vy(i, k)*bx(i, k)
-                lyz = lyz + vy(i, k)*bz(i, k)
-                lzy = lzy + vz(i, k)*by(i, k)
-                lzx = lzx + vz(i, k)*bx(i, k)
-                lxz = lxz + vx(i, k)*bz(i, k)
-            end do
-            r = 1.0_wp/vol(i)
-            d(i, 1) = lxx*r
-            d(i, 2) = lyy*r
-            d(i, 3) = lzz*r
-            d(i, 4) = 0.5_wp*(lxy + lyx)*r
-            d(i, 5) = 0.5_wp*(lyz + lzy)*r
-            d(i, 6) = 0.5_wp*(lzx + lxz)*r
-            w(i, 1) = 0.5_wp*(lxy - lyx)*r
-            w(i, 2) = 0.5_wp*(lyz - lzy)*r
-            w(i, 3) = 0.5_wp*(lzx - lxz)*r
+        real(wp), dimension(n) :: lxx, lyy, lzz, lxy, lyx, lyz, lzy, lzx, lxz, r
+        integer :: k
+        lxx = 0; lyy = 0; lzz = 0; lxy = 0; lyx = 0; lyz = 0; lzy = 0; lzx = 0; lxz = 0
+        do k = 1, 8
+            lxx = lxx + vx(:, k)*bx(:, k)
+            lyy = lyy + vy(:, k)*by(:, k)
+            lzz = lzz + vz(:, k)*bz(:, k)
+            lxy = lxy + vx(:, k)*by(:, k)
+            lyx = lyx + vy(:, k)*bx(:, k)
+            lyz = lyz + vy(:, k)*bz(:, k)
+            lzy = lzy + vz(:, k)*by(:, k)
+            lzx = lzx + vz(:, k)*bx(:, k)
+            lxz = lxz + vx(:, k)*bz(:, k)
         end do
+        r = 1.0_wp/vol
+        d(:, 1) = lxx*r
+        d(:, 2) = lyy*r
+        d(:, 3) = lzz*r
+        d(:, 4) = 0.5_wp*(lxy + lyx)*r
+        d(:, 5) = 0.5_wp*(lyz + lzy)*r
+        d(:, 6) = 0.5_wp*(lzx + lxz)*r
+        w(:, 1) = 0.5_wp*(lxy - lyx)*r
+        w(:, 2) = 0.5_wp*(lyz - lzy)*r
+        w(:, 3) = 0.5_wp*(lzx - lxz)*r
     end subroutine hex_velocity_gradient
 
     !> Nodal forces of the stress (less the bulk viscosity q): f_iI = -s_ij B_jI.

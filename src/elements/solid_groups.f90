@@ -134,7 +134,7 @@ contains
     !> energies, volumes; writes force slots, group time steps and flags.
     subroutine solid_forces(s, x, v, dt)
         type(solids_t), intent(inout) :: s
-        real(wp), intent(in) :: x(:, :), v(:, :)
+        real(wp), contiguous, intent(in) :: x(:, :), v(:, :)
         real(wp), intent(in) :: dt
         integer :: g
         !$omp parallel do schedule(dynamic, 4) default(shared) private(g)
@@ -147,9 +147,9 @@ contains
     subroutine group_kernel(s, g, x, v, dt)
         type(solids_t), intent(inout) :: s
         integer, intent(in) :: g
-        real(wp), intent(in) :: x(:, :), v(:, :)
+        real(wp), contiguous, intent(in) :: x(:, :), v(:, :)
         real(wp), intent(in) :: dt
-        integer :: n, a, b, i, k, e, nd
+        integer :: n, a, b, i, j, k, e, nd
         real(wp), dimension(s%group(g)%last - s%group(g)%first + 1, 8) :: xl, yl, zl, vx, vy, vz, &
                                                                           bx, by, bz, fx, fy, fz, &
                                                                           gx, gy, gz
@@ -157,7 +157,7 @@ contains
         real(wp) :: d(size(vol), 6), w(size(vol), 3), sold(6, size(vol))
         real(wp) :: q(size(vol)), rho(size(vol)), c(size(vol)), le(size(vol)), dte(size(vol))
         real(wp) :: gam(size(vol), 8, 4), h(size(vol), 3, 4), fh(size(vol), 3, 4)
-        real(wp) :: tr, ah, khg, pw, qold(3), wa, wb, wc
+        real(wp) :: tr, pw
         type(solid_group_t) :: gr
 
         gr = s%group(g)
@@ -232,33 +232,37 @@ contains
             call hex_hourglass_shape(n, xl, yl, zl, bx, by, bz, vol, gam)
             call hex_hourglass_rates(n, vx, vy, vz, gam, h)
             if (gr%hg_form == hg_viscous) then
+                ! viscous form: force ah h, ah = QM rho c V^(2/3) / 4
                 do i = 1, n
-                    e = a + i - 1
-                    ah = gr%qm*rho(i)*c(i)*vol(i)**(2.0_wp/3.0_wp)/4.0_wp
-                    fh(i, :, :) = ah*h(i, :, :)
-                    ! trapezoidal work of the old and new hourglass forces
-                    s%ehg(e) = s%ehg(e) + real(0.5_wp*sum((s%qhg(:, :, e) + fh(i, :, :))*h(i, :, :))*dt, dp)
-                    s%qhg(:, :, e) = fh(i, :, :)
+                    c(i) = gr%qm*rho(i)*c(i)*vol(i)**(2.0_wp/3.0_wp)/4.0_wp
+                end do
+                do k = 1, 4
+                    do j = 1, 3
+                        fh(:, j, k) = c*h(:, j, k)
+                    end do
                 end do
             else
+                ! stiffness form: rotate the stored forces with the element,
+                ! then add the increment k h dt, k = QM (lambda + 2 mu) B.B / (12 V)
                 do i = 1, n
-                    e = a + i - 1
-                    khg = gr%qm*(gr%lam + 2.0_wp*gr%mu)* &
-                          (sum(bx(i, :)**2) + sum(by(i, :)**2) + sum(bz(i, :)**2))/(12.0_wp*vol(i))
-                    wa = w(i, 1)*dt; wb = w(i, 2)*dt; wc = w(i, 3)*dt
-                    pw = 0.0_wp
-                    do k = 1, 4
-                        qold = s%qhg(:, k, e)
-                        ! rotate with the element, then add the stiffness increment
-                        s%qhg(1, k, e) = qold(1) + wa*qold(2) - wc*qold(3) + dt*khg*h(i, 1, k)
-                        s%qhg(2, k, e) = qold(2) - wa*qold(1) + wb*qold(3) + dt*khg*h(i, 2, k)
-                        s%qhg(3, k, e) = qold(3) + wc*qold(1) - wb*qold(2) + dt*khg*h(i, 3, k)
-                        pw = pw + 0.5_wp*dot_product(qold + s%qhg(:, k, e), h(i, :, k))
-                        fh(i, :, k) = s%qhg(:, k, e)
-                    end do
-                    s%ehg(e) = s%ehg(e) + real(pw*dt, dp)
+                    c(i) = dt*gr%qm*(gr%lam + 2.0_wp*gr%mu)*(sum(bx(i, :)**2) + sum(by(i, :)**2) &
+                                                             + sum(bz(i, :)**2))/(12.0_wp*vol(i))
+                end do
+                do k = 1, 4
+                    fh(:, 1, k) = s%qhg(1, k, a:b) + dt*(w(:, 1)*s%qhg(2, k, a:b) - w(:, 3)*s%qhg(3, k, a:b)) &
+                                  + c*h(:, 1, k)
+                    fh(:, 2, k) = s%qhg(2, k, a:b) + dt*(w(:, 2)*s%qhg(3, k, a:b) - w(:, 1)*s%qhg(1, k, a:b)) &
+                                  + c*h(:, 2, k)
+                    fh(:, 3, k) = s%qhg(3, k, a:b) + dt*(w(:, 3)*s%qhg(1, k, a:b) - w(:, 2)*s%qhg(2, k, a:b)) &
+                                  + c*h(:, 3, k)
                 end do
             end if
+            ! hourglass work over the step, trapezoidal in the old and new forces
+            do i = 1, n
+                e = a + i - 1
+                s%ehg(e) = s%ehg(e) + real(0.5_wp*dt*sum((s%qhg(:, :, e) + fh(i, :, :))*h(i, :, :)), dp)
+                s%qhg(:, :, e) = fh(i, :, :)
+            end do
             do k = 1, 8
                 do i = 1, n
                     fx(i, k) = fx(i, k) - (fh(i, 1, 1)*gam(i, k, 1) + fh(i, 1, 2)*gam(i, k, 2) &

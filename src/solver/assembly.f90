@@ -52,8 +52,8 @@ contains
     !> f(:, node) = sum of its slots, in slot order.
     subroutine assemble(asm, fslot, f)
         type(assembly_t), intent(in) :: asm
-        real(wp), intent(in) :: fslot(:, :)
-        real(wp), intent(inout) :: f(:, :)
+        real(wp), contiguous, intent(in) :: fslot(:, :)
+        real(wp), contiguous, intent(inout) :: f(:, :)
         integer :: nd, j
         real(wp) :: s1, s2, s3
         !$omp parallel do schedule(static) private(nd, j, s1, s2, s3)

@@ -221,6 +221,7 @@ contains
             character(len=200) :: buf
             el = tm%elapsed() - t0_wall
             frac = min(1.0_dp, st%time/max(opts%endtim, tiny(1.0_dp)))
+            if (model%ctl%endcyc > 0) frac = max(frac, min(1.0_dp, real(st%cycle, dp)/model%ctl%endcyc))
             left = 0
             if (frac > 0) left = el*(1.0_dp - frac)/frac
             write (buf, '(a,i9,a,es11.4,a,es10.3,a,f6.1,a,f8.5,a,f9.1,a,f9.1,a)') ' cycle', st%cycle, &

@@ -1,0 +1,33 @@
+#!/bin/sh
+# make bench: nanoseconds per element-cycle on one core for a generated
+# block of hexahedra (default 100 x 50 x 20 = 100,000 elements), median of
+# three runs, with the phase split from d3hsp and the peak memory.
+#   BENCH_SIZE="100 50 20" BENCH_CYCLES=200 BENCH_RUNS=3 sh bench/run_bench.sh
+set -e
+size=${BENCH_SIZE:-"100 50 20"}
+cycles=${BENCH_CYCLES:-200}
+runs=${BENCH_RUNS:-3}
+dir=build/bench
+mkdir -p $dir
+set -- $size
+nel=$(($1 * $2 * $3))
+deck=$dir/block_$1x$2x$3.k
+/usr/bin/python3 tools/gen_decks.py --bench $1 $2 $3 $deck --cycles $cycles
+echo "bench: $nel hexahedra, $cycles cycles, 1 thread, $runs runs ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'))"
+: > $dir/ns.txt
+i=1
+while [ $i -le $runs ]; do
+    out=$dir/run$i
+    rm -rf $out
+    OMP_NUM_THREADS=1 /usr/bin/time -f "%M" -o $dir/mem$i.txt ./bin/xdyna i=$deck outdir=$out > /dev/null
+    ns=$(grep 'time per zone cycle' $out/d3hsp | awk '{print $NF}')
+    el=$(grep 'element processing' $out/d3hsp | awk -v n=$nel -v c=$cycles '{printf "%.1f", $3 / (n * c) * 1e9}')
+    as=$(grep 'force assembly' $out/d3hsp | awk -v n=$nel -v c=$cycles '{printf "%.1f", $3 / (n * c) * 1e9}')
+    ti=$(grep 'time integration' $out/d3hsp | awk -v n=$nel -v c=$cycles '{printf "%.1f", $3 / (n * c) * 1e9}')
+    echo "  run $i: $ns ns per element-cycle (elements $el, assembly $as, integration $ti), peak memory $(cat $dir/mem$i.txt) kB"
+    echo "$ns" >> $dir/ns.txt
+    i=$((i + 1))
+done
+med=$(sort -n $dir/ns.txt | awk '{a[NR]=$1} END {print a[int((NR + 1) / 2)]}')
+mem=$(cat $dir/mem1.txt)
+echo "bench: median $med ns per element-cycle (hex8 one-point, viscous hourglass, elastic), $((mem * 1024 / nel)) bytes per element peak"
