@@ -1,7 +1,7 @@
 #!/bin/sh
 # Install the Debian packages xdyna needs, quietly, only when one is missing.
 set -e
-pkgs="gfortran make libhdf5-dev libopenmpi-dev openmpi-bin liblapack-dev python3 python3-numpy python3-h5py python3-matplotlib"
+pkgs="gfortran make time libhdf5-dev libopenmpi-dev openmpi-bin liblapack-dev python3 python3-numpy python3-h5py python3-matplotlib"
 missing=""
 for p in $pkgs; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
