@@ -114,20 +114,18 @@ contains
     !> Nodal forces of the stress (less the bulk viscosity q): f_iI = -s_ij B_jI.
     pure subroutine hex_stress_forces(n, sig, q, bx, by, bz, fx, fy, fz)
         integer, intent(in) :: n
-        real(wp), intent(in) :: sig(6, n), q(n)
+        real(wp), intent(in) :: sig(n, 6), q(n)
         real(wp), intent(in) :: bx(n, 8), by(n, 8), bz(n, 8)
         real(wp), intent(out) :: fx(n, 8), fy(n, 8), fz(n, 8)
-        integer :: i, k
-        real(wp) :: sxx, syy, szz
+        integer :: k
+        real(wp) :: sxx(n), syy(n), szz(n)
+        sxx = sig(:, 1) - q
+        syy = sig(:, 2) - q
+        szz = sig(:, 3) - q
         do k = 1, 8
-            do i = 1, n
-                sxx = sig(1, i) - q(i)
-                syy = sig(2, i) - q(i)
-                szz = sig(3, i) - q(i)
-                fx(i, k) = -(sxx*bx(i, k) + sig(4, i)*by(i, k) + sig(6, i)*bz(i, k))
-                fy(i, k) = -(sig(4, i)*bx(i, k) + syy*by(i, k) + sig(5, i)*bz(i, k))
-                fz(i, k) = -(sig(6, i)*bx(i, k) + sig(5, i)*by(i, k) + szz*bz(i, k))
-            end do
+            fx(:, k) = -(sxx*bx(:, k) + sig(:, 4)*by(:, k) + sig(:, 6)*bz(:, k))
+            fy(:, k) = -(sig(:, 4)*bx(:, k) + syy*by(:, k) + sig(:, 5)*bz(:, k))
+            fz(:, k) = -(sig(:, 6)*bx(:, k) + sig(:, 5)*by(:, k) + szz*bz(:, k))
         end do
     end subroutine hex_stress_forces
 
@@ -139,8 +137,9 @@ contains
         real(wp), intent(in) :: x(n, 8), y(n, 8), z(n, 8)
         real(wp), intent(in) :: bx(n, 8), by(n, 8), bz(n, 8), vol(n)
         real(wp), intent(out) :: g(n, 8, 4)
-        real(wp) :: hx(n), hy(n), hz(n)
+        real(wp) :: hx(n), hy(n), hz(n), r(n)
         integer :: a, k
+        r = 1.0_wp/vol
         do a = 1, 4
             hx = 0; hy = 0; hz = 0
             do k = 1, 8
@@ -148,7 +147,7 @@ contains
                 hy = hy + gamma_hg(k, a)*y(:, k)
                 hz = hz + gamma_hg(k, a)*z(:, k)
             end do
-            hx = hx/vol; hy = hy/vol; hz = hz/vol
+            hx = hx*r; hy = hy*r; hz = hz*r
             do k = 1, 8
                 g(:, k, a) = gamma_hg(k, a) - (hx*bx(:, k) + hy*by(:, k) + hz*bz(:, k))
             end do

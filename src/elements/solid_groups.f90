@@ -15,7 +15,7 @@ module xd_elements_solid_groups
     private
     public :: solids_t, solid_group_t, build_solids, solid_forces, group_size, hg_viscous, hg_stiffness
 
-    integer, parameter :: group_size = 64
+    integer, parameter :: group_size = 128
     integer, parameter :: hg_viscous = 1, hg_stiffness = 2
 
     type :: solid_group_t
@@ -35,10 +35,12 @@ module xd_elements_solid_groups
         integer, allocatable :: eid(:)         !< user id
         integer, allocatable :: part(:)        !< part index
         integer, allocatable :: model_ix(:)    !< index in the model's element list
-        real(wp), allocatable :: sig(:, :)     !< (6, n) Cauchy stress, xx yy zz xy yz zx
+        ! element state is blocked by group: group g holds the (m, 6) block of its
+        ! m elements at offset 6*(first-1), so kernels see contiguous arrays
+        real(wp), allocatable :: sig(:)        !< Cauchy stress, xx yy zz xy yz zx
         real(wp), allocatable :: vol0(:)       !< initial volume
         real(wp), allocatable :: vol(:)        !< current volume
-        real(wp), allocatable :: qhg(:, :, :)  !< (3, 4, n) hourglass generalized forces (stiffness:
+        real(wp), allocatable :: qhg(:)        !< (m, 3, 4) blocks: hourglass generalized forces (stiffness:
                                                !< the state; viscous: last step's, for the energy)
         real(wp), allocatable :: qbv(:)        !< bulk viscosity pressure of the last step
         real(dp), allocatable :: eint(:)       !< internal energy (incl. bulk viscosity work)
@@ -47,6 +49,10 @@ module xd_elements_solid_groups
         real(wp), allocatable :: gdt(:)        !< per group: smallest element time step
         integer, allocatable :: gcrit(:)       !< per group: element that sets it
         integer, allocatable :: gbad(:)        !< per group: first element with volume <= 0
+        integer, allocatable :: group_of(:)    !< group of each element
+    contains
+        procedure :: stress => solid_stress
+        procedure :: set_stress => solid_set_stress
     end type solids_t
 
 contains
@@ -71,7 +77,7 @@ contains
             s%eid(e) = model%hex_id(perm(e))
             s%part(e) = model%hex_part(perm(e))
         end do
-        call alloc(s%sig, 6, s%n, 'solid stresses')
+        call alloc(s%sig, 6*s%n, 'solid stresses')
         call alloc(s%vol0, s%n, 'solid volumes')
         call alloc(s%vol, s%n, 'solid volumes')
         call alloc_dp(s%eint, s%n, 'solid internal energies')
@@ -94,7 +100,11 @@ contains
         call alloc(s%gdt, s%ngroup, 'group time steps')
         call alloc(s%gcrit, s%ngroup, 'group time steps')
         call alloc(s%gbad, s%ngroup, 'group flags')
-        if (any(s%group%qm > 0.0_wp)) call alloc(s%qhg, 3, 4, s%n, 'hourglass forces')
+        call alloc(s%qhg, 12*s%n, 'hourglass forces')
+        call alloc(s%group_of, s%n, 'element groups')
+        do g = 1, s%ngroup
+            s%group_of(s%group(g)%first:s%group(g)%last) = g
+        end do
         call alloc(s%qbv, s%n, 'bulk viscosity')
     contains
         subroutine close_group(a, b)
@@ -129,6 +139,29 @@ contains
         end subroutine close_group
     end subroutine build_solids
 
+    !> Stress (xx yy zz xy yz zx) of element e.
+    pure function solid_stress(s, e) result(sg)
+        class(solids_t), intent(in) :: s
+        integer, intent(in) :: e
+        real(wp) :: sg(6)
+        integer :: g, m, a
+        g = s%group_of(e)
+        a = s%group(g)%first
+        m = s%group(g)%last - a + 1
+        sg = s%sig(6*(a - 1) + (e - a + 1) + m*[0, 1, 2, 3, 4, 5])
+    end function solid_stress
+
+    subroutine solid_set_stress(s, e, sg)
+        class(solids_t), intent(inout) :: s
+        integer, intent(in) :: e
+        real(wp), intent(in) :: sg(6)
+        integer :: g, m, a
+        g = s%group_of(e)
+        a = s%group(g)%first
+        m = s%group(g)%last - a + 1
+        s%sig(6*(a - 1) + (e - a + 1) + m*[0, 1, 2, 3, 4, 5]) = sg
+    end subroutine solid_set_stress
+
     !> Internal forces of every solid for positions x and velocities v (the
     !> half-step velocity that acted over the last step dt). Updates stresses,
     !> energies, volumes; writes force slots, group time steps and flags.
@@ -149,21 +182,29 @@ contains
         integer, intent(in) :: g
         real(wp), contiguous, intent(in) :: x(:, :), v(:, :)
         real(wp), intent(in) :: dt
-        integer :: n, a, b, i, j, k, e, nd
-        real(wp), dimension(s%group(g)%last - s%group(g)%first + 1, 8) :: xl, yl, zl, vx, vy, vz, &
-                                                                          bx, by, bz, fx, fy, fz, &
-                                                                          gx, gy, gz
-        real(wp) :: vol(s%group(g)%last - s%group(g)%first + 1), volh(size(vol))
-        real(wp) :: d(size(vol), 6), w(size(vol), 3), sold(6, size(vol))
-        real(wp) :: q(size(vol)), rho(size(vol)), c(size(vol)), le(size(vol)), dte(size(vol))
+        integer :: a, b
+        a = s%group(g)%first
+        b = s%group(g)%last
+        call group_block(s, g, x, v, dt, b - a + 1, s%sig(6*(a - 1) + 1:6*b), s%qhg(12*(a - 1) + 1:12*b))
+    end subroutine group_kernel
+
+    !> One group: sig and qhg are its contiguous blocks of element state.
+    subroutine group_block(s, g, x, v, dt, n, sig, qhg)
+        type(solids_t), intent(inout) :: s
+        integer, intent(in) :: g, n
+        real(wp), contiguous, intent(in) :: x(:, :), v(:, :)
+        real(wp), intent(in) :: dt
+        real(wp), intent(inout) :: sig(n, 6), qhg(n, 3, 4)
+        integer :: a, b, i, j, k, e, nd
+        real(wp), dimension(n, 8) :: xl, yl, zl, vx, vy, vz, bx, by, bz, fx, fy, fz
+        real(wp), dimension(n) :: vol, volh, q, rho, c, le, dte, tr, pw, qd
+        real(wp) :: d(size(vol), 6), w(size(vol), 3), sold(size(vol), 6)
         real(wp) :: gam(size(vol), 8, 4), h(size(vol), 3, 4), fh(size(vol), 3, 4)
-        real(wp) :: tr, pw
         type(solid_group_t) :: gr
 
         gr = s%group(g)
         a = gr%first
         b = gr%last
-        n = b - a + 1
         do k = 1, 8
             do i = 1, n
                 nd = s%conn(k, a + i - 1)
@@ -171,61 +212,54 @@ contains
                 vx(i, k) = v(1, nd); vy(i, k) = v(2, nd); vz(i, k) = v(3, nd)
             end do
         end do
+
+        ! strain rate and spin on the mid-step geometry x - dt/2 v, where the
+        ! half-step velocity belongs: a rigid rotation then gives no strain
+        fx = xl - (0.5_wp*dt)*vx
+        fy = yl - (0.5_wp*dt)*vy
+        fz = zl - (0.5_wp*dt)*vz
+        call hex_b_matrix(n, fx, fy, fz, bx, by, bz, volh)
+        call hex_velocity_gradient(n, vx, vy, vz, bx, by, bz, volh, d, w)
+        ! forces, hourglass shapes and the time step on the end-of-step geometry
         call hex_b_matrix(n, xl, yl, zl, bx, by, bz, vol)
         s%gbad(g) = 0
         do i = n, 1, -1
-            if (.not. (vol(i) > 0.0_wp)) s%gbad(g) = a + i - 1
+            if (.not. (vol(i) > 0.0_wp .and. volh(i) > 0.0_wp)) s%gbad(g) = a + i - 1
         end do
         if (s%gbad(g) /= 0) then
             s%gdt(g) = huge(1.0_wp)
             s%gcrit(g) = a
+            s%vol(a:b) = vol
             return
         end if
         s%vol(a:b) = vol
-        ! strain rate and spin on the mid-step geometry x - dt/2 v, where the
-        ! half-step velocity belongs: a rigid rotation then gives no strain
-        fx = xl - 0.5_wp*dt*vx
-        fy = yl - 0.5_wp*dt*vy
-        fz = zl - 0.5_wp*dt*vz
-        call hex_b_matrix(n, fx, fy, fz, gx, gy, gz, volh)
-        call hex_velocity_gradient(n, vx, vy, vz, gx, gy, gz, volh, d, w)
 
         ! constitutive update (one material per group)
-        sold = s%sig(:, a:b)
+        sold = sig
         select case (gr%mtype)
         case (mat_elastic)
-            call jaumann_rotate(n, w, dt, s%sig(:, a:b))
-            call elastic_update(n, gr%lam, gr%mu, d, dt, s%sig(:, a:b))
+            call jaumann_rotate(n, w, dt, sig)
+            call elastic_update(n, gr%lam, gr%mu, d, dt, sig)
         end select
 
-        ! bulk viscosity and internal energy: the work of the stress and of the
-        ! bulk viscosity over the step, trapezoidal in time (old and new values),
+        ! bulk viscosity; internal energy as the work of stress and bulk
+        ! viscosity over the step, trapezoidal in time (old and new values),
         ! which is exactly the work their nodal forces do in central differences
-        do i = 1, n
-            rho(i) = gr%ro*s%vol0(a + i - 1)/vol(i)
-            c(i) = sqrt((gr%lam + 2.0_wp*gr%mu)/rho(i))
-        end do
+        rho = gr%ro*s%vol0(a:b)/vol
+        c = sqrt((gr%lam + 2.0_wp*gr%mu)/rho)
         call hex_char_length(n, xl, yl, zl, vol, le)
-        do i = 1, n
-            e = a + i - 1
-            tr = d(i, 1) + d(i, 2) + d(i, 3)
-            q(i) = 0.0_wp
-            if (tr < 0.0_wp) q(i) = rho(i)*le(i)*(gr%q1*le(i)*tr*tr - gr%q2*c(i)*tr)
-            pw = 0.5_wp*((sold(1, i) + s%sig(1, e))*d(i, 1) + (sold(2, i) + s%sig(2, e))*d(i, 2) &
-                         + (sold(3, i) + s%sig(3, e))*d(i, 3)) &
-                 + (sold(4, i) + s%sig(4, e))*d(i, 4) + (sold(5, i) + s%sig(5, e))*d(i, 5) &
-                 + (sold(6, i) + s%sig(6, e))*d(i, 6) - 0.5_wp*(s%qbv(e) + q(i))*tr
-            s%qbv(e) = q(i)
-            s%eint(e) = s%eint(e) + real(pw*volh(i)*dt, dp)
-            ! element time step with the bulk viscosity's reduction
-            if (tr < 0.0_wp) then
-                tr = gr%q1*le(i)*abs(tr) + gr%q2*c(i)
-            else
-                tr = 0.0_wp
-            end if
-            dte(i) = le(i)/(tr + sqrt(tr*tr + c(i)*c(i)))
-        end do
-        call hex_stress_forces(n, s%sig(:, a:b), q, bx, by, bz, fx, fy, fz)
+        tr = d(:, 1) + d(:, 2) + d(:, 3)
+        q = merge(rho*le*(gr%q1*le*tr*tr - gr%q2*c*tr), 0.0_wp, tr < 0.0_wp)
+        pw = 0.5_wp*((sold(:, 1) + sig(:, 1))*d(:, 1) + (sold(:, 2) + sig(:, 2))*d(:, 2) &
+                     + (sold(:, 3) + sig(:, 3))*d(:, 3) - (s%qbv(a:b) + q)*tr) &
+             + (sold(:, 4) + sig(:, 4))*d(:, 4) + (sold(:, 5) + sig(:, 5))*d(:, 5) &
+             + (sold(:, 6) + sig(:, 6))*d(:, 6)
+        s%eint(a:b) = s%eint(a:b) + real(pw*volh*dt, dp)
+        s%qbv(a:b) = q
+        ! element time step, reduced by the bulk viscosity in compression
+        qd = merge(gr%q1*le*abs(tr) + gr%q2*c, 0.0_wp, tr < 0.0_wp)
+        dte = le/(qd + sqrt(qd*qd + c*c))
+        call hex_stress_forces(n, sig, q, bx, by, bz, fx, fy, fz)
 
         ! Flanagan-Belytschko hourglass control
         if (gr%qm > 0.0_wp) then
@@ -233,67 +267,64 @@ contains
             call hex_hourglass_rates(n, vx, vy, vz, gam, h)
             if (gr%hg_form == hg_viscous) then
                 ! viscous form: force ah h, ah = QM rho c V^(2/3) / 4
-                do i = 1, n
-                    c(i) = gr%qm*rho(i)*c(i)*vol(i)**(2.0_wp/3.0_wp)/4.0_wp
-                end do
+                qd = gr%qm*0.25_wp*rho*c*vol**(2.0_wp/3.0_wp)
                 do k = 1, 4
                     do j = 1, 3
-                        fh(:, j, k) = c*h(:, j, k)
+                        fh(:, j, k) = qd*h(:, j, k)
                     end do
                 end do
             else
                 ! stiffness form: rotate the stored forces with the element,
-                ! then add the increment k h dt, k = QM (lambda + 2 mu) B.B / (12 V)
-                do i = 1, n
-                    c(i) = dt*gr%qm*(gr%lam + 2.0_wp*gr%mu)*(sum(bx(i, :)**2) + sum(by(i, :)**2) &
-                                                             + sum(bz(i, :)**2))/(12.0_wp*vol(i))
+                ! then add k h dt, k = QM (lambda + 2 mu) B.B / (12 V)
+                qd = 0
+                do k = 1, 8
+                    qd = qd + bx(:, k)**2 + by(:, k)**2 + bz(:, k)**2
                 end do
+                qd = dt*gr%qm*(gr%lam + 2.0_wp*gr%mu)*qd/(12.0_wp*vol)
                 do k = 1, 4
-                    fh(:, 1, k) = s%qhg(1, k, a:b) + dt*(w(:, 1)*s%qhg(2, k, a:b) - w(:, 3)*s%qhg(3, k, a:b)) &
-                                  + c*h(:, 1, k)
-                    fh(:, 2, k) = s%qhg(2, k, a:b) + dt*(w(:, 2)*s%qhg(3, k, a:b) - w(:, 1)*s%qhg(1, k, a:b)) &
-                                  + c*h(:, 2, k)
-                    fh(:, 3, k) = s%qhg(3, k, a:b) + dt*(w(:, 3)*s%qhg(1, k, a:b) - w(:, 2)*s%qhg(2, k, a:b)) &
-                                  + c*h(:, 3, k)
+                    fh(:, 1, k) = qhg(:, 1, k) + dt*(w(:, 1)*qhg(:, 2, k) - w(:, 3)*qhg(:, 3, k)) &
+                                  + qd*h(:, 1, k)
+                    fh(:, 2, k) = qhg(:, 2, k) + dt*(w(:, 2)*qhg(:, 3, k) - w(:, 1)*qhg(:, 1, k)) &
+                                  + qd*h(:, 2, k)
+                    fh(:, 3, k) = qhg(:, 3, k) + dt*(w(:, 3)*qhg(:, 1, k) - w(:, 2)*qhg(:, 2, k)) &
+                                  + qd*h(:, 3, k)
                 end do
             end if
             ! hourglass work over the step, trapezoidal in the old and new forces
-            do i = 1, n
-                e = a + i - 1
-                s%ehg(e) = s%ehg(e) + real(0.5_wp*dt*sum((s%qhg(:, :, e) + fh(i, :, :))*h(i, :, :)), dp)
-                s%qhg(:, :, e) = fh(i, :, :)
-            end do
-            do k = 1, 8
-                do i = 1, n
-                    fx(i, k) = fx(i, k) - (fh(i, 1, 1)*gam(i, k, 1) + fh(i, 1, 2)*gam(i, k, 2) &
-                                           + fh(i, 1, 3)*gam(i, k, 3) + fh(i, 1, 4)*gam(i, k, 4))
-                    fy(i, k) = fy(i, k) - (fh(i, 2, 1)*gam(i, k, 1) + fh(i, 2, 2)*gam(i, k, 2) &
-                                           + fh(i, 2, 3)*gam(i, k, 3) + fh(i, 2, 4)*gam(i, k, 4))
-                    fz(i, k) = fz(i, k) - (fh(i, 3, 1)*gam(i, k, 1) + fh(i, 3, 2)*gam(i, k, 2) &
-                                           + fh(i, 3, 3)*gam(i, k, 3) + fh(i, 3, 4)*gam(i, k, 4))
+            pw = 0
+            do k = 1, 4
+                do j = 1, 3
+                    pw = pw + (qhg(:, j, k) + fh(:, j, k))*h(:, j, k)
                 end do
+            end do
+            s%ehg(a:b) = s%ehg(a:b) + real(0.5_wp*dt*pw, dp)
+            qhg = fh
+            do k = 1, 8
+                fx(:, k) = fx(:, k) - (fh(:, 1, 1)*gam(:, k, 1) + fh(:, 1, 2)*gam(:, k, 2) &
+                                       + fh(:, 1, 3)*gam(:, k, 3) + fh(:, 1, 4)*gam(:, k, 4))
+                fy(:, k) = fy(:, k) - (fh(:, 2, 1)*gam(:, k, 1) + fh(:, 2, 2)*gam(:, k, 2) &
+                                       + fh(:, 2, 3)*gam(:, k, 3) + fh(:, 2, 4)*gam(:, k, 4))
+                fz(:, k) = fz(:, k) - (fh(:, 3, 1)*gam(:, k, 1) + fh(:, 3, 2)*gam(:, k, 2) &
+                                       + fh(:, 3, 3)*gam(:, k, 3) + fh(:, 3, 4)*gam(:, k, 4))
             end do
         end if
 
         do i = 1, n
-            e = a + i - 1
+            e = 8*(a + i - 2)
             do k = 1, 8
-                s%fslot(1, 8*(e - 1) + k) = fx(i, k)
-                s%fslot(2, 8*(e - 1) + k) = fy(i, k)
-                s%fslot(3, 8*(e - 1) + k) = fz(i, k)
+                s%fslot(1, e + k) = fx(i, k)
+                s%fslot(2, e + k) = fy(i, k)
+                s%fslot(3, e + k) = fz(i, k)
             end do
         end do
         k = minloc(dte, 1)
         s%gdt(g) = dte(k)
         s%gcrit(g) = a + k - 1
         ! a NaN anywhere (a velocity gone bad) is flagged as a negative step
-        do i = 1, n
-            if (.not. (dte(i) == dte(i))) then
-                s%gdt(g) = -1.0_wp
-                s%gcrit(g) = a + i - 1
-                exit
-            end if
-        end do
-    end subroutine group_kernel
+        if (any(dte /= dte)) then
+            s%gdt(g) = -1.0_wp
+            s%gcrit(g) = a + findloc(dte /= dte, .true., 1) - 1
+        end if
+    end subroutine group_block
 
 end module xd_elements_solid_groups

@@ -203,7 +203,7 @@ contains
         do i = 1, model%nistress
             e = where(hex_map%find(model%istress(i)%eid))
             sg = model%istress(i)%sig
-            s%sig(:, e) = sg
+            call s%set_stress(e, sg)
             m = model%part(s%part(e))%mat_ix
             if (model%mat(m)%mtype == mat_elastic) then
                 em = model%mat(m)%e
