@@ -183,7 +183,7 @@ contains
             else if (v(1:1) == '+') then
                 v = '-'//v(2:)
             else
-                v = '-'//v
+                v = '-'//v(1:len(v) - 1)
             end if
         end if
         card%f(i) = v
