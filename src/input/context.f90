@@ -17,11 +17,16 @@ module xd_input_context
         logical :: warn_unsupported = .false.
     end type read_ctx_t
 
+    !> Card `icard` (1-based among the keyword's cards) split by a layout given
+    !> as a spec string ('NID:8 X:16 ...') or, in loops over many cards, as a
+    !> card_format_t built once. `cardno` is the card's number in the manual.
+    interface get_card
+        module procedure get_card_spec, get_card_fmt
+    end interface get_card
+
 contains
 
-    !> Card `icard` (1-based among the keyword's cards) split by `spec`.
-    !> `cardno` is the number the card has in the manual (for messages).
-    subroutine get_card(ctx, kw, icard, spec, cardno, card, error, raw)
+    subroutine get_card_spec(ctx, kw, icard, spec, cardno, card, error, raw)
         type(read_ctx_t), intent(in) :: ctx
         type(keyword_t), intent(in) :: kw
         integer, intent(in) :: icard, cardno
@@ -29,13 +34,24 @@ contains
         type(card_t), intent(out) :: card
         type(error_t), allocatable, intent(out) :: error
         logical, intent(in), optional :: raw
-        type(card_format_t) :: fmt
-        integer :: ln
-        fmt = card_format(spec, kw%width_mode)
+        call get_card_fmt(ctx, kw, icard, card_format(spec, kw%width_mode), cardno, card, error, raw)
+    end subroutine get_card_spec
+
+    subroutine get_card_fmt(ctx, kw, icard, fmt, cardno, card, error, raw)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        integer, intent(in) :: icard, cardno
+        type(card_format_t), intent(in) :: fmt
+        type(card_t), intent(out) :: card
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(in), optional :: raw
+        integer :: ln, f
         ln = kw%card_line(icard)
-        call split_card(ctx%src%line(ln), ctx%src%where(ln), trim(kw%written), cardno, fmt, &
-                        ctx%params, card, error, raw)
-    end subroutine get_card
+        f = ctx%src%lfile(ln)
+        call split_card(ctx%src%files(f)%text(ctx%src%lstart(ln):ctx%src%lstart(ln) + ctx%src%llen(ln) - 1), &
+                        ctx%src%files(f)%name, ctx%src%lnum(ln), kw%written, cardno, fmt, ctx%params, card, &
+                        error, raw)
+    end subroutine get_card_fmt
 
     !> Index of the first data card: after the _TITLE or _ID card if present.
     integer function first_card(kw)

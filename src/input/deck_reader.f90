@@ -5,7 +5,8 @@ module xd_input_deck_reader
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: to_upper, itoa
     use xd_input_deck_source, only: load_deck
-    use xd_input_field_reader, only: card_t, width_standard, width_long, width_i10, get_text, card_blank
+    use xd_input_field_reader, only: card_t, width_standard, width_long, width_i10, get_text, card_blank, &
+                                     card_where
     use xd_input_keyword_table, only: keyword_t, lookup_keyword, fam_unknown, fam_meta, fam_geometry, &
                                       fam_section, fam_material, fam_set, fam_condition, fam_control, &
                                       fam_database, fam_skip, fam_planned
@@ -159,7 +160,7 @@ contains
                 nm = get_text(card, k)
                 if (len(nm) == 0) cycle
                 if (scan(to_upper(nm(1:1)), 'RIC') /= 1 .or. len(nm) < 2) then
-                    call make_error(error, card%where//': *PARAMETER card 1 field PRMR'//itoa((k + 1)/2)// &
+                    call make_error(error, card_where(card)//': *PARAMETER card 1 field PRMR'//itoa((k + 1)/2)// &
                                     ': '''//nm//''' must start with its type R, I or C, then the name')
                     return
                 end if

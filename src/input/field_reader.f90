@@ -4,6 +4,7 @@
 !> Every error names file, line, keyword, card, field and the offending text,
 !> and echoes the line with a caret under the field.
 module xd_input_field_reader
+    use, intrinsic :: iso_c_binding, only: c_char, c_double, c_ptr, c_null_ptr, c_null_char
     use xd_kinds, only: wp, dp
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: to_upper, itoa
@@ -12,10 +13,21 @@ module xd_input_field_reader
     public :: card_format_t, card_format, card_t, param_table_t
     public :: width_standard, width_long, width_i10
     public :: split_card, get_real, get_int, get_text, field_blank, card_blank
-    public :: parse_real, parse_int, card_error
+    public :: parse_real, parse_int, card_error, card_where, max_card
 
     integer, parameter :: maxf = 16
+    integer, parameter :: max_card = 400   !< longest card kept (LONG cards are 200)
     integer, parameter :: width_standard = 0, width_long = 1, width_i10 = 2
+
+    interface
+        !> C's correctly rounded decimal conversion; the text is validated first.
+        pure function c_strtod(str, endptr) bind(c, name='strtod') result(d)
+            import :: c_char, c_double, c_ptr
+            character(kind=c_char), intent(in) :: str(64)
+            type(c_ptr), value :: endptr
+            real(c_double) :: d
+        end function c_strtod
+    end interface
 
     !> Field names and widths of one card layout.
     type :: card_format_t
@@ -36,14 +48,17 @@ module xd_input_field_reader
     end type param_table_t
 
     !> One card split into field texts, with what is needed to report on it.
+    !> Fixed-length components: a deck has millions of cards, and allocating
+    !> strings for each would dominate the reading time.
     type :: card_t
         integer :: nf = 0
         character(len=80) :: f(maxf) = ''
         integer :: col(maxf) = 1
         character(len=8) :: name(maxf) = ''
-        character(len=:), allocatable :: text
-        character(len=:), allocatable :: where
-        character(len=:), allocatable :: keyword
+        character(len=max_card) :: text = ''
+        character(len=256) :: file = ''
+        integer :: line = 0
+        character(len=48) :: keyword = ''
         integer :: cardno = 0
     end type card_t
 
@@ -95,9 +110,9 @@ contains
     !> Split `text` by `fmt` (or on commas when it has one) into `card`,
     !> substituting `&name` parameters. `raw` cards (titles, file names) are one
     !> field, the whole line.
-    subroutine split_card(text, where, keyword, cardno, fmt, params, card, error, raw)
-        character(len=*), intent(in) :: text, where, keyword
-        integer, intent(in) :: cardno
+    subroutine split_card(text, file, line, keyword, cardno, fmt, params, card, error, raw)
+        character(len=*), intent(in) :: text, file, keyword
+        integer, intent(in) :: line, cardno
         type(card_format_t), intent(in) :: fmt
         type(param_table_t), intent(in) :: params
         type(card_t), intent(out) :: card
@@ -107,7 +122,8 @@ contains
         logical :: is_raw
 
         card%text = text
-        card%where = where
+        card%file = file
+        card%line = line
         card%keyword = keyword
         card%cardno = cardno
         card%nf = fmt%nfield
@@ -196,6 +212,13 @@ contains
         if (i <= card%nf) field_blank = len_trim(card%f(i)) == 0
     end function field_blank
 
+    !> 'file:line' of the card.
+    function card_where(card) result(w)
+        type(card_t), intent(in) :: card
+        character(len=:), allocatable :: w
+        w = trim(card%file)//':'//itoa(card%line)
+    end function card_where
+
     logical function card_blank(card)
         type(card_t), intent(in) :: card
         card_blank = len_trim(card%text) == 0
@@ -213,7 +236,7 @@ contains
         logical :: ok
         x = default
         if (field_blank(card, i)) return
-        call parse_real(trim(card%f(i)), v, ok)
+        call parse_real(card%f(i), v, ok)
         if (.not. ok) then
             call card_error(card, i, ''''//trim(card%f(i))//''' is not a number', error)
             return
@@ -239,7 +262,7 @@ contains
         logical :: ok
         n = default
         if (field_blank(card, i)) return
-        call parse_int(trim(card%f(i)), n, ok)
+        call parse_int(card%f(i), n, ok)
         if (.not. ok) then
             call card_error(card, i, ''''//trim(card%f(i))//''' is not an integer', error)
             n = default
@@ -264,32 +287,32 @@ contains
         character(len=*), intent(in) :: s
         real(dp), intent(out) :: x
         logical, intent(out) :: ok
-        integer :: i, n, ndig, st
-        character(len=64) :: buf
+        integer :: i, n, ndig, m
+        character(kind=c_char) :: buf(64)
         x = 0.0_dp
         ok = .false.
         n = len_trim(s)
         if (n == 0 .or. n > 60) return
+        m = 0
         i = 1
-        if (s(i:i) == '+' .or. s(i:i) == '-') i = i + 1
+        if (s(i:i) == '+' .or. s(i:i) == '-') call put(buf, m, i, s(i:i))
         ndig = 0
         do while (i <= n)
             if (.not. is_digit(s(i:i))) exit
             ndig = ndig + 1
-            i = i + 1
+            call put(buf, m, i, s(i:i))
         end do
         if (i <= n) then
             if (s(i:i) == '.') then
-                i = i + 1
+                call put(buf, m, i, '.')
                 do while (i <= n)
                     if (.not. is_digit(s(i:i))) exit
                     ndig = ndig + 1
-                    i = i + 1
+                    call put(buf, m, i, s(i:i))
                 end do
             end if
         end if
         if (ndig == 0) return
-        buf = s(1:i - 1)
         if (i <= n) then
             select case (s(i:i))
             case ('e', 'E', 'd', 'D')
@@ -299,22 +322,29 @@ contains
                 return
             end select
             if (i > n) return
-            buf = trim(buf)//'e'
-            if (s(i:i) == '+' .or. s(i:i) == '-') then
-                buf = trim(buf)//s(i:i)
-                i = i + 1
-            end if
+            m = m + 1
+            buf(m) = 'e'
+            if (s(i:i) == '+' .or. s(i:i) == '-') call put(buf, m, i, s(i:i))
             if (i > n) return
             do while (i <= n)
                 if (.not. is_digit(s(i:i))) return
-                buf = trim(buf)//s(i:i)
-                i = i + 1
+                call put(buf, m, i, s(i:i))
             end do
         end if
-        read (buf, '(f64.0)', iostat=st) x
-        ok = st == 0
-        if (ok) ok = x == x .and. abs(x) <= huge(x)
+        buf(m + 1) = c_null_char
+        x = real(c_strtod(buf, c_null_ptr), dp)
+        ok = x == x .and. abs(x) <= huge(x)
     end subroutine parse_real
+
+    !> Append ch to the C buffer and step past it in the source text.
+    pure subroutine put(buf, m, i, ch)
+        character(kind=c_char), intent(inout) :: buf(64)
+        integer, intent(inout) :: m, i
+        character(len=1), intent(in) :: ch
+        m = m + 1
+        buf(m) = ch
+        i = i + 1
+    end subroutine put
 
     !> Integer: [sign] digits, or a real with an integral value (1. or 1.0E3).
     pure subroutine parse_int(s, n, ok)
@@ -351,17 +381,15 @@ contains
         if (present(use_name)) then
             if (.not. use_name) fname = 'field '//itoa(i)
         end if
-        msg = card%where//': '//card%keyword//' card '//itoa(card%cardno)//' '//fname//': '//text
+        msg = card_where(card)//': '//trim(card%keyword)//' card '//itoa(card%cardno)//' '//fname//': '//text
         c = 1
         if (i <= maxf) c = card%col(i)
-        if (allocated(card%text)) then
-            ! caret under the first non-blank character of the field
-            do while (c < len(card%text))
-                if (card%text(c:c) /= ' ') exit
-                c = c + 1
-            end do
-            msg = msg//new_line('a')//'    | '//card%text//new_line('a')//'    | '//repeat(' ', max(c - 1, 0))//'^'
-        end if
+        ! caret under the first non-blank character of the field
+        do while (c < len_trim(card%text))
+            if (card%text(c:c) /= ' ') exit
+            c = c + 1
+        end do
+        msg = msg//new_line('a')//'    | '//trim(card%text)//new_line('a')//'    | '//repeat(' ', max(c - 1, 0))//'^'
         call make_error(error, msg)
     end subroutine card_error
 

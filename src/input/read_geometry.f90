@@ -4,7 +4,7 @@ module xd_input_read_geometry
     use xd_core_errors, only: error_t, make_error
     use xd_core_memory, only: grow
     use xd_core_strings, only: itoa
-    use xd_input_field_reader, only: card_t, get_real, get_int, get_text, field_blank, card_blank, &
+    use xd_input_field_reader, only: card_t, card_format_t, card_format, get_real, get_int, get_text, field_blank, card_blank, &
                                      card_error
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, add_warning
@@ -36,10 +36,12 @@ contains
         type(model_t), intent(inout) :: model
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
+        type(card_format_t) :: fmt
         integer :: ic, n, tc, rc
         real(wp) :: xyz(3)
+        fmt = card_format('NID:8 X:16 Y:16 Z:16 TC:8 RC:8', kw%width_mode)
         do ic = 1, kw%ncard
-            call get_card(ctx, kw, ic, 'NID:8 X:16 Y:16 Z:16 TC:8 RC:8', 1, card, error)
+            call get_card(ctx, kw, ic, fmt, 1, card, error)
             if (allocated(error)) return
             if (card_blank(card)) cycle
             call get_int(card, 1, n, 0, error); if (allocated(error)) return
@@ -82,11 +84,14 @@ contains
         type(model_t), intent(inout) :: model
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card, card2
+        type(card_format_t) :: fmt1, fmt2
         integer :: ic, eid, pid, k, nodes(8), e
+        fmt1 = card_format('EID:8 PID:8 N1:8 N2:8 N3:8 N4:8 N5:8 N6:8 N7:8 N8:8', kw%width_mode)
+        fmt2 = card_format('N1:8 N2:8 N3:8 N4:8 N5:8 N6:8 N7:8 N8:8 N9:8 N10:8', kw%width_mode)
         ic = 0
         do while (ic < kw%ncard)
             ic = ic + 1
-            call get_card(ctx, kw, ic, 'EID:8 PID:8 N1:8 N2:8 N3:8 N4:8 N5:8 N6:8 N7:8 N8:8', 1, card, error)
+            call get_card(ctx, kw, ic, fmt1, 1, card, error)
             if (allocated(error)) return
             if (card_blank(card)) cycle
             call get_int(card, 1, eid, 0, error); if (allocated(error)) return
@@ -101,7 +106,7 @@ contains
                     return
                 end if
                 ic = ic + 1
-                call get_card(ctx, kw, ic, 'N1:8 N2:8 N3:8 N4:8 N5:8 N6:8 N7:8 N8:8 N9:8 N10:8', 2, card2, error)
+                call get_card(ctx, kw, ic, fmt2, 2, card2, error)
                 if (allocated(error)) return
                 do k = 1, 8
                     call get_int(card2, k, nodes(k), 0, error); if (allocated(error)) return

@@ -2,7 +2,7 @@
 module xd_input_read_sets
     use xd_core_errors, only: error_t
     use xd_core_strings, only: itoa
-    use xd_input_field_reader, only: card_t, get_int, card_error, card_blank
+    use xd_input_field_reader, only: card_t, card_format_t, card_format, get_int, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card
     use xd_model, only: model_t, set_t, set_node, set_part
@@ -22,6 +22,7 @@ contains
         integer :: ic, k, v, b, e, j
         logical :: generate
         character(len=:), allocatable :: spec
+        type(card_format_t) :: fmt
 
         ic = first_card(kw)
         if (ic > kw%ncard) return
@@ -41,8 +42,9 @@ contains
         else
             spec = 'ID1 ID2 ID3 ID4 ID5 ID6 ID7 ID8'
         end if
+        fmt = card_format(spec, kw%width_mode)
         do ic = ic + 1, kw%ncard
-            call get_card(ctx, kw, ic, spec, ic, card, error)
+            call get_card(ctx, kw, ic, fmt, ic, card, error)
             if (allocated(error)) return
             if (card_blank(card)) cycle
             if (generate) then

@@ -101,7 +101,7 @@ program test_field_reader
     call get_real(card, 4, x, 0.0_wp, error)
     call check(x == 4.0_wp, 'free format: fourth field')
     call check(field_blank(card, 5), 'free format: fewer fields than the card has')
-    call split_card('1,2,3,4,5,6', 'deck.k:9', '*X', 1, fmt, params, card, error)
+    call split_card('1,2,3,4,5,6', 'deck.k', 9, '*X', 1, fmt, params, card, error)
     call check(allocated(error), 'free format: more fields than the card has is an error')
 
     ! parameters
@@ -115,14 +115,14 @@ program test_field_reader
     call check(x == -12.5_wp, 'parameter -&name negated, names case-insensitive')
     call get_int(card, 3, n, 0, error)
     call check(n == 40, 'integer parameter substituted')
-    call split_card('    &UNDEF', 'deck.k:3', '*MAT_ELASTIC', 1, card_format('MID RO'), params, card, error)
+    call split_card('    &UNDEF', 'deck.k', 3, '*MAT_ELASTIC', 1, card_format('MID RO'), params, card, error)
     call check(allocated(error), 'undefined parameter is an error')
     if (allocated(error)) call check(index(error%message, 'UNDEF') > 0 .and. index(error%message, 'deck.k:3') > 0, &
                                      'undefined parameter error names it and the line')
 
     ! errors name file, line, keyword, card, field and text
     fmt = card_format('T1 T2 T3 T4')
-    call split_card('     O.002', 'deck.k:1204', '*SECTION_SHELL', 2, fmt, params, card, error)
+    call split_card('     O.002', 'deck.k', 1204, '*SECTION_SHELL', 2, fmt, params, card, error)
     call get_real(card, 1, x, 0.0_wp, error)
     call check(allocated(error), 'bad number is an error')
     if (allocated(error)) then
@@ -131,7 +131,7 @@ program test_field_reader
         call check(index(error%message, '^') > 0, 'error message shows a caret under the field')
     end if
     fmt = card_format('NID X Y')
-    call split_card('       1.5', 'a.k:7', '*NODE', 1, fmt, params, card, error)
+    call split_card('       1.5', 'a.k', 7, '*NODE', 1, fmt, params, card, error)
     call get_int(card, 1, n, 0, error)
     call check(allocated(error), 'non-integral value in an integer field is an error')
     if (allocated(error)) call check(index(error%message, "field NID: '1.5' is not an integer") > 0, &
@@ -145,7 +145,7 @@ contains
         type(card_format_t), intent(in) :: f
         type(card_t), intent(out) :: c
         type(error_t), allocatable :: e
-        call split_card(text, 'test.k:1', '*TEST', 1, f, params, c, e)
+        call split_card(text, 'test.k', 1, '*TEST', 1, f, params, c, e)
         call check(.not. allocated(e), 'split '''//text//'''')
     end subroutine split
 
