@@ -9,7 +9,8 @@ module xd_elements_hex8
     public :: hex_volume_operator, hex_corner_jacobians, hex_shape_kind
     public :: hex_regular, hex_wedge, hex_tet, hex_bad
     public :: hex_b_matrix, hex_velocity_gradient, hex_stress_forces
-    public :: hex_hourglass_shape, hex_hourglass_rates, hex_char_length, gamma_hg
+    public :: hex_hourglass_shape, hex_hourglass_rates, hex_hourglass_modes, hex_hourglass_forces, &
+              hex_char_length, gamma_hg
 
     integer, parameter :: hex_regular = 0, hex_wedge = 1, hex_tet = 2, hex_bad = -1
 
@@ -169,6 +170,72 @@ contains
             end do
         end do
     end subroutine hex_hourglass_rates
+
+    !> Hourglass rates without forming the shape vectors: with
+    !> gamma_aI = Gamma_aI - (1/V) hx_aj B_jI and hx_aj = sum_I Gamma_aI x_jI,
+    !> h_ia = sum_I v_iI gamma_aI = (v_i . Gamma_a) - hx_aj L_ij, L the velocity
+    !> gradient (1/V) sum_I v_iI B_jI on the same geometry. Returns hx for
+    !> hex_hourglass_forces.
+    pure subroutine hex_hourglass_modes(n, x, y, z, vx, vy, vz, bx, by, bz, vol, hx, h)
+        integer, intent(in) :: n
+        real(wp), intent(in) :: x(n, 8), y(n, 8), z(n, 8), vx(n, 8), vy(n, 8), vz(n, 8)
+        real(wp), intent(in) :: bx(n, 8), by(n, 8), bz(n, 8), vol(n)
+        real(wp), intent(out) :: hx(n, 3, 4), h(n, 3, 4)
+        real(wp), dimension(n) :: lxx, lxy, lxz, lyx, lyy, lyz, lzx, lzy, lzz, r
+        integer :: a, k
+        lxx = 0; lxy = 0; lxz = 0; lyx = 0; lyy = 0; lyz = 0; lzx = 0; lzy = 0; lzz = 0
+        do k = 1, 8
+            lxx = lxx + vx(:, k)*bx(:, k); lxy = lxy + vx(:, k)*by(:, k); lxz = lxz + vx(:, k)*bz(:, k)
+            lyx = lyx + vy(:, k)*bx(:, k); lyy = lyy + vy(:, k)*by(:, k); lyz = lyz + vy(:, k)*bz(:, k)
+            lzx = lzx + vz(:, k)*bx(:, k); lzy = lzy + vz(:, k)*by(:, k); lzz = lzz + vz(:, k)*bz(:, k)
+        end do
+        r = 1.0_wp/vol
+        do a = 1, 4
+            hx(:, :, a) = 0
+            h(:, :, a) = 0
+            do k = 1, 8
+                hx(:, 1, a) = hx(:, 1, a) + gamma_hg(k, a)*x(:, k)
+                hx(:, 2, a) = hx(:, 2, a) + gamma_hg(k, a)*y(:, k)
+                hx(:, 3, a) = hx(:, 3, a) + gamma_hg(k, a)*z(:, k)
+                h(:, 1, a) = h(:, 1, a) + gamma_hg(k, a)*vx(:, k)
+                h(:, 2, a) = h(:, 2, a) + gamma_hg(k, a)*vy(:, k)
+                h(:, 3, a) = h(:, 3, a) + gamma_hg(k, a)*vz(:, k)
+            end do
+            h(:, 1, a) = h(:, 1, a) - r*(hx(:, 1, a)*lxx + hx(:, 2, a)*lxy + hx(:, 3, a)*lxz)
+            h(:, 2, a) = h(:, 2, a) - r*(hx(:, 1, a)*lyx + hx(:, 2, a)*lyy + hx(:, 3, a)*lyz)
+            h(:, 3, a) = h(:, 3, a) - r*(hx(:, 1, a)*lzx + hx(:, 2, a)*lzy + hx(:, 3, a)*lzz)
+        end do
+    end subroutine hex_hourglass_modes
+
+    !> Subtract the nodal forces of the hourglass generalized forces q(n,3,4):
+    !> f_iI -= sum_a q_ia gamma_aI = sum_a q_ia Gamma_aI - c_ij B_jI with
+    !> c_ij = (1/V) sum_a q_ia hx_aj.
+    pure subroutine hex_hourglass_forces(n, q, hx, bx, by, bz, vol, fx, fy, fz)
+        integer, intent(in) :: n
+        real(wp), intent(in) :: q(n, 3, 4), hx(n, 3, 4), bx(n, 8), by(n, 8), bz(n, 8), vol(n)
+        real(wp), intent(inout) :: fx(n, 8), fy(n, 8), fz(n, 8)
+        real(wp), dimension(n, 3, 3) :: c
+        real(wp) :: r(n)
+        integer :: i, j, k
+        r = 1.0_wp/vol
+        do j = 1, 3
+            do i = 1, 3
+                c(:, i, j) = r*(q(:, i, 1)*hx(:, j, 1) + q(:, i, 2)*hx(:, j, 2) + q(:, i, 3)*hx(:, j, 3) &
+                                + q(:, i, 4)*hx(:, j, 4))
+            end do
+        end do
+        do k = 1, 8
+            fx(:, k) = fx(:, k) - (gamma_hg(k, 1)*q(:, 1, 1) + gamma_hg(k, 2)*q(:, 1, 2) + gamma_hg(k, 3)*q(:, 1, 3) &
+                                   + gamma_hg(k, 4)*q(:, 1, 4)) + c(:, 1, 1)*bx(:, k) + c(:, 1, 2)*by(:, k) &
+                       + c(:, 1, 3)*bz(:, k)
+            fy(:, k) = fy(:, k) - (gamma_hg(k, 1)*q(:, 2, 1) + gamma_hg(k, 2)*q(:, 2, 2) + gamma_hg(k, 3)*q(:, 2, 3) &
+                                   + gamma_hg(k, 4)*q(:, 2, 4)) + c(:, 2, 1)*bx(:, k) + c(:, 2, 2)*by(:, k) &
+                       + c(:, 2, 3)*bz(:, k)
+            fz(:, k) = fz(:, k) - (gamma_hg(k, 1)*q(:, 3, 1) + gamma_hg(k, 2)*q(:, 3, 2) + gamma_hg(k, 3)*q(:, 3, 3) &
+                                   + gamma_hg(k, 4)*q(:, 3, 4)) + c(:, 3, 1)*bx(:, k) + c(:, 3, 2)*by(:, k) &
+                       + c(:, 3, 3)*bz(:, k)
+        end do
+    end subroutine hex_hourglass_forces
 
     !> Characteristic length V / (largest face area), LS-DYNA's choice for solids.
     pure subroutine hex_char_length(n, x, y, z, vol, le)

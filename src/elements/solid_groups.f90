@@ -9,7 +9,7 @@ module xd_elements_solid_groups
     use xd_core_sorting, only: sort_index
     use xd_model, only: model_t, mat_elastic
     use xd_elements_hex8, only: hex_b_matrix, hex_velocity_gradient, hex_stress_forces, &
-                                hex_hourglass_shape, hex_hourglass_rates, hex_char_length
+                                hex_hourglass_modes, hex_hourglass_forces, hex_char_length
     use xd_materials_elastic, only: elastic_update, jaumann_rotate
     implicit none
     private
@@ -199,7 +199,7 @@ contains
         real(wp), dimension(n, 8) :: xl, yl, zl, vx, vy, vz, bx, by, bz, fx, fy, fz
         real(wp), dimension(n) :: vol, volh, q, rho, c, le, dte, tr, pw, qd
         real(wp) :: d(size(vol), 6), w(size(vol), 3), sold(size(vol), 6)
-        real(wp) :: gam(size(vol), 8, 4), h(size(vol), 3, 4), fh(size(vol), 3, 4)
+        real(wp) :: hx(size(vol), 3, 4), h(size(vol), 3, 4), fh(size(vol), 3, 4)
         type(solid_group_t) :: gr
 
         gr = s%group(g)
@@ -263,8 +263,7 @@ contains
 
         ! Flanagan-Belytschko hourglass control
         if (gr%qm > 0.0_wp) then
-            call hex_hourglass_shape(n, xl, yl, zl, bx, by, bz, vol, gam)
-            call hex_hourglass_rates(n, vx, vy, vz, gam, h)
+            call hex_hourglass_modes(n, xl, yl, zl, vx, vy, vz, bx, by, bz, vol, hx, h)
             if (gr%hg_form == hg_viscous) then
                 ! viscous form: force ah h, ah = QM rho c V^(2/3) / 4
                 qd = gr%qm*0.25_wp*rho*c*vol**(2.0_wp/3.0_wp)
@@ -299,14 +298,7 @@ contains
             end do
             s%ehg(a:b) = s%ehg(a:b) + real(0.5_wp*dt*pw, dp)
             qhg = fh
-            do k = 1, 8
-                fx(:, k) = fx(:, k) - (fh(:, 1, 1)*gam(:, k, 1) + fh(:, 1, 2)*gam(:, k, 2) &
-                                       + fh(:, 1, 3)*gam(:, k, 3) + fh(:, 1, 4)*gam(:, k, 4))
-                fy(:, k) = fy(:, k) - (fh(:, 2, 1)*gam(:, k, 1) + fh(:, 2, 2)*gam(:, k, 2) &
-                                       + fh(:, 2, 3)*gam(:, k, 3) + fh(:, 2, 4)*gam(:, k, 4))
-                fz(:, k) = fz(:, k) - (fh(:, 3, 1)*gam(:, k, 1) + fh(:, 3, 2)*gam(:, k, 2) &
-                                       + fh(:, 3, 3)*gam(:, k, 3) + fh(:, 3, 4)*gam(:, k, 4))
-            end do
+            call hex_hourglass_forces(n, fh, hx, bx, by, bz, vol, fx, fy, fz)
         end if
 
         do i = 1, n

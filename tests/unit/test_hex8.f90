@@ -5,7 +5,8 @@ program test_hex8
     use xd_kinds, only: wp, dp
     use xd_testing, only: check, check_close, test_summary
     use xd_elements_hex8, only: hex_volume_operator, hex_b_matrix, hex_velocity_gradient, &
-                                hex_hourglass_shape, hex_hourglass_rates, hex_char_length, &
+                                hex_hourglass_shape, hex_hourglass_rates, hex_hourglass_modes, &
+                                hex_hourglass_forces, hex_char_length, &
                                 hex_corner_jacobians, hex_shape_kind, hex_regular, hex_wedge, hex_tet, hex_bad
     implicit none
     real(wp), parameter :: ref(8, 3) = reshape([0, 1, 1, 0, 0, 1, 1, 0, 0, 0, 1, 1, 0, 0, 1, 1, &
@@ -70,6 +71,10 @@ program test_hex8
     call hex_hourglass_rates(1, reshape(v(:, 1), [1, 8]), reshape(v(:, 2), [1, 8]), reshape(v(:, 3), [1, 8]), g, h)
     call check(maxval(abs(h)) > 0.5_wp, 'hex8 hourglass mode gives a non-zero hourglass rate')
 
+    ! the expanded form used by the kernel: same rates, and forces equal to
+    ! -sum q gamma, on a distorted element with an arbitrary velocity field
+    call check_modes_match_shapes()
+
     ! time step length of a cube is its side: dt = h / c (1-D formula, nu = 0)
     xe = 0.02_wp*ref
     call hex_volume_operator(xe, b, vol)
@@ -92,6 +97,43 @@ program test_hex8
     call test_summary()
 
 contains
+
+    subroutine check_modes_match_shapes()
+        real(wp) :: xd(8, 3), bb(8, 3), vv, vel(8, 3), gg(1, 8, 4), hh(1, 3, 4), hm(1, 3, 4), hx(1, 3, 4)
+        real(wp) :: q(1, 3, 4), fx(1, 8), fy(1, 8), fz(1, 8), fref(8, 3)
+        real(dp) :: rv(24), rq(12)
+        integer :: kk, a
+        call random_number(rv)
+        do kk = 1, 8
+            xd(kk, :) = ref(kk, :) + 0.2_wp*(real(rv(3*kk - 2:3*kk), wp) - 0.5_wp)
+        end do
+        call random_number(rv)
+        vel = reshape(real(rv, wp), [8, 3]) - 0.5_wp
+        call hex_volume_operator(xd, bb, vv)
+        call hex_hourglass_shape(1, reshape(xd(:, 1), [1, 8]), reshape(xd(:, 2), [1, 8]), reshape(xd(:, 3), [1, 8]), &
+                                 reshape(bb(:, 1), [1, 8]), reshape(bb(:, 2), [1, 8]), reshape(bb(:, 3), [1, 8]), &
+                                 [vv], gg)
+        call hex_hourglass_rates(1, reshape(vel(:, 1), [1, 8]), reshape(vel(:, 2), [1, 8]), &
+                                 reshape(vel(:, 3), [1, 8]), gg, hh)
+        call hex_hourglass_modes(1, reshape(xd(:, 1), [1, 8]), reshape(xd(:, 2), [1, 8]), reshape(xd(:, 3), [1, 8]), &
+                                 reshape(vel(:, 1), [1, 8]), reshape(vel(:, 2), [1, 8]), reshape(vel(:, 3), [1, 8]), &
+                                 reshape(bb(:, 1), [1, 8]), reshape(bb(:, 2), [1, 8]), reshape(bb(:, 3), [1, 8]), &
+                                 [vv], hx, hm)
+        call check(maxval(abs(hm - hh)) < 1.0e-12_wp, 'hex8 expanded hourglass rates equal v . gamma')
+        call random_number(rq)
+        q = reshape(real(rq, wp), [1, 3, 4])
+        fx = 0; fy = 0; fz = 0
+        call hex_hourglass_forces(1, q, hx, reshape(bb(:, 1), [1, 8]), reshape(bb(:, 2), [1, 8]), &
+                                  reshape(bb(:, 3), [1, 8]), [vv], fx, fy, fz)
+        fref = 0
+        do a = 1, 4
+            do kk = 1, 8
+                fref(kk, :) = fref(kk, :) - q(1, :, a)*gg(1, kk, a)
+            end do
+        end do
+        call check(maxval(abs(fx(1, :) - fref(:, 1))) + maxval(abs(fy(1, :) - fref(:, 2))) + &
+                   maxval(abs(fz(1, :) - fref(:, 3))) < 1.0e-12_wp, 'hex8 expanded hourglass forces equal -q . gamma')
+    end subroutine check_modes_match_shapes
 
     pure function cross(a, c) result(r)
         real(wp), intent(in) :: a(3), c(3)
