@@ -164,6 +164,16 @@ def test_format_rules():
         q = run([THDIFF, oa, ob, "--rtol", "0", "--atol", "0"])
         record(f"format rules: {deck} runs exactly as plain.k", pa.returncode == 0 and pb.returncode == 0
                and q.returncode == 0, pa.stderr[-300:] + q.stdout[-300:])
+    # the same deck with DOS line ends (CR LF) and tabs nowhere: identical run
+    crlf = os.path.join(TMP, "plain_crlf.k")
+    with open(os.path.join(ROOT, "tests/decks/format_rules/plain.k")) as f:
+        text = f.read()
+    with open(crlf, "w", newline="") as f:
+        f.write(text.replace("\n", "\r\n"))
+    pc, oc = run_deck(crlf, "fmt_crlf")
+    q = run([THDIFF, oc, ob, "--rtol", "0", "--atol", "0"])
+    record("format rules: a deck with CR LF line ends runs exactly as with LF", pc.returncode == 0 and
+           q.returncode == 0, pc.stderr[-300:] + q.stdout[-300:])
     with open(os.path.join(TMP, "fmt_rules.k", "d3hsp")) as f:
         log = f.read()
     record("format rules: output-only keyword skipped with one warning",

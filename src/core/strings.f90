@@ -3,7 +3,7 @@ module xd_core_strings
     use xd_kinds, only: wp, dp
     implicit none
     private
-    public :: to_upper, to_lower, itoa, rtoa, dirname, join_path, starts_with
+    public :: to_upper, to_lower, itoa, rtoa, ftoa, dirname, join_path, starts_with
 
 contains
 
@@ -37,13 +37,23 @@ contains
         s = trim(buf)
     end function itoa
 
+    !> Scientific notation, six significant digits: 1.50750E-04.
     pure function rtoa(x) result(s)
         real(dp), intent(in) :: x
         character(len=:), allocatable :: s
         character(len=32) :: buf
-        write (buf, '(es13.6)') x
+        write (buf, '(es12.5)') x
         s = trim(adjustl(buf))
     end function rtoa
+
+    !> Fixed notation, four decimals: 1.0213.
+    pure function ftoa(x) result(s)
+        real(dp), intent(in) :: x
+        character(len=:), allocatable :: s
+        character(len=32) :: buf
+        write (buf, '(f14.4)') x
+        s = trim(adjustl(buf))
+    end function ftoa
 
     !> Directory part of a path, '.' when there is none.
     pure function dirname(path) result(d)

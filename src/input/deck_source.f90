@@ -72,17 +72,8 @@ contains
         pos = 1
         lineno = 0
         do while (pos <= n)
-            eol = index(src%files(ifile)%text(pos:n), achar(10))
-            if (eol == 0) then
-                eol = n + 1
-            else
-                eol = pos + eol - 1
-            end if
+            call line_bounds(src%files(ifile)%text, pos, k, eol)
             lineno = lineno + 1
-            k = eol - 1
-            if (k >= pos) then
-                if (src%files(ifile)%text(k:k) == achar(13)) k = k - 1
-            end if
             call add_line(src, ifile, pos, k - pos + 1, lineno)
             pos = eol + 1
             if (.not. src%is_keyword(src%nline)) cycle
@@ -97,17 +88,8 @@ contains
             fname = ''
             more = .true.
             do while (more .and. pos <= n)
-                eol = index(src%files(ifile)%text(pos:n), achar(10))
-                if (eol == 0) then
-                    eol = n + 1
-                else
-                    eol = pos + eol - 1
-                end if
+                call line_bounds(src%files(ifile)%text, pos, k, eol)
                 lineno = lineno + 1
-                k = eol - 1
-                if (k >= pos) then
-                    if (src%files(ifile)%text(k:k) == achar(13)) k = k - 1
-                end if
                 cont = src%files(ifile)%text(pos:k)
                 pos = eol + 1
                 if (len(cont) > 0) then
@@ -132,6 +114,25 @@ contains
             if (allocated(error)) return
         end do
     end subroutine load_file
+
+    !> The line that starts at `pos`: its last character `last` (a carriage
+    !> return before the newline is dropped) and the position `eol` of its
+    !> newline (len(text) + 1 for a last line without one).
+    pure subroutine line_bounds(text, pos, last, eol)
+        character(len=*), intent(in) :: text
+        integer, intent(in) :: pos
+        integer, intent(out) :: last, eol
+        eol = index(text(pos:), achar(10))
+        if (eol == 0) then
+            eol = len(text) + 1
+        else
+            eol = pos + eol - 1
+        end if
+        last = eol - 1
+        if (last >= pos) then
+            if (text(last:last) == achar(13)) last = last - 1
+        end if
+    end subroutine line_bounds
 
     subroutine add_file(src, path, ifile)
         type(deck_source_t), intent(inout) :: src

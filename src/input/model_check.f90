@@ -38,26 +38,19 @@ contains
         type(model_t), intent(inout) :: model
         type(id_maps_t), intent(out) :: maps
         type(error_t), allocatable, intent(out) :: error
-        integer :: dup, i
+        integer :: dup
         if (model%nnode == 0) then
             call make_error(error, model%deck_path//': the deck defines no nodes')
             return
         end if
         call maps%node%build(model%node_id(1:model%nnode), dup)
         if (dup /= 0) then
-            do i = model%nnode, 1, -1
-                if (model%node_id(i) == dup) exit
-            end do
-            call make_error(error, ctx%src%where(model%node_src(i))//': *NODE '//itoa(dup)//' is defined twice')
+            call dup_error('*NODE', dup, model%node_id(1:model%nnode), model%node_src(1:model%nnode))
             return
         end if
         call maps%hex%build(model%hex_id(1:model%nhex), dup)
         if (dup /= 0) then
-            do i = model%nhex, 1, -1
-                if (model%hex_id(i) == dup) exit
-            end do
-            call make_error(error, ctx%src%where(model%hex_src(i))//': *ELEMENT_SOLID '//itoa(dup)// &
-                            ' is defined twice')
+            call dup_error('*ELEMENT_SOLID', dup, model%hex_id(1:model%nhex), model%hex_src(1:model%nhex))
             return
         end if
         call maps%part%build(model%part(1:model%npart)%id, dup)

@@ -4,7 +4,7 @@
 module xd_solver_time_loop
     use, intrinsic :: iso_fortran_env, only: output_unit
     use xd_kinds, only: wp, dp
-    use xd_core_strings, only: itoa
+    use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run
     use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output
     use xd_model, only: model_t
@@ -93,7 +93,7 @@ contains
             if (res%status /= exit_normal) exit
             st%dt = real(model%ctl%tssfac, wp)*dtc
             if (model%ctl%dtmin > 0.0_wp .and. st%dt < model%ctl%dtmin*st%dt_first) then
-                call fail('time step '//sci(real(st%dt, dp))//' fell below DTMIN x first step; '// &
+                call fail('time step '//rtoa(real(st%dt, dp))//' fell below DTMIN x first step; '// &
                           'controlling solid '//itoa(solids%eid(st%crit_elem))//' of part '// &
                           itoa(model%part(solids%part(st%crit_elem))%id))
                 exit
@@ -124,7 +124,7 @@ contains
         res%loop_wall = tm%elapsed() - t0_wall
         if (res%status == exit_normal) then
             call log_line(lg, '')
-            call log_line(lg, ' N o r m a l    t e r m i n a t i o n   at time '//sci(st%time)// &
+            call log_line(lg, ' N o r m a l    t e r m i n a t i o n   at time '//rtoa(st%time)// &
                           ', cycle '//itoa(st%cycle))
         end if
 
@@ -190,15 +190,15 @@ contains
                 call fail('energy is NaN or infinite; first bad node '//itoa(model%node_id(i)))
             else if (en%ratio > ratio_limit) then
                 i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
-                call fail('energy blow-up: total energy ratio '//fixed(en%ratio)//' exceeds '// &
-                          fixed(ratio_limit)//'; fastest node '//itoa(model%node_id(i)))
+                call fail('energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
+                          ftoa(ratio_limit)//'; fastest node '//itoa(model%node_id(i)))
             end if
         end subroutine check_energy
 
         subroutine fail(text)
             character(len=*), intent(in) :: text
             res%status = exit_run
-            res%message = 'error termination at time '//sci(st%time)//', cycle '//itoa(st%cycle)//': '//text
+            res%message = 'error termination at time '//rtoa(st%time)//', cycle '//itoa(st%cycle)//': '//text
             call log_line(lg, '')
             call log_line(lg, ' *** '//res%message)
         end subroutine fail
@@ -232,21 +232,5 @@ contains
         end subroutine progress
 
     end subroutine run_time_loop
-
-    pure function sci(x) result(s)
-        real(dp), intent(in) :: x
-        character(len=:), allocatable :: s
-        character(len=16) :: b
-        write (b, '(es12.5)') x
-        s = trim(adjustl(b))
-    end function sci
-
-    pure function fixed(x) result(s)
-        real(dp), intent(in) :: x
-        character(len=:), allocatable :: s
-        character(len=16) :: b
-        write (b, '(f10.4)') x
-        s = trim(adjustl(b))
-    end function fixed
 
 end module xd_solver_time_loop
