@@ -150,6 +150,41 @@ def prestressed_block(outdir):
     write(os.path.join(outdir, "verify", "prestressed_block.k"), lines)
 
 
+def bar_wall(outdir):
+    """Elastic bar (nu = 0) at v0 onto a planar rigid wall: contact lasts
+    2L/c, the wall force is rho c A v0, the bar leaves at v0 (1-D theory)."""
+    L, a, n = 1.0, 0.005, 200
+    E, rho, v0 = 200e9, 7850.0, 10.0
+    nodes, hexes = block_mesh(n, 1, 1, L, a, a, origin=(1.0e-6, 0.0, 0.0))
+    lines = common("elastic bar on a planar rigid wall (1-D impact)", 6.0e-4, 2.0e-6)
+    lines += ["*DATABASE_RWFORC", f10(1.0e-6)]
+    lines += ["*MAT_ELASTIC", f10(1, rho, E, 0.0)]
+    lines += part(1, 1, "bar")
+    lines += ["*RIGIDWALL_PLANAR_ID", f10(7) + "wall at x = 0", f10(0), f10(0.0, 0.0, 0.0, 1.0, 0.0, 0.0)]
+    lines += ["*INITIAL_VELOCITY", f10(0), f10(-v0, 0.0, 0.0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", "bar_wall.k"), lines)
+
+
+def gravity_drop(outdir):
+    """A block falling from rest under *LOAD_BODY_Z onto a planar wall:
+    it arrives at sqrt(2 g h)."""
+    h, g = 0.5, 9.81
+    nodes, hexes = block_mesh(2, 2, 2, 0.1, 0.1, 0.1, origin=(0.0, 0.0, h))
+    lines = common("block dropped under gravity onto a planar rigid wall", 0.34, 1.0e-3)
+    lines[lines.index("*DATABASE_GLSTAT") + 1] = f10(1.0e-3)
+    bottom = [n for n, x in sorted(nodes.items()) if x[2] == h and x[0] == 0.0 and x[1] == 0.0]
+    lines += ["*DATABASE_NODOUT", f10(2.0e-4), "*DATABASE_HISTORY_NODE", f10(bottom[0])]
+    lines += ["*DATABASE_RWFORC", f10(1.0e-4)]
+    lines += ["*MAT_ELASTIC", f10(1, 2700.0, 70e9, 0.3)]
+    lines += part(1, 1, "block")
+    lines += ["*DEFINE_CURVE_TITLE", "gravity", f10(5), f"{0.0:20.8e}{g:20.8e}", f"{10.0:20.8e}{g:20.8e}"]
+    lines += ["*LOAD_BODY_Z", f10(5, 1.0)]
+    lines += ["*RIGIDWALL_PLANAR", f10(0), f10(0.0, 0.0, 0.0, 0.0, 0.0, 1.0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", "gravity_drop.k"), lines)
+
+
 def demo_cantilever(outdir):
     """A clamped steel cantilever of hexahedra set swinging by an initial
     velocity that grows along its length."""
@@ -198,6 +233,8 @@ def main():
     bar_impact(args.outdir)
     free_block_spin(args.outdir)
     prestressed_block(args.outdir)
+    bar_wall(args.outdir)
+    gravity_drop(args.outdir)
     demo_cantilever(args.outdir)
 
 

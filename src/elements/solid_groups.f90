@@ -45,6 +45,9 @@ module xd_elements_solid_groups
         real(wp), allocatable :: qbv(:)        !< bulk viscosity pressure of the last step
         real(dp), allocatable :: eint(:)       !< internal energy (incl. bulk viscosity work)
         real(dp), allocatable :: ehg(:)        !< hourglass energy
+        ! the power of the current forces with v(n-1/2): half their work over
+        ! the coming velocity update, weighted by its step once it is known
+        real(dp), allocatable :: pend_int(:), pend_hg(:)
         real(wp), allocatable :: fslot(:, :)   !< (3, 8n) force on each element-node incidence
         real(wp), allocatable :: gdt(:)        !< per group: smallest element time step
         integer, allocatable :: gcrit(:)       !< per group: element that sets it
@@ -82,6 +85,8 @@ contains
         call alloc(s%vol, s%n, 'solid volumes')
         call alloc_dp(s%eint, s%n, 'solid internal energies')
         call alloc_dp(s%ehg, s%n, 'solid hourglass energies')
+        call alloc_dp(s%pend_int, s%n, 'solid energy rates')
+        call alloc_dp(s%pend_hg, s%n, 'solid energy rates')
         call alloc(s%fslot, 3, 8*s%n, 'solid force slots')
 
         ! count groups, then fill them
@@ -165,35 +170,39 @@ contains
     !> Internal forces of every solid for positions x and velocities v (the
     !> half-step velocity that acted over the last step dt). Updates stresses,
     !> energies, volumes; writes force slots, group time steps and flags.
-    subroutine solid_forces(s, x, v, dt)
+    subroutine solid_forces(s, x, v, dt, dt_avg_prev)
         type(solids_t), intent(inout) :: s
         real(wp), contiguous, intent(in) :: x(:, :), v(:, :)
-        real(wp), intent(in) :: dt
+        real(wp), intent(in) :: dt            !< step just taken (the strain increment's)
+        real(dp), intent(in) :: dt_avg_prev   !< step of the last velocity update
         integer :: g
         !$omp parallel do schedule(dynamic, 4) default(shared) private(g)
         do g = 1, s%ngroup
-            call group_kernel(s, g, x, v, dt)
+            call group_kernel(s, g, x, v, dt, dt_avg_prev)
         end do
         !$omp end parallel do
     end subroutine solid_forces
 
-    subroutine group_kernel(s, g, x, v, dt)
+    subroutine group_kernel(s, g, x, v, dt, dt_avg_prev)
         type(solids_t), intent(inout) :: s
         integer, intent(in) :: g
         real(wp), contiguous, intent(in) :: x(:, :), v(:, :)
         real(wp), intent(in) :: dt
+        real(dp), intent(in) :: dt_avg_prev
         integer :: a, b
         a = s%group(g)%first
         b = s%group(g)%last
-        call group_block(s, g, x, v, dt, b - a + 1, s%sig(6*(a - 1) + 1:6*b), s%qhg(12*(a - 1) + 1:12*b))
+        call group_block(s, g, x, v, dt, dt_avg_prev, b - a + 1, s%sig(6*(a - 1) + 1:6*b), &
+                         s%qhg(12*(a - 1) + 1:12*b))
     end subroutine group_kernel
 
     !> One group: sig and qhg are its contiguous blocks of element state.
-    subroutine group_block(s, g, x, v, dt, n, sig, qhg)
+    subroutine group_block(s, g, x, v, dt, dt_avg_prev, n, sig, qhg)
         type(solids_t), intent(inout) :: s
         integer, intent(in) :: g, n
         real(wp), contiguous, intent(in) :: x(:, :), v(:, :)
         real(wp), intent(in) :: dt
+        real(dp), intent(in) :: dt_avg_prev
         real(wp), intent(inout) :: sig(n, 6), qhg(n, 3, 4)
         integer :: a, b, i, j, k, e, nd
         real(wp), dimension(n, 8) :: xl, yl, zl, vx, vy, vz, bx, by, bz, fx, fy, fz
@@ -242,19 +251,24 @@ contains
             call elastic_update(n, gr%lam, gr%mu, d, dt, sig)
         end select
 
-        ! bulk viscosity; internal energy as the work of stress and bulk
-        ! viscosity over the step, trapezoidal in time (old and new values),
-        ! which is exactly the work their nodal forces do in central differences
+        ! bulk viscosity, and the internal energy: the nodal forces f(n) of an
+        ! element do the work f(n) . (v(n-1/2) + v(n+1/2))/2 dt_avg(n), with
+        ! dt_avg(n) the step of the velocity update at t(n); this is the work
+        ! that central differences turn into kinetic energy, for constant and
+        ! variable steps alike. Here, with D from v(n-1/2): the old forces'
+        ! second half is completed with dt_avg(n-1), the new forces' first half
+        ! waits for dt_avg(n).
         rho = gr%ro*s%vol0(a:b)/vol
         c = sqrt((gr%lam + 2.0_wp*gr%mu)/rho)
         call hex_char_length(n, xl, yl, zl, vol, le)
         tr = d(:, 1) + d(:, 2) + d(:, 3)
         q = merge(rho*le*(gr%q1*le*tr*tr - gr%q2*c*tr), 0.0_wp, tr < 0.0_wp)
-        pw = 0.5_wp*((sold(:, 1) + sig(:, 1))*d(:, 1) + (sold(:, 2) + sig(:, 2))*d(:, 2) &
-                     + (sold(:, 3) + sig(:, 3))*d(:, 3) - (s%qbv(a:b) + q)*tr) &
-             + (sold(:, 4) + sig(:, 4))*d(:, 4) + (sold(:, 5) + sig(:, 5))*d(:, 5) &
-             + (sold(:, 6) + sig(:, 6))*d(:, 6)
-        s%eint(a:b) = s%eint(a:b) + real(pw*volh*dt, dp)
+        pw = 0.5_wp*(sold(:, 1)*d(:, 1) + sold(:, 2)*d(:, 2) + sold(:, 3)*d(:, 3) - s%qbv(a:b)*tr) &
+             + sold(:, 4)*d(:, 4) + sold(:, 5)*d(:, 5) + sold(:, 6)*d(:, 6)
+        s%eint(a:b) = s%eint(a:b) + dt_avg_prev*(s%pend_int(a:b) + real(pw*volh, dp))
+        pw = 0.5_wp*(sig(:, 1)*d(:, 1) + sig(:, 2)*d(:, 2) + sig(:, 3)*d(:, 3) - q*tr) &
+             + sig(:, 4)*d(:, 4) + sig(:, 5)*d(:, 5) + sig(:, 6)*d(:, 6)
+        s%pend_int(a:b) = real(pw*volh, dp)
         s%qbv(a:b) = q
         ! element time step, reduced by the bulk viscosity in compression
         qd = merge(gr%q1*le*abs(tr) + gr%q2*c, 0.0_wp, tr < 0.0_wp)
@@ -289,14 +303,17 @@ contains
                                   + qd*h(:, 3, k)
                 end do
             end if
-            ! hourglass work over the step, trapezoidal in the old and new forces
+            ! hourglass work, booked as the internal energy above
             pw = 0
+            q = 0
             do k = 1, 4
                 do j = 1, 3
-                    pw = pw + (qhg(:, j, k) + fh(:, j, k))*h(:, j, k)
+                    pw = pw + qhg(:, j, k)*h(:, j, k)
+                    q = q + fh(:, j, k)*h(:, j, k)
                 end do
             end do
-            s%ehg(a:b) = s%ehg(a:b) + real(0.5_wp*dt*pw, dp)
+            s%ehg(a:b) = s%ehg(a:b) + dt_avg_prev*(s%pend_hg(a:b) + real(0.5_wp*pw, dp))
+            s%pend_hg(a:b) = real(0.5_wp*q, dp)
             qhg = fh
             call hex_hourglass_forces(n, fh, hx, bx, by, bz, vol, fx, fy, fz)
         end if

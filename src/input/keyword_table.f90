@@ -8,11 +8,11 @@ module xd_input_keyword_table
     private
     public :: keyword_t, lookup_keyword, skip_list_text
     public :: fam_unknown, fam_meta, fam_geometry, fam_section, fam_material, fam_set, &
-              fam_condition, fam_control, fam_database, fam_skip, fam_planned
+              fam_condition, fam_control, fam_database, fam_skip, fam_planned, fam_load
 
     integer, parameter :: fam_unknown = 0, fam_meta = 1, fam_geometry = 2, fam_section = 3, &
                           fam_material = 4, fam_set = 5, fam_condition = 6, fam_control = 7, &
-                          fam_database = 8, fam_skip = 9, fam_planned = 10
+                          fam_database = 8, fam_skip = 9, fam_planned = 10, fam_load = 11
 
     !> A keyword occurrence in the deck and the card lines under it.
     type :: keyword_t
@@ -62,6 +62,12 @@ module xd_input_keyword_table
         entry_t('CONTROL_HOURGLASS', fam_control, '', .false.), &
         entry_t('CONTROL_BULK_VISCOSITY', fam_control, '', .false.), &
         entry_t('CONTROL_ENERGY', fam_control, '', .false.), &
+        entry_t('DEFINE_CURVE', fam_load, '', .false.), &
+        entry_t('LOAD_BODY_X', fam_load, '', .false.), &
+        entry_t('LOAD_BODY_Y', fam_load, '', .false.), &
+        entry_t('LOAD_BODY_Z', fam_load, '', .false.), &
+        entry_t('RIGIDWALL_PLANAR', fam_load, '', .true.), &
+        entry_t('RIGIDWALL_PLANAR_FINITE', fam_load, '', .true.), &
         entry_t('DATABASE_GLSTAT', fam_database, '', .false.), &
         entry_t('DATABASE_MATSUM', fam_database, '', .false.), &
         entry_t('DATABASE_NODOUT', fam_database, '', .false.), &
@@ -101,7 +107,6 @@ module xd_input_keyword_table
         entry_t('MAT_024', fam_planned, 'MAT_PIECEWISE_LINEAR_PLASTICITY', .false.), &
         entry_t('MAT_RIGID', fam_planned, '', .false.), &
         entry_t('MAT_020', fam_planned, 'MAT_RIGID', .false.), &
-        entry_t('DEFINE_CURVE', fam_planned, '', .false.), &
         entry_t('SET_SEGMENT', fam_planned, '', .false.), &
         entry_t('SET_NODE_GENERAL', fam_planned, '', .false.), &
         entry_t('SET_PART_GENERAL', fam_planned, '', .false.), &
@@ -113,12 +118,11 @@ module xd_input_keyword_table
         entry_t('LOAD_SEGMENT_SET', fam_planned, '', .false.), &
         entry_t('LOAD_SHELL_ELEMENT', fam_planned, '', .false.), &
         entry_t('LOAD_SHELL_SET', fam_planned, '', .false.), &
-        entry_t('LOAD_BODY_X', fam_planned, '', .false.), &
-        entry_t('LOAD_BODY_Y', fam_planned, '', .false.), &
-        entry_t('LOAD_BODY_Z', fam_planned, '', .false.), &
         entry_t('CONSTRAINED_NODAL_RIGID_BODY', fam_planned, '', .false.), &
         entry_t('CONSTRAINED_GENERALIZED_WELD_SPOT', fam_planned, '', .false.), &
-        entry_t('RIGIDWALL_PLANAR', fam_planned, '', .true.), &
+        entry_t('RIGIDWALL_PLANAR_MOVING', fam_planned, '', .true.), &
+        entry_t('RIGIDWALL_PLANAR_FINITE_MOVING', fam_planned, '', .true.), &
+        entry_t('RIGIDWALL_PLANAR_FORCES', fam_planned, '', .true.), &
         entry_t('RIGIDWALL_GEOMETRIC_CYLINDER', fam_planned, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_SINGLE_SURFACE', fam_planned, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', fam_planned, '', .true.), &

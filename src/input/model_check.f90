@@ -30,6 +30,7 @@ contains
         call check_hexes(ctx, model, maps, error); if (allocated(error)) return
         call check_sets(ctx, model, maps, error); if (allocated(error)) return
         call check_conditions(ctx, model, maps, error); if (allocated(error)) return
+        call check_loads(ctx, model, error); if (allocated(error)) return
         call check_controls(model, error); if (allocated(error)) return
     end subroutine check_model
 
@@ -320,6 +321,48 @@ contains
             end do
         end if
     end subroutine check_conditions
+
+    !> Curves defined once; body loads name a curve; wall node sets exist.
+    subroutine check_loads(ctx, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(id_map_t) :: curves
+        integer :: dup, i
+        call curves%build(model%curve(1:model%ncurve)%id, dup)
+        if (dup /= 0) then
+            do i = model%ncurve, 1, -1
+                if (model%curve(i)%id == dup) exit
+            end do
+            call make_error(error, ctx%src%where(model%curve(i)%src)//': *DEFINE_CURVE '//itoa(dup)// &
+                            ' is defined twice')
+            return
+        end if
+        do i = 1, model%nbody
+            associate (b => model%body(i))
+                b%curve_ix = curves%find(b%lcid)
+                if (b%curve_ix == 0) then
+                    call make_error(error, ctx%src%where(b%src)//': *LOAD_BODY_'//'XYZ'(b%dir:b%dir)// &
+                                    ' field LCID: curve '//itoa(b%lcid)//' is not defined')
+                    return
+                end if
+            end associate
+        end do
+        do i = 1, model%nwall
+            associate (w => model%wall(i))
+                if (w%nsid /= 0 .and. find_set(model, set_node, w%nsid) == 0) then
+                    call make_error(error, ctx%src%where(w%src)//': *RIGIDWALL_PLANAR field NSID: node set '// &
+                                    itoa(w%nsid)//' is not defined')
+                    return
+                end if
+                if (w%nsidex /= 0 .and. find_set(model, set_node, w%nsidex) == 0) then
+                    call make_error(error, ctx%src%where(w%src)//': *RIGIDWALL_PLANAR field NSIDEX: node set '// &
+                                    itoa(w%nsidex)//' is not defined')
+                    return
+                end if
+            end associate
+        end do
+    end subroutine check_loads
 
     subroutine check_controls(model, error)
         type(model_t), intent(inout) :: model

@@ -19,6 +19,7 @@ program xdyna
     use xd_solver_assembly, only: assembly_t
     use xd_solver_setup, only: setup_run
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
+    use xd_contact_rigidwall, only: walls_t, build_walls
     use xd_output_histories, only: histories_t, open_histories, close_histories
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     !$ use omp_lib, only: omp_set_num_threads
@@ -33,6 +34,7 @@ program xdyna
     type(state_t) :: st
     type(solids_t) :: solids
     type(assembly_t) :: asm
+    type(walls_t) :: walls
     type(histories_t) :: hist
     type(log_t) :: lg
     type(timers_t) :: tm
@@ -105,6 +107,7 @@ program xdyna
 
     call tm%start(ph_init)
     call setup_run(model, maps%hex, st, solids, asm, nfree)
+    call build_walls(model, walls)
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')
     if (check_only) then
         write (output_unit, '(a)') model_summary(model, solids)
@@ -122,7 +125,7 @@ program xdyna
     end if
     call tm%stop(ph_init)
 
-    call run_time_loop(model, st, solids, asm, hist, lg, tm, opts, res)
+    call run_time_loop(model, st, solids, asm, walls, hist, lg, tm, opts, res)
     call close_histories(hist)
     call timing_table(lg, tm, res%ncycle, solids%n, tm%elapsed())
     if (res%status /= exit_normal) then

@@ -7,6 +7,7 @@ module xd_model
     private
     public :: model_t, part_t, section_solid_t, material_t, hourglass_t, set_t
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
+    public :: curve_t, body_load_t, rigidwall_t, curve_value
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
     public :: set_node, set_part, find_set
     public :: iv_node_set, iv_node, iv_generation
@@ -83,6 +84,39 @@ module xd_model
         integer :: src = 0
     end type init_stress_t
 
+    !> *DEFINE_CURVE, offsets and scales applied: abscissa a, ordinate o.
+    type :: curve_t
+        integer :: id = 0
+        integer :: n = 0
+        real(wp), allocatable :: a(:), o(:)
+        integer :: src = 0
+    end type curve_t
+
+    !> *LOAD_BODY_X/Y/Z: base acceleration sf * curve(t) along axis `dir`,
+    !> loading in the negative axis direction (LS-DYNA's sign).
+    type :: body_load_t
+        integer :: dir = 0
+        integer :: lcid = 0, curve_ix = 0
+        real(wp) :: sf = 1.0_wp
+        integer :: src = 0
+    end type body_load_t
+
+    !> *RIGIDWALL_PLANAR: a stonewall through `tail` with unit normal `normal`
+    !> (towards the side the nodes are on); finite walls have in-plane axes
+    !> `l`, `m` with lengths lenl, lenm from the tail.
+    type :: rigidwall_t
+        integer :: id = 0
+        character(len=70) :: heading = ''
+        integer :: nsid = 0, nsidex = 0
+        real(wp) :: offset = 0
+        real(wp) :: birth = 0, death = 1.0e20_wp
+        real(wp) :: tail(3) = 0, normal(3) = 0
+        real(wp) :: fric = 0
+        logical :: finite = .false.
+        real(wp) :: l(3) = 0, m(3) = 0, lenl = 0, lenm = 0
+        integer :: src = 0
+    end type rigidwall_t
+
     type :: controls_t
         real(wp) :: endtim = 0
         integer :: endcyc = 0
@@ -106,7 +140,7 @@ module xd_model
     end type history_request_t
 
     type :: database_t
-        type(history_request_t) :: glstat, matsum, nodout
+        type(history_request_t) :: glstat, matsum, nodout, rwforc
         real(wp) :: d3plot_dt = 0
         integer :: d3plot_npltc = 0
         integer, allocatable :: hist_node(:)     !< node ids for nodout
@@ -137,6 +171,10 @@ module xd_model
         type(material_t), allocatable :: mat(:)
         type(hourglass_t), allocatable :: hg(:)
         type(set_t), allocatable :: set(:)
+        integer :: ncurve = 0, nbody = 0, nwall = 0
+        type(curve_t), allocatable :: curve(:)
+        type(body_load_t), allocatable :: body(:)
+        type(rigidwall_t), allocatable :: wall(:)
         integer :: nspc = 0, nivel = 0, nistress = 0
         type(spc_t), allocatable :: spc(:)
         type(init_vel_t), allocatable :: ivel(:)
@@ -158,5 +196,32 @@ contains
         end do
         ix = 0
     end function find_set
+
+    !> Value of a time curve at t: linear between points, held constant beyond
+    !> its first and last points.
+    pure real(wp) function curve_value(c, t) result(v)
+        type(curve_t), intent(in) :: c
+        real(wp), intent(in) :: t
+        integer :: lo, hi, mid
+        if (t <= c%a(1)) then
+            v = c%o(1)
+            return
+        end if
+        if (t >= c%a(c%n)) then
+            v = c%o(c%n)
+            return
+        end if
+        lo = 1
+        hi = c%n
+        do while (hi - lo > 1)
+            mid = (lo + hi)/2
+            if (c%a(mid) <= t) then
+                lo = mid
+            else
+                hi = mid
+            end if
+        end do
+        v = c%o(lo) + (c%o(hi) - c%o(lo))*(t - c%a(lo))/(c%a(hi) - c%a(lo))
+    end function curve_value
 
 end module xd_model

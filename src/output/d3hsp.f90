@@ -88,7 +88,12 @@ contains
         s = s//'   shell elements ............ off (none in the deck)'//nl
         s = s//'   rigid bodies .............. off (none in the deck)'//nl
         s = s//'   contact ................... off (no contact keyword)'//nl
-        s = s//'   rigid walls ............... off (none in the deck)'//nl
+        if (model%nwall > 0) then
+            s = s//'   rigid walls ............... on  ('//itoa(model%nwall)//' planar stonewall(s))'//nl
+        else
+            s = s//'   rigid walls ............... off (none in the deck)'//nl
+        end if
+        s = s//'   body loads ................ '//onoff(model%nbody > 0)//nl
         s = s//'   boundary constraints ...... '//onoff(model%nspc > 0 .or. any(model%node_tc(1:model%nnode) > 0))//nl
         s = s//'   initial velocities ........ '//onoff(model%nivel > 0)//nl
         s = s//'   initial stresses .......... '//onoff(model%nistress > 0)//nl

@@ -8,20 +8,22 @@ module xd_output_histories
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
     use xd_solver_energies, only: energies_t
+    use xd_contact_rigidwall, only: walls_t
     use xd_output_thist_h5, only: h5file_t, h5series_t, h5_open, h5_close, series_create, series_append
     implicit none
     private
     public :: histories_t, open_histories, histories_due, write_histories, close_histories, version_line
 
     character(len=*), parameter :: xdyna_version = '0.1.0'
-    integer, parameter :: s_glstat = 1, s_matsum = 2, s_nodout = 3
+    integer, parameter :: s_glstat = 1, s_matsum = 2, s_nodout = 3, s_rwforc = 4, ndb = 4
 
     type :: histories_t
-        logical :: on(3) = .false.
-        integer :: unit(3) = 0
-        real(dp) :: dt(3) = 0, next(3) = 0
+        logical :: on(ndb) = .false.
+        integer :: unit(ndb) = 0
+        real(dp) :: dt(ndb) = 0, next(ndb) = 0
         type(h5file_t) :: h5
-        type(h5series_t) :: ser(3)
+        type(h5series_t) :: ser(ndb)
+        integer :: nwall = 0
         integer, allocatable :: nodes(:)     !< node indices for nodout
         integer, allocatable :: node_ids(:)  !< and their user ids
         character(len=72) :: title = ''
@@ -47,8 +49,11 @@ contains
         integer, allocatable :: ids(:)
 
         h%title = model%title(1:72)
-        h%dt = [real(model%db%glstat%dt, dp), real(model%db%matsum%dt, dp), real(model%db%nodout%dt, dp)]
+        h%dt = [real(model%db%glstat%dt, dp), real(model%db%matsum%dt, dp), real(model%db%nodout%dt, dp), &
+                real(model%db%rwforc%dt, dp)]
         h%on = h%dt > 0.0_dp
+        h%nwall = model%nwall
+        if (h%nwall == 0) h%on(s_rwforc) = .false.
         ! nodout nodes: *DATABASE_HISTORY_NODE ids, then node sets
         allocate (h%nodes(0))
         if (allocated(model%db%hist_node_ix)) h%nodes = model%db%hist_node_ix
@@ -69,6 +74,10 @@ contains
                     'external_work', 'total_energy', 'energy_ratio', 'x_velocity', 'y_velocity', 'z_velocity']
             units = [character(len=32) :: 'time', 'energy', 'energy', 'energy', 'energy', 'energy', '1', &
                      'length/time', 'length/time', 'length/time']
+            if (h%nwall > 0) then
+                cols = [cols, [character(len=32) :: 'stonewall_energy']]
+                units = [units, [character(len=32) :: 'energy']]
+            end if
             call series_create(h%h5, 'glstat', cols, units, 0, [0], h%ser(s_glstat))
         end if
         if (h%on(s_matsum)) then
@@ -95,6 +104,16 @@ contains
             units = [character(len=32) :: 'length', 'length', 'length', 'length/time', 'length/time', 'length/time', &
                      'length/time^2', 'length/time^2', 'length/time^2', 'length', 'length', 'length']
             call series_create(h%h5, 'nodout', cols, units, size(ids), ids, h%ser(s_nodout))
+        end if
+        if (h%on(s_rwforc)) then
+            open (newunit=h%unit(s_rwforc), file=join_path(outdir, 'rwforc'), status='replace', action='write')
+            call header(h%unit(s_rwforc))
+            ids = model%wall(1:model%nwall)%id
+            call legend(h%unit(s_rwforc), ids, model%wall(1:model%nwall)%heading)
+            write (h%unit(s_rwforc), '(a)') '', '    time       wall#   normal-force    x-force        y-force        z-force'
+            cols = [character(len=32) :: 'normal_force', 'x_force', 'y_force', 'z_force']
+            units = [character(len=32) :: 'force', 'force', 'force', 'force']
+            call series_create(h%h5, 'rwforc', cols, units, size(ids), ids, h%ser(s_rwforc))
         end if
     contains
         subroutine header(u)
@@ -123,19 +142,21 @@ contains
 
     !> Write the databases that are due at the state's time (all of them if
     !> `force`). vn: full-step velocities; a: accelerations.
-    subroutine write_histories(h, model, st, solids, en, vn, crit_part, zone_ns, force)
+    subroutine write_histories(h, model, st, solids, walls, en, vn, crit_part, zone_ns, force)
         type(histories_t), intent(inout) :: h
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
+        type(walls_t), intent(in) :: walls
         type(energies_t), intent(in) :: en
         real(wp), intent(in) :: vn(:, :)
         integer, intent(in) :: crit_part
         real(dp), intent(in) :: zone_ns
         logical, intent(in) :: force
-        logical :: due(3)
+        logical :: due(ndb)
         due = h%on .and. (force .or. st%time >= h%next*(1.0_dp - 1.0e-9_dp))
-        if (due(s_glstat)) call write_glstat(h, st, solids, en, crit_part, zone_ns)
+        if (due(s_glstat)) call write_glstat(h, st, solids, walls, en, crit_part, zone_ns)
+        if (due(s_rwforc)) call write_rwforc(h, model, st, walls)
         if (due(s_matsum)) call write_matsum(h, model, st, en)
         if (due(s_nodout)) call write_nodout(h, st, vn)
         where (due)
@@ -148,14 +169,17 @@ contains
         if (any(due)) h%nwritten = h%nwritten + 1
     end subroutine write_histories
 
-    subroutine write_glstat(h, st, solids, en, crit_part, zone_ns)
+    subroutine write_glstat(h, st, solids, walls, en, crit_part, zone_ns)
         type(histories_t), intent(inout) :: h
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
+        type(walls_t), intent(in) :: walls
         type(energies_t), intent(in) :: en
         integer, intent(in) :: crit_part
         real(dp), intent(in) :: zone_ns
-        integer :: u, eid
+        integer :: u, eid, k
+        character(len=8) :: wl
+        real(dp), allocatable :: vals(:)
         u = h%unit(s_glstat)
         eid = 0
         if (st%crit_elem > 0) eid = solids%eid(st%crit_elem)
@@ -167,6 +191,13 @@ contains
         call row('time step', real(st%dt, dp))
         call row('kinetic energy', en%ke)
         call row('internal energy', en%ie)
+        if (walls%n > 0) then
+            call row('stonewall energy', en%wall)
+            do k = 1, walls%n
+                write (wl, '(a,i2)') ' wall#', k
+                call row('stonewall energy'//wl, walls%w(k)%energy)
+            end do
+        end if
         call row('spring and damper energy', 0.0_dp)
         call row('hourglass energy ', en%hg)
         call row('system damping energy', 0.0_dp)
@@ -180,8 +211,9 @@ contains
         call row('global z velocity', en%vel(3))
         write (u, '(a,i14)') ' '//dots('time per zone cycle.(nanosec)'), nint(zone_ns)
         flush (u)
-        call series_append(h%ser(s_glstat), st%time, reshape([real(st%dt, dp), en%ke, en%ie, en%hg, en%ext, &
-                           en%total, en%ratio, en%vel], [1, 10]))
+        vals = [real(st%dt, dp), en%ke, en%ie, en%hg, en%ext, en%total, en%ratio, en%vel]
+        if (walls%n > 0) vals = [vals, en%wall]
+        call series_append(h%ser(s_glstat), st%time, reshape(vals, [1, size(vals)]))
     contains
         subroutine row(label, x)
             character(len=*), intent(in) :: label
@@ -256,10 +288,26 @@ contains
         call series_append(h%ser(s_nodout), st%time, vals)
     end subroutine write_nodout
 
+    subroutine write_rwforc(h, model, st, walls)
+        type(histories_t), intent(inout) :: h
+        type(model_t), intent(in) :: model
+        type(state_t), intent(in) :: st
+        type(walls_t), intent(in) :: walls
+        real(dp) :: vals(walls%n, 4)
+        integer :: k
+        do k = 1, walls%n
+            vals(k, 1) = walls%w(k)%normal_force
+            vals(k, 2:4) = walls%w(k)%force
+            write (h%unit(s_rwforc), '(es12.5,i8,4es15.6)') st%time, model%wall(k)%id, vals(k, :)
+        end do
+        flush (h%unit(s_rwforc))
+        call series_append(h%ser(s_rwforc), st%time, vals)
+    end subroutine write_rwforc
+
     subroutine close_histories(h)
         type(histories_t), intent(inout) :: h
         integer :: k
-        do k = 1, 3
+        do k = 1, ndb
             if (h%on(k) .and. h%unit(k) /= 0) close (h%unit(k))
             h%unit(k) = 0
         end do

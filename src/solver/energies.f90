@@ -1,17 +1,17 @@
-!> Energy bookkeeping, global and per part: kinetic (from full-step
-!> velocities), internal, hourglass, external work, total and energy ratio,
-!> momentum and mass per part.
+!> Energy bookkeeping, global and per part: kinetic, internal, hourglass,
+!> stonewall, external work, total and energy ratio, momentum and mass per part.
 module xd_solver_energies
     use xd_kinds, only: wp, dp
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
+    use xd_contact_rigidwall, only: walls_t
     implicit none
     private
     public :: energies_t, compute_energies
 
     type :: energies_t
-        real(dp) :: ke = 0, ie = 0, hg = 0, ext = 0, total = 0, ratio = 1
+        real(dp) :: ke = 0, ie = 0, hg = 0, ext = 0, wall = 0, total = 0, ratio = 1
         real(dp) :: vel(3) = 0              !< velocity of the centre of mass
         real(dp) :: mass = 0
         real(dp), allocatable :: part_ie(:), part_ke(:), part_hg(:), part_mass(:)
@@ -24,11 +24,13 @@ contains
     !> form that central differences conserve exactly with the trapezoidal
     !> internal work (it differs from 1/2 m v(n)^2 by O(dt^2)); momentum and
     !> velocities use v(n) = (v(n-1/2) + v(n+1/2))/2.
-    subroutine compute_energies(model, st, solids, vminus, vplus, en)
+    subroutine compute_energies(model, st, solids, walls, vminus, vplus, dt_avg, en)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
+        type(walls_t), intent(in) :: walls
         real(wp), intent(in) :: vminus(:, :), vplus(:, :)
+        real(dp), intent(in) :: dt_avg       !< step of the velocity update at this time (0 at t = 0)
         type(energies_t), intent(inout) :: en
         integer :: e, k, p, nd
         real(dp) :: mshare, mom(3)
@@ -40,8 +42,9 @@ contains
         do e = 1, solids%n
             p = solids%part(e)
             mshare = real(model%mat(model%part(p)%mat_ix)%ro, dp)*solids%vol0(e)/8.0_dp
-            en%part_ie(p) = en%part_ie(p) + solids%eint(e)
-            en%part_hg(p) = en%part_hg(p) + solids%ehg(e)
+            ! work booked so far, and the first half of the current forces'
+            en%part_ie(p) = en%part_ie(p) + solids%eint(e) + dt_avg*solids%pend_int(e)
+            en%part_hg(p) = en%part_hg(p) + solids%ehg(e) + dt_avg*solids%pend_hg(e)
             en%part_mass(p) = en%part_mass(p) + 8.0_dp*mshare
             do k = 1, 8
                 nd = solids%conn(k, e)
@@ -61,7 +64,11 @@ contains
         en%vel = 0
         if (en%mass > 0) en%vel = mom/en%mass
         en%ext = st%ext_work
-        en%total = en%ke + en%ie + en%hg
+        en%wall = 0
+        do e = 1, walls%n
+            en%wall = en%wall + walls%w(e)%energy
+        end do
+        en%total = en%ke + en%ie + en%hg + en%wall
         if (abs(st%e_initial + en%ext) > tiny(1.0_dp)) then
             en%ratio = en%total/(st%e_initial + en%ext)
         else

@@ -6,7 +6,7 @@ module xd_solver_time_loop
     use xd_kinds, only: wp, dp
     use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run
-    use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output
+    use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, solid_forces
     use xd_solver_state, only: state_t
@@ -14,6 +14,8 @@ module xd_solver_time_loop
     use xd_solver_energies, only: energies_t, compute_energies
     use xd_output_histories, only: histories_t, histories_due, write_histories
     use xd_output_d3hsp, only: log_t, log_line
+    use xd_solver_loads, only: body_acceleration, add_body_forces, body_power
+    use xd_contact_rigidwall, only: walls_t, apply_walls
     implicit none
     private
     public :: run_options_t, run_result_t, run_time_loop
@@ -34,91 +36,113 @@ module xd_solver_time_loop
 
 contains
 
-    subroutine run_time_loop(model, st, solids, asm, hist, lg, tm, opts, res)
+    subroutine run_time_loop(model, st, solids, asm, walls, hist, lg, tm, opts, res)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(assembly_t), intent(in) :: asm
+        type(walls_t), intent(inout) :: walls
         type(histories_t), intent(inout) :: hist
         type(log_t), intent(in) :: lg
         type(timers_t), intent(inout) :: tm
         type(run_options_t), intent(in) :: opts
         type(run_result_t), intent(out) :: res
         type(energies_t) :: en
-        real(wp), allocatable :: vn(:, :), vplus(:, :)
-        real(wp) :: dtc, dt_avg
+        real(wp), allocatable :: vn(:, :), vminus(:, :)
+        real(wp) :: dtc, g_new(3)
+        real(dp) :: dt_avg, dt_avg_prev
         real(dp) :: t_last_progress, ratio_limit, t0_wall
-        logical :: done, due
+        logical :: done, due, energy_now
         integer :: nd
 
-        allocate (vn(3, st%nnode), vplus(3, st%nnode))
+        allocate (vn(3, st%nnode), vminus(3, st%nnode))
         ratio_limit = 1.5_dp
         if (model%ctl%endeng > 0.0_wp) ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
         t0_wall = tm%elapsed()
+        t_last_progress = t0_wall
+        dt_avg_prev = 0
 
-        ! cycle 0: forces of the initial state, first step
-        call element_pass(0.0_wp, dtc)
-        if (res%status /= exit_normal) return
-        st%dt = real(model%ctl%tssfac, wp)*dtc
-        if (model%ctl%dtinit > 0.0_wp) st%dt = min(st%dt, model%ctl%dtinit)
-        st%dt_first = st%dt
-        call accelerations()
-        ! at t = 0 the kinetic energy is that of the initial velocities (the
-        ! start v(1/2) = v(0) + a(0) dt/2 adds an O(dt^2) offset when a(0) /= 0)
-        vn = st%v
-        call compute_energies(model, st, solids, st%v, st%v, en)
-        st%e_initial = en%total
-        en%ratio = 1.0_dp
-        call output(force=.true.)
-        t_last_progress = tm%elapsed()
-        if (opts%progress) call progress()
+        ! cycle n: forces at t(n) on x(n) with v(n-1/2); v(n+1/2) with the
+        ! constraints; output at t(n); then x(n+1)
+        do
+            call element_pass(st%dt_old, dt_avg_prev, dtc)
+            if (res%status /= exit_normal) exit
+            st%dt = real(model%ctl%tssfac, wp)*dtc
+            if (st%cycle == 0) then
+                if (model%ctl%dtinit > 0.0_wp) st%dt = min(st%dt, model%ctl%dtinit)
+                st%dt_first = st%dt
+            else if (model%ctl%dtmin > 0.0_wp .and. st%dt < model%ctl%dtmin*st%dt_first) then
+                call fail('time step '//rtoa(real(st%dt, dp))//' fell below DTMIN x first step; '// &
+                          'controlling solid '//itoa(solids%eid(st%crit_elem))//' of part '// &
+                          itoa(model%part(solids%part(st%crit_elem))%id))
+                exit
+            end if
 
-        done = .false.
-        do while (.not. done)
-            ! central differences: v(n+1/2) = v(n-1/2) + a(n) (dt(n-1/2) + dt(n+1/2))/2
             call tm%start(ph_integrate)
-            dt_avg = 0.5_wp*(st%dt_old + st%dt)
+            dt_avg = 0.5_dp*(real(st%dt_old, dp) + st%dt)
+            if (model%nbody > 0) then
+                ! body forces f(n) = m g(n) do f(n) . (v(n-1/2) + v(n+1/2))/2 dt_avg(n)
+                g_new = body_acceleration(model, real(st%time, wp))
+                st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
+                call add_body_forces(st, g_new)
+            end if
+            call accelerations()
+            done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
+            if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
+            due = histories_due(hist, st%time) .or. done .or. st%cycle == 0
+            energy_now = due .or. mod(st%cycle, opts%energy_check_every) == 0
+            if (energy_now) vminus = st%v
+            ! central differences: v(n+1/2) = v(n-1/2) + a(n) (dt(n-1/2) + dt(n+1/2))/2
             !$omp parallel do schedule(static)
             do nd = 1, st%nnode
-                st%v(:, nd) = st%v(:, nd) + dt_avg*st%a(:, nd)
+                st%v(:, nd) = st%v(:, nd) + real(dt_avg, wp)*st%a(:, nd)
+            end do
+            !$omp end parallel do
+            call tm%stop(ph_integrate)
+            if (walls%n > 0) then
+                call tm%start(ph_contact)
+                call apply_walls(model, walls, st, st%dt, real(dt_avg, wp))
+                call tm%stop(ph_contact)
+            end if
+            if (model%nbody > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
+
+            if (energy_now) then
+                call tm%start(ph_output)
+                if (st%cycle == 0) then
+                    ! at t = 0 the kinetic energy is that of the initial velocities
+                    ! (the start v(1/2) = v(0) + a(0) dt/2 adds an O(dt^2) offset
+                    ! when a(0) /= 0)
+                    vn = vminus
+                    call compute_energies(model, st, solids, walls, vminus, vminus, 0.0_dp, en)
+                    st%e_initial = en%total
+                    en%ratio = 1.0_dp
+                else
+                    vn = 0.5_wp*(vminus + st%v)
+                    call compute_energies(model, st, solids, walls, vminus, st%v, dt_avg, en)
+                end if
+                call tm%stop(ph_output)
+                call check_energy()
+                if (res%status /= exit_normal) exit
+                if (due) call output(force=done .or. st%cycle == 0)
+            end if
+            if (opts%progress .and. (tm%elapsed() - t_last_progress >= opts%progress_every .or. done &
+                                     .or. st%cycle == 0)) then
+                t_last_progress = tm%elapsed()
+                call progress()
+            end if
+            if (done) exit
+
+            call tm%start(ph_integrate)
+            !$omp parallel do schedule(static)
+            do nd = 1, st%nnode
                 st%x(:, nd) = st%x(:, nd) + st%dt*st%v(:, nd)
             end do
             !$omp end parallel do
             st%time = st%time + real(st%dt, dp)
             st%cycle = st%cycle + 1
             st%dt_old = st%dt
+            dt_avg_prev = dt_avg
             call tm%stop(ph_integrate)
-
-            call element_pass(st%dt_old, dtc)
-            if (res%status /= exit_normal) exit
-            st%dt = real(model%ctl%tssfac, wp)*dtc
-            if (model%ctl%dtmin > 0.0_wp .and. st%dt < model%ctl%dtmin*st%dt_first) then
-                call fail('time step '//rtoa(real(st%dt, dp))//' fell below DTMIN x first step; '// &
-                          'controlling solid '//itoa(solids%eid(st%crit_elem))//' of part '// &
-                          itoa(model%part(solids%part(st%crit_elem))%id))
-                exit
-            end if
-            call tm%start(ph_integrate)
-            call accelerations()
-            call tm%stop(ph_integrate)
-
-            done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
-            if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
-            due = histories_due(hist, st%time) .or. done
-            if (due .or. mod(st%cycle, opts%energy_check_every) == 0) then
-                call tm%start(ph_output)
-                vplus = st%v + 0.5_wp*(st%dt_old + st%dt)*st%a
-                vn = 0.5_wp*(st%v + vplus)
-                call compute_energies(model, st, solids, st%v, vplus, en)
-                call tm%stop(ph_output)
-                call check_energy()
-                if (res%status /= exit_normal) exit
-                if (due) call output(force=done)
-            end if
-            if (opts%progress .and. (tm%elapsed() - t_last_progress >= opts%progress_every .or. done)) then
-                t_last_progress = tm%elapsed()
-                call progress()
-            end if
         end do
         res%ncycle = st%cycle
         res%loop_wall = tm%elapsed() - t0_wall
@@ -131,12 +155,13 @@ contains
     contains
 
         !> Element forces and the stable step; stops on a bad element.
-        subroutine element_pass(dt, dtcrit)
+        subroutine element_pass(dt, dt_avg_prev, dtcrit)
             real(wp), intent(in) :: dt
+            real(dp), intent(in) :: dt_avg_prev
             real(wp), intent(out) :: dtcrit
             integer :: g, e
             call tm%start(ph_elements)
-            call solid_forces(solids, st%x, st%v, dt)
+            call solid_forces(solids, st%x, st%v, dt, dt_avg_prev)
             call tm%stop(ph_elements)
             dtcrit = huge(1.0_wp)
             do g = 1, solids%ngroup
@@ -212,7 +237,7 @@ contains
             if (st%crit_elem > 0) crit_part = model%part(solids%part(st%crit_elem))%id
             ns = 0
             if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - t0_wall)/(real(st%cycle, dp)*max(solids%n, 1))
-            call write_histories(hist, model, st, solids, en, vn, crit_part, ns, force)
+            call write_histories(hist, model, st, solids, walls, en, vn, crit_part, ns, force)
             call tm%stop(ph_output)
         end subroutine output
 

@@ -130,7 +130,7 @@ def read_rwforc(path, out):
             except ValueError:
                 continue
             for name, val in zip(("normal-force", "x-force", "y-force", "z-force"), vals):
-                out.add(f"rwforc/{name}[{wall}]", t, val)
+                out.add(f"rwforc/{canon(name)}[{wall}]", t, val)
 
 
 # ASCII labels -> the column names of thist.h5, so the two compare directly
@@ -147,6 +147,7 @@ CANONICAL = {
     "x-vel": "x_velocity", "y-vel": "y_velocity", "z-vel": "z_velocity",
     "x-accl": "x_acceleration", "y-accl": "y_acceleration", "z-accl": "z_acceleration",
     "x-coor": "x_coordinate", "y-coor": "y_coordinate", "z-coor": "z_coordinate",
+    "normal-force": "normal_force", "x-force": "x_force", "y-force": "y_force", "z-force": "z_force",
 }
 
 

@@ -122,6 +122,15 @@ def main():
        "extra_card.k:{line}: *MAT_ELASTIC card 2: unexpected card")
     mk("bad_termination_time", lambda L: replace(L, "   1.0e-05", "     1.0ee"),
        "bad_termination_time.k:{line}: *CONTROL_TERMINATION card 1 field ENDTIM: '1.0ee' is not a number")
+    mk("curve_not_increasing", lambda L: (L.insert(3, "*DEFINE_CURVE"), L.insert(4, "         3"),
+                                          L.insert(5, f"{1.0:20.6e}{0.0:20.6e}"),
+                                          L.insert(6, f"{0.5:20.6e}{1.0:20.6e}")) and 7,
+       "curve_not_increasing.k:{line}: *DEFINE_CURVE card 2 field A: abscissae must increase")
+    mk("undefined_curve", lambda L: (L.insert(3, "*LOAD_BODY_Z"), L.insert(4, "         4")) and 5,
+       "undefined_curve.k:{line}: *LOAD_BODY_Z field LCID: curve 4 is not defined")
+    mk("wall_without_normal", lambda L: (L.insert(3, "*RIGIDWALL_PLANAR"), L.insert(4, "         0"),
+                                         L.insert(5, "       1.0       1.0       1.0       1.0       1.0       1.0")) and 6,
+       "wall_without_normal.k:{line}: *RIGIDWALL_PLANAR card 2 field XH: the head point equals the tail")
     print(f"wrote {len(os.listdir(HERE))} decks to {HERE}")
 
 

@@ -1,0 +1,217 @@
+!> Readers for curves, loads and rigid walls: *DEFINE_CURVE, *LOAD_BODY_X/Y/Z,
+!> *RIGIDWALL_PLANAR (_FINITE, _ID).
+module xd_input_read_loads
+    use xd_kinds, only: wp
+    use xd_core_errors, only: error_t, make_error
+    use xd_input_field_reader, only: card_t, card_format_t, card_format, get_int, get_real, get_text, &
+                                     card_error, card_blank
+    use xd_input_keyword_table, only: keyword_t
+    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
+    use xd_model, only: model_t, curve_t, body_load_t, rigidwall_t
+    implicit none
+    private
+    public :: read_load
+
+contains
+
+    subroutine read_load(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        select case (kw%name)
+        case ('DEFINE_CURVE')
+            call read_curve(ctx, kw, model, error)
+        case ('LOAD_BODY_X', 'LOAD_BODY_Y', 'LOAD_BODY_Z')
+            call read_body(ctx, kw, model, error)
+        case ('RIGIDWALL_PLANAR', 'RIGIDWALL_PLANAR_FINITE')
+            call read_wall(ctx, kw, model, error)
+        end select
+    end subroutine read_load
+
+    !> Card 1 LCID SIDR SFA SFO OFFA OFFO DATTYP; then points A O (E20 each).
+    !> Offsets first, then scales: a = SFA (A + OFFA), o = SFO (O + OFFO).
+    subroutine read_curve(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(card_format_t) :: fmt
+        type(curve_t) :: c
+        real(wp) :: sfa, sfo, offa, offo, a, o
+        integer :: ic, sidr, dattyp
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        call get_card(ctx, kw, ic, 'LCID SIDR SFA SFO OFFA OFFO DATTYP', 1, card, error)
+        if (allocated(error)) return
+        call get_int(card, 1, c%id, 0, error); if (allocated(error)) return
+        call get_int(card, 2, sidr, 0, error); if (allocated(error)) return
+        call get_real(card, 3, sfa, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+        call get_real(card, 4, sfo, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+        call get_real(card, 5, offa, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 6, offo, 0.0_wp, error); if (allocated(error)) return
+        call get_int(card, 7, dattyp, 0, error); if (allocated(error)) return
+        if (c%id <= 0) then
+            call card_error(card, 1, 'curve id must be a positive integer', error); return
+        end if
+        if (sidr == 1) call add_warning(model, ctx%src%where(kw%card_line(ic))// &
+            ': *DEFINE_CURVE field SIDR: dynamic relaxation is not implemented; the curve is used in the transient')
+        if (dattyp /= 0) then
+            call card_error(card, 7, 'DATTYP '//trim(card%f(7))//' is not supported (0 only)', error); return
+        end if
+        c%src = kw%card_line(ic)
+        allocate (c%a(max(kw%ncard - ic, 1)), c%o(max(kw%ncard - ic, 1)))
+        fmt = card_format('A:20 O:20', kw%width_mode)
+        do ic = ic + 1, kw%ncard
+            call get_card(ctx, kw, ic, fmt, 2, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            call get_real(card, 1, a, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 2, o, 0.0_wp, error); if (allocated(error)) return
+            c%n = c%n + 1
+            c%a(c%n) = sfa*(a + offa)
+            c%o(c%n) = sfo*(o + offo)
+            if (c%n > 1) then
+                if (.not. (c%a(c%n) > c%a(c%n - 1))) then
+                    call card_error(card, 1, 'abscissae must increase (point '//trim(card%f(1))// &
+                                    ' does not)', error)
+                    return
+                end if
+            end if
+        end do
+        if (c%n < 1) then
+            call make_error(error, ctx%src%where(kw%kw_line)//': *DEFINE_CURVE '//trim(get_text(card, 1))// &
+                            ': the curve has no points')
+            return
+        end if
+        c%a = c%a(1:c%n)
+        c%o = c%o(1:c%n)
+        if (.not. allocated(model%curve)) allocate (model%curve(8))
+        if (model%ncurve == size(model%curve)) model%curve = [model%curve, model%curve]
+        model%ncurve = model%ncurve + 1
+        model%curve(model%ncurve) = c
+    end subroutine read_curve
+
+    !> LCID SF LCIDDR XC YC ZC CID.
+    subroutine read_body(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(body_load_t) :: b
+        integer :: ic, lciddr, cid
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        call get_card(ctx, kw, ic, 'LCID SF LCIDDR XC YC ZC CID', 1, card, error)
+        if (allocated(error)) return
+        call get_int(card, 1, b%lcid, 0, error); if (allocated(error)) return
+        call get_real(card, 2, b%sf, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+        call get_int(card, 3, lciddr, 0, error); if (allocated(error)) return
+        call get_int(card, 7, cid, 0, error); if (allocated(error)) return
+        if (b%lcid <= 0) then
+            call card_error(card, 1, 'a load curve id is required', error); return
+        end if
+        if (cid /= 0) then
+            call card_error(card, 7, 'local coordinate systems are not supported (CID must be 0)', error); return
+        end if
+        if (lciddr /= 0) call add_warning(model, ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)// &
+            ' field LCIDDR: dynamic relaxation is not implemented; ignored')
+        b%dir = index('XYZ', kw%name(11:11))
+        b%src = kw%card_line(ic)
+        if (.not. allocated(model%body)) allocate (model%body(4))
+        if (model%nbody == size(model%body)) model%body = [model%body, model%body]
+        model%nbody = model%nbody + 1
+        model%body(model%nbody) = b
+        call no_more_cards(ctx, kw, ic + 1, error)
+    end subroutine read_body
+
+    !> Card 1 NSID NSIDEX BOXID OFFSET BIRTH DEATH RWKSF; card 2 XT YT ZT XH YH
+    !> ZH FRIC WVEL; _FINITE adds XHEV YHEV ZHEV LENL LENM.
+    subroutine read_wall(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(rigidwall_t) :: w
+        real(wp) :: head(3), hev(3), rwksf, wvel
+        integer :: ic, boxid, k
+        ic = first_card(kw)
+        if (kw%has_id) then
+            call get_card(ctx, kw, 1, 'ID HEADING:70', 0, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, w%id, 0, error); if (allocated(error)) return
+            w%heading = get_text(card, 2)
+        end if
+        if (ic + 1 > kw%ncard) then
+            call make_error(error, ctx%src%where(kw%kw_line)//': '//trim(kw%written)//' needs cards 1 and 2')
+            return
+        end if
+        call get_card(ctx, kw, ic, 'NSID NSIDEX BOXID OFFSET BIRTH DEATH RWKSF', 1, card, error)
+        if (allocated(error)) return
+        call get_int(card, 1, w%nsid, 0, error); if (allocated(error)) return
+        call get_int(card, 2, w%nsidex, 0, error); if (allocated(error)) return
+        call get_int(card, 3, boxid, 0, error); if (allocated(error)) return
+        call get_real(card, 4, w%offset, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 5, w%birth, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 6, w%death, 1.0e20_wp, error, zero_default=.true.); if (allocated(error)) return
+        call get_real(card, 7, rwksf, 1.0_wp, error); if (allocated(error)) return
+        if (boxid /= 0) then
+            call card_error(card, 3, 'boxes are not supported (BOXID must be 0)', error); return
+        end if
+        w%src = kw%card_line(ic)
+        call get_card(ctx, kw, ic + 1, 'XT YT ZT XH YH ZH FRIC WVEL', 2, card, error)
+        if (allocated(error)) return
+        do k = 1, 3
+            call get_real(card, k, w%tail(k), 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 3 + k, head(k), 0.0_wp, error); if (allocated(error)) return
+        end do
+        call get_real(card, 7, w%fric, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 8, wvel, 0.0_wp, error); if (allocated(error)) return
+        w%normal = head - w%tail
+        if (norm2(w%normal) <= 0.0_wp) then
+            call card_error(card, 4, 'the head point equals the tail: the wall has no normal', error); return
+        end if
+        w%normal = w%normal/norm2(w%normal)
+        if (w%fric < 0.0_wp .or. w%fric > 1.0_wp) then
+            call card_error(card, 7, 'FRIC must lie in [0, 1]', error); return
+        end if
+        if (wvel /= 0.0_wp) call add_warning(model, ctx%src%where(kw%card_line(ic + 1))//': '// &
+            trim(kw%written)//' field WVEL: the critical velocity for welding is not implemented; ignored')
+        if (index(kw%name, '_FINITE') > 0) then
+            if (ic + 2 > kw%ncard) then
+                call make_error(error, ctx%src%where(kw%kw_line)//': '//trim(kw%written)// &
+                                ' card 3 (XHEV YHEV ZHEV LENL LENM) is missing')
+                return
+            end if
+            call get_card(ctx, kw, ic + 2, 'XHEV YHEV ZHEV LENL LENM', 3, card, error)
+            if (allocated(error)) return
+            do k = 1, 3
+                call get_real(card, k, hev(k), 0.0_wp, error); if (allocated(error)) return
+            end do
+            call get_real(card, 4, w%lenl, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 5, w%lenm, 0.0_wp, error); if (allocated(error)) return
+            w%l = hev - w%tail
+            w%l = w%l - dot_product(w%l, w%normal)*w%normal
+            if (norm2(w%l) <= 0.0_wp .or. w%lenl <= 0.0_wp .or. w%lenm <= 0.0_wp) then
+                call card_error(card, 1, 'the edge vector must not be along the normal, and LENL, LENM '// &
+                                'must be positive', error)
+                return
+            end if
+            w%l = w%l/norm2(w%l)
+            w%m = [w%normal(2)*w%l(3) - w%normal(3)*w%l(2), w%normal(3)*w%l(1) - w%normal(1)*w%l(3), &
+                   w%normal(1)*w%l(2) - w%normal(2)*w%l(1)]
+            w%finite = .true.
+            ic = ic + 1
+        end if
+        if (.not. allocated(model%wall)) allocate (model%wall(4))
+        if (model%nwall == size(model%wall)) model%wall = [model%wall, model%wall]
+        model%nwall = model%nwall + 1
+        if (w%id == 0) w%id = model%nwall
+        model%wall(model%nwall) = w
+        call no_more_cards(ctx, kw, ic + 2, error)
+    end subroutine read_wall
+
+end module xd_input_read_loads
