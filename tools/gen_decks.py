@@ -185,6 +185,60 @@ def gravity_drop(outdir):
     write(os.path.join(outdir, "verify", "gravity_drop.k"), lines)
 
 
+def tension(outdir, name, title, mat_cards, motion, endtim):
+    """One hexahedron (10 mm cube) under uniaxial stress: symmetry SPCs on
+    three faces, the top face driven in z by `motion` (cards of a
+    *BOUNDARY_PRESCRIBED_MOTION_SET and its curves). History of the top
+    nodes: their accelerations give the stress (sigma = -sum m a_z / A)."""
+    h = 0.01
+    nodes, hexes = block_mesh(1, 1, 1, h, h, h)
+    lines = common(title, endtim, endtim / 200)
+    top = nodes_where(nodes, lambda x, y, z: z == h)
+    lines += ["*DATABASE_NODOUT", f10(endtim / 200), "*DATABASE_HISTORY_NODE", "".join(f"{n:10d}" for n in top)]
+    lines += mat_cards
+    lines += part(1, 1, "cube")
+    lines += node_set(1, nodes_where(nodes, lambda x, y, z: z == 0.0))
+    lines += node_set(2, nodes_where(nodes, lambda x, y, z: x == 0.0))
+    lines += node_set(3, nodes_where(nodes, lambda x, y, z: y == 0.0))
+    lines += node_set(4, top)
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 0, 0, 1), f10(2, 0, 1, 0, 0), f10(3, 0, 0, 1, 0)]
+    lines += motion
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", name + ".k"), lines)
+
+
+def ramp_velocity(v, t_ramp, t_end):
+    """Velocity curve 10 on set 4: ramps to v over t_ramp, then holds."""
+    return ["*BOUNDARY_PRESCRIBED_MOTION_SET", f10(4, 3, 0, 10, 1.0),
+            "*DEFINE_CURVE", f10(10), f"{0.0:20.8e}{0.0:20.8e}", f"{t_ramp:20.8e}{v:20.8e}",
+            f"{t_end:20.8e}{v:20.8e}"]
+
+
+def tension_decks(outdir):
+    """Uniaxial stress paths with known answers (steel, E 200 GPa, nu 0.3,
+    yield 250 MPa): bilinear isotropic; kinematic with a load reversal;
+    a tabulated hardening curve; Cowper-Symonds rate scaling."""
+    steel = (7850.0, 200e9, 0.3)
+    tension(outdir, "tension_mat003_iso", "uniaxial tension, *MAT_PLASTIC_KINEMATIC isotropic",
+            ["*MAT_PLASTIC_KINEMATIC", f10(1, *steel, 250e6, 2e9, 1.0), f10(0.0, 0.0, 0.0, 0.0)],
+            ramp_velocity(0.1, 2e-4, 1.0), 5e-3)
+    reversal = ["*BOUNDARY_PRESCRIBED_MOTION_SET", f10(4, 3, 2, 11, 1.0),
+                "*DEFINE_CURVE", f10(11), f"{0.0:20.8e}{0.0:20.8e}", f"{3e-3:20.8e}{3e-4:20.8e}",
+                f"{9e-3:20.8e}{-3e-4:20.8e}"]
+    for beta, tag in ((0.0, "kin"), (1.0, "iso_rev")):
+        tension(outdir, f"tension_mat003_{tag}", f"uniaxial tension and reversal, *MAT_003 BETA {beta:g}",
+                ["*MAT_PLASTIC_KINEMATIC", f10(1, *steel, 250e6, 2e9, beta)], reversal, 8e-3)
+    tension(outdir, "tension_mat024_curve", "uniaxial tension, *MAT_PIECEWISE_LINEAR_PLASTICITY with LCSS",
+            ["*MAT_PIECEWISE_LINEAR_PLASTICITY", f10(1, *steel, 0.0, 0.0, 0.0, 0.0), f10(0.0, 0.0, 20),
+             "*DEFINE_CURVE_TITLE", "yield stress against effective plastic strain", f10(20),
+             f"{0.0:20.8e}{250e6:20.8e}", f"{0.01:20.8e}{300e6:20.8e}", f"{0.03:20.8e}{330e6:20.8e}",
+             f"{0.1:20.8e}{360e6:20.8e}"],
+            ramp_velocity(0.1, 2e-4, 1.0), 5e-3)
+    tension(outdir, "tension_mat024_rate", "uniaxial tension at 100/s, *MAT_024 with Cowper-Symonds C 40 P 5",
+            ["*MAT_PIECEWISE_LINEAR_PLASTICITY", f10(1, *steel, 250e6, 2e9), f10(40.0, 5.0)],
+            ramp_velocity(1.0, 2e-5, 1.0), 4e-4)
+
+
 def demo_cantilever(outdir):
     """A clamped steel cantilever of hexahedra set swinging by an initial
     velocity that grows along its length."""
@@ -235,6 +289,7 @@ def main():
     prestressed_block(args.outdir)
     bar_wall(args.outdir)
     gravity_drop(args.outdir)
+    tension_decks(args.outdir)
     demo_cantilever(args.outdir)
 
 

@@ -7,10 +7,11 @@ module xd_elements_solid_groups
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc, alloc_dp
     use xd_core_sorting, only: sort_index
-    use xd_model, only: model_t, mat_elastic
+    use xd_model, only: model_t, material_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear
     use xd_elements_hex8, only: hex_b_matrix, hex_velocity_gradient, hex_stress_forces, &
                                 hex_hourglass_modes, hex_hourglass_forces, hex_char_length
     use xd_materials_elastic, only: elastic_update, jaumann_rotate
+    use xd_materials_plasticity, only: plastic_params_t, plastic_update
     implicit none
     private
     public :: solids_t, solid_group_t, build_solids, solid_forces, group_size, hg_viscous, hg_stiffness
@@ -26,6 +27,7 @@ module xd_elements_solid_groups
         integer :: hg_form = hg_viscous
         real(wp) :: qm = 0.1_wp
         real(wp) :: q1 = 1.5_wp, q2 = 0.06_wp
+        type(plastic_params_t) :: pp        !< plastic materials
     end type solid_group_t
 
     type :: solids_t
@@ -43,6 +45,8 @@ module xd_elements_solid_groups
         real(wp), allocatable :: qhg(:)        !< (m, 3, 4) blocks: hourglass generalized forces (stiffness:
                                                !< the state; viscous: last step's, for the energy)
         real(wp), allocatable :: qbv(:)        !< bulk viscosity pressure of the last step
+        real(wp), allocatable :: epsp(:)       !< effective plastic strain (size 0 without plastic parts)
+        real(wp), allocatable :: alpha(:)      !< back stress, (m, 6) blocks like sig (size 0 without)
         real(dp), allocatable :: eint(:)       !< internal energy (incl. bulk viscosity work)
         real(dp), allocatable :: ehg(:)        !< hourglass energy
         ! the power of the current forces with v(n-1/2): half their work over
@@ -111,6 +115,12 @@ contains
             s%group_of(s%group(g)%first:s%group(g)%last) = g
         end do
         call alloc(s%qbv, s%n, 'bulk viscosity')
+        if (any(s%group%mtype == mat_plastic_kinematic .or. s%group%mtype == mat_piecewise_linear)) then
+            call alloc(s%epsp, s%n, 'plastic strains')
+            call alloc(s%alpha, 6*s%n, 'back stresses')
+        else
+            allocate (s%epsp(0), s%alpha(0))
+        end if
     contains
         subroutine close_group(a, b)
             integer, intent(in) :: a, b
@@ -126,6 +136,7 @@ contains
                 e_mod = m%e
                 nu = m%pr
             end associate
+            call plastic_params(model, model%mat(model%part(p)%mat_ix), s%group(g)%pp)
             s%group(g)%lam = e_mod*nu/((1.0_wp + nu)*(1.0_wp - 2.0_wp*nu))
             s%group(g)%mu = e_mod/(2.0_wp*(1.0_wp + nu))
             ihq = model%ctl%ihq
@@ -143,6 +154,31 @@ contains
             if (ihq >= 4) s%group(g)%hg_form = hg_stiffness
         end subroutine close_group
     end subroutine build_solids
+
+    !> Yield law of a plastic material: LCSS curve, else the EPS/ES table, else
+    !> the bilinear SIGY, ETAN (plastic modulus E Et / (E - Et)).
+    subroutine plastic_params(model, m, pp)
+        type(model_t), intent(in) :: model
+        type(material_t), intent(in) :: m
+        type(plastic_params_t), intent(out) :: pp
+        pp%sigy = m%sigy
+        pp%ep = m%e*m%etan/(m%e - m%etan)
+        pp%beta = m%beta
+        pp%c = m%c
+        pp%p = m%p
+        if (m%mtype == mat_piecewise_linear) then
+            pp%beta = 1.0_wp
+            if (m%lcss_ix > 0) then
+                pp%ncurve = model%curve(m%lcss_ix)%n
+                pp%eps = model%curve(m%lcss_ix)%a
+                pp%sy = model%curve(m%lcss_ix)%o
+            else if (m%ntab > 0) then
+                pp%ncurve = m%ntab
+                pp%eps = m%eps(1:m%ntab)
+                pp%sy = m%es(1:m%ntab)
+            end if
+        end if
+    end subroutine plastic_params
 
     !> Stress (xx yy zz xy yz zx) of element e.
     pure function solid_stress(s, e) result(sg)
@@ -192,18 +228,24 @@ contains
         integer :: a, b
         a = s%group(g)%first
         b = s%group(g)%last
-        call group_block(s, g, x, v, dt, dt_avg_prev, b - a + 1, s%sig(6*(a - 1) + 1:6*b), &
-                         s%qhg(12*(a - 1) + 1:12*b))
+        if (size(s%epsp) > 0) then
+            call group_block(s, g, x, v, dt, dt_avg_prev, b - a + 1, s%sig(6*(a - 1) + 1:6*b), &
+                             s%qhg(12*(a - 1) + 1:12*b), s%alpha(6*(a - 1) + 1:6*b), s%epsp(a:b))
+        else
+            call group_block(s, g, x, v, dt, dt_avg_prev, b - a + 1, s%sig(6*(a - 1) + 1:6*b), &
+                             s%qhg(12*(a - 1) + 1:12*b), s%alpha, s%epsp)
+        end if
     end subroutine group_kernel
 
     !> One group: sig and qhg are its contiguous blocks of element state.
-    subroutine group_block(s, g, x, v, dt, dt_avg_prev, n, sig, qhg)
+    subroutine group_block(s, g, x, v, dt, dt_avg_prev, n, sig, qhg, alpha, epsp)
         type(solids_t), intent(inout) :: s
         integer, intent(in) :: g, n
         real(wp), contiguous, intent(in) :: x(:, :), v(:, :)
         real(wp), intent(in) :: dt
         real(dp), intent(in) :: dt_avg_prev
         real(wp), intent(inout) :: sig(n, 6), qhg(n, 3, 4)
+        real(wp), contiguous, intent(inout) :: alpha(:), epsp(:)   !< size 0 for non-plastic models
         integer :: a, b, i, j, k, e, nd
         real(wp), dimension(n, 8) :: xl, yl, zl, vx, vy, vz, bx, by, bz, fx, fy, fz
         real(wp), dimension(n) :: vol, volh, q, rho, c, le, dte, tr, pw, qd
@@ -249,6 +291,10 @@ contains
         case (mat_elastic)
             call jaumann_rotate(n, w, dt, sig)
             call elastic_update(n, gr%lam, gr%mu, d, dt, sig)
+        case (mat_plastic_kinematic, mat_piecewise_linear)
+            call jaumann_rotate(n, w, dt, sig)
+            if (gr%pp%beta < 1.0_wp) call jaumann_rotate(n, w, dt, alpha)
+            call plastic_update(n, gr%lam, gr%mu, gr%pp, d, dt, sig, epsp, alpha)
         end select
 
         ! bulk viscosity, and the internal energy: the nodal forces f(n) of an

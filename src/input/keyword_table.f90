@@ -44,6 +44,10 @@ module xd_input_keyword_table
         entry_t('SECTION_SOLID', fam_section, '', .false.), &
         entry_t('MAT_ELASTIC', fam_material, '', .false.), &
         entry_t('MAT_001', fam_material, 'MAT_ELASTIC', .false.), &
+        entry_t('MAT_PLASTIC_KINEMATIC', fam_material, '', .false.), &
+        entry_t('MAT_003', fam_material, 'MAT_PLASTIC_KINEMATIC', .false.), &
+        entry_t('MAT_PIECEWISE_LINEAR_PLASTICITY', fam_material, '', .false.), &
+        entry_t('MAT_024', fam_material, 'MAT_PIECEWISE_LINEAR_PLASTICITY', .false.), &
         entry_t('HOURGLASS', fam_material, '', .false.), &
         entry_t('SET_NODE_LIST', fam_set, '', .false.), &
         entry_t('SET_NODE', fam_set, 'SET_NODE_LIST', .false.), &
@@ -53,6 +57,8 @@ module xd_input_keyword_table
         entry_t('SET_PART_LIST_GENERATE', fam_set, '', .false.), &
         entry_t('BOUNDARY_SPC_NODE', fam_condition, '', .true.), &
         entry_t('BOUNDARY_SPC_SET', fam_condition, '', .true.), &
+        entry_t('BOUNDARY_PRESCRIBED_MOTION_NODE', fam_condition, '', .true.), &
+        entry_t('BOUNDARY_PRESCRIBED_MOTION_SET', fam_condition, '', .true.), &
         entry_t('INITIAL_VELOCITY', fam_condition, '', .false.), &
         entry_t('INITIAL_VELOCITY_NODE', fam_condition, '', .false.), &
         entry_t('INITIAL_VELOCITY_GENERATION', fam_condition, '', .false.), &
@@ -101,18 +107,13 @@ module xd_input_keyword_table
         entry_t('ELEMENT_SHELL', fam_planned, '', .false.), &
         entry_t('ELEMENT_SHELL_THICKNESS', fam_planned, '', .false.), &
         entry_t('SECTION_SHELL', fam_planned, '', .false.), &
-        entry_t('MAT_PLASTIC_KINEMATIC', fam_planned, '', .false.), &
-        entry_t('MAT_003', fam_planned, 'MAT_PLASTIC_KINEMATIC', .false.), &
-        entry_t('MAT_PIECEWISE_LINEAR_PLASTICITY', fam_planned, '', .false.), &
-        entry_t('MAT_024', fam_planned, 'MAT_PIECEWISE_LINEAR_PLASTICITY', .false.), &
         entry_t('MAT_RIGID', fam_planned, '', .false.), &
         entry_t('MAT_020', fam_planned, 'MAT_RIGID', .false.), &
         entry_t('SET_SEGMENT', fam_planned, '', .false.), &
         entry_t('SET_NODE_GENERAL', fam_planned, '', .false.), &
         entry_t('SET_PART_GENERAL', fam_planned, '', .false.), &
         entry_t('SET_SHELL_LIST', fam_planned, '', .false.), &
-        entry_t('BOUNDARY_PRESCRIBED_MOTION_NODE', fam_planned, '', .true.), &
-        entry_t('BOUNDARY_PRESCRIBED_MOTION_SET', fam_planned, '', .true.), &
+
         entry_t('BOUNDARY_PRESCRIBED_MOTION_RIGID', fam_planned, '', .true.), &
         entry_t('LOAD_SEGMENT', fam_planned, '', .false.), &
         entry_t('LOAD_SEGMENT_SET', fam_planned, '', .false.), &

@@ -30,7 +30,7 @@ contains
         call check_hexes(ctx, model, maps, error); if (allocated(error)) return
         call check_sets(ctx, model, maps, error); if (allocated(error)) return
         call check_conditions(ctx, model, maps, error); if (allocated(error)) return
-        call check_loads(ctx, model, error); if (allocated(error)) return
+        call check_loads(ctx, model, maps%node, error); if (allocated(error)) return
         call check_controls(model, error); if (allocated(error)) return
     end subroutine check_model
 
@@ -323,9 +323,10 @@ contains
     end subroutine check_conditions
 
     !> Curves defined once; body loads name a curve; wall node sets exist.
-    subroutine check_loads(ctx, model, error)
+    subroutine check_loads(ctx, model, nodes, error)
         type(read_ctx_t), intent(in) :: ctx
         type(model_t), intent(inout) :: model
+        type(id_map_t), intent(in) :: nodes
         type(error_t), allocatable, intent(out) :: error
         type(id_map_t) :: curves
         integer :: dup, i
@@ -345,6 +346,41 @@ contains
                     call make_error(error, ctx%src%where(b%src)//': *LOAD_BODY_'//'XYZ'(b%dir:b%dir)// &
                                     ' field LCID: curve '//itoa(b%lcid)//' is not defined')
                     return
+                end if
+            end associate
+        end do
+        do i = 1, model%nmat
+            associate (m => model%mat(i))
+                if (m%lcss == 0) cycle
+                m%lcss_ix = curves%find(m%lcss)
+                if (m%lcss_ix == 0) then
+                    call make_error(error, ctx%src%where(m%src)//': *MAT_PIECEWISE_LINEAR_PLASTICITY field LCSS: '// &
+                                    'curve '//itoa(m%lcss)//' is not defined')
+                    return
+                end if
+            end associate
+        end do
+        do i = 1, model%npresc
+            associate (pm => model%presc(i))
+                pm%curve_ix = curves%find(pm%lcid)
+                if (pm%curve_ix == 0) then
+                    call make_error(error, ctx%src%where(pm%src)//': *BOUNDARY_PRESCRIBED_MOTION field LCID: curve '// &
+                                    itoa(pm%lcid)//' is not defined')
+                    return
+                end if
+                if (pm%is_set) then
+                    if (find_set(model, set_node, pm%id) == 0) then
+                        call make_error(error, ctx%src%where(pm%src)//': *BOUNDARY_PRESCRIBED_MOTION_SET field NSID: '// &
+                                        'node set '//itoa(pm%id)//' is not defined')
+                        return
+                    end if
+                else
+                    pm%ix = nodes%find(pm%id)
+                    if (pm%ix == 0) then
+                        call make_error(error, ctx%src%where(pm%src)//': *BOUNDARY_PRESCRIBED_MOTION_NODE field NID: '// &
+                                        'node '//itoa(pm%id)//' is not defined')
+                        return
+                    end if
                 end if
             end associate
         end do

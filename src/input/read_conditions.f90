@@ -6,7 +6,8 @@ module xd_input_read_conditions
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
-    use xd_model, only: model_t, spc_t, init_vel_t, init_stress_t, iv_node_set, iv_node, iv_generation
+    use xd_model, only: model_t, spc_t, init_vel_t, init_stress_t, prescribed_t, iv_node_set, iv_node, &
+                        iv_generation
     implicit none
     private
     public :: read_condition
@@ -21,6 +22,8 @@ contains
         select case (kw%name)
         case ('BOUNDARY_SPC_NODE', 'BOUNDARY_SPC_SET')
             call read_spc(ctx, kw, model, error)
+        case ('BOUNDARY_PRESCRIBED_MOTION_NODE', 'BOUNDARY_PRESCRIBED_MOTION_SET')
+            call read_prescribed(ctx, kw, model, error)
         case ('INITIAL_VELOCITY')
             call read_initial_velocity(ctx, kw, model, error)
         case ('INITIAL_VELOCITY_NODE')
@@ -270,6 +273,58 @@ contains
             ic = ic + 1 + nint
         end do
     end subroutine read_initial_stress_solid
+
+    !> ID DOF VAD LCID SF VID DEATH BIRTH, repeated.
+    subroutine read_prescribed(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(prescribed_t) :: pm
+        integer :: ic, vid
+        character(len=:), allocatable :: spec
+        if (kw%name == 'BOUNDARY_PRESCRIBED_MOTION_SET') then
+            spec = 'NSID DOF VAD LCID SF VID DEATH BIRTH'
+        else
+            spec = 'NID DOF VAD LCID SF VID DEATH BIRTH'
+        end if
+        do ic = first_card(kw), kw%ncard
+            call get_card(ctx, kw, ic, spec, 1, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            pm = prescribed_t(is_set=kw%name == 'BOUNDARY_PRESCRIBED_MOTION_SET', src=kw%card_line(ic))
+            call get_int(card, 1, pm%id, 0, error); if (allocated(error)) return
+            call get_int(card, 2, pm%dof, 0, error); if (allocated(error)) return
+            call get_int(card, 3, pm%vad, 0, error); if (allocated(error)) return
+            call get_int(card, 4, pm%lcid, 0, error); if (allocated(error)) return
+            call get_real(card, 5, pm%sf, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+            call get_int(card, 6, vid, 0, error); if (allocated(error)) return
+            call get_real(card, 7, pm%death, 1.0e28_wp, error, zero_default=.true.); if (allocated(error)) return
+            call get_real(card, 8, pm%birth, 0.0_wp, error); if (allocated(error)) return
+            if (pm%id <= 0) then
+                call card_error(card, 1, 'id must be a positive integer', error); return
+            end if
+            if (pm%dof < 1 .or. pm%dof > 3) then
+                call card_error(card, 2, 'DOF '//trim(card%f(2))//' is not supported on nodes (1-3: x, y, z)', error)
+                return
+            end if
+            if (pm%vad < 0 .or. pm%vad > 2) then
+                call card_error(card, 3, 'VAD must be 0 (velocity), 1 (acceleration) or 2 (displacement)', error)
+                return
+            end if
+            if (pm%lcid <= 0) then
+                call card_error(card, 4, 'a load curve id is required', error); return
+            end if
+            if (pm%death <= pm%birth) then
+                call card_error(card, 7, 'DEATH must be later than BIRTH', error); return
+            end if
+            if (.not. allocated(model%presc)) allocate (model%presc(8))
+            if (model%npresc == size(model%presc)) model%presc = [model%presc, model%presc]
+            model%npresc = model%npresc + 1
+            model%presc(model%npresc) = pm
+        end do
+    end subroutine read_prescribed
 
     subroutine push_ivel(model, iv)
         type(model_t), intent(inout) :: model

@@ -1,11 +1,11 @@
 !> Readers for the material keywords and *HOURGLASS.
 module xd_input_read_materials
     use xd_kinds, only: wp
-    use xd_core_errors, only: error_t
+    use xd_core_errors, only: error_t, make_error
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
-    use xd_model, only: model_t, material_t, hourglass_t, mat_elastic
+    use xd_model, only: model_t, material_t, hourglass_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear
     implicit none
     private
     public :: read_material
@@ -20,10 +20,179 @@ contains
         select case (kw%name)
         case ('MAT_ELASTIC')
             call read_mat_elastic(ctx, kw, model, error)
+        case ('MAT_PLASTIC_KINEMATIC')
+            call read_mat_plastic_kinematic(ctx, kw, model, error)
+        case ('MAT_PIECEWISE_LINEAR_PLASTICITY')
+            call read_mat_piecewise(ctx, kw, model, error)
         case ('HOURGLASS')
             call read_hourglass(ctx, kw, model, error)
         end select
     end subroutine read_material
+
+    !> MID RO E PR, common to the isotropic materials; checks them.
+    subroutine read_elastic_constants(card, m, error)
+        type(card_t), intent(in) :: card
+        type(material_t), intent(inout) :: m
+        type(error_t), allocatable, intent(out) :: error
+        call get_int(card, 1, m%id, 0, error); if (allocated(error)) return
+        call get_real(card, 2, m%ro, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 3, m%e, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 4, m%pr, 0.0_wp, error); if (allocated(error)) return
+        if (m%id <= 0) then
+            call card_error(card, 1, 'material id must be a positive integer', error); return
+        end if
+        if (.not. (m%ro > 0.0_wp)) then
+            call card_error(card, 2, 'density must be positive', error); return
+        end if
+        if (.not. (m%e > 0.0_wp)) then
+            call card_error(card, 3, 'Young''s modulus must be positive', error); return
+        end if
+        if (.not. (m%pr > -1.0_wp .and. m%pr < 0.5_wp)) then
+            call card_error(card, 4, 'Poisson''s ratio must lie in (-1, 0.5)', error); return
+        end if
+    end subroutine read_elastic_constants
+
+    !> Card 1 MID RO E PR SIGY ETAN BETA; card 2 SRC SRP FS VP.
+    subroutine read_mat_plastic_kinematic(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(material_t) :: m
+        real(wp) :: fs, vp
+        integer :: ic
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        call get_card(ctx, kw, ic, 'MID RO E PR SIGY ETAN BETA', 1, card, error)
+        if (allocated(error)) return
+        call read_elastic_constants(card, m, error); if (allocated(error)) return
+        call get_real(card, 5, m%sigy, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 6, m%etan, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 7, m%beta, 0.0_wp, error); if (allocated(error)) return
+        if (.not. (m%sigy > 0.0_wp)) then
+            call card_error(card, 5, 'yield stress must be positive', error); return
+        end if
+        if (m%etan < 0.0_wp .or. m%etan >= m%e) then
+            call card_error(card, 6, 'tangent modulus must lie in [0, E)', error); return
+        end if
+        if (m%beta < 0.0_wp .or. m%beta > 1.0_wp) then
+            call card_error(card, 7, 'BETA must lie in [0, 1] (0 kinematic, 1 isotropic)', error); return
+        end if
+        m%src = kw%card_line(ic)
+        if (ic + 1 <= kw%ncard) then
+            call get_card(ctx, kw, ic + 1, 'SRC SRP FS VP', 2, card, error)
+            if (allocated(error)) return
+            call get_real(card, 1, m%c, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 2, m%p, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 3, fs, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 4, vp, 0.0_wp, error); if (allocated(error)) return
+            if (m%c < 0.0_wp .or. m%p < 0.0_wp .or. (m%c > 0.0_wp .neqv. m%p > 0.0_wp)) then
+                call card_error(card, 1, 'SRC and SRP must both be positive (or both 0: no rate effect)', error)
+                return
+            end if
+            if (fs > 0.0_wp) then
+                call card_error(card, 3, 'failure (element erosion) is not implemented: FS must be 0', error)
+                return
+            end if
+            if (vp /= 0.0_wp) then
+                call card_error(card, 4, 'only VP 0 (the yield stress scaled by the strain rate) is implemented', error)
+                return
+            end if
+        end if
+        m%mtype = mat_plastic_kinematic
+        m%keyword = 'MAT_PLASTIC_KINEMATIC'
+        call push_material(model, m)
+        call no_more_cards(ctx, kw, ic + 2, error)
+    end subroutine read_mat_plastic_kinematic
+
+    !> Card 1 MID RO E PR SIGY ETAN FAIL TDEL; card 2 C P LCSS LCSR VP;
+    !> cards 3-4 EPS1..8, ES1..8.
+    subroutine read_mat_piecewise(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(material_t) :: m
+        real(wp) :: fail, tdel, vp
+        integer :: ic, k, lcsr
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        call get_card(ctx, kw, ic, 'MID RO E PR SIGY ETAN FAIL TDEL', 1, card, error)
+        if (allocated(error)) return
+        call read_elastic_constants(card, m, error); if (allocated(error)) return
+        call get_real(card, 5, m%sigy, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 6, m%etan, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 7, fail, 1.0e21_wp, error, zero_default=.true.); if (allocated(error)) return
+        call get_real(card, 8, tdel, 0.0_wp, error); if (allocated(error)) return
+        if (m%etan < 0.0_wp .or. m%etan >= m%e) then
+            call card_error(card, 6, 'tangent modulus must lie in [0, E)', error); return
+        end if
+        if (fail < 1.0e20_wp) then
+            call card_error(card, 7, 'failure (element erosion) is not implemented: FAIL must be 0 or 1e21', error)
+            return
+        end if
+        if (tdel /= 0.0_wp) call add_warning(model, ctx%src%where(kw%card_line(ic))// &
+            ': *MAT_PIECEWISE_LINEAR_PLASTICITY field TDEL: element deletion is not implemented; ignored')
+        m%src = kw%card_line(ic)
+        m%beta = 1.0_wp
+        if (ic + 1 <= kw%ncard) then
+            call get_card(ctx, kw, ic + 1, 'C P LCSS LCSR VP', 2, card, error)
+            if (allocated(error)) return
+            call get_real(card, 1, m%c, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 2, m%p, 0.0_wp, error); if (allocated(error)) return
+            call get_int(card, 3, m%lcss, 0, error); if (allocated(error)) return
+            call get_int(card, 4, lcsr, 0, error); if (allocated(error)) return
+            call get_real(card, 5, vp, 0.0_wp, error); if (allocated(error)) return
+            if (m%c < 0.0_wp .or. m%p < 0.0_wp .or. (m%c > 0.0_wp .neqv. m%p > 0.0_wp)) then
+                call card_error(card, 1, 'C and P must both be positive (or both 0: no rate effect)', error)
+                return
+            end if
+            if (lcsr /= 0) then
+                call card_error(card, 4, 'a strain-rate scaling curve (LCSR) is not implemented', error); return
+            end if
+            if (vp /= 0.0_wp .and. vp /= -1.0_wp) then
+                call card_error(card, 5, 'only VP 0 or -1 (the yield stress scaled by the strain rate) '// &
+                                'is implemented', error)
+                return
+            end if
+        end if
+        if (ic + 3 <= kw%ncard) then
+            call get_card(ctx, kw, ic + 2, 'EPS1 EPS2 EPS3 EPS4 EPS5 EPS6 EPS7 EPS8', 3, card, error)
+            if (allocated(error)) return
+            do k = 1, 8
+                call get_real(card, k, m%eps(k), 0.0_wp, error); if (allocated(error)) return
+            end do
+            call get_card(ctx, kw, ic + 3, 'ES1 ES2 ES3 ES4 ES5 ES6 ES7 ES8', 4, card, error)
+            if (allocated(error)) return
+            do k = 1, 8
+                call get_real(card, k, m%es(k), 0.0_wp, error); if (allocated(error)) return
+            end do
+            ! the table ends at the first zero strain after the first point
+            m%ntab = 0
+            do k = 1, 8
+                if (k > 1 .and. m%eps(k) == 0.0_wp) exit
+                if (m%es(k) == 0.0_wp .and. k > 1) exit
+                m%ntab = k
+            end do
+            if (m%ntab == 1 .and. m%es(1) == 0.0_wp) m%ntab = 0
+            do k = 2, m%ntab
+                if (.not. (m%eps(k) > m%eps(k - 1))) then
+                    call card_error(card, k, 'EPS values must increase', error); return
+                end if
+            end do
+        end if
+        if (m%lcss == 0 .and. m%ntab == 0 .and. .not. (m%sigy > 0.0_wp)) then
+            call make_error(error, ctx%src%where(kw%card_line(ic))//': *MAT_PIECEWISE_LINEAR_PLASTICITY '// &
+                            'card 1 field SIGY: a positive yield stress is needed without LCSS or EPS/ES')
+            return
+        end if
+        m%mtype = mat_piecewise_linear
+        m%keyword = 'MAT_PIECEWISE_LINEAR'
+        call push_material(model, m)
+        call no_more_cards(ctx, kw, ic + 4, error)
+    end subroutine read_mat_piecewise
 
     subroutine read_mat_elastic(ctx, kw, model, error)
         type(read_ctx_t), intent(in) :: ctx
@@ -38,25 +207,10 @@ contains
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'MID RO E PR DA DB K', 1, card, error)
         if (allocated(error)) return
-        call get_int(card, 1, m%id, 0, error); if (allocated(error)) return
-        call get_real(card, 2, m%ro, 0.0_wp, error); if (allocated(error)) return
-        call get_real(card, 3, m%e, 0.0_wp, error); if (allocated(error)) return
-        call get_real(card, 4, m%pr, 0.0_wp, error); if (allocated(error)) return
+        call read_elastic_constants(card, m, error); if (allocated(error)) return
         call get_real(card, 5, da, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 6, db, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 7, k, 0.0_wp, error); if (allocated(error)) return
-        if (m%id <= 0) then
-            call card_error(card, 1, 'material id must be a positive integer', error); return
-        end if
-        if (.not. (m%ro > 0.0_wp)) then
-            call card_error(card, 2, 'density must be positive', error); return
-        end if
-        if (.not. (m%e > 0.0_wp)) then
-            call card_error(card, 3, 'Young''s modulus must be positive', error); return
-        end if
-        if (.not. (m%pr > -1.0_wp .and. m%pr < 0.5_wp)) then
-            call card_error(card, 4, 'Poisson''s ratio must lie in (-1, 0.5)', error); return
-        end if
         if (k /= 0.0_wp) then
             call card_error(card, 7, 'the fluid option (K) is not supported', error); return
         end if

@@ -20,6 +20,7 @@ program xdyna
     use xd_solver_setup, only: setup_run
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
     use xd_contact_rigidwall, only: walls_t, build_walls
+    use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
     use xd_output_histories, only: histories_t, open_histories, close_histories
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     !$ use omp_lib, only: omp_set_num_threads
@@ -35,6 +36,7 @@ program xdyna
     type(solids_t) :: solids
     type(assembly_t) :: asm
     type(walls_t) :: walls
+    type(prescribed_nodes_t) :: pn
     type(histories_t) :: hist
     type(log_t) :: lg
     type(timers_t) :: tm
@@ -108,6 +110,7 @@ program xdyna
     call tm%start(ph_init)
     call setup_run(model, maps%hex, st, solids, asm, nfree)
     call build_walls(model, walls)
+    call build_prescribed(model, pn)
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')
     if (check_only) then
         write (output_unit, '(a)') model_summary(model, solids)
@@ -125,7 +128,7 @@ program xdyna
     end if
     call tm%stop(ph_init)
 
-    call run_time_loop(model, st, solids, asm, walls, hist, lg, tm, opts, res)
+    call run_time_loop(model, st, solids, asm, walls, pn, hist, lg, tm, opts, res)
     call close_histories(hist)
     call timing_table(lg, tm, res%ncycle, solids%n, tm%elapsed())
     if (res%status /= exit_normal) then

@@ -7,7 +7,7 @@ module xd_model
     private
     public :: model_t, part_t, section_solid_t, material_t, hourglass_t, set_t
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
-    public :: curve_t, body_load_t, rigidwall_t, curve_value
+    public :: curve_t, body_load_t, rigidwall_t, prescribed_t, curve_value
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
     public :: set_node, set_part, find_set
     public :: iv_node_set, iv_node, iv_generation
@@ -36,6 +36,12 @@ module xd_model
         integer :: mtype = 0                !< LS-DYNA material number (1, 3, 20, 24)
         character(len=40) :: keyword = ''
         real(wp) :: ro = 0, e = 0, pr = 0
+        ! plasticity (003, 024)
+        real(wp) :: sigy = 0, etan = 0, beta = 1
+        real(wp) :: c = 0, p = 0              !< Cowper-Symonds (003: SRC, SRP)
+        integer :: lcss = 0, lcss_ix = 0      !< 024: yield curve
+        integer :: ntab = 0                   !< 024: EPS/ES points given
+        real(wp) :: eps(8) = 0, es(8) = 0
         integer :: src = 0
     end type material_t
 
@@ -100,6 +106,20 @@ module xd_model
         real(wp) :: sf = 1.0_wp
         integer :: src = 0
     end type body_load_t
+
+    !> *BOUNDARY_PRESCRIBED_MOTION_NODE/_SET: translation DOF 1-3 of a node or
+    !> node set follows sf * curve as velocity (vad 0), acceleration (1) or
+    !> displacement (2) between birth and death.
+    type :: prescribed_t
+        integer :: id = 0
+        logical :: is_set = .false.
+        integer :: ix = 0                   !< node index (not a set) once checked
+        integer :: dof = 0, vad = 0
+        integer :: lcid = 0, curve_ix = 0
+        real(wp) :: sf = 1.0_wp
+        real(wp) :: birth = 0, death = 1.0e28_wp
+        integer :: src = 0
+    end type prescribed_t
 
     !> *RIGIDWALL_PLANAR: a stonewall through `tail` with unit normal `normal`
     !> (towards the side the nodes are on); finite walls have in-plane axes
@@ -171,7 +191,8 @@ module xd_model
         type(material_t), allocatable :: mat(:)
         type(hourglass_t), allocatable :: hg(:)
         type(set_t), allocatable :: set(:)
-        integer :: ncurve = 0, nbody = 0, nwall = 0
+        integer :: ncurve = 0, nbody = 0, nwall = 0, npresc = 0
+        type(prescribed_t), allocatable :: presc(:)
         type(curve_t), allocatable :: curve(:)
         type(body_load_t), allocatable :: body(:)
         type(rigidwall_t), allocatable :: wall(:)

@@ -94,6 +94,7 @@ contains
             s = s//'   rigid walls ............... off (none in the deck)'//nl
         end if
         s = s//'   body loads ................ '//onoff(model%nbody > 0)//nl
+        s = s//'   prescribed motion ......... '//onoff(model%npresc > 0)//nl
         s = s//'   boundary constraints ...... '//onoff(model%nspc > 0 .or. any(model%node_tc(1:model%nnode) > 0))//nl
         s = s//'   initial velocities ........ '//onoff(model%nivel > 0)//nl
         s = s//'   initial stresses .......... '//onoff(model%nistress > 0)//nl

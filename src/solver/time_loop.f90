@@ -16,6 +16,7 @@ module xd_solver_time_loop
     use xd_output_d3hsp, only: log_t, log_line
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
+    use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     implicit none
     private
     public :: run_options_t, run_result_t, run_time_loop
@@ -36,12 +37,13 @@ module xd_solver_time_loop
 
 contains
 
-    subroutine run_time_loop(model, st, solids, asm, walls, hist, lg, tm, opts, res)
+    subroutine run_time_loop(model, st, solids, asm, walls, pn, hist, lg, tm, opts, res)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(assembly_t), intent(in) :: asm
         type(walls_t), intent(inout) :: walls
+        type(prescribed_nodes_t), intent(in) :: pn
         type(histories_t), intent(inout) :: hist
         type(log_t), intent(in) :: lg
         type(timers_t), intent(inout) :: tm
@@ -50,7 +52,7 @@ contains
         type(energies_t) :: en
         real(wp), allocatable :: vn(:, :), vminus(:, :)
         real(wp) :: dtc, g_new(3)
-        real(dp) :: dt_avg, dt_avg_prev
+        real(dp) :: dt_avg, dt_avg_prev, wpm
         real(dp) :: t_last_progress, ratio_limit, t0_wall
         logical :: done, due, energy_now
         integer :: nd
@@ -105,6 +107,10 @@ contains
                 call tm%stop(ph_contact)
             end if
             if (model%nbody > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
+            if (pn%n > 0) then
+                call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm)
+                st%ext_work = st%ext_work + wpm
+            end if
 
             if (energy_now) then
                 call tm%start(ph_output)

@@ -1,0 +1,78 @@
+!> Prescribed nodal motion (*BOUNDARY_PRESCRIBED_MOTION_NODE/_SET): after the
+!> velocity update, the prescribed velocity component is imposed; the work of
+!> the force that this takes is external work.
+module xd_solver_prescribed
+    use xd_kinds, only: wp, dp
+    use xd_model, only: model_t, prescribed_t, curve_value, find_set, set_node
+    use xd_solver_state, only: state_t
+    implicit none
+    private
+    public :: prescribed_nodes_t, build_prescribed, apply_prescribed
+
+    !> Each prescription with its node list.
+    type :: prescribed_nodes_t
+        integer :: n = 0
+        integer, allocatable :: first(:), node(:)   !< CSR: nodes of prescription i
+    end type prescribed_nodes_t
+
+contains
+
+    subroutine build_prescribed(model, pn)
+        type(model_t), intent(in) :: model
+        type(prescribed_nodes_t), intent(out) :: pn
+        integer :: i, s
+        pn%n = model%npresc
+        allocate (pn%first(pn%n + 1), pn%node(0))
+        pn%first(1) = 1
+        do i = 1, pn%n
+            associate (pm => model%presc(i))
+                if (pm%is_set) then
+                    s = find_set(model, set_node, pm%id)
+                    pn%node = [pn%node, model%set(s)%member_ix]
+                else
+                    pn%node = [pn%node, pm%ix]
+                end if
+            end associate
+            pn%first(i + 1) = size(pn%node) + 1
+        end do
+    end subroutine build_prescribed
+
+    !> v(n+1/2) of the prescribed components: velocity curve at t(n+1/2),
+    !> acceleration curve at t(n) added to v(n-1/2), or the displacement at
+    !> t(n+1) reached over the step. dt: the coming step; dt_avg: the step of
+    !> the velocity update; a holds a(n) from the forces. Returns the work of
+    !> the imposing forces, m dv/dt_avg . (v(n-1/2) + v(n+1/2))/2 dt_avg.
+    subroutine apply_prescribed(model, pn, st, dt, dt_avg, work)
+        type(model_t), intent(in) :: model
+        type(prescribed_nodes_t), intent(in) :: pn
+        type(state_t), intent(inout) :: st
+        real(wp), intent(in) :: dt, dt_avg
+        real(dp), intent(out) :: work
+        integer :: i, k, nd, j
+        real(wp) :: t, target, vold, vprev
+        work = 0
+        t = real(st%time, wp)
+        do i = 1, pn%n
+            associate (pm => model%presc(i), c => model%curve(model%presc(i)%curve_ix))
+                if (t < pm%birth .or. t > pm%death) cycle
+                j = pm%dof
+                do k = pn%first(i), pn%first(i + 1) - 1
+                    nd = pn%node(k)
+                    vold = st%v(j, nd)
+                    vprev = vold - dt_avg*st%a(j, nd)
+                    select case (pm%vad)
+                    case (0)
+                        target = pm%sf*curve_value(c, t + 0.5_wp*dt)
+                    case (1)
+                        target = vprev + dt_avg*pm%sf*curve_value(c, t)
+                    case default
+                        target = (pm%sf*curve_value(c, t + dt) - (st%x(j, nd) - st%x0(j, nd)))/dt
+                    end select
+                    st%v(j, nd) = target
+                    work = work + real(st%mass(nd), dp)*(target - vold)*0.5_dp*(vprev + target)
+                end do
+            end associate
+        end do
+    end subroutine apply_prescribed
+
+end module xd_solver_prescribed
