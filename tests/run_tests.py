@@ -301,6 +301,32 @@ def test_plasticity():
            f"factor {fac[k].mean():.3f})", err < 0.005)
 
 
+def test_taylor_bar():
+    """Taylor bar (copper, 227 m/s onto a frictionless wall, 80 us): final
+    length within 1.5% of 21.45 mm and foot radius within 3% of 7.2 mm (the
+    issue's figures), on two meshes, the finer closer in length; energy ratio
+    within 2% (plastic work is internal energy; the wall takes the rest)."""
+    res = {}
+    for d in ("taylor_bar_coarse", "taylor_bar_fine"):
+        p, out = run_deck(f"input_decks/verify/{d}.k", d)
+        record(f"deck {d} runs (exit 0)", p.returncode == 0, p.stderr[-300:])
+        if p.returncode != 0:
+            return
+        with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+            n = f["nodout"]
+            z, x, y = n["z_coordinate"][-1, :], n["x_coordinate"][-1, :], n["y_coordinate"][-1, :]
+        length, foot = z[0] * 1e3, np.hypot(x[1:], y[1:]).max() * 1e3
+        res[d] = length
+        record(f"{d}: final length within 1.5% of 21.45 mm ({length:.3f} mm, {(length / 21.45 - 1) * 100:+.2f}%)",
+               abs(length / 21.45 - 1) < 0.015)
+        record(f"{d}: foot radius within 3% of 7.2 mm ({foot:.3f} mm, {(foot / 7.2 - 1) * 100:+.2f}%)",
+               abs(foot / 7.2 - 1) < 0.03)
+        dev = np.max(abs(glstat(out)["energy_ratio"] - 1))
+        record(f"{d}: energy ratio within 2% ({dev:.1e})", dev < 0.02)
+    record("Taylor bar: the finer mesh is closer to the reference length",
+           abs(res["taylor_bar_fine"] - 21.45) < abs(res["taylor_bar_coarse"] - 21.45))
+
+
 def test_malformed():
     """(d) Each malformed deck exits 1, its message contains the expected
     file:line, keyword, card, field and text, and only the log is written."""
@@ -433,6 +459,7 @@ def main():
     test_bar_wall()
     test_gravity_drop()
     test_plasticity()
+    test_taylor_bar()
     test_malformed()
     test_format_rules()
     test_runtime_error()

@@ -239,6 +239,76 @@ def tension_decks(outdir):
             ramp_velocity(1.0, 2e-5, 1.0), 4e-4)
 
 
+def quarter_disk(R, n, m):
+    """Quarter disk of radius R (x, y >= 0) as a butterfly mesh: an n x n
+    core square of side 0.55 R and two n x m blocks out to the arc.
+    Returns points {key: (x, y)} and quads [(k1, k2, k3, k4)] counter-clockwise."""
+    c = 0.55 * R
+    pts, keys = {}, {}
+    def key(x, y):
+        k = (round(x / R, 9), round(y / R, 9))
+        if k not in keys:
+            keys[k] = len(keys) + 1
+            pts[keys[k]] = (x, y)
+        return keys[k]
+    quads = []
+    core = [[key(c * i / n, c * j / n) for j in range(n + 1)] for i in range(n + 1)]
+    for i in range(n):
+        for j in range(n):
+            quads.append((core[i][j], core[i + 1][j], core[i + 1][j + 1], core[i][j + 1]))
+    # block A: core edge x = c (y = c j/n) to the arc at theta = pi/4 j/n
+    # block B: core edge y = c (x = c j/n) to the arc at theta = pi/2 - pi/4 j/n
+    for side in (0, 1):
+        grid = []
+        for j in range(n + 1):
+            th = math.pi / 4 * j / n
+            if side == 0:
+                inner, outer = (c, c * j / n), (R * math.cos(th), R * math.sin(th))
+            else:
+                inner, outer = (c * j / n, c), (R * math.sin(th), R * math.cos(th))
+            grid.append([key(inner[0] + (outer[0] - inner[0]) * r / m, inner[1] + (outer[1] - inner[1]) * r / m)
+                         for r in range(m + 1)])
+        for j in range(n):
+            for r in range(m):
+                q = (grid[j][r], grid[j][r + 1], grid[j + 1][r + 1], grid[j + 1][r])
+                quads.append(q if side == 0 else (q[0], q[3], q[2], q[1]))
+    return pts, quads
+
+
+def taylor_bar(outdir, name, n, m, nz):
+    """Taylor bar (copper, L0 32.4 mm, D0 6.4 mm, 227 m/s onto a frictionless
+    rigid wall, 80 us), quarter model on symmetry planes. Reference: final
+    length 21.45 mm, foot radius 7.2 mm (issue 3)."""
+    R, L = 3.2e-3, 32.4e-3
+    pts, quads = quarter_disk(R, n, m)
+    np_ = len(pts)
+    nodes = {}
+    for k in range(nz + 1):
+        for pid, (x, y) in pts.items():
+            nodes[pid + k * np_] = (x, y, L * k / nz)
+    hexes = []
+    e = 1
+    for k in range(nz):
+        for q in quads:
+            hexes.append((e, *[v + k * np_ for v in q], *[v + (k + 1) * np_ for v in q]))
+            e += 1
+    lines = common(f"Taylor bar, copper at 227 m/s, quarter model {len(hexes)} hexahedra", 8.0e-5, 1.0e-6)
+    top = [i for i, x in nodes.items() if abs(x[0]) < 1e-12 and abs(x[1]) < 1e-12 and abs(x[2] - L) < 1e-12]
+    rim = [i for i, x in sorted(nodes.items()) if abs(x[2]) < 1e-12 and abs(math.hypot(x[0], x[1]) - R) < 1e-9]
+    hist = top + rim
+    lines += ["*DATABASE_NODOUT", f10(1.0e-6), "*DATABASE_HISTORY_NODE"]
+    lines += ["".join(f"{h:10d}" for h in hist[i:i + 8]) for i in range(0, len(hist), 8)]
+    lines += ["*MAT_PLASTIC_KINEMATIC", f10(1, 8930.0, 117e9, 0.35, 400e6, 100e6, 1.0)]
+    lines += part(1, 1, "copper bar")
+    lines += node_set(1, nodes_where(nodes, lambda x, y, z: abs(x) < 1e-12))
+    lines += node_set(2, nodes_where(nodes, lambda x, y, z: abs(y) < 1e-12))
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 0, 0), f10(2, 0, 0, 1, 0)]
+    lines += ["*RIGIDWALL_PLANAR", f10(0), f10(0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0)]
+    lines += ["*INITIAL_VELOCITY", f10(0), f10(0.0, 0.0, -227.0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", name + ".k"), lines)
+
+
 def demo_cantilever(outdir):
     """A clamped steel cantilever of hexahedra set swinging by an initial
     velocity that grows along its length."""
@@ -290,6 +360,8 @@ def main():
     bar_wall(args.outdir)
     gravity_drop(args.outdir)
     tension_decks(args.outdir)
+    taylor_bar(args.outdir, "taylor_bar_coarse", 3, 3, 36)
+    taylor_bar(args.outdir, "taylor_bar_fine", 5, 5, 60)
     demo_cantilever(args.outdir)
 
 
