@@ -81,6 +81,10 @@ demo: deps
 	./bin/xdyna i=input_decks/demo_cantilever.k outdir=out/demo
 	@echo "demo output (log d3hsp, glstat, matsum, nodout, thist.h5) is in out/demo/"
 
+verify: deps
+	@$(MAKE) --no-print-directory all
+	@$(PY) tools/verify.py
+
 bench: deps
 	@$(MAKE) --no-print-directory all
 	@sh bench/run_bench.sh
