@@ -309,6 +309,50 @@ def taylor_bar(outdir, name, n, m, nz):
     write(os.path.join(outdir, "verify", name + ".k"), lines)
 
 
+def rigid_spin(outdir):
+    """A free *MAT_RIGID block spinning about a non-principal axis while it
+    translates: no torque, so its energy and angular momentum are constant."""
+    nodes, hexes = block_mesh(4, 2, 1, 0.2, 0.1, 0.05)
+    lines = common("rigid block, torque-free spin about a non-principal axis", 1.0, 1.0e-3)
+    lines[lines.index("*CONTROL_TIMESTEP") + 1] = f10(2.0e-5, 0.9)
+    lines += ["*MAT_RIGID", f10(1, 7850.0, 210e9, 0.3)]
+    lines += part(1, 1, "rigid block")
+    lines += ["*INITIAL_VELOCITY_GENERATION", f10(1, 2, 10.0, 1.0, 0.0, 0.0, 0, 0),
+              f10(0.1, 0.05, 0.025, 1.0, 2.0, 3.0, 0, 0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", "rigid_spin.k"), lines)
+
+
+def rod_with_rigid_mass(outdir):
+    """An elastic rod (nu = 0) clamped at x = 0 carrying a rigid mass at its
+    free end, set moving along the rod: it vibrates at omega = beta c / L with
+    beta tan(beta) = m_rod / M (rod with an end mass)."""
+    L, a, n = 1.0, 0.01, 20
+    nodes, hexes = block_mesh(n, 1, 1, L, a, a)
+    tip = block_mesh(1, 1, 1, 0.1, a, a, origin=(L, 0.0, 0.0), nid0=10001, eid0=1001)
+    # the mass block shares the rod's end face
+    merge = {}
+    for tid, (x, y, z) in tip[0].items():
+        for nid, (x2, y2, z2) in nodes.items():
+            if abs(x - x2) < 1e-12 and abs(y - y2) < 1e-12 and abs(z - z2) < 1e-12:
+                merge[tid] = nid
+    tip_nodes = {k: v for k, v in tip[0].items() if k not in merge}
+    tip_hex = [(h[0], *[merge.get(v, v) for v in h[1:]]) for h in tip[1]]
+    lines = common("elastic rod with a rigid end mass (vibration frequency)", 1.0e-2, 1.0e-5)
+    probe = [k for k, x in tip_nodes.items()][0]
+    lines += ["*DATABASE_NODOUT", f10(1.0e-5), "*DATABASE_HISTORY_NODE", f10(probe)]
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.0)]
+    lines += ["*MAT_RIGID", f10(2, 1.0e6, 200e9, 0.3), f10(1.0, 0, 6)]
+    lines += part(1, 1, "rod") + part(2, 2, "rigid end mass")
+    lines += node_set(1, nodes_where(nodes, lambda x, y, z: x == 0.0))
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1, 0, 0, 0)]
+    lines += ["*INITIAL_VELOCITY_GENERATION", f10(2, 2, 0.0, 1.0, 0.0, 0.0, 0, 0), f10(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, 0)]
+    all_nodes = dict(nodes)
+    all_nodes.update(tip_nodes)
+    lines += node_cards(all_nodes) + solid_cards(hexes, 1) + solid_cards(tip_hex, 2)
+    write(os.path.join(outdir, "verify", "rod_rigid_mass.k"), lines)
+
+
 def demo_cantilever(outdir):
     """A clamped steel cantilever of hexahedra set swinging by an initial
     velocity that grows along its length."""
@@ -362,6 +406,8 @@ def main():
     tension_decks(args.outdir)
     taylor_bar(args.outdir, "taylor_bar_coarse", 3, 3, 36)
     taylor_bar(args.outdir, "taylor_bar_fine", 5, 5, 60)
+    rigid_spin(args.outdir)
+    rod_with_rigid_mass(args.outdir)
     demo_cantilever(args.outdir)
 
 

@@ -27,6 +27,8 @@ PROBLEMS = [
      rt.test_plasticity),
     ("Taylor bar (copper, 227 m/s)", "final length 21.45 mm, foot radius 7.2 mm (issue 3's reference)",
      rt.test_taylor_bar),
+    ("Rigid bodies", "closed-form box inertia; torque-free conservation; rod with end mass",
+     rt.test_rigid_bodies),
     ("Thread count", "deterministic assembly: bitwise equal histories", rt.test_threads),
 ]
 

@@ -7,7 +7,7 @@ module xd_elements_solid_groups
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc, alloc_dp
     use xd_core_sorting, only: sort_index
-    use xd_model, only: model_t, material_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear
+    use xd_model, only: model_t, material_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid
     use xd_elements_hex8, only: hex_b_matrix, hex_velocity_gradient, hex_stress_forces, &
                                 hex_hourglass_modes, hex_hourglass_forces, hex_char_length
     use xd_materials_elastic, only: elastic_update, jaumann_rotate
@@ -68,12 +68,23 @@ contains
     subroutine build_solids(model, s)
         type(model_t), intent(in) :: model
         type(solids_t), intent(out) :: s
-        integer, allocatable :: perm(:)
+        integer, allocatable :: perm(:), key(:)
         integer :: e, k, g, first, p, ihq
         real(wp) :: e_mod, nu
-        s%n = model%nhex
-        if (s%n == 0) return
-        call sort_index(model%hex_part(1:s%n), perm)
+        ! rigid parts are not deformable elements: they go last and are cut off
+        allocate (key(model%nhex))
+        do e = 1, model%nhex
+            key(e) = model%hex_part(e)
+            if (model%mat(model%part(key(e))%mat_ix)%mtype == mat_rigid) key(e) = huge(1)
+        end do
+        s%n = count(key /= huge(1))
+        call sort_index(key, perm)
+        if (s%n == 0) then
+            allocate (s%group(0), s%conn(8, 0), s%part(0), s%eid(0), s%model_ix(0), s%vol0(0), s%vol(0), &
+                      s%gdt(0), s%gcrit(0), s%gbad(0), s%fslot(3, 0), s%eint(0), s%ehg(0), s%pend_int(0), &
+                      s%pend_hg(0), s%sig(0), s%qhg(0), s%qbv(0), s%epsp(0), s%alpha(0), s%group_of(0))
+            return
+        end if
         call alloc(s%conn, 8, s%n, 'solid connectivity')
         call alloc(s%eid, s%n, 'solid ids')
         call alloc(s%part, s%n, 'solid parts')

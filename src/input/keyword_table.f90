@@ -48,6 +48,8 @@ module xd_input_keyword_table
         entry_t('MAT_003', fam_material, 'MAT_PLASTIC_KINEMATIC', .false.), &
         entry_t('MAT_PIECEWISE_LINEAR_PLASTICITY', fam_material, '', .false.), &
         entry_t('MAT_024', fam_material, 'MAT_PIECEWISE_LINEAR_PLASTICITY', .false.), &
+        entry_t('MAT_RIGID', fam_material, '', .false.), &
+        entry_t('MAT_020', fam_material, 'MAT_RIGID', .false.), &
         entry_t('HOURGLASS', fam_material, '', .false.), &
         entry_t('SET_NODE_LIST', fam_set, '', .false.), &
         entry_t('SET_NODE', fam_set, 'SET_NODE_LIST', .false.), &
@@ -107,8 +109,6 @@ module xd_input_keyword_table
         entry_t('ELEMENT_SHELL', fam_planned, '', .false.), &
         entry_t('ELEMENT_SHELL_THICKNESS', fam_planned, '', .false.), &
         entry_t('SECTION_SHELL', fam_planned, '', .false.), &
-        entry_t('MAT_RIGID', fam_planned, '', .false.), &
-        entry_t('MAT_020', fam_planned, 'MAT_RIGID', .false.), &
         entry_t('SET_SEGMENT', fam_planned, '', .false.), &
         entry_t('SET_NODE_GENERAL', fam_planned, '', .false.), &
         entry_t('SET_PART_GENERAL', fam_planned, '', .false.), &

@@ -9,7 +9,7 @@ module xd_input_model_check
     use xd_input_context, only: read_ctx_t, add_warning
     use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
                                 hex_regular, hex_wedge, hex_tet, hex_bad
-    use xd_model, only: model_t, find_set, set_node, set_part, iv_node_set, iv_node, iv_generation
+    use xd_model, only: model_t, find_set, mat_rigid, set_node, set_part, iv_node_set, iv_node, iv_generation
     implicit none
     private
     public :: check_model, id_maps_t
@@ -411,6 +411,12 @@ contains
         end if
         if (model%nhex == 0) then
             call make_error(error, model%deck_path//': the deck defines no elements')
+            return
+        end if
+        if (all(model%mat(model%part(model%hex_part(1:model%nhex))%mat_ix)%mtype == mat_rigid) .and. &
+            .not. model%ctl%dtinit > 0.0_wp) then
+            call make_error(error, model%deck_path//': *CONTROL_TIMESTEP field DTINIT: a model of rigid bodies '// &
+                            'alone has no element time step; give DTINIT')
             return
         end if
     end subroutine check_controls

@@ -5,7 +5,8 @@ module xd_input_read_materials
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
-    use xd_model, only: model_t, material_t, hourglass_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear
+    use xd_model, only: model_t, material_t, hourglass_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, &
+                        mat_rigid
     implicit none
     private
     public :: read_material
@@ -24,10 +25,57 @@ contains
             call read_mat_plastic_kinematic(ctx, kw, model, error)
         case ('MAT_PIECEWISE_LINEAR_PLASTICITY')
             call read_mat_piecewise(ctx, kw, model, error)
+        case ('MAT_RIGID')
+            call read_mat_rigid(ctx, kw, model, error)
         case ('HOURGLASS')
             call read_hourglass(ctx, kw, model, error)
         end select
     end subroutine read_material
+
+    !> Card 1 MID RO E PR N COUPLE M ALIAS; card 2 CMO CON1 CON2; card 3 LCO A1..V3.
+    !> E and PR give the contact stiffness; CMO 1: CON1, CON2 translation and
+    !> rotation codes 0-7 in the global system.
+    subroutine read_mat_rigid(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(material_t) :: m
+        real(wp) :: cmo
+        integer :: ic
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        call get_card(ctx, kw, ic, 'MID RO E PR N COUPLE M ALIAS', 1, card, error)
+        if (allocated(error)) return
+        call read_elastic_constants(card, m, error); if (allocated(error)) return
+        m%src = kw%card_line(ic)
+        if (ic + 1 <= kw%ncard) then
+            call get_card(ctx, kw, ic + 1, 'CMO CON1 CON2', 2, card, error)
+            if (allocated(error)) return
+            call get_real(card, 1, cmo, 0.0_wp, error); if (allocated(error)) return
+            call get_int(card, 2, m%con1, 0, error); if (allocated(error)) return
+            call get_int(card, 3, m%con2, 0, error); if (allocated(error)) return
+            m%cmo = nint(cmo)
+            if (m%cmo /= 0 .and. m%cmo /= 1) then
+                call card_error(card, 1, 'only CMO 0 (free) or 1 (global constraints) is implemented', error)
+                return
+            end if
+            if (m%cmo == 1 .and. (m%con1 < 0 .or. m%con1 > 7)) then
+                call card_error(card, 2, 'translation code must be 0-7', error); return
+            end if
+            if (m%cmo == 1 .and. (m%con2 < 0 .or. m%con2 > 7)) then
+                call card_error(card, 3, 'rotation code must be 0-7', error); return
+            end if
+            if (m%cmo == 0) then
+                m%con1 = 0
+                m%con2 = 0
+            end if
+        end if
+        m%mtype = mat_rigid
+        m%keyword = 'MAT_RIGID'
+        call push_material(model, m)
+    end subroutine read_mat_rigid
 
     !> MID RO E PR, common to the isotropic materials; checks them.
     subroutine read_elastic_constants(card, m, error)

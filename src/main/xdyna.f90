@@ -21,6 +21,7 @@ program xdyna
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
     use xd_contact_rigidwall, only: walls_t, build_walls
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
+    use xd_rigid_bodies, only: rigid_t
     use xd_output_histories, only: histories_t, open_histories, close_histories
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     !$ use omp_lib, only: omp_set_num_threads
@@ -37,6 +38,7 @@ program xdyna
     type(assembly_t) :: asm
     type(walls_t) :: walls
     type(prescribed_nodes_t) :: pn
+    type(rigid_t) :: rg
     type(histories_t) :: hist
     type(log_t) :: lg
     type(timers_t) :: tm
@@ -108,16 +110,16 @@ program xdyna
     call tm%stop(ph_input)
 
     call tm%start(ph_init)
-    call setup_run(model, maps%hex, st, solids, asm, nfree)
+    call setup_run(model, maps%hex, st, solids, asm, rg, nfree)
     call build_walls(model, walls)
     call build_prescribed(model, pn)
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')
     if (check_only) then
-        write (output_unit, '(a)') model_summary(model, solids)
+        write (output_unit, '(a)') model_summary(model, solids, rg%n)
         write (output_unit, '(a)') ' xdyna --check: input is valid; nothing was run'
         call finish(exit_normal)
     end if
-    call log_line(lg, model_summary(model, solids))
+    call log_line(lg, model_summary(model, solids, rg%n))
     opts%endtim = real(model%ctl%endtim, dp)
     if (endtim_cli > 0.0_dp) opts%endtim = endtim_cli
     if (opts%endtim <= 0.0_dp) opts%endtim = huge(1.0_dp)
@@ -128,7 +130,7 @@ program xdyna
     end if
     call tm%stop(ph_init)
 
-    call run_time_loop(model, st, solids, asm, walls, pn, hist, lg, tm, opts, res)
+    call run_time_loop(model, st, solids, asm, walls, pn, rg, hist, lg, tm, opts, res)
     call close_histories(hist)
     call timing_table(lg, tm, res%ncycle, solids%n, tm%elapsed())
     if (res%status /= exit_normal) then

@@ -40,6 +40,7 @@ module xd_model
         real(wp) :: sigy = 0, etan = 0, beta = 1
         real(wp) :: c = 0, p = 0              !< Cowper-Symonds (003: SRC, SRP)
         integer :: lcss = 0, lcss_ix = 0      !< 024: yield curve
+        integer :: cmo = 0, con1 = 0, con2 = 0   !< 020: rigid body constraints (CMO 1: global codes)
         integer :: ntab = 0                   !< 024: EPS/ES points given
         real(wp) :: eps(8) = 0, es(8) = 0
         integer :: src = 0

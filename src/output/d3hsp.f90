@@ -46,9 +46,10 @@ contains
     end subroutine log_close
 
     !> Model summary as text (for d3hsp and for --check on stdout).
-    function model_summary(model, solids) result(s)
+    function model_summary(model, solids, nrigid) result(s)
         type(model_t), intent(in) :: model
         type(solids_t), intent(in) :: solids
+        integer, intent(in) :: nrigid
         character(len=:), allocatable :: s
         character(len=160) :: buf
         character(len=1), parameter :: nl = new_line('a')
@@ -68,14 +69,18 @@ contains
         s = s//trim(buf)//nl
         s = s//nl//'   part      material   type          elements  heading'//nl
         do p = 1, model%npart
-            ne = count(solids%part == p)
+            ne = count(model%hex_part(1:model%nhex) == p)
             m = model%part(p)%mat_ix
             write (buf, '(i7,i14,3x,a12,i10,2x,a)') model%part(p)%id, model%mat(m)%id, &
                 model%mat(m)%keyword(5:16), ne, trim(model%part(p)%heading)
             s = s//trim(buf)//nl
         end do
         s = s//nl//' subsystems in use (a deck pays only for these)'//nl
-        s = s//'   solid elements ............ on  (one-point hexahedron, Flanagan-Belytschko)'//nl
+        if (solids%n > 0) then
+            s = s//'   solid elements ............ on  (one-point hexahedron, Flanagan-Belytschko)'//nl
+        else
+            s = s//'   solid elements ............ off (only rigid parts)'//nl
+        end if
         if (solids%ngroup > 0) then
             if (any(solids%group%hg_form == hg_stiffness)) then
                 s = s//'   hourglass control ......... on  (stiffness form in some parts)'//nl
@@ -86,7 +91,11 @@ contains
         s = s//'   bulk viscosity ............ on  (Q1 '//trim(fmt(model%ctl%q1))//', Q2 '// &
             trim(fmt(model%ctl%q2))//')'//nl
         s = s//'   shell elements ............ off (none in the deck)'//nl
-        s = s//'   rigid bodies .............. off (none in the deck)'//nl
+        if (nrigid > 0) then
+            s = s//'   rigid bodies .............. on  ('//itoa(nrigid)//' *MAT_RIGID part(s))'//nl
+        else
+            s = s//'   rigid bodies .............. off (none in the deck)'//nl
+        end if
         s = s//'   contact ................... off (no contact keyword)'//nl
         if (model%nwall > 0) then
             s = s//'   rigid walls ............... on  ('//itoa(model%nwall)//' planar stonewall(s))'//nl

@@ -6,6 +6,7 @@ module xd_solver_energies
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
     use xd_contact_rigidwall, only: walls_t
+    use xd_rigid_bodies, only: rigid_t, rigid_energy
     implicit none
     private
     public :: energies_t, compute_energies
@@ -24,16 +25,17 @@ contains
     !> form that central differences conserve exactly with the trapezoidal
     !> internal work (it differs from 1/2 m v(n)^2 by O(dt^2)); momentum and
     !> velocities use v(n) = (v(n-1/2) + v(n+1/2))/2.
-    subroutine compute_energies(model, st, solids, walls, vminus, vplus, dt_avg, en)
+    subroutine compute_energies(model, st, solids, walls, rg, vminus, vplus, dt_avg, en)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
         type(walls_t), intent(in) :: walls
+        type(rigid_t), intent(in) :: rg
         real(wp), intent(in) :: vminus(:, :), vplus(:, :)
         real(dp), intent(in) :: dt_avg       !< step of the velocity update at this time (0 at t = 0)
         type(energies_t), intent(inout) :: en
         integer :: e, k, p, nd
-        real(dp) :: mshare, mom(3)
+        real(dp) :: mshare, mom(3), ke_b, mom_b(3)
         if (.not. allocated(en%part_ie)) then
             allocate (en%part_ie(model%npart), en%part_ke(model%npart), en%part_hg(model%npart), &
                       en%part_mass(model%npart), en%part_mom(3, model%npart))
@@ -57,8 +59,21 @@ contains
         en%ke = 0
         mom = 0
         do nd = 1, st%nnode
+            if (rg%n > 0) then
+                if (rg%on(nd)) cycle
+            end if
             en%ke = en%ke + 0.5_dp*st%mass(nd)*sum(real(vminus(:, nd), dp)*vplus(:, nd))
             mom = mom + 0.5_dp*st%mass(nd)*real(vminus(:, nd) + vplus(:, nd), dp)
+        end do
+        ! rigid bodies: their own inertia, not the lumped nodal masses
+        do e = 1, rg%n
+            call rigid_energy(rg%b(e), ke_b, mom_b)
+            p = rg%b(e)%part
+            en%part_ke(p) = en%part_ke(p) + ke_b
+            en%part_mom(:, p) = en%part_mom(:, p) + mom_b
+            en%part_mass(p) = en%part_mass(p) + rg%b(e)%mass
+            en%ke = en%ke + ke_b
+            mom = mom + mom_b
         end do
         en%mass = sum(real(st%mass, dp))
         en%vel = 0

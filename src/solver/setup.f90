@@ -10,18 +10,20 @@ module xd_solver_setup
     use xd_elements_solid_groups, only: solids_t, build_solids
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, build_assembly
+    use xd_rigid_bodies, only: rigid_t, rigid_lumped_mass, build_rigid
     implicit none
     private
     public :: setup_run
 
 contains
 
-    subroutine setup_run(model, hex_map, st, solids, asm, nfree_nodes)
+    subroutine setup_run(model, hex_map, st, solids, asm, rg, nfree_nodes)
         type(model_t), intent(in) :: model
         type(id_map_t), intent(in) :: hex_map
         type(state_t), intent(out) :: st
         type(solids_t), intent(out) :: solids
         type(assembly_t), intent(out) :: asm
+        type(rigid_t), intent(out) :: rg
         integer, intent(out) :: nfree_nodes
         st%nnode = model%nnode
         call alloc(st%x, 3, st%nnode, 'coordinates')
@@ -36,10 +38,12 @@ contains
         call build_solids(model, solids)
         call build_assembly(st%nnode, solids%conn, asm)
         call initial_volumes_and_mass(solids, st)
+        call rigid_lumped_mass(model, st)
         nfree_nodes = count(st%mass <= 0.0_wp)
         call constraint_masks(model, st)
         call initial_velocities(model, solids, st)
         st%v = st%v*st%free
+        call build_rigid(model, st, rg)
         call initial_stresses(model, hex_map, solids, st)
     end subroutine setup_run
 
@@ -176,8 +180,8 @@ contains
         subroutine mark_part(p)
             integer, intent(in) :: p
             integer :: e
-            do e = 1, solids%n
-                if (solids%part(e) == p) mark(solids%conn(:, e)) = .true.
+            do e = 1, model%nhex
+                if (model%hex_part(e) == p) mark(model%hex_conn(:, e)) = .true.
             end do
         end subroutine mark_part
     end subroutine initial_velocities
@@ -198,10 +202,13 @@ contains
         integer, allocatable :: where(:)
         real(wp) :: sg(6), em, nu
         if (model%nistress == 0) return
-        allocate (where(s%n))
+        allocate (where(model%nhex))
+        where = 0
         where(s%model_ix) = [(e, e=1, s%n)]
         do i = 1, model%nistress
-            e = where(hex_map%find(model%istress(i)%eid))
+            e = hex_map%find(model%istress(i)%eid)
+            if (model%mat(model%part(model%hex_part(e))%mat_ix)%mtype /= mat_elastic) cycle
+            e = where(e)
             sg = model%istress(i)%sig
             call s%set_stress(e, sg)
             m = model%part(s%part(e))%mat_ix

@@ -6,7 +6,7 @@ module xd_solver_time_loop
     use xd_kinds, only: wp, dp
     use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run
-    use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact
+    use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, solid_forces
     use xd_solver_state, only: state_t
@@ -17,6 +17,7 @@ module xd_solver_time_loop
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
+    use xd_rigid_bodies, only: rigid_t, rigid_step
     implicit none
     private
     public :: run_options_t, run_result_t, run_time_loop
@@ -37,13 +38,14 @@ module xd_solver_time_loop
 
 contains
 
-    subroutine run_time_loop(model, st, solids, asm, walls, pn, hist, lg, tm, opts, res)
+    subroutine run_time_loop(model, st, solids, asm, walls, pn, rg, hist, lg, tm, opts, res)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(assembly_t), intent(in) :: asm
         type(walls_t), intent(inout) :: walls
         type(prescribed_nodes_t), intent(in) :: pn
+        type(rigid_t), intent(inout) :: rg
         type(histories_t), intent(inout) :: hist
         type(log_t), intent(in) :: lg
         type(timers_t), intent(inout) :: tm
@@ -69,6 +71,8 @@ contains
         do
             call element_pass(st%dt_old, dt_avg_prev, dtc)
             if (res%status /= exit_normal) exit
+            ! a model of rigid bodies alone has no element step: DTINIT sets it
+            if (solids%ngroup == 0) dtc = model%ctl%dtinit/model%ctl%tssfac
             st%dt = real(model%ctl%tssfac, wp)*dtc
             if (st%cycle == 0) then
                 if (model%ctl%dtinit > 0.0_wp) st%dt = min(st%dt, model%ctl%dtinit)
@@ -111,6 +115,11 @@ contains
                 call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm)
                 st%ext_work = st%ext_work + wpm
             end if
+            if (rg%n > 0) then
+                call tm%start(ph_rigid)
+                call rigid_step(rg, st, st%dt, real(dt_avg, wp))
+                call tm%stop(ph_rigid)
+            end if
 
             if (energy_now) then
                 call tm%start(ph_output)
@@ -119,12 +128,12 @@ contains
                     ! (the start v(1/2) = v(0) + a(0) dt/2 adds an O(dt^2) offset
                     ! when a(0) /= 0)
                     vn = vminus
-                    call compute_energies(model, st, solids, walls, vminus, vminus, 0.0_dp, en)
+                    call compute_energies(model, st, solids, walls, rg, vminus, vminus, 0.0_dp, en)
                     st%e_initial = en%total
                     en%ratio = 1.0_dp
                 else
                     vn = 0.5_wp*(vminus + st%v)
-                    call compute_energies(model, st, solids, walls, vminus, st%v, dt_avg, en)
+                    call compute_energies(model, st, solids, walls, rg, vminus, st%v, dt_avg, en)
                 end if
                 call tm%stop(ph_output)
                 call check_energy()

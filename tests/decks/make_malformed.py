@@ -131,6 +131,8 @@ def main():
     mk("wall_without_normal", lambda L: (L.insert(3, "*RIGIDWALL_PLANAR"), L.insert(4, "         0"),
                                          L.insert(5, "       1.0       1.0       1.0       1.0       1.0       1.0")) and 6,
        "wall_without_normal.k:{line}: *RIGIDWALL_PLANAR card 2 field XH: the head point equals the tail")
+    mk("rigid_without_dtinit", lambda L: replace(L, "*MAT_ELASTIC", "*MAT_RIGID") and 0,
+       "*CONTROL_TIMESTEP field DTINIT: a model of rigid bodies alone has no element time step")
     print(f"wrote {len(os.listdir(HERE))} decks to {HERE}")
 
 

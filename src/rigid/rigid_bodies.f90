@@ -1,0 +1,316 @@
+!> Rigid bodies: the parts of *MAT_RIGID. Mass, centre and inertia come from
+!> their elements (3x3x3 Gauss points, exact for trilinear hexahedra), the
+!> principal axes from LAPACK. Each cycle the nodal forces on a body give its
+!> force and torque; the centre moves by central differences and the
+!> orientation by the midpoint rule on the spatial angular momentum with
+!> Cayley rotations (orthogonal to rounding; torque-free motion keeps its
+!> angular momentum exactly and its energy to O((omega dt)^2)). The body's
+!> nodes follow it: their positions are placed on the body and their
+!> velocities are the chords.
+module xd_rigid_bodies
+    use xd_kinds, only: wp, dp
+    use xd_model, only: model_t, mat_rigid
+    use xd_solver_state, only: state_t
+    implicit none
+    private
+    public :: rigid_t, rigid_body_t, rigid_lumped_mass, build_rigid, rigid_step, rigid_energy, is_rigid_part
+
+    type :: rigid_body_t
+        integer :: part = 0
+        integer, allocatable :: node(:)
+        real(dp), allocatable :: r(:, :)    !< (3, nodes) node positions in the body frame, from the centre
+        real(dp) :: mass = 0
+        real(dp) :: xc(3) = 0, vc(3) = 0, vc_old(3) = 0
+        real(dp) :: ib(3) = 0               !< principal moments of inertia
+        real(dp) :: q(3, 3) = 0             !< orientation: columns are the body axes in global
+        real(dp) :: pi(3) = 0               !< spatial angular momentum at n+1/2
+        real(dp) :: omega(3) = 0, omega_old(3) = 0
+        logical :: fix_t(3) = .false., fix_r(3) = .false.
+    end type rigid_body_t
+
+    type :: rigid_t
+        integer :: n = 0
+        type(rigid_body_t), allocatable :: b(:)
+        logical, allocatable :: on(:)       !< node belongs to a rigid body
+    end type rigid_t
+
+contains
+
+    pure logical function is_rigid_part(model, p)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: p
+        is_rigid_part = model%mat(model%part(p)%mat_ix)%mtype == mat_rigid
+    end function is_rigid_part
+
+    !> Lumped nodal masses of the rigid elements (for body loads and so that
+    !> rigid nodes are not taken for massless ones).
+    subroutine rigid_lumped_mass(model, st)
+        type(model_t), intent(in) :: model
+        type(state_t), intent(inout) :: st
+        integer :: e, p
+        real(dp) :: m, xi(3), x(8, 3)
+        do e = 1, model%nhex
+            p = model%hex_part(e)
+            if (.not. is_rigid_part(model, p)) cycle
+            x = transpose(real(model%x0(:, model%hex_conn(:, e)), dp))
+            call hex_mass_moments(x, real(model%mat(model%part(p)%mat_ix)%ro, dp), m, xi)
+            st%mass(model%hex_conn(:, e)) = st%mass(model%hex_conn(:, e)) + real(m/8.0_dp, wp)
+        end do
+    end subroutine rigid_lumped_mass
+
+    !> Mass (and first moment) of one hexahedron by 3x3x3 Gauss; with j2 the
+    !> second moments sum rho x (x) x.
+    subroutine hex_mass_moments(x, rho, m, s1, j2)
+        real(dp), intent(in) :: x(8, 3), rho
+        real(dp), intent(out) :: m, s1(3)
+        real(dp), intent(out), optional :: j2(3, 3)
+        real(dp), parameter :: gp(3) = [-sqrt(0.6_dp), 0.0_dp, sqrt(0.6_dp)], gw(3) = [5.0_dp, 8.0_dp, 5.0_dp]/9.0_dp
+        real(dp), parameter :: xn(8, 3) = reshape([-1, 1, 1, -1, -1, 1, 1, -1, -1, -1, 1, 1, -1, -1, 1, 1, &
+                                                   -1, -1, -1, -1, 1, 1, 1, 1], [8, 3])*1.0_dp
+        real(dp) :: n(8), dn(8, 3), jac(3, 3), detj, xg(3), w
+        integer :: a, b, c, k
+        m = 0
+        s1 = 0
+        if (present(j2)) j2 = 0
+        do a = 1, 3
+            do b = 1, 3
+                do c = 1, 3
+                    do k = 1, 8
+                        n(k) = (1 + xn(k, 1)*gp(a))*(1 + xn(k, 2)*gp(b))*(1 + xn(k, 3)*gp(c))/8
+                        dn(k, 1) = xn(k, 1)*(1 + xn(k, 2)*gp(b))*(1 + xn(k, 3)*gp(c))/8
+                        dn(k, 2) = xn(k, 2)*(1 + xn(k, 1)*gp(a))*(1 + xn(k, 3)*gp(c))/8
+                        dn(k, 3) = xn(k, 3)*(1 + xn(k, 1)*gp(a))*(1 + xn(k, 2)*gp(b))/8
+                    end do
+                    jac = matmul(transpose(dn), x)
+                    detj = jac(1, 1)*(jac(2, 2)*jac(3, 3) - jac(2, 3)*jac(3, 2)) &
+                           - jac(1, 2)*(jac(2, 1)*jac(3, 3) - jac(2, 3)*jac(3, 1)) &
+                           + jac(1, 3)*(jac(2, 1)*jac(3, 2) - jac(2, 2)*jac(3, 1))
+                    w = rho*gw(a)*gw(b)*gw(c)*detj
+                    xg = matmul(n, x)
+                    m = m + w
+                    s1 = s1 + w*xg
+                    if (present(j2)) j2 = j2 + w*spread(xg, 2, 3)*spread(xg, 1, 3)
+                end do
+            end do
+        end do
+    end subroutine hex_mass_moments
+
+    !> One rigid body per rigid part: mass properties, principal axes, node
+    !> lists, constraints, and the initial motion fitted to the nodes' initial
+    !> velocities (exact for a rigid velocity field).
+    subroutine build_rigid(model, st, rg)
+        type(model_t), intent(in) :: model
+        type(state_t), intent(inout) :: st
+        type(rigid_t), intent(out) :: rg
+        integer :: p, e, k, nb, info, i
+        real(dp) :: m, s1(3), j2(3, 3), x(8, 3), jt(3, 3), a(3, 3), w(3), work(64), il(3, 3), lm(3), rr(3)
+        logical, allocatable :: mark(:)
+        allocate (rg%on(st%nnode), mark(st%nnode))
+        rg%on = .false.
+        nb = count([(is_rigid_part(model, p), p=1, model%npart)])
+        rg%n = nb
+        allocate (rg%b(nb))
+        nb = 0
+        do p = 1, model%npart
+            if (.not. is_rigid_part(model, p)) cycle
+            nb = nb + 1
+            associate (b => rg%b(nb), mat => model%mat(model%part(p)%mat_ix))
+                b%part = p
+                mark = .false.
+                jt = 0
+                do e = 1, model%nhex
+                    if (model%hex_part(e) /= p) cycle
+                    x = transpose(real(model%x0(:, model%hex_conn(:, e)), dp))
+                    call hex_mass_moments(x, real(mat%ro, dp), m, s1, j2)
+                    b%mass = b%mass + m
+                    b%xc = b%xc + s1
+                    jt = jt + j2
+                    mark(model%hex_conn(:, e)) = .true.
+                end do
+                b%xc = b%xc/b%mass
+                ! inertia about the centre: trace(J) I - J, J the central second moment
+                jt = jt - b%mass*spread(b%xc, 2, 3)*spread(b%xc, 1, 3)
+                a = -jt
+                do k = 1, 3
+                    a(k, k) = a(k, k) + jt(1, 1) + jt(2, 2) + jt(3, 3)
+                end do
+                call dsyev('V', 'U', 3, a, 3, w, work, size(work), info)
+                b%ib = w
+                b%q = a
+                b%node = pack([(k, k=1, st%nnode)], mark)
+                rg%on = rg%on .or. mark
+                allocate (b%r(3, size(b%node)))
+                do k = 1, size(b%node)
+                    b%r(:, k) = matmul(transpose(b%q), real(st%x0(:, b%node(k)), dp) - b%xc)
+                end do
+                b%fix_t = code_dirs(mat%con1)
+                b%fix_r = code_dirs(mat%con2)
+                ! initial motion: momentum and angular momentum of the lumped
+                ! nodal velocities, turned into vc and omega
+                b%vc = 0
+                lm = 0
+                il = 0
+                do k = 1, size(b%node)
+                    i = b%node(k)
+                    rr = real(st%x(:, i), dp) - b%xc
+                    b%vc = b%vc + st%mass(i)*real(st%v(:, i), dp)
+                    lm = lm + st%mass(i)*cross(rr, real(st%v(:, i), dp))
+                    il = il + st%mass(i)*(dot_product(rr, rr)*identity() - spread(rr, 2, 3)*spread(rr, 1, 3))
+                end do
+                b%vc = b%vc/sum(real(st%mass(b%node), dp))
+                b%omega = solve3(il, lm)
+                where (b%fix_t) b%vc = 0
+                where (b%fix_r) b%omega = 0
+                b%pi = matmul(inertia(b, b%q), b%omega)
+                b%vc_old = b%vc
+                b%omega_old = b%omega
+                do k = 1, size(b%node)
+                    i = b%node(k)
+                    st%v(:, i) = real(b%vc + cross(b%omega, real(st%x(:, i), dp) - b%xc), wp)
+                end do
+            end associate
+        end do
+    end subroutine build_rigid
+
+    !> After the velocity update: force and torque from the nodal forces f(n)
+    !> at x(n), new velocities, new placement; the nodes get chord velocities
+    !> that bring them to their places on the body at t(n+1).
+    subroutine rigid_step(rg, st, dt, dt_avg)
+        type(rigid_t), intent(inout) :: rg
+        type(state_t), intent(inout) :: st
+        real(wp), intent(in) :: dt, dt_avg
+        integer :: ib, k, i, it
+        real(dp) :: f(3), t(3), qm(3, 3), qn(3, 3), xn(3), h
+        h = real(dt, dp)
+        do ib = 1, rg%n
+            associate (b => rg%b(ib))
+                f = 0
+                t = 0
+                do k = 1, size(b%node)
+                    i = b%node(k)
+                    f = f + real(st%f(:, i), dp)
+                    t = t + cross(real(st%x(:, i), dp) - b%xc, real(st%f(:, i), dp))
+                end do
+                b%vc_old = b%vc
+                b%omega_old = b%omega
+                b%vc = b%vc + real(dt_avg, dp)*f/b%mass
+                where (b%fix_t) b%vc = 0
+                b%pi = b%pi + real(dt_avg, dp)*t
+                ! midpoint: omega = I(q_mid)^-1 pi, q_mid = cay(dt/2 omega) q
+                do it = 1, 6
+                    qm = matmul(cayley(0.5_dp*h*b%omega), b%q)
+                    call constrained_omega(b, qm)
+                end do
+                qn = matmul(cayley(h*b%omega), b%q)
+                b%xc = b%xc + h*b%vc
+                b%q = qn
+                do k = 1, size(b%node)
+                    i = b%node(k)
+                    xn = b%xc + matmul(b%q, b%r(:, k))
+                    st%v(:, i) = real((xn - real(st%x(:, i), dp))/h, wp)
+                end do
+            end associate
+        end do
+    end subroutine rigid_step
+
+    !> omega from pi with the inertia at orientation q; fixed rotation
+    !> directions have omega 0 and take the reaction into pi.
+    subroutine constrained_omega(b, q)
+        type(rigid_body_t), intent(inout) :: b
+        real(dp), intent(in) :: q(3, 3)
+        real(dp) :: is(3, 3)
+        integer :: j
+        is = inertia(b, q)
+        if (.not. any(b%fix_r)) then
+            b%omega = solve3(is, b%pi)
+            return
+        end if
+        do j = 1, 3
+            if (b%fix_r(j)) then
+                is(j, :) = 0
+                is(:, j) = 0
+                is(j, j) = 1
+            end if
+        end do
+        b%omega = solve3(is, merge(0.0_dp, b%pi, b%fix_r))
+        b%pi = matmul(inertia(b, q), b%omega)
+    end subroutine constrained_omega
+
+    !> Kinetic energy, 1/2 M vc(n-1/2).vc(n+1/2) + 1/2 pi(n+1/2).omega(n+1/2),
+    !> and momentum of body ib.
+    pure subroutine rigid_energy(b, ke, mom)
+        type(rigid_body_t), intent(in) :: b
+        real(dp), intent(out) :: ke, mom(3)
+        ke = 0.5_dp*b%mass*dot_product(b%vc_old, b%vc) + 0.5_dp*dot_product(b%pi, b%omega)
+        mom = 0.5_dp*b%mass*(b%vc_old + b%vc)
+    end subroutine rigid_energy
+
+    pure function inertia(b, q) result(is)
+        type(rigid_body_t), intent(in) :: b
+        real(dp), intent(in) :: q(3, 3)
+        real(dp) :: is(3, 3)
+        integer :: k
+        is = 0
+        do k = 1, 3
+            is = is + b%ib(k)*spread(q(:, k), 2, 3)*spread(q(:, k), 1, 3)
+        end do
+    end function inertia
+
+    !> Cayley transform of the rotation vector w: (I - W/2)^-1 (I + W/2).
+    pure function cayley(w) result(r)
+        real(dp), intent(in) :: w(3)
+        real(dp) :: r(3, 3), s(3, 3), d
+        s = reshape([0.0_dp, w(3), -w(2), -w(3), 0.0_dp, w(1), w(2), -w(1), 0.0_dp], [3, 3])
+        d = 1.0_dp + dot_product(w, w)/4.0_dp
+        r = identity() + (s + matmul(s, s)/2.0_dp)/d
+    end function cayley
+
+    pure function identity() result(a)
+        real(dp) :: a(3, 3)
+        a = 0
+        a(1, 1) = 1; a(2, 2) = 1; a(3, 3) = 1
+    end function identity
+
+    pure function cross(a, b) result(c)
+        real(dp), intent(in) :: a(3), b(3)
+        real(dp) :: c(3)
+        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+    end function cross
+
+    !> x with a x = b for a 3x3 matrix (Cramer; a is symmetric positive here).
+    pure function solve3(a, b) result(x)
+        real(dp), intent(in) :: a(3, 3), b(3)
+        real(dp) :: x(3), d
+        integer :: j
+        real(dp) :: m(3, 3)
+        d = det3(a)
+        do j = 1, 3
+            m = a
+            m(:, j) = b
+            x(j) = det3(m)/d
+        end do
+    end function solve3
+
+    pure real(dp) function det3(a)
+        real(dp), intent(in) :: a(3, 3)
+        det3 = a(1, 1)*(a(2, 2)*a(3, 3) - a(2, 3)*a(3, 2)) - a(1, 2)*(a(2, 1)*a(3, 3) - a(2, 3)*a(3, 1)) &
+               + a(1, 3)*(a(2, 1)*a(3, 2) - a(2, 2)*a(3, 1))
+    end function det3
+
+    !> Fixed directions of a constraint code 0-7 (none, x, y, z, xy, yz, zx, xyz).
+    pure function code_dirs(code) result(f)
+        integer, intent(in) :: code
+        logical :: f(3)
+        f = .false.
+        select case (code)
+        case (1); f(1) = .true.
+        case (2); f(2) = .true.
+        case (3); f(3) = .true.
+        case (4); f(1:2) = .true.
+        case (5); f(2:3) = .true.
+        case (6); f(1) = .true.; f(3) = .true.
+        case (7); f = .true.
+        end select
+    end function code_dirs
+
+end module xd_rigid_bodies
