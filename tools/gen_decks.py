@@ -353,6 +353,50 @@ def rod_with_rigid_mass(outdir):
     write(os.path.join(outdir, "verify", "rod_rigid_mass.k"), lines)
 
 
+def rigid_prescribed(outdir):
+    """A *MAT_RIGID block driven by *BOUNDARY_PRESCRIBED_MOTION_RIGID: x
+    displacement u(t) = 0.01 sin(pi t / 0.02) ... given as a curve, and a spin
+    of 2 rad/s about z. Opposite corners give the centre and the angle."""
+    nodes, hexes = block_mesh(2, 2, 2, 0.1, 0.1, 0.1)
+    lines = common("rigid block following prescribed translation and spin", 0.02, 2.0e-4)
+    lines[lines.index("*CONTROL_TIMESTEP") + 1] = f10(1.0e-5, 0.9)
+    c1 = [n for n, x in nodes.items() if x == (0.0, 0.0, 0.0)][0]
+    c2 = [n for n, x in nodes.items() if x == (0.1, 0.1, 0.0)][0]
+    lines += ["*DATABASE_NODOUT", f10(2.0e-4), "*DATABASE_HISTORY_NODE", f10(c1, c2)]
+    lines += ["*MAT_RIGID", f10(1, 7850.0, 210e9, 0.3)]
+    lines += part(1, 1, "driven block")
+    lines += ["*DEFINE_CURVE", f10(30)] + [f"{t:20.8e}{0.01 * math.sin(math.pi * t / 0.02):20.8e}"
+                                         for t in [i * 0.0005 for i in range(41)]]
+    lines += ["*DEFINE_CURVE", f10(31), f"{0.0:20.8e}{2.0:20.8e}", f"{1.0:20.8e}{2.0:20.8e}"]
+    lines += ["*BOUNDARY_PRESCRIBED_MOTION_RIGID", f10(1, 1, 2, 30, 1.0), f10(1, 7, 0, 31, 1.0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", "rigid_prescribed.k"), lines)
+
+
+def spot_weld(outdir, name, tfail):
+    """Two elastic plates, 2 mm apart, joined by four spot welds (node pairs
+    across the gap); the lower one starts sliding at 10 m/s. With no failure
+    they move as one at 5 m/s; welds that fail at once leave the upper plate
+    behind."""
+    A = block_mesh(4, 4, 1, 0.1, 0.1, 0.01)
+    B = block_mesh(4, 4, 1, 0.1, 0.1, 0.01, origin=(0.0, 0.0, 0.012), nid0=1001, eid0=1001)
+    lines = common(f"two plates joined by spot welds (TFAIL {tfail:g})", 2.0e-3, 2.0e-5)
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 210e9, 0.3)]
+    lines += part(1, 1, "lower plate") + part(2, 1, "upper plate")
+    sid = 10
+    for (x, y) in ((0.025, 0.025), (0.075, 0.025), (0.025, 0.075), (0.075, 0.075)):
+        a = [n for n, p in A[0].items() if abs(p[0] - x) < 1e-9 and abs(p[1] - y) < 1e-9 and abs(p[2] - 0.01) < 1e-9]
+        b = [n for n, p in B[0].items() if abs(p[0] - x) < 1e-9 and abs(p[1] - y) < 1e-9 and abs(p[2] - 0.012) < 1e-9]
+        lines += node_set(sid, a + b)
+        lines += ["*CONSTRAINED_GENERALIZED_WELD_SPOT", f10(sid), f10(tfail)]
+        sid += 1
+    lines += ["*INITIAL_VELOCITY_GENERATION", f10(1, 2, 0.0, 10.0, 0.0, 0.0, 0, 0), f10(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)]
+    lines += ["*DATABASE_NODOUT", f10(2.0e-5)]
+    nodes = dict(A[0]); nodes.update(B[0])
+    lines += node_cards(nodes) + solid_cards(A[1], 1) + solid_cards(B[1], 2)
+    write(os.path.join(outdir, "verify", name + ".k"), lines)
+
+
 def demo_cantilever(outdir):
     """A clamped steel cantilever of hexahedra set swinging by an initial
     velocity that grows along its length."""
@@ -408,6 +452,9 @@ def main():
     taylor_bar(args.outdir, "taylor_bar_fine", 5, 5, 60)
     rigid_spin(args.outdir)
     rod_with_rigid_mass(args.outdir)
+    rigid_prescribed(args.outdir)
+    spot_weld(args.outdir, "spot_weld", 1.0e20)
+    spot_weld(args.outdir, "spot_weld_fail", 1.0e-6)
     demo_cantilever(args.outdir)
 
 

@@ -29,6 +29,8 @@ PROBLEMS = [
      rt.test_taylor_bar),
     ("Rigid bodies", "closed-form box inertia; torque-free conservation; rod with end mass",
      rt.test_rigid_bodies),
+    ("Prescribed rigid motion and spot welds", "the prescribed curves; conservation; failure time",
+     rt.test_rigid_constraints),
     ("Thread count", "deterministic assembly: bitwise equal histories", rt.test_threads),
 ]
 

@@ -61,6 +61,9 @@ module xd_input_keyword_table
         entry_t('BOUNDARY_SPC_SET', fam_condition, '', .true.), &
         entry_t('BOUNDARY_PRESCRIBED_MOTION_NODE', fam_condition, '', .true.), &
         entry_t('BOUNDARY_PRESCRIBED_MOTION_SET', fam_condition, '', .true.), &
+        entry_t('BOUNDARY_PRESCRIBED_MOTION_RIGID', fam_condition, '', .true.), &
+        entry_t('CONSTRAINED_NODAL_RIGID_BODY', fam_condition, '', .false.), &
+        entry_t('CONSTRAINED_GENERALIZED_WELD_SPOT', fam_condition, '', .true.), &
         entry_t('INITIAL_VELOCITY', fam_condition, '', .false.), &
         entry_t('INITIAL_VELOCITY_NODE', fam_condition, '', .false.), &
         entry_t('INITIAL_VELOCITY_GENERATION', fam_condition, '', .false.), &
@@ -114,13 +117,10 @@ module xd_input_keyword_table
         entry_t('SET_PART_GENERAL', fam_planned, '', .false.), &
         entry_t('SET_SHELL_LIST', fam_planned, '', .false.), &
 
-        entry_t('BOUNDARY_PRESCRIBED_MOTION_RIGID', fam_planned, '', .true.), &
         entry_t('LOAD_SEGMENT', fam_planned, '', .false.), &
         entry_t('LOAD_SEGMENT_SET', fam_planned, '', .false.), &
         entry_t('LOAD_SHELL_ELEMENT', fam_planned, '', .false.), &
         entry_t('LOAD_SHELL_SET', fam_planned, '', .false.), &
-        entry_t('CONSTRAINED_NODAL_RIGID_BODY', fam_planned, '', .false.), &
-        entry_t('CONSTRAINED_GENERALIZED_WELD_SPOT', fam_planned, '', .false.), &
         entry_t('RIGIDWALL_PLANAR_MOVING', fam_planned, '', .true.), &
         entry_t('RIGIDWALL_PLANAR_FINITE_MOVING', fam_planned, '', .true.), &
         entry_t('RIGIDWALL_PLANAR_FORCES', fam_planned, '', .true.), &

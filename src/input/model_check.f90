@@ -30,7 +30,7 @@ contains
         call check_hexes(ctx, model, maps, error); if (allocated(error)) return
         call check_sets(ctx, model, maps, error); if (allocated(error)) return
         call check_conditions(ctx, model, maps, error); if (allocated(error)) return
-        call check_loads(ctx, model, maps%node, error); if (allocated(error)) return
+        call check_loads(ctx, model, maps%node, maps%part, error); if (allocated(error)) return
         call check_controls(model, error); if (allocated(error)) return
     end subroutine check_model
 
@@ -323,10 +323,10 @@ contains
     end subroutine check_conditions
 
     !> Curves defined once; body loads name a curve; wall node sets exist.
-    subroutine check_loads(ctx, model, nodes, error)
+    subroutine check_loads(ctx, model, nodes, parts, error)
         type(read_ctx_t), intent(in) :: ctx
         type(model_t), intent(inout) :: model
-        type(id_map_t), intent(in) :: nodes
+        type(id_map_t), intent(in) :: nodes, parts
         type(error_t), allocatable, intent(out) :: error
         type(id_map_t) :: curves
         integer :: dup, i
@@ -368,7 +368,19 @@ contains
                                     itoa(pm%lcid)//' is not defined')
                     return
                 end if
-                if (pm%is_set) then
+                if (pm%rigid) then
+                    pm%ix = parts%find(pm%id)
+                    if (pm%ix == 0) then
+                        call make_error(error, ctx%src%where(pm%src)//': *BOUNDARY_PRESCRIBED_MOTION_RIGID field PID: '// &
+                                        'part '//itoa(pm%id)//' is not defined')
+                        return
+                    end if
+                    if (model%mat(model%part(pm%ix)%mat_ix)%mtype /= mat_rigid) then
+                        call make_error(error, ctx%src%where(pm%src)//': *BOUNDARY_PRESCRIBED_MOTION_RIGID field PID: '// &
+                                        'part '//itoa(pm%id)//' is not a *MAT_RIGID part')
+                        return
+                    end if
+                else if (pm%is_set) then
                     if (find_set(model, set_node, pm%id) == 0) then
                         call make_error(error, ctx%src%where(pm%src)//': *BOUNDARY_PRESCRIBED_MOTION_SET field NSID: '// &
                                         'node set '//itoa(pm%id)//' is not defined')
@@ -383,6 +395,13 @@ contains
                     end if
                 end if
             end associate
+        end do
+        do i = 1, model%nnrb
+            if (find_set(model, set_node, model%nrb(i)%nsid) == 0) then
+                call make_error(error, ctx%src%where(model%nrb(i)%src)//': field NSID: node set '// &
+                                itoa(model%nrb(i)%nsid)//' is not defined')
+                return
+            end if
         end do
         do i = 1, model%nwall
             associate (w => model%wall(i))

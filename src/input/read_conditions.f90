@@ -6,8 +6,8 @@ module xd_input_read_conditions
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
-    use xd_model, only: model_t, spc_t, init_vel_t, init_stress_t, prescribed_t, iv_node_set, iv_node, &
-                        iv_generation
+    use xd_model, only: model_t, spc_t, init_vel_t, init_stress_t, prescribed_t, nodal_rigid_t, iv_node_set, &
+                        iv_node, iv_generation
     implicit none
     private
     public :: read_condition
@@ -22,8 +22,10 @@ contains
         select case (kw%name)
         case ('BOUNDARY_SPC_NODE', 'BOUNDARY_SPC_SET')
             call read_spc(ctx, kw, model, error)
-        case ('BOUNDARY_PRESCRIBED_MOTION_NODE', 'BOUNDARY_PRESCRIBED_MOTION_SET')
+        case ('BOUNDARY_PRESCRIBED_MOTION_NODE', 'BOUNDARY_PRESCRIBED_MOTION_SET', 'BOUNDARY_PRESCRIBED_MOTION_RIGID')
             call read_prescribed(ctx, kw, model, error)
+        case ('CONSTRAINED_NODAL_RIGID_BODY', 'CONSTRAINED_GENERALIZED_WELD_SPOT')
+            call read_nodal_rigid(ctx, kw, model, error)
         case ('INITIAL_VELOCITY')
             call read_initial_velocity(ctx, kw, model, error)
         case ('INITIAL_VELOCITY_NODE')
@@ -286,6 +288,8 @@ contains
         character(len=:), allocatable :: spec
         if (kw%name == 'BOUNDARY_PRESCRIBED_MOTION_SET') then
             spec = 'NSID DOF VAD LCID SF VID DEATH BIRTH'
+        else if (kw%name == 'BOUNDARY_PRESCRIBED_MOTION_RIGID') then
+            spec = 'PID DOF VAD LCID SF VID DEATH BIRTH'
         else
             spec = 'NID DOF VAD LCID SF VID DEATH BIRTH'
         end if
@@ -293,7 +297,8 @@ contains
             call get_card(ctx, kw, ic, spec, 1, card, error)
             if (allocated(error)) return
             if (card_blank(card)) cycle
-            pm = prescribed_t(is_set=kw%name == 'BOUNDARY_PRESCRIBED_MOTION_SET', src=kw%card_line(ic))
+            pm = prescribed_t(is_set=kw%name == 'BOUNDARY_PRESCRIBED_MOTION_SET', &
+                              rigid=kw%name == 'BOUNDARY_PRESCRIBED_MOTION_RIGID', src=kw%card_line(ic))
             call get_int(card, 1, pm%id, 0, error); if (allocated(error)) return
             call get_int(card, 2, pm%dof, 0, error); if (allocated(error)) return
             call get_int(card, 3, pm%vad, 0, error); if (allocated(error)) return
@@ -305,7 +310,17 @@ contains
             if (pm%id <= 0) then
                 call card_error(card, 1, 'id must be a positive integer', error); return
             end if
-            if (pm%dof < 1 .or. pm%dof > 3) then
+            if (pm%rigid) then
+                if (.not. (pm%dof >= 1 .and. pm%dof <= 3) .and. .not. (pm%dof >= 5 .and. pm%dof <= 7)) then
+                    call card_error(card, 2, 'DOF '//trim(card%f(2))//' is not supported on rigid bodies '// &
+                                    '(1-3 translation, 5-7 rotation about x, y, z)', error)
+                    return
+                end if
+                if (pm%dof >= 5 .and. pm%vad /= 0) then
+                    call card_error(card, 3, 'rotations can be prescribed as angular velocity (VAD 0) only', error)
+                    return
+                end if
+            else if (pm%dof < 1 .or. pm%dof > 3) then
                 call card_error(card, 2, 'DOF '//trim(card%f(2))//' is not supported on nodes (1-3: x, y, z)', error)
                 return
             end if
@@ -325,6 +340,75 @@ contains
             model%presc(model%npresc) = pm
         end do
     end subroutine read_prescribed
+
+    !> *CONSTRAINED_NODAL_RIGID_BODY: PID CID NSID PNODE IPRT DRFLAG RRFLAG.
+    !> *CONSTRAINED_GENERALIZED_WELD_SPOT: NSID CID FILTER WINDOW NPR NPRT;
+    !> TFAIL EPSF SN SS N M (failure at TFAIL; the force and strain criteria
+    !> are refused until they are implemented).
+    subroutine read_nodal_rigid(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(nodal_rigid_t) :: r
+        integer :: ic, cid, k
+        real(wp) :: v
+        ic = first_card(kw)
+        if (kw%has_id) then
+            call get_card(ctx, kw, 1, 'ID HEADING:70', 0, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, r%id, 0, error); if (allocated(error)) return
+        end if
+        do while (ic <= kw%ncard)
+            r = nodal_rigid_t(id=r%id, src=kw%card_line(ic))
+            if (kw%name == 'CONSTRAINED_NODAL_RIGID_BODY') then
+                call get_card(ctx, kw, ic, 'PID CID NSID PNODE IPRT DRFLAG RRFLAG', 1, card, error)
+                if (allocated(error)) return
+                if (card_blank(card)) then
+                    ic = ic + 1
+                    cycle
+                end if
+                call get_int(card, 1, r%id, 0, error); if (allocated(error)) return
+                call get_int(card, 2, cid, 0, error); if (allocated(error)) return
+                call get_int(card, 3, r%nsid, 0, error); if (allocated(error)) return
+                ic = ic + 1
+            else
+                r%weld = .true.
+                call get_card(ctx, kw, ic, 'NSID CID FILTER WINDOW NPR NPRT', 1, card, error)
+                if (allocated(error)) return
+                call get_int(card, 1, r%nsid, 0, error); if (allocated(error)) return
+                call get_int(card, 2, cid, 0, error); if (allocated(error)) return
+                if (ic + 1 <= kw%ncard) then
+                    call get_card(ctx, kw, ic + 1, 'TFAIL EPSF SN SS N M', 2, card, error)
+                    if (allocated(error)) return
+                    call get_real(card, 1, r%tfail, 1.0e20_wp, error, zero_default=.true.)
+                    if (allocated(error)) return
+                    do k = 2, 4
+                        call get_real(card, k, v, 0.0_wp, error); if (allocated(error)) return
+                        if (v > 0.0_wp) then
+                            call card_error(card, k, 'only the failure time TFAIL is implemented; '// &
+                                            'EPSF, SN and SS must be 0', error)
+                            return
+                        end if
+                    end do
+                end if
+                ic = ic + 2
+            end if
+            if (cid /= 0) then
+                call card_error(card, 2, 'local coordinate systems are not supported (CID must be 0)', error)
+                return
+            end if
+            if (r%nsid <= 0) then
+                call make_error(error, ctx%src%where(r%src)//': '//trim(kw%written)//' field NSID: a node set is required')
+                return
+            end if
+            if (.not. allocated(model%nrb)) allocate (model%nrb(8))
+            if (model%nnrb == size(model%nrb)) model%nrb = [model%nrb, model%nrb]
+            model%nnrb = model%nnrb + 1
+            model%nrb(model%nnrb) = r
+        end do
+    end subroutine read_nodal_rigid
 
     subroutine push_ivel(model, iv)
         type(model_t), intent(inout) :: model

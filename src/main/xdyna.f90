@@ -110,7 +110,12 @@ program xdyna
     call tm%stop(ph_input)
 
     call tm%start(ph_init)
-    call setup_run(model, maps%hex, st, solids, asm, rg, nfree)
+    call setup_run(model, maps%hex, st, solids, asm, rg, nfree, error)
+    if (allocated(error)) then
+        write (error_unit, '(a)') model%deck_path//': '//error%message
+        call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
+        call finish(exit_input)
+    end if
     call build_walls(model, walls)
     call build_prescribed(model, pn)
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')

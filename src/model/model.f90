@@ -7,7 +7,7 @@ module xd_model
     private
     public :: model_t, part_t, section_solid_t, material_t, hourglass_t, set_t
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
-    public :: curve_t, body_load_t, rigidwall_t, prescribed_t, curve_value
+    public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, curve_value
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
     public :: set_node, set_part, find_set
     public :: iv_node_set, iv_node, iv_generation
@@ -114,13 +114,24 @@ module xd_model
     type :: prescribed_t
         integer :: id = 0
         logical :: is_set = .false.
-        integer :: ix = 0                   !< node index (not a set) once checked
+        logical :: rigid = .false.          !< _RIGID: id is a *MAT_RIGID part
+        integer :: ix = 0                   !< node index (not a set) or part index (rigid), once checked
         integer :: dof = 0, vad = 0
         integer :: lcid = 0, curve_ix = 0
         real(wp) :: sf = 1.0_wp
         real(wp) :: birth = 0, death = 1.0e28_wp
         integer :: src = 0
     end type prescribed_t
+
+    !> *CONSTRAINED_NODAL_RIGID_BODY (a node set moving as one rigid body) and
+    !> *CONSTRAINED_GENERALIZED_WELD_SPOT (the same, until it fails at tfail).
+    type :: nodal_rigid_t
+        integer :: id = 0
+        integer :: nsid = 0
+        logical :: weld = .false.
+        real(wp) :: tfail = 1.0e20_wp
+        integer :: src = 0
+    end type nodal_rigid_t
 
     !> *RIGIDWALL_PLANAR: a stonewall through `tail` with unit normal `normal`
     !> (towards the side the nodes are on); finite walls have in-plane axes
@@ -192,7 +203,8 @@ module xd_model
         type(material_t), allocatable :: mat(:)
         type(hourglass_t), allocatable :: hg(:)
         type(set_t), allocatable :: set(:)
-        integer :: ncurve = 0, nbody = 0, nwall = 0, npresc = 0
+        integer :: ncurve = 0, nbody = 0, nwall = 0, npresc = 0, nnrb = 0
+        type(nodal_rigid_t), allocatable :: nrb(:)
         type(prescribed_t), allocatable :: presc(:)
         type(curve_t), allocatable :: curve(:)
         type(body_load_t), allocatable :: body(:)

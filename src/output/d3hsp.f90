@@ -92,7 +92,7 @@ contains
             trim(fmt(model%ctl%q2))//')'//nl
         s = s//'   shell elements ............ off (none in the deck)'//nl
         if (nrigid > 0) then
-            s = s//'   rigid bodies .............. on  ('//itoa(nrigid)//' *MAT_RIGID part(s))'//nl
+            s = s//'   rigid bodies .............. on  ('//itoa(nrigid)//' rigid parts, nodal rigid bodies, spot welds)'//nl
         else
             s = s//'   rigid bodies .............. off (none in the deck)'//nl
         end if

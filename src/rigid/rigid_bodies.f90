@@ -9,14 +9,21 @@
 !> velocities are the chords.
 module xd_rigid_bodies
     use xd_kinds, only: wp, dp
-    use xd_model, only: model_t, mat_rigid
+    use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: itoa
+    use xd_model, only: model_t, mat_rigid, find_set, set_node, curve_value
     use xd_solver_state, only: state_t
     implicit none
     private
     public :: rigid_t, rigid_body_t, rigid_lumped_mass, build_rigid, rigid_step, rigid_energy, is_rigid_part
 
     type :: rigid_body_t
-        integer :: part = 0
+        integer :: part = 0                 !< *MAT_RIGID part, 0 for a node-set body
+        logical :: from_part = .true.       !< mass properties from elements (else nodal masses)
+        logical :: active = .true.
+        real(dp) :: tfail = 1.0e20_dp       !< spot weld: released at this time
+        integer, allocatable :: pres(:)     !< its *BOUNDARY_PRESCRIBED_MOTION_RIGID entries
+        real(dp) :: xc0(3) = 0
         integer, allocatable :: node(:)
         real(dp), allocatable :: r(:, :)    !< (3, nodes) node positions in the body frame, from the centre
         real(dp) :: mass = 0
@@ -26,12 +33,13 @@ module xd_rigid_bodies
         real(dp) :: pi(3) = 0               !< spatial angular momentum at n+1/2
         real(dp) :: omega(3) = 0, omega_old(3) = 0
         logical :: fix_t(3) = .false., fix_r(3) = .false.
+        logical :: line(3) = .false.        !< principal axes without inertia (nodes on one line)
     end type rigid_body_t
 
     type :: rigid_t
         integer :: n = 0
         type(rigid_body_t), allocatable :: b(:)
-        logical, allocatable :: on(:)       !< node belongs to a rigid body
+        logical, allocatable :: on(:)       !< node's mass belongs to a part-based rigid body
     end type rigid_t
 
 contains
@@ -98,18 +106,19 @@ contains
     !> One rigid body per rigid part: mass properties, principal axes, node
     !> lists, constraints, and the initial motion fitted to the nodes' initial
     !> velocities (exact for a rigid velocity field).
-    subroutine build_rigid(model, st, rg)
+    subroutine build_rigid(model, st, rg, error)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         type(rigid_t), intent(out) :: rg
-        integer :: p, e, k, nb, info, i
-        real(dp) :: m, s1(3), j2(3, 3), x(8, 3), jt(3, 3), a(3, 3), w(3), work(64), il(3, 3), lm(3), rr(3)
-        logical, allocatable :: mark(:)
-        allocate (rg%on(st%nnode), mark(st%nnode))
+        type(error_t), allocatable, intent(out) :: error
+        integer :: p, e, k, nb, s, i
+        real(dp) :: m, s1(3), j2(3, 3), x(8, 3), jt(3, 3), rr(3)
+        logical, allocatable :: mark(:), taken(:)
+        allocate (rg%on(st%nnode), mark(st%nnode), taken(st%nnode))
         rg%on = .false.
-        nb = count([(is_rigid_part(model, p), p=1, model%npart)])
-        rg%n = nb
-        allocate (rg%b(nb))
+        taken = .false.
+        rg%n = count([(is_rigid_part(model, p), p=1, model%npart)]) + model%nnrb
+        allocate (rg%b(rg%n))
         nb = 0
         do p = 1, model%npart
             if (.not. is_rigid_part(model, p)) cycle
@@ -128,62 +137,145 @@ contains
                     mark(model%hex_conn(:, e)) = .true.
                 end do
                 b%xc = b%xc/b%mass
-                ! inertia about the centre: trace(J) I - J, J the central second moment
                 jt = jt - b%mass*spread(b%xc, 2, 3)*spread(b%xc, 1, 3)
-                a = -jt
-                do k = 1, 3
-                    a(k, k) = a(k, k) + jt(1, 1) + jt(2, 2) + jt(3, 3)
-                end do
-                call dsyev('V', 'U', 3, a, 3, w, work, size(work), info)
-                b%ib = w
-                b%q = a
-                b%node = pack([(k, k=1, st%nnode)], mark)
-                rg%on = rg%on .or. mark
-                allocate (b%r(3, size(b%node)))
-                do k = 1, size(b%node)
-                    b%r(:, k) = matmul(transpose(b%q), real(st%x0(:, b%node(k)), dp) - b%xc)
-                end do
                 b%fix_t = code_dirs(mat%con1)
                 b%fix_r = code_dirs(mat%con2)
-                ! initial motion: momentum and angular momentum of the lumped
-                ! nodal velocities, turned into vc and omega
-                b%vc = 0
-                lm = 0
-                il = 0
-                do k = 1, size(b%node)
-                    i = b%node(k)
-                    rr = real(st%x(:, i), dp) - b%xc
-                    b%vc = b%vc + st%mass(i)*real(st%v(:, i), dp)
-                    lm = lm + st%mass(i)*cross(rr, real(st%v(:, i), dp))
-                    il = il + st%mass(i)*(dot_product(rr, rr)*identity() - spread(rr, 2, 3)*spread(rr, 1, 3))
+                rg%on = rg%on .or. mark
+            end associate
+            call finish_body(rg%b(nb), jt, mark)
+            if (allocated(error)) return
+        end do
+        do i = 1, model%nnrb
+            nb = nb + 1
+            associate (b => rg%b(nb), r => model%nrb(i))
+                b%from_part = .false.
+                b%part = 0
+                if (r%weld) b%tfail = real(r%tfail, dp)
+                s = find_set(model, set_node, r%nsid)
+                mark = .false.
+                mark(model%set(s)%member_ix) = .true.
+                b%mass = sum(real(st%mass, dp), mask=mark)
+                if (.not. (b%mass > 0.0_dp)) then
+                    call make_error(error, 'nodal rigid body or spot weld on node set '//itoa(r%nsid)// &
+                                    ': its nodes have no mass (they belong to no element)')
+                    return
+                end if
+                b%xc = 0
+                do k = 1, st%nnode
+                    if (mark(k)) b%xc = b%xc + st%mass(k)*real(st%x0(:, k), dp)
                 end do
-                b%vc = b%vc/sum(real(st%mass(b%node), dp))
-                b%omega = solve3(il, lm)
-                where (b%fix_t) b%vc = 0
-                where (b%fix_r) b%omega = 0
-                b%pi = matmul(inertia(b, b%q), b%omega)
-                b%vc_old = b%vc
-                b%omega_old = b%omega
-                do k = 1, size(b%node)
-                    i = b%node(k)
-                    st%v(:, i) = real(b%vc + cross(b%omega, real(st%x(:, i), dp) - b%xc), wp)
+                b%xc = b%xc/b%mass
+                jt = 0
+                do k = 1, st%nnode
+                    if (.not. mark(k)) cycle
+                    rr = real(st%x0(:, k), dp) - b%xc
+                    jt = jt + st%mass(k)*spread(rr, 2, 3)*spread(rr, 1, 3)
                 end do
             end associate
+            call finish_body(rg%b(nb), jt, mark)
+            if (allocated(error)) return
         end do
+        ! prescribed motions of rigid parts
+        do nb = 1, rg%n
+            allocate (rg%b(nb)%pres(0))
+            do i = 1, model%npresc
+                if (model%presc(i)%rigid .and. model%presc(i)%ix == rg%b(nb)%part .and. rg%b(nb)%part > 0) &
+                    rg%b(nb)%pres = [rg%b(nb)%pres, i]
+            end do
+        end do
+    contains
+        !> Principal axes, body-frame node positions, initial motion from the
+        !> nodes' initial velocities (exact for a rigid field).
+        subroutine finish_body(b, jc, nodes)
+            type(rigid_body_t), intent(inout) :: b
+            real(dp), intent(in) :: jc(3, 3)
+            logical, intent(in) :: nodes(:)
+            real(dp) :: a(3, 3), w(3), work(64), il(3, 3), lm(3), r(3)
+            integer :: kk, n, lapack_info
+            if (any(nodes .and. taken)) then
+                n = findloc(nodes .and. taken, .true., 1)
+                call make_error(error, 'node '//itoa(model%node_id(n))//' belongs to two rigid bodies '// &
+                                '(merging them is not implemented)')
+                return
+            end if
+            taken = taken .or. nodes
+            a = -jc
+            do kk = 1, 3
+                a(kk, kk) = a(kk, kk) + jc(1, 1) + jc(2, 2) + jc(3, 3)
+            end do
+            call dsyev('V', 'U', 3, a, 3, w, work, size(work), lapack_info)
+            if (lapack_info /= 0) then
+                call make_error(error, 'rigid body inertia: LAPACK dsyev failed ('//itoa(lapack_info)//')')
+                return
+            end if
+            ! a body of nodes on one line (a two-node spot weld) has no inertia
+            ! about that line; forces on the line have no torque about it, so
+            ! a small floor keeps the inertia invertible without changing the motion
+            if (maxval(w) > 0.0_dp) then
+                b%line = w < 1.0e-9_dp*maxval(w)
+                w = max(w, 1.0e-9_dp*maxval(w))
+            else
+                b%line = .true.
+                w = 1.0_dp
+            end if
+            b%ib = w
+            b%q = a
+            b%xc0 = b%xc
+            b%node = pack([(kk, kk=1, st%nnode)], nodes)
+            allocate (b%r(3, size(b%node)))
+            lm = 0
+            il = 0
+            b%vc = 0
+            do kk = 1, size(b%node)
+                n = b%node(kk)
+                b%r(:, kk) = matmul(transpose(b%q), real(st%x0(:, n), dp) - b%xc)
+                r = real(st%x(:, n), dp) - b%xc
+                b%vc = b%vc + st%mass(n)*real(st%v(:, n), dp)
+                lm = lm + st%mass(n)*cross(r, real(st%v(:, n), dp))
+                il = il + st%mass(n)*(dot_product(r, r)*identity() - spread(r, 2, 3)*spread(r, 1, 3))
+            end do
+            b%vc = b%vc/sum(real(st%mass(b%node), dp))
+            if (size(b%node) >= 3) then
+                b%omega = solve3(il, lm)
+            else
+                b%omega = 0
+            end if
+            where (b%fix_t) b%vc = 0
+            where (b%fix_r) b%omega = 0
+            b%pi = matmul(inertia(b, b%q), b%omega)
+            b%vc_old = b%vc
+            b%omega_old = b%omega
+            do kk = 1, size(b%node)
+                n = b%node(kk)
+                st%v(:, n) = real(b%vc + cross(b%omega, real(st%x(:, n), dp) - b%xc), wp)
+            end do
+        end subroutine finish_body
     end subroutine build_rigid
 
     !> After the velocity update: force and torque from the nodal forces f(n)
     !> at x(n), new velocities, new placement; the nodes get chord velocities
     !> that bring them to their places on the body at t(n+1).
-    subroutine rigid_step(rg, st, dt, dt_avg)
+    subroutine rigid_step(rg, model, st, dt, dt_avg, work)
         type(rigid_t), intent(inout) :: rg
+        type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt, dt_avg
-        integer :: ib, k, i, it
-        real(dp) :: f(3), t(3), qm(3, 3), qn(3, 3), xn(3), h
+        real(dp), intent(out) :: work            !< work of the prescribed motions this cycle
+        integer :: ib, k, i, it, j, ip
+        real(dp) :: f(3), t(3), qm(3, 3), xn(3), h, ha, vpred(3), pipred(3), wfix(3), tt
+        logical :: fixr(3)
         h = real(dt, dp)
+        ha = real(dt_avg, dp)
+        tt = st%time
+        work = 0
         do ib = 1, rg%n
             associate (b => rg%b(ib))
+                if (.not. b%active) cycle
+                if (tt >= b%tfail) then
+                    ! a spot weld lets go: its nodes carry on with the velocities they have
+                    b%active = .false.
+                    cycle
+                end if
                 f = 0
                 t = 0
                 do k = 1, size(b%node)
@@ -193,17 +285,42 @@ contains
                 end do
                 b%vc_old = b%vc
                 b%omega_old = b%omega
-                b%vc = b%vc + real(dt_avg, dp)*f/b%mass
+                b%vc = b%vc + ha*f/b%mass
                 where (b%fix_t) b%vc = 0
-                b%pi = b%pi + real(dt_avg, dp)*t
+                b%pi = b%pi + ha*t
+                vpred = b%vc
+                pipred = b%pi
+                fixr = b%fix_r
+                wfix = 0
+                do ip = 1, size(b%pres)
+                    associate (pm => model%presc(b%pres(ip)), c => model%curve(model%presc(b%pres(ip))%curve_ix))
+                        if (tt < pm%birth .or. tt > pm%death) cycle
+                        if (pm%dof <= 3) then
+                            j = pm%dof
+                            select case (pm%vad)
+                            case (0)
+                                b%vc(j) = pm%sf*curve_value(c, real(tt + 0.5_dp*h, wp))
+                            case (1)
+                                b%vc(j) = b%vc_old(j) + ha*pm%sf*curve_value(c, real(tt, wp))
+                            case default
+                                b%vc(j) = (b%xc0(j) + pm%sf*curve_value(c, real(tt + h, wp)) - b%xc(j))/h
+                            end select
+                        else
+                            j = pm%dof - 4
+                            fixr(j) = .true.
+                            wfix(j) = pm%sf*curve_value(c, real(tt + 0.5_dp*h, wp))
+                        end if
+                    end associate
+                end do
                 ! midpoint: omega = I(q_mid)^-1 pi, q_mid = cay(dt/2 omega) q
                 do it = 1, 6
                     qm = matmul(cayley(0.5_dp*h*b%omega), b%q)
-                    call constrained_omega(b, qm)
+                    call constrained_omega(b, qm, fixr, wfix)
                 end do
-                qn = matmul(cayley(h*b%omega), b%q)
+                work = work + b%mass*dot_product(b%vc - vpred, 0.5_dp*(b%vc_old + b%vc)) &
+                       + dot_product(b%pi - pipred, 0.5_dp*(b%omega_old + b%omega))
+                b%q = matmul(cayley(h*b%omega), b%q)
                 b%xc = b%xc + h*b%vc
-                b%q = qn
                 do k = 1, size(b%node)
                     i = b%node(k)
                     xn = b%xc + matmul(b%q, b%r(:, k))
@@ -215,29 +332,50 @@ contains
 
     !> omega from pi with the inertia at orientation q; fixed rotation
     !> directions have omega 0 and take the reaction into pi.
-    subroutine constrained_omega(b, q)
+    subroutine constrained_omega(b, q, fixr, wfix)
         type(rigid_body_t), intent(inout) :: b
         real(dp), intent(in) :: q(3, 3)
-        real(dp) :: is(3, 3)
+        logical, intent(in) :: fixr(3)
+        real(dp), intent(in) :: wfix(3)          !< values of the fixed components
+        real(dp) :: is(3, 3), rhs(3)
         integer :: j
         is = inertia(b, q)
-        if (.not. any(b%fix_r)) then
+        if (.not. any(fixr)) then
             b%omega = solve3(is, b%pi)
+            call drop_line_spin(b, q)
             return
         end if
+        ! free components from pi less the fixed components' share
+        rhs = b%pi - matmul(is, merge(wfix, 0.0_dp, fixr))
         do j = 1, 3
-            if (b%fix_r(j)) then
+            if (fixr(j)) then
                 is(j, :) = 0
                 is(:, j) = 0
                 is(j, j) = 1
+                rhs(j) = wfix(j)
             end if
         end do
-        b%omega = solve3(is, merge(0.0_dp, b%pi, b%fix_r))
+        b%omega = solve3(is, rhs)
+        call drop_line_spin(b, q)
         b%pi = matmul(inertia(b, q), b%omega)
     end subroutine constrained_omega
 
+    !> A body whose nodes lie on a line (a two-node spot weld) cannot spin
+    !> about it: only round-off would drive that spin, so it is removed.
+    subroutine drop_line_spin(b, q)
+        type(rigid_body_t), intent(inout) :: b
+        real(dp), intent(in) :: q(3, 3)
+        integer :: k
+        do k = 1, 3
+            if (.not. b%line(k)) cycle
+            b%omega = b%omega - dot_product(b%omega, q(:, k))*q(:, k)
+            b%pi = b%pi - dot_product(b%pi, q(:, k))*q(:, k)
+        end do
+    end subroutine drop_line_spin
+
     !> Kinetic energy, 1/2 M vc(n-1/2).vc(n+1/2) + 1/2 pi(n+1/2).omega(n+1/2),
     !> and momentum of body ib.
+    !> (node-set bodies keep their kinetic energy on their nodes)
     pure subroutine rigid_energy(b, ke, mom)
         type(rigid_body_t), intent(in) :: b
         real(dp), intent(out) :: ke, mom(3)

@@ -67,6 +67,7 @@ contains
         end do
         ! rigid bodies: their own inertia, not the lumped nodal masses
         do e = 1, rg%n
+            if (.not. rg%b(e)%from_part) cycle
             call rigid_energy(rg%b(e), ke_b, mom_b)
             p = rg%b(e)%part
             en%part_ke(p) = en%part_ke(p) + ke_b

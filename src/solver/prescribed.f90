@@ -26,7 +26,9 @@ contains
         pn%first(1) = 1
         do i = 1, pn%n
             associate (pm => model%presc(i))
-                if (pm%is_set) then
+                if (pm%rigid) then
+                    continue
+                else if (pm%is_set) then
                     s = find_set(model, set_node, pm%id)
                     pn%node = [pn%node, model%set(s)%member_ix]
                 else
@@ -54,7 +56,7 @@ contains
         t = real(st%time, wp)
         do i = 1, pn%n
             associate (pm => model%presc(i), c => model%curve(model%presc(i)%curve_ix))
-                if (t < pm%birth .or. t > pm%death) cycle
+                if (pm%rigid .or. t < pm%birth .or. t > pm%death) cycle
                 j = pm%dof
                 do k = pn%first(i), pn%first(i + 1) - 1
                     nd = pn%node(k)

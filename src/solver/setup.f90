@@ -11,13 +11,14 @@ module xd_solver_setup
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, build_assembly
     use xd_rigid_bodies, only: rigid_t, rigid_lumped_mass, build_rigid
+    use xd_core_errors, only: error_t
     implicit none
     private
     public :: setup_run
 
 contains
 
-    subroutine setup_run(model, hex_map, st, solids, asm, rg, nfree_nodes)
+    subroutine setup_run(model, hex_map, st, solids, asm, rg, nfree_nodes, error)
         type(model_t), intent(in) :: model
         type(id_map_t), intent(in) :: hex_map
         type(state_t), intent(out) :: st
@@ -25,6 +26,7 @@ contains
         type(assembly_t), intent(out) :: asm
         type(rigid_t), intent(out) :: rg
         integer, intent(out) :: nfree_nodes
+        type(error_t), allocatable, intent(out) :: error
         st%nnode = model%nnode
         call alloc(st%x, 3, st%nnode, 'coordinates')
         call alloc(st%x0, 3, st%nnode, 'initial coordinates')
@@ -43,7 +45,8 @@ contains
         call constraint_masks(model, st)
         call initial_velocities(model, solids, st)
         st%v = st%v*st%free
-        call build_rigid(model, st, rg)
+        call build_rigid(model, st, rg, error)
+        if (allocated(error)) return
         call initial_stresses(model, hex_map, solids, st)
     end subroutine setup_run
 

@@ -117,7 +117,8 @@ contains
             end if
             if (rg%n > 0) then
                 call tm%start(ph_rigid)
-                call rigid_step(rg, st, st%dt, real(dt_avg, wp))
+                call rigid_step(rg, model, st, st%dt, real(dt_avg, wp), wpm)
+                st%ext_work = st%ext_work + wpm
                 call tm%stop(ph_rigid)
             end if
 
