@@ -397,6 +397,30 @@ def spot_weld(outdir, name, tfail):
     write(os.path.join(outdir, "verify", name + ".k"), lines)
 
 
+def pressure_column(outdir):
+    """A column (nu = 0.3) on symmetry planes loaded on its top face by a
+    pressure ramped slowly to 100 MPa (*LOAD_SEGMENT_SET): uniaxial stress, the
+    top moves down by p L / E."""
+    n, a, L = 2, 0.02, 0.1
+    nodes, hexes = block_mesh(n, n, 5 * n, a, a, L)
+    lines = common("column under a slowly ramped top pressure", 2.0e-3, 2.0e-5)
+    top = [k for k, x in sorted(nodes.items()) if abs(x[2] - L) < 1e-12]
+    lines += ["*DATABASE_NODOUT", f10(2.0e-5), "*DATABASE_HISTORY_NODE", f10(top[0])]
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.3)]
+    lines += part(1, 1, "column")
+    lines += node_set(1, nodes_where(nodes, lambda x, y, z: z == 0.0))
+    lines += node_set(2, nodes_where(nodes, lambda x, y, z: x == 0.0))
+    lines += node_set(3, nodes_where(nodes, lambda x, y, z: y == 0.0))
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 0, 0, 1), f10(2, 0, 1, 0, 0), f10(3, 0, 0, 1, 0)]
+    segs = [h for h in hexes if all(abs(nodes[v][2] - L) < 1e-12 for v in h[5:9])]
+    lines += ["*SET_SEGMENT", f10(1)] + ["".join(f"{v:10d}" for v in h[5:9]) for h in segs]
+    lines += ["*DEFINE_CURVE", f10(40), f"{0.0:20.8e}{0.0:20.8e}", f"{1.5e-3:20.8e}{1.0e8:20.8e}",
+              f"{1.0:20.8e}{1.0e8:20.8e}"]
+    lines += ["*LOAD_SEGMENT_SET", f10(1, 40, 1.0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", "pressure_column.k"), lines)
+
+
 def demo_cantilever(outdir):
     """A clamped steel cantilever of hexahedra set swinging by an initial
     velocity that grows along its length."""
@@ -453,6 +477,7 @@ def main():
     rigid_spin(args.outdir)
     rod_with_rigid_mass(args.outdir)
     rigid_prescribed(args.outdir)
+    pressure_column(args.outdir)
     spot_weld(args.outdir, "spot_weld", 1.0e20)
     spot_weld(args.outdir, "spot_weld_fail", 1.0e-6)
     demo_cantilever(args.outdir)

@@ -31,6 +31,7 @@ PROBLEMS = [
      rt.test_rigid_bodies),
     ("Prescribed rigid motion and spot welds", "the prescribed curves; conservation; failure time",
      rt.test_rigid_constraints),
+    ("Column under segment pressure", "uniaxial stress: p L / E", rt.test_pressure),
     ("Thread count", "deterministic assembly: bitwise equal histories", rt.test_threads),
 ]
 

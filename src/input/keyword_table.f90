@@ -74,6 +74,9 @@ module xd_input_keyword_table
         entry_t('CONTROL_BULK_VISCOSITY', fam_control, '', .false.), &
         entry_t('CONTROL_ENERGY', fam_control, '', .false.), &
         entry_t('DEFINE_CURVE', fam_load, '', .false.), &
+        entry_t('SET_SEGMENT', fam_load, '', .false.), &
+        entry_t('LOAD_SEGMENT', fam_load, '', .true.), &
+        entry_t('LOAD_SEGMENT_SET', fam_load, '', .true.), &
         entry_t('LOAD_BODY_X', fam_load, '', .false.), &
         entry_t('LOAD_BODY_Y', fam_load, '', .false.), &
         entry_t('LOAD_BODY_Z', fam_load, '', .false.), &
@@ -112,13 +115,10 @@ module xd_input_keyword_table
         entry_t('ELEMENT_SHELL', fam_planned, '', .false.), &
         entry_t('ELEMENT_SHELL_THICKNESS', fam_planned, '', .false.), &
         entry_t('SECTION_SHELL', fam_planned, '', .false.), &
-        entry_t('SET_SEGMENT', fam_planned, '', .false.), &
         entry_t('SET_NODE_GENERAL', fam_planned, '', .false.), &
         entry_t('SET_PART_GENERAL', fam_planned, '', .false.), &
         entry_t('SET_SHELL_LIST', fam_planned, '', .false.), &
 
-        entry_t('LOAD_SEGMENT', fam_planned, '', .false.), &
-        entry_t('LOAD_SEGMENT_SET', fam_planned, '', .false.), &
         entry_t('LOAD_SHELL_ELEMENT', fam_planned, '', .false.), &
         entry_t('LOAD_SHELL_SET', fam_planned, '', .false.), &
         entry_t('RIGIDWALL_PLANAR_MOVING', fam_planned, '', .true.), &

@@ -329,7 +329,7 @@ contains
         type(id_map_t), intent(in) :: nodes, parts
         type(error_t), allocatable, intent(out) :: error
         type(id_map_t) :: curves
-        integer :: dup, i
+        integer :: dup, i, j, k, nid
         call curves%build(model%curve(1:model%ncurve)%id, dup)
         if (dup /= 0) then
             do i = model%ncurve, 1, -1
@@ -393,6 +393,48 @@ contains
                                         'node '//itoa(pm%id)//' is not defined')
                         return
                     end if
+                end if
+            end associate
+        end do
+        do i = 1, model%nsegset
+            associate (ss => model%segset(i))
+                do k = 1, ss%n
+                    do j = 1, 4
+                        nid = ss%seg(j, k)
+                        ss%seg(j, k) = nodes%find(nid)
+                        if (ss%seg(j, k) == 0) then
+                            call make_error(error, ctx%src%where(ss%src)//': *SET_SEGMENT '//itoa(ss%id)// &
+                                            ': node '//itoa(nid)//' is not defined')
+                            return
+                        end if
+                    end do
+                end do
+            end associate
+        end do
+        do i = 1, model%npress
+            associate (pr => model%press(i))
+                pr%curve_ix = curves%find(pr%lcid)
+                if (pr%curve_ix == 0) then
+                    call make_error(error, ctx%src%where(pr%src)//': *LOAD_SEGMENT field LCID: curve '// &
+                                    itoa(pr%lcid)//' is not defined')
+                    return
+                end if
+                if (pr%ssid > 0) then
+                    if (.not. any(model%segset(1:model%nsegset)%id == pr%ssid)) then
+                        call make_error(error, ctx%src%where(pr%src)//': *LOAD_SEGMENT_SET field SSID: '// &
+                                        'segment set '//itoa(pr%ssid)//' is not defined')
+                        return
+                    end if
+                else
+                    do j = 1, 4
+                        nid = pr%seg(j)
+                        pr%seg(j) = nodes%find(nid)
+                        if (pr%seg(j) == 0) then
+                            call make_error(error, ctx%src%where(pr%src)//': *LOAD_SEGMENT field N'//itoa(j)// &
+                                            ': node '//itoa(nid)//' is not defined')
+                            return
+                        end if
+                    end do
                 end if
             end associate
         end do

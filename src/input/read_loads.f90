@@ -7,7 +7,7 @@ module xd_input_read_loads
                                      card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
-    use xd_model, only: model_t, curve_t, body_load_t, rigidwall_t
+    use xd_model, only: model_t, curve_t, body_load_t, rigidwall_t, segment_set_t, pressure_t
     implicit none
     private
     public :: read_load
@@ -26,8 +26,103 @@ contains
             call read_body(ctx, kw, model, error)
         case ('RIGIDWALL_PLANAR', 'RIGIDWALL_PLANAR_FINITE')
             call read_wall(ctx, kw, model, error)
+        case ('SET_SEGMENT')
+            call read_segment_set(ctx, kw, model, error)
+        case ('LOAD_SEGMENT', 'LOAD_SEGMENT_SET')
+            call read_pressure(ctx, kw, model, error)
         end select
     end subroutine read_load
+
+    !> Card 1 SID DA1..DA4; then N1 N2 N3 N4 A1..A4 per segment (N3 = N4: triangle).
+    subroutine read_segment_set(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(card_format_t) :: fmt
+        type(segment_set_t) :: ss
+        integer :: ic, k, nd(4)
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        call get_card(ctx, kw, ic, 'SID DA1 DA2 DA3 DA4', 1, card, error)
+        if (allocated(error)) return
+        call get_int(card, 1, ss%id, 0, error); if (allocated(error)) return
+        if (ss%id <= 0) then
+            call card_error(card, 1, 'set id must be a positive integer', error); return
+        end if
+        ss%src = kw%card_line(ic)
+        allocate (ss%seg(4, max(kw%ncard - ic, 1)))
+        fmt = card_format('N1 N2 N3 N4 A1 A2 A3 A4', kw%width_mode)
+        do ic = ic + 1, kw%ncard
+            call get_card(ctx, kw, ic, fmt, 2, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            do k = 1, 4
+                call get_int(card, k, nd(k), 0, error); if (allocated(error)) return
+            end do
+            if (nd(4) == 0) nd(4) = nd(3)
+            if (any(nd <= 0)) then
+                call card_error(card, minloc(nd, 1), 'segment nodes must be positive ids', error); return
+            end if
+            ss%n = ss%n + 1
+            ss%seg(:, ss%n) = nd
+        end do
+        ss%seg = ss%seg(:, 1:ss%n)
+        if (.not. allocated(model%segset)) allocate (model%segset(4))
+        if (model%nsegset == size(model%segset)) model%segset = [model%segset, model%segset]
+        model%nsegset = model%nsegset + 1
+        model%segset(model%nsegset) = ss
+    end subroutine read_segment_set
+
+    !> *LOAD_SEGMENT: LCID SF AT N1 N2 N3 N4 (repeated); *LOAD_SEGMENT_SET: SSID LCID SF AT.
+    subroutine read_pressure(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(pressure_t) :: pr
+        integer :: ic, k, j
+        do ic = first_card(kw), kw%ncard
+            if (kw%name == 'LOAD_SEGMENT') then
+                call get_card(ctx, kw, ic, 'LCID SF AT N1 N2 N3 N4', 1, card, error)
+            else
+                call get_card(ctx, kw, ic, 'SSID LCID SF AT', 1, card, error)
+            end if
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            pr = pressure_t(src=kw%card_line(ic))
+            j = 0
+            if (kw%name == 'LOAD_SEGMENT_SET') then
+                call get_int(card, 1, pr%ssid, 0, error); if (allocated(error)) return
+                if (pr%ssid <= 0) then
+                    call card_error(card, 1, 'a segment set id is required', error); return
+                end if
+                j = 1
+            end if
+            call get_int(card, j + 1, pr%lcid, 0, error); if (allocated(error)) return
+            call get_real(card, j + 2, pr%sf, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+            call get_real(card, j + 3, pr%at, 0.0_wp, error); if (allocated(error)) return
+            if (pr%lcid <= 0) then
+                call card_error(card, j + 1, 'a load curve id is required', error); return
+            end if
+            if (kw%name == 'LOAD_SEGMENT') then
+                do k = 1, 4
+                    call get_int(card, 3 + k, pr%seg(k), 0, error); if (allocated(error)) return
+                end do
+                if (pr%seg(4) == 0) pr%seg(4) = pr%seg(3)
+                if (any(pr%seg <= 0)) then
+                    call card_error(card, 3 + minloc(pr%seg, 1), 'segment nodes must be positive ids', error)
+                    return
+                end if
+            end if
+            if (.not. allocated(model%press)) allocate (model%press(8))
+            if (model%npress == size(model%press)) model%press = [model%press, model%press]
+            model%npress = model%npress + 1
+            model%press(model%npress) = pr
+        end do
+    end subroutine read_pressure
 
     !> Card 1 LCID SIDR SFA SFO OFFA OFFO DATTYP; then points A O (E20 each).
     !> Offsets first, then scales: a = SFA (A + OFFA), o = SFO (O + OFFO).

@@ -22,6 +22,7 @@ program xdyna
     use xd_contact_rigidwall, only: walls_t, build_walls
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
     use xd_rigid_bodies, only: rigid_t
+    use xd_solver_loads, only: pressures_t, build_pressures
     use xd_output_histories, only: histories_t, open_histories, close_histories
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     !$ use omp_lib, only: omp_set_num_threads
@@ -39,6 +40,7 @@ program xdyna
     type(walls_t) :: walls
     type(prescribed_nodes_t) :: pn
     type(rigid_t) :: rg
+    type(pressures_t) :: pl
     type(histories_t) :: hist
     type(log_t) :: lg
     type(timers_t) :: tm
@@ -118,6 +120,7 @@ program xdyna
     end if
     call build_walls(model, walls)
     call build_prescribed(model, pn)
+    call build_pressures(model, pl)
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')
     if (check_only) then
         write (output_unit, '(a)') model_summary(model, solids, rg%n)
@@ -135,7 +138,7 @@ program xdyna
     end if
     call tm%stop(ph_init)
 
-    call run_time_loop(model, st, solids, asm, walls, pn, rg, hist, lg, tm, opts, res)
+    call run_time_loop(model, st, solids, asm, walls, pn, rg, pl, hist, lg, tm, opts, res)
     call close_histories(hist)
     call timing_table(lg, tm, res%ncycle, solids%n, tm%elapsed())
     if (res%status /= exit_normal) then

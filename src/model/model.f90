@@ -7,7 +7,7 @@ module xd_model
     private
     public :: model_t, part_t, section_solid_t, material_t, hourglass_t, set_t
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
-    public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, curve_value
+    public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, segment_set_t, pressure_t, curve_value
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
     public :: set_node, set_part, find_set
     public :: iv_node_set, iv_node, iv_generation
@@ -123,6 +123,24 @@ module xd_model
         integer :: src = 0
     end type prescribed_t
 
+    !> *SET_SEGMENT: segments N1..N4 (node ids, then indices once checked).
+    type :: segment_set_t
+        integer :: id = 0
+        integer :: n = 0
+        integer, allocatable :: seg(:, :)   !< (4, n)
+        integer :: src = 0
+    end type segment_set_t
+
+    !> *LOAD_SEGMENT (one segment) or *LOAD_SEGMENT_SET: pressure sf * curve(t - at)
+    !> from t = at on, pushing against the segment normal (N1..N4 right-handed).
+    type :: pressure_t
+        integer :: ssid = 0                 !< segment set, or 0 for the segment below
+        integer :: seg(4) = 0
+        integer :: lcid = 0, curve_ix = 0
+        real(wp) :: sf = 1.0_wp, at = 0.0_wp
+        integer :: src = 0
+    end type pressure_t
+
     !> *CONSTRAINED_NODAL_RIGID_BODY (a node set moving as one rigid body) and
     !> *CONSTRAINED_GENERALIZED_WELD_SPOT (the same, until it fails at tfail).
     type :: nodal_rigid_t
@@ -203,7 +221,9 @@ module xd_model
         type(material_t), allocatable :: mat(:)
         type(hourglass_t), allocatable :: hg(:)
         type(set_t), allocatable :: set(:)
-        integer :: ncurve = 0, nbody = 0, nwall = 0, npresc = 0, nnrb = 0
+        integer :: ncurve = 0, nbody = 0, nwall = 0, npresc = 0, nnrb = 0, nsegset = 0, npress = 0
+        type(segment_set_t), allocatable :: segset(:)
+        type(pressure_t), allocatable :: press(:)
         type(nodal_rigid_t), allocatable :: nrb(:)
         type(prescribed_t), allocatable :: presc(:)
         type(curve_t), allocatable :: curve(:)

@@ -104,6 +104,7 @@ contains
         end if
         s = s//'   body loads ................ '//onoff(model%nbody > 0)//nl
         s = s//'   prescribed motion ......... '//onoff(model%npresc > 0)//nl
+        s = s//'   segment pressures ......... '//onoff(model%npress > 0)//nl
         s = s//'   boundary constraints ...... '//onoff(model%nspc > 0 .or. any(model%node_tc(1:model%nnode) > 0))//nl
         s = s//'   initial velocities ........ '//onoff(model%nivel > 0)//nl
         s = s//'   initial stresses .......... '//onoff(model%nistress > 0)//nl

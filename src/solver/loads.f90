@@ -7,6 +7,15 @@ module xd_solver_loads
     implicit none
     private
     public :: body_acceleration, add_body_forces, body_power
+    public :: pressures_t, build_pressures, apply_pressures, pressure_power
+
+    !> Loaded segments, flattened from *LOAD_SEGMENT and *LOAD_SEGMENT_SET.
+    type :: pressures_t
+        integer :: n = 0
+        integer, allocatable :: seg(:, :)       !< (4, n) node indices (N3 = N4: triangle)
+        integer, allocatable :: load(:)         !< its pressure entry
+        real(wp), allocatable :: f(:, :, :)     !< (3, 4, n) nodal forces of this cycle
+    end type pressures_t
 
 contains
 
@@ -49,5 +58,94 @@ contains
         end do
         p = dot_product(real(g, dp), mom)
     end function body_power
+
+    subroutine build_pressures(model, pl)
+        type(model_t), intent(in) :: model
+        type(pressures_t), intent(out) :: pl
+        integer :: i, k, m
+        pl%n = 0
+        do i = 1, model%npress
+            if (model%press(i)%ssid == 0) then
+                pl%n = pl%n + 1
+            else
+                do k = 1, model%nsegset
+                    if (model%segset(k)%id == model%press(i)%ssid) pl%n = pl%n + model%segset(k)%n
+                end do
+            end if
+        end do
+        allocate (pl%seg(4, pl%n), pl%load(pl%n), pl%f(3, 4, pl%n))
+        pl%f = 0
+        m = 0
+        do i = 1, model%npress
+            if (model%press(i)%ssid == 0) then
+                m = m + 1
+                pl%seg(:, m) = model%press(i)%seg
+                pl%load(m) = i
+            else
+                do k = 1, model%nsegset
+                    if (model%segset(k)%id /= model%press(i)%ssid) cycle
+                    pl%seg(:, m + 1:m + model%segset(k)%n) = model%segset(k)%seg
+                    pl%load(m + 1:m + model%segset(k)%n) = i
+                    m = m + model%segset(k)%n
+                end do
+            end if
+        end do
+    end subroutine build_pressures
+
+    !> Pressure forces at t(n) on x(n), added to f: each node of a quad takes
+    !> -p A n / 4 with A n = (x3 - x1) x (x4 - x2) / 2; a triangle's three nodes
+    !> take a third each. Positive pressure pushes against the normal.
+    subroutine apply_pressures(model, pl, st)
+        type(model_t), intent(in) :: model
+        type(pressures_t), intent(inout) :: pl
+        type(state_t), intent(inout) :: st
+        integer :: k, j
+        real(wp) :: p, an(3), d1(3), d2(3), t
+        t = real(st%time, wp)
+        do k = 1, pl%n
+            associate (pr => model%press(pl%load(k)), sg => pl%seg(:, k))
+                pl%f(:, :, k) = 0
+                if (t < pr%at) cycle
+                p = pr%sf*curve_value(model%curve(pr%curve_ix), t - pr%at)
+                if (sg(3) == sg(4)) then
+                    d1 = st%x(:, sg(2)) - st%x(:, sg(1))
+                    d2 = st%x(:, sg(3)) - st%x(:, sg(1))
+                    an = 0.5_wp*cross(d1, d2)
+                    do j = 1, 3
+                        pl%f(:, j, k) = -p*an/3.0_wp
+                    end do
+                else
+                    d1 = st%x(:, sg(3)) - st%x(:, sg(1))
+                    d2 = st%x(:, sg(4)) - st%x(:, sg(2))
+                    an = 0.5_wp*cross(d1, d2)
+                    do j = 1, 4
+                        pl%f(:, j, k) = -p*an/4.0_wp
+                    end do
+                end if
+                do j = 1, 4
+                    st%f(:, sg(j)) = st%f(:, sg(j)) + pl%f(:, j, k)
+                end do
+            end associate
+        end do
+    end subroutine apply_pressures
+
+    !> Power of this cycle's pressure forces with the current velocities.
+    real(dp) function pressure_power(pl, st) result(pw)
+        type(pressures_t), intent(in) :: pl
+        type(state_t), intent(in) :: st
+        integer :: k, j
+        pw = 0
+        do k = 1, pl%n
+            do j = 1, 4
+                pw = pw + dot_product(real(pl%f(:, j, k), dp), real(st%v(:, pl%seg(j, k)), dp))
+            end do
+        end do
+    end function pressure_power
+
+    pure function cross(a, b) result(c)
+        real(wp), intent(in) :: a(3), b(3)
+        real(wp) :: c(3)
+        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+    end function cross
 
 end module xd_solver_loads

@@ -14,7 +14,8 @@ module xd_solver_time_loop
     use xd_solver_energies, only: energies_t, compute_energies
     use xd_output_histories, only: histories_t, histories_due, write_histories
     use xd_output_d3hsp, only: log_t, log_line
-    use xd_solver_loads, only: body_acceleration, add_body_forces, body_power
+    use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
+                               pressure_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     use xd_rigid_bodies, only: rigid_t, rigid_step
@@ -38,7 +39,7 @@ module xd_solver_time_loop
 
 contains
 
-    subroutine run_time_loop(model, st, solids, asm, walls, pn, rg, hist, lg, tm, opts, res)
+    subroutine run_time_loop(model, st, solids, asm, walls, pn, rg, pl, hist, lg, tm, opts, res)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
@@ -46,6 +47,7 @@ contains
         type(walls_t), intent(inout) :: walls
         type(prescribed_nodes_t), intent(in) :: pn
         type(rigid_t), intent(inout) :: rg
+        type(pressures_t), intent(inout) :: pl
         type(histories_t), intent(inout) :: hist
         type(log_t), intent(in) :: lg
         type(timers_t), intent(inout) :: tm
@@ -92,6 +94,11 @@ contains
                 st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
                 call add_body_forces(st, g_new)
             end if
+            if (pl%n > 0) then
+                ! pressure forces: the same work rule as every force at t(n)
+                call apply_pressures(model, pl, st)
+                st%ext_work = st%ext_work + 0.5_dp*dt_avg*pressure_power(pl, st)
+            end if
             call accelerations()
             done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
             if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
@@ -111,6 +118,7 @@ contains
                 call tm%stop(ph_contact)
             end if
             if (model%nbody > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
+            if (pl%n > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*pressure_power(pl, st)
             if (pn%n > 0) then
                 call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm)
                 st%ext_work = st%ext_work + wpm

@@ -133,6 +133,10 @@ def main():
        "wall_without_normal.k:{line}: *RIGIDWALL_PLANAR card 2 field XH: the head point equals the tail")
     mk("rigid_without_dtinit", lambda L: replace(L, "*MAT_ELASTIC", "*MAT_RIGID") and 0,
        "*CONTROL_TIMESTEP field DTINIT: a model of rigid bodies alone has no element time step")
+    mk("undefined_segment_set", lambda L: (L.insert(3, "*DEFINE_CURVE"), L.insert(4, "         3"),
+                                           L.insert(5, f"{0.0:20.6e}{1.0:20.6e}"), L.insert(6, "*LOAD_SEGMENT_SET"),
+                                           L.insert(7, "         8         3")) and 8,
+       "undefined_segment_set.k:{line}: *LOAD_SEGMENT_SET field SSID: segment set 8 is not defined")
     print(f"wrote {len(os.listdir(HERE))} decks to {HERE}")
 
 
