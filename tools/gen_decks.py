@@ -166,6 +166,39 @@ def bar_wall(outdir):
     write(os.path.join(outdir, "verify", "bar_wall.k"), lines)
 
 
+def bar_moving_wall(outdir, name, mass_ratio):
+    """The bar_wall problem with a *RIGIDWALL_PLANAR_MOVING of mass
+    mass_ratio x the bar's, at rest: a heavy wall acts as the fixed one; a
+    light one is pushed away and carries kinetic energy."""
+    L, a, n = 1.0, 0.005, 200
+    E, rho, v0 = 200e9, 7850.0, 10.0
+    nodes, hexes = block_mesh(n, 1, 1, L, a, a, origin=(1.0e-6, 0.0, 0.0))
+    lines = common(f"elastic bar on a moving rigid wall ({mass_ratio:g} x the bar's mass)", 6.0e-4, 2.0e-6)
+    lines += ["*DATABASE_RWFORC", f10(1.0e-6)]
+    lines += ["*MAT_ELASTIC", f10(1, rho, E, 0.0)]
+    lines += part(1, 1, "bar")
+    lines += ["*RIGIDWALL_PLANAR_MOVING", f10(0), f10(0.0, 0.0, 0.0, 1.0, 0.0, 0.0), f10(mass_ratio * rho * L * a * a, 0.0)]
+    lines += ["*INITIAL_VELOCITY", f10(0), f10(-v0, 0.0, 0.0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", name + ".k"), lines)
+
+
+def bar_on_pole(outdir):
+    """A square bar sliding sideways into a fixed pole (*RIGIDWALL_GEOMETRIC_CYLINDER
+    along z): no node may end inside the pole."""
+    nodes, hexes = block_mesh(20, 2, 2, 0.2, 0.02, 0.02, origin=(-0.1, 0.0101, 0.0))
+    lines = common("bar striking a rigid pole sideways", 4.0e-3, 2.0e-5)
+    lines += ["*DATABASE_NODOUT", f10(2.0e-5), "*DATABASE_HISTORY_NODE"]
+    front = [k for k, x in sorted(nodes.items()) if abs(x[1] - 0.0101) < 1e-9]
+    lines += ["".join(f"{h:10d}" for h in front[i:i + 8]) for i in range(0, len(front), 8)]
+    lines += ["*MAT_ELASTIC", f10(1, 2700.0, 70e9, 0.3)]
+    lines += part(1, 1, "bar")
+    lines += ["*RIGIDWALL_GEOMETRIC_CYLINDER", f10(0), f10(0.0, -0.0, -0.05, 0.0, 0.0, 0.05, 0.0), f10(0.01, 0.1, 0)]
+    lines += ["*INITIAL_VELOCITY", f10(0), f10(0.0, -20.0, 0.0)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", "bar_on_pole.k"), lines)
+
+
 def gravity_drop(outdir):
     """A block falling from rest under *LOAD_BODY_Z onto a planar wall:
     it arrives at sqrt(2 g h)."""
@@ -470,6 +503,9 @@ def main():
     free_block_spin(args.outdir)
     prestressed_block(args.outdir)
     bar_wall(args.outdir)
+    bar_moving_wall(args.outdir, "bar_heavy_wall", 1000.0)
+    bar_moving_wall(args.outdir, "bar_light_wall", 1.0)
+    bar_on_pole(args.outdir)
     gravity_drop(args.outdir)
     tension_decks(args.outdir)
     taylor_bar(args.outdir, "taylor_bar_coarse", 3, 3, 36)

@@ -22,6 +22,8 @@ PROBLEMS = [
     ("Free block translating and spinning", "conservation of energy and momentum", rt.test_free_block),
     ("Pre-stressed column released", "conservation of energy; sigma^2 V / 2E", rt.test_prestressed),
     ("Elastic bar on a planar rigid wall", "1-D theory: 2L/c, rho c A v0, rebound at v0", rt.test_bar_wall),
+    ("Moving and cylindrical rigid walls", "fixed-wall limit; momentum and energy; no penetration",
+     rt.test_moving_walls),
     ("Block dropped on a rigid wall under gravity", "v = sqrt(2 g h)", rt.test_gravity_drop),
     ("One element in uniaxial stress, plastic materials", "closed-form return mapping; Cowper-Symonds",
      rt.test_plasticity),

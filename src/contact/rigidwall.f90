@@ -11,10 +11,12 @@ module xd_contact_rigidwall
     use xd_solver_state, only: state_t
     implicit none
     private
-    public :: walls_t, build_walls, apply_walls
+    public :: walls_t, build_walls, apply_walls, walls_kinetic
 
     type :: wall_nodes_t
         integer, allocatable :: node(:)     !< nodes the wall stops
+        real(dp) :: shift = 0               !< moving wall: distance moved along the normal
+        real(dp) :: vel = 0, vel_old = 0    !< moving wall: velocity along the normal
         real(dp) :: energy = 0              !< kinetic energy removed so far
         real(wp) :: force(3) = 0            !< force of the nodes on the wall, this cycle
         real(wp) :: normal_force = 0        !< its component along the wall normal (positive: pressing)
@@ -50,6 +52,8 @@ contains
                     on(model%set(s)%member_ix) = .false.
                 end if
                 walls%w(i)%node = pack([(k, k=1, model%nnode)], on)
+                walls%w(i)%vel = real(w%v0, dp)
+                walls%w(i)%vel_old = walls%w(i)%vel
             end associate
         end do
     end subroutine build_walls
@@ -73,36 +77,62 @@ contains
         type(wall_nodes_t), intent(inout) :: wn
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt, dt_avg
-        integer :: k, nd
-        real(wp) :: xn(3), d, dvn, vold(3), vprev(3), vt(3), vtn, cut, r(3)
-        real(dp) :: de
+        integer :: k, nd, nc
+        real(wp) :: xn(3), d, dvn, vold(3), vprev(3), vt(3), vtn, cut, nrm(3)
+        real(dp) :: de, sum_m, sum_j, vw
+        integer, allocatable :: hit(:)
+        real(wp), allocatable :: gap(:), hn(:, :)
         wn%force = 0
         wn%normal_force = 0
-        if (st%time < w%birth .or. st%time > w%death) return
-        de = 0
+        wn%vel_old = wn%vel
+        if (st%time < w%birth .or. st%time > w%death) then
+            wn%shift = wn%shift + dt*wn%vel
+            return
+        end if
+        ! nodes that would end the step behind the wall (the wall at its
+        ! present speed), with their distance and the wall normal there
+        allocate (hit(size(wn%node)), gap(size(wn%node)), hn(3, size(wn%node)))
+        nc = 0
         do k = 1, size(wn%node)
             nd = wn%node(k)
             if (st%mass(nd) <= 0.0_wp) cycle
-            ! where the node would be after the step, measured from the wall
             xn = st%x(:, nd) + dt*st%v(:, nd)
-            r = xn - w%tail
-            d = dot_product(r, w%normal) - w%offset
+            call wall_distance(w, wn, xn, real(dt*wn%vel, wp), d, nrm)
             if (d >= 0.0_wp) cycle
-            if (w%finite) then
-                if (dot_product(r, w%l) < 0.0_wp .or. dot_product(r, w%l) > w%lenl .or. &
-                    dot_product(r, w%m) < 0.0_wp .or. dot_product(r, w%m) > w%lenm) cycle
-            end if
+            nc = nc + 1
+            hit(nc) = nd
+            gap(nc) = d
+            hn(:, nc) = nrm
+        end do
+        ! a moving wall takes the nodes' impulses: with J_i = m_i dv_i and the
+        ! wall ending at v_w - sum J / M, each node ending on the wall gives
+        ! sum J (1 + sum m / M) = sum m_i (-d_i / dt) (closed form, momentum kept)
+        vw = 0
+        if (w%moving .and. nc > 0) then
+            sum_m = 0
+            sum_j = 0
+            do k = 1, nc
+                sum_m = sum_m + st%mass(hit(k))
+                sum_j = sum_j - st%mass(hit(k))*gap(k)/dt
+            end do
+            sum_j = sum_j/(1.0_dp + sum_m/w%mass)
+            vw = -sum_j/w%mass
+            wn%vel = wn%vel + vw
+        end if
+        de = 0
+        do k = 1, nc
+            nd = hit(k)
             vold = st%v(:, nd)
-            ! normal: end the step on the wall
-            dvn = -d/dt
-            st%v(:, nd) = st%v(:, nd) + dvn*w%normal
+            ! normal: end the step on the wall (which itself changed speed by vw)
+            dvn = -gap(k)/dt + real(vw, wp)
+            st%v(:, nd) = st%v(:, nd) + dvn*hn(:, k)
             ! tangential: stick, or Coulomb-limited slip reduction
             if (w%fric > 0.0_wp) then
-                vt = st%v(:, nd) - dot_product(st%v(:, nd), w%normal)*w%normal
+                vt = st%v(:, nd) - dot_product(st%v(:, nd), hn(:, k))*hn(:, k)
                 vtn = norm2(vt)
                 if (vtn > 0.0_wp) then
                     cut = vtn
-                    if (w%fric < 1.0_wp) cut = min(vtn, w%fric*dvn)
+                    if (w%fric < 1.0_wp) cut = min(vtn, w%fric*abs(dvn))
                     st%v(:, nd) = st%v(:, nd) - (cut/vtn)*vt
                 end if
             end if
@@ -114,8 +144,52 @@ contains
             vprev = vold - dt_avg*st%a(:, nd)
             de = de - st%mass(nd)*dot_product(real(st%v(:, nd) - vold, dp), 0.5_dp*real(vprev + st%v(:, nd), dp))
         end do
+        ! a moving wall keeps the kinetic energy it gains; the rest is dissipated
+        if (w%moving) de = de - 0.5_dp*w%mass*(wn%vel**2 - wn%vel_old**2)
+        wn%shift = wn%shift + dt*wn%vel
         wn%normal_force = -dot_product(wn%force, w%normal)
         wn%energy = wn%energy + de
     end subroutine apply_wall
+
+    !> Signed distance of the point x from the wall after it moves by `ahead`
+    !> along its normal (negative: behind or inside), and the wall normal
+    !> there; huge when x is beyond a finite wall's edges or the cylinder's ends.
+    pure subroutine wall_distance(w, wn, x, ahead, d, nrm)
+        type(rigidwall_t), intent(in) :: w
+        type(wall_nodes_t), intent(in) :: wn
+        real(wp), intent(in) :: x(3), ahead
+        real(wp), intent(out) :: d, nrm(3)
+        real(wp) :: r(3), s, radial(3), rr
+        r = x - w%tail
+        if (w%cylinder) then
+            s = dot_product(r, w%normal)
+            radial = r - s*w%normal
+            rr = norm2(radial)
+            d = huge(1.0_wp)
+            nrm = w%normal
+            if (s < 0.0_wp .or. s > w%length .or. rr <= 0.0_wp) return
+            d = rr - w%radius
+            nrm = radial/rr
+            return
+        end if
+        r = r - real(wn%shift, wp)*w%normal - ahead*w%normal
+        nrm = w%normal
+        d = dot_product(r, w%normal) - w%offset
+        if (w%finite) then
+            if (dot_product(r, w%l) < 0.0_wp .or. dot_product(r, w%l) > w%lenl .or. &
+                dot_product(r, w%m) < 0.0_wp .or. dot_product(r, w%m) > w%lenm) d = huge(1.0_wp)
+        end if
+    end subroutine wall_distance
+
+    !> Kinetic energy of the moving walls (part of the system's).
+    pure real(dp) function walls_kinetic(model, walls) result(ke)
+        type(model_t), intent(in) :: model
+        type(walls_t), intent(in) :: walls
+        integer :: i
+        ke = 0
+        do i = 1, walls%n
+            if (model%wall(i)%moving) ke = ke + 0.5_dp*model%wall(i)%mass*walls%w(i)%vel_old*walls%w(i)%vel
+        end do
+    end function walls_kinetic
 
 end module xd_contact_rigidwall

@@ -82,6 +82,10 @@ module xd_input_keyword_table
         entry_t('LOAD_BODY_Z', fam_load, '', .false.), &
         entry_t('RIGIDWALL_PLANAR', fam_load, '', .true.), &
         entry_t('RIGIDWALL_PLANAR_FINITE', fam_load, '', .true.), &
+        entry_t('RIGIDWALL_PLANAR_MOVING', fam_load, '', .true.), &
+        entry_t('RIGIDWALL_PLANAR_FINITE_MOVING', fam_load, '', .true.), &
+        entry_t('RIGIDWALL_GEOMETRIC_CYLINDER', fam_load, '', .true.), &
+        entry_t('RIGIDWALL_GEOMETRIC_CYLINDER_DISPLAY', fam_load, 'RIGIDWALL_GEOMETRIC_CYLINDER', .true.), &
         entry_t('DATABASE_GLSTAT', fam_database, '', .false.), &
         entry_t('DATABASE_MATSUM', fam_database, '', .false.), &
         entry_t('DATABASE_NODOUT', fam_database, '', .false.), &
@@ -121,10 +125,7 @@ module xd_input_keyword_table
 
         entry_t('LOAD_SHELL_ELEMENT', fam_planned, '', .false.), &
         entry_t('LOAD_SHELL_SET', fam_planned, '', .false.), &
-        entry_t('RIGIDWALL_PLANAR_MOVING', fam_planned, '', .true.), &
-        entry_t('RIGIDWALL_PLANAR_FINITE_MOVING', fam_planned, '', .true.), &
         entry_t('RIGIDWALL_PLANAR_FORCES', fam_planned, '', .true.), &
-        entry_t('RIGIDWALL_GEOMETRIC_CYLINDER', fam_planned, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_SINGLE_SURFACE', fam_planned, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', fam_planned, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_GENERAL', fam_planned, '', .true.), &

@@ -24,8 +24,11 @@ contains
             call read_curve(ctx, kw, model, error)
         case ('LOAD_BODY_X', 'LOAD_BODY_Y', 'LOAD_BODY_Z')
             call read_body(ctx, kw, model, error)
-        case ('RIGIDWALL_PLANAR', 'RIGIDWALL_PLANAR_FINITE')
+        case ('RIGIDWALL_PLANAR', 'RIGIDWALL_PLANAR_FINITE', 'RIGIDWALL_PLANAR_MOVING', &
+              'RIGIDWALL_PLANAR_FINITE_MOVING')
             call read_wall(ctx, kw, model, error)
+        case ('RIGIDWALL_GEOMETRIC_CYLINDER')
+            call read_cylinder(ctx, kw, model, error)
         case ('SET_SEGMENT')
             call read_segment_set(ctx, kw, model, error)
         case ('LOAD_SEGMENT', 'LOAD_SEGMENT_SET')
@@ -123,6 +126,72 @@ contains
             model%press(model%npress) = pr
         end do
     end subroutine read_pressure
+
+    !> Card 1 NSID NSIDEX BOXID BIRTH DEATH; card 2 XT YT ZT XH YH ZH FRIC;
+    !> card 3 RADCYL LENCYL NSEGS. Nodes are kept outside the cylinder whose
+    !> axis runs from the tail towards the head for LENCYL.
+    subroutine read_cylinder(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(rigidwall_t) :: w
+        real(wp) :: head(3)
+        integer :: ic, boxid, k
+        ic = first_card(kw)
+        if (kw%has_id) then
+            call get_card(ctx, kw, 1, 'ID HEADING:70', 0, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, w%id, 0, error); if (allocated(error)) return
+            w%heading = get_text(card, 2)
+        end if
+        if (ic + 2 > kw%ncard) then
+            call make_error(error, ctx%src%where(kw%kw_line)//': '//trim(kw%written)//' needs cards 1 to 3')
+            return
+        end if
+        call get_card(ctx, kw, ic, 'NSID NSIDEX BOXID BIRTH DEATH', 1, card, error)
+        if (allocated(error)) return
+        call get_int(card, 1, w%nsid, 0, error); if (allocated(error)) return
+        call get_int(card, 2, w%nsidex, 0, error); if (allocated(error)) return
+        call get_int(card, 3, boxid, 0, error); if (allocated(error)) return
+        call get_real(card, 4, w%birth, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 5, w%death, 1.0e20_wp, error, zero_default=.true.); if (allocated(error)) return
+        if (boxid /= 0) then
+            call card_error(card, 3, 'boxes are not supported (BOXID must be 0)', error); return
+        end if
+        w%src = kw%card_line(ic)
+        call get_card(ctx, kw, ic + 1, 'XT YT ZT XH YH ZH FRIC', 2, card, error)
+        if (allocated(error)) return
+        do k = 1, 3
+            call get_real(card, k, w%tail(k), 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 3 + k, head(k), 0.0_wp, error); if (allocated(error)) return
+        end do
+        call get_real(card, 7, w%fric, 0.0_wp, error); if (allocated(error)) return
+        w%normal = head - w%tail
+        if (norm2(w%normal) <= 0.0_wp) then
+            call card_error(card, 4, 'the head point equals the tail: the cylinder has no axis', error); return
+        end if
+        w%normal = w%normal/norm2(w%normal)
+        if (w%fric < 0.0_wp .or. w%fric > 1.0_wp) then
+            call card_error(card, 7, 'FRIC must lie in [0, 1]', error); return
+        end if
+        call get_card(ctx, kw, ic + 2, 'RADCYL LENCYL NSEGS', 3, card, error)
+        if (allocated(error)) return
+        call get_real(card, 1, w%radius, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 2, w%length, 0.0_wp, error); if (allocated(error)) return
+        if (.not. (w%radius > 0.0_wp)) then
+            call card_error(card, 1, 'the radius must be positive', error); return
+        end if
+        if (w%length <= 0.0_wp) w%length = huge(1.0_wp)
+        w%cylinder = .true.
+        if (.not. allocated(model%wall)) allocate (model%wall(4))
+        if (model%nwall == size(model%wall)) model%wall = [model%wall, model%wall]
+        model%nwall = model%nwall + 1
+        if (w%id == 0) w%id = model%nwall
+        model%wall(model%nwall) = w
+        call no_more_cards(ctx, kw, ic + 3, error)
+    end subroutine read_cylinder
 
     !> Card 1 LCID SIDR SFA SFO OFFA OFFO DATTYP; then points A O (E20 each).
     !> Offsets first, then scales: a = SFA (A + OFFA), o = SFO (O + OFFO).
@@ -299,6 +368,22 @@ contains
             w%m = [w%normal(2)*w%l(3) - w%normal(3)*w%l(2), w%normal(3)*w%l(1) - w%normal(1)*w%l(3), &
                    w%normal(1)*w%l(2) - w%normal(2)*w%l(1)]
             w%finite = .true.
+            ic = ic + 1
+        end if
+        if (index(kw%name, '_MOVING') > 0) then
+            if (ic + 2 > kw%ncard) then
+                call make_error(error, ctx%src%where(kw%kw_line)//': '//trim(kw%written)// &
+                                ' card (MASS V0) is missing')
+                return
+            end if
+            call get_card(ctx, kw, ic + 2, 'MASS V0', 3, card, error)
+            if (allocated(error)) return
+            call get_real(card, 1, w%mass, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 2, w%v0, 0.0_wp, error); if (allocated(error)) return
+            if (.not. (w%mass > 0.0_wp)) then
+                call card_error(card, 1, 'a moving wall needs a positive mass', error); return
+            end if
+            w%moving = .true.
             ic = ic + 1
         end if
         if (.not. allocated(model%wall)) allocate (model%wall(4))

@@ -164,6 +164,10 @@ module xd_model
         real(wp) :: fric = 0
         logical :: finite = .false.
         real(wp) :: l(3) = 0, m(3) = 0, lenl = 0, lenm = 0
+        logical :: moving = .false.          !< _MOVING: a wall of `mass` moving along its normal
+        real(wp) :: mass = 0, v0 = 0
+        logical :: cylinder = .false.        !< *RIGIDWALL_GEOMETRIC_CYLINDER: nodes stay outside
+        real(wp) :: radius = 0, length = 0   !< cylinder: axis from tail along `normal`
         integer :: src = 0
     end type rigidwall_t
 

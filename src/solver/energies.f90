@@ -5,7 +5,7 @@ module xd_solver_energies
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
-    use xd_contact_rigidwall, only: walls_t
+    use xd_contact_rigidwall, only: walls_t, walls_kinetic
     use xd_rigid_bodies, only: rigid_t, rigid_energy
     implicit none
     private
@@ -80,6 +80,7 @@ contains
         en%vel = 0
         if (en%mass > 0) en%vel = mom/en%mass
         en%ext = st%ext_work
+        en%ke = en%ke + walls_kinetic(model, walls)
         en%wall = 0
         do e = 1, walls%n
             en%wall = en%wall + walls%w(e)%energy
