@@ -117,8 +117,6 @@ contains
                 call apply_walls(model, walls, st, st%dt, real(dt_avg, wp))
                 call tm%stop(ph_contact)
             end if
-            if (model%nbody > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
-            if (pl%n > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*pressure_power(pl, st)
             if (pn%n > 0) then
                 call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm)
                 st%ext_work = st%ext_work + wpm
@@ -129,6 +127,9 @@ contains
                 st%ext_work = st%ext_work + wpm
                 call tm%stop(ph_rigid)
             end if
+            ! second half of the load work, with the final v(n+1/2)
+            if (model%nbody > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
+            if (pl%n > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*pressure_power(pl, st)
 
             if (energy_now) then
                 call tm%start(ph_output)
