@@ -137,15 +137,9 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         type(rigidwall_t) :: w
-        real(wp) :: head(3)
-        integer :: ic, boxid, k
+        integer :: ic, boxid
         ic = first_card(kw)
-        if (kw%has_id) then
-            call get_card(ctx, kw, 1, 'ID HEADING:70', 0, card, error)
-            if (allocated(error)) return
-            call get_int(card, 1, w%id, 0, error); if (allocated(error)) return
-            w%heading = get_text(card, 2)
-        end if
+        call read_wall_id(ctx, kw, w, error); if (allocated(error)) return
         if (ic + 2 > kw%ncard) then
             call make_error(error, ctx%src%where(kw%kw_line)//': '//trim(kw%written)//' needs cards 1 to 3')
             return
@@ -161,21 +155,8 @@ contains
             call card_error(card, 3, 'boxes are not supported (BOXID must be 0)', error); return
         end if
         w%src = kw%card_line(ic)
-        call get_card(ctx, kw, ic + 1, 'XT YT ZT XH YH ZH FRIC', 2, card, error)
+        call read_wall_axis(ctx, kw, ic + 1, 'XT YT ZT XH YH ZH FRIC', w, card, error)
         if (allocated(error)) return
-        do k = 1, 3
-            call get_real(card, k, w%tail(k), 0.0_wp, error); if (allocated(error)) return
-            call get_real(card, 3 + k, head(k), 0.0_wp, error); if (allocated(error)) return
-        end do
-        call get_real(card, 7, w%fric, 0.0_wp, error); if (allocated(error)) return
-        w%normal = head - w%tail
-        if (norm2(w%normal) <= 0.0_wp) then
-            call card_error(card, 4, 'the head point equals the tail: the cylinder has no axis', error); return
-        end if
-        w%normal = w%normal/norm2(w%normal)
-        if (w%fric < 0.0_wp .or. w%fric > 1.0_wp) then
-            call card_error(card, 7, 'FRIC must lie in [0, 1]', error); return
-        end if
         call get_card(ctx, kw, ic + 2, 'RADCYL LENCYL NSEGS', 3, card, error)
         if (allocated(error)) return
         call get_real(card, 1, w%radius, 0.0_wp, error); if (allocated(error)) return
@@ -192,6 +173,49 @@ contains
         model%wall(model%nwall) = w
         call no_more_cards(ctx, kw, ic + 3, error)
     end subroutine read_cylinder
+
+    !> The ID/HEADING card of the _ID option.
+    subroutine read_wall_id(ctx, kw, w, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(rigidwall_t), intent(inout) :: w
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        if (.not. kw%has_id) return
+        call get_card(ctx, kw, 1, 'ID HEADING:70', 0, card, error)
+        if (allocated(error)) return
+        call get_int(card, 1, w%id, 0, error); if (allocated(error)) return
+        w%heading = get_text(card, 2)
+    end subroutine read_wall_id
+
+    !> Card 2 of the rigid walls: tail, head (the unit normal or axis from
+    !> tail to head) and FRIC; returns the card for further fields.
+    subroutine read_wall_axis(ctx, kw, ic, spec, w, card, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        integer, intent(in) :: ic
+        character(len=*), intent(in) :: spec
+        type(rigidwall_t), intent(inout) :: w
+        type(card_t), intent(out) :: card
+        type(error_t), allocatable, intent(out) :: error
+        real(wp) :: head(3)
+        integer :: k
+        call get_card(ctx, kw, ic, spec, 2, card, error)
+        if (allocated(error)) return
+        do k = 1, 3
+            call get_real(card, k, w%tail(k), 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 3 + k, head(k), 0.0_wp, error); if (allocated(error)) return
+        end do
+        call get_real(card, 7, w%fric, 0.0_wp, error); if (allocated(error)) return
+        w%normal = head - w%tail
+        if (norm2(w%normal) <= 0.0_wp) then
+            call card_error(card, 4, 'the head point equals the tail: no normal or axis', error); return
+        end if
+        w%normal = w%normal/norm2(w%normal)
+        if (w%fric < 0.0_wp .or. w%fric > 1.0_wp) then
+            call card_error(card, 7, 'FRIC must lie in [0, 1]', error); return
+        end if
+    end subroutine read_wall_axis
 
     !> Card 1 LCID SIDR SFA SFO OFFA OFFO DATTYP; then points A O (E20 each).
     !> Offsets first, then scales: a = SFA (A + OFFA), o = SFO (O + OFFO).
@@ -300,15 +324,10 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         type(rigidwall_t) :: w
-        real(wp) :: head(3), hev(3), rwksf, wvel
+        real(wp) :: hev(3), rwksf, wvel
         integer :: ic, boxid, k
         ic = first_card(kw)
-        if (kw%has_id) then
-            call get_card(ctx, kw, 1, 'ID HEADING:70', 0, card, error)
-            if (allocated(error)) return
-            call get_int(card, 1, w%id, 0, error); if (allocated(error)) return
-            w%heading = get_text(card, 2)
-        end if
+        call read_wall_id(ctx, kw, w, error); if (allocated(error)) return
         if (ic + 1 > kw%ncard) then
             call make_error(error, ctx%src%where(kw%kw_line)//': '//trim(kw%written)//' needs cards 1 and 2')
             return
@@ -326,22 +345,9 @@ contains
             call card_error(card, 3, 'boxes are not supported (BOXID must be 0)', error); return
         end if
         w%src = kw%card_line(ic)
-        call get_card(ctx, kw, ic + 1, 'XT YT ZT XH YH ZH FRIC WVEL', 2, card, error)
+        call read_wall_axis(ctx, kw, ic + 1, 'XT YT ZT XH YH ZH FRIC WVEL', w, card, error)
         if (allocated(error)) return
-        do k = 1, 3
-            call get_real(card, k, w%tail(k), 0.0_wp, error); if (allocated(error)) return
-            call get_real(card, 3 + k, head(k), 0.0_wp, error); if (allocated(error)) return
-        end do
-        call get_real(card, 7, w%fric, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 8, wvel, 0.0_wp, error); if (allocated(error)) return
-        w%normal = head - w%tail
-        if (norm2(w%normal) <= 0.0_wp) then
-            call card_error(card, 4, 'the head point equals the tail: the wall has no normal', error); return
-        end if
-        w%normal = w%normal/norm2(w%normal)
-        if (w%fric < 0.0_wp .or. w%fric > 1.0_wp) then
-            call card_error(card, 7, 'FRIC must lie in [0, 1]', error); return
-        end if
         if (wvel /= 0.0_wp) call add_warning(model, ctx%src%where(kw%card_line(ic + 1))//': '// &
             trim(kw%written)//' field WVEL: the critical velocity for welding is not implemented; ignored')
         if (index(kw%name, '_FINITE') > 0) then

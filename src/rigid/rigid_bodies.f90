@@ -13,6 +13,7 @@ module xd_rigid_bodies
     use xd_core_strings, only: itoa
     use xd_model, only: model_t, mat_rigid, find_set, set_node, curve_value
     use xd_solver_state, only: state_t
+    use xd_core_vectors, only: cross
     implicit none
     private
     public :: rigid_t, rigid_body_t, rigid_lumped_mass, build_rigid, rigid_step, rigid_energy, is_rigid_part
@@ -408,12 +409,6 @@ contains
         a = 0
         a(1, 1) = 1; a(2, 2) = 1; a(3, 3) = 1
     end function identity
-
-    pure function cross(a, b) result(c)
-        real(dp), intent(in) :: a(3), b(3)
-        real(dp) :: c(3)
-        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-    end function cross
 
     !> x with a x = b for a 3x3 matrix (Cramer; a is symmetric positive here).
     pure function solve3(a, b) result(x)

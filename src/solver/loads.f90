@@ -4,6 +4,7 @@ module xd_solver_loads
     use xd_kinds, only: wp, dp
     use xd_model, only: model_t, curve_value
     use xd_solver_state, only: state_t
+    use xd_core_vectors, only: cross
     implicit none
     private
     public :: body_acceleration, add_body_forces, body_power
@@ -110,14 +111,14 @@ contains
                 if (sg(3) == sg(4)) then
                     d1 = st%x(:, sg(2)) - st%x(:, sg(1))
                     d2 = st%x(:, sg(3)) - st%x(:, sg(1))
-                    an = 0.5_wp*cross(d1, d2)
+                    an = real(0.5_dp*cross(real(d1, dp), real(d2, dp)), wp)
                     do j = 1, 3
                         pl%f(:, j, k) = -p*an/3.0_wp
                     end do
                 else
                     d1 = st%x(:, sg(3)) - st%x(:, sg(1))
                     d2 = st%x(:, sg(4)) - st%x(:, sg(2))
-                    an = 0.5_wp*cross(d1, d2)
+                    an = real(0.5_dp*cross(real(d1, dp), real(d2, dp)), wp)
                     do j = 1, 4
                         pl%f(:, j, k) = -p*an/4.0_wp
                     end do
@@ -142,10 +143,5 @@ contains
         end do
     end function pressure_power
 
-    pure function cross(a, b) result(c)
-        real(wp), intent(in) :: a(3), b(3)
-        real(wp) :: c(3)
-        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-    end function cross
 
 end module xd_solver_loads

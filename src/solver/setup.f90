@@ -9,6 +9,7 @@ module xd_solver_setup
     use xd_elements_hex8, only: hex_b_matrix
     use xd_elements_solid_groups, only: solids_t, build_solids
     use xd_solver_state, only: state_t
+    use xd_core_vectors, only: cross
     use xd_solver_assembly, only: assembly_t, build_assembly
     use xd_rigid_bodies, only: rigid_t, rigid_lumped_mass, build_rigid
     use xd_core_errors, only: error_t
@@ -171,7 +172,8 @@ contains
                             mark(model%set(s)%member_ix) = .true.
                         end select
                         do k = 1, st%nnode
-                            if (mark(k)) st%v(:, k) = iv%v + iv%omega*cross(iv%axis, st%x(:, k) - iv%xc)
+                            if (mark(k)) st%v(:, k) = iv%v + iv%omega* &
+                                                      real(cross(real(iv%axis, dp), real(st%x(:, k) - iv%xc, dp)), wp)
                         end do
                     else if (pass == 3 .and. iv%kind == iv_node) then
                         st%v(:, iv%ix) = iv%v
@@ -188,12 +190,6 @@ contains
             end do
         end subroutine mark_part
     end subroutine initial_velocities
-
-    pure function cross(a, b) result(c)
-        real(wp), intent(in) :: a(3), b(3)
-        real(wp) :: c(3)
-        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-    end function cross
 
     !> *INITIAL_STRESS_SOLID, and the strain energy it stores (linear elastic).
     subroutine initial_stresses(model, hex_map, s, st)
