@@ -340,7 +340,9 @@ contains
         call get_real(card, 4, w%offset, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 5, w%birth, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 6, w%death, 1.0e20_wp, error, zero_default=.true.); if (allocated(error)) return
-        call get_real(card, 7, rwksf, 1.0_wp, error); if (allocated(error)) return
+        call get_real(card, 7, rwksf, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+        if (rwksf /= 1.0_wp) call add_warning(model, ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)// &
+            ' field RWKSF: the wall is a stonewall (kinematic), not a penalty wall; the scale is ignored')
         if (boxid /= 0) then
             call card_error(card, 3, 'boxes are not supported (BOXID must be 0)', error); return
         end if
