@@ -454,6 +454,50 @@ def pressure_column(outdir):
     write(os.path.join(outdir, "verify", "pressure_column.k"), lines)
 
 
+def shell_cantilever(outdir):
+    """A cantilever strip of Belytschko-Tsay shells (nu = 0), clamped at
+    x = 0, released from the first mode's velocity shape: it vibrates at the
+    beam's first frequency f1 = (1.875^2 / 2 pi) sqrt(E t^2 / (12 rho L^4))."""
+    L, b, t, nx, ny = 0.2, 0.02, 0.002, 20, 2
+    E, rho = 200e9, 7850.0
+    nodes = {}
+    for j in range(ny + 1):
+        for i in range(nx + 1):
+            nodes[1 + i + (nx + 1) * j] = (L * i / nx, b * j / ny, 0.0)
+    shells = []
+    e = 1
+    for j in range(ny):
+        for i in range(nx):
+            n1 = 1 + i + (nx + 1) * j
+            shells.append((e, n1, n1 + 1, n1 + 1 + nx + 1, n1 + nx + 1))
+            e += 1
+    lines = common("cantilever strip of Belytschko-Tsay shells (first bending frequency)", 0.06, 2.0e-4)
+    tip = [k for k, x in nodes.items() if abs(x[0] - L) < 1e-12 and x[1] == 0.0][0]
+    lines += ["*DATABASE_NODOUT", f10(2.0e-4), "*DATABASE_HISTORY_NODE", f10(tip)]
+    lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 3), f10(t, t, t, t)]
+    lines += ["*MAT_ELASTIC", f10(1, rho, E, 0.0)]
+    lines += ["*PART", "strip", f10(1, 2, 1)]
+    lines += node_set(1, nodes_where(nodes, lambda x, y, z: x == 0.0))
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1, 1, 1, 1)]
+    # first cantilever mode: w(x) ~ (cosh - cos) - s (sinh - sin), s = 0.7341
+    bl = 1.8751
+    def mode(x):
+        k = bl * x / L
+        return (math.cosh(k) - math.cos(k)) - 0.7341 * (math.sinh(k) - math.sin(k))
+    def slope(x):
+        k = bl * x / L
+        return bl / L * ((math.sinh(k) + math.sin(k)) - 0.7341 * (math.cosh(k) - math.cos(k)))
+    amp = 0.05 / mode(L)
+    lines += ["*INITIAL_VELOCITY_NODE"]
+    for n, (x, y, z) in sorted(nodes.items()):
+        if x > 0:
+            lines.append(f"{n:10d}{0.0:10.4g}{0.0:10.4g}{amp * mode(x):10.4g}{0.0:10.4g}{-amp * slope(x):10.4g}")
+    out = ["*NODE"] + [f"{n:8d}{x:16.9e}{y:16.9e}{z:16.9e}{0:8d}{0:8d}" for n, (x, y, z) in sorted(nodes.items())]
+    out += ["*ELEMENT_SHELL"] + [f"{s[0]:8d}{1:8d}" + "".join(f"{v:8d}" for v in s[1:]) for s in shells]
+    lines += out
+    write(os.path.join(outdir, "verify", "shell_cantilever.k"), lines)
+
+
 def demo_cantilever(outdir):
     """A clamped steel cantilever of hexahedra set swinging by an initial
     velocity that grows along its length."""
@@ -514,6 +558,7 @@ def main():
     rod_with_rigid_mass(args.outdir)
     rigid_prescribed(args.outdir)
     pressure_column(args.outdir)
+    shell_cantilever(args.outdir)
     spot_weld(args.outdir, "spot_weld", 1.0e20)
     spot_weld(args.outdir, "spot_weld_fail", 1.0e-6)
     demo_cantilever(args.outdir)

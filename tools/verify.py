@@ -34,6 +34,7 @@ PROBLEMS = [
     ("Prescribed rigid motion and spot welds", "the prescribed curves; conservation; failure time",
      rt.test_rigid_constraints),
     ("Column under segment pressure", "uniaxial stress: p L / E", rt.test_pressure),
+    ("Belytschko-Tsay cantilever strip", "beam theory, first bending frequency", rt.test_shells),
     ("Thread count", "deterministic assembly: bitwise equal histories", rt.test_threads),
 ]
 

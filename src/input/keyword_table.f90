@@ -41,7 +41,10 @@ module xd_input_keyword_table
         entry_t('NODE', fam_geometry, '', .false.), &
         entry_t('ELEMENT_SOLID', fam_geometry, '', .false.), &
         entry_t('PART', fam_geometry, '', .false.), &
+        entry_t('ELEMENT_SHELL', fam_geometry, '', .false.), &
+        entry_t('ELEMENT_SHELL_THICKNESS', fam_geometry, '', .false.), &
         entry_t('SECTION_SOLID', fam_section, '', .false.), &
+        entry_t('SECTION_SHELL', fam_section, '', .false.), &
         entry_t('MAT_ELASTIC', fam_material, '', .false.), &
         entry_t('MAT_001', fam_material, 'MAT_ELASTIC', .false.), &
         entry_t('MAT_PLASTIC_KINEMATIC', fam_material, '', .false.), &
@@ -116,9 +119,6 @@ module xd_input_keyword_table
         entry_t('CONTROL_MPP_*', fam_skip, '', .false.), &
         entry_t('SENSOR_DEFINE_*', fam_skip, '', .false.), &
         ! in KEYWORDS.md, arriving with later work: a clear message until then
-        entry_t('ELEMENT_SHELL', fam_planned, '', .false.), &
-        entry_t('ELEMENT_SHELL_THICKNESS', fam_planned, '', .false.), &
-        entry_t('SECTION_SHELL', fam_planned, '', .false.), &
         entry_t('SET_NODE_GENERAL', fam_planned, '', .false.), &
         entry_t('SET_PART_GENERAL', fam_planned, '', .false.), &
         entry_t('SET_SHELL_LIST', fam_planned, '', .false.), &

@@ -28,6 +28,7 @@ contains
         call build_maps(ctx, model, maps, error); if (allocated(error)) return
         call check_parts(ctx, model, maps, error); if (allocated(error)) return
         call check_hexes(ctx, model, maps, error); if (allocated(error)) return
+        call check_shells(ctx, model, maps, error); if (allocated(error)) return
         call check_sets(ctx, model, maps, error); if (allocated(error)) return
         call check_conditions(ctx, model, maps, error); if (allocated(error)) return
         call check_loads(ctx, model, maps%node, maps%part, error); if (allocated(error)) return
@@ -96,10 +97,12 @@ contains
         do i = 1, model%npart
             associate (p => model%part(i))
                 p%sec_ix = maps%sec%find(p%secid)
+                p%shell_sec_ix = 0
+                if (p%sec_ix == 0) p%shell_sec_ix = findloc(model%sec_shell(1:model%nsec_shell)%id, p%secid, 1)
                 p%mat_ix = maps%mat%find(p%mid)
                 p%hg_ix = 0
                 if (p%hgid /= 0) p%hg_ix = maps%hg%find(p%hgid)
-                if (p%sec_ix == 0) then
+                if (p%sec_ix == 0 .and. p%shell_sec_ix == 0) then
                     call make_error(error, ctx%src%where(p%src)//': *PART '//itoa(p%id)// &
                                     ' field SECID: section '//itoa(p%secid)//' is not defined')
                     return
@@ -136,6 +139,10 @@ contains
             model%hex_part(e) = maps%part%find(model%hex_pid(e))
             if (model%hex_part(e) == 0) then
                 call make_error(error, at//' field PID: part '//itoa(model%hex_pid(e))//' is not defined')
+                return
+            end if
+            if (model%part(model%hex_part(e))%sec_ix == 0) then
+                call make_error(error, at//' field PID: part '//itoa(model%hex_pid(e))//' has a shell section')
                 return
             end if
             do k = 1, 8
@@ -178,6 +185,54 @@ contains
         if (ntet > 0) call add_warning(model, itoa(ntet)//' solid elements are degenerate tetrahedra '// &
                                        '(treated as one-point hexahedra)')
     end subroutine check_hexes
+
+    !> Shell elements: parts with shell sections, nodes, thickness, area.
+    subroutine check_shells(ctx, model, maps, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_maps_t), intent(in) :: maps
+        type(error_t), allocatable, intent(out) :: error
+        integer :: e, k, nid, p
+        real(wp) :: an(3), d1(3), d2(3)
+        character(len=:), allocatable :: at
+        if (model%nshell == 0) return
+        allocate (model%shell_part(model%nshell))
+        do e = 1, model%nshell
+            at = ctx%src%where(model%shell_src(e))//': *ELEMENT_SHELL '//itoa(model%shell_id(e))
+            p = maps%part%find(model%shell_pid(e))
+            model%shell_part(e) = p
+            if (p == 0) then
+                call make_error(error, at//' field PID: part '//itoa(model%shell_pid(e))//' is not defined')
+                return
+            end if
+            if (model%part(p)%shell_sec_ix == 0) then
+                call make_error(error, at//' field PID: part '//itoa(model%shell_pid(e))//' has no shell section')
+                return
+            end if
+            if (model%mat(model%part(p)%mat_ix)%mtype == mat_rigid) then
+                call make_error(error, at//': rigid shell parts are not implemented yet')
+                return
+            end if
+            do k = 1, 4
+                nid = model%shell_conn(k, e)
+                model%shell_conn(k, e) = maps%node%find(nid)
+                if (model%shell_conn(k, e) == 0) then
+                    call make_error(error, at//' field N'//itoa(k)//': node '//itoa(nid)//' is not defined')
+                    return
+                end if
+            end do
+            where (model%shell_t(:, e) <= 0.0_wp) model%shell_t(:, e) = model%sec_shell(model%part(p)%shell_sec_ix)%t
+            d1 = model%x0(:, model%shell_conn(3, e)) - model%x0(:, model%shell_conn(1, e))
+            d2 = model%x0(:, model%shell_conn(4, e)) - model%x0(:, model%shell_conn(2, e))
+            if (model%shell_conn(3, e) == model%shell_conn(4, e)) &
+                d2 = model%x0(:, model%shell_conn(3, e)) - model%x0(:, model%shell_conn(2, e))
+            an = [d1(2)*d2(3) - d1(3)*d2(2), d1(3)*d2(1) - d1(1)*d2(3), d1(1)*d2(2) - d1(2)*d2(1)]
+            if (.not. (norm2(an) > 0.0_wp)) then
+                call make_error(error, at//' is degenerate (zero area)')
+                return
+            end if
+        end do
+    end subroutine check_shells
 
     function rtoa_short(x) result(s)
         real(wp), intent(in) :: x
@@ -470,11 +525,12 @@ contains
                             '(or ENDCYC > 0) is required')
             return
         end if
-        if (model%nhex == 0) then
+        if (model%nhex + model%nshell == 0) then
             call make_error(error, model%deck_path//': the deck defines no elements')
             return
         end if
-        if (all(model%mat(model%part(model%hex_part(1:model%nhex))%mat_ix)%mtype == mat_rigid) .and. &
+        if (model%nshell == 0 .and. &
+            all(model%mat(model%part(model%hex_part(1:model%nhex))%mat_ix)%mtype == mat_rigid) .and. &
             .not. model%ctl%dtinit > 0.0_wp) then
             call make_error(error, model%deck_path//': *CONTROL_TIMESTEP field DTINIT: a model of rigid bodies '// &
                             'alone has no element time step; give DTINIT')

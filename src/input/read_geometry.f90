@@ -27,6 +27,8 @@ contains
             call read_element_solid(ctx, kw, model, error)
         case ('PART')
             call read_part(ctx, kw, model, error)
+        case ('ELEMENT_SHELL', 'ELEMENT_SHELL_THICKNESS')
+            call read_element_shell(ctx, kw, model, error)
         end select
     end subroutine read_geometry
 
@@ -136,6 +138,75 @@ contains
             model%hex_src(e) = kw%card_line(ic)
         end do
     end subroutine read_element_solid
+
+    !> EID PID N1 N2 N3 N4 (N3 = N4: triangle); _THICKNESS adds THIC1..4 BETA (E16).
+    subroutine read_element_shell(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(card_format_t) :: fmt1, fmt2
+        integer :: ic, eid, pid, k, nodes(4), e
+        real(wp) :: th(4)
+        logical :: thick
+        fmt1 = card_format('EID:8 PID:8 N1:8 N2:8 N3:8 N4:8', kw%width_mode)
+        fmt2 = card_format('THIC1:16 THIC2:16 THIC3:16 THIC4:16 BETA:16', kw%width_mode)
+        thick = kw%name == 'ELEMENT_SHELL_THICKNESS'
+        ic = 0
+        do while (ic < kw%ncard)
+            ic = ic + 1
+            call get_card(ctx, kw, ic, fmt1, 1, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            call get_int(card, 1, eid, 0, error); if (allocated(error)) return
+            call get_int(card, 2, pid, 0, error); if (allocated(error)) return
+            do k = 1, 4
+                call get_int(card, 2 + k, nodes(k), 0, error); if (allocated(error)) return
+            end do
+            if (eid <= 0) then
+                call card_error(card, 1, 'element id must be a positive integer', error); return
+            end if
+            if (nodes(4) == 0) nodes(4) = nodes(3)
+            if (any(nodes <= 0)) then
+                call card_error(card, 2 + minloc(nodes, 1), 'node id must be a positive integer', error); return
+            end if
+            th = 0
+            if (thick) then
+                if (ic == kw%ncard) then
+                    call card_error(card, 1, 'the thickness card THIC1..THIC4 is missing', error); return
+                end if
+                ic = ic + 1
+                call get_card(ctx, kw, ic, fmt2, 2, card, error)
+                if (allocated(error)) return
+                do k = 1, 4
+                    call get_real(card, k, th(k), 0.0_wp, error); if (allocated(error)) return
+                end do
+            end if
+            model%nshell = model%nshell + 1
+            e = model%nshell
+            call grow(model%shell_id, e, 'shell ids')
+            call grow(model%shell_pid, e, 'shell parts')
+            call grow(model%shell_conn, 4, e, 'shell connectivity')
+            call grow(model%shell_src, e, 'shell lines')
+            call grow_thick(e)
+            model%shell_id(e) = eid
+            model%shell_pid(e) = pid
+            model%shell_conn(:, e) = nodes
+            model%shell_t(:, e) = th
+            model%shell_src(e) = kw%card_line(ic)
+        end do
+    contains
+        subroutine grow_thick(need)
+            integer, intent(in) :: need
+            real(wp), allocatable :: tmp(:, :)
+            if (.not. allocated(model%shell_t)) allocate (model%shell_t(4, 1024))
+            if (size(model%shell_t, 2) >= need) return
+            allocate (tmp(4, 2*size(model%shell_t, 2)))
+            tmp(:, 1:size(model%shell_t, 2)) = model%shell_t
+            call move_alloc(tmp, model%shell_t)
+        end subroutine grow_thick
+    end subroutine read_element_shell
 
     !> Pairs of cards: HEADING, then PID SECID MID EOSID HGID GRAV ADPOPT TMID.
     subroutine read_part(ctx, kw, model, error)

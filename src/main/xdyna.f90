@@ -23,6 +23,7 @@ program xdyna
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
     use xd_rigid_bodies, only: rigid_t
     use xd_solver_loads, only: pressures_t, build_pressures
+    use xd_elements_shell_bt, only: shells_t
     use xd_output_histories, only: histories_t, open_histories, close_histories
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     !$ use omp_lib, only: omp_set_num_threads
@@ -41,6 +42,8 @@ program xdyna
     type(prescribed_nodes_t) :: pn
     type(rigid_t) :: rg
     type(pressures_t) :: pl
+    type(shells_t) :: sh
+    type(assembly_t) :: asm_sh
     type(histories_t) :: hist
     type(log_t) :: lg
     type(timers_t) :: tm
@@ -112,7 +115,7 @@ program xdyna
     call tm%stop(ph_input)
 
     call tm%start(ph_init)
-    call setup_run(model, maps%hex, st, solids, asm, rg, nfree, error)
+    call setup_run(model, maps%hex, st, solids, asm, rg, sh, asm_sh, nfree, error)
     if (allocated(error)) then
         write (error_unit, '(a)') model%deck_path//': '//error%message
         call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
@@ -138,7 +141,7 @@ program xdyna
     end if
     call tm%stop(ph_init)
 
-    call run_time_loop(model, st, solids, asm, walls, pn, rg, pl, hist, lg, tm, opts, res)
+    call run_time_loop(model, st, solids, asm, sh, asm_sh, walls, pn, rg, pl, hist, lg, tm, opts, res)
     call close_histories(hist)
     call timing_table(lg, tm, res%ncycle, solids%n, tm%elapsed())
     if (res%status /= exit_normal) then

@@ -5,7 +5,7 @@ module xd_model
     use xd_kinds, only: wp, dp
     implicit none
     private
-    public :: model_t, part_t, section_solid_t, material_t, hourglass_t, set_t
+    public :: model_t, part_t, section_solid_t, section_shell_t, material_t, hourglass_t, set_t
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
     public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, segment_set_t, pressure_t, curve_value
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
@@ -22,6 +22,7 @@ module xd_model
         character(len=70) :: heading = ''
         integer :: secid = 0, mid = 0, hgid = 0
         integer :: sec_ix = 0, mat_ix = 0, hg_ix = 0
+        integer :: shell_sec_ix = 0         !< the section is a *SECTION_SHELL
         integer :: src = 0                  !< deck line of its card
     end type part_t
 
@@ -30,6 +31,15 @@ module xd_model
         integer :: elform = 1
         integer :: src = 0
     end type section_solid_t
+
+    type :: section_shell_t
+        integer :: id = 0
+        integer :: elform = 2
+        real(wp) :: shrf = 1.0_wp           !< transverse shear factor
+        integer :: nip = 2                  !< through-thickness points
+        real(wp) :: t(4) = 0                !< nodal thicknesses
+        integer :: src = 0
+    end type section_shell_t
 
     type :: material_t
         integer :: id = 0
@@ -218,6 +228,14 @@ module xd_model
         integer, allocatable :: hex_part(:)      !< part index once checked
         integer, allocatable :: hex_conn(:, :)   !< (8, nhex) node ids, then indices
         integer, allocatable :: hex_src(:)
+        ! shell elements
+        integer :: nshell = 0
+        integer, allocatable :: shell_id(:), shell_pid(:), shell_part(:)
+        integer, allocatable :: shell_conn(:, :)     !< (4, nshell) node ids, then indices; N3 = N4: triangle
+        real(wp), allocatable :: shell_t(:, :)       !< (4, nshell) thickness from the element card, 0: section's
+        integer, allocatable :: shell_src(:)
+        integer :: nsec_shell = 0
+        type(section_shell_t), allocatable :: sec_shell(:)
         ! tables
         integer :: npart = 0, nsec_solid = 0, nmat = 0, nhg = 0, nset = 0
         type(part_t), allocatable :: part(:)

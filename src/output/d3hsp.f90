@@ -61,6 +61,8 @@ contains
         s = s//trim(buf)//nl
         write (buf, '(a,i12)') '   solid elements (hexahedra) .......', model%nhex
         s = s//trim(buf)//nl
+        write (buf, '(a,i12)') '   shell elements ...................', model%nshell
+        s = s//trim(buf)//nl
         write (buf, '(a,i12)') '   solid element groups .............', solids%ngroup
         s = s//trim(buf)//nl
         write (buf, '(a,i12)') '   parts ............................', model%npart
@@ -70,6 +72,7 @@ contains
         s = s//nl//'   part      material   type          elements  heading'//nl
         do p = 1, model%npart
             ne = count(model%hex_part(1:model%nhex) == p)
+            if (model%nshell > 0) ne = ne + count(model%shell_part(1:model%nshell) == p)
             m = model%part(p)%mat_ix
             write (buf, '(i7,i14,3x,a12,i10,2x,a)') model%part(p)%id, model%mat(m)%id, &
                 model%mat(m)%keyword(5:16), ne, trim(model%part(p)%heading)
@@ -90,7 +93,11 @@ contains
         end if
         s = s//'   bulk viscosity ............ on  (Q1 '//trim(fmt(model%ctl%q1))//', Q2 '// &
             trim(fmt(model%ctl%q2))//')'//nl
-        s = s//'   shell elements ............ off (none in the deck)'//nl
+        if (model%nshell > 0) then
+            s = s//'   shell elements ............ on  (Belytschko-Tsay, '//itoa(model%nshell)//')'//nl
+        else
+            s = s//'   shell elements ............ off (none in the deck)'//nl
+        end if
         if (nrigid > 0) then
             s = s//'   rigid bodies .............. on  ('//itoa(nrigid)//' rigid parts, nodal rigid bodies, spot welds)'//nl
         else

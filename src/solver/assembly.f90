@@ -49,16 +49,23 @@ contains
         end do
     end subroutine build_assembly
 
-    !> f(:, node) = sum of its slots, in slot order.
-    subroutine assemble(asm, fslot, f)
+    !> f(:, node) = sum of its slots, in slot order (added to f with `add`).
+    subroutine assemble(asm, fslot, f, add)
         type(assembly_t), intent(in) :: asm
         real(wp), contiguous, intent(in) :: fslot(:, :)
         real(wp), contiguous, intent(inout) :: f(:, :)
+        logical, intent(in), optional :: add
+        logical :: acc
         integer :: nd, j
         real(wp) :: s1, s2, s3
+        acc = .false.
+        if (present(add)) acc = add
         !$omp parallel do schedule(static) private(nd, j, s1, s2, s3)
         do nd = 1, asm%nnode
             s1 = 0; s2 = 0; s3 = 0
+            if (acc) then
+                s1 = f(1, nd); s2 = f(2, nd); s3 = f(3, nd)
+            end if
             do j = asm%ptr(nd), asm%ptr(nd + 1) - 1
                 s1 = s1 + fslot(1, asm%slot(j))
                 s2 = s2 + fslot(2, asm%slot(j))

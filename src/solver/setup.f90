@@ -12,6 +12,7 @@ module xd_solver_setup
     use xd_core_vectors, only: cross
     use xd_solver_assembly, only: assembly_t, build_assembly
     use xd_rigid_bodies, only: rigid_t, rigid_lumped_mass, build_rigid
+    use xd_elements_shell_bt, only: shells_t, build_shells, shell_masses
     use xd_core_errors, only: error_t
     implicit none
     private
@@ -19,13 +20,15 @@ module xd_solver_setup
 
 contains
 
-    subroutine setup_run(model, hex_map, st, solids, asm, rg, nfree_nodes, error)
+    subroutine setup_run(model, hex_map, st, solids, asm, rg, sh, asm_sh, nfree_nodes, error)
         type(model_t), intent(in) :: model
         type(id_map_t), intent(in) :: hex_map
         type(state_t), intent(out) :: st
         type(solids_t), intent(out) :: solids
         type(assembly_t), intent(out) :: asm
         type(rigid_t), intent(out) :: rg
+        type(shells_t), intent(out) :: sh
+        type(assembly_t), intent(out) :: asm_sh
         integer, intent(out) :: nfree_nodes
         type(error_t), allocatable, intent(out) :: error
         st%nnode = model%nnode
@@ -42,10 +45,21 @@ contains
         call build_assembly(st%nnode, solids%conn, asm)
         call initial_volumes_and_mass(solids, st)
         call rigid_lumped_mass(model, st)
+        call build_shells(model, sh)
+        if (sh%n > 0) then
+            st%rot = .true.
+            call alloc(st%vr, 3, st%nnode, 'angular velocities')
+            call alloc(st%mom, 3, st%nnode, 'nodal moments')
+            call alloc(st%irot, st%nnode, 'rotational inertia')
+            call alloc(st%free_r, 3, st%nnode, 'rotation masks')
+            call shell_masses(sh, st%x, st%mass, st%irot)
+            call build_assembly(st%nnode, sh%conn, asm_sh)
+        end if
         nfree_nodes = count(st%mass <= 0.0_wp)
         call constraint_masks(model, st)
         call initial_velocities(model, solids, st)
         st%v = st%v*st%free
+        if (st%rot) st%vr = st%vr*st%free_r
         call build_rigid(model, st, rg, error)
         if (allocated(error)) return
         call initial_stresses(model, hex_map, solids, st)
@@ -104,6 +118,25 @@ contains
         do i = 1, st%nnode
             if (st%mass(i) <= 0.0_wp) st%free(:, i) = 0.0_wp
         end do
+        if (st%rot) then
+            st%free_r = 1.0_wp
+            do i = 1, st%nnode
+                call apply_rcode(model%node_rc(i), i)
+                if (st%irot(i) <= 0.0_wp) st%free_r(:, i) = 0.0_wp
+            end do
+            do i = 1, model%nspc
+                associate (c => model%spc(i))
+                    if (c%is_set) then
+                        s = find_set(model, set_node, c%id)
+                        do k = 1, model%set(s)%n
+                            call apply_rdofs(c%dof, model%set(s)%member_ix(k))
+                        end do
+                    else
+                        call apply_rdofs(c%dof, c%ix)
+                    end if
+                end associate
+            end do
+        end if
     contains
         subroutine apply_code(code, nd)
             integer, intent(in) :: code, nd
@@ -117,6 +150,25 @@ contains
             case (7); st%free(:, nd) = 0
             end select
         end subroutine apply_code
+        subroutine apply_rcode(code, nd)
+            integer, intent(in) :: code, nd
+            select case (code)
+            case (1); st%free_r(1, nd) = 0
+            case (2); st%free_r(2, nd) = 0
+            case (3); st%free_r(3, nd) = 0
+            case (4); st%free_r(1:2, nd) = 0
+            case (5); st%free_r(2:3, nd) = 0
+            case (6); st%free_r(1, nd) = 0; st%free_r(3, nd) = 0
+            case (7); st%free_r(:, nd) = 0
+            end select
+        end subroutine apply_rcode
+        subroutine apply_rdofs(dof, nd)
+            integer, intent(in) :: dof(6), nd
+            integer :: j
+            do j = 1, 3
+                if (dof(3 + j) == 1) st%free_r(j, nd) = 0
+            end do
+        end subroutine apply_rdofs
         subroutine apply_dofs(dof, nd)
             integer, intent(in) :: dof(6), nd
             integer :: j
@@ -154,6 +206,7 @@ contains
                         mark = mark .and. .not. exempt
                         do k = 1, st%nnode
                             if (mark(k)) st%v(:, k) = iv%v
+                            if (mark(k) .and. st%rot) st%vr(:, k) = iv%vr
                         end do
                     else if (pass == 2 .and. iv%kind == iv_generation) then
                         mark = .false.
@@ -174,9 +227,11 @@ contains
                         do k = 1, st%nnode
                             if (mark(k)) st%v(:, k) = iv%v + iv%omega* &
                                                       real(cross(real(iv%axis, dp), real(st%x(:, k) - iv%xc, dp)), wp)
+                            if (mark(k) .and. st%rot) st%vr(:, k) = iv%omega*iv%axis
                         end do
                     else if (pass == 3 .and. iv%kind == iv_node) then
                         st%v(:, iv%ix) = iv%v
+                        if (st%rot) st%vr(:, iv%ix) = iv%vr
                     end if
                 end associate
             end do

@@ -15,6 +15,12 @@ module xd_solver_state
         real(wp), allocatable :: f(:, :)      !< (3, nnode) nodal force (internal, sign: on the node)
         real(wp), allocatable :: mass(:)      !< lumped nodal mass
         real(wp), allocatable :: free(:, :)   !< (3, nnode) 1 free, 0 fixed by an SPC
+        ! rotational degrees of freedom: only when the deck has shells
+        logical :: rot = .false.
+        real(wp), allocatable :: vr(:, :)     !< (3, nnode) angular velocity at t - dt/2
+        real(wp), allocatable :: mom(:, :)    !< (3, nnode) nodal moments
+        real(wp), allocatable :: irot(:)      !< rotational inertia
+        real(wp), allocatable :: free_r(:, :) !< (3, nnode) 1 free, 0 fixed
         real(dp) :: time = 0.0_dp
         real(wp) :: dt = 0.0_wp               !< step about to be taken (t -> t + dt)
         real(wp) :: dt_old = 0.0_wp           !< step just taken

@@ -19,6 +19,7 @@ module xd_solver_time_loop
     use xd_contact_rigidwall, only: walls_t, apply_walls
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     use xd_rigid_bodies, only: rigid_t, rigid_step
+    use xd_elements_shell_bt, only: shells_t, shell_forces
     implicit none
     private
     public :: run_options_t, run_result_t, run_time_loop
@@ -39,11 +40,13 @@ module xd_solver_time_loop
 
 contains
 
-    subroutine run_time_loop(model, st, solids, asm, walls, pn, rg, pl, hist, lg, tm, opts, res)
+    subroutine run_time_loop(model, st, solids, asm, sh, asm_sh, walls, pn, rg, pl, hist, lg, tm, opts, res)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(assembly_t), intent(in) :: asm
+        type(shells_t), intent(inout) :: sh
+        type(assembly_t), intent(in) :: asm_sh
         type(walls_t), intent(inout) :: walls
         type(prescribed_nodes_t), intent(in) :: pn
         type(rigid_t), intent(inout) :: rg
@@ -54,7 +57,7 @@ contains
         type(run_options_t), intent(in) :: opts
         type(run_result_t), intent(out) :: res
         type(energies_t) :: en
-        real(wp), allocatable :: vn(:, :), vminus(:, :)
+        real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :)
         real(wp) :: dtc, g_new(3)
         real(dp) :: dt_avg, dt_avg_prev, wpm
         real(dp) :: t_last_progress, ratio_limit, t0_wall
@@ -62,6 +65,7 @@ contains
         integer :: nd
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode))
+        if (st%rot) allocate (vrminus(3, st%nnode))
         ratio_limit = 1.5_dp
         if (model%ctl%endeng > 0.0_wp) ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
         t0_wall = tm%elapsed()
@@ -74,7 +78,7 @@ contains
             call element_pass(st%dt_old, dt_avg_prev, dtc)
             if (res%status /= exit_normal) exit
             ! a model of rigid bodies alone has no element step: DTINIT sets it
-            if (solids%ngroup == 0) dtc = model%ctl%dtinit/model%ctl%tssfac
+            if (solids%ngroup == 0 .and. sh%n == 0) dtc = model%ctl%dtinit/model%ctl%tssfac
             st%dt = real(model%ctl%tssfac, wp)*dtc
             if (st%cycle == 0) then
                 if (model%ctl%dtinit > 0.0_wp) st%dt = min(st%dt, model%ctl%dtinit)
@@ -111,6 +115,13 @@ contains
                 st%v(:, nd) = st%v(:, nd) + real(dt_avg, wp)*st%a(:, nd)
             end do
             !$omp end parallel do
+            if (st%rot) then
+                if (energy_now) vrminus = st%vr
+                do nd = 1, st%nnode
+                    if (st%irot(nd) > 0.0_wp) st%vr(:, nd) = st%vr(:, nd) + &
+                        real(dt_avg, wp)*st%mom(:, nd)/st%irot(nd)*st%free_r(:, nd)
+                end do
+            end if
             call tm%stop(ph_integrate)
             if (walls%n > 0) then
                 call tm%start(ph_contact)
@@ -138,12 +149,15 @@ contains
                     ! (the start v(1/2) = v(0) + a(0) dt/2 adds an O(dt^2) offset
                     ! when a(0) /= 0)
                     vn = vminus
+                    if (st%rot) vrminus = st%vr
                     call compute_energies(model, st, solids, walls, rg, vminus, vminus, 0.0_dp, en)
+                    if (st%rot) call add_shell_energies(vminus, vminus, vrminus, vrminus, 0.0_dp)
                     st%e_initial = en%total
                     en%ratio = 1.0_dp
                 else
                     vn = 0.5_wp*(vminus + st%v)
                     call compute_energies(model, st, solids, walls, rg, vminus, st%v, dt_avg, en)
+                    if (st%rot) call add_shell_energies(vminus, st%v, vrminus, st%vr, dt_avg)
                 end if
                 call tm%stop(ph_output)
                 call check_energy()
@@ -215,7 +229,62 @@ contains
             call tm%start(ph_assembly)
             call assemble(asm, solids%fslot, st%f)
             call tm%stop(ph_assembly)
+            if (sh%n > 0) then
+                call tm%start(ph_elements)
+                call shell_forces(sh, st%x, st%v, st%vr, dt, dt_avg_prev)
+                call tm%stop(ph_elements)
+                if (sh%bad /= 0) then
+                    call fail('shell '//itoa(sh%eid(sh%bad))//' of part '//itoa(model%part(sh%part(sh%bad))%id)// &
+                              ' has collapsed (zero or negative area)')
+                    return
+                end if
+                if (sh%dtmin < dtcrit) dtcrit = sh%dtmin
+                call tm%start(ph_assembly)
+                call assemble(asm_sh, sh%fslot, st%f, add=.true.)
+                call assemble(asm_sh, sh%mslot, st%mom)
+                call tm%stop(ph_assembly)
+            end if
         end subroutine element_pass
+
+        !> Shells' internal and hourglass energy (into their parts) and the
+        !> rotational kinetic energy 1/2 I w(n-1/2).w(n+1/2).
+        subroutine add_shell_energies(vm, vp, wm, wp_, dtav)
+            real(wp), intent(in) :: vm(:, :), vp(:, :), wm(:, :), wp_(:, :)
+            real(dp), intent(in) :: dtav
+            integer :: e, p, i, k, nn, nd
+            real(dp) :: ie, hg, ker, ms
+            do e = 1, sh%n
+                p = sh%part(e)
+                ! part kinetic energy and momentum: the element's share of its nodes
+                nn = 4
+                if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
+                ms = real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/nn
+                do k = 1, nn
+                    nd = sh%conn(k, e)
+                    en%part_ke(p) = en%part_ke(p) + 0.5_dp*ms*dot_product(real(vm(:, nd), dp), real(vp(:, nd), dp))
+                    en%part_mom(:, p) = en%part_mom(:, p) + 0.5_dp*ms*real(vm(:, nd) + vp(:, nd), dp)
+                end do
+                en%part_mass(p) = en%part_mass(p) + ms*nn
+                ie = sh%eint(e) + dtav*sh%pend_int(e)
+                hg = sh%ehg(e) + dtav*sh%pend_hg(e)
+                en%part_ie(p) = en%part_ie(p) + ie
+                en%part_hg(p) = en%part_hg(p) + hg
+                en%ie = en%ie + ie
+                en%hg = en%hg + hg
+            end do
+            ker = 0
+            do i = 1, st%nnode
+                ker = ker + 0.5_dp*st%irot(i)*dot_product(real(wm(:, i), dp), real(wp_(:, i), dp))
+            end do
+            en%ke = en%ke + ker
+            en%total = en%ke + en%ie + en%hg + en%wall
+            if (st%cycle == 0) then
+                st%e_initial = en%total
+                en%ratio = 1.0_dp
+            else if (abs(st%e_initial + en%ext) > tiny(1.0_dp)) then
+                en%ratio = en%total/(st%e_initial + en%ext)
+            end if
+        end subroutine add_shell_energies
 
         subroutine accelerations()
             integer :: i

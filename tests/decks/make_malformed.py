@@ -72,8 +72,8 @@ def main():
        "bad_integer.k:{line}: *PART card 2 field SECID: '1.5' is not an integer")
     mk("unknown_keyword", lambda L: L.insert(3, "*FOO_BAR") or 4,
        "unknown_keyword.k:{line}: *FOO_BAR is not a supported keyword")
-    mk("planned_keyword", lambda L: L.insert(3, "*SECTION_SHELL") or 4,
-       "planned_keyword.k:{line}: *SECTION_SHELL is not implemented")
+    mk("planned_keyword", lambda L: L.insert(3, "*CONTACT_AUTOMATIC_SINGLE_SURFACE") or 4,
+       "planned_keyword.k:{line}: *CONTACT_AUTOMATIC_SINGLE_SURFACE is not implemented")
     mk("undefined_node", lambda L: replace(L, "       1       1       1       2",
                                            "       1       1       1       2       3       4       5       6      99       8"),
        "undefined_node.k:{line}: *ELEMENT_SOLID 1 field N7: node 99 is not defined")
@@ -137,6 +137,9 @@ def main():
                                            L.insert(5, f"{0.0:20.6e}{1.0:20.6e}"), L.insert(6, "*LOAD_SEGMENT_SET"),
                                            L.insert(7, "         8         3")) and 8,
        "undefined_segment_set.k:{line}: *LOAD_SEGMENT_SET field SSID: segment set 8 is not defined")
+    mk("bad_shell_formulation", lambda L: (L.insert(3, "*SECTION_SHELL"), L.insert(4, "         2        16"),
+                                           L.insert(5, "     0.002")) and 5,
+       "bad_shell_formulation.k:{line}: *SECTION_SHELL card 1 field ELFORM: shell formulation 16 is not supported")
     print(f"wrote {len(os.listdir(HERE))} decks to {HERE}")
 
 

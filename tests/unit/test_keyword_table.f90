@@ -31,7 +31,7 @@ program test_keyword_table
     call check(kw%width_mode == width_long, 'a keyword without suffix inherits the deck format')
     call look('*CONTROL_MPP_IO_NOD3DUMP')
     call check(kw%family == fam_skip, 'prefix entries of the skip list (*CONTROL_MPP_*)')
-    call look('*SECTION_SHELL_TITLE')
+    call look('*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID')
     call check(kw%family == fam_planned, 'keywords for later work are told apart from unknown ones')
     call look('*WHATEVER')
     call check(kw%family == fam_unknown .and. kw%name == 'WHATEVER', 'unknown keyword')

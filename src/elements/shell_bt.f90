@@ -1,0 +1,300 @@
+!> Belytschko-Tsay shell (ELFORM 2): four nodes with six degrees of freedom,
+!> one in-plane point, NIP Gauss points through the thickness, a corotational
+!> frame from the element's diagonals, Belytschko-Tsay hourglass control;
+!> triangles as quads with N3 = N4. Elastic plane stress (*MAT_ELASTIC).
+!> Stresses per point (local frame): xx yy xy yz zx.
+module xd_elements_shell_bt
+    use xd_kinds, only: wp, dp
+    use xd_core_memory, only: alloc, alloc_dp
+    use xd_model, only: model_t, mat_elastic
+    implicit none
+    private
+    public :: shells_t, build_shells, shell_forces, shell_masses
+
+    type :: shells_t
+        integer :: n = 0
+        integer, allocatable :: conn(:, :)    !< (4, n)
+        integer, allocatable :: eid(:), part(:)
+        real(wp), allocatable :: h(:)         !< thickness (mean of the nodal values)
+        real(wp), allocatable :: e(:), nu(:), ro(:), shrf(:), qm(:)
+        integer, allocatable :: nip(:)
+        real(wp), allocatable :: sig(:, :, :) !< (5, 10, n) stresses at the points
+        real(wp), allocatable :: qhg(:, :)    !< (5, n) hourglass generalized forces
+        real(dp), allocatable :: eint(:), ehg(:), pend_int(:), pend_hg(:)
+        real(wp), allocatable :: area0(:)
+        real(wp), allocatable :: fslot(:, :), mslot(:, :)   !< (3, 4n) forces and moments
+        real(wp) :: dtmin = 0
+        integer :: crit = 0, bad = 0
+    end type shells_t
+
+    ! Gauss points and weights on [-1, 1], NIP 1..10 (rows: nip)
+    real(dp), parameter :: gz(10, 10) = reshape([real(dp) :: &
+        0.0_dp, 0, 0, 0, 0, 0, 0, 0, 0, 0, &
+        -0.5773502691896258_dp, 0.5773502691896258_dp, 0, 0, 0, 0, 0, 0, 0, 0, &
+        -0.7745966692414834_dp, 0.0_dp, 0.7745966692414834_dp, 0, 0, 0, 0, 0, 0, 0, &
+        -0.8611363115940526_dp, -0.3399810435848563_dp, 0.3399810435848563_dp, 0.8611363115940526_dp, 0, 0, 0, 0, 0, 0, &
+        -0.9061798459386640_dp, -0.5384693101056831_dp, 0.0_dp, 0.5384693101056831_dp, 0.9061798459386640_dp, &
+        0, 0, 0, 0, 0, &
+        -0.9324695142031521_dp, -0.6612093864662645_dp, -0.2386191860831969_dp, 0.2386191860831969_dp, &
+        0.6612093864662645_dp, 0.9324695142031521_dp, 0, 0, 0, 0, &
+        -0.9491079123427585_dp, -0.7415311855993945_dp, -0.4058451513773972_dp, 0.0_dp, 0.4058451513773972_dp, &
+        0.7415311855993945_dp, 0.9491079123427585_dp, 0, 0, 0, &
+        -0.9602898564975363_dp, -0.7966664774136267_dp, -0.5255324099163290_dp, -0.1834346424956498_dp, &
+        0.1834346424956498_dp, 0.5255324099163290_dp, 0.7966664774136267_dp, 0.9602898564975363_dp, 0, 0, &
+        -0.9681602395076261_dp, -0.8360311073266358_dp, -0.6133714327005904_dp, -0.3242534234038089_dp, 0.0_dp, &
+        0.3242534234038089_dp, 0.6133714327005904_dp, 0.8360311073266358_dp, 0.9681602395076261_dp, 0, &
+        -0.9739065285171717_dp, -0.8650633666889845_dp, -0.6794095682990244_dp, -0.4333953941292472_dp, &
+        -0.1488743389816312_dp, 0.1488743389816312_dp, 0.4333953941292472_dp, 0.6794095682990244_dp, &
+        0.8650633666889845_dp, 0.9739065285171717_dp], [10, 10])
+    real(dp), parameter :: gw(10, 10) = reshape([real(dp) :: &
+        2.0_dp, 0, 0, 0, 0, 0, 0, 0, 0, 0, &
+        1.0_dp, 1.0_dp, 0, 0, 0, 0, 0, 0, 0, 0, &
+        0.5555555555555556_dp, 0.8888888888888888_dp, 0.5555555555555556_dp, 0, 0, 0, 0, 0, 0, 0, &
+        0.3478548451374538_dp, 0.6521451548625461_dp, 0.6521451548625461_dp, 0.3478548451374538_dp, 0, 0, 0, 0, 0, 0, &
+        0.2369268850561891_dp, 0.4786286704993665_dp, 0.5688888888888889_dp, 0.4786286704993665_dp, &
+        0.2369268850561891_dp, 0, 0, 0, 0, 0, &
+        0.1713244923791704_dp, 0.3607615730481386_dp, 0.4679139345726910_dp, 0.4679139345726910_dp, &
+        0.3607615730481386_dp, 0.1713244923791704_dp, 0, 0, 0, 0, &
+        0.1294849661688697_dp, 0.2797053914892766_dp, 0.3818300505051189_dp, 0.4179591836734694_dp, &
+        0.3818300505051189_dp, 0.2797053914892766_dp, 0.1294849661688697_dp, 0, 0, 0, &
+        0.1012285362903763_dp, 0.2223810344533745_dp, 0.3137066458778873_dp, 0.3626837833783620_dp, &
+        0.3626837833783620_dp, 0.3137066458778873_dp, 0.2223810344533745_dp, 0.1012285362903763_dp, 0, 0, &
+        0.0812743883615744_dp, 0.1806481606948574_dp, 0.2606106964029354_dp, 0.3123470770400029_dp, &
+        0.3302393550012598_dp, 0.3123470770400029_dp, 0.2606106964029354_dp, 0.1806481606948574_dp, &
+        0.0812743883615744_dp, 0, &
+        0.0666713443086881_dp, 0.1494513491505806_dp, 0.2190863625159820_dp, 0.2692667193099963_dp, &
+        0.2955242247147529_dp, 0.2955242247147529_dp, 0.2692667193099963_dp, 0.2190863625159820_dp, &
+        0.1494513491505806_dp, 0.0666713443086881_dp], [10, 10])
+
+contains
+
+    subroutine build_shells(model, sh)
+        type(model_t), intent(in) :: model
+        type(shells_t), intent(out) :: sh
+        integer :: e, p, k
+        sh%n = model%nshell
+        if (sh%n == 0) return
+        allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%e(sh%n), sh%nu(sh%n), &
+                  sh%ro(sh%n), sh%shrf(sh%n), sh%qm(sh%n), sh%nip(sh%n), sh%area0(sh%n))
+        call alloc(sh%fslot, 3, 4*sh%n, 'shell force slots')
+        call alloc(sh%mslot, 3, 4*sh%n, 'shell moment slots')
+        call alloc(sh%qhg, 5, sh%n, 'shell hourglass forces')
+        call alloc_dp(sh%eint, sh%n, 'shell energies')
+        call alloc_dp(sh%ehg, sh%n, 'shell energies')
+        call alloc_dp(sh%pend_int, sh%n, 'shell energies')
+        call alloc_dp(sh%pend_hg, sh%n, 'shell energies')
+        allocate (sh%sig(5, 10, sh%n))
+        sh%sig = 0
+        do e = 1, sh%n
+            p = model%shell_part(e)
+            sh%conn(:, e) = model%shell_conn(:, e)
+            sh%eid(e) = model%shell_id(e)
+            sh%part(e) = p
+            sh%h(e) = sum(model%shell_t(:, e))/4
+            associate (m => model%mat(model%part(p)%mat_ix), sec => model%sec_shell(model%part(p)%shell_sec_ix))
+                sh%e(e) = m%e
+                sh%nu(e) = m%pr
+                sh%ro(e) = m%ro
+                sh%shrf(e) = sec%shrf
+                sh%nip(e) = sec%nip
+            end associate
+            sh%qm(e) = model%ctl%qh
+            k = model%part(p)%hg_ix
+            if (k > 0) sh%qm(e) = model%hg(k)%qm
+        end do
+    end subroutine build_shells
+
+    !> Lumped masses: a quarter of rho h A on each node (a third for
+    !> triangles); rotational inertia m (h^2 + 3A)/12 about every axis. With
+    !> m (h^2 + A)/12 the transverse-shear-rotation coupling of a node,
+    !> omega^2 ~ 12 k G / (rho A), lies above the translational limit
+    !> (2c/L)^2 and the step from the element size is unstable; scaled to
+    !> about m A/4 it lies well below, and rotary inertia hardly matters for
+    !> thin shells.
+    subroutine shell_masses(sh, x, mass, irot)
+        type(shells_t), intent(inout) :: sh
+        real(wp), intent(in) :: x(:, :)
+        real(wp), intent(inout) :: mass(:), irot(:)
+        integer :: e, k, nn
+        real(wp) :: a, m
+        do e = 1, sh%n
+            a = area(x(:, sh%conn(:, e)), sh%conn(:, e))
+            sh%area0(e) = a
+            nn = 4
+            if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
+            m = sh%ro(e)*sh%h(e)*a/nn
+            do k = 1, nn
+                mass(sh%conn(k, e)) = mass(sh%conn(k, e)) + m
+                irot(sh%conn(k, e)) = irot(sh%conn(k, e)) + m*(sh%h(e)**2 + 3.0_wp*a)/12.0_wp
+            end do
+        end do
+    end subroutine shell_masses
+
+    pure real(wp) function area(xe, c)
+        real(wp), intent(in) :: xe(3, 4)
+        integer, intent(in) :: c(4)
+        real(wp) :: d1(3), d2(3)
+        d1 = xe(:, 3) - xe(:, 1)
+        d2 = xe(:, 4) - xe(:, 2)
+        if (c(3) == c(4)) d2 = xe(:, 3) - xe(:, 2)
+        area = 0.5_wp*norm2([d1(2)*d2(3) - d1(3)*d2(2), d1(3)*d2(1) - d1(1)*d2(3), d1(1)*d2(2) - d1(2)*d2(1)])
+        if (c(3) == c(4)) area = area
+    end function area
+
+    !> Forces and moments of every shell at x(n) with v(n-1/2), w(n-1/2).
+    subroutine shell_forces(sh, x, v, w, dt, dt_avg_prev)
+        type(shells_t), intent(inout) :: sh
+        real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
+        real(dp), intent(in) :: dt_avg_prev
+        integer :: e
+        real(wp) :: dte
+        sh%dtmin = huge(1.0_wp)
+        sh%bad = 0
+        do e = 1, sh%n
+            call shell_element(sh, e, x, v, w, dt, dt_avg_prev, dte)
+            if (.not. (dte > 0.0_wp)) then
+                if (sh%bad == 0) sh%bad = e
+                cycle
+            end if
+            if (dte < sh%dtmin) then
+                sh%dtmin = dte
+                sh%crit = e
+            end if
+        end do
+    end subroutine shell_forces
+
+    subroutine shell_element(sh, e, x, v, w, dt, dt_avg_prev, dte)
+        type(shells_t), intent(inout) :: sh
+        integer, intent(in) :: e
+        real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
+        real(dp), intent(in) :: dt_avg_prev
+        real(wp), intent(out) :: dte
+        real(wp), parameter :: hv(4) = [1.0_wp, -1.0_wp, 1.0_wp, -1.0_wp]
+        real(wp) :: xe(3, 4), e1(3), e2(3), e3(3), xc(3), xl(4), yl(4), a, b1(4), b2(4), vl(3, 4), wl(3, 4)
+        real(wp) :: dx, dy, dxy, kx, ky, kxy, gxz, gyz, qe, ge, z, dd(5), s(5), sold(5)
+        real(wp) :: nres(3), mres(3), qres(2), f(3, 4), m(3, 4), gam(4), hx, hy, qd(5), bb, c, ls, hh
+        real(dp) :: pold, pnew
+        integer :: k, ip, nip, nn
+        real(wp), parameter :: quarter = 0.25_wp
+        do k = 1, 4
+            xe(:, k) = x(:, sh%conn(k, e))
+        end do
+        nn = 4
+        if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
+        ! corotational frame: normal from the diagonals, x along side 1-2
+        e3 = cross(xe(:, 3) - xe(:, 1), xe(:, 4) - xe(:, 2))
+        if (nn == 3) e3 = cross(xe(:, 2) - xe(:, 1), xe(:, 3) - xe(:, 1))
+        if (.not. (norm2(e3) > 0.0_wp)) then
+            dte = -1
+            return
+        end if
+        e3 = e3/norm2(e3)
+        e1 = xe(:, 2) - xe(:, 1)
+        e1 = e1 - dot_product(e1, e3)*e3
+        e1 = e1/norm2(e1)
+        e2 = cross(e3, e1)
+        xc = sum(xe, 2)/4
+        do k = 1, 4
+            xl(k) = dot_product(xe(:, k) - xc, e1)
+            yl(k) = dot_product(xe(:, k) - xc, e2)
+            vl(:, k) = [dot_product(v(:, sh%conn(k, e)), e1), dot_product(v(:, sh%conn(k, e)), e2), &
+                        dot_product(v(:, sh%conn(k, e)), e3)]
+            wl(:, k) = [dot_product(w(:, sh%conn(k, e)), e1), dot_product(w(:, sh%conn(k, e)), e2), &
+                        dot_product(w(:, sh%conn(k, e)), e3)]
+        end do
+        a = 0.5_wp*((xl(3) - xl(1))*(yl(4) - yl(2)) + (xl(2) - xl(4))*(yl(3) - yl(1)))
+        if (.not. (a > 0.0_wp)) then
+            dte = -1
+            return
+        end if
+        b1 = [yl(2) - yl(4), yl(3) - yl(1), yl(4) - yl(2), yl(1) - yl(3)]/(2*a)
+        b2 = [xl(4) - xl(2), xl(1) - xl(3), xl(2) - xl(4), xl(3) - xl(1)]/(2*a)
+        ! membrane, bending and transverse shear rates (BT 1984)
+        dx = sum(b1*vl(1, :))
+        dy = sum(b2*vl(2, :))
+        dxy = sum(b2*vl(1, :) + b1*vl(2, :))
+        kx = sum(b1*wl(2, :))
+        ky = -sum(b2*wl(1, :))
+        kxy = sum(b2*wl(2, :) - b1*wl(1, :))
+        gxz = sum(b1*vl(3, :)) + quarter*sum(wl(2, :))
+        gyz = sum(b2*vl(3, :)) - quarter*sum(wl(1, :))
+        ! plane stress elastic update at the points, resultants
+        hh = sh%h(e)
+        qe = sh%e(e)/(1 - sh%nu(e)**2)
+        ge = sh%e(e)/(2*(1 + sh%nu(e)))
+        nip = sh%nip(e)
+        nres = 0; mres = 0; qres = 0
+        pold = 0; pnew = 0
+        do ip = 1, nip
+            z = real(gz(ip, nip), wp)*hh/2
+            dd = [dx + z*kx, dy + z*ky, dxy + z*kxy, gyz, gxz]     ! engineering shears
+            sold = sh%sig(:, ip, e)
+            s = sold
+            s(1) = s(1) + dt*qe*(dd(1) + sh%nu(e)*dd(2))
+            s(2) = s(2) + dt*qe*(dd(2) + sh%nu(e)*dd(1))
+            s(3) = s(3) + dt*ge*dd(3)
+            s(4) = s(4) + dt*sh%shrf(e)*ge*dd(4)
+            s(5) = s(5) + dt*sh%shrf(e)*ge*dd(5)
+            sh%sig(:, ip, e) = s
+            ! powers per unit area with the old and the new stresses
+            pold = pold + real(gw(ip, nip), dp)*hh/2*dot_product(real(sold, dp), real(dd, dp))
+            pnew = pnew + real(gw(ip, nip), dp)*hh/2*dot_product(real(s, dp), real(dd, dp))
+            nres = nres + real(gw(ip, nip), wp)*hh/2*s(1:3)
+            mres = mres + real(gw(ip, nip), wp)*hh/2*z*s(1:3)
+            qres = qres + real(gw(ip, nip), wp)*hh/2*[s(5), s(4)]
+        end do
+        ! internal energy: the rule of the solids (work f(n).(v- + v+)/2 dt_avg)
+        sh%eint(e) = sh%eint(e) + dt_avg_prev*(sh%pend_int(e) + 0.5_dp*pold*a)
+        sh%pend_int(e) = 0.5_dp*pnew*a
+        ! nodal forces and moments (local): minus the derivatives of the power
+        do k = 1, 4
+            f(1, k) = -a*(b1(k)*nres(1) + b2(k)*nres(3))
+            f(2, k) = -a*(b2(k)*nres(2) + b1(k)*nres(3))
+            f(3, k) = -a*(b1(k)*qres(1) + b2(k)*qres(2))
+            m(1, k) = -a*(-b2(k)*mres(2) - b1(k)*mres(3) - quarter*qres(2))
+            m(2, k) = -a*(b1(k)*mres(1) + b2(k)*mres(3) + quarter*qres(1))
+            m(3, k) = 0
+        end do
+        ! Belytschko-Tsay hourglass: gamma = h - (h.x) b1 - (h.y) b2; stiffness
+        ! form on the out-of-plane rotations and displacement and the membrane
+        hx = dot_product(hv, xl)
+        hy = dot_product(hv, yl)
+        gam = hv - hx*b1 - hy*b2
+        bb = sum(b1**2 + b2**2)
+        qd = [dot_product(gam, wl(1, :)), dot_product(gam, wl(2, :)), dot_product(gam, vl(3, :)), &
+              dot_product(gam, vl(1, :)), dot_product(gam, vl(2, :))]
+        c = sh%qm(e)
+        pold = dot_product(real(sh%qhg(:, e), dp), real(qd, dp))
+        sh%qhg(1:2, e) = sh%qhg(1:2, e) + dt*c*sh%e(e)*hh**3*a/192*bb*qd(1:2)
+        sh%qhg(3, e) = sh%qhg(3, e) + dt*c*sh%shrf(e)*ge*hh**3/12*bb*qd(3)
+        sh%qhg(4:5, e) = sh%qhg(4:5, e) + dt*c*sh%e(e)*hh*a/8*bb*qd(4:5)
+        pnew = dot_product(real(sh%qhg(:, e), dp), real(qd, dp))
+        sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold)
+        sh%pend_hg(e) = 0.5_dp*pnew
+        do k = 1, 4
+            m(1, k) = m(1, k) - gam(k)*sh%qhg(1, e)
+            m(2, k) = m(2, k) - gam(k)*sh%qhg(2, e)
+            f(3, k) = f(3, k) - gam(k)*sh%qhg(3, e)
+            f(1, k) = f(1, k) - gam(k)*sh%qhg(4, e)
+            f(2, k) = f(2, k) - gam(k)*sh%qhg(5, e)
+        end do
+        ! to global, into the element's slots (a triangle's fourth node is its third)
+        do k = 1, 4
+            sh%fslot(:, 4*(e - 1) + k) = f(1, k)*e1 + f(2, k)*e2 + f(3, k)*e3
+            sh%mslot(:, 4*(e - 1) + k) = m(1, k)*e1 + m(2, k)*e2 + m(3, k)*e3
+        end do
+        ! time step: area over the longest side, plate wave speed
+        ls = 0
+        do k = 1, 4
+            ls = max(ls, norm2(xe(:, mod(k, 4) + 1) - xe(:, k)))
+        end do
+        dte = a/ls/sqrt(sh%e(e)/(sh%ro(e)*(1 - sh%nu(e)**2)))
+    end subroutine shell_element
+
+    pure function cross(a, b) result(c)
+        real(wp), intent(in) :: a(3), b(3)
+        real(wp) :: c(3)
+        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+    end function cross
+
+end module xd_elements_shell_bt
