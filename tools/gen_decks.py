@@ -498,6 +498,27 @@ def shell_cantilever(outdir):
     write(os.path.join(outdir, "verify", "shell_cantilever.k"), lines)
 
 
+def shell_tension(outdir):
+    """One Belytschko-Tsay shell (10 mm square, 1 mm) pulled along x under
+    plane stress: the *MAT_PLASTIC_KINEMATIC path of the solid test, with
+    the thickness held (so the stress is the force over width x t0)."""
+    h, t = 0.01, 0.001
+    nodes = {1: (0.0, 0.0, 0.0), 2: (h, 0.0, 0.0), 3: (h, h, 0.0), 4: (0.0, h, 0.0)}
+    lines = common("one shell in uniaxial tension, *MAT_PLASTIC_KINEMATIC, plane stress", 5e-3, 2.5e-5)
+    lines += ["*DATABASE_NODOUT", f10(2.5e-5), "*DATABASE_HISTORY_NODE", f10(2, 3)]
+    lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 3), f10(t, t, t, t)]
+    lines += ["*MAT_PLASTIC_KINEMATIC", f10(1, 7850.0, 200e9, 0.3, 250e6, 2e9, 1.0)]
+    lines += ["*PART", "sheet", f10(1, 2, 1)]
+    lines += node_set(1, [1, 4]) + node_set(2, [1, 2]) + node_set(3, [2, 3])
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 0, 1, 1, 1, 1), f10(2, 0, 0, 1, 1, 1, 1, 1),
+              f10(3, 0, 0, 0, 1, 1, 1, 1)]
+    lines += ["*BOUNDARY_PRESCRIBED_MOTION_SET", f10(3, 1, 0, 10, 1.0),
+              "*DEFINE_CURVE", f10(10), f"{0.0:20.8e}{0.0:20.8e}", f"{2e-4:20.8e}{0.1:20.8e}", f"{1.0:20.8e}{0.1:20.8e}"]
+    lines += ["*NODE"] + [f"{n:8d}{x:16.9e}{y:16.9e}{z:16.9e}{0:8d}{0:8d}" for n, (x, y, z) in sorted(nodes.items())]
+    lines += ["*ELEMENT_SHELL", f"{1:8d}{1:8d}{1:8d}{2:8d}{3:8d}{4:8d}"]
+    write(os.path.join(outdir, "verify", "shell_tension.k"), lines)
+
+
 def demo_cantilever(outdir):
     """A clamped steel cantilever of hexahedra set swinging by an initial
     velocity that grows along its length."""
@@ -559,6 +580,7 @@ def main():
     rigid_prescribed(args.outdir)
     pressure_column(args.outdir)
     shell_cantilever(args.outdir)
+    shell_tension(args.outdir)
     spot_weld(args.outdir, "spot_weld", 1.0e20)
     spot_weld(args.outdir, "spot_weld_fail", 1.0e-6)
     demo_cantilever(args.outdir)

@@ -6,7 +6,8 @@
 module xd_elements_shell_bt
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc, alloc_dp
-    use xd_model, only: model_t, mat_elastic
+    use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear
+    use xd_materials_plasticity, only: plastic_params_t, plastic_update
     implicit none
     private
     public :: shells_t, build_shells, shell_forces, shell_masses
@@ -20,6 +21,11 @@ module xd_elements_shell_bt
         integer, allocatable :: nip(:)
         real(wp), allocatable :: sig(:, :, :) !< (5, 10, n) stresses at the points
         real(wp), allocatable :: qhg(:, :)    !< (5, n) hourglass generalized forces
+        logical, allocatable :: plastic(:)
+        integer, allocatable :: pmat(:)       !< index into pp
+        type(plastic_params_t), allocatable :: pp(:)  !< plastic laws of the shell materials
+        real(wp), allocatable :: epsp(:, :)   !< (10, n) effective plastic strain per point
+        real(wp), allocatable :: alpha(:, :, :)  !< (6, 10, n) back stress per point
         real(dp), allocatable :: eint(:), ehg(:), pend_int(:), pend_hg(:)
         real(wp), allocatable :: area0(:)
         real(wp), allocatable :: fslot(:, :), mslot(:, :)   !< (3, 4n) forces and moments
@@ -68,10 +74,18 @@ module xd_elements_shell_bt
 
 contains
 
-    subroutine build_shells(model, sh)
+    subroutine build_shells(model, sh, plastic_law)
         type(model_t), intent(in) :: model
         type(shells_t), intent(out) :: sh
-        integer :: e, p, k
+        interface
+            subroutine plastic_law(model, mix, pp)
+                import :: model_t, plastic_params_t
+                type(model_t), intent(in) :: model
+                integer, intent(in) :: mix
+                type(plastic_params_t), intent(out) :: pp
+            end subroutine plastic_law
+        end interface
+        integer :: e, p, k, mix
         sh%n = model%nshell
         if (sh%n == 0) return
         allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%e(sh%n), sh%nu(sh%n), &
@@ -83,8 +97,15 @@ contains
         call alloc_dp(sh%ehg, sh%n, 'shell energies')
         call alloc_dp(sh%pend_int, sh%n, 'shell energies')
         call alloc_dp(sh%pend_hg, sh%n, 'shell energies')
-        allocate (sh%sig(5, 10, sh%n))
+        allocate (sh%sig(5, 10, sh%n), sh%plastic(sh%n), sh%pmat(sh%n), sh%pp(model%nmat), &
+                  sh%epsp(10, sh%n), sh%alpha(6, 10, sh%n))
         sh%sig = 0
+        sh%epsp = 0
+        sh%alpha = 0
+        do mix = 1, model%nmat
+            if (model%mat(mix)%mtype == mat_plastic_kinematic .or. model%mat(mix)%mtype == mat_piecewise_linear) &
+                call plastic_law(model, mix, sh%pp(mix))
+        end do
         do e = 1, sh%n
             p = model%shell_part(e)
             sh%conn(:, e) = model%shell_conn(:, e)
@@ -97,6 +118,8 @@ contains
                 sh%ro(e) = m%ro
                 sh%shrf(e) = sec%shrf
                 sh%nip(e) = sec%nip
+                sh%plastic(e) = m%mtype == mat_plastic_kinematic .or. m%mtype == mat_piecewise_linear
+                sh%pmat(e) = model%part(p)%mat_ix
             end associate
             sh%qm(e) = model%ctl%qh
             k = model%part(p)%hg_ix
@@ -230,11 +253,15 @@ contains
             dd = [dx + z*kx, dy + z*ky, dxy + z*kxy, gyz, gxz]     ! engineering shears
             sold = sh%sig(:, ip, e)
             s = sold
-            s(1) = s(1) + dt*qe*(dd(1) + sh%nu(e)*dd(2))
-            s(2) = s(2) + dt*qe*(dd(2) + sh%nu(e)*dd(1))
-            s(3) = s(3) + dt*ge*dd(3)
-            s(4) = s(4) + dt*sh%shrf(e)*ge*dd(4)
-            s(5) = s(5) + dt*sh%shrf(e)*ge*dd(5)
+            if (sh%plastic(e)) then
+                call plane_stress_plastic(sh, e, ip, dd, dt, s)
+            else
+                s(1) = s(1) + dt*qe*(dd(1) + sh%nu(e)*dd(2))
+                s(2) = s(2) + dt*qe*(dd(2) + sh%nu(e)*dd(1))
+                s(3) = s(3) + dt*ge*dd(3)
+                s(4) = s(4) + dt*sh%shrf(e)*ge*dd(4)
+                s(5) = s(5) + dt*sh%shrf(e)*ge*dd(5)
+            end if
             sh%sig(:, ip, e) = s
             ! powers per unit area with the old and the new stresses
             pold = pold + real(gw(ip, nip), dp)*hh/2*dot_product(real(sold, dp), real(dd, dp))
@@ -290,6 +317,60 @@ contains
         end do
         dte = a/ls/sqrt(sh%e(e)/(sh%ro(e)*(1 - sh%nu(e)**2)))
     end subroutine shell_element
+
+    !> Plane stress plasticity at one point: the 3-D radial return with the
+    !> thickness strain rate d_zz found by secant iteration so that s_zz = 0
+    !> (starting from the elastic and the incompressible guesses). dd holds
+    !> the in-plane rates and the engineering shears (xx yy xy yz zx).
+    subroutine plane_stress_plastic(sh, e, ip, dd, dt, s)
+        type(shells_t), intent(inout) :: sh
+        integer, intent(in) :: e, ip
+        real(wp), intent(in) :: dd(5), dt
+        real(wp), intent(inout) :: s(5)
+        real(wp) :: lam, mu, d(1, 6), sg(1, 6), ep(1), al(1, 6), z0, z1, f0, f1, z2
+        integer :: it
+        if (dt <= 0.0_wp) return
+        mu = sh%e(e)/(2*(1 + sh%nu(e)))
+        lam = sh%e(e)*sh%nu(e)/((1 + sh%nu(e))*(1 - 2*sh%nu(e)))
+        z0 = -sh%nu(e)/(1 - sh%nu(e))*(dd(1) + dd(2))
+        z1 = -(dd(1) + dd(2))
+        f0 = szz(z0)
+        if (abs(f0) <= 1.0e-10_wp*max(maxval(abs(s)), 1.0_wp)) then
+            call commit(z0)
+            return
+        end if
+        f1 = szz(z1)
+        do it = 1, 20
+            if (abs(f1 - f0) <= tiny(1.0_wp)) exit
+            z2 = z1 - f1*(z1 - z0)/(f1 - f0)
+            z0 = z1; f0 = f1
+            z1 = z2
+            f1 = szz(z1)
+            if (abs(f1) <= 1.0e-10_wp*max(maxval(abs(sg)), 1.0_wp)) exit
+        end do
+        call commit(z1)
+    contains
+        real(wp) function szz(dz)
+            real(wp), intent(in) :: dz
+            call trial(dz)
+            szz = sg(1, 3)
+        end function szz
+        subroutine trial(dz)
+            real(wp), intent(in) :: dz
+            d(1, :) = [dd(1), dd(2), dz, 0.5_wp*dd(3), 0.5_wp*dd(4), 0.5_wp*dd(5)]
+            sg(1, :) = [s(1), s(2), 0.0_wp, s(3), s(4), s(5)]
+            ep(1) = sh%epsp(ip, e)
+            al(1, :) = sh%alpha(:, ip, e)
+            call plastic_update(1, lam, mu, sh%pp(sh%pmat(e)), d, dt, sg, ep, al)
+        end subroutine trial
+        subroutine commit(dz)
+            real(wp), intent(in) :: dz
+            call trial(dz)
+            s = [sg(1, 1), sg(1, 2), sg(1, 4), sg(1, 5), sg(1, 6)]
+            sh%epsp(ip, e) = ep(1)
+            sh%alpha(:, ip, e) = al(1, :)
+        end subroutine commit
+    end subroutine plane_stress_plastic
 
     pure function cross(a, b) result(c)
         real(wp), intent(in) :: a(3), b(3)

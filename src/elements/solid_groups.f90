@@ -15,6 +15,7 @@ module xd_elements_solid_groups
     implicit none
     private
     public :: solids_t, solid_group_t, build_solids, solid_forces, group_size, hg_viscous, hg_stiffness
+    public :: material_plastic_law
 
     integer, parameter :: group_size = 128
     integer, parameter :: hg_viscous = 1, hg_stiffness = 2
@@ -190,6 +191,14 @@ contains
             end if
         end if
     end subroutine plastic_params
+
+    !> The plastic law of material mix (for the shells).
+    subroutine material_plastic_law(model, mix, pp)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: mix
+        type(plastic_params_t), intent(out) :: pp
+        call plastic_params(model, model%mat(mix), pp)
+    end subroutine material_plastic_law
 
     !> Stress (xx yy zz xy yz zx) of element e.
     pure function solid_stress(s, e) result(sg)

@@ -7,7 +7,7 @@ module xd_solver_setup
                         mat_elastic
     use xd_core_sorting, only: id_map_t
     use xd_elements_hex8, only: hex_b_matrix
-    use xd_elements_solid_groups, only: solids_t, build_solids
+    use xd_elements_solid_groups, only: solids_t, build_solids, material_plastic_law
     use xd_solver_state, only: state_t
     use xd_core_vectors, only: cross
     use xd_solver_assembly, only: assembly_t, build_assembly
@@ -45,7 +45,7 @@ contains
         call build_assembly(st%nnode, solids%conn, asm)
         call initial_volumes_and_mass(solids, st)
         call rigid_lumped_mass(model, st)
-        call build_shells(model, sh)
+        call build_shells(model, sh, material_plastic_law)
         if (sh%n > 0) then
             st%rot = .true.
             call alloc(st%vr, 3, st%nnode, 'angular velocities')
