@@ -519,6 +519,40 @@ def shell_tension(outdir):
     write(os.path.join(outdir, "verify", "shell_tension.k"), lines)
 
 
+def clamped_plate(outdir):
+    """A clamped square steel plate (0.2 m, 2 mm) under a small uniform
+    pressure (*LOAD_SHELL_SET) ramped over about four periods and held: the
+    centre settles at 0.00126 q a^4 / D (plate theory)."""
+    a, t, n = 0.2, 0.002, 16
+    nodes = {}
+    for j in range(n + 1):
+        for i in range(n + 1):
+            nodes[1 + i + (n + 1) * j] = (a * i / n, a * j / n, 0.0)
+    shells = []
+    e = 1
+    for j in range(n):
+        for i in range(n):
+            n1 = 1 + i + (n + 1) * j
+            shells.append((e, n1, n1 + 1, n1 + 1 + n + 1, n1 + n + 1))
+            e += 1
+    lines = common("clamped square plate under uniform pressure", 0.02, 1.0e-4)
+    centre = [k for k, x in nodes.items() if abs(x[0] - a / 2) < 1e-12 and abs(x[1] - a / 2) < 1e-12][0]
+    lines += ["*DATABASE_NODOUT", f10(1.0e-4), "*DATABASE_HISTORY_NODE", f10(centre)]
+    lines += ["*SECTION_SHELL", f10(2, 2, 0.0, 3), f10(t, t, t, t)]
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.3)]
+    lines += ["*PART", "plate", f10(1, 2, 1)]
+    edge = [k for k, x in sorted(nodes.items()) if x[0] in (0.0, a) or x[1] in (0.0, a)]
+    lines += node_set(1, edge)
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1, 1, 1, 1)]
+    lines += ["*SET_SHELL_LIST_GENERATE", f10(1), f10(1, len(shells))]
+    lines += ["*DEFINE_CURVE", f10(50), f"{0.0:20.8e}{0.0:20.8e}", f"{0.01:20.8e}{1000.0:20.8e}",
+              f"{1.0:20.8e}{1000.0:20.8e}"]
+    lines += ["*LOAD_SHELL_SET", f10(1, 50, 1.0)]
+    lines += ["*NODE"] + [f"{k:8d}{x:16.9e}{y:16.9e}{z:16.9e}{0:8d}{0:8d}" for k, (x, y, z) in sorted(nodes.items())]
+    lines += ["*ELEMENT_SHELL"] + [f"{s[0]:8d}{1:8d}" + "".join(f"{v:8d}" for v in s[1:]) for s in shells]
+    write(os.path.join(outdir, "verify", "clamped_plate.k"), lines)
+
+
 def demo_cantilever(outdir):
     """A clamped steel cantilever of hexahedra set swinging by an initial
     velocity that grows along its length."""
@@ -581,6 +615,7 @@ def main():
     pressure_column(args.outdir)
     shell_cantilever(args.outdir)
     shell_tension(args.outdir)
+    clamped_plate(args.outdir)
     spot_weld(args.outdir, "spot_weld", 1.0e20)
     spot_weld(args.outdir, "spot_weld_fail", 1.0e-6)
     demo_cantilever(args.outdir)

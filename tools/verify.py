@@ -35,6 +35,7 @@ PROBLEMS = [
      rt.test_rigid_constraints),
     ("Column under segment pressure", "uniaxial stress: p L / E", rt.test_pressure),
     ("Belytschko-Tsay cantilever strip", "beam theory, first bending frequency", rt.test_shells),
+    ("Clamped square plate under pressure", "plate theory: 0.00126 q a^4 / D", rt.test_clamped_plate),
     ("Thread count", "deterministic assembly: bitwise equal histories", rt.test_threads),
 ]
 

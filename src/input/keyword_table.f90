@@ -60,6 +60,9 @@ module xd_input_keyword_table
         entry_t('SET_PART_LIST', fam_set, '', .false.), &
         entry_t('SET_PART', fam_set, 'SET_PART_LIST', .false.), &
         entry_t('SET_PART_LIST_GENERATE', fam_set, '', .false.), &
+        entry_t('SET_SHELL_LIST', fam_set, '', .false.), &
+        entry_t('SET_SHELL', fam_set, 'SET_SHELL_LIST', .false.), &
+        entry_t('SET_SHELL_LIST_GENERATE', fam_set, '', .false.), &
         entry_t('BOUNDARY_SPC_NODE', fam_condition, '', .true.), &
         entry_t('BOUNDARY_SPC_SET', fam_condition, '', .true.), &
         entry_t('BOUNDARY_PRESCRIBED_MOTION_NODE', fam_condition, '', .true.), &
@@ -80,6 +83,8 @@ module xd_input_keyword_table
         entry_t('SET_SEGMENT', fam_load, '', .false.), &
         entry_t('LOAD_SEGMENT', fam_load, '', .true.), &
         entry_t('LOAD_SEGMENT_SET', fam_load, '', .true.), &
+        entry_t('LOAD_SHELL_ELEMENT', fam_load, '', .true.), &
+        entry_t('LOAD_SHELL_SET', fam_load, '', .true.), &
         entry_t('LOAD_BODY_X', fam_load, '', .false.), &
         entry_t('LOAD_BODY_Y', fam_load, '', .false.), &
         entry_t('LOAD_BODY_Z', fam_load, '', .false.), &
@@ -121,10 +126,7 @@ module xd_input_keyword_table
         ! in KEYWORDS.md, arriving with later work: a clear message until then
         entry_t('SET_NODE_GENERAL', fam_planned, '', .false.), &
         entry_t('SET_PART_GENERAL', fam_planned, '', .false.), &
-        entry_t('SET_SHELL_LIST', fam_planned, '', .false.), &
 
-        entry_t('LOAD_SHELL_ELEMENT', fam_planned, '', .false.), &
-        entry_t('LOAD_SHELL_SET', fam_planned, '', .false.), &
         entry_t('RIGIDWALL_PLANAR_FORCES', fam_planned, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_SINGLE_SURFACE', fam_planned, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', fam_planned, '', .true.), &

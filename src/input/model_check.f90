@@ -9,7 +9,7 @@ module xd_input_model_check
     use xd_input_context, only: read_ctx_t, add_warning
     use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
                                 hex_regular, hex_wedge, hex_tet, hex_bad
-    use xd_model, only: model_t, find_set, mat_rigid, set_node, set_part, iv_node_set, iv_node, iv_generation
+    use xd_model, only: model_t, find_set, mat_rigid, set_node, set_shell, pressure_t, set_part, iv_node_set, iv_node, iv_generation
     implicit none
     private
     public :: check_model, id_maps_t
@@ -257,6 +257,7 @@ contains
                     end if
                 end do
                 allocate (s%member_ix(s%n))
+                if (s%kind == set_shell) cycle
                 do k = 1, s%n
                     if (s%kind == set_node) then
                         s%member_ix(k) = maps%node%find(s%member(k))
@@ -466,6 +467,8 @@ contains
                 end do
             end associate
         end do
+        call expand_shell_pressures(ctx, model, error)
+        if (allocated(error)) return
         do i = 1, model%npress
             associate (pr => model%press(i))
                 pr%curve_ix = curves%find(pr%lcid)
@@ -474,7 +477,9 @@ contains
                                     itoa(pr%lcid)//' is not defined')
                     return
                 end if
-                if (pr%ssid > 0) then
+                if (pr%shell_eid < 0) then
+                    continue
+                else if (pr%ssid > 0) then
                     if (.not. any(model%segset(1:model%nsegset)%id == pr%ssid)) then
                         call make_error(error, ctx%src%where(pr%src)//': *LOAD_SEGMENT_SET field SSID: '// &
                                         'segment set '//itoa(pr%ssid)//' is not defined')
@@ -515,6 +520,56 @@ contains
             end associate
         end do
     end subroutine check_loads
+
+    !> *LOAD_SHELL_ELEMENT and *LOAD_SHELL_SET become segment pressures on the
+    !> shells' nodes (node indices; shell_eid = -1 marks them as resolved).
+    subroutine expand_shell_pressures(ctx, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(id_map_t) :: shells
+        type(pressure_t), allocatable :: out(:)
+        integer :: i, k, s, e, dup, n
+        if (.not. any(model%press(1:model%npress)%shell_eid > 0 .or. model%press(1:model%npress)%shell_set > 0)) return
+        call shells%build(model%shell_id(1:model%nshell), dup)
+        allocate (out(0))
+        do i = 1, model%npress
+            associate (pr => model%press(i))
+                if (pr%shell_eid > 0) then
+                    e = shells%find(pr%shell_eid)
+                    if (e == 0) then
+                        call make_error(error, ctx%src%where(pr%src)//': *LOAD_SHELL_ELEMENT field EID: shell '// &
+                                        itoa(pr%shell_eid)//' is not defined')
+                        return
+                    end if
+                    out = [out, pressure_t(shell_eid=-1, seg=model%shell_conn(:, e), lcid=pr%lcid, sf=pr%sf, &
+                                           at=pr%at, src=pr%src)]
+                else if (pr%shell_set > 0) then
+                    s = find_set(model, set_shell, pr%shell_set)
+                    if (s == 0) then
+                        call make_error(error, ctx%src%where(pr%src)//': *LOAD_SHELL_SET field ESID: shell set '// &
+                                        itoa(pr%shell_set)//' is not defined')
+                        return
+                    end if
+                    do k = 1, model%set(s)%n
+                        e = shells%find(model%set(s)%member(k))
+                        if (e == 0) then
+                            call make_error(error, ctx%src%where(model%set(s)%src)//': *SET_SHELL_LIST '// &
+                                            itoa(pr%shell_set)//': shell '//itoa(model%set(s)%member(k))//' is not defined')
+                            return
+                        end if
+                        out = [out, pressure_t(shell_eid=-1, seg=model%shell_conn(:, e), lcid=pr%lcid, sf=pr%sf, &
+                                               at=pr%at, src=pr%src)]
+                    end do
+                else
+                    out = [out, pr]
+                end if
+            end associate
+        end do
+        n = size(out)
+        model%npress = n
+        model%press = out
+    end subroutine expand_shell_pressures
 
     subroutine check_controls(model, error)
         type(model_t), intent(inout) :: model

@@ -31,7 +31,7 @@ contains
             call read_cylinder(ctx, kw, model, error)
         case ('SET_SEGMENT')
             call read_segment_set(ctx, kw, model, error)
-        case ('LOAD_SEGMENT', 'LOAD_SEGMENT_SET')
+        case ('LOAD_SEGMENT', 'LOAD_SEGMENT_SET', 'LOAD_SHELL_ELEMENT', 'LOAD_SHELL_SET')
             call read_pressure(ctx, kw, model, error)
         end select
     end subroutine read_load
@@ -88,20 +88,30 @@ contains
         type(pressure_t) :: pr
         integer :: ic, k, j
         do ic = first_card(kw), kw%ncard
-            if (kw%name == 'LOAD_SEGMENT') then
+            select case (kw%name)
+            case ('LOAD_SEGMENT')
                 call get_card(ctx, kw, ic, 'LCID SF AT N1 N2 N3 N4', 1, card, error)
-            else
+            case ('LOAD_SEGMENT_SET')
                 call get_card(ctx, kw, ic, 'SSID LCID SF AT', 1, card, error)
-            end if
+            case ('LOAD_SHELL_ELEMENT')
+                call get_card(ctx, kw, ic, 'EID LCID SF AT', 1, card, error)
+            case default
+                call get_card(ctx, kw, ic, 'ESID LCID SF AT', 1, card, error)
+            end select
             if (allocated(error)) return
             if (card_blank(card)) cycle
             pr = pressure_t(src=kw%card_line(ic))
             j = 0
-            if (kw%name == 'LOAD_SEGMENT_SET') then
-                call get_int(card, 1, pr%ssid, 0, error); if (allocated(error)) return
-                if (pr%ssid <= 0) then
-                    call card_error(card, 1, 'a segment set id is required', error); return
+            if (kw%name /= 'LOAD_SEGMENT') then
+                call get_int(card, 1, k, 0, error); if (allocated(error)) return
+                if (k <= 0) then
+                    call card_error(card, 1, 'an id is required', error); return
                 end if
+                select case (kw%name)
+                case ('LOAD_SEGMENT_SET'); pr%ssid = k
+                case ('LOAD_SHELL_ELEMENT'); pr%shell_eid = k
+                case default; pr%shell_set = k
+                end select
                 j = 1
             end if
             call get_int(card, j + 1, pr%lcid, 0, error); if (allocated(error)) return

@@ -5,7 +5,7 @@ module xd_input_read_sets
     use xd_input_field_reader, only: card_t, card_format_t, card_format, get_int, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card
-    use xd_model, only: model_t, set_t, set_node, set_part
+    use xd_model, only: model_t, set_t, set_node, set_part, set_shell
     implicit none
     private
     public :: read_set
@@ -34,6 +34,7 @@ contains
         end if
         s%kind = set_node
         if (kw%name(1:8) == 'SET_PART') s%kind = set_part
+        if (kw%name(1:9) == 'SET_SHELL') s%kind = set_shell
         generate = index(kw%name, '_GENERATE') > 0
         s%src = kw%card_line(ic)
         allocate (s%member(64))

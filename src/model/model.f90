@@ -9,12 +9,12 @@ module xd_model
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
     public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, segment_set_t, pressure_t, curve_value
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
-    public :: set_node, set_part, find_set
+    public :: set_node, set_part, set_shell, find_set
     public :: iv_node_set, iv_node, iv_generation
 
     integer, parameter :: mat_elastic = 1, mat_plastic_kinematic = 3, mat_rigid = 20, &
                           mat_piecewise_linear = 24
-    integer, parameter :: set_node = 1, set_part = 2
+    integer, parameter :: set_node = 1, set_part = 2, set_shell = 3
     integer, parameter :: iv_node_set = 1, iv_node = 2, iv_generation = 3
 
     type :: part_t
@@ -145,6 +145,8 @@ module xd_model
     !> from t = at on, pushing against the segment normal (N1..N4 right-handed).
     type :: pressure_t
         integer :: ssid = 0                 !< segment set, or 0 for the segment below
+        integer :: shell_eid = 0            !< *LOAD_SHELL_ELEMENT: the shell (replaced by seg once checked)
+        integer :: shell_set = 0            !< *LOAD_SHELL_SET: the shell set (expanded once checked)
         integer :: seg(4) = 0
         integer :: lcid = 0, curve_ix = 0
         real(wp) :: sf = 1.0_wp, at = 0.0_wp
