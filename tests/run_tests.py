@@ -546,6 +546,28 @@ def test_clamped_plate():
     record(f"clamped plate: the pressure's work balances the energy ({dev:.1e})", dev < 0.01)
 
 
+def test_subsystems():
+    """A deck mixing solids, shells and a rigid part runs; its log lists those
+    subsystems as on and the others as off; a solids-only deck lists shells
+    and rigid bodies as off."""
+    p, out = run_deck("input_decks/verify/mixed_solid_shell_rigid.k", "mixed")
+    record("deck mixed_solid_shell_rigid runs (exit 0)", p.returncode == 0, p.stderr[-300:])
+    if p.returncode != 0:
+        return
+    log = open(os.path.join(out, "d3hsp")).read()
+    want_on = ["solid elements ............ on", "shell elements ............ on", "rigid bodies .............. on"]
+    want_off = ["contact ................... off", "rigid walls ............... off"]
+    record("mixed deck: the log lists solids, shells and rigid bodies on, contact and walls off",
+           all(w in log for w in want_on + want_off))
+    dev = np.max(abs(glstat(out)["energy_ratio"] - 1))
+    record(f"mixed deck: energy ratio within 1e-3 ({dev:.1e})", dev < 1e-3)
+    record("*CONTROL_SHELL: ISTUPD (not implemented) warned by name, WRPANG and THEORY 2 not",
+           "field ISTUPD: not implemented" in log and "field WRPANG" not in log and "field THEORY" not in log)
+    log = open(os.path.join(TMP, "bar_impact", "d3hsp")).read()
+    record("solids-only deck: the log lists shells and rigid bodies off",
+           "shell elements ............ off" in log and "rigid bodies .............. off" in log)
+
+
 def test_malformed():
     """(d) Each malformed deck exits 1, its message contains the expected
     file:line, keyword, card, field and text, and only the log is written."""
@@ -685,6 +707,7 @@ def main():
     test_pressure()
     test_shells()
     test_clamped_plate()
+    test_subsystems()
     test_malformed()
     test_format_rules()
     test_runtime_error()

@@ -553,6 +553,34 @@ def clamped_plate(outdir):
     write(os.path.join(outdir, "verify", "clamped_plate.k"), lines)
 
 
+def mixed_deck(outdir):
+    """Solids, shells and a rigid part in one deck: a steel block (solids)
+    with a shell plate on its top face (shared nodes) and a rigid block
+    below it falling together; used to check the log's subsystem list."""
+    blk = block_mesh(2, 2, 2, 0.1, 0.1, 0.1)
+    rig = block_mesh(2, 2, 1, 0.1, 0.1, 0.05, origin=(0.0, 0.0, -0.06), nid0=501, eid0=501)
+    nodes = dict(blk[0]); nodes.update(rig[0])
+    top = [k for k, x in blk[0].items() if abs(x[2] - 0.1) < 1e-12]
+    grid = {(round(x[0], 6), round(x[1], 6)): k for k, x in blk[0].items() if abs(x[2] - 0.1) < 1e-12}
+    xs = sorted({k[0] for k in grid})
+    shells = []
+    e = 1001
+    for j in range(2):
+        for i in range(2):
+            c = [grid[(xs[i], xs[j])], grid[(xs[i + 1], xs[j])], grid[(xs[i + 1], xs[j + 1])], grid[(xs[i], xs[j + 1])]]
+            shells.append((e, *c))
+            e += 1
+    lines = common("solids, shells and a rigid part in one deck", 2.0e-3, 1.0e-4)
+    lines += ["*CONTROL_SHELL", f10(20.0, 0, 0, 1, 2)]
+    lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 3), f10(0.002, 0.002, 0.002, 0.002)]
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.3), "*MAT_RIGID", f10(2, 7850.0, 200e9, 0.3)]
+    lines += part(1, 1, "solid block") + ["*PART", "top plate", f10(2, 2, 1)] + part(3, 2, "rigid block")
+    lines += ["*INITIAL_VELOCITY", f10(0), f10(0.0, 0.0, -2.0)]
+    lines += node_cards(nodes) + solid_cards(blk[1], 1) + solid_cards(rig[1], 3)
+    lines += ["*ELEMENT_SHELL"] + [f"{s[0]:8d}{2:8d}" + "".join(f"{v:8d}" for v in s[1:]) for s in shells]
+    write(os.path.join(outdir, "verify", "mixed_solid_shell_rigid.k"), lines)
+
+
 def demo_cantilever(outdir):
     """A clamped steel cantilever of hexahedra set swinging by an initial
     velocity that grows along its length."""
@@ -616,6 +644,7 @@ def main():
     shell_cantilever(args.outdir)
     shell_tension(args.outdir)
     clamped_plate(args.outdir)
+    mixed_deck(args.outdir)
     spot_weld(args.outdir, "spot_weld", 1.0e20)
     spot_weld(args.outdir, "spot_weld_fail", 1.0e-6)
     demo_cantilever(args.outdir)

@@ -79,6 +79,7 @@ module xd_input_keyword_table
         entry_t('CONTROL_HOURGLASS', fam_control, '', .false.), &
         entry_t('CONTROL_BULK_VISCOSITY', fam_control, '', .false.), &
         entry_t('CONTROL_ENERGY', fam_control, '', .false.), &
+        entry_t('CONTROL_SHELL', fam_control, '', .false.), &
         entry_t('DEFINE_CURVE', fam_load, '', .false.), &
         entry_t('SET_SEGMENT', fam_load, '', .false.), &
         entry_t('LOAD_SEGMENT', fam_load, '', .true.), &
@@ -134,7 +135,6 @@ module xd_input_keyword_table
         entry_t('CONTACT_AUTOMATIC_NODES_TO_SURFACE', fam_planned, '', .true.), &
         entry_t('CONTACT_SINGLE_SURFACE', fam_planned, '', .true.), &
         entry_t('CONTROL_CONTACT', fam_planned, '', .false.), &
-        entry_t('CONTROL_SHELL', fam_planned, '', .false.), &
         entry_t('CONTROL_XDYNA_CONTACT', fam_planned, '', .false.) &
         ]
 

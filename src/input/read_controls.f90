@@ -75,6 +75,8 @@ contains
                 call get_real(card, 2, c%q2, 0.06_wp, error, zero_default=.true.); if (allocated(error)) return
                 call get_int(card, 3, btype, 1, error, zero_default=.true.); if (allocated(error)) return
                 if (btype /= 1) call add_warning(model, at//' field TYPE: only the standard form (1) is implemented')
+            case ('CONTROL_SHELL')
+                call read_control_shell()
             case ('CONTROL_ENERGY')
                 call get_card(ctx, kw, ic, 'HGEN RWEN SLNTEN RYLEN', 1, card, error)
                 if (allocated(error)) return
@@ -84,7 +86,41 @@ contains
                 call get_int(card, 4, c%rylen, 1, error, zero_default=.true.); if (allocated(error)) return
             end select
         end associate
+        if (kw%name == 'CONTROL_SHELL') return
         call no_more_cards(ctx, kw, ic + 1, error)
+    contains
+        !> Card 1 WRPANG ESORT IRNXX ISTUPD THEORY BWC MITER PROJ; card 2
+        !> ROTASCL INTGRD LAMSHT CSTYP6 TSHELL. Fields that would change the
+        !> physics and are not implemented get a warning naming them.
+        subroutine read_control_shell()
+            integer :: v, k, j
+            character(len=8), parameter :: names1(8) = [character(len=8) :: 'WRPANG', 'ESORT', 'IRNXX', &
+                'ISTUPD', 'THEORY', 'BWC', 'MITER', 'PROJ']
+            character(len=8), parameter :: names2(5) = [character(len=8) :: 'ROTASCL', 'INTGRD', 'LAMSHT', &
+                'CSTYP6', 'TSHELL']
+            real(wp) :: r
+            do j = ic, min(kw%ncard, ic + 1)
+                if (j == ic) then
+                    call get_card(ctx, kw, j, 'WRPANG ESORT IRNXX ISTUPD THEORY BWC MITER PROJ', 1, card, error)
+                else
+                    call get_card(ctx, kw, j, 'ROTASCL INTGRD LAMSHT CSTYP6 TSHELL', 2, card, error)
+                end if
+                if (allocated(error)) return
+                do k = 1, merge(8, 5, j == ic)
+                    call get_real(card, k, r, 0.0_wp, error); if (allocated(error)) return
+                    v = nint(r)
+                    if (j == ic) then
+                        ! WRPANG is a warning angle, ESORT and THEORY choose what xdyna already does
+                        if (k == 1 .or. k == 2 .or. (k == 5 .and. (v == 2 .or. v == 0))) cycle
+                        if (r /= 0.0_wp .and. .not. (k == 3 .and. v == -1)) call add_warning(model, at// &
+                            ' field '//trim(names1(k))//': not implemented; ignored')
+                    else
+                        if (r /= 0.0_wp .and. .not. (k == 1 .and. r == 1.0_wp)) call add_warning(model, at// &
+                            ' field '//trim(names2(k))//': not implemented; ignored')
+                    end if
+                end do
+            end do
+        end subroutine read_control_shell
     end subroutine read_control
 
     subroutine read_database(ctx, kw, model, error)

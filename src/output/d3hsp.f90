@@ -99,7 +99,7 @@ contains
             s = s//'   shell elements ............ off (none in the deck)'//nl
         end if
         if (nrigid > 0) then
-            s = s//'   rigid bodies .............. on  ('//itoa(nrigid)//' rigid parts, nodal rigid bodies, spot welds)'//nl
+            s = s//'   rigid bodies .............. on  ('//itoa(nrigid)//')'//nl
         else
             s = s//'   rigid bodies .............. off (none in the deck)'//nl
         end if
