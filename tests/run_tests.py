@@ -397,6 +397,14 @@ def test_rigid_bodies():
         record(f"rigid spin: energy constant to 1e-6 over 5e4 torque-free cycles ({dev:.1e})", dev < 1e-6)
         record("rigid spin: the centre keeps its velocity (1, 0, 0)",
                abs(g["x_velocity"][-1] - 1) < 1e-12 and abs(g["y_velocity"][-1]) < 1e-12)
+        with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+            L = np.stack([f["rbdout/x_angular_momentum"][:, 0], f["rbdout/y_angular_momentum"][:, 0],
+                          f["rbdout/z_angular_momentum"][:, 0]])
+            wz = f["rbdout/z_angular_velocity"][:, 0]
+        dev = np.max(np.linalg.norm(L - L[:, :1], axis=0)) / np.linalg.norm(L[:, 0])
+        record(f"rigid spin: angular momentum constant to 1e-6 (rbdout, {dev:.1e})", dev < 1e-6)
+        record("rigid spin: the angular velocity wanders about a non-principal axis (torque-free precession)",
+               np.ptp(wz) > 1e-3 * abs(wz).max())
     p, out = run_deck("input_decks/verify/rod_rigid_mass.k", "rod_rigid_mass")
     record("deck rod_rigid_mass runs (exit 0)", p.returncode == 0, p.stderr[-300:])
     if p.returncode == 0:

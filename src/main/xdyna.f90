@@ -134,7 +134,7 @@ program xdyna
     opts%endtim = real(model%ctl%endtim, dp)
     if (endtim_cli > 0.0_dp) opts%endtim = endtim_cli
     if (opts%endtim <= 0.0_dp) opts%endtim = huge(1.0_dp)
-    call open_histories(model, outdir, hist, ok)
+    call open_histories(model, outdir, rg, hist, ok)
     if (.not. ok) then
         write (error_unit, '(a)') 'xdyna: cannot create the time-history files in '//outdir
         call finish(exit_run)

@@ -9,13 +9,14 @@ module xd_output_histories
     use xd_solver_state, only: state_t
     use xd_solver_energies, only: energies_t
     use xd_contact_rigidwall, only: walls_t
+    use xd_rigid_bodies, only: rigid_t
     use xd_output_thist_h5, only: h5file_t, h5series_t, h5_open, h5_close, series_create, series_append
     implicit none
     private
     public :: histories_t, open_histories, histories_due, write_histories, close_histories, version_line
 
     character(len=*), parameter :: xdyna_version = '0.1.0'
-    integer, parameter :: s_glstat = 1, s_matsum = 2, s_nodout = 3, s_rwforc = 4, ndb = 4
+    integer, parameter :: s_glstat = 1, s_matsum = 2, s_nodout = 3, s_rwforc = 4, s_rbdout = 5, ndb = 5
 
     type :: histories_t
         logical :: on(ndb) = .false.
@@ -39,8 +40,9 @@ contains
         s = repeat(' ', 20)//'xdyna '//xdyna_version//'  date '//d(5:6)//'/'//d(7:8)//'/'//d(1:4)
     end function version_line
 
-    subroutine open_histories(model, outdir, h, ok)
+    subroutine open_histories(model, outdir, rg, h, ok)
         type(model_t), intent(in) :: model
+        type(rigid_t), intent(in) :: rg
         character(len=*), intent(in) :: outdir
         type(histories_t), intent(out) :: h
         logical, intent(out) :: ok
@@ -50,10 +52,11 @@ contains
 
         h%title = model%title(1:72)
         h%dt = [real(model%db%glstat%dt, dp), real(model%db%matsum%dt, dp), real(model%db%nodout%dt, dp), &
-                real(model%db%rwforc%dt, dp)]
+                real(model%db%rwforc%dt, dp), real(model%db%glstat%dt, dp)]
         h%on = h%dt > 0.0_dp
         h%nwall = model%nwall
         if (h%nwall == 0) h%on(s_rwforc) = .false.
+        if (rg%n == 0) h%on(s_rbdout) = .false.
         ! nodout nodes: *DATABASE_HISTORY_NODE ids, then node sets
         allocate (h%nodes(0))
         if (allocated(model%db%hist_node_ix)) h%nodes = model%db%hist_node_ix
@@ -115,6 +118,16 @@ contains
             units = [character(len=32) :: 'force', 'force', 'force', 'force']
             call series_create(h%h5, 'rwforc', cols, units, size(ids), ids, h%ser(s_rwforc))
         end if
+        if (h%on(s_rbdout)) then
+            ! rigid bodies, HDF5 only: part id, or minus the body's number for node-set bodies
+            ids = [(merge(model%part(max(rg%b(j)%part, 1))%id, -j, rg%b(j)%part > 0), j=1, rg%n)]
+            cols = [character(len=32) :: 'x_velocity', 'y_velocity', 'z_velocity', 'x_angular_velocity', &
+                    'y_angular_velocity', 'z_angular_velocity', 'x_angular_momentum', 'y_angular_momentum', &
+                    'z_angular_momentum']
+            units = [character(len=32) :: 'length/time', 'length/time', 'length/time', '1/time', '1/time', &
+                     '1/time', 'mass*length^2/time', 'mass*length^2/time', 'mass*length^2/time']
+            call series_create(h%h5, 'rbdout', cols, units, rg%n, ids, h%ser(s_rbdout))
+        end if
     contains
         subroutine header(u)
             integer, intent(in) :: u
@@ -142,12 +155,13 @@ contains
 
     !> Write the databases that are due at the state's time (all of them if
     !> `force`). vn: full-step velocities; a: accelerations.
-    subroutine write_histories(h, model, st, solids, walls, en, vn, crit_part, zone_ns, force)
+    subroutine write_histories(h, model, st, solids, walls, rg, en, vn, crit_part, zone_ns, force)
         type(histories_t), intent(inout) :: h
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
         type(walls_t), intent(in) :: walls
+        type(rigid_t), intent(in) :: rg
         type(energies_t), intent(in) :: en
         real(wp), intent(in) :: vn(:, :)
         integer, intent(in) :: crit_part
@@ -157,6 +171,7 @@ contains
         due = h%on .and. (force .or. st%time >= h%next*(1.0_dp - 1.0e-9_dp))
         if (due(s_glstat)) call write_glstat(h, st, solids, walls, en, crit_part, zone_ns)
         if (due(s_rwforc)) call write_rwforc(h, model, st, walls)
+        if (due(s_rbdout)) call write_rbdout(h, st, rg)
         if (due(s_matsum)) call write_matsum(h, model, st, en)
         if (due(s_nodout)) call write_nodout(h, st, vn)
         where (due)
@@ -303,6 +318,22 @@ contains
         flush (h%unit(s_rwforc))
         call series_append(h%ser(s_rwforc), st%time, vals)
     end subroutine write_rwforc
+
+    !> Rigid bodies at t(n): centre velocity (mean of the half steps), angular
+    !> velocity and spatial angular momentum at n+1/2.
+    subroutine write_rbdout(h, st, rg)
+        type(histories_t), intent(inout) :: h
+        type(state_t), intent(in) :: st
+        type(rigid_t), intent(in) :: rg
+        real(dp) :: vals(rg%n, 9)
+        integer :: k
+        do k = 1, rg%n
+            vals(k, 1:3) = 0.5_dp*(rg%b(k)%vc_old + rg%b(k)%vc)
+            vals(k, 4:6) = rg%b(k)%omega
+            vals(k, 7:9) = rg%b(k)%pi
+        end do
+        call series_append(h%ser(s_rbdout), st%time, vals)
+    end subroutine write_rbdout
 
     subroutine close_histories(h)
         type(histories_t), intent(inout) :: h

@@ -331,7 +331,7 @@ contains
             if (st%crit_elem > 0) crit_part = model%part(solids%part(st%crit_elem))%id
             ns = 0
             if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - t0_wall)/(real(st%cycle, dp)*max(solids%n, 1))
-            call write_histories(hist, model, st, solids, walls, en, vn, crit_part, ns, force)
+            call write_histories(hist, model, st, solids, walls, rg, en, vn, crit_part, ns, force)
             call tm%stop(ph_output)
         end subroutine output
 
