@@ -31,3 +31,22 @@ done
 med=$(sort -n $dir/ns.txt | awk '{a[NR]=$1} END {print a[int((NR + 1) / 2)]}')
 mem=$(cat $dir/mem1.txt)
 echo "bench: median $med ns per element-cycle (hex8 one-point, viscous hourglass, elastic), $((mem * 1024 / nel)) bytes per element peak"
+
+# shells: 400 x 250 = 100,000 Belytschko-Tsay shells, *MAT_024, 5 points
+sdeck=$dir/plate_400x250.k
+scycles=${BENCH_SHELL_CYCLES:-100}
+/usr/bin/python3 tools/gen_decks.py --bench-shells 400 250 $sdeck --cycles $scycles
+echo "bench: 100000 Belytschko-Tsay shells (*MAT_024, NIP 5, yielding), $scycles cycles, 1 thread, $runs runs"
+: > $dir/ns_shell.txt
+i=1
+while [ $i -le $runs ]; do
+    out=$dir/shell$i
+    rm -rf $out
+    OMP_NUM_THREADS=1 ./bin/xdyna i=$sdeck outdir=$out > /dev/null
+    ns=$(grep 'time per zone cycle' $out/d3hsp | awk '{print $NF}')
+    echo "  run $i: $ns ns per element-cycle"
+    echo "$ns" >> $dir/ns_shell.txt
+    i=$((i + 1))
+done
+med=$(sort -n $dir/ns_shell.txt | awk '{a[NR]=$1} END {print a[int((NR + 1) / 2)]}')
+echo "bench: shells median $med ns per element-cycle"

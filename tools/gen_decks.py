@@ -616,12 +616,36 @@ def bench_block(nx, ny, nz, path, ncycle):
     write(path, lines)
 
 
+def bench_shells(nx, ny, path, ncycle):
+    """Benchmark: an nx x ny plate of Belytschko-Tsay shells, *MAT_024 with 5
+    points through the thickness, clamped on one edge and thrown out of its
+    plane hard enough to yield. Runs ncycle cycles."""
+    a, b, t = nx * 0.01, ny * 0.01, 0.002
+    lines = common(f"benchmark plate {nx}x{ny} Belytschko-Tsay shells, *MAT_024, NIP 5", 1.0, 1.0, endcyc=ncycle)
+    lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 5), f10(t, t, t, t)]
+    lines += ["*MAT_PIECEWISE_LINEAR_PLASTICITY", f10(1, 7850.0, 210e9, 0.3, 250e6, 1e9)]
+    lines += ["*PART", "plate", f10(1, 2, 1)]
+    nid = lambda i, j: 1 + i + (nx + 1) * j
+    lines += node_set(1, [nid(0, j) for j in range(ny + 1)])
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1, 1, 1, 1)]
+    lines += ["*INITIAL_VELOCITY", f10(0), f10(0.0, 0.0, 30.0)]
+    lines += ["*NODE"] + [f"{nid(i, j):8d}{a * i / nx:16.9e}{b * j / ny:16.9e}{0.0:16.9e}{0:8d}{0:8d}"
+                          for j in range(ny + 1) for i in range(nx + 1)]
+    lines += ["*ELEMENT_SHELL"] + [f"{1 + i + nx * j:8d}{1:8d}{nid(i, j):8d}{nid(i + 1, j):8d}{nid(i + 1, j + 1):8d}"
+                                   f"{nid(i, j + 1):8d}" for j in range(ny) for i in range(nx)]
+    write(path, lines)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--outdir", default="input_decks")
     ap.add_argument("--bench", nargs=4, metavar=("NX", "NY", "NZ", "FILE"))
     ap.add_argument("--cycles", type=int, default=200)
+    ap.add_argument("--bench-shells", nargs=3, metavar=("NX", "NY", "FILE"))
     args = ap.parse_args()
+    if args.bench_shells:
+        bench_shells(int(args.bench_shells[0]), int(args.bench_shells[1]), args.bench_shells[2], args.cycles)
+        return
     if args.bench:
         nx, ny, nz = (int(v) for v in args.bench[:3])
         bench_block(nx, ny, nz, args.bench[3], args.cycles)

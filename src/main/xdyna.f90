@@ -143,7 +143,7 @@ program xdyna
 
     call run_time_loop(model, st, solids, asm, sh, asm_sh, walls, pn, rg, pl, hist, lg, tm, opts, res)
     call close_histories(hist)
-    call timing_table(lg, tm, res%ncycle, solids%n, tm%elapsed())
+    call timing_table(lg, tm, res%ncycle, solids%n + sh%n, tm%elapsed())
     if (res%status /= exit_normal) then
         write (error_unit, '(a)') 'xdyna: '//res%message
         call log_line(lg, ' E r r o r   t e r m i n a t i o n')

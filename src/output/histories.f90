@@ -155,7 +155,7 @@ contains
 
     !> Write the databases that are due at the state's time (all of them if
     !> `force`). vn: full-step velocities; a: accelerations.
-    subroutine write_histories(h, model, st, solids, walls, rg, en, vn, crit_part, zone_ns, force)
+    subroutine write_histories(h, model, st, solids, walls, rg, en, vn, crit, zone_ns, force)
         type(histories_t), intent(inout) :: h
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
@@ -164,12 +164,12 @@ contains
         type(rigid_t), intent(in) :: rg
         type(energies_t), intent(in) :: en
         real(wp), intent(in) :: vn(:, :)
-        integer, intent(in) :: crit_part
+        integer, intent(in) :: crit(3)           !< controlling element: kind (1 solid, 2 shell), id, part id
         real(dp), intent(in) :: zone_ns
         logical, intent(in) :: force
         logical :: due(ndb)
         due = h%on .and. (force .or. st%time >= h%next*(1.0_dp - 1.0e-9_dp))
-        if (due(s_glstat)) call write_glstat(h, st, solids, walls, en, crit_part, zone_ns)
+        if (due(s_glstat)) call write_glstat(h, st, walls, en, crit, zone_ns)
         if (due(s_rwforc)) call write_rwforc(h, model, st, walls)
         if (due(s_rbdout)) call write_rbdout(h, st, rg)
         if (due(s_matsum)) call write_matsum(h, model, st, en)
@@ -184,23 +184,20 @@ contains
         if (any(due)) h%nwritten = h%nwritten + 1
     end subroutine write_histories
 
-    subroutine write_glstat(h, st, solids, walls, en, crit_part, zone_ns)
+    subroutine write_glstat(h, st, walls, en, crit, zone_ns)
         type(histories_t), intent(inout) :: h
         type(state_t), intent(in) :: st
-        type(solids_t), intent(in) :: solids
         type(walls_t), intent(in) :: walls
         type(energies_t), intent(in) :: en
-        integer, intent(in) :: crit_part
+        integer, intent(in) :: crit(3)
         real(dp), intent(in) :: zone_ns
-        integer :: u, eid, k
+        integer :: u, k
         character(len=8) :: wl
         real(dp), allocatable :: vals(:)
         u = h%unit(s_glstat)
-        eid = 0
-        if (st%crit_elem > 0) eid = solids%eid(st%crit_elem)
         write (u, '(a)') '', ''
-        write (u, '(a,i8,a,i10,a,i10)') ' dt of cycle', st%cycle, ' is controlled by solid     ', eid, &
-            ' of part', crit_part
+        write (u, '(a,i8,a,a,i10,a,i10)') ' dt of cycle', st%cycle, ' is controlled by ', &
+            merge('shell     ', 'solid     ', crit(1) == 2), crit(2), ' of part', crit(3)
         write (u, '(a)') ''
         call row('time', st%time)
         call row('time step', real(st%dt, dp))

@@ -26,7 +26,7 @@ module xd_solver_state
         real(wp) :: dt_old = 0.0_wp           !< step just taken
         real(wp) :: dt_first = 0.0_wp         !< first step, for DTMIN
         integer :: cycle = 0
-        integer :: crit_elem = 0              !< solids index that set the step
+        integer :: crit_elem = 0              !< element that set the step: solids index, or minus the shell's
         real(dp) :: ext_work = 0.0_dp         !< external work so far
         real(dp) :: e_initial = 0.0_dp        !< total energy at t = 0
     end type state_t

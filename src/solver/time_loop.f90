@@ -85,8 +85,7 @@ contains
                 st%dt_first = st%dt
             else if (model%ctl%dtmin > 0.0_wp .and. st%dt < model%ctl%dtmin*st%dt_first) then
                 call fail('time step '//rtoa(real(st%dt, dp))//' fell below DTMIN x first step; '// &
-                          'controlling solid '//itoa(solids%eid(st%crit_elem))//' of part '// &
-                          itoa(model%part(solids%part(st%crit_elem))%id))
+                          'controlling '//controlling())
                 exit
             end if
 
@@ -238,13 +237,26 @@ contains
                               ' has collapsed (zero or negative area)')
                     return
                 end if
-                if (sh%dtmin < dtcrit) dtcrit = sh%dtmin
+                if (sh%dtmin < dtcrit) then
+                    dtcrit = sh%dtmin
+                    st%crit_elem = -sh%crit
+                end if
                 call tm%start(ph_assembly)
                 call assemble(asm_sh, sh%fslot, st%f, add=.true.)
                 call assemble(asm_sh, sh%mslot, st%mom)
                 call tm%stop(ph_assembly)
             end if
         end subroutine element_pass
+
+        !> 'solid 12 of part 3' or 'shell 7 of part 2': the element of the step.
+        function controlling() result(txt)
+            character(len=:), allocatable :: txt
+            txt = 'element unknown'
+            if (st%crit_elem > 0) txt = 'solid '//itoa(solids%eid(st%crit_elem))//' of part '// &
+                                        itoa(model%part(solids%part(st%crit_elem))%id)
+            if (st%crit_elem < 0) txt = 'shell '//itoa(sh%eid(-st%crit_elem))//' of part '// &
+                                        itoa(model%part(sh%part(-st%crit_elem))%id)
+        end function controlling
 
         !> Shells' internal and hourglass energy (into their parts) and the
         !> rotational kinetic energy 1/2 I w(n-1/2).w(n+1/2).
@@ -324,14 +336,18 @@ contains
 
         subroutine output(force)
             logical, intent(in) :: force
-            integer :: crit_part
+            integer :: crit(3)
             real(dp) :: ns
             call tm%start(ph_output)
-            crit_part = 0
-            if (st%crit_elem > 0) crit_part = model%part(solids%part(st%crit_elem))%id
+            crit = 0
+            if (st%crit_elem > 0) then
+                crit = [1, solids%eid(st%crit_elem), model%part(solids%part(st%crit_elem))%id]
+            else if (st%crit_elem < 0) then
+                crit = [2, sh%eid(-st%crit_elem), model%part(sh%part(-st%crit_elem))%id]
+            end if
             ns = 0
-            if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - t0_wall)/(real(st%cycle, dp)*max(solids%n, 1))
-            call write_histories(hist, model, st, solids, walls, rg, en, vn, crit_part, ns, force)
+            if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - t0_wall)/(real(st%cycle, dp)*max(solids%n + sh%n, 1))
+            call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force)
             call tm%stop(ph_output)
         end subroutine output
 
