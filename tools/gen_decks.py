@@ -519,6 +519,18 @@ def shell_tension(outdir):
     write(os.path.join(outdir, "verify", "shell_tension.k"), lines)
 
 
+def shell_tension_thick(outdir):
+    """shell_tension with *CONTROL_SHELL ISTUPD 1: the thickness follows the
+    strain, so the pulling force falls with the thickness."""
+    src = os.path.join(outdir, "verify", "shell_tension.k")
+    with open(src) as f:
+        text = f.read()
+    text = text.replace("*SECTION_SHELL", "*CONTROL_SHELL\n" + f10(0.0, 0, 0, 1) + "\n*SECTION_SHELL", 1)
+    text = text.replace("one shell in uniaxial tension", "one shell in uniaxial tension, thickness change", 1)
+    with open(os.path.join(outdir, "verify", "shell_tension_thick.k"), "w") as f:
+        f.write(text)
+
+
 def clamped_plate(outdir):
     """A clamped square steel plate (0.2 m, 2 mm) under a small uniform
     pressure (*LOAD_SHELL_SET) ramped over about four periods and held: the
@@ -571,7 +583,7 @@ def mixed_deck(outdir):
             shells.append((e, *c))
             e += 1
     lines = common("solids, shells and a rigid part in one deck", 2.0e-3, 1.0e-4)
-    lines += ["*CONTROL_SHELL", f10(20.0, 0, 0, 1, 2)]
+    lines += ["*CONTROL_SHELL", f10(20.0, 0, 0, 1, 2, 0, 2)]
     lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 3), f10(0.002, 0.002, 0.002, 0.002)]
     lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.3), "*MAT_RIGID", f10(2, 7850.0, 200e9, 0.3)]
     lines += part(1, 1, "solid block") + ["*PART", "top plate", f10(2, 2, 1)] + part(3, 2, "rigid block")
@@ -667,6 +679,7 @@ def main():
     pressure_column(args.outdir)
     shell_cantilever(args.outdir)
     shell_tension(args.outdir)
+    shell_tension_thick(args.outdir)
     clamped_plate(args.outdir)
     mixed_deck(args.outdir)
     spot_weld(args.outdir, "spot_weld", 1.0e20)

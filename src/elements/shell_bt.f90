@@ -31,6 +31,7 @@ module xd_elements_shell_bt
         real(wp), allocatable :: fslot(:, :), mslot(:, :)   !< (3, 4n) forces and moments
         real(wp) :: dtmin = 0
         integer :: crit = 0, bad = 0
+        logical :: thickness_update = .false.   !< *CONTROL_SHELL ISTUPD
     end type shells_t
 
     ! Gauss points and weights on [-1, 1], NIP 1..10 (rows: nip)
@@ -88,6 +89,7 @@ contains
         integer :: e, p, k, mix
         sh%n = model%nshell
         if (sh%n == 0) return
+        sh%thickness_update = model%ctl%istupd /= 0
         allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%e(sh%n), sh%nu(sh%n), &
                   sh%ro(sh%n), sh%shrf(sh%n), sh%qm(sh%n), sh%nip(sh%n), sh%area0(sh%n))
         call alloc(sh%fslot, 3, 4*sh%n, 'shell force slots')
@@ -196,6 +198,7 @@ contains
         real(wp) :: xe(3, 4), e1(3), e2(3), e3(3), xc(3), xl(4), yl(4), a, b1(4), b2(4), vl(3, 4), wl(3, 4)
         real(wp) :: dx, dy, dxy, kx, ky, kxy, gxz, gyz, qe, ge, z, dd(5), s(5), sold(5)
         real(wp) :: nres(3), mres(3), qres(2), f(3, 4), m(3, 4), gam(4), hx, hy, qd(5), bb, c, ls, hh
+        real(wp) :: dzz, dzz_mean
         real(dp) :: pold, pnew
         integer :: k, ip, nip, nn
         real(wp), parameter :: quarter = 0.25_wp
@@ -248,14 +251,17 @@ contains
         nip = sh%nip(e)
         nres = 0; mres = 0; qres = 0
         pold = 0; pnew = 0
+        dzz_mean = 0
         do ip = 1, nip
             z = real(gz(ip, nip), wp)*hh/2
             dd = [dx + z*kx, dy + z*ky, dxy + z*kxy, gyz, gxz]     ! engineering shears
             sold = sh%sig(:, ip, e)
             s = sold
             if (sh%plastic(e)) then
-                call plane_stress_plastic(sh, e, ip, dd, dt, s)
+                call plane_stress_plastic(sh, e, ip, dd, dt, s, dzz)
+                dzz_mean = dzz_mean + real(gw(ip, nip), wp)/2*dzz
             else
+                dzz_mean = dzz_mean - real(gw(ip, nip), wp)/2*sh%nu(e)/(1 - sh%nu(e))*(dd(1) + dd(2))
                 s(1) = s(1) + dt*qe*(dd(1) + sh%nu(e)*dd(2))
                 s(2) = s(2) + dt*qe*(dd(2) + sh%nu(e)*dd(1))
                 s(3) = s(3) + dt*ge*dd(3)
@@ -270,6 +276,8 @@ contains
             mres = mres + real(gw(ip, nip), wp)*hh/2*z*s(1:3)
             qres = qres + real(gw(ip, nip), wp)*hh/2*[s(5), s(4)]
         end do
+        ! thickness change (ISTUPD): the mean thickness strain rate of the points
+        if (sh%thickness_update) sh%h(e) = sh%h(e)*exp(dt*dzz_mean)
         ! internal energy: the rule of the solids (work f(n).(v- + v+)/2 dt_avg)
         sh%eint(e) = sh%eint(e) + dt_avg_prev*(sh%pend_int(e) + 0.5_dp*pold*a)
         sh%pend_int(e) = 0.5_dp*pnew*a
@@ -322,13 +330,15 @@ contains
     !> thickness strain rate d_zz found by secant iteration so that s_zz = 0
     !> (starting from the elastic and the incompressible guesses). dd holds
     !> the in-plane rates and the engineering shears (xx yy xy yz zx).
-    subroutine plane_stress_plastic(sh, e, ip, dd, dt, s)
+    subroutine plane_stress_plastic(sh, e, ip, dd, dt, s, dzz)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e, ip
         real(wp), intent(in) :: dd(5), dt
         real(wp), intent(inout) :: s(5)
+        real(wp), intent(out) :: dzz               !< the thickness strain rate found
         real(wp) :: lam, mu, d(1, 6), sg(1, 6), ep(1), al(1, 6), z0, z1, f0, f1, z2
         integer :: it
+        dzz = -sh%nu(e)/(1 - sh%nu(e))*(dd(1) + dd(2))
         if (dt <= 0.0_wp) return
         mu = sh%e(e)/(2*(1 + sh%nu(e)))
         lam = sh%e(e)*sh%nu(e)/((1 + sh%nu(e))*(1 - 2*sh%nu(e)))
@@ -365,6 +375,7 @@ contains
         end subroutine trial
         subroutine commit(dz)
             real(wp), intent(in) :: dz
+            dzz = dz
             call trial(dz)
             s = [sg(1, 1), sg(1, 2), sg(1, 4), sg(1, 5), sg(1, 6)]
             sh%epsp(ip, e) = ep(1)

@@ -109,6 +109,10 @@ contains
                 do k = 1, merge(8, 5, j == ic)
                     call get_real(card, k, r, 0.0_wp, error); if (allocated(error)) return
                     v = nint(r)
+                    if (j == ic .and. k == 4) then
+                        model%ctl%istupd = v
+                        cycle
+                    end if
                     if (j == ic) then
                         ! WRPANG is a warning angle, ESORT and THEORY choose what xdyna already does
                         if (k == 1 .or. k == 2 .or. (k == 5 .and. (v == 2 .or. v == 0))) cycle

@@ -196,6 +196,7 @@ module xd_model
         real(wp) :: qh = 0.1_wp
         real(wp) :: q1 = 1.5_wp, q2 = 0.06_wp
         integer :: hgen = 1, rwen = 2, slnten = 1, rylen = 1
+        integer :: istupd = 0               !< *CONTROL_SHELL: shell thickness follows the strain
         logical :: termination_given = .false.
     end type controls_t
 
