@@ -405,6 +405,20 @@ def test_rigid_bodies():
         record(f"rigid spin: angular momentum constant to 1e-6 (rbdout, {dev:.1e})", dev < 1e-6)
         record("rigid spin: the angular velocity wanders about a non-principal axis (torque-free precession)",
                np.ptp(wz) > 1e-3 * abs(wz).max())
+    # a rigid plate of shells: inertia M/12 (b^2 + t^2, a^2 + t^2, a^2 + b^2)
+    p, out = run_deck("input_decks/verify/rigid_shell_spin.k", "rigid_shell_spin")
+    record("deck rigid_shell_spin runs (exit 0)", p.returncode == 0, p.stderr[-300:])
+    if p.returncode == 0:
+        a, b, t = 0.2, 0.1, 0.002
+        M = 7850.0 * a * b * t
+        inertia = M / 12 * np.array([b * b + t * t, a * a + t * t, a * a + b * b])
+        w = 10.0 * np.array([1.0, 2.0, 3.0]) / np.sqrt(14.0)
+        e0 = 0.5 * M + 0.5 * np.sum(inertia * w ** 2)
+        te = glstat(out)["total_energy"]
+        record(f"rigid shell plate: initial energy from the shells' inertia ({te[0] / e0 - 1:+.1e})",
+               abs(te[0] / e0 - 1) < 1e-9)
+        dev = np.max(abs(te / te[0] - 1))
+        record(f"rigid shell plate: energy kept to 1e-6 ({dev:.1e})", dev < 1e-6)
     p, out = run_deck("input_decks/verify/rod_rigid_mass.k", "rod_rigid_mass")
     record("deck rod_rigid_mass runs (exit 0)", p.returncode == 0, p.stderr[-300:])
     if p.returncode == 0:

@@ -356,6 +356,30 @@ def rigid_spin(outdir):
     write(os.path.join(outdir, "verify", "rigid_spin.k"), lines)
 
 
+def rigid_shell_spin(outdir):
+    """A *MAT_RIGID plate of shells (0.2 x 0.1 m, 2 mm) spinning torque-free
+    about a non-principal axis: inertia from the shells (with the thickness
+    term), energy and angular momentum kept."""
+    a, b, t, nx, ny = 0.2, 0.1, 0.002, 4, 2
+    nodes = {1 + i + (nx + 1) * j: (a * i / nx, b * j / ny, 0.0) for j in range(ny + 1) for i in range(nx + 1)}
+    lines = common("rigid shell plate, torque-free spin", 0.5, 1.0e-3)
+    lines[lines.index("*CONTROL_TIMESTEP") + 1] = f10(2.0e-5, 0.9)
+    lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 2), f10(t, t, t, t)]
+    lines += ["*MAT_RIGID", f10(1, 7850.0, 210e9, 0.3)]
+    lines += ["*PART", "rigid plate", f10(1, 2, 1)]
+    lines += ["*INITIAL_VELOCITY_GENERATION", f10(1, 2, 10.0, 1.0, 0.0, 0.0, 0, 0),
+              f10(a / 2, b / 2, 0.0, 1.0, 2.0, 3.0, 0, 0)]
+    lines += ["*NODE"] + [f"{k:8d}{x:16.9e}{y:16.9e}{z:16.9e}{0:8d}{0:8d}" for k, (x, y, z) in sorted(nodes.items())]
+    lines += ["*ELEMENT_SHELL"]
+    e = 1
+    for j in range(ny):
+        for i in range(nx):
+            n1 = 1 + i + (nx + 1) * j
+            lines.append(f"{e:8d}{1:8d}{n1:8d}{n1 + 1:8d}{n1 + nx + 2:8d}{n1 + nx + 1:8d}")
+            e += 1
+    write(os.path.join(outdir, "verify", "rigid_shell_spin.k"), lines)
+
+
 def rod_with_rigid_mass(outdir):
     """An elastic rod (nu = 0) clamped at x = 0 carrying a rigid mass at its
     free end, set moving along the rod: it vibrates at omega = beta c / L with
@@ -675,6 +699,7 @@ def main():
     taylor_bar(args.outdir, "taylor_bar_fine", 5, 5, 60)
     rigid_spin(args.outdir)
     rod_with_rigid_mass(args.outdir)
+    rigid_shell_spin(args.outdir)
     rigid_prescribed(args.outdir)
     pressure_column(args.outdir)
     shell_cantilever(args.outdir)

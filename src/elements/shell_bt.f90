@@ -6,7 +6,7 @@
 module xd_elements_shell_bt
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc, alloc_dp
-    use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear
+    use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid
     use xd_materials_plasticity, only: plastic_params_t, plastic_update
     implicit none
     private
@@ -86,8 +86,12 @@ contains
                 type(plastic_params_t), intent(out) :: pp
             end subroutine plastic_law
         end interface
-        integer :: e, p, k, mix
-        sh%n = model%nshell
+        integer :: e, p, k, mix, ee
+        integer, allocatable :: keep(:)
+        ! rigid shells are not deformable elements (the rigid bodies take them)
+        keep = pack([(e, e=1, model%nshell)], &
+                    [(model%mat(model%part(model%shell_part(e))%mat_ix)%mtype /= mat_rigid, e=1, model%nshell)])
+        sh%n = size(keep)
         if (sh%n == 0) return
         sh%thickness_update = model%ctl%istupd /= 0
         allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%e(sh%n), sh%nu(sh%n), &
@@ -109,11 +113,12 @@ contains
                 call plastic_law(model, mix, sh%pp(mix))
         end do
         do e = 1, sh%n
-            p = model%shell_part(e)
-            sh%conn(:, e) = model%shell_conn(:, e)
-            sh%eid(e) = model%shell_id(e)
+            ee = keep(e)
+            p = model%shell_part(ee)
+            sh%conn(:, e) = model%shell_conn(:, ee)
+            sh%eid(e) = model%shell_id(ee)
             sh%part(e) = p
-            sh%h(e) = sum(model%shell_t(:, e))/4
+            sh%h(e) = sum(model%shell_t(:, ee))/4
             associate (m => model%mat(model%part(p)%mat_ix), sec => model%sec_shell(model%part(p)%shell_sec_ix))
                 sh%e(e) = m%e
                 sh%nu(e) = m%pr

@@ -209,10 +209,6 @@ contains
                 call make_error(error, at//' field PID: part '//itoa(model%shell_pid(e))//' has no shell section')
                 return
             end if
-            if (model%mat(model%part(p)%mat_ix)%mtype == mat_rigid) then
-                call make_error(error, at//': rigid shell parts are not implemented yet')
-                return
-            end if
             do k = 1, 4
                 nid = model%shell_conn(k, e)
                 model%shell_conn(k, e) = maps%node%find(nid)
@@ -584,8 +580,8 @@ contains
             call make_error(error, model%deck_path//': the deck defines no elements')
             return
         end if
-        if (model%nshell == 0 .and. &
-            all(model%mat(model%part(model%hex_part(1:model%nhex))%mat_ix)%mtype == mat_rigid) .and. &
+        if (all(model%mat(model%part(model%hex_part(1:model%nhex))%mat_ix)%mtype == mat_rigid) .and. &
+            all(model%mat(model%part(model%shell_part(1:model%nshell))%mat_ix)%mtype == mat_rigid) .and. &
             .not. model%ctl%dtinit > 0.0_wp) then
             call make_error(error, model%deck_path//': *CONTROL_TIMESTEP field DTINIT: a model of rigid bodies '// &
                             'alone has no element time step; give DTINIT')

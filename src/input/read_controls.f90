@@ -114,8 +114,9 @@ contains
                         cycle
                     end if
                     if (j == ic) then
-                        ! WRPANG is a warning angle, ESORT and THEORY choose what xdyna already does
-                        if (k == 1 .or. k == 2 .or. (k == 5 .and. (v == 2 .or. v == 0))) cycle
+                        ! WRPANG is a warning angle; ESORT 0 and THEORY 2 are what xdyna does
+                        ! (ESORT 1, C0 triangles for degenerate shells, is not implemented)
+                        if (k == 1 .or. (k == 2 .and. v == 0) .or. (k == 5 .and. (v == 2 .or. v == 0))) cycle
                         if (r /= 0.0_wp .and. .not. (k == 3 .and. v == -1)) call add_warning(model, at// &
                             ' field '//trim(names1(k))//': not implemented; ignored')
                     else

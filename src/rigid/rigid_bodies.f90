@@ -65,7 +65,51 @@ contains
             call hex_mass_moments(x, real(model%mat(model%part(p)%mat_ix)%ro, dp), m, xi)
             st%mass(model%hex_conn(:, e)) = st%mass(model%hex_conn(:, e)) + real(m/8.0_dp, wp)
         end do
+        do e = 1, model%nshell
+            p = model%shell_part(e)
+            if (.not. is_rigid_part(model, p)) cycle
+            call shell_mass_moments(model, e, m, xi)
+            st%mass(model%shell_conn(:, e)) = st%mass(model%shell_conn(:, e)) + real(m/4.0_dp, wp)
+        end do
     end subroutine rigid_lumped_mass
+
+    !> Mass, first and second moments of a rigid shell: 2x2 Gauss points on
+    !> the bilinear midsurface (exact for flat parallelograms), plus the
+    !> thickness' own second moment m h^2/12 along the normal.
+    subroutine shell_mass_moments(model, e, m, s1, j2)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: e
+        real(dp), intent(out) :: m, s1(3)
+        real(dp), intent(out), optional :: j2(3, 3)
+        real(dp), parameter :: g = 1.0_dp/sqrt(3.0_dp)
+        real(dp) :: x(3, 4), n(4), dxi(3), deta(3), nrm(3), xg(3), w, rho, h
+        integer :: a, b, k
+        real(dp), parameter :: xs(4) = [-1, 1, 1, -1], ys(4) = [-1, -1, 1, 1]
+        x = real(model%x0(:, model%shell_conn(:, e)), dp)
+        rho = real(model%mat(model%part(model%shell_part(e))%mat_ix)%ro, dp)
+        h = real(sum(model%shell_t(:, e))/4, dp)
+        m = 0
+        s1 = 0
+        if (present(j2)) j2 = 0
+        do a = 1, 2
+            do b = 1, 2
+                n = (1 + xs*merge(-g, g, a == 1))*(1 + ys*merge(-g, g, b == 1))/4
+                dxi = 0
+                deta = 0
+                do k = 1, 4
+                    dxi = dxi + xs(k)*(1 + ys(k)*merge(-g, g, b == 1))/4*x(:, k)
+                    deta = deta + ys(k)*(1 + xs(k)*merge(-g, g, a == 1))/4*x(:, k)
+                end do
+                nrm = cross(dxi, deta)
+                w = rho*h*norm2(nrm)
+                xg = matmul(x, n)
+                m = m + w
+                s1 = s1 + w*xg
+                if (present(j2)) j2 = j2 + w*(spread(xg, 2, 3)*spread(xg, 1, 3) &
+                                              + h**2/12*spread(nrm, 2, 3)*spread(nrm, 1, 3)/dot_product(nrm, nrm))
+            end do
+        end do
+    end subroutine shell_mass_moments
 
     !> Mass (and first moment) of one hexahedron by 3x3x3 Gauss; with j2 the
     !> second moments sum rho x (x) x.
@@ -136,6 +180,14 @@ contains
                     b%xc = b%xc + s1
                     jt = jt + j2
                     mark(model%hex_conn(:, e)) = .true.
+                end do
+                do e = 1, model%nshell
+                    if (model%shell_part(e) /= p) cycle
+                    call shell_mass_moments(model, e, m, s1, j2)
+                    b%mass = b%mass + m
+                    b%xc = b%xc + s1
+                    jt = jt + j2
+                    mark(model%shell_conn(:, e)) = .true.
                 end do
                 b%xc = b%xc/b%mass
                 jt = jt - b%mass*spread(b%xc, 2, 3)*spread(b%xc, 1, 3)
@@ -326,6 +378,7 @@ contains
                     i = b%node(k)
                     xn = b%xc + matmul(b%q, b%r(:, k))
                     st%v(:, i) = real((xn - real(st%x(:, i), dp))/h, wp)
+                    if (st%rot) st%vr(:, i) = real(b%omega, wp)
                 end do
             end associate
         end do

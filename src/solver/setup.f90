@@ -243,6 +243,9 @@ contains
             do e = 1, model%nhex
                 if (model%hex_part(e) == p) mark(model%hex_conn(:, e)) = .true.
             end do
+            do e = 1, model%nshell
+                if (model%shell_part(e) == p) mark(model%shell_conn(:, e)) = .true.
+            end do
         end subroutine mark_part
     end subroutine initial_velocities
 
