@@ -591,12 +591,18 @@ def clamped_plate(outdir):
 
 def mixed_deck(outdir):
     """Solids, shells and a rigid part in one deck: a steel block (solids)
-    with a shell plate on its top face (shared nodes) and a rigid block
-    below it falling together; used to check the log's subsystem list."""
+    with a shell plate on its top face and a rigid block under it, both
+    sharing nodes with the block.  Only the rigid block starts moving, so it
+    pulls the elastic block and the plate after it: the deck deforms, and its
+    energy and momentum checks mean something.  Also used to check the log's
+    subsystem list."""
     blk = block_mesh(2, 2, 2, 0.1, 0.1, 0.1)
-    rig = block_mesh(2, 2, 1, 0.1, 0.1, 0.05, origin=(0.0, 0.0, -0.06), nid0=501, eid0=501)
-    nodes = dict(blk[0]); nodes.update(rig[0])
-    top = [k for k, x in blk[0].items() if abs(x[2] - 0.1) < 1e-12]
+    rig = block_mesh(2, 2, 1, 0.1, 0.1, 0.05, origin=(0.0, 0.0, -0.05), nid0=501, eid0=501)
+    bottom = {(round(x[0], 6), round(x[1], 6)): k for k, x in blk[0].items() if abs(x[2]) < 1e-12}
+    remap = {k: bottom[(round(x[0], 6), round(x[1], 6))] for k, x in rig[0].items() if abs(x[2]) < 1e-12}
+    nodes = dict(blk[0])
+    nodes.update({k: x for k, x in rig[0].items() if k not in remap})
+    rig_elems = [(e[0], *[remap.get(n, n) for n in e[1:]]) for e in rig[1]]
     grid = {(round(x[0], 6), round(x[1], 6)): k for k, x in blk[0].items() if abs(x[2] - 0.1) < 1e-12}
     xs = sorted({k[0] for k in grid})
     shells = []
@@ -611,8 +617,8 @@ def mixed_deck(outdir):
     lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 3), f10(0.002, 0.002, 0.002, 0.002)]
     lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.3), "*MAT_RIGID", f10(2, 7850.0, 200e9, 0.3)]
     lines += part(1, 1, "solid block") + ["*PART", "top plate", f10(2, 2, 1)] + part(3, 2, "rigid block")
-    lines += ["*INITIAL_VELOCITY", f10(0), f10(0.0, 0.0, -2.0)]
-    lines += node_cards(nodes) + solid_cards(blk[1], 1) + solid_cards(rig[1], 3)
+    lines += ["*INITIAL_VELOCITY_GENERATION", f10(3, 2, 0.0, 0.0, 0.0, -2.0), f10(0.0, 0.0, 0.0)]
+    lines += node_cards(nodes) + solid_cards(blk[1], 1) + solid_cards(rig_elems, 3)
     lines += ["*ELEMENT_SHELL"] + [f"{s[0]:8d}{2:8d}" + "".join(f"{v:8d}" for v in s[1:]) for s in shells]
     write(os.path.join(outdir, "verify", "mixed_solid_shell_rigid.k"), lines)
 
