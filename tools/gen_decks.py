@@ -555,6 +555,23 @@ def shell_tension_thick(outdir):
         f.write(text)
 
 
+def shell_tension_tri(outdir):
+    """shell_tension meshed as two triangles (N3 = N4) split along the 1-3
+    diagonal: uniaxial stress is a linear field, which the one-point
+    Belytschko-Tsay strain rate reproduces exactly on a degenerate quad, so
+    the path must match the quad's closed form."""
+    src = os.path.join(outdir, "verify", "shell_tension.k")
+    with open(src) as f:
+        text = f.read()
+    quad = f"{1:8d}{1:8d}{1:8d}{2:8d}{3:8d}{4:8d}"
+    tris = f"{1:8d}{1:8d}{1:8d}{2:8d}{3:8d}{3:8d}\n{2:8d}{1:8d}{1:8d}{3:8d}{4:8d}{4:8d}"
+    assert quad in text
+    text = text.replace(quad, tris, 1)
+    text = text.replace("one shell in uniaxial tension", "two triangular shells in uniaxial tension", 1)
+    with open(os.path.join(outdir, "verify", "shell_tension_tri.k"), "w") as f:
+        f.write(text)
+
+
 def clamped_plate(outdir):
     """A clamped square steel plate (0.2 m, 2 mm) under a small uniform
     pressure (*LOAD_SHELL_SET) ramped over about four periods and held: the
@@ -711,6 +728,7 @@ def main():
     shell_cantilever(args.outdir)
     shell_tension(args.outdir)
     shell_tension_thick(args.outdir)
+    shell_tension_tri(args.outdir)
     clamped_plate(args.outdir)
     mixed_deck(args.outdir)
     spot_weld(args.outdir, "spot_weld", 1.0e20)

@@ -1,7 +1,9 @@
 !> Belytschko-Tsay shell (ELFORM 2): four nodes with six degrees of freedom,
 !> one in-plane point, NIP Gauss points through the thickness, a corotational
 !> frame from the element's diagonals, Belytschko-Tsay hourglass control;
-!> triangles as quads with N3 = N4. Elastic plane stress (*MAT_ELASTIC).
+!> triangles as quads with N3 = N4 (a third of the mass on each node).
+!> Plane stress: elastic, or *MAT_003 / *MAT_024 with the 3-D radial return
+!> and the thickness strain rate iterated so that s_zz = 0.
 !> Stresses per point (local frame): xx yy xy yz zx.
 module xd_elements_shell_bt
     use xd_kinds, only: wp, dp
@@ -168,7 +170,6 @@ contains
         d2 = xe(:, 4) - xe(:, 2)
         if (c(3) == c(4)) d2 = xe(:, 3) - xe(:, 2)
         area = 0.5_wp*norm2([d1(2)*d2(3) - d1(3)*d2(2), d1(3)*d2(1) - d1(1)*d2(3), d1(1)*d2(2) - d1(2)*d2(1)])
-        if (c(3) == c(4)) area = area
     end function area
 
     !> Forces and moments of every shell at x(n) with v(n-1/2), w(n-1/2).
