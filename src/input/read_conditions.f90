@@ -89,7 +89,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         type(init_vel_t) :: iv, ex
-        integer :: ic, boxid, icid
+        integer :: ic, boxid, icid, irigid
         ic = first_card(kw)
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'NSID NSIDEX BOXID IRIGID ICID', 1, card, error)
@@ -98,6 +98,9 @@ contains
         call get_int(card, 1, iv%id, 0, error); if (allocated(error)) return
         call get_int(card, 2, iv%exempt, 0, error); if (allocated(error)) return
         call get_int(card, 3, boxid, 0, error); if (allocated(error)) return
+        ! IRIGID only says whether *PART_INERTIA velocities are overridden; with
+        ! no *PART_INERTIA, rigid bodies always take their nodes' velocities
+        call get_int(card, 4, irigid, 0, error); if (allocated(error)) return
         call get_int(card, 5, icid, 0, error); if (allocated(error)) return
         if (boxid /= 0) then
             call card_error(card, 3, 'boxes are not supported (BOXID must be 0)', error); return
@@ -220,8 +223,8 @@ contains
                 return
             end if
             if (norm2(iv%axis) > 0.0_wp) iv%axis = iv%axis/norm2(iv%axis)
-            if (ivatn /= 0 .or. phase /= 0 .or. irigid /= 0) call add_warning(model, &
-                ctx%src%where(kw%card_line(ic))//': *INITIAL_VELOCITY_GENERATION fields IVATN/PHASE/IRIGID ignored')
+            if (ivatn /= 0 .or. phase /= 0) call add_warning(model, &
+                ctx%src%where(kw%card_line(ic))//': *INITIAL_VELOCITY_GENERATION fields IVATN/PHASE ignored')
             call push_ivel(model, iv)
             ic = ic + 2
         end do
