@@ -9,7 +9,7 @@ module xd_model
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
     public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, segment_set_t, pressure_t, curve_value
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
-    public :: set_node, set_part, set_shell, find_set
+    public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
 
     integer, parameter :: mat_elastic = 1, mat_plastic_kinematic = 3, mat_rigid = 20, &
@@ -265,6 +265,23 @@ module xd_model
     end type model_t
 
 contains
+
+    !> Fixed directions of a deck constraint code 0-7 (none, x, y, z, xy, yz,
+    !> zx, xyz): *NODE TC/RC, *MAT_RIGID CON1/CON2.
+    pure function constraint_dirs(code) result(f)
+        integer, intent(in) :: code
+        logical :: f(3)
+        f = .false.
+        select case (code)
+        case (1); f(1) = .true.
+        case (2); f(2) = .true.
+        case (3); f(3) = .true.
+        case (4); f(1:2) = .true.
+        case (5); f(2:3) = .true.
+        case (6); f(1) = .true.; f(3) = .true.
+        case (7); f = .true.
+        end select
+    end function constraint_dirs
 
     !> Index of the set of `kind` with id `id`, 0 if none.
     pure integer function find_set(model, kind, id) result(ix)

@@ -11,7 +11,7 @@ module xd_rigid_bodies
     use xd_kinds, only: wp, dp
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
-    use xd_model, only: model_t, mat_rigid, find_set, set_node, curve_value
+    use xd_model, only: model_t, mat_rigid, find_set, set_node, curve_value, constraint_dirs
     use xd_solver_state, only: state_t
     use xd_core_vectors, only: cross
     implicit none
@@ -191,8 +191,8 @@ contains
                 end do
                 b%xc = b%xc/b%mass
                 jt = jt - b%mass*spread(b%xc, 2, 3)*spread(b%xc, 1, 3)
-                b%fix_t = code_dirs(mat%con1)
-                b%fix_r = code_dirs(mat%con2)
+                b%fix_t = constraint_dirs(mat%con1)
+                b%fix_r = constraint_dirs(mat%con2)
                 rg%on = rg%on .or. mark
             end associate
             call finish_body(rg%b(nb), jt, mark)
@@ -482,21 +482,5 @@ contains
         det3 = a(1, 1)*(a(2, 2)*a(3, 3) - a(2, 3)*a(3, 2)) - a(1, 2)*(a(2, 1)*a(3, 3) - a(2, 3)*a(3, 1)) &
                + a(1, 3)*(a(2, 1)*a(3, 2) - a(2, 2)*a(3, 1))
     end function det3
-
-    !> Fixed directions of a constraint code 0-7 (none, x, y, z, xy, yz, zx, xyz).
-    pure function code_dirs(code) result(f)
-        integer, intent(in) :: code
-        logical :: f(3)
-        f = .false.
-        select case (code)
-        case (1); f(1) = .true.
-        case (2); f(2) = .true.
-        case (3); f(3) = .true.
-        case (4); f(1:2) = .true.
-        case (5); f(2:3) = .true.
-        case (6); f(1) = .true.; f(3) = .true.
-        case (7); f = .true.
-        end select
-    end function code_dirs
 
 end module xd_rigid_bodies

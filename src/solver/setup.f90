@@ -3,7 +3,7 @@
 module xd_solver_setup
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc
-    use xd_model, only: model_t, find_set, set_node, set_part, iv_node_set, iv_node, iv_generation, &
+    use xd_model, only: model_t, find_set, constraint_dirs, set_node, set_part, iv_node_set, iv_node, iv_generation, &
                         mat_elastic
     use xd_core_sorting, only: id_map_t
     use xd_elements_hex8, only: hex_b_matrix
@@ -93,14 +93,21 @@ contains
         end do
     end subroutine initial_volumes_and_mass
 
-    !> *NODE TC codes and *BOUNDARY_SPC: 0 in `free` for each fixed translation.
+    !> *NODE TC/RC codes and *BOUNDARY_SPC: 0 in `free` (`free_r`, with
+    !> shells) for each fixed translation (rotation); massless nodes and
+    !> nodes without rotational inertia do not move in those directions.
     subroutine constraint_masks(model, st)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         integer :: i, k, s
         st%free = 1.0_wp
+        if (st%rot) st%free_r = 1.0_wp
         do i = 1, st%nnode
-            call apply_code(model%node_tc(i), i)
+            where (constraint_dirs(model%node_tc(i))) st%free(:, i) = 0.0_wp
+            if (st%mass(i) <= 0.0_wp) st%free(:, i) = 0.0_wp
+            if (.not. st%rot) cycle
+            where (constraint_dirs(model%node_rc(i))) st%free_r(:, i) = 0.0_wp
+            if (st%irot(i) <= 0.0_wp) st%free_r(:, i) = 0.0_wp
         end do
         do i = 1, model%nspc
             associate (c => model%spc(i))
@@ -114,67 +121,13 @@ contains
                 end if
             end associate
         end do
-        ! massless nodes do not move
-        do i = 1, st%nnode
-            if (st%mass(i) <= 0.0_wp) st%free(:, i) = 0.0_wp
-        end do
-        if (st%rot) then
-            st%free_r = 1.0_wp
-            do i = 1, st%nnode
-                call apply_rcode(model%node_rc(i), i)
-                if (st%irot(i) <= 0.0_wp) st%free_r(:, i) = 0.0_wp
-            end do
-            do i = 1, model%nspc
-                associate (c => model%spc(i))
-                    if (c%is_set) then
-                        s = find_set(model, set_node, c%id)
-                        do k = 1, model%set(s)%n
-                            call apply_rdofs(c%dof, model%set(s)%member_ix(k))
-                        end do
-                    else
-                        call apply_rdofs(c%dof, c%ix)
-                    end if
-                end associate
-            end do
-        end if
     contains
-        subroutine apply_code(code, nd)
-            integer, intent(in) :: code, nd
-            select case (code)
-            case (1); st%free(1, nd) = 0
-            case (2); st%free(2, nd) = 0
-            case (3); st%free(3, nd) = 0
-            case (4); st%free(1:2, nd) = 0
-            case (5); st%free(2:3, nd) = 0
-            case (6); st%free(1, nd) = 0; st%free(3, nd) = 0
-            case (7); st%free(:, nd) = 0
-            end select
-        end subroutine apply_code
-        subroutine apply_rcode(code, nd)
-            integer, intent(in) :: code, nd
-            select case (code)
-            case (1); st%free_r(1, nd) = 0
-            case (2); st%free_r(2, nd) = 0
-            case (3); st%free_r(3, nd) = 0
-            case (4); st%free_r(1:2, nd) = 0
-            case (5); st%free_r(2:3, nd) = 0
-            case (6); st%free_r(1, nd) = 0; st%free_r(3, nd) = 0
-            case (7); st%free_r(:, nd) = 0
-            end select
-        end subroutine apply_rcode
-        subroutine apply_rdofs(dof, nd)
-            integer, intent(in) :: dof(6), nd
-            integer :: j
-            do j = 1, 3
-                if (dof(3 + j) == 1) st%free_r(j, nd) = 0
-            end do
-        end subroutine apply_rdofs
         subroutine apply_dofs(dof, nd)
             integer, intent(in) :: dof(6), nd
-            integer :: j
-            do j = 1, 3
-                if (dof(j) == 1) st%free(j, nd) = 0
-            end do
+            where (dof(1:3) == 1) st%free(:, nd) = 0.0_wp
+            if (st%rot) then
+                where (dof(4:6) == 1) st%free_r(:, nd) = 0.0_wp
+            end if
         end subroutine apply_dofs
     end subroutine constraint_masks
 
