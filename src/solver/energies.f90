@@ -4,6 +4,7 @@ module xd_solver_energies
     use xd_kinds, only: wp, dp
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t
+    use xd_elements_shell_bt, only: shells_t
     use xd_solver_state, only: state_t
     use xd_contact_rigidwall, only: walls_t, walls_kinetic
     use xd_rigid_bodies, only: rigid_t, rigid_energy
@@ -24,18 +25,22 @@ contains
     !> Energies at time t(n). Kinetic energy is 1/2 m v(n-1/2).v(n+1/2), the
     !> form that central differences conserve exactly with the trapezoidal
     !> internal work (it differs from 1/2 m v(n)^2 by O(dt^2)); momentum and
-    !> velocities use v(n) = (v(n-1/2) + v(n+1/2))/2.
-    subroutine compute_energies(model, st, solids, walls, rg, vminus, vplus, dt_avg, en)
+    !> velocities use v(n) = (v(n-1/2) + v(n+1/2))/2. With shells, the
+    !> angular velocities wminus, wplus give the rotational kinetic energy
+    !> 1/2 I w(n-1/2).w(n+1/2).
+    subroutine compute_energies(model, st, solids, sh, walls, rg, vminus, vplus, wminus, wplus, dt_avg, en)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
         type(walls_t), intent(in) :: walls
         type(rigid_t), intent(in) :: rg
         real(wp), intent(in) :: vminus(:, :), vplus(:, :)
+        real(wp), intent(in), optional :: wminus(:, :), wplus(:, :)   !< present when st%rot
         real(dp), intent(in) :: dt_avg       !< step of the velocity update at this time (0 at t = 0)
         type(energies_t), intent(inout) :: en
-        integer :: e, k, p, nd
-        real(dp) :: mshare, mom(3), ke_b, mom_b(3)
+        integer :: e, k, p, nd, nn
+        real(dp) :: mshare, mom(3), ke_b, mom_b(3), ie, hg, ker
         if (.not. allocated(en%part_ie)) then
             allocate (en%part_ie(model%npart), en%part_ke(model%npart), en%part_hg(model%npart), &
                       en%part_mass(model%npart), en%part_mom(3, model%npart))
@@ -56,6 +61,25 @@ contains
         end do
         en%ie = sum(en%part_ie)
         en%hg = sum(en%part_hg)
+        do e = 1, sh%n
+            p = sh%part(e)
+            ! the shell's share of its nodes' mass (a third each for triangles)
+            nn = 4
+            if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
+            mshare = real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/nn
+            do k = 1, nn
+                nd = sh%conn(k, e)
+                en%part_ke(p) = en%part_ke(p) + 0.5_dp*mshare*dot_product(real(vminus(:, nd), dp), real(vplus(:, nd), dp))
+                en%part_mom(:, p) = en%part_mom(:, p) + 0.5_dp*mshare*real(vminus(:, nd) + vplus(:, nd), dp)
+            end do
+            en%part_mass(p) = en%part_mass(p) + mshare*nn
+            ie = sh%eint(e) + dt_avg*sh%pend_int(e)
+            hg = sh%ehg(e) + dt_avg*sh%pend_hg(e)
+            en%part_ie(p) = en%part_ie(p) + ie
+            en%part_hg(p) = en%part_hg(p) + hg
+            en%ie = en%ie + ie
+            en%hg = en%hg + hg
+        end do
         en%ke = 0
         mom = 0
         do nd = 1, st%nnode
@@ -85,6 +109,13 @@ contains
         do e = 1, walls%n
             en%wall = en%wall + walls%w(e)%energy
         end do
+        if (st%rot) then
+            ker = 0
+            do nd = 1, st%nnode
+                ker = ker + 0.5_dp*st%irot(nd)*dot_product(real(wminus(:, nd), dp), real(wplus(:, nd), dp))
+            end do
+            en%ke = en%ke + ker
+        end if
         en%total = en%ke + en%ie + en%hg + en%wall
         if (abs(st%e_initial + en%ext) > tiny(1.0_dp)) then
             en%ratio = en%total/(st%e_initial + en%ext)

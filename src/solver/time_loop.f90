@@ -149,14 +149,12 @@ contains
                     ! when a(0) /= 0)
                     vn = vminus
                     if (st%rot) vrminus = st%vr
-                    call compute_energies(model, st, solids, walls, rg, vminus, vminus, 0.0_dp, en)
-                    if (st%rot) call add_shell_energies(vminus, vminus, vrminus, vrminus, 0.0_dp)
+                    call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en)
                     st%e_initial = en%total
                     en%ratio = 1.0_dp
                 else
                     vn = 0.5_wp*(vminus + st%v)
-                    call compute_energies(model, st, solids, walls, rg, vminus, st%v, dt_avg, en)
-                    if (st%rot) call add_shell_energies(vminus, st%v, vrminus, st%vr, dt_avg)
+                    call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en)
                 end if
                 call tm%stop(ph_output)
                 call check_energy()
@@ -257,47 +255,6 @@ contains
             if (st%crit_elem < 0) txt = 'shell '//itoa(sh%eid(-st%crit_elem))//' of part '// &
                                         itoa(model%part(sh%part(-st%crit_elem))%id)
         end function controlling
-
-        !> Shells' internal and hourglass energy (into their parts) and the
-        !> rotational kinetic energy 1/2 I w(n-1/2).w(n+1/2).
-        subroutine add_shell_energies(vm, vp, wm, wp_, dtav)
-            real(wp), intent(in) :: vm(:, :), vp(:, :), wm(:, :), wp_(:, :)
-            real(dp), intent(in) :: dtav
-            integer :: e, p, i, k, nn, nd
-            real(dp) :: ie, hg, ker, ms
-            do e = 1, sh%n
-                p = sh%part(e)
-                ! part kinetic energy and momentum: the element's share of its nodes
-                nn = 4
-                if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
-                ms = real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/nn
-                do k = 1, nn
-                    nd = sh%conn(k, e)
-                    en%part_ke(p) = en%part_ke(p) + 0.5_dp*ms*dot_product(real(vm(:, nd), dp), real(vp(:, nd), dp))
-                    en%part_mom(:, p) = en%part_mom(:, p) + 0.5_dp*ms*real(vm(:, nd) + vp(:, nd), dp)
-                end do
-                en%part_mass(p) = en%part_mass(p) + ms*nn
-                ie = sh%eint(e) + dtav*sh%pend_int(e)
-                hg = sh%ehg(e) + dtav*sh%pend_hg(e)
-                en%part_ie(p) = en%part_ie(p) + ie
-                en%part_hg(p) = en%part_hg(p) + hg
-                en%ie = en%ie + ie
-                en%hg = en%hg + hg
-            end do
-            ker = 0
-            do i = 1, st%nnode
-                ker = ker + 0.5_dp*st%irot(i)*dot_product(real(wm(:, i), dp), real(wp_(:, i), dp))
-            end do
-            en%ke = en%ke + ker
-            en%total = en%ke + en%ie + en%hg + en%wall
-            if (st%cycle == 0) then
-                st%e_initial = en%total
-                en%ratio = 1.0_dp
-            else if (abs(st%e_initial + en%ext) > tiny(1.0_dp)) then
-                en%ratio = en%total/(st%e_initial + en%ext)
-            end if
-        end subroutine add_shell_energies
-
         subroutine accelerations()
             integer :: i
             !$omp parallel do schedule(static)
