@@ -9,7 +9,7 @@ module xd_input_deck_reader
                                      card_where
     use xd_input_keyword_table, only: keyword_t, lookup_keyword, fam_unknown, fam_meta, fam_geometry, &
                                       fam_section, fam_material, fam_set, fam_condition, fam_control, &
-                                      fam_database, fam_skip, fam_planned, fam_load
+                                      fam_database, fam_skip, fam_planned, fam_load, fam_contact
     use xd_input_context, only: read_ctx_t, get_card, add_warning
     use xd_input_read_geometry, only: read_geometry
     use xd_input_read_sections, only: read_section
@@ -18,6 +18,7 @@ module xd_input_deck_reader
     use xd_input_read_conditions, only: read_condition
     use xd_input_read_controls, only: read_control, read_database
     use xd_input_read_loads, only: read_load
+    use xd_input_read_contacts, only: read_contact
     use xd_model, only: model_t
     implicit none
     private
@@ -128,6 +129,8 @@ contains
             call read_database(ctx, kw, model, error)
         case (fam_load)
             call read_load(ctx, kw, model, error)
+        case (fam_contact)
+            call read_contact(ctx, kw, model, error)
         case (fam_skip)
             call add_warning(model, at//': '//trim(kw%written)//' is output-only or tuning for '// &
                              'another code; skipped')

@@ -8,11 +8,12 @@ module xd_input_keyword_table
     private
     public :: keyword_t, lookup_keyword, skip_list_text
     public :: fam_unknown, fam_meta, fam_geometry, fam_section, fam_material, fam_set, &
-              fam_condition, fam_control, fam_database, fam_skip, fam_planned, fam_load
+              fam_condition, fam_control, fam_database, fam_skip, fam_planned, fam_load, fam_contact
 
     integer, parameter :: fam_unknown = 0, fam_meta = 1, fam_geometry = 2, fam_section = 3, &
                           fam_material = 4, fam_set = 5, fam_condition = 6, fam_control = 7, &
-                          fam_database = 8, fam_skip = 9, fam_planned = 10, fam_load = 11
+                          fam_database = 8, fam_skip = 9, fam_planned = 10, fam_load = 11, &
+                          fam_contact = 12
 
     !> A keyword occurrence in the deck and the card lines under it.
     type :: keyword_t
@@ -129,13 +130,13 @@ module xd_input_keyword_table
         entry_t('SET_PART_GENERAL', fam_planned, '', .false.), &
 
         entry_t('RIGIDWALL_PLANAR_FORCES', fam_planned, '', .true.), &
-        entry_t('CONTACT_AUTOMATIC_SINGLE_SURFACE', fam_planned, '', .true.), &
-        entry_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', fam_planned, '', .true.), &
-        entry_t('CONTACT_AUTOMATIC_GENERAL', fam_planned, '', .true.), &
-        entry_t('CONTACT_AUTOMATIC_NODES_TO_SURFACE', fam_planned, '', .true.), &
-        entry_t('CONTACT_SINGLE_SURFACE', fam_planned, '', .true.), &
-        entry_t('CONTROL_CONTACT', fam_planned, '', .false.), &
-        entry_t('CONTROL_XDYNA_CONTACT', fam_planned, '', .false.) &
+        entry_t('CONTACT_AUTOMATIC_SINGLE_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTACT_AUTOMATIC_GENERAL', fam_contact, '', .true.), &
+        entry_t('CONTACT_AUTOMATIC_NODES_TO_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTACT_SINGLE_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTROL_CONTACT', fam_contact, '', .false.), &
+        entry_t('CONTROL_XDYNA_CONTACT', fam_contact, '', .false.) &
         ]
 
 contains

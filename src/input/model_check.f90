@@ -7,6 +7,7 @@ module xd_input_model_check
     use xd_core_strings, only: itoa
     use xd_core_sorting, only: id_map_t
     use xd_input_context, only: read_ctx_t, add_warning
+    use xd_input_check_contacts, only: check_contacts
     use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
                                 hex_regular, hex_wedge, hex_tet, hex_bad
     use xd_model, only: model_t, find_set, mat_rigid, set_node, set_shell, pressure_t, set_part, iv_node_set, iv_node, iv_generation
@@ -32,6 +33,7 @@ contains
         call check_sets(ctx, model, maps, error); if (allocated(error)) return
         call check_conditions(ctx, model, maps, error); if (allocated(error)) return
         call check_loads(ctx, model, maps%node, maps%part, error); if (allocated(error)) return
+        call check_contacts(ctx, model, maps%part, error); if (allocated(error)) return
         call check_controls(model, error); if (allocated(error)) return
     end subroutine check_model
 

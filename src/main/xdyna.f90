@@ -20,6 +20,8 @@ program xdyna
     use xd_solver_setup, only: setup_run
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
     use xd_contact_rigidwall, only: walls_t, build_walls
+    use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report
+    use xd_core_strings, only: join_path
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
     use xd_rigid_bodies, only: rigid_t
     use xd_solver_loads, only: pressures_t, build_pressures
@@ -39,6 +41,7 @@ program xdyna
     type(solids_t) :: solids
     type(assembly_t) :: asm
     type(walls_t) :: walls
+    type(contacts_t) :: ct
     type(prescribed_nodes_t) :: pn
     type(rigid_t) :: rg
     type(pressures_t) :: pl
@@ -122,6 +125,14 @@ program xdyna
         call finish(exit_input)
     end if
     call build_walls(model, walls)
+    call build_contacts(model, st%x0, ct, error)
+    if (allocated(error)) then
+        write (error_unit, '(a)') model%deck_path//': '//error%message
+        call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
+        call finish(exit_input)
+    end if
+    if (ct%n > 0) call add_warning(model, 'contact: steps 1-2 (surface, global search) run; the local search '// &
+        'and enforcement (steps 3-4) are not in this version, so interfaces exert no force yet')
     call build_prescribed(model, pn)
     call build_pressures(model, pl)
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')
@@ -131,6 +142,12 @@ program xdyna
         call finish(exit_normal)
     end if
     call log_line(lg, model_summary(model, solids, rg%n))
+    if (ct%n > 0) then
+        call log_line(lg, interface_summary(ct, model))
+        if (model%ctl%contact%dump_nsid > 0) then
+            open (newunit=ct%dump_unit, file=join_path(outdir, 'contact_debug'), status='replace', action='write')
+        end if
+    end if
     opts%endtim = real(model%ctl%endtim, dp)
     if (endtim_cli > 0.0_dp) opts%endtim = endtim_cli
     if (opts%endtim <= 0.0_dp) opts%endtim = huge(1.0_dp)
@@ -141,8 +158,10 @@ program xdyna
     end if
     call tm%stop(ph_init)
 
-    call run_time_loop(model, st, solids, asm, sh, asm_sh, walls, pn, rg, pl, hist, lg, tm, opts, res)
+    call run_time_loop(model, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, lg, tm, opts, res)
     call close_histories(hist)
+    if (ct%n > 0) call log_line(lg, contact_report(ct))
+    if (ct%dump_unit /= 0) close (ct%dump_unit)
     call timing_table(lg, tm, res%ncycle, solids%n + sh%n, tm%elapsed())
     if (res%status /= exit_normal) then
         write (error_unit, '(a)') 'xdyna: '//res%message

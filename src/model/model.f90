@@ -11,6 +11,9 @@ module xd_model
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
+    public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
+    public :: search_fixed, search_adaptive, mnl_minimal, mnl_closest1, mnl_closest3
+    public :: styp_segment_set, styp_shell_set, styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but
 
     integer, parameter :: mat_elastic = 1, mat_plastic_kinematic = 3, mat_rigid = 20, &
                           mat_piecewise_linear = 24
@@ -183,6 +186,45 @@ module xd_model
         integer :: src = 0
     end type rigidwall_t
 
+    !> Contact variants: every one runs the same automatic algorithm; they
+    !> differ in which nodes are slaves and which segments masters.
+    integer, parameter :: ct_single = 1, ct_surface_to_surface = 2, ct_general = 3, ct_nodes_to_surface = 4
+    !> SSTYP / MSTYP codes of the contact cards.
+    integer, parameter :: styp_segment_set = 0, styp_shell_set = 1, styp_part_set = 2, styp_part = 3, &
+                          styp_node_set = 4, styp_all = 5, styp_all_but = 6
+    integer, parameter :: search_fixed = 1, search_adaptive = 2
+    integer, parameter :: mnl_minimal = 0, mnl_closest1 = 1, mnl_closest3 = 3
+
+    !> *CONTACT_...: cards 1-3 and optional card A.
+    type :: contact_t
+        integer :: id = 0
+        character(len=70) :: heading = ''
+        character(len=48) :: keyword = ''
+        integer :: kind = ct_single
+        integer :: ssid = 0, msid = 0, sstyp = 0, mstyp = 0
+        integer :: sref = 0, mref = 0            !< index of the set, segment set or part once checked
+        real(wp) :: fs = 0, fd = 0, dc = 0, vc = 0, vdc = 0
+        real(wp) :: bt = 0, dt = 1.0e20_wp      !< birth and death times
+        real(wp) :: sfs = 1, sfm = 1             !< penalty scale, slave and master side
+        real(wp) :: sst = 0, mst = 0             !< shell thickness overrides (0: true thickness)
+        real(wp) :: sfst = 1, sfmt = 1           !< shell thickness scale factors
+        integer :: bsort = 0                     !< cycles between global searches (0: control value)
+        integer :: src = 0
+    end type contact_t
+
+    !> *CONTROL_CONTACT and *CONTROL_XDYNA_CONTACT.
+    type :: contact_controls_t
+        real(wp) :: slsfac = 0.1_wp               !< penalty scale for every interface
+        integer :: nsbcs = 0                      !< cycles between global searches (0: 10)
+        integer :: search = search_fixed          !< interval policy
+        integer :: nsrch = 0                      !< fixed interval from *CONTROL_XDYNA_CONTACT (0: NSBCS)
+        integer :: mnl = mnl_minimal              !< master node list policy
+        logical :: tracking = .true., screens = .true.
+        logical :: lagrange = .false.             !< enforcement: penalty or Lagrangian projection
+        real(wp) :: pmarg = 0.25_wp               !< pool margin / mean characteristic length
+        integer :: dump_nsid = 0                  !< node set whose master node lists are dumped
+    end type contact_controls_t
+
     type :: controls_t
         real(wp) :: endtim = 0
         integer :: endcyc = 0
@@ -198,6 +240,7 @@ module xd_model
         integer :: hgen = 1, rwen = 2, slnten = 1, rylen = 1
         integer :: istupd = 0               !< *CONTROL_SHELL: shell thickness follows the strain
         logical :: termination_given = .false.
+        type(contact_controls_t) :: contact
     end type controls_t
 
     type :: history_request_t
@@ -254,6 +297,8 @@ module xd_model
         type(curve_t), allocatable :: curve(:)
         type(body_load_t), allocatable :: body(:)
         type(rigidwall_t), allocatable :: wall(:)
+        integer :: ncontact = 0
+        type(contact_t), allocatable :: contact(:)
         integer :: nspc = 0, nivel = 0, nistress = 0
         type(spc_t), allocatable :: spc(:)
         type(init_vel_t), allocatable :: ivel(:)

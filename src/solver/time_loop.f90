@@ -6,7 +6,8 @@ module xd_solver_time_loop
     use xd_kinds, only: wp, dp
     use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run
-    use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid
+    use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid, &
+                                  ph_search
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, solid_forces
     use xd_solver_state, only: state_t
@@ -17,6 +18,7 @@ module xd_solver_time_loop
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
+    use xd_contact_contact, only: contacts_t, contact_search, contact_drift
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     use xd_rigid_bodies, only: rigid_t, rigid_step
     use xd_elements_shell_bt, only: shells_t, shell_forces
@@ -40,7 +42,7 @@ module xd_solver_time_loop
 
 contains
 
-    subroutine run_time_loop(model, st, solids, asm, sh, asm_sh, walls, pn, rg, pl, hist, lg, tm, opts, res)
+    subroutine run_time_loop(model, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, lg, tm, opts, res)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
@@ -48,6 +50,7 @@ contains
         type(shells_t), intent(inout) :: sh
         type(assembly_t), intent(in) :: asm_sh
         type(walls_t), intent(inout) :: walls
+        type(contacts_t), intent(inout) :: ct
         type(prescribed_nodes_t), intent(in) :: pn
         type(rigid_t), intent(inout) :: rg
         type(pressures_t), intent(inout) :: pl
@@ -75,6 +78,12 @@ contains
         ! cycle n: forces at t(n) on x(n) with v(n-1/2); v(n+1/2) with the
         ! constraints; output at t(n); then x(n+1)
         do
+            if (ct%n > 0) then
+                ! step 2 where due, on x(n); steps 3-4 will follow here
+                call tm%start(ph_search)
+                call contact_search(ct, st%x, model%node_id, st%cycle, st%time)
+                call tm%stop(ph_search)
+            end if
             call element_pass(st%dt_old, dt_avg_prev, dtc)
             if (res%status /= exit_normal) exit
             ! a model of rigid bodies alone has no element step: DTINIT sets it
@@ -174,6 +183,7 @@ contains
                 st%x(:, nd) = st%x(:, nd) + st%dt*st%v(:, nd)
             end do
             !$omp end parallel do
+            if (ct%n > 0) call contact_drift(ct, st%v, st%dt)
             st%time = st%time + real(st%dt, dp)
             st%cycle = st%cycle + 1
             st%dt_old = st%dt

@@ -1,0 +1,358 @@
+!> The contact interfaces of a run: their surfaces (step 1), when each one
+!> searches (step 2), and the diagnostics the log reports. Steps 3 and 4
+!> (local search and enforcement) work from the master node lists kept here.
+!>
+!> Search interval. Fixed: every N cycles (BSORT, else NSRCH of
+!> *CONTROL_XDYNA_CONTACT, else NSBCS, else 10). Adaptive: the interface
+!> keeps u, a bound on how far any of its nodes has moved since the last
+!> search (the sum over cycles of dt x the largest nodal speed), and
+!> searches again at the start of any cycle where 4u > delta, the pool
+!> margin. The bound this guarantees: at every cycle, every slave node that
+!> lies within contact reach t_c of a segment at master node m had m in its
+!> reduced pool at the last search. (A point of a segment at m lies within
+!> L_m + 2u of m; the slave moved at most u and m at most u, so at the
+!> search they were at most L_m + t_c + 4u <= L_m + t_c + delta apart.)
+module xd_contact_contact
+    use xd_kinds, only: wp, dp, i8
+    use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: itoa
+    use xd_model, only: model_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, &
+                        ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
+                        styp_node_set, styp_all, styp_all_but, search_adaptive
+    use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key
+    use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t
+    !$ use omp_lib, only: omp_get_wtime
+    implicit none
+    private
+    public :: contacts_t, interface_t, build_contacts, contact_search, contact_drift, contact_report, &
+              interface_summary
+
+    type :: interface_t
+        integer :: id = 0
+        character(len=48) :: keyword = ''
+        type(surface_t) :: surf
+        type(master_lists_t) :: lists
+        real(wp), allocatable :: xl(:, :)     !< surface coordinates at the last search
+        real(wp), allocatable :: lc(:)        !< characteristic lengths at the last search
+        real(wp) :: margin = 0                !< pool margin delta
+        real(wp) :: reach = 0                 !< contact reach t_c (largest shell thickness)
+        integer :: interval = 10
+        logical :: adaptive = .false.
+        real(wp) :: bt = 0, dt = 1.0e20_wp
+        real(wp) :: drift = 0                 !< u: motion bound since the last search
+        real(wp) :: worst = 0                 !< largest 4u / delta seen at a search
+        integer :: last_cycle = -huge(1)
+        integer :: nsearch = 0
+        type(search_counts_t) :: total        !< summed over searches
+        real(dp) :: wall = 0                  !< seconds in the global search
+        integer, allocatable :: dump(:)       !< slave positions whose lists are dumped
+    end type interface_t
+
+    type :: contacts_t
+        integer :: n = 0
+        type(faces_t) :: faces
+        type(interface_t), allocatable :: ifc(:)
+        integer :: mnl = 0
+        integer :: dump_unit = 0
+    end type contacts_t
+
+contains
+
+    !> Step 1 for every interface, from the initial coordinates x0.
+    subroutine build_contacts(model, x0, ct, error)
+        type(model_t), intent(in) :: model
+        real(wp), intent(in) :: x0(:, :)
+        type(contacts_t), intent(out) :: ct
+        type(error_t), allocatable, intent(out) :: error
+        integer :: i, k, interval, sset
+        logical, allocatable :: in_a(:), in_b(:), dumped(:)
+        integer, allocatable :: slaves(:)
+        real(wp), allocatable :: xl(:, :), lc(:)
+        ct%n = model%ncontact
+        if (ct%n == 0) return
+        call build_faces(model, x0, ct%faces)
+        ct%mnl = model%ctl%contact%mnl
+        allocate (ct%ifc(ct%n), in_a(ct%faces%n), in_b(ct%faces%n))
+        do i = 1, ct%n
+            associate (c => model%contact(i), it => ct%ifc(i))
+                it%id = c%id
+                it%keyword = c%keyword
+                it%bt = c%bt
+                it%dt = c%dt
+                in_b = .false.
+                allocate (slaves(0))
+                select case (c%kind)
+                case (ct_single, ct_general)
+                    call select_faces(c%ssid, c%sstyp, c%sref, 'SSID', in_a); if (allocated(error)) return
+                case (ct_surface_to_surface)
+                    call select_faces(c%ssid, c%sstyp, c%sref, 'SSID', in_a); if (allocated(error)) return
+                    call select_faces(c%msid, c%mstyp, c%mref, 'MSID', in_b); if (allocated(error)) return
+                case (ct_nodes_to_surface)
+                    if (c%sstyp == styp_node_set) then
+                        slaves = model%set(c%sref)%member_ix
+                    else
+                        call select_faces(c%ssid, c%sstyp, c%sref, 'SSID', in_a); if (allocated(error)) return
+                        slaves = face_nodes(in_a)
+                    end if
+                    in_a = .false.
+                    call select_faces(c%msid, c%mstyp, c%mref, 'MSID', in_b); if (allocated(error)) return
+                end select
+                call build_surface(ct%faces, model%nnode, in_a, in_b, slaves, c%kind == ct_surface_to_surface, &
+                                   [c%sst, c%mst, c%sfst, c%sfmt], [model%ctl%contact%slsfac, c%sfs, c%sfm], it%surf)
+                deallocate (slaves)
+                ! pool margin from the mean characteristic length at t = 0
+                allocate (xl(3, it%surf%nnode), lc(it%surf%nnode))
+                xl = x0(:, it%surf%node)
+                call characteristic_lengths(it%surf, xl, lc)
+                it%margin = model%ctl%contact%pmarg*sum(lc)/max(1, count(lc > 0.0_wp))
+                it%reach = it%surf%max_thick
+                deallocate (xl, lc)
+                interval = 10
+                if (model%ctl%contact%nsbcs > 0) interval = model%ctl%contact%nsbcs
+                if (model%ctl%contact%nsrch > 0) interval = model%ctl%contact%nsrch
+                if (c%bsort > 0) interval = c%bsort
+                it%interval = interval
+                it%adaptive = model%ctl%contact%search == search_adaptive
+                ! slaves whose master node lists go to the debug dump
+                if (model%ctl%contact%dump_nsid > 0) then
+                    sset = find_set(model, set_node, model%ctl%contact%dump_nsid)
+                    allocate (dumped(model%nnode))
+                    dumped = .false.
+                    dumped(model%set(sset)%member_ix) = .true.
+                    it%dump = pack([(k, k=1, it%surf%nslave)], dumped(it%surf%node(it%surf%slave)))
+                    deallocate (dumped)
+                else
+                    allocate (it%dump(0))
+                end if
+            end associate
+        end do
+    contains
+        !> Faces of the parts, sets or segments that (sid, styp) names.
+        subroutine select_faces(sid, styp, ref, field, sel)
+            integer, intent(in) :: sid, styp, ref
+            character(len=*), intent(in) :: field
+            logical, intent(out) :: sel(:)
+            logical, allocatable :: inpart(:), inshell(:)
+            integer :: j, q, key(4), nu
+            integer, allocatable :: fkey(:, :)
+            associate (f => ct%faces)
+                select case (styp)
+                case (styp_all)
+                    sel = .true.
+                case (styp_part)
+                    sel = f%part == ref
+                case (styp_part_set, styp_all_but)
+                    allocate (inpart(model%npart))
+                    inpart = .false.
+                    inpart(model%set(ref)%member_ix) = .true.
+                    sel = inpart(f%part)
+                    if (styp == styp_all_but) sel = .not. sel
+                case (styp_shell_set)
+                    allocate (inshell(0:model%nshell))
+                    inshell = .false.
+                    inshell(model%set(ref)%member_ix) = .true.
+                    sel = inshell(f%shell)
+                case (styp_segment_set)
+                    ! each listed segment must be an exterior face (any node order)
+                    allocate (fkey(4, f%n))
+                    do j = 1, f%n
+                        call face_key(f%node(:, j), fkey(:, j), nu)
+                    end do
+                    sel = .false.
+                    do q = 1, model%segset(ref)%n
+                        call face_key(model%segset(ref)%seg(:, q), key, nu)
+                        do j = 1, f%n
+                            if (all(fkey(:, j) == key)) exit
+                        end do
+                        if (j > f%n) then
+                            call make_error(error, '*'//trim(model%contact(i)%keyword)//' '//itoa(model%contact(i)%id)// &
+                                            ' field '//field//': segment '//itoa(q)//' of *SET_SEGMENT '//itoa(sid)// &
+                                            ' (nodes '//node_ids(model%segset(ref)%seg(:, q))// &
+                                            ') is not an exterior element face')
+                            return
+                        end if
+                        sel(j) = .true.
+                    end do
+                case default
+                    sel = .false.
+                end select
+            end associate
+        end subroutine select_faces
+
+        function node_ids(nd) result(t)
+            integer, intent(in) :: nd(4)
+            character(len=:), allocatable :: t
+            integer :: q
+            t = itoa(model%node_id(nd(1)))
+            do q = 2, 4
+                t = t//' '//itoa(model%node_id(nd(q)))
+            end do
+        end function node_ids
+
+        function face_nodes(sel) result(nodes)
+            logical, intent(in) :: sel(:)
+            integer, allocatable :: nodes(:)
+            logical, allocatable :: on(:)
+            integer :: j
+            allocate (on(model%nnode))
+            on = .false.
+            do j = 1, ct%faces%n
+                if (sel(j)) on(ct%faces%node(:, j)) = .true.
+            end do
+            nodes = pack([(j, j=1, model%nnode)], on)
+        end function face_nodes
+    end subroutine build_contacts
+
+    !> Step 2 where due: at cycle 0, then every `interval` cycles (fixed) or
+    !> when 4u > delta (adaptive). Returns the seconds spent.
+    subroutine contact_search(ct, x, node_id, cycle, time)
+        type(contacts_t), intent(inout) :: ct
+        real(wp), intent(in) :: x(:, :)
+        integer, intent(in) :: node_id(:), cycle
+        real(dp), intent(in) :: time
+        integer :: i
+        logical :: due
+        type(search_counts_t) :: cnt
+        real(dp) :: t0
+        do i = 1, ct%n
+            associate (it => ct%ifc(i))
+                if (time < it%bt .or. time > it%dt) cycle
+                if (it%nsearch == 0) then
+                    due = .true.
+                else if (it%adaptive) then
+                    due = 4.0_wp*it%drift > it%margin
+                else
+                    due = cycle - it%last_cycle >= it%interval
+                end if
+                if (.not. due) cycle
+                t0 = wtime()
+                if (it%nsearch > 0) it%worst = max(it%worst, 4.0_wp*it%drift/max(it%margin, tiny(1.0_wp)))
+                if (.not. allocated(it%xl)) allocate (it%xl(3, it%surf%nnode), it%lc(it%surf%nnode))
+                it%xl = x(:, it%surf%node)
+                call characteristic_lengths(it%surf, it%xl, it%lc)
+                call build_master_lists(it%surf, it%xl, it%lc, it%reach, it%margin, ct%mnl, it%lists, cnt)
+                it%nsearch = it%nsearch + 1
+                it%last_cycle = cycle
+                it%drift = 0
+                it%total%pool = it%total%pool + cnt%pool
+                it%total%reduced = it%total%reduced + cnt%reduced
+                it%total%masters = it%total%masters + cnt%masters
+                it%wall = it%wall + (wtime() - t0)
+                if (size(it%dump) > 0 .and. ct%dump_unit /= 0) call dump_lists(ct%dump_unit, it, node_id, cycle, time)
+            end associate
+        end do
+    end subroutine contact_search
+
+    !> After the position update: u += dt x (largest speed of a surface node).
+    subroutine contact_drift(ct, v, dt)
+        type(contacts_t), intent(inout) :: ct
+        real(wp), intent(in) :: v(:, :), dt
+        integer :: i, k
+        real(wp) :: v2
+        do i = 1, ct%n
+            associate (it => ct%ifc(i))
+                v2 = 0
+                do k = 1, it%surf%nnode
+                    v2 = max(v2, v(1, it%surf%node(k))**2 + v(2, it%surf%node(k))**2 + v(3, it%surf%node(k))**2)
+                end do
+                it%drift = it%drift + dt*sqrt(v2)
+            end associate
+        end do
+    end subroutine contact_drift
+
+    !> One block per dumped slave: header line, then one line per master node.
+    subroutine dump_lists(u, it, node_id, cycle, time)
+        integer, intent(in) :: u, cycle
+        type(interface_t), intent(in) :: it
+        integer, intent(in) :: node_id(:)
+        real(dp), intent(in) :: time
+        integer :: k, j, sl, sn, m
+        character(len=1) :: tag
+        do k = 1, size(it%dump)
+            sl = it%dump(k)
+            sn = it%surf%slave(sl)
+            write (u, '(a,i0,a,i0,a,i0,a,es16.8,a,i0,a,3es16.8,a,i0)') 'search ', it%nsearch, ' interface ', it%id, &
+                ' cycle ', cycle, ' time ', time, ' slave ', node_id(it%surf%node(sn)), ' at ', it%xl(:, sn), &
+                ' masters ', it%lists%ptr(sl + 1) - it%lists%ptr(sl)
+            do j = it%lists%ptr(sl), it%lists%ptr(sl + 1) - 1
+                m = it%lists%node(j)
+                tag = 'N'
+                if (it%lists%trackable(j)) tag = 'T'
+                write (u, '(2x,i0,1x,a,es16.8)') node_id(it%surf%node(m)), tag, norm2(it%xl(:, m) - it%xl(:, sn))
+            end do
+        end do
+        flush (u)
+    end subroutine dump_lists
+
+    !> Set-up lines for the log, one block per interface.
+    function interface_summary(ct, model) result(txt)
+        type(contacts_t), intent(in) :: ct
+        type(model_t), intent(in) :: model
+        character(len=:), allocatable :: txt
+        character(len=200) :: buf
+        character(len=1), parameter :: nl = new_line('a')
+        integer :: i
+        txt = ' c o n t a c t   i n t e r f a c e s   (steps 1-2 of the automatic contact)'//nl
+        write (buf, '(a,i0,a,i0,a,i0,a)') '   exterior faces of the model: ', ct%faces%n, ' segments on ', &
+            ct%faces%nbody, ' bodies; ', ct%faces%ninterior, ' interior faces left out'
+        txt = txt//trim(buf)//nl
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                write (buf, '(a,i0,a,a)') '   interface ', it%id, '  *', trim(it%keyword)
+                txt = txt//trim(buf)//nl
+                write (buf, '(a,i0,a,i0,a,i0,a,i0,a,i0)') '     segments ', s%nseg, ' (shell ', s%nshell_seg, &
+                    ', solid ', s%nsolid_seg, ')   surface nodes ', s%nnode, '   slave nodes ', s%nslave
+                txt = txt//trim(buf)//nl
+                if (s%nseg > 0) then
+                    write (buf, '(a,2es11.3,a,2es11.3)') '     segment thickness min/max', minval(s%seg_t), &
+                        maxval(s%seg_t), '   penalty stiffness min/max', minval(s%seg_k), maxval(s%seg_k)
+                    txt = txt//trim(buf)//nl
+                end if
+                if (it%adaptive) then
+                    write (buf, '(a,es11.3,a,es11.3,a)') '     global search adaptive: again when 4u > delta = ', &
+                        it%margin, ' (reach t_c ', it%reach, ')'
+                else
+                    write (buf, '(a,i0,a,es11.3,a,es11.3,a)') '     global search every ', it%interval, &
+                        ' cycles; pool margin delta ', it%margin, ' (reach t_c ', it%reach, ')'
+                end if
+                txt = txt//trim(buf)//nl
+            end associate
+        end do
+        select case (model%ctl%contact%mnl)
+        case (1); txt = txt//'   master node list: closest node'//nl
+        case (3); txt = txt//'   master node list: three closest nodes'//nl
+        case default; txt = txt//'   master node list: minimal set (steps A-C, section 4)'//nl
+        end select
+    end function interface_summary
+
+    !> End-of-run lines: searches, sizes and time per interface.
+    function contact_report(ct) result(txt)
+        type(contacts_t), intent(in) :: ct
+        character(len=:), allocatable :: txt
+        character(len=220) :: buf
+        character(len=1), parameter :: nl = new_line('a')
+        integer :: i
+        real(dp) :: per, avg_m, avg_p, avg_r
+        txt = nl//' c o n t a c t   s e a r c h   s u m m a r y'//nl
+        txt = txt//'   interface   slaves  searches  masters/slave  pool/slave  reduced/slave   search (s)'// &
+              '   ns/slave/search   max 4u/delta'//nl
+        do i = 1, ct%n
+            associate (it => ct%ifc(i))
+                per = real(max(1, it%surf%nslave), dp)*max(1, it%nsearch)
+                avg_m = real(it%total%masters, dp)/per
+                avg_p = real(it%total%pool, dp)/per
+                avg_r = real(it%total%reduced, dp)/per
+                write (buf, '(i12,i9,i10,f15.2,f12.2,f15.2,f13.4,f18.1,f15.3)') it%id, it%surf%nslave, it%nsearch, &
+                    avg_m, avg_p, avg_r, it%wall, 1.0e9_dp*it%wall/per, it%worst
+                txt = txt//trim(buf)//nl
+            end associate
+        end do
+    end function contact_report
+
+    real(dp) function wtime()
+        integer(i8) :: c, r
+        call system_clock(c, r)
+        wtime = real(c, dp)/real(r, dp)
+    end function wtime
+
+end module xd_contact_contact

@@ -1,0 +1,456 @@
+!> Step 2 of the automatic contact, the global search (section 4 of Whirley
+!> & Engelmann 1993): nodal characteristic lengths, three nested 1-D bucket
+!> sorts, the node pool from the slave's bucket and its neighbours, the
+!> reduced pool, and the master node list by the paper's steps A-C with
+!> trackable and nontrackable master nodes. Closest-1 and closest-3 lists
+!> are there for the paper's comparison.
+!>
+!> The reduced pool keeps a node m when |x_s - x_m| <= L_m + t_c + delta:
+!> L_m the characteristic length (Fig. 3), t_c the largest shell thickness
+!> on the surface (a contact surface lies up to a half-thickness off each
+!> segment) and delta the pool margin that lets the list stay valid while
+!> nodes move between searches (see xd_contact_contact for the bound).
+!>
+!> Slave nodes are independent: the lists are built in blocks of slaves,
+!> each block with its own work arrays, and concatenated in slave order, so
+!> the result does not depend on the number of threads.
+module xd_contact_global_search
+    use, intrinsic :: iso_fortran_env, only: int8
+    use xd_kinds, only: wp, i8
+    use xd_contact_surface, only: surface_t, segment_diagonals, side_a, side_b, side_slave
+    use xd_model, only: mnl_minimal, mnl_closest1, mnl_closest3
+    implicit none
+    private
+    public :: buckets_t, bucket_sort, node_pool, characteristic_lengths, master_lists_t, build_master_lists
+    public :: search_work_t, new_search_work, mark_none, mark_trackable, mark_nontrackable, search_counts_t
+
+    integer(int8), parameter :: mark_none = 0, mark_trackable = 1, mark_nontrackable = 2
+
+    !> Nodes sorted into a grid of buckets at least `w` wide in each direction.
+    type :: buckets_t
+        integer :: nb(3) = 1
+        real(wp) :: lo(3) = 0, w(3) = 1
+        integer, allocatable :: start(:)    !< (ncell + 1) first position of each cell in item
+        integer, allocatable :: item(:)     !< node numbers, cell by cell
+    end type buckets_t
+
+    !> Master node lists of all slaves (CSR in slave order), closest first.
+    type :: master_lists_t
+        integer, allocatable :: ptr(:)      !< (nslave + 1)
+        integer, allocatable :: node(:)     !< local node numbers
+        logical, allocatable :: trackable(:)
+    end type master_lists_t
+
+    !> Sizes summed over the slaves of one search.
+    type :: search_counts_t
+        integer(i8) :: pool = 0, reduced = 0, masters = 0
+    end type search_counts_t
+
+    !> One thread's work arrays: marks per surface node and the pool.
+    type :: search_work_t
+        integer(int8), allocatable :: mark(:)
+        integer, allocatable :: touched(:)
+        integer :: ntouched = 0
+        integer, allocatable :: pool(:)
+        real(wp), allocatable :: dist(:)
+        integer :: npool = 0
+    end type search_work_t
+
+    !> Growable output of one block of slaves.
+    type :: block_out_t
+        integer :: n = 0
+        integer, allocatable :: cnt(:), node(:)
+        logical, allocatable :: trk(:)
+    end type block_out_t
+
+    integer, parameter :: block_size = 256
+
+contains
+
+    subroutine new_search_work(nnode, w)
+        integer, intent(in) :: nnode
+        type(search_work_t), intent(out) :: w
+        allocate (w%mark(nnode), w%touched(64), w%pool(64), w%dist(64))
+        w%mark = mark_none
+    end subroutine new_search_work
+
+    !> Nodal characteristic length (section 4): the largest diagonal of the
+    !> segments at each node, in the coordinates xl (3, nnode) of the surface.
+    subroutine characteristic_lengths(s, xl, lc)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: xl(:, :)
+        real(wp), intent(out) :: lc(:)
+        integer :: m, k
+        real(wp) :: dmin, dmax
+        lc = 0
+        do m = 1, s%nseg
+            call segment_diagonals(xl(:, s%seg(:, m)), dmin, dmax)
+            do k = 1, 4
+                lc(s%seg(k, m)) = max(lc(s%seg(k, m)), dmax)
+            end do
+        end do
+    end subroutine characteristic_lengths
+
+    !> Three nested one-dimensional bucket sorts (Benson & Hallquist 1990):
+    !> the nodes with active(i) by x slab, each slab by y column, each column
+    !> by z cell. Buckets are at least wmin wide, so every node within wmin
+    !> of a point lies in the point's bucket or a neighbour; their number is
+    !> kept below about twice the number of nodes so memory stays linear.
+    subroutine bucket_sort(xl, active, wmin, bk)
+        real(wp), intent(in) :: xl(:, :)
+        logical, intent(in) :: active(:)
+        real(wp), intent(in) :: wmin
+        type(buckets_t), intent(out) :: bk
+        integer :: n, nact, i, d, a, b, ncell, cap
+        integer, allocatable :: key(:, :), xs(:), ys(:), zs(:)
+        real(wp) :: hi(3), ext(3), f
+        n = size(active)
+        nact = count(active)
+        allocate (bk%item(nact))
+        bk%item = pack([(i, i=1, n)], active)
+        if (nact == 0) then
+            allocate (bk%start(2))
+            bk%start = 1
+            return
+        end if
+        do d = 1, 3
+            bk%lo(d) = minval(xl(d, bk%item))
+            hi(d) = maxval(xl(d, bk%item))
+        end do
+        ext = hi - bk%lo
+        do d = 1, 3
+            bk%nb(d) = max(1, int(min(ext(d)/max(wmin, tiny(1.0_wp)), 1.0e6_wp)))
+        end do
+        cap = max(8, 2*nact)
+        do while (product(real(bk%nb, wp)) > real(cap, wp))
+            f = (product(real(bk%nb, wp))/cap)**(1.0_wp/3.0_wp)
+            bk%nb = max(1, int(bk%nb/max(f, 1.01_wp)))
+        end do
+        bk%w = max(ext/bk%nb, wmin)
+        ncell = product(bk%nb)
+        allocate (key(3, n), xs(bk%nb(1) + 1), ys(bk%nb(2) + 1), zs(bk%nb(3) + 1), bk%start(ncell + 1))
+        do i = 1, nact
+            key(:, bk%item(i)) = cell_of(bk, xl(:, bk%item(i)))
+        end do
+        bk%start = 0
+        call counting_sort(bk%item, key(1, :), bk%nb(1), xs)
+        do a = 1, bk%nb(1)
+            if (xs(a + 1) == xs(a)) cycle
+            call counting_sort(bk%item(xs(a):xs(a + 1) - 1), key(2, :), bk%nb(2), ys)
+            ys = ys + xs(a) - 1
+            do b = 1, bk%nb(2)
+                if (ys(b + 1) == ys(b)) cycle
+                call counting_sort(bk%item(ys(b):ys(b + 1) - 1), key(3, :), bk%nb(3), zs)
+                zs = zs + ys(b) - 1
+                i = 1 + bk%nb(3)*((b - 1) + bk%nb(2)*(a - 1))
+                bk%start(i:i + bk%nb(3) - 1) = zs(1:bk%nb(3))
+            end do
+        end do
+        ! empty columns and slabs: a cell starts where the next non-empty one does
+        bk%start(ncell + 1) = nact + 1
+        do i = ncell, 1, -1
+            if (bk%start(i) == 0) bk%start(i) = bk%start(i + 1)
+        end do
+    end subroutine bucket_sort
+
+    !> Stable counting sort of `items` by key(items) in 1..nkey; start(k) is
+    !> the position of bucket k in items (start(nkey + 1) = size + 1).
+    subroutine counting_sort(items, key, nkey, start)
+        integer, intent(inout) :: items(:)
+        integer, intent(in) :: key(:), nkey
+        integer, intent(out) :: start(:)
+        integer, allocatable :: tmp(:), pos(:)
+        integer :: i, k
+        allocate (tmp(size(items)), pos(nkey + 1))
+        start = 0
+        do i = 1, size(items)
+            k = key(items(i))
+            start(k + 1) = start(k + 1) + 1
+        end do
+        start(1) = 1
+        do k = 2, nkey + 1
+            start(k) = start(k) + start(k - 1)
+        end do
+        pos = start
+        do i = 1, size(items)
+            k = key(items(i))
+            tmp(pos(k)) = items(i)
+            pos(k) = pos(k) + 1
+        end do
+        items = tmp
+    end subroutine counting_sort
+
+    pure function cell_of(bk, p) result(c)
+        type(buckets_t), intent(in) :: bk
+        real(wp), intent(in) :: p(3)
+        integer :: c(3)
+        c = min(bk%nb, max(1, 1 + int((p - bk%lo)/bk%w)))
+    end function cell_of
+
+    !> Node pool of a point p: the nodes of its bucket and the neighbouring
+    !> ones that lie within their own radius r(m) of p. The caller's radii
+    !> must not exceed the bucket width.
+    subroutine node_pool(bk, xl, r, p, w)
+        type(buckets_t), intent(in) :: bk
+        real(wp), intent(in) :: xl(:, :), r(:), p(3)
+        type(search_work_t), intent(inout) :: w
+        integer :: c(3), i, j, k, cell, q, m
+        real(wp) :: d2
+        w%npool = 0
+        c = cell_of(bk, p)
+        do i = max(1, c(1) - 1), min(bk%nb(1), c(1) + 1)
+            do j = max(1, c(2) - 1), min(bk%nb(2), c(2) + 1)
+                cell = bk%nb(3)*((j - 1) + bk%nb(2)*(i - 1))
+                do k = max(1, c(3) - 1), min(bk%nb(3), c(3) + 1)
+                    do q = bk%start(cell + k), bk%start(cell + k + 1) - 1
+                        m = bk%item(q)
+                        d2 = (xl(1, m) - p(1))**2 + (xl(2, m) - p(2))**2 + (xl(3, m) - p(3))**2
+                        if (d2 > r(m)**2) cycle
+                        call push_pool(w, m, sqrt(d2))
+                    end do
+                end do
+            end do
+        end do
+    end subroutine node_pool
+
+    subroutine push_pool(w, m, d)
+        type(search_work_t), intent(inout) :: w
+        integer, intent(in) :: m
+        real(wp), intent(in) :: d
+        if (w%npool == size(w%pool)) then
+            w%pool = [w%pool, w%pool]
+            w%dist = [w%dist, w%dist]
+        end if
+        w%npool = w%npool + 1
+        w%pool(w%npool) = m
+        w%dist(w%npool) = d
+    end subroutine push_pool
+
+    !> Master node lists of every slave node (section 4). xl: surface
+    !> coordinates; lc: characteristic lengths; reach: the contact reach t_c;
+    !> margin: the pool margin delta; mnl: the list policy.
+    subroutine build_master_lists(s, xl, lc, reach, margin, mnl, lists, counts)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: xl(:, :), lc(:), reach, margin
+        integer, intent(in) :: mnl
+        type(master_lists_t), intent(inout) :: lists
+        type(search_counts_t), intent(out) :: counts
+        type(buckets_t) :: bk
+        type(search_work_t) :: w
+        type(block_out_t), allocatable :: blk(:)
+        real(wp), allocatable :: r(:)
+        logical, allocatable :: master(:)
+        integer :: nblk, ib, i, first, last, pos
+        integer(i8) :: npool, nred
+
+        allocate (r(s%nnode), master(s%nnode))
+        master = iand(s%node_side, ior(side_a, side_b)) /= 0
+        r = lc + reach + margin
+        call bucket_sort(xl, master, maxval(r, mask=master, dim=1), bk)
+        nblk = (s%nslave + block_size - 1)/block_size
+        allocate (blk(nblk))
+        npool = 0
+        nred = 0
+        !$omp parallel private(w, i, first, last) reduction(+:npool, nred)
+        call new_search_work(s%nnode, w)
+        !$omp do schedule(dynamic)
+        do ib = 1, nblk
+            first = (ib - 1)*block_size + 1
+            last = min(s%nslave, ib*block_size)
+            allocate (blk(ib)%cnt(last - first + 1), blk(ib)%node(8*(last - first + 1)), &
+                      blk(ib)%trk(8*(last - first + 1)))
+            do i = first, last
+                call one_slave(s, bk, xl, r, lc, reach + margin, mnl, s%slave(i), w, blk(ib), i - first + 1, &
+                               npool, nred)
+            end do
+        end do
+        !$omp end do
+        !$omp end parallel
+
+        if (allocated(lists%ptr)) deallocate (lists%ptr, lists%node, lists%trackable)
+        allocate (lists%ptr(s%nslave + 1))
+        lists%ptr(1) = 1
+        do ib = 1, nblk
+            first = (ib - 1)*block_size + 1
+            do i = 1, size(blk(ib)%cnt)
+                lists%ptr(first + i) = lists%ptr(first + i - 1) + blk(ib)%cnt(i)
+            end do
+        end do
+        allocate (lists%node(lists%ptr(s%nslave + 1) - 1), lists%trackable(lists%ptr(s%nslave + 1) - 1))
+        do ib = 1, nblk
+            pos = lists%ptr((ib - 1)*block_size + 1)
+            lists%node(pos:pos + blk(ib)%n - 1) = blk(ib)%node(1:blk(ib)%n)
+            lists%trackable(pos:pos + blk(ib)%n - 1) = blk(ib)%trk(1:blk(ib)%n)
+        end do
+        counts%pool = npool
+        counts%reduced = nred
+        counts%masters = size(lists%node)
+    end subroutine build_master_lists
+
+    !> One slave node: node pool, reduced pool, master node list.
+    subroutine one_slave(s, bk, xl, r, lc, extra, mnl, sn, w, out, iloc, npool, nred)
+        type(surface_t), intent(in) :: s
+        type(buckets_t), intent(in) :: bk
+        real(wp), intent(in) :: xl(:, :), r(:), lc(:), extra
+        integer, intent(in) :: mnl, sn, iloc
+        type(search_work_t), intent(inout) :: w
+        type(block_out_t), intent(inout) :: out
+        integer(i8), intent(inout) :: npool, nred
+        integer :: want, i, k, m, n0, nkeep
+        logical :: keep
+
+        ! which sides the slave looks at: single surface A against A; two
+        ! surfaces each side against the other; nodes-to-surface against B
+        if (s%single) then
+            want = side_a
+        else
+            want = 0
+            if (iand(s%node_side(sn), side_a) /= 0) want = side_b
+            if (iand(s%node_side(sn), side_b) /= 0 .and. s%two_way) want = ior(want, side_a)
+            if (want == 0) want = side_b
+        end if
+
+        call node_pool(bk, xl, r, xl(:, sn), w)
+        npool = npool + w%npool
+
+        ! step A: nodes of the segments around the slave's neighbours are
+        ! nontrackable (tracking from them could find the slave itself)
+        w%ntouched = 0
+        call set_mark(sn, mark_nontrackable, .true.)
+        do i = s%nn_ptr(sn), s%nn_ptr(sn + 1) - 1
+            call mark_around(s%nn_list(i), mark_nontrackable)
+        end do
+
+        ! reduced pool: not the slave, no node sharing a segment with it, on a
+        ! side the slave looks at (the radius test was the pool's)
+        nkeep = 0
+        do i = 1, w%npool
+            m = w%pool(i)
+            keep = m /= sn .and. iand(s%node_side(m), want) /= 0
+            if (keep) keep = .not. shares_segment(m)
+            if (keep) then
+                nkeep = nkeep + 1
+                w%pool(nkeep) = m
+                w%dist(nkeep) = w%dist(i)
+            end if
+        end do
+        w%npool = nkeep
+        nred = nred + nkeep
+        call sort_pool(w%pool(1:nkeep), w%dist(1:nkeep))
+
+        n0 = out%n
+        select case (mnl)
+        case (mnl_closest1, mnl_closest3)
+            do i = 1, min(nkeep, mnl)
+                call emit(w%pool(i), w%mark(w%pool(i)) /= mark_nontrackable)
+            end do
+        case default
+            ! step C, in order of increasing distance
+            do i = 1, nkeep
+                m = w%pool(i)
+                select case (w%mark(m))
+                case (mark_nontrackable)
+                    ! C2/C3: an adjacent region; keep it only within L_m (here
+                    ! always true: the pool test used the same radius)
+                    if (w%dist(i) > lc(m) + extra) cycle
+                    call emit(m, .false.)
+                    call mark_around(m, mark_nontrackable)
+                case (mark_trackable)
+                    ! C4: a closer node of this opposite region is stored
+                    call mark_around(m, mark_trackable)
+                case default
+                    ! C5: the closest node of a new opposite region
+                    call emit(m, .true.)
+                    call mark_around(m, mark_trackable)
+                end select
+            end do
+        end select
+        out%cnt(iloc) = out%n - n0
+
+        do k = 1, w%ntouched
+            w%mark(w%touched(k)) = mark_none
+        end do
+    contains
+        logical function shares_segment(m)
+            integer, intent(in) :: m
+            integer :: lo, hi, mid
+            ! the slave's neighbour list is sorted: binary search
+            lo = s%nn_ptr(sn)
+            hi = s%nn_ptr(sn + 1) - 1
+            shares_segment = .false.
+            do while (lo <= hi)
+                mid = (lo + hi)/2
+                if (s%nn_list(mid) == m) then
+                    shares_segment = .true.
+                    return
+                else if (s%nn_list(mid) < m) then
+                    lo = mid + 1
+                else
+                    hi = mid - 1
+                end if
+            end do
+        end function shares_segment
+
+        !> Mark every node of every segment at node nd. Nontrackable marks
+        !> override trackable ones; trackable marks only fill unmarked nodes
+        !> (a node next to an adjacent region stays nontrackable).
+        subroutine mark_around(nd, mk)
+            integer, intent(in) :: nd
+            integer(int8), intent(in) :: mk
+            integer :: j, q
+            do j = s%seg_ptr(nd), s%seg_ptr(nd + 1) - 1
+                do q = 1, 4
+                    call set_mark(s%seg(q, s%seg_list(j)), mk, mk == mark_nontrackable)
+                end do
+            end do
+        end subroutine mark_around
+
+        subroutine set_mark(nd, mk, override)
+            integer, intent(in) :: nd
+            integer(int8), intent(in) :: mk
+            logical, intent(in) :: override
+            if (w%mark(nd) == mark_none) then
+                if (w%ntouched == size(w%touched)) w%touched = [w%touched, w%touched]
+                w%ntouched = w%ntouched + 1
+                w%touched(w%ntouched) = nd
+                w%mark(nd) = mk
+            else if (override) then
+                w%mark(nd) = mk
+            end if
+        end subroutine set_mark
+
+        subroutine emit(m, trk)
+            integer, intent(in) :: m
+            logical, intent(in) :: trk
+            if (out%n == size(out%node)) then
+                out%node = [out%node, out%node]
+                out%trk = [out%trk, out%trk]
+            end if
+            out%n = out%n + 1
+            out%node(out%n) = m
+            out%trk(out%n) = trk
+        end subroutine emit
+    end subroutine one_slave
+
+    !> Sort the pool by distance, ties by node number (a deterministic order).
+    pure subroutine sort_pool(p, d)
+        integer, intent(inout) :: p(:)
+        real(wp), intent(inout) :: d(:)
+        integer :: i, j, tp
+        real(wp) :: td
+        do i = 2, size(p)
+            tp = p(i)
+            td = d(i)
+            j = i - 1
+            do while (j >= 1)
+                if (d(j) < td .or. (d(j) == td .and. p(j) < tp)) exit
+                p(j + 1) = p(j)
+                d(j + 1) = d(j)
+                j = j - 1
+            end do
+            p(j + 1) = tp
+            d(j + 1) = td
+        end do
+    end subroutine sort_pool
+
+end module xd_contact_global_search

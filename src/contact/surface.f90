@@ -1,0 +1,560 @@
+!> Step 1 of the automatic contact, contact surface construction (section 3
+!> of Whirley & Engelmann 1993). Every element face gets a number that does
+!> not depend on the order of its nodes; faces with zero or one continuum
+!> element attached are exterior; shells give their own two-sided segments.
+!> Each exterior segment carries its thickness and the ingredients of its
+!> penalty stiffness, and the body (connected surface region) it lies on.
+!>
+!> Two levels: `faces_t` is the exterior of the whole model, built once;
+!> `surface_t` is one interface's contact surface, the faces its SSID/MSID
+!> select, numbered locally with node-to-segment and node-to-node adjacency
+!> for the global and local searches.
+module xd_contact_surface
+    use xd_kinds, only: wp
+    use xd_core_vectors, only: cross
+    use xd_elements_hex8, only: hex_volume_operator
+    use xd_model, only: model_t, mat_rigid
+    implicit none
+    private
+    public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid
+    public :: side_a, side_b, side_slave, face_key, segment_diagonals
+
+    integer, parameter :: seg_shell = 1, seg_solid = 2
+    !> Bits of a node's or segment's side in an interface: on a segment of
+    !> side A (the slave side, or the only side of a single surface), of
+    !> side B (the master side of a two-surface contact), a slave node.
+    integer, parameter :: side_a = 1, side_b = 2, side_slave = 4
+
+    !> Outward faces of a hexahedron (N1..N4 bottom, N5..N8 top), each
+    !> counter-clockwise seen from outside for a right-handed element.
+    integer, parameter :: hex_face(4, 6) = reshape([1, 4, 3, 2, 5, 6, 7, 8, 1, 2, 6, 5, &
+                                                    2, 3, 7, 6, 3, 4, 8, 7, 4, 1, 5, 8], [4, 6])
+
+    !> The exterior segments of the whole model.
+    type :: faces_t
+        integer :: n = 0
+        integer, allocatable :: node(:, :)     !< (4, n) model node indices; triangle: N4 = N3
+        integer, allocatable :: kind(:)        !< seg_shell (two-sided) or seg_solid (outward normal)
+        integer, allocatable :: part(:)        !< part index of the element that owns the face
+        integer, allocatable :: shell(:)       !< model shell index of a shell on the face (0: none)
+        real(wp), allocatable :: thick(:)      !< segment thickness (section 3)
+        real(wp), allocatable :: kgeo(:)       !< bulk modulus x A^2/V (solid) or x A/max diagonal (shell)
+        integer, allocatable :: body(:)        !< connected surface region
+        integer :: nbody = 0
+        integer :: ninterior = 0               !< faces between two continuum elements (not segments)
+        real(wp), allocatable :: node_thick(:) !< (model nodes) largest shell thickness at the node
+    end type faces_t
+
+    !> One interface's contact surface in local numbering.
+    type :: surface_t
+        integer :: nseg = 0, nnode = 0
+        integer, allocatable :: seg(:, :)      !< (4, nseg) local node numbers
+        integer, allocatable :: seg_face(:)    !< index in faces_t
+        integer, allocatable :: seg_kind(:), seg_side(:), seg_body(:)
+        real(wp), allocatable :: seg_t(:)      !< segment thickness after SST/MST overrides
+        real(wp), allocatable :: seg_k(:)      !< master-side penalty stiffness (force/length)
+        integer, allocatable :: node(:)        !< model node of each local node
+        integer, allocatable :: node_side(:)   !< side bits
+        real(wp), allocatable :: node_t(:)     !< slave shell thickness at the node (0: solids only)
+        real(wp), allocatable :: node_k(:)     !< slave-side penalty stiffness
+        integer, allocatable :: seg_ptr(:), seg_list(:)   !< node -> segments (CSR)
+        integer, allocatable :: nn_ptr(:), nn_list(:)     !< node -> nodes sharing a segment (CSR)
+        integer :: nslave = 0
+        integer, allocatable :: slave(:)       !< local numbers of the slave nodes
+        integer :: nshell_seg = 0, nsolid_seg = 0
+        logical :: single = .true.             !< one side: every slave against every segment
+        logical :: two_way = .false.           !< two sides, each slave against the other side
+        real(wp) :: max_thick = 0              !< largest slave or master thickness: the contact reach
+    end type surface_t
+
+contains
+
+    !> Sorted unique nodes of a face, padded with 0: the face's number
+    !> independent of node order (section 3). Returns the count of unique nodes.
+    pure subroutine face_key(nd, key, nuniq)
+        integer, intent(in) :: nd(4)
+        integer, intent(out) :: key(4), nuniq
+        integer :: i, j, t
+        key = nd
+        do i = 2, 4
+            t = key(i)
+            j = i - 1
+            do while (j >= 1)
+                if (key(j) <= t) exit
+                key(j + 1) = key(j)
+                j = j - 1
+            end do
+            key(j + 1) = t
+        end do
+        nuniq = 1
+        do i = 2, 4
+            if (key(i) /= key(nuniq)) then
+                nuniq = nuniq + 1
+                key(nuniq) = key(i)
+            end if
+        end do
+        key(nuniq + 1:) = 0
+    end subroutine face_key
+
+    !> The two diagonals of a quadrilateral segment; a triangle's "diagonals"
+    !> are its shortest and longest edges.
+    pure subroutine segment_diagonals(xs, dmin, dmax)
+        real(wp), intent(in) :: xs(3, 4)
+        real(wp), intent(out) :: dmin, dmax
+        real(wp) :: e(3)
+        if (all(xs(:, 3) == xs(:, 4))) then
+            e = [norm2(xs(:, 2) - xs(:, 1)), norm2(xs(:, 3) - xs(:, 2)), norm2(xs(:, 1) - xs(:, 3))]
+            dmin = minval(e)
+            dmax = maxval(e)
+        else
+            dmin = min(norm2(xs(:, 3) - xs(:, 1)), norm2(xs(:, 4) - xs(:, 2)))
+            dmax = max(norm2(xs(:, 3) - xs(:, 1)), norm2(xs(:, 4) - xs(:, 2)))
+        end if
+    end subroutine segment_diagonals
+
+    pure real(wp) function segment_area(xs) result(a)
+        real(wp), intent(in) :: xs(3, 4)
+        a = 0.5_wp*norm2(cross(xs(:, 3) - xs(:, 1), xs(:, 4) - xs(:, 2)))
+    end function segment_area
+
+    !> Bulk modulus E / (3 (1 - 2 nu)) of a part's material (MAT_RIGID's E, PR
+    !> set the contact stiffness of a rigid part).
+    pure real(wp) function part_bulk(model, p) result(k)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: p
+        associate (m => model%mat(model%part(p)%mat_ix))
+            k = m%e/(3.0_wp*max(1.0_wp - 2.0_wp*m%pr, 1.0e-6_wp))
+        end associate
+    end function part_bulk
+
+    !> The exterior of the whole model from the element connectivity and the
+    !> initial coordinates x (3, nnode).
+    subroutine build_faces(model, x, f)
+        type(model_t), intent(in) :: model
+        real(wp), intent(in) :: x(:, :)
+        type(faces_t), intent(out) :: f
+        integer :: ncand, e, k, j, nu, c, n, a, b, i
+        integer, allocatable :: cnode(:, :), ckey(:, :), chex(:), cshell(:), ptr(:), item(:), rep(:), ncont(:)
+        integer, allocatable :: shell_on(:)
+        real(wp), allocatable :: vol(:)
+        logical :: same
+        integer :: nd(4), key(4)
+
+        ! candidate faces: six per hexahedron (collapsed ones dropped), one per shell
+        ncand = 6*model%nhex + model%nshell
+        allocate (cnode(4, ncand), ckey(4, ncand), chex(ncand), cshell(ncand), vol(model%nhex))
+        c = 0
+        do e = 1, model%nhex
+            vol(e) = hex_vol(e)
+            do k = 1, 6
+                nd = model%hex_conn(hex_face(:, k), e)
+                call face_key(nd, key, nu)
+                if (nu < 3) cycle
+                c = c + 1
+                cnode(:, c) = tidy(nd, nu)
+                ckey(:, c) = key
+                chex(c) = e
+                cshell(c) = 0
+            end do
+        end do
+        do e = 1, model%nshell
+            nd = model%shell_conn(:, e)
+            call face_key(nd, key, nu)
+            if (nu < 3) cycle
+            c = c + 1
+            cnode(:, c) = tidy(nd, nu)
+            ckey(:, c) = key
+            chex(c) = 0
+            cshell(c) = e
+        end do
+        ncand = c
+
+        ! group candidates by their smallest node, then compare keys in the group
+        n = model%nnode
+        allocate (ptr(n + 2), item(ncand), rep(ncand), ncont(ncand), shell_on(ncand))
+        ptr = 0
+        do c = 1, ncand
+            ptr(ckey(1, c) + 2) = ptr(ckey(1, c) + 2) + 1
+        end do
+        ptr(1) = 1
+        ptr(2) = 1
+        do i = 3, n + 2
+            ptr(i) = ptr(i) + ptr(i - 1)
+        end do
+        do c = 1, ncand
+            item(ptr(ckey(1, c) + 1)) = c
+            ptr(ckey(1, c) + 1) = ptr(ckey(1, c) + 1) + 1
+        end do
+        ! ptr(i) is now the start of group i; rep(c) = first candidate with c's key
+        rep = 0
+        ncont = 0
+        shell_on = 0
+        do i = 1, n
+            a = ptr(i)
+            b = ptr(i + 1) - 1
+            do j = a, b
+                c = item(j)
+                do k = a, j - 1
+                    same = all(ckey(:, item(k)) == ckey(:, c))
+                    if (same) exit
+                end do
+                if (k < j) then
+                    rep(c) = rep(item(k))
+                else
+                    rep(c) = c
+                end if
+                if (chex(c) > 0) ncont(rep(c)) = ncont(rep(c)) + 1
+                if (cshell(c) > 0 .and. shell_on(rep(c)) == 0) shell_on(rep(c)) = cshell(c)
+            end do
+        end do
+
+        ! exterior: zero or one continuum element on the face (Fig. 1)
+        f%n = 0
+        f%ninterior = 0
+        do c = 1, ncand
+            if (rep(c) /= c) cycle
+            if (ncont(c) <= 1) then
+                f%n = f%n + 1
+            else
+                f%ninterior = f%ninterior + 1
+            end if
+        end do
+        allocate (f%node(4, f%n), f%kind(f%n), f%part(f%n), f%shell(f%n), f%thick(f%n), f%kgeo(f%n), f%body(f%n))
+        allocate (f%node_thick(n))
+        f%node_thick = 0
+        do e = 1, model%nshell
+            do k = 1, 4
+                f%node_thick(model%shell_conn(k, e)) = max(f%node_thick(model%shell_conn(k, e)), model%shell_t(k, e))
+            end do
+        end do
+        j = 0
+        do c = 1, ncand
+            if (rep(c) /= c .or. ncont(c) > 1) cycle
+            j = j + 1
+            f%shell(j) = shell_on(c)
+            if (ncont(c) == 1) then
+                ! a solid face (with or without a shell on it): the face as the
+                ! hexahedron gives it, outward
+                e = solid_of(c)
+                f%node(:, j) = cnode(:, e)
+                f%kind(j) = seg_solid
+                call solid_segment(chex(e), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
+            else
+                f%node(:, j) = cnode(:, c)
+                f%kind(j) = seg_shell
+                call shell_segment(cshell(c), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
+            end if
+        end do
+        call find_bodies(n, f)
+    contains
+        !> N4 = N3 for a triangle, whatever node was repeated.
+        pure function tidy(nd, nu) result(t)
+            integer, intent(in) :: nd(4), nu
+            integer :: t(4), i, m
+            t = nd
+            if (nu == 4) return
+            m = 1
+            do i = 2, 4
+                if (all(t(1:m) /= nd(i))) then
+                    m = m + 1
+                    t(m) = nd(i)
+                end if
+            end do
+            t(4) = t(3)
+        end function tidy
+
+        !> The candidate with a hexahedron among those sharing rep c.
+        integer function solid_of(c) result(s)
+            integer, intent(in) :: c
+            integer :: jj
+            s = c
+            if (chex(c) > 0) return
+            do jj = ptr(ckey(1, c)), ptr(ckey(1, c) + 1) - 1
+                if (rep(item(jj)) == c .and. chex(item(jj)) > 0) then
+                    s = item(jj)
+                    return
+                end if
+            end do
+        end function solid_of
+
+        real(wp) function hex_vol(e)
+            integer, intent(in) :: e
+            real(wp) :: xe(8, 3), bm(8, 3)
+            xe = transpose(x(:, model%hex_conn(:, e)))
+            call hex_volume_operator(xe, bm, hex_vol)
+        end function hex_vol
+
+        !> Solid thickness min(0.6 x smallest diagonal, V / A); stiffness
+        !> ingredient K A^2 / V (LS-DYNA's rule for solids).
+        subroutine solid_segment(e, nd, p, t, kg)
+            integer, intent(in) :: e
+            integer, intent(inout) :: nd(4)
+            integer, intent(out) :: p
+            real(wp), intent(out) :: t, kg
+            real(wp) :: xs(3, 4), area, dmin, dmax, cen(3), nrm(3)
+            integer :: tmp
+            p = model%hex_part(e)
+            xs = x(:, nd)
+            ! keep the normal pointing out of the element whatever its handedness
+            cen = sum(x(:, model%hex_conn(:, e)), 2)/8.0_wp
+            nrm = cross(xs(:, 3) - xs(:, 1), xs(:, 4) - xs(:, 2))
+            if (dot_product(nrm, sum(xs, 2)/4.0_wp - cen) < 0.0_wp) then
+                if (nd(3) == nd(4)) then
+                    tmp = nd(2); nd(2) = nd(3); nd(3) = tmp; nd(4) = nd(3)
+                else
+                    tmp = nd(2); nd(2) = nd(4); nd(4) = tmp
+                end if
+                xs = x(:, nd)
+            end if
+            area = segment_area(xs)
+            call segment_diagonals(xs, dmin, dmax)
+            t = min(0.6_wp*dmin, vol(e)/max(area, tiny(1.0_wp)))
+            kg = part_bulk(model, p)*area**2/max(vol(e), tiny(1.0_wp))
+        end subroutine solid_segment
+
+        !> Shell thickness: the largest nodal thickness of its nodes (section
+        !> 3); stiffness ingredient K A / max diagonal (LS-DYNA's rule for shells).
+        subroutine shell_segment(e, nd, p, t, kg)
+            integer, intent(in) :: e
+            integer, intent(in) :: nd(4)
+            integer, intent(out) :: p
+            real(wp), intent(out) :: t, kg
+            real(wp) :: xs(3, 4), dmin, dmax
+            p = model%shell_part(e)
+            xs = x(:, nd)
+            t = maxval(f%node_thick(nd))
+            call segment_diagonals(xs, dmin, dmax)
+            kg = part_bulk(model, p)*segment_area(xs)/max(dmax, tiny(1.0_wp))
+        end subroutine shell_segment
+    end subroutine build_faces
+
+    !> Bodies: segments joined through shared nodes, by union-find on nodes.
+    subroutine find_bodies(n, f)
+        integer, intent(in) :: n
+        type(faces_t), intent(inout) :: f
+        integer, allocatable :: parent(:), label(:)
+        integer :: j, k, r
+        allocate (parent(n), label(n))
+        parent = [(j, j=1, n)]
+        do j = 1, f%n
+            do k = 2, 4
+                call unite(f%node(1, j), f%node(k, j))
+            end do
+        end do
+        label = 0
+        f%nbody = 0
+        do j = 1, f%n
+            r = root(f%node(1, j))
+            if (label(r) == 0) then
+                f%nbody = f%nbody + 1
+                label(r) = f%nbody
+            end if
+            f%body(j) = label(r)
+        end do
+    contains
+        integer function root(i)
+            integer, intent(in) :: i
+            root = i
+            do while (parent(root) /= root)
+                parent(root) = parent(parent(root))
+                root = parent(root)
+            end do
+        end function root
+        subroutine unite(a, b)
+            integer, intent(in) :: a, b
+            integer :: ra, rb
+            ra = root(a)
+            rb = root(b)
+            if (ra /= rb) parent(max(ra, rb)) = min(ra, rb)
+        end subroutine unite
+    end subroutine find_bodies
+
+    !> One interface's surface from the faces selected for side A (`in_a`),
+    !> side B (`in_b`) and the extra slave nodes `slave_nodes` (model
+    !> indices; nodes-to-surface). Single surface: everything on side A and
+    !> every node a slave. Two-surface: nodes of both sides are slaves
+    !> (the symmetric treatment of LS-DYNA's automatic surface-to-surface);
+    !> nodes-to-surface: only `slave_nodes`.
+    subroutine build_surface(f, nnode_model, in_a, in_b, slave_nodes, two_way, thick, stiff, s)
+        type(faces_t), intent(in) :: f
+        integer, intent(in) :: nnode_model
+        logical, intent(in) :: in_a(:), in_b(:)
+        integer, intent(in) :: slave_nodes(:)
+        logical, intent(in) :: two_way
+        real(wp), intent(in) :: thick(4)   !< SST, MST, SFST, SFMT
+        real(wp), intent(in) :: stiff(3)   !< SLSFAC, SFS, SFM
+        type(surface_t), intent(out) :: s
+        integer, allocatable :: local(:), cnt(:)
+        real(wp), allocatable :: kmin(:)
+        integer :: j, k, m, nd, i, a
+        logical :: in_any
+
+        allocate (local(nnode_model))
+        local = 0
+        s%nseg = count(in_a .or. in_b)
+        allocate (s%seg(4, s%nseg), s%seg_face(s%nseg), s%seg_kind(s%nseg), s%seg_side(s%nseg), s%seg_body(s%nseg))
+        allocate (s%seg_t(s%nseg), s%seg_k(s%nseg))
+        s%nnode = 0
+        m = 0
+        do j = 1, f%n
+            in_any = in_a(j) .or. in_b(j)
+            if (.not. in_any) cycle
+            m = m + 1
+            s%seg_face(m) = j
+            s%seg_side(m) = 0
+            if (in_a(j)) s%seg_side(m) = side_a
+            if (in_b(j)) s%seg_side(m) = ior(s%seg_side(m), side_b)
+            s%seg_kind(m) = f%kind(j)
+            s%seg_body(m) = f%body(j)
+            do k = 1, 4
+                nd = f%node(k, j)
+                if (local(nd) == 0) then
+                    s%nnode = s%nnode + 1
+                    local(nd) = s%nnode
+                end if
+                s%seg(k, m) = local(nd)
+            end do
+        end do
+        do i = 1, size(slave_nodes)
+            if (local(slave_nodes(i)) == 0) then
+                s%nnode = s%nnode + 1
+                local(slave_nodes(i)) = s%nnode
+            end if
+        end do
+        allocate (s%node(s%nnode), s%node_side(s%nnode), s%node_t(s%nnode), s%node_k(s%nnode))
+        do nd = 1, nnode_model
+            if (local(nd) > 0) s%node(local(nd)) = nd
+        end do
+        s%node_side = 0
+        do m = 1, s%nseg
+            do k = 1, 4
+                s%node_side(s%seg(k, m)) = ior(s%node_side(s%seg(k, m)), s%seg_side(m))
+            end do
+        end do
+        if (size(slave_nodes) > 0) then
+            ! nodes-to-surface: the listed nodes are the slaves, nothing else
+            do i = 1, size(slave_nodes)
+                a = local(slave_nodes(i))
+                s%node_side(a) = ior(s%node_side(a), side_slave)
+            end do
+        else
+            do nd = 1, s%nnode
+                if (two_way .or. iand(s%node_side(nd), side_a) /= 0) &
+                    s%node_side(nd) = ior(s%node_side(nd), side_slave)
+            end do
+        end if
+        s%single = .not. any(in_b)
+        s%two_way = two_way
+        s%nslave = count(iand(s%node_side, side_slave) /= 0)
+        allocate (s%slave(s%nslave))
+        s%slave = pack([(nd, nd=1, s%nnode)], iand(s%node_side, side_slave) /= 0)
+
+        ! thickness (SST / MST override, SFST / SFMT scale) and penalty stiffness
+        ! k = SLSFAC x SFM x (K A^2 / V or K A / max diagonal), LS-DYNA's rule
+        allocate (kmin(s%nnode))
+        kmin = huge(1.0_wp)
+        s%nshell_seg = 0
+        s%nsolid_seg = 0
+        s%max_thick = 0
+        do m = 1, s%nseg
+            j = s%seg_face(m)
+            if (s%seg_kind(m) == seg_shell) then
+                s%nshell_seg = s%nshell_seg + 1
+                s%seg_t(m) = thick(4)*f%thick(j)
+                if (thick(2) > 0.0_wp) s%seg_t(m) = thick(2)
+                s%max_thick = max(s%max_thick, s%seg_t(m))
+            else
+                s%nsolid_seg = s%nsolid_seg + 1
+                s%seg_t(m) = f%thick(j)
+            end if
+            s%seg_k(m) = stiff(1)*stiff(3)*f%kgeo(j)
+            do k = 1, 4
+                kmin(s%seg(k, m)) = min(kmin(s%seg(k, m)), f%kgeo(j))
+            end do
+        end do
+        do nd = 1, s%nnode
+            s%node_t(nd) = thick(3)*f%node_thick(s%node(nd))
+            if (thick(1) > 0.0_wp .and. f%node_thick(s%node(nd)) > 0.0_wp) s%node_t(nd) = thick(1)
+            s%max_thick = max(s%max_thick, s%node_t(nd))
+            s%node_k(nd) = 0
+            if (kmin(nd) < huge(1.0_wp)) s%node_k(nd) = stiff(1)*stiff(2)*kmin(nd)
+        end do
+
+        ! node -> segments
+        allocate (cnt(s%nnode + 1), s%seg_ptr(s%nnode + 1))
+        cnt = 0
+        do m = 1, s%nseg
+            do k = 1, seg_nodes(s%seg(:, m))
+                cnt(s%seg(k, m)) = cnt(s%seg(k, m)) + 1
+            end do
+        end do
+        s%seg_ptr(1) = 1
+        do nd = 1, s%nnode
+            s%seg_ptr(nd + 1) = s%seg_ptr(nd) + cnt(nd)
+        end do
+        allocate (s%seg_list(s%seg_ptr(s%nnode + 1) - 1))
+        cnt(1:s%nnode) = s%seg_ptr(1:s%nnode)
+        do m = 1, s%nseg
+            do k = 1, seg_nodes(s%seg(:, m))
+                s%seg_list(cnt(s%seg(k, m))) = m
+                cnt(s%seg(k, m)) = cnt(s%seg(k, m)) + 1
+            end do
+        end do
+        call node_neighbours(s)
+    end subroutine build_surface
+
+    !> 3 for a triangle (N4 = N3), else 4.
+    pure integer function seg_nodes(sg)
+        integer, intent(in) :: sg(4)
+        seg_nodes = 4
+        if (sg(4) == sg(3)) seg_nodes = 3
+    end function seg_nodes
+
+    !> Nodes that share a segment with each node (itself excluded), ascending.
+    subroutine node_neighbours(s)
+        type(surface_t), intent(inout) :: s
+        integer, allocatable :: mark(:), buf(:)
+        integer :: nd, i, k, m, nb, total
+        allocate (mark(s%nnode), buf(64))
+        mark = 0
+        ! at most three other nodes per node-segment incidence
+        allocate (s%nn_ptr(s%nnode + 1), s%nn_list(3*size(s%seg_list)))
+        s%nn_ptr(1) = 1
+        total = 0
+        do nd = 1, s%nnode
+            nb = 0
+            mark(nd) = nd
+            do i = s%seg_ptr(nd), s%seg_ptr(nd + 1) - 1
+                m = s%seg_list(i)
+                do k = 1, 4
+                    if (mark(s%seg(k, m)) == nd) cycle
+                    mark(s%seg(k, m)) = nd
+                    nb = nb + 1
+                    if (nb > size(buf)) buf = [buf, buf]
+                    buf(nb) = s%seg(k, m)
+                end do
+            end do
+            call sort_ints(buf(1:nb))
+            s%nn_list(total + 1:total + nb) = buf(1:nb)
+            total = total + nb
+            s%nn_ptr(nd + 1) = total + 1
+        end do
+        s%nn_list = s%nn_list(1:total)
+    end subroutine node_neighbours
+
+    pure subroutine sort_ints(a)
+        integer, intent(inout) :: a(:)
+        integer :: i, j, t
+        do i = 2, size(a)
+            t = a(i)
+            j = i - 1
+            do while (j >= 1)
+                if (a(j) <= t) exit
+                a(j + 1) = a(j)
+                j = j - 1
+            end do
+            a(j + 1) = t
+        end do
+    end subroutine sort_ints
+
+end module xd_contact_surface

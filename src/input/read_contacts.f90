@@ -1,0 +1,323 @@
+!> Readers for the contact keywords: *CONTACT_... (cards 1-3, optional card
+!> A; cards B-G are read and ignored), *CONTROL_CONTACT and xdyna's own
+!> *CONTROL_XDYNA_CONTACT (the search and enforcement policies the paper
+!> discusses).
+module xd_input_read_contacts
+    use xd_kinds, only: wp
+    use xd_core_errors, only: error_t, make_error
+    use xd_input_field_reader, only: card_t, get_int, get_real, get_text, card_error, card_blank
+    use xd_input_keyword_table, only: keyword_t
+    use xd_input_context, only: read_ctx_t, get_card, first_card, add_warning
+    use xd_model, only: model_t, contact_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface, &
+                        styp_segment_set, styp_node_set, styp_all, styp_all_but, search_fixed, search_adaptive, &
+                        mnl_minimal, mnl_closest1, mnl_closest3
+    implicit none
+    private
+    public :: read_contact
+
+contains
+
+    subroutine read_contact(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        select case (kw%name)
+        case ('CONTROL_CONTACT')
+            call read_control_contact(ctx, kw, model, error)
+        case ('CONTROL_XDYNA_CONTACT')
+            call read_control_xdyna_contact(ctx, kw, model, error)
+        case default
+            call read_interface(ctx, kw, model, error)
+        end select
+    end subroutine read_contact
+
+    !> *CONTACT_...: _ID card, card 1 SSID MSID SSTYP MSTYP SBOXID MBOXID SPR
+    !> MPR; card 2 FS FD DC VC VDC PENCHK BT DT; card 3 SFS SFM SST MST SFST
+    !> SFMT FSF VSF; optional card A SOFT SOFSCL LCIDAB MAXPAR SBOPT DEPTH
+    !> BSORT FRCFRQ.
+    subroutine read_interface(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(contact_t) :: c
+        integer :: ic, k, ibox(2), ival
+        real(wp) :: rval
+        character(len=:), allocatable :: at
+
+        c%keyword = kw%name
+        select case (kw%name)
+        case ('CONTACT_AUTOMATIC_SINGLE_SURFACE', 'CONTACT_SINGLE_SURFACE'); c%kind = ct_single
+        case ('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE'); c%kind = ct_surface_to_surface
+        case ('CONTACT_AUTOMATIC_GENERAL'); c%kind = ct_general
+        case ('CONTACT_AUTOMATIC_NODES_TO_SURFACE'); c%kind = ct_nodes_to_surface
+        end select
+        if (kw%has_id) then
+            call get_card(ctx, kw, 1, 'CID HEADING:70', 0, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, c%id, 0, error); if (allocated(error)) return
+            c%heading = get_text(card, 2)
+        end if
+        ic = first_card(kw)
+        c%src = kw%kw_line
+        at = ctx%src%where(kw%kw_line)//': '//trim(kw%written)
+
+        ! card 1: which parts take part
+        if (ic <= kw%ncard) then
+            c%src = kw%card_line(ic)
+            call get_card(ctx, kw, ic, 'SSID MSID SSTYP MSTYP SBOXID MBOXID SPR MPR', 1, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, c%ssid, 0, error); if (allocated(error)) return
+            call get_int(card, 2, c%msid, 0, error); if (allocated(error)) return
+            call get_int(card, 3, c%sstyp, 0, error); if (allocated(error)) return
+            call get_int(card, 4, c%mstyp, 0, error); if (allocated(error)) return
+            do k = 1, 2
+                call get_int(card, 4 + k, ibox(k), 0, error); if (allocated(error)) return
+                if (ibox(k) /= 0) then
+                    call card_error(card, 4 + k, 'boxes are not supported (SBOXID and MBOXID must be 0)', error)
+                    return
+                end if
+            end do
+            if (c%sstyp < styp_segment_set .or. c%sstyp > styp_all_but) then
+                call card_error(card, 3, 'SSTYP must be 0-6 (segment set, shell set, part set, part, '// &
+                                'node set, all, all but a part set)', error)
+                return
+            end if
+            if (c%mstyp < styp_segment_set .or. c%mstyp > styp_all_but) then
+                call card_error(card, 4, 'MSTYP must be 0-6 (segment set, shell set, part set, part, '// &
+                                'all, all but a part set)', error)
+                return
+            end if
+            if (c%mstyp == styp_node_set .and. c%kind /= ct_single .and. c%kind /= ct_general) then
+                call card_error(card, 4, 'the master side is made of segments: MSTYP 4 (node set) '// &
+                                'is for the slave side only', error)
+                return
+            end if
+            if (c%sstyp == styp_node_set .and. c%kind /= ct_nodes_to_surface) then
+                call card_error(card, 3, 'SSTYP 4 (node set) gives slave nodes without segments: use '// &
+                                '*CONTACT_AUTOMATIC_NODES_TO_SURFACE', error)
+                return
+            end if
+            if (c%kind == ct_surface_to_surface .or. c%kind == ct_nodes_to_surface) then
+                if (c%ssid == 0 .and. c%sstyp /= styp_all) then
+                    call card_error(card, 1, 'a two-surface contact needs a slave side (SSID > 0, or SSTYP 5)', &
+                                    error)
+                    return
+                end if
+                if (c%msid == 0 .and. c%mstyp /= styp_all) then
+                    call card_error(card, 2, 'a two-surface contact needs a master side (MSID > 0, or MSTYP 5)', &
+                                    error)
+                    return
+                end if
+            end if
+        end if
+
+        ! card 2: friction, damping, birth and death
+        if (ic + 1 <= kw%ncard) then
+            call get_card(ctx, kw, ic + 1, 'FS FD DC VC VDC PENCHK BT DT', 2, card, error)
+            if (allocated(error)) return
+            call get_real(card, 1, c%fs, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 2, c%fd, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 3, c%dc, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 4, c%vc, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 5, c%vdc, 0.0_wp, error); if (allocated(error)) return
+            call get_int(card, 6, ival, 0, error); if (allocated(error)) return
+            call get_real(card, 7, c%bt, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 8, c%dt, 1.0e20_wp, error, zero_default=.true.); if (allocated(error)) return
+            if (c%fs < 0.0_wp .or. c%fd < 0.0_wp .or. c%dc < 0.0_wp) then
+                call card_error(card, 1, 'friction coefficients FS, FD and decay DC must not be negative', error)
+                return
+            end if
+            if (c%vdc < 0.0_wp .or. c%vdc > 100.0_wp) then
+                call card_error(card, 5, 'VDC is a percentage of critical damping: 0 to 100', error)
+                return
+            end if
+            if (c%dt <= c%bt) then
+                call card_error(card, 8, 'death time DT must be later than birth time BT', error)
+                return
+            end if
+            if (ival /= 0) call add_warning(model, at//' card 2 field PENCHK: the automatic contact keeps '// &
+                'a node in contact within its thickness window (section 5.2); PENCHK is ignored')
+        end if
+
+        ! card 3: penalty scales and thickness overrides
+        if (ic + 2 <= kw%ncard) then
+            call get_card(ctx, kw, ic + 2, 'SFS SFM SST MST SFST SFMT FSF VSF', 3, card, error)
+            if (allocated(error)) return
+            call get_real(card, 1, c%sfs, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+            call get_real(card, 2, c%sfm, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+            call get_real(card, 3, c%sst, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 4, c%mst, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 5, c%sfst, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+            call get_real(card, 6, c%sfmt, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+            do k = 1, 6
+                call get_real(card, k, rval, 0.0_wp, error); if (allocated(error)) return
+                if (rval < 0.0_wp) then
+                    call card_error(card, k, 'penalty scales and thicknesses must not be negative', error)
+                    return
+                end if
+            end do
+            do k = 7, 8
+                call get_real(card, k, rval, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+                if (rval /= 1.0_wp) call add_warning(model, at//' card 3 fields FSF/VSF: friction and viscous '// &
+                                                     'scale factors are not implemented; ignored')
+            end do
+        end if
+
+        ! optional card A
+        if (ic + 3 <= kw%ncard) then
+            call get_card(ctx, kw, ic + 3, 'SOFT SOFSCL LCIDAB MAXPAR SBOPT DEPTH BSORT FRCFRQ', 4, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, ival, 0, error); if (allocated(error)) return
+            if (ival /= 0) call add_warning(model, at//' card A field SOFT: the soft-constraint and segment-'// &
+                'based options are not implemented; the penalty stiffness comes from the bulk modulus (SOFT 0)')
+            call get_int(card, 3, ival, 0, error); if (allocated(error)) return
+            if (ival /= 0) call add_warning(model, at//' card A field LCIDAB: airbag thickness curves are '// &
+                                            'not implemented; ignored')
+            call get_int(card, 7, c%bsort, 0, error); if (allocated(error)) return
+            if (c%bsort < 0) then
+                call card_error(card, 7, 'BSORT (cycles between global searches) must not be negative', error)
+                return
+            end if
+        end if
+        if (ic + 4 <= kw%ncard) then
+            do k = ic + 4, kw%ncard
+                call get_card(ctx, kw, k, 'X', k, card, error, raw=.true.)
+                if (allocated(error)) return
+                if (.not. card_blank(card)) then
+                    call add_warning(model, at//': optional cards B-G are not used by xdyna; ignored')
+                    exit
+                end if
+            end do
+        end if
+
+        if (.not. allocated(model%contact)) allocate (model%contact(4))
+        if (model%ncontact == size(model%contact)) model%contact = [model%contact, model%contact]
+        model%ncontact = model%ncontact + 1
+        if (c%id == 0) c%id = model%ncontact
+        model%contact(model%ncontact) = c
+    end subroutine read_interface
+
+    !> Card 1 SLSFAC RWPNAL ISLCHK SHLTHK PENOPT THKCHG ORIEN ENMASS; card 2
+    !> USRSTR USRFRC NSBCS INTERM XPENE SSTHK ECDT TIEDPRJ; cards 3-7 ignored.
+    subroutine read_control_contact(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        integer :: ival, k
+        real(wp) :: rval
+        character(len=:), allocatable :: at
+        character(len=8), parameter :: ignored1(5) = [character(len=8) :: 'PENOPT', 'THKCHG', 'ORIEN', &
+                                                      'ENMASS', '']
+        at = ctx%src%where(kw%kw_line)//': '//trim(kw%written)
+        associate (cc => model%ctl%contact)
+            if (kw%ncard >= 1) then
+                call get_card(ctx, kw, 1, 'SLSFAC RWPNAL ISLCHK SHLTHK PENOPT THKCHG ORIEN ENMASS', 1, card, error)
+                if (allocated(error)) return
+                call get_real(card, 1, cc%slsfac, 0.1_wp, error, zero_default=.true.); if (allocated(error)) return
+                if (cc%slsfac < 0.0_wp) then
+                    call card_error(card, 1, 'SLSFAC must not be negative', error); return
+                end if
+                call get_real(card, 2, rval, 0.0_wp, error); if (allocated(error)) return
+                if (rval /= 0.0_wp) call add_warning(model, at//' field RWPNAL: rigid walls are stonewalls '// &
+                                                     '(kinematic) in xdyna; ignored')
+                do k = 5, 8
+                    call get_int(card, k, ival, 0, error); if (allocated(error)) return
+                    ! PENOPT 1 is the default stiffness rule (the one xdyna uses)
+                    if (ival /= 0 .and. .not. (k == 5 .and. ival == 1)) &
+                        call add_warning(model, at//' field '//trim(ignored1(k - 4))//': not implemented; ignored')
+                end do
+            end if
+            if (kw%ncard >= 2) then
+                call get_card(ctx, kw, 2, 'USRSTR USRFRC NSBCS INTERM XPENE SSTHK ECDT TIEDPRJ', 2, card, error)
+                if (allocated(error)) return
+                call get_int(card, 3, cc%nsbcs, 0, error); if (allocated(error)) return
+                if (cc%nsbcs < 0) then
+                    call card_error(card, 3, 'NSBCS (cycles between global searches) must not be negative', error)
+                    return
+                end if
+            end if
+            do k = 3, kw%ncard
+                call get_card(ctx, kw, k, 'X', k, card, error, raw=.true.)
+                if (allocated(error)) return
+                if (.not. card_blank(card)) then
+                    call add_warning(model, at//': cards 3-7 are not used by xdyna; ignored')
+                    exit
+                end if
+            end do
+        end associate
+    end subroutine read_control_contact
+
+    !> xdyna's card: SEARCH NSRCH MNL TRACK SCREEN ENFORCE PMARG DUMPNS (see
+    !> the manual, "*CONTROL_XDYNA_CONTACT").
+    subroutine read_control_xdyna_contact(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        integer :: ival
+        if (kw%ncard < 1) return
+        if (kw%ncard > 1) then
+            call make_error(error, ctx%src%where(kw%card_line(2))//': '//trim(kw%written)// &
+                            ' has one card; unexpected card: '''//trim(ctx%src%line(kw%card_line(2)))//'''')
+            return
+        end if
+        associate (cc => model%ctl%contact)
+            call get_card(ctx, kw, 1, 'SEARCH NSRCH MNL TRACK SCREEN ENFORCE PMARG DUMPNS', 1, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, ival, 0, error); if (allocated(error)) return
+            select case (ival)
+            case (0, 1); cc%search = search_fixed
+            case (2); cc%search = search_adaptive
+            case default
+                call card_error(card, 1, 'SEARCH must be 1 (every NSRCH cycles) or 2 (adaptive)', error); return
+            end select
+            call get_int(card, 2, cc%nsrch, 0, error); if (allocated(error)) return
+            if (cc%nsrch < 0) then
+                call card_error(card, 2, 'NSRCH (cycles between global searches) must not be negative', error)
+                return
+            end if
+            call get_int(card, 3, ival, 0, error); if (allocated(error)) return
+            select case (ival)
+            case (0); cc%mnl = mnl_minimal
+            case (1); cc%mnl = mnl_closest1
+            case (3); cc%mnl = mnl_closest3
+            case default
+                call card_error(card, 3, 'MNL must be 0 (minimal set), 1 (closest node) or 3 (three closest)', error)
+                return
+            end select
+            call on_off(4, cc%tracking); if (allocated(error)) return
+            call on_off(5, cc%screens); if (allocated(error)) return
+            call get_int(card, 6, ival, 0, error); if (allocated(error)) return
+            select case (ival)
+            case (0, 1); cc%lagrange = .false.
+            case (2); cc%lagrange = .true.
+            case default
+                call card_error(card, 6, 'ENFORCE must be 1 (penalty) or 2 (Lagrangian projection)', error); return
+            end select
+            call get_real(card, 7, cc%pmarg, 0.25_wp, error, zero_default=.true.); if (allocated(error)) return
+            if (cc%pmarg < 0.0_wp) then
+                call card_error(card, 7, 'PMARG must be positive', error); return
+            end if
+            call get_int(card, 8, cc%dump_nsid, 0, error); if (allocated(error)) return
+        end associate
+    contains
+        subroutine on_off(k, flag)
+            integer, intent(in) :: k
+            logical, intent(out) :: flag
+            call get_int(card, k, ival, 0, error); if (allocated(error)) return
+            select case (ival)
+            case (0, 1); flag = .true.
+            case (2); flag = .false.
+            case default
+                call card_error(card, k, 'must be 1 (on) or 2 (off)', error)
+            end select
+        end subroutine on_off
+    end subroutine read_control_xdyna_contact
+
+end module xd_input_read_contacts
