@@ -38,7 +38,7 @@ deps:
 	@sh tools/deps.sh
 
 # compile rules and module dependencies, generated from the sources
-ALL_SRC := $(SRC) $(MAIN) $(TEST_SRC) tests/unit/testing.f90
+ALL_SRC := $(SRC) $(MAIN) $(TEST_SRC) tests/unit/testing.f90 tests/unit/fixtures.f90 bench/global_search_bench.f90
 build/rules$(SUFFIX).mk: $(ALL_SRC) tools/mkrules.sh
 	@mkdir -p build
 	@sh tools/mkrules.sh "build/release$(SUFFIX):RELEASE_FLAGS build/debug$(SUFFIX):DEBUG_FLAGS" $(ALL_SRC) > $@
@@ -56,13 +56,17 @@ bin/xdyna_debug$(SUFFIX): $(D_OBJ) build/debug$(SUFFIX)/$(call flat,$(MAIN))
 	@mkdir -p bin
 	$(FC) -fopenmp -g -o $@ $^ $(LIBS)
 
+bin/search_bench$(SUFFIX): $(R_OBJ) build/release$(SUFFIX)/bench_global_search_bench.o
+	@mkdir -p bin
+	$(FC) -fopenmp -o $@ $^ $(LIBS)
+
 bin/thdiff: src/tools/thdiff.py
 	@mkdir -p bin
 	cp $< $@
 	chmod +x $@
 
 TEST_BIN := $(patsubst tests/unit/%.f90,build/tests$(SUFFIX)/%,$(TEST_SRC))
-build/tests$(SUFFIX)/%: build/debug$(SUFFIX)/tests_unit_%.o build/debug$(SUFFIX)/tests_unit_testing.o $(D_OBJ)
+build/tests$(SUFFIX)/%: build/debug$(SUFFIX)/tests_unit_%.o build/debug$(SUFFIX)/tests_unit_testing.o build/debug$(SUFFIX)/tests_unit_fixtures.o $(D_OBJ)
 	@mkdir -p $(@D)
 	$(FC) -fopenmp -g -o $@ $^ $(LIBS)
 
@@ -86,7 +90,7 @@ verify: deps
 	@$(PY) tools/verify.py
 
 bench: deps
-	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory all bin/search_bench$(SUFFIX)
 	@sh bench/run_bench.sh
 
 clean:

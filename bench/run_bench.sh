@@ -50,3 +50,9 @@ while [ $i -le $runs ]; do
 done
 med=$(sort -n $dir/ns_shell.txt | awk '{a[NR]=$1} END {print a[int((NR + 1) / 2)]}')
 echo "bench: shells median $med ns per element-cycle"
+
+# global search alone (contact step 2) on crumpled sheets of 1e4, 1e5, 1e6
+# surface nodes: the cost per slave node must stay flat (a linear search)
+echo "bench: contact global search alone, crumpled sheet, 1 thread (median of repeats per size)"
+OMP_NUM_THREADS=1 ./bin/search_bench 10000 100000 1000000 | tee $dir/search.txt
+awk 'NR == 2 {a = $3} END {printf "bench: global search cost per slave grows %.2fx from 1e4 to 1e6 nodes\n", $3 / a}' $dir/search.txt

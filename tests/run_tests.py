@@ -6,6 +6,7 @@ Every check states its tolerance and why; see the comments at each test.
 Run from the repository root after `make all tests` (`make check` does both).
 """
 import glob
+import re
 import os
 import shutil
 import subprocess
@@ -762,6 +763,85 @@ def test_cli():
     record("an unknown argument is an input error (exit 1)", p.returncode == 1 and "bogus" in p.stderr)
 
 
+def contact_dump(out):
+    """Blocks of contact_debug: (search, cycle, time, slave id, z, [(master id, trackable)])."""
+    blocks = []
+    for line in open(os.path.join(out, "contact_debug")):
+        w = line.split()
+        if w[0] == "search":
+            blocks.append((int(w[1]), int(w[5]), float(w[7]), int(w[9]), float(w[13]), []))
+        else:
+            blocks[-1][5].append((int(w[0]), w[1] == "T"))
+    return blocks
+
+
+def interface_line(log, field):
+    """Numbers of the summary row of the first interface: id, slaves,
+    searches, masters/slave, pool/slave, reduced/slave, seconds, ns, max 4u/delta."""
+    lines = log.split("c o n t a c t   s e a r c h   s u m m a r y")[1].splitlines()
+    return [float(v) for v in lines[2].split()][field]
+
+
+def test_contact_surface_log():
+    """Every contact keyword runs the automatic algorithm on the parts its
+    SSID/MSID select. Cube (2x2x2 hexahedra: 24 exterior faces, 26 surface
+    nodes) over a plate (10x10 shells: 100 segments, 121 nodes): the log's
+    counts follow from the selection by hand."""
+    cases = {  # deck: (segments, shell, solid, surface nodes, slave nodes)
+        "search_adaptive": (124, 100, 24, 147, 147),          # single surface, whole model
+        "variant_surface_to_surface": (124, 100, 24, 147, 147),  # both sides are slaves
+        "variant_nodes_to_surface": (100, 100, 0, 130, 9),     # 9 nodes of the cube's lower face
+        "variant_general_part_set": (24, 0, 24, 26, 26),       # part set {cube}
+        "variant_single_all_but": (100, 100, 0, 121, 121),     # all but part set {cube}
+    }
+    for name, want in cases.items():
+        p, out = run_deck(f"input_decks/contact/{name}.k", "contact_" + name)
+        ok = p.returncode == 0
+        got = None
+        if ok:
+            log = open(os.path.join(out, "d3hsp")).read()
+            m = re.search(r"segments (\d+) \(shell (\d+), solid (\d+)\)\s+surface nodes (\d+)\s+slave nodes (\d+)", log)
+            got = tuple(int(v) for v in m.groups()) if m else None
+            ok = got == want and "contact ................... on" in log
+        record(f"contact {name}: runs, log counts segments/shell/solid/nodes/slaves {want}", ok,
+               f"got {got} {p.stderr[-200:]}")
+    log = open(os.path.join(TMP, "contact_variant_single_all_but", "d3hsp")).read()
+    record("contact: card A BSORT 5 sets the search interval of its interface",
+           "global search every 5 cycles" in log)
+
+
+def test_contact_search_interval():
+    """The cube falls at 200 m/s through the plate (no enforcement yet).
+    Adaptive interval: the plate node under the slave must be in its master
+    node list at the first search where the slave is within reach of the
+    plate, i.e. before the slave's contact surface touches the plate's
+    (bound: zero penetration before detection). Every cycle must have used
+    lists with 4u <= delta (the guarantee). A fixed interval of 120 cycles
+    misses it: the first list with a plate node comes after the cube has
+    passed through, which shows the test can fail."""
+    half_t = 0.005  # plate half-thickness (m)
+    for name in ("search_adaptive", "search_fixed_120"):
+        p, out = run_deck(f"input_decks/contact/{name}.k", "contact_" + name)
+        if p.returncode != 0:
+            record(f"contact {name} runs", False, p.stderr[-300:])
+            continue
+        blocks = contact_dump(out)
+        found = [b for b in blocks if any(m >= 1001 for m, _ in b[5])]
+        gap = found[0][4] - half_t if found else float("nan")
+        worst = interface_line(open(os.path.join(out, "d3hsp")).read(), 8)
+        if name == "search_adaptive":
+            record(f"contact adaptive search: plate found {gap * 1e3:.1f} mm before touching "
+                   f"(bound: > 0), after {found[0][0] if found else 0} searches", gap > 0 and len(blocks) > 5)
+            trk = [t for m, t in found[0][5] if m >= 1001] if found else []
+            record("contact adaptive search: the plate's closest node is a trackable master "
+                   "(an opposite region, one node)", trk == [True])
+            record(f"contact adaptive search: every cycle used lists with 4u/delta <= 1 ({worst:.3f})",
+                   worst <= 1.0)
+        else:
+            record(f"contact fixed interval 120: plate found only after the cube passed it "
+                   f"(gap {gap * 1e3:.1f} mm < 0); 4u/delta reached {worst:.1f} > 1", gap < 0 and worst > 1)
+
+
 def main():
     unit_tests()
     test_bar_impact()
@@ -779,6 +859,8 @@ def main():
     test_clamped_plate()
     test_subsystems()
     test_malformed()
+    test_contact_surface_log()
+    test_contact_search_interval()
     test_format_rules()
     test_runtime_error()
     test_thdiff()

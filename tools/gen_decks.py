@@ -640,6 +640,53 @@ def mixed_deck(outdir):
     write(os.path.join(outdir, "verify", "mixed_solid_shell_rigid.k"), lines)
 
 
+def contact_block_plate(outdir, name, contact, xcontact=None, endtim=2.25e-3):
+    """A 0.2 m steel cube (2x2x2 hexahedra, part 1) flying at 200 m/s down
+    onto a 1 m square plate of 10x10 shells 10 mm thick (part 2) 0.3 m
+    below it, with the given contact cards. Contact steps 1-2 only: the
+    global search runs, nothing stops the cube, which passes through the
+    plate. Node set 90 (the centre of the cube's lower face) is dumped."""
+    blk, hexes = block_mesh(2, 2, 2, 0.2, 0.2, 0.2, origin=(0.4, 0.4, 0.3))
+    n = 10
+    pid = lambda i, j: 1001 + i + (n + 1) * j
+    lines = common(f"contact steps 1-2: cube over a plate ({name})", endtim, 1.0e-4)
+    lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 2), f10(0.01, 0.01, 0.01, 0.01)]
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.3)]
+    lines += part(1, 1, "cube") + ["*PART", "plate", f10(2, 2, 1)]
+    lines += node_set(1, sorted(blk))
+    lines += ["*INITIAL_VELOCITY", f10(1), f10(0.0, 0.0, -200.0)]
+    lines += node_set(90, nodes_where(blk, lambda x, y, z: abs(x - 0.5) < 1e-9 and abs(y - 0.5) < 1e-9
+                                      and abs(z - 0.3) < 1e-9))
+    lines += node_set(91, nodes_where(blk, lambda x, y, z: abs(z - 0.3) < 1e-9))
+    lines += ["*SET_PART_LIST", f10(5), f10(1)]
+    lines += contact
+    if xcontact:
+        lines += ["*CONTROL_XDYNA_CONTACT", xcontact]
+    lines += node_cards(blk) + solid_cards(hexes, 1)
+    lines += ["*NODE"] + [f"{pid(i, j):8d}{i / n:16.9e}{j / n:16.9e}{0.0:16.9e}{0:8d}{0:8d}"
+                          for j in range(n + 1) for i in range(n + 1)]
+    lines += ["*ELEMENT_SHELL"] + [f"{1001 + i + n * j:8d}{2:8d}{pid(i, j):8d}{pid(i + 1, j):8d}"
+                                   f"{pid(i + 1, j + 1):8d}{pid(i, j + 1):8d}" for j in range(n) for i in range(n)]
+    write(os.path.join(outdir, "contact", name + ".k"), lines)
+
+
+def contact_decks(outdir):
+    """The contact keyword variants and search policies on the cube and plate."""
+    single = ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
+    contact_block_plate(outdir, "search_adaptive", single, f10(2, 0, 0, 0, 0, 0, 0.0, 90))
+    contact_block_plate(outdir, "search_fixed_120", single, f10(1, 120, 0, 0, 0, 0, 0.0, 90))
+    contact_block_plate(outdir, "variant_surface_to_surface",
+                        ["*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_ID", f10(7) + "cube on plate", f10(1, 2, 3, 3), "", ""],
+                        endtim=1.0e-4)
+    contact_block_plate(outdir, "variant_nodes_to_surface",
+                        ["*CONTACT_AUTOMATIC_NODES_TO_SURFACE", f10(91, 2, 4, 3), "", ""], endtim=1.0e-4)
+    contact_block_plate(outdir, "variant_general_part_set",
+                        ["*CONTACT_AUTOMATIC_GENERAL", f10(5, 0, 2), "", ""], endtim=1.0e-4)
+    contact_block_plate(outdir, "variant_single_all_but",
+                        ["*CONTACT_SINGLE_SURFACE_ID", f10(3), f10(5, 0, 6), "", "", f10(0, 0.1, 0, 0, 0, 0, 5)],
+                        endtim=1.0e-4)
+
+
 def demo_cantilever(outdir):
     """A clamped steel cantilever of hexahedra set swinging by an initial
     velocity that grows along its length."""
@@ -734,6 +781,7 @@ def main():
     spot_weld(args.outdir, "spot_weld", 1.0e20)
     spot_weld(args.outdir, "spot_weld_fail", 1.0e-6)
     demo_cantilever(args.outdir)
+    contact_decks(args.outdir)
 
 
 if __name__ == "__main__":

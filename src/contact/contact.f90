@@ -22,6 +22,7 @@ module xd_contact_contact
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t
     !$ use omp_lib, only: omp_get_wtime
+    use xd_core_sorting, only: where_true
     implicit none
     private
     public :: contacts_t, interface_t, build_contacts, contact_search, contact_drift, contact_report, &
@@ -40,7 +41,7 @@ module xd_contact_contact
         logical :: adaptive = .false.
         real(wp) :: bt = 0, dt = 1.0e20_wp
         real(wp) :: drift = 0                 !< u: motion bound since the last search
-        real(wp) :: worst = 0                 !< largest 4u / delta seen at a search
+        real(wp) :: worst = 0                 !< largest 4u / delta of a cycle that used old lists
         integer :: last_cycle = -huge(1)
         integer :: nsearch = 0
         type(search_counts_t) :: total        !< summed over searches
@@ -119,7 +120,7 @@ contains
                     allocate (dumped(model%nnode))
                     dumped = .false.
                     dumped(model%set(sset)%member_ix) = .true.
-                    it%dump = pack([(k, k=1, it%surf%nslave)], dumped(it%surf%node(it%surf%slave)))
+                    it%dump = where_true(dumped(it%surf%node(it%surf%slave)))
                     deallocate (dumped)
                 else
                     allocate (it%dump(0))
@@ -165,10 +166,10 @@ contains
                             if (all(fkey(:, j) == key)) exit
                         end do
                         if (j > f%n) then
-                            call make_error(error, '*'//trim(model%contact(i)%keyword)//' '//itoa(model%contact(i)%id)// &
-                                            ' field '//field//': segment '//itoa(q)//' of *SET_SEGMENT '//itoa(sid)// &
-                                            ' (nodes '//node_ids(model%segset(ref)%seg(:, q))// &
-                                            ') is not an exterior element face')
+                            call make_error(error, trim(model%contact(i)%at)//': *'//trim(model%contact(i)%keyword)// &
+                                            ' '//itoa(model%contact(i)%id)//' field '//field//': segment '//itoa(q)// &
+                                            ' of *SET_SEGMENT '//itoa(sid)//' (nodes '// &
+                                            node_ids(model%segset(ref)%seg(:, q))//') is not an exterior element face')
                             return
                         end if
                         sel(j) = .true.
@@ -199,7 +200,7 @@ contains
             do j = 1, ct%faces%n
                 if (sel(j)) on(ct%faces%node(:, j)) = .true.
             end do
-            nodes = pack([(j, j=1, model%nnode)], on)
+            nodes = where_true(on)
         end function face_nodes
     end subroutine build_contacts
 
@@ -224,9 +225,13 @@ contains
                 else
                     due = cycle - it%last_cycle >= it%interval
                 end if
-                if (.not. due) cycle
+                if (.not. due) then
+                    ! the lists of the last search serve this cycle: how much
+                    ! of the margin has the motion used?
+                    it%worst = max(it%worst, 4.0_wp*it%drift/max(it%margin, tiny(1.0_wp)))
+                    cycle
+                end if
                 t0 = wtime()
-                if (it%nsearch > 0) it%worst = max(it%worst, 4.0_wp*it%drift/max(it%margin, tiny(1.0_wp)))
                 if (.not. allocated(it%xl)) allocate (it%xl(3, it%surf%nnode), it%lc(it%surf%nnode))
                 it%xl = x(:, it%surf%node)
                 call characteristic_lengths(it%surf, it%xl, it%lc)

@@ -19,9 +19,10 @@ module xd_contact_global_search
     use xd_kinds, only: wp, i8
     use xd_contact_surface, only: surface_t, segment_diagonals, side_a, side_b, side_slave
     use xd_model, only: mnl_minimal, mnl_closest1, mnl_closest3
+    use xd_core_sorting, only: where_true
     implicit none
     private
-    public :: buckets_t, bucket_sort, node_pool, characteristic_lengths, master_lists_t, build_master_lists
+    public :: buckets_t, bucket_sort, bucket_radii, node_pool, characteristic_lengths, master_lists_t, build_master_lists
     public :: search_work_t, new_search_work, mark_none, mark_trackable, mark_nontrackable, search_counts_t
 
     integer(int8), parameter :: mark_none = 0, mark_trackable = 1, mark_nontrackable = 2
@@ -32,6 +33,7 @@ module xd_contact_global_search
         real(wp) :: lo(3) = 0, w(3) = 1
         integer, allocatable :: start(:)    !< (ncell + 1) first position of each cell in item
         integer, allocatable :: item(:)     !< node numbers, cell by cell
+        real(wp), allocatable :: xr(:, :)   !< (4, n) x, y, z and squared radius of item(q), for a streaming scan
     end type buckets_t
 
     !> Master node lists of all slaves (CSR in slave order), closest first.
@@ -46,11 +48,13 @@ module xd_contact_global_search
         integer(i8) :: pool = 0, reduced = 0, masters = 0
     end type search_counts_t
 
-    !> One thread's work arrays: marks per surface node and the pool.
+    !> One thread's work arrays: marks per surface node and the pool. A mark
+    !> or an exclusion holds only while its stamp is the current slave's
+    !> number, so nothing is reset between slaves.
     type :: search_work_t
         integer(int8), allocatable :: mark(:)
-        integer, allocatable :: touched(:)
-        integer :: ntouched = 0
+        integer, allocatable :: stamp(:)     !< slave whose search set mark(i)
+        integer, allocatable :: excluded(:)  !< slave that node i shares a segment with
         integer, allocatable :: pool(:)
         real(wp), allocatable :: dist(:)
         integer :: npool = 0
@@ -70,8 +74,10 @@ contains
     subroutine new_search_work(nnode, w)
         integer, intent(in) :: nnode
         type(search_work_t), intent(out) :: w
-        allocate (w%mark(nnode), w%touched(64), w%pool(64), w%dist(64))
+        allocate (w%mark(nnode), w%stamp(nnode), w%excluded(nnode), w%pool(64), w%dist(64))
         w%mark = mark_none
+        w%stamp = 0
+        w%excluded = 0
     end subroutine new_search_work
 
     !> Nodal characteristic length (section 4): the largest diagonal of the
@@ -107,7 +113,7 @@ contains
         n = size(active)
         nact = count(active)
         allocate (bk%item(nact))
-        bk%item = pack([(i, i=1, n)], active)
+        bk%item = where_true(active)
         if (nact == 0) then
             allocate (bk%start(2))
             bk%start = 1
@@ -151,7 +157,22 @@ contains
         do i = ncell, 1, -1
             if (bk%start(i) == 0) bk%start(i) = bk%start(i + 1)
         end do
+        allocate (bk%xr(4, nact))
+        do i = 1, nact
+            bk%xr(1:3, i) = xl(:, bk%item(i))
+        end do
+        bk%xr(4, :) = 0
     end subroutine bucket_sort
+
+    !> Squared search radius r(m)^2 of each bucketed node, in bucket order.
+    subroutine bucket_radii(bk, r)
+        type(buckets_t), intent(inout) :: bk
+        real(wp), intent(in) :: r(:)
+        integer :: q
+        do q = 1, size(bk%item)
+            bk%xr(4, q) = r(bk%item(q))**2
+        end do
+    end subroutine bucket_radii
 
     !> Stable counting sort of `items` by key(items) in 1..nkey; start(k) is
     !> the position of bucket k in items (start(nkey + 1) = size + 1).
@@ -188,26 +209,24 @@ contains
     end function cell_of
 
     !> Node pool of a point p: the nodes of its bucket and the neighbouring
-    !> ones that lie within their own radius r(m) of p. The caller's radii
-    !> must not exceed the bucket width.
-    subroutine node_pool(bk, xl, r, p, w)
+    !> ones that lie within their own radius of p (bucket_radii sets them;
+    !> they must not exceed the bucket width). The three cells along z of a
+    !> column are contiguous, so each column is one streaming scan.
+    subroutine node_pool(bk, p, w)
         type(buckets_t), intent(in) :: bk
-        real(wp), intent(in) :: xl(:, :), r(:), p(3)
+        real(wp), intent(in) :: p(3)
         type(search_work_t), intent(inout) :: w
-        integer :: c(3), i, j, k, cell, q, m
+        integer :: c(3), i, j, cell, q
         real(wp) :: d2
         w%npool = 0
         c = cell_of(bk, p)
         do i = max(1, c(1) - 1), min(bk%nb(1), c(1) + 1)
             do j = max(1, c(2) - 1), min(bk%nb(2), c(2) + 1)
                 cell = bk%nb(3)*((j - 1) + bk%nb(2)*(i - 1))
-                do k = max(1, c(3) - 1), min(bk%nb(3), c(3) + 1)
-                    do q = bk%start(cell + k), bk%start(cell + k + 1) - 1
-                        m = bk%item(q)
-                        d2 = (xl(1, m) - p(1))**2 + (xl(2, m) - p(2))**2 + (xl(3, m) - p(3))**2
-                        if (d2 > r(m)**2) cycle
-                        call push_pool(w, m, sqrt(d2))
-                    end do
+                do q = bk%start(cell + max(1, c(3) - 1)), bk%start(cell + min(bk%nb(3), c(3) + 1) + 1) - 1
+                    d2 = (bk%xr(1, q) - p(1))**2 + (bk%xr(2, q) - p(2))**2 + (bk%xr(3, q) - p(3))**2
+                    if (d2 > bk%xr(4, q)) cycle
+                    call push_pool(w, bk%item(q), sqrt(d2))
                 end do
             end do
         end do
@@ -247,6 +266,7 @@ contains
         master = iand(s%node_side, ior(side_a, side_b)) /= 0
         r = lc + reach + margin
         call bucket_sort(xl, master, maxval(r, mask=master, dim=1), bk)
+        call bucket_radii(bk, r)
         nblk = (s%nslave + block_size - 1)/block_size
         allocate (blk(nblk))
         npool = 0
@@ -260,7 +280,7 @@ contains
             allocate (blk(ib)%cnt(last - first + 1), blk(ib)%node(8*(last - first + 1)), &
                       blk(ib)%trk(8*(last - first + 1)))
             do i = first, last
-                call one_slave(s, bk, xl, r, lc, reach + margin, mnl, s%slave(i), w, blk(ib), i - first + 1, &
+                call one_slave(s, bk, xl, lc, reach + margin, mnl, s%slave(i), w, blk(ib), i - first + 1, &
                                npool, nred)
             end do
         end do
@@ -288,15 +308,15 @@ contains
     end subroutine build_master_lists
 
     !> One slave node: node pool, reduced pool, master node list.
-    subroutine one_slave(s, bk, xl, r, lc, extra, mnl, sn, w, out, iloc, npool, nred)
+    subroutine one_slave(s, bk, xl, lc, extra, mnl, sn, w, out, iloc, npool, nred)
         type(surface_t), intent(in) :: s
         type(buckets_t), intent(in) :: bk
-        real(wp), intent(in) :: xl(:, :), r(:), lc(:), extra
+        real(wp), intent(in) :: xl(:, :), lc(:), extra
         integer, intent(in) :: mnl, sn, iloc
         type(search_work_t), intent(inout) :: w
         type(block_out_t), intent(inout) :: out
         integer(i8), intent(inout) :: npool, nred
-        integer :: want, i, k, m, n0, nkeep
+        integer :: want, i, m, n0, nkeep
         logical :: keep
 
         ! which sides the slave looks at: single surface A against A; two
@@ -310,13 +330,15 @@ contains
             if (want == 0) want = side_b
         end if
 
-        call node_pool(bk, xl, r, xl(:, sn), w)
+        call node_pool(bk, xl(:, sn), w)
         npool = npool + w%npool
 
         ! step A: nodes of the segments around the slave's neighbours are
         ! nontrackable (tracking from them could find the slave itself)
-        w%ntouched = 0
-        call set_mark(sn, mark_nontrackable, .true.)
+        w%excluded(sn) = sn
+        do i = s%nn_ptr(sn), s%nn_ptr(sn + 1) - 1
+            w%excluded(s%nn_list(i)) = sn
+        end do
         do i = s%nn_ptr(sn), s%nn_ptr(sn + 1) - 1
             call mark_around(s%nn_list(i), mark_nontrackable)
         end do
@@ -326,8 +348,7 @@ contains
         nkeep = 0
         do i = 1, w%npool
             m = w%pool(i)
-            keep = m /= sn .and. iand(s%node_side(m), want) /= 0
-            if (keep) keep = .not. shares_segment(m)
+            keep = w%excluded(m) /= sn .and. iand(s%node_side(m), want) /= 0
             if (keep) then
                 nkeep = nkeep + 1
                 w%pool(nkeep) = m
@@ -342,13 +363,13 @@ contains
         select case (mnl)
         case (mnl_closest1, mnl_closest3)
             do i = 1, min(nkeep, mnl)
-                call emit(w%pool(i), w%mark(w%pool(i)) /= mark_nontrackable)
+                call emit(w%pool(i), mark_of(w%pool(i)) /= mark_nontrackable)
             end do
         case default
             ! step C, in order of increasing distance
             do i = 1, nkeep
                 m = w%pool(i)
-                select case (w%mark(m))
+                select case (mark_of(m))
                 case (mark_nontrackable)
                     ! C2/C3: an adjacent region; keep it only within L_m (here
                     ! always true: the pool test used the same radius)
@@ -366,42 +387,24 @@ contains
             end do
         end select
         out%cnt(iloc) = out%n - n0
-
-        do k = 1, w%ntouched
-            w%mark(w%touched(k)) = mark_none
-        end do
     contains
-        logical function shares_segment(m)
-            integer, intent(in) :: m
-            integer :: lo, hi, mid
-            ! the slave's neighbour list is sorted: binary search
-            lo = s%nn_ptr(sn)
-            hi = s%nn_ptr(sn + 1) - 1
-            shares_segment = .false.
-            do while (lo <= hi)
-                mid = (lo + hi)/2
-                if (s%nn_list(mid) == m) then
-                    shares_segment = .true.
-                    return
-                else if (s%nn_list(mid) < m) then
-                    lo = mid + 1
-                else
-                    hi = mid - 1
-                end if
-            end do
-        end function shares_segment
+        integer(int8) function mark_of(nd)
+            integer, intent(in) :: nd
+            mark_of = mark_none
+            if (w%stamp(nd) == sn) mark_of = w%mark(nd)
+        end function mark_of
 
-        !> Mark every node of every segment at node nd. Nontrackable marks
-        !> override trackable ones; trackable marks only fill unmarked nodes
-        !> (a node next to an adjacent region stays nontrackable).
+        !> Mark every node of every segment at node nd: nd and the nodes
+        !> sharing a segment with it. Nontrackable marks override trackable
+        !> ones; trackable marks only fill unmarked nodes (a node next to an
+        !> adjacent region stays nontrackable).
         subroutine mark_around(nd, mk)
             integer, intent(in) :: nd
             integer(int8), intent(in) :: mk
-            integer :: j, q
-            do j = s%seg_ptr(nd), s%seg_ptr(nd + 1) - 1
-                do q = 1, 4
-                    call set_mark(s%seg(q, s%seg_list(j)), mk, mk == mark_nontrackable)
-                end do
+            integer :: j
+            call set_mark(nd, mk, mk == mark_nontrackable)
+            do j = s%nn_ptr(nd), s%nn_ptr(nd + 1) - 1
+                call set_mark(s%nn_list(j), mk, mk == mark_nontrackable)
             end do
         end subroutine mark_around
 
@@ -409,10 +412,8 @@ contains
             integer, intent(in) :: nd
             integer(int8), intent(in) :: mk
             logical, intent(in) :: override
-            if (w%mark(nd) == mark_none) then
-                if (w%ntouched == size(w%touched)) w%touched = [w%touched, w%touched]
-                w%ntouched = w%ntouched + 1
-                w%touched(w%ntouched) = nd
+            if (w%stamp(nd) /= sn) then
+                w%stamp(nd) = sn
                 w%mark(nd) = mk
             else if (override) then
                 w%mark(nd) = mk

@@ -9,6 +9,7 @@ module xd_contact_rigidwall
     use xd_core_memory, only: alloc
     use xd_model, only: model_t, rigidwall_t, find_set, set_node
     use xd_solver_state, only: state_t
+    use xd_core_sorting, only: where_true
     implicit none
     private
     public :: walls_t, build_walls, apply_walls, walls_kinetic
@@ -51,7 +52,7 @@ contains
                     s = find_set(model, set_node, w%nsidex)
                     on(model%set(s)%member_ix) = .false.
                 end if
-                walls%w(i)%node = pack([(k, k=1, model%nnode)], on)
+                walls%w(i)%node = where_true(on)
                 walls%w(i)%vel = real(w%v0, dp)
                 walls%w(i)%vel_old = walls%w(i)%vel
             end associate

@@ -14,6 +14,7 @@ module xd_contact_surface
     use xd_core_vectors, only: cross
     use xd_elements_hex8, only: hex_volume_operator
     use xd_model, only: model_t, mat_rigid
+    use xd_core_sorting, only: where_true
     implicit none
     private
     public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid
@@ -335,7 +336,9 @@ contains
         integer, allocatable :: parent(:), label(:)
         integer :: j, k, r
         allocate (parent(n), label(n))
-        parent = [(j, j=1, n)]
+        do j = 1, n
+            parent(j) = j
+        end do
         do j = 1, f%n
             do k = 2, 4
                 call unite(f%node(1, j), f%node(k, j))
@@ -447,7 +450,7 @@ contains
         s%two_way = two_way
         s%nslave = count(iand(s%node_side, side_slave) /= 0)
         allocate (s%slave(s%nslave))
-        s%slave = pack([(nd, nd=1, s%nnode)], iand(s%node_side, side_slave) /= 0)
+        s%slave = where_true(iand(s%node_side, side_slave) /= 0)
 
         ! thickness (SST / MST override, SFST / SFMT scale) and penalty stiffness
         ! k = SLSFAC x SFM x (K A^2 / V or K A / max diagonal), LS-DYNA's rule
@@ -513,7 +516,7 @@ contains
     !> Nodes that share a segment with each node (itself excluded), ascending.
     subroutine node_neighbours(s)
         type(surface_t), intent(inout) :: s
-        integer, allocatable :: mark(:), buf(:)
+        integer, allocatable :: mark(:), buf(:), tmp(:)
         integer :: nd, i, k, m, nb, total
         allocate (mark(s%nnode), buf(64))
         mark = 0
@@ -539,7 +542,9 @@ contains
             total = total + nb
             s%nn_ptr(nd + 1) = total + 1
         end do
-        s%nn_list = s%nn_list(1:total)
+        allocate (tmp(total))
+        tmp = s%nn_list(1:total)
+        call move_alloc(tmp, s%nn_list)
     end subroutine node_neighbours
 
     pure subroutine sort_ints(a)

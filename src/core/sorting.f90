@@ -2,7 +2,7 @@
 module xd_core_sorting
     implicit none
     private
-    public :: sort_index, id_map_t
+    public :: sort_index, id_map_t, where_true
 
     !> Maps user ids to indices 1..n. Dense ids use a direct table, sparse ones
     !> a sorted list and binary search.
@@ -19,6 +19,22 @@ module xd_core_sorting
     end type id_map_t
 
 contains
+
+    !> Indices i where mask(i) is true, ascending. (A loop, not pack of an
+    !> implied do: no stack temporary of the mask's size on large models.)
+    function where_true(mask) result(ix)
+        logical, intent(in) :: mask(:)
+        integer, allocatable :: ix(:)
+        integer :: i, n
+        allocate (ix(count(mask)))
+        n = 0
+        do i = 1, size(mask)
+            if (mask(i)) then
+                n = n + 1
+                ix(n) = i
+            end if
+        end do
+    end function where_true
 
     !> Stable merge sort: perm such that keys(perm) is ascending.
     subroutine sort_index(keys, perm)

@@ -5,6 +5,7 @@
 module xd_input_read_contacts
     use xd_kinds, only: wp
     use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: itoa
     use xd_input_field_reader, only: card_t, get_int, get_real, get_text, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card, add_warning
@@ -62,11 +63,13 @@ contains
         end if
         ic = first_card(kw)
         c%src = kw%kw_line
+        c%at = ctx%src%where(c%src)
         at = ctx%src%where(kw%kw_line)//': '//trim(kw%written)
 
         ! card 1: which parts take part
         if (ic <= kw%ncard) then
             c%src = kw%card_line(ic)
+            c%at = ctx%src%where(c%src)
             call get_card(ctx, kw, ic, 'SSID MSID SSTYP MSTYP SBOXID MBOXID SPR MPR', 1, card, error)
             if (allocated(error)) return
             call get_int(card, 1, c%ssid, 0, error); if (allocated(error)) return
@@ -81,12 +84,12 @@ contains
                 end if
             end do
             if (c%sstyp < styp_segment_set .or. c%sstyp > styp_all_but) then
-                call card_error(card, 3, 'SSTYP must be 0-6 (segment set, shell set, part set, part, '// &
+                call card_error(card, 3, 'SSTYP '//itoa(c%sstyp)//' is not 0-6 (segment set, shell set, part set, part, '// &
                                 'node set, all, all but a part set)', error)
                 return
             end if
             if (c%mstyp < styp_segment_set .or. c%mstyp > styp_all_but) then
-                call card_error(card, 4, 'MSTYP must be 0-6 (segment set, shell set, part set, part, '// &
+                call card_error(card, 4, 'MSTYP '//itoa(c%mstyp)//' is not 0-6 (segment set, shell set, part set, part, '// &
                                 'all, all but a part set)', error)
                 return
             end if
@@ -178,7 +181,7 @@ contains
                                             'not implemented; ignored')
             call get_int(card, 7, c%bsort, 0, error); if (allocated(error)) return
             if (c%bsort < 0) then
-                call card_error(card, 7, 'BSORT (cycles between global searches) must not be negative', error)
+                call card_error(card, 7, 'BSORT '//itoa(c%bsort)//' (cycles between global searches) must not be negative', error)
                 return
             end if
         end if
@@ -237,7 +240,8 @@ contains
                 if (allocated(error)) return
                 call get_int(card, 3, cc%nsbcs, 0, error); if (allocated(error)) return
                 if (cc%nsbcs < 0) then
-                    call card_error(card, 3, 'NSBCS (cycles between global searches) must not be negative', error)
+                    call card_error(card, 3, 'NSBCS '//itoa(cc%nsbcs)//' (cycles between global searches) '// &
+                                    'must not be negative', error)
                     return
                 end if
             end if
@@ -275,11 +279,11 @@ contains
             case (0, 1); cc%search = search_fixed
             case (2); cc%search = search_adaptive
             case default
-                call card_error(card, 1, 'SEARCH must be 1 (every NSRCH cycles) or 2 (adaptive)', error); return
+                call card_error(card, 1, 'SEARCH '//itoa(ival)//' is not 1 (every NSRCH cycles) or 2 (adaptive)', error); return
             end select
             call get_int(card, 2, cc%nsrch, 0, error); if (allocated(error)) return
             if (cc%nsrch < 0) then
-                call card_error(card, 2, 'NSRCH (cycles between global searches) must not be negative', error)
+                call card_error(card, 2, 'NSRCH '//itoa(cc%nsrch)//' (cycles between global searches) must not be negative', error)
                 return
             end if
             call get_int(card, 3, ival, 0, error); if (allocated(error)) return
@@ -288,7 +292,8 @@ contains
             case (1); cc%mnl = mnl_closest1
             case (3); cc%mnl = mnl_closest3
             case default
-                call card_error(card, 3, 'MNL must be 0 (minimal set), 1 (closest node) or 3 (three closest)', error)
+                call card_error(card, 3, 'MNL '//itoa(ival)//' is not 0 (minimal set), 1 (closest node) or '// &
+                                '3 (three closest)', error)
                 return
             end select
             call on_off(4, cc%tracking); if (allocated(error)) return
@@ -298,7 +303,7 @@ contains
             case (0, 1); cc%lagrange = .false.
             case (2); cc%lagrange = .true.
             case default
-                call card_error(card, 6, 'ENFORCE must be 1 (penalty) or 2 (Lagrangian projection)', error); return
+                call card_error(card, 6, 'ENFORCE '//itoa(ival)//' is not 1 (penalty) or 2 (Lagrangian projection)', error); return
             end select
             call get_real(card, 7, cc%pmarg, 0.25_wp, error, zero_default=.true.); if (allocated(error)) return
             if (cc%pmarg < 0.0_wp) then
@@ -315,7 +320,7 @@ contains
             case (0, 1); flag = .true.
             case (2); flag = .false.
             case default
-                call card_error(card, k, 'must be 1 (on) or 2 (off)', error)
+                call card_error(card, k, itoa(ival)//' is not 1 (on) or 2 (off)', error)
             end select
         end subroutine on_off
     end subroutine read_control_xdyna_contact

@@ -127,8 +127,8 @@ program xdyna
     call build_walls(model, walls)
     call build_contacts(model, st%x0, ct, error)
     if (allocated(error)) then
-        write (error_unit, '(a)') model%deck_path//': '//error%message
-        call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
+        write (error_unit, '(a)') error%message
+        call log_line(lg, ' *** Error: '//error%message)
         call finish(exit_input)
     end if
     if (ct%n > 0) call add_warning(model, 'contact: steps 1-2 (surface, global search) run; the local search '// &

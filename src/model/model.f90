@@ -210,6 +210,7 @@ module xd_model
         real(wp) :: sfst = 1, sfmt = 1           !< shell thickness scale factors
         integer :: bsort = 0                     !< cycles between global searches (0: control value)
         integer :: src = 0
+        character(len=200) :: at = ''            !< 'file:line' of card 1, for set-up errors
     end type contact_t
 
     !> *CONTROL_CONTACT and *CONTROL_XDYNA_CONTACT.

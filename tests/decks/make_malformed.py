@@ -72,8 +72,28 @@ def main():
        "bad_integer.k:{line}: *PART card 2 field SECID: '1.5' is not an integer")
     mk("unknown_keyword", lambda L: L.insert(3, "*FOO_BAR") or 4,
        "unknown_keyword.k:{line}: *FOO_BAR is not a supported keyword")
-    mk("planned_keyword", lambda L: L.insert(3, "*CONTACT_AUTOMATIC_SINGLE_SURFACE") or 4,
-       "planned_keyword.k:{line}: *CONTACT_AUTOMATIC_SINGLE_SURFACE is not implemented")
+    mk("planned_keyword", lambda L: L.insert(3, "*RIGIDWALL_PLANAR_FORCES") or 4,
+       "planned_keyword.k:{line}: *RIGIDWALL_PLANAR_FORCES is not implemented")
+    mk("contact_bad_sstyp", lambda L: (L.insert(3, "*CONTACT_AUTOMATIC_SINGLE_SURFACE"),
+                                       L.insert(4, "         1         0         9")) and 5,
+       "contact_bad_sstyp.k:{line}: *CONTACT_AUTOMATIC_SINGLE_SURFACE card 1 field SSTYP: SSTYP 9 is not 0-6")
+    mk("contact_undefined_part_set", lambda L: (L.insert(3, "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_ID"),
+                                                L.insert(4, "        12 front"),
+                                                L.insert(5, "         7         1         2         3")) and 6,
+       "contact_undefined_part_set.k:{line}: *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE field SSID: part set 7 is not defined")
+    mk("contact_master_node_set", lambda L: (L.insert(3, "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE"),
+                                             L.insert(4, "         1         1         3         4")) and 5,
+       "contact_master_node_set.k:{line}: *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE card 1 field MSTYP: the master "
+       "side is made of segments")
+    mk("contact_bad_search", lambda L: (L.insert(3, "*CONTROL_XDYNA_CONTACT"), L.insert(4, "         3")) and 5,
+       "contact_bad_search.k:{line}: *CONTROL_XDYNA_CONTACT card 1 field SEARCH: SEARCH 3 is not 1")
+    mk("contact_bad_mnl", lambda L: (L.insert(3, "*CONTROL_XDYNA_CONTACT"), L.insert(4, "         1        10         2")) and 5,
+       "contact_bad_mnl.k:{line}: *CONTROL_XDYNA_CONTACT card 1 field MNL: MNL 2 is not 0")
+    mk("contact_segment_not_a_face", lambda L: (L.insert(3, "*SET_SEGMENT"), L.insert(4, "         4"),
+                                                L.insert(5, "         1         2         7         8"),
+                                                L.insert(6, "*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE"),
+                                                L.insert(7, "         4         1         0         3")) and 8,
+       "contact_segment_not_a_face.k:{line}: *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE 1 field SSID: segment 1 of *SET_SEGMENT 4 (nodes 1 2 7 8) is not an exterior element face")
     mk("undefined_node", lambda L: replace(L, "       1       1       1       2",
                                            "       1       1       1       2       3       4       5       6      99       8"),
        "undefined_node.k:{line}: *ELEMENT_SOLID 1 field N7: node 99 is not defined")

@@ -4,7 +4,7 @@ program test_keyword_table
     use xd_testing, only: check, test_summary
     use xd_input_field_reader, only: width_standard, width_long, width_i10
     use xd_input_keyword_table, only: keyword_t, lookup_keyword, fam_geometry, fam_material, fam_set, &
-                                      fam_condition, fam_skip, fam_unknown, fam_planned
+                                      fam_condition, fam_skip, fam_unknown, fam_planned, fam_contact
     implicit none
     type(keyword_t) :: kw
     call look('*ELEMENT_SOLID (ten nodes format)')
@@ -31,8 +31,11 @@ program test_keyword_table
     call check(kw%width_mode == width_long, 'a keyword without suffix inherits the deck format')
     call look('*CONTROL_MPP_IO_NOD3DUMP')
     call check(kw%family == fam_skip, 'prefix entries of the skip list (*CONTROL_MPP_*)')
-    call look('*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID')
+    call look('*RIGIDWALL_PLANAR_FORCES_ID')
     call check(kw%family == fam_planned, 'keywords for later work are told apart from unknown ones')
+    call look('*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID')
+    call check(kw%family == fam_contact .and. kw%has_id .and. kw%name == 'CONTACT_AUTOMATIC_SINGLE_SURFACE', &
+               'contact keywords take the _ID option')
     call look('*WHATEVER')
     call check(kw%family == fam_unknown .and. kw%name == 'WHATEVER', 'unknown keyword')
     call test_summary()

@@ -1,0 +1,220 @@
+!> Step 2 of the automatic contact (section 4): the bucket sort's node pool
+!> is exactly the brute-force set on random clouds and on a crumpled sheet
+!> of 1e4 nodes; the master node list of a configuration built like the
+!> paper's Fig. 4 is the one the paper's walk-through gives; the closest-1
+!> and closest-3 lists; the lists do not depend on the thread count.
+program test_contact_global_search
+    use xd_kinds, only: wp
+    use xd_testing, only: check, test_summary
+    use xd_model, only: model_t, mnl_minimal, mnl_closest1, mnl_closest3
+    use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface
+    use xd_contact_global_search, only: buckets_t, bucket_sort, bucket_radii, node_pool, search_work_t, new_search_work, &
+                                        characteristic_lengths, master_lists_t, build_master_lists, search_counts_t
+    use xd_test_fixtures, only: empty_model, add_shell, node_at, set_sheet
+    !$ use omp_lib, only: omp_set_num_threads
+    implicit none
+
+    call random_cloud(2000, 0.01_wp, 0.08_wp, 'random cloud, 2000 points, radii 0.01-0.08')
+    call random_cloud(10000, 0.001_wp, 0.03_wp, 'random cloud, 1e4 points, radii 0.001-0.03')
+    call random_cloud(3000, 0.2_wp, 0.2_wp, 'random cloud, 3000 points, one bucket per axis')
+    call crumpled_sheet()
+    call figure4()
+    call test_summary()
+
+contains
+
+    !> Pools from the buckets against a brute-force scan of every pair.
+    subroutine random_cloud(n, rmin, rmax, name)
+        integer, intent(in) :: n
+        real(wp), intent(in) :: rmin, rmax
+        character(len=*), intent(in) :: name
+        real(wp), allocatable :: x(:, :), r(:), q(:, :)
+        integer :: k
+        allocate (x(3, n), r(n), q(3, 200))
+        call random_seed(put=[(977 + k, k=1, 64)])
+        call random_number(x)
+        x(3, :) = 0.3_wp*x(3, :)       ! a flattened cloud: unequal bucket counts per axis
+        call random_number(r)
+        r = rmin + (rmax - rmin)*r
+        call random_number(q)
+        q = 1.4_wp*q - 0.2_wp          ! query points inside and outside the cloud's box
+        call compare_pools(x, r, x, 'bucket search = brute force: '//name//' (queries at the points)')
+        call compare_pools(x, r, q, 'bucket search = brute force: '//name//' (queries in and around the box)')
+    end subroutine random_cloud
+
+    subroutine compare_pools(x, r, q, name)
+        real(wp), intent(in) :: x(:, :), r(:), q(:, :)
+        character(len=*), intent(in) :: name
+        type(buckets_t) :: bk
+        type(search_work_t) :: w
+        logical, allocatable :: active(:), hit(:), want(:)
+        integer :: i, nbad, npairs
+        call new_search_work(size(r), w)
+        allocate (active(size(r)), hit(size(r)), want(size(r)))
+        active = .true.
+        call bucket_sort(x, active, maxval(r), bk)
+        call bucket_radii(bk, r)
+        nbad = 0
+        npairs = 0
+        do i = 1, size(q, 2)
+            call node_pool(bk, q(:, i), w)
+            hit = .false.
+            hit(w%pool(1:w%npool)) = .true.
+            want = (x(1, :) - q(1, i))**2 + (x(2, :) - q(2, i))**2 + (x(3, :) - q(3, i))**2 <= r**2
+            nbad = nbad + count(hit .neqv. want)
+            if (count(hit) /= w%npool) nbad = nbad + 1      ! no node twice
+            npairs = npairs + w%npool
+        end do
+        call check(nbad == 0 .and. npairs > 0, name, 'mismatches '//itoa(nbad)//' pairs '//itoa(npairs))
+    end subroutine compare_pools
+
+    !> A 100 x 100 sheet of shells (1e4 nodes) crumpled by folds in two
+    !> directions, pool radius L_m + margin as the global search uses it.
+    subroutine crumpled_sheet()
+        type(model_t) :: m
+        type(faces_t) :: f
+        type(surface_t) :: s
+        type(master_lists_t) :: l1, l2
+        type(search_counts_t) :: cnt
+        real(wp), allocatable :: lc(:), r(:), xl(:, :)
+        integer, parameter :: n = 99
+        integer :: i, j
+        real(wp), allocatable :: x(:, :)
+        integer, allocatable :: conn(:, :)
+        call empty_model(m, 1)
+        allocate (x(3, (n + 1)**2), conn(4, n*n))
+        do j = 0, n
+            do i = 0, n
+                x(:, 1 + i + (n + 1)*j) = crumple(real(i, wp)/n, real(j, wp)/n)
+            end do
+        end do
+        do j = 0, n - 1
+            do i = 0, n - 1
+                conn(:, 1 + i + n*j) = [1 + i + (n + 1)*j, 2 + i + (n + 1)*j, 2 + i + (n + 1)*(j + 1), 1 + i + (n + 1)*(j + 1)]
+            end do
+        end do
+        call set_sheet(m, x, conn, 0.001_wp, 1)
+        call build_faces(m, m%x0, f)
+        call build_surface(f, m%nnode, [(.true., i=1, f%n)], [(.false., i=1, f%n)], [integer ::], .false., &
+                           [0.0_wp, 0.0_wp, 1.0_wp, 1.0_wp], [0.1_wp, 1.0_wp, 1.0_wp], s)
+        allocate (xl(3, s%nnode), lc(s%nnode), r(s%nnode))
+        xl = m%x0(:, s%node)
+        call characteristic_lengths(s, xl, lc)
+        r = lc + 0.003_wp
+        call check(s%nnode == 10000, 'crumpled sheet has 1e4 surface nodes')
+        call compare_pools(xl, r, xl, 'bucket search = brute force: crumpled sheet of 1e4 nodes')
+        ! thread count does not change the lists (blocks of slaves, fixed order)
+        !$ call omp_set_num_threads(1)
+        call build_master_lists(s, xl, lc, 0.001_wp, 0.002_wp, mnl_minimal, l1, cnt)
+        !$ call omp_set_num_threads(2)
+        call build_master_lists(s, xl, lc, 0.001_wp, 0.002_wp, mnl_minimal, l2, cnt)
+        call check(all(l1%ptr == l2%ptr) .and. all(l1%node == l2%node) .and. all(l1%trackable .eqv. l2%trackable), &
+                   'master node lists: identical with 1 and 2 threads')
+        call check(cnt%masters > 0 .and. cnt%masters <= cnt%reduced .and. cnt%reduced <= cnt%pool, &
+                   'master node lists: masters <= reduced pool <= pool')
+    end subroutine crumpled_sheet
+
+    !> A sheet folded over itself twice across its length, so that layers
+    !> lie close above each other: the pool meets the sheet's own far parts.
+    pure function crumple(u, v) result(p)
+        real(wp), intent(in) :: u, v
+        real(wp) :: p(3), a
+        a = 3.0_wp*acos(-1.0_wp)*u
+        p = [0.15_wp*sin(a) + 0.01_wp*sin(17*v), v, 0.05_wp*cos(a)*(1 + 0.3_wp*sin(7*v)) + 0.1_wp*u]
+    end function crumple
+
+    !> The configuration of the paper's Fig. 4 in 3-D, strips one segment
+    !> wide (nodes at y = 0 and 1), unit segments: a strip folded into a U
+    !> (bottom z = 0 and top z = 1, x = 0..3, joined by a wall at x = 3)
+    !> and a separate plate at z = -1. Node numbers: bottom 1 + x + 4y,
+    !> top 9 + x + 4y, plate 17 + x + 4y. Slave: node 1 at the origin.
+    !> Pool radius L + 1.1 = 2.51. Walk-through (ties by node number):
+    !> top node 9 (d 1) unmarked: trackable master, its neighbours marked
+    !> trackable; plate node 17 (d 1) likewise; nodes 10, 13, 18, 21 (d 1.41)
+    !> and 14, 22 (d 1.73) marked trackable: not stored; bottom node 3 (d 2)
+    !> nontrackable by step A (it shares a segment with the slave's neighbour
+    !> 2): stored as nontrackable; 7 (d 2.24) the same; 11, 19, 15, 23
+    !> trackable: not stored. Nodes 2, 5, 6 share a segment with the slave:
+    !> not in the reduced pool. List: 9 T, 17 T, 3 N, 7 N.
+    subroutine figure4()
+        type(model_t) :: m
+        type(faces_t) :: f
+        type(surface_t) :: s
+        type(master_lists_t) :: l
+        type(search_counts_t) :: cnt
+        real(wp), allocatable :: lc(:), xl(:, :)
+        integer :: x, y, sl
+        integer, allocatable :: got(:)
+        call empty_model(m, 2)
+        do y = 0, 1
+            do x = 0, 3
+                call assert_id(node_at(m, [real(x, wp), real(y, wp), 0.0_wp], .false.), 1 + x + 4*y)
+            end do
+        end do
+        do y = 0, 1
+            do x = 0, 3
+                call assert_id(node_at(m, [real(x, wp), real(y, wp), 1.0_wp], .false.), 9 + x + 4*y)
+            end do
+        end do
+        do y = 0, 1
+            do x = 0, 3
+                call assert_id(node_at(m, [real(x, wp), real(y, wp), -1.0_wp], .false.), 17 + x + 4*y)
+            end do
+        end do
+        do x = 0, 2
+            call add_shell(m, [1 + x, 2 + x, 6 + x, 5 + x], 0.001_wp, 1)
+            call add_shell(m, [9 + x, 10 + x, 14 + x, 13 + x], 0.001_wp, 1)
+            call add_shell(m, [17 + x, 18 + x, 22 + x, 21 + x], 0.001_wp, 2)
+        end do
+        call add_shell(m, [4, 12, 16, 8], 0.001_wp, 1)     ! the wall of the U
+        call build_faces(m, m%x0, f)
+        call check(f%nbody == 2, 'Fig. 4: the U and the plate are two bodies')
+        call build_surface(f, m%nnode, [(.true., x=1, f%n)], [(.false., x=1, f%n)], [integer ::], .false., &
+                           [0.0_wp, 0.0_wp, 1.0_wp, 1.0_wp], [0.1_wp, 1.0_wp, 1.0_wp], s)
+        allocate (xl(3, s%nnode), lc(s%nnode))
+        xl = m%x0(:, s%node)
+        call characteristic_lengths(s, xl, lc)
+        sl = findloc(s%node(s%slave), 1, 1)
+
+        call build_master_lists(s, xl, lc, 0.0_wp, 1.1_wp, mnl_minimal, l, cnt)
+        got = s%node(l%node(l%ptr(sl):l%ptr(sl + 1) - 1))
+        call check(size(got) == 4, 'Fig. 4: four master nodes', 'got '//list(got))
+        if (size(got) == 4) then
+            call check(all(got == [9, 17, 3, 7]), 'Fig. 4: master nodes 9, 17, 3, 7 in order of distance', list(got))
+            call check(all(l%trackable(l%ptr(sl):l%ptr(sl + 1) - 1) .eqv. [.true., .true., .false., .false.]), &
+                       'Fig. 4: 9 and 17 trackable (closest on each opposite region), 3 and 7 nontrackable')
+        end if
+        call build_master_lists(s, xl, lc, 0.0_wp, 1.1_wp, mnl_closest1, l, cnt)
+        got = s%node(l%node(l%ptr(sl):l%ptr(sl + 1) - 1))
+        call check(size(got) == 1, 'closest-1: one master node', list(got))
+        if (size(got) == 1) call check(got(1) == 9, 'closest-1: node 9', list(got))
+        call build_master_lists(s, xl, lc, 0.0_wp, 1.1_wp, mnl_closest3, l, cnt)
+        got = s%node(l%node(l%ptr(sl):l%ptr(sl + 1) - 1))
+        call check(size(got) == 3, 'closest-3: three master nodes', list(got))
+        if (size(got) == 3) call check(all(got == [9, 17, 10]), 'closest-3: nodes 9, 17, 10', list(got))
+    end subroutine figure4
+
+    subroutine assert_id(got, want)
+        integer, intent(in) :: got, want
+        if (got /= want) error stop 'figure4: node numbering'
+    end subroutine assert_id
+
+    function list(a) result(t)
+        integer, intent(in) :: a(:)
+        character(len=:), allocatable :: t
+        integer :: i
+        t = ''
+        do i = 1, size(a)
+            t = t//' '//itoa(a(i))
+        end do
+    end function list
+
+    function itoa(i) result(t)
+        integer, intent(in) :: i
+        character(len=:), allocatable :: t
+        character(len=16) :: b
+        write (b, '(i0)') i
+        t = trim(b)
+    end function itoa
+
+end program test_contact_global_search
