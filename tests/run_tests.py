@@ -791,6 +791,7 @@ def test_contact_surface_log():
         "search_adaptive": (124, 100, 24, 147, 147),          # single surface, whole model
         "variant_surface_to_surface": (124, 100, 24, 147, 147),  # both sides are slaves
         "variant_nodes_to_surface": (100, 100, 0, 130, 9),     # 9 nodes of the cube's lower face
+        "variant_segment_and_shell_sets": (104, 100, 4, 130, 130),  # cube's 4 lower faces vs shell set
         "variant_general_part_set": (24, 0, 24, 26, 26),       # part set {cube}
         "variant_single_all_but": (100, 100, 0, 121, 121),     # all but part set {cube}
     }

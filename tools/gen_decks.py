@@ -659,6 +659,14 @@ def contact_block_plate(outdir, name, contact, xcontact=None, endtim=2.25e-3):
                                       and abs(z - 0.3) < 1e-9))
     lines += node_set(91, nodes_where(blk, lambda x, y, z: abs(z - 0.3) < 1e-9))
     lines += ["*SET_PART_LIST", f10(5), f10(1)]
+    low = {(round(x, 6), round(y, 6)): k for k, (x, y, z) in blk.items() if abs(z - 0.3) < 1e-9}
+    xs = sorted({k[0] for k in low})
+    lines += ["*SET_SEGMENT", f10(8)]
+    for j in range(2):
+        for i in range(2):  # the cube's lower faces, written in either node order
+            q = [low[(xs[i], xs[j])], low[(xs[i + 1], xs[j])], low[(xs[i + 1], xs[j + 1])], low[(xs[i], xs[j + 1])]]
+            lines.append(f10(*(q if (i + j) % 2 else q[::-1])))
+    lines += ["*SET_SHELL_LIST_GENERATE", f10(9), f10(1001, 1100)]
     lines += contact
     if xcontact:
         lines += ["*CONTROL_XDYNA_CONTACT", xcontact]
@@ -680,6 +688,8 @@ def contact_decks(outdir):
                         endtim=1.0e-4)
     contact_block_plate(outdir, "variant_nodes_to_surface",
                         ["*CONTACT_AUTOMATIC_NODES_TO_SURFACE", f10(91, 2, 4, 3), "", ""], endtim=1.0e-4)
+    contact_block_plate(outdir, "variant_segment_and_shell_sets",
+                        ["*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE", f10(8, 9, 0, 1), "", ""], endtim=1.0e-4)
     contact_block_plate(outdir, "variant_general_part_set",
                         ["*CONTACT_AUTOMATIC_GENERAL", f10(5, 0, 2), "", ""], endtim=1.0e-4)
     contact_block_plate(outdir, "variant_single_all_but",

@@ -55,6 +55,8 @@ program test_contact_surface
                counts(f))
 
     call coated_block()
+    call wedge_and_triangle()
+    call rigid_stiffness()
     call thickness_rules()
     call shell_thickness_rule()
     call adjacency()
@@ -116,6 +118,52 @@ contains
         call check(count(f%shell > 0 .and. f%kind == seg_solid) == 4, &
                    'surface: the four coated faces know the shell on them')
     end subroutine coated_block
+
+    !> A degenerate wedge (N5 = N6, N7 = N8) has 5 faces: 3 quadrilaterals
+    !> and 2 triangles (the collapsed top face is no face); a triangular
+    !> shell is a triangle segment whose stiffness uses its area.
+    subroutine wedge_and_triangle()
+        integer :: c(8), t(3)
+        real(wp) :: kb
+        call empty_model(m, 2)
+        c = [node_at(m, [0.0_wp, 0.0_wp, 0.0_wp], .true.), node_at(m, [1.0_wp, 0.0_wp, 0.0_wp], .true.), &
+             node_at(m, [1.0_wp, 1.0_wp, 0.0_wp], .true.), node_at(m, [0.0_wp, 1.0_wp, 0.0_wp], .true.), &
+             0, 0, 0, 0]
+        c(5) = node_at(m, [0.0_wp, 0.0_wp, 1.0_wp], .true.)
+        c(6) = c(5)
+        c(7) = node_at(m, [0.0_wp, 1.0_wp, 1.0_wp], .true.)
+        c(8) = c(7)
+        m%nhex = 1
+        m%hex_conn = reshape(c, [8, 1])
+        m%hex_part = [1]
+        m%hex_id = [1]
+        t = [node_at(m, [3.0_wp, 0.0_wp, 0.0_wp], .true.), node_at(m, [5.0_wp, 0.0_wp, 0.0_wp], .true.), &
+             node_at(m, [3.0_wp, 1.0_wp, 0.0_wp], .true.)]
+        call add_shell(m, [t(1), t(2), t(3), t(3)], 0.002_wp, 2)
+        call build_faces(m, m%x0, f)
+        call check(f%n == 6 .and. count(f%node(3, :) == f%node(4, :)) == 3, &
+                   'surface: wedge gives 3 quadrilateral and 2 triangular faces; a triangular shell one triangle', &
+                   counts(f))
+        call check(outward(m, f), 'surface: wedge face normals point out')
+        kb = 200.0e9_wp/(3*(1 - 2*0.3_wp))
+        ! triangle: area 1, longest edge sqrt(5)
+        call check_close(real(f%kgeo(f%n), dp), real(kb*1.0_wp/sqrt(5.0_wp), dp), 1.0e-9_dp*kb, &
+                         'surface: triangle shell stiffness K A / longest edge')
+    end subroutine wedge_and_triangle
+
+    !> A *MAT_RIGID part takes part with the stiffness of its own E and PR.
+    subroutine rigid_stiffness()
+        real(wp) :: kb
+        call empty_model(m, 1)
+        m%mat(1)%mtype = 20
+        m%mat(1)%e = 70.0e9_wp
+        m%mat(1)%pr = 0.25_wp
+        call add_block(m, [1, 1, 1], [0.0_wp, 0.0_wp, 0.0_wp], [1.0_wp, 1.0_wp, 1.0_wp], 1, .true.)
+        call build_faces(m, m%x0, f)
+        kb = 70.0e9_wp/(3*(1 - 2*0.25_wp))
+        call check(all(abs(f%kgeo - kb) < 1.0e-9_wp*kb), 'surface: a rigid part uses its MAT_RIGID E, PR '// &
+                   '(K A^2/V = K for a unit cube)')
+    end subroutine rigid_stiffness
 
     !> One 0.1 x 0.2 x 0.05 element: t = min(0.6 x smallest diagonal, V/A)
     !> on each face; k = SLSFAC K A^2 / V with K = E / (3 (1 - 2 nu)).
