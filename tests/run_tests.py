@@ -620,7 +620,10 @@ def test_subsystems():
     # elastic block and the shell plate after it through shared nodes.
     g = glstat(out)
     dev = np.max(abs(g["energy_ratio"] - 1))
-    record(f"mixed deck: energy ratio within 1e-3 ({dev:.1e})", dev < 1e-3)
+    # 5.1e-5 measured at TSSFAC 0.9 (1.5e-6 at 0.45, 1.1e-7 at 0.225: the
+    # error falls as dt^4, a near-stability-limit effect of the rigid block
+    # dragging the light elastic nodes, not bookkeeping); 1e-4 leaves 2x room
+    record(f"mixed deck: energy ratio within 1e-4 ({dev:.1e})", dev < 1e-4)
     share = np.max(g["internal_energy"]) / g["total_energy"][0]
     # The deck must actually deform for the energy check to mean anything.
     record(f"mixed deck: the rigid block strains the block and plate (internal energy "
@@ -631,6 +634,19 @@ def test_subsystems():
     drift = np.max(abs(vz - vz[0])) / abs(vz[0])
     record(f"mixed deck: momentum conserved across solids, shells and the rigid part ({drift:.1e})",
            drift < 1e-9 and abs(vz[0]) > 0.1)
+    # The same deck at rest under gravity: the rigid block carries the lumped
+    # mass the elastic block puts on their shared nodes, so the body and the
+    # free nodes fall alike and nothing deforms. Before the body carried that
+    # mass, the body fell faster than g and strained the block: internal
+    # energy 1.5e-6 of the kinetic energy.
+    p2, out2 = run_deck("input_decks/verify/mixed_solid_shell_rigid_gravity.k", "mixed_gravity")
+    if p2.returncode == 0:
+        g2 = glstat(out2)
+        strain = np.max(g2["internal_energy"]) / g2["kinetic_energy"][-1]
+        record(f"rigid part sharing nodes with solids falls with them under gravity: internal energy "
+               f"{strain:.1e} of kinetic (tolerance 1e-12, round-off)", strain < 1e-12 and g2["kinetic_energy"][-1] > 0)
+    else:
+        record("mixed gravity deck runs", False, p2.stderr[-300:])
     record("*CONTROL_SHELL: MITER (not implemented) warned by name; WRPANG, THEORY 2 and ISTUPD not",
            "field MITER: not implemented" in log and "field WRPANG" not in log and "field THEORY" not in log
            and "field ISTUPD" not in log)

@@ -606,7 +606,7 @@ def clamped_plate(outdir):
     write(os.path.join(outdir, "verify", "clamped_plate.k"), lines)
 
 
-def mixed_deck(outdir):
+def mixed_deck(outdir, gravity=False):
     """Solids, shells and a rigid part in one deck: a steel block (solids)
     with a shell plate on its top face and a rigid block under it, both
     sharing nodes with the block.  Only the rigid block starts moving, so it
@@ -629,15 +629,22 @@ def mixed_deck(outdir):
             c = [grid[(xs[i], xs[j])], grid[(xs[i + 1], xs[j])], grid[(xs[i + 1], xs[j + 1])], grid[(xs[i], xs[j + 1])]]
             shells.append((e, *c))
             e += 1
-    lines = common("solids, shells and a rigid part in one deck", 2.0e-3, 1.0e-4)
+    title = "solids, shells and a rigid part in one deck" + (", falling under gravity" if gravity else "")
+    lines = common(title, 2.0e-3, 1.0e-4)
     lines += ["*CONTROL_SHELL", f10(20.0, 0, 0, 1, 2, 0, 2)]
     lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 3), f10(0.002, 0.002, 0.002, 0.002)]
     lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.3), "*MAT_RIGID", f10(2, 7850.0, 200e9, 0.3)]
     lines += part(1, 1, "solid block") + ["*PART", "top plate", f10(2, 2, 1)] + part(3, 2, "rigid block")
-    lines += ["*INITIAL_VELOCITY_GENERATION", f10(3, 2, 0.0, 0.0, 0.0, -2.0), f10(0.0, 0.0, 0.0)]
+    if gravity:
+        # everything starts at rest and falls: no node may lag behind another
+        lines += ["*DEFINE_CURVE", f10(5), f"{0.0:20.8e}{9.81:20.8e}", f"{10.0:20.8e}{9.81:20.8e}"]
+        lines += ["*LOAD_BODY_Z", f10(5, 1.0)]
+    else:
+        lines += ["*INITIAL_VELOCITY_GENERATION", f10(3, 2, 0.0, 0.0, 0.0, -2.0), f10(0.0, 0.0, 0.0)]
     lines += node_cards(nodes) + solid_cards(blk[1], 1) + solid_cards(rig_elems, 3)
     lines += ["*ELEMENT_SHELL"] + [f"{s[0]:8d}{2:8d}" + "".join(f"{v:8d}" for v in s[1:]) for s in shells]
-    write(os.path.join(outdir, "verify", "mixed_solid_shell_rigid.k"), lines)
+    name = "mixed_solid_shell_rigid_gravity.k" if gravity else "mixed_solid_shell_rigid.k"
+    write(os.path.join(outdir, "verify", name), lines)
 
 
 def contact_block_plate(outdir, name, contact, xcontact=None, endtim=2.25e-3):
@@ -788,6 +795,7 @@ def main():
     shell_tension_tri(args.outdir)
     clamped_plate(args.outdir)
     mixed_deck(args.outdir)
+    mixed_deck(args.outdir, gravity=True)
     spot_weld(args.outdir, "spot_weld", 1.0e20)
     spot_weld(args.outdir, "spot_weld_fail", 1.0e-6)
     demo_cantilever(args.outdir)

@@ -189,6 +189,7 @@ contains
                     jt = jt + j2
                     mark(model%shell_conn(:, e)) = .true.
                 end do
+                call add_deformable_share(b, jt, mark)
                 b%xc = b%xc/b%mass
                 jt = jt - b%mass*spread(b%xc, 2, 3)*spread(b%xc, 1, 3)
                 b%fix_t = constraint_dirs(mat%con1)
@@ -223,6 +224,9 @@ contains
                     if (.not. mark(k)) cycle
                     rr = real(st%x0(:, k), dp) - b%xc
                     jt = jt + st%mass(k)*spread(rr, 2, 3)*spread(rr, 1, 3)
+                    ! a shell node's own rotational inertia: I += irot 1, i.e.
+                    ! J += irot/2 1 in the second-moment form
+                    if (st%rot) jt = jt + 0.5_dp*st%irot(k)*identity()
                 end do
             end associate
             call finish_body(rg%b(nb), jt, mark)
@@ -237,6 +241,44 @@ contains
             end do
         end do
     contains
+        !> Deformable elements that share nodes with the rigid part put their
+        !> lumped mass (and shells their rotational inertia) on those nodes:
+        !> the body carries it, as point masses at the nodes. `jt` is the raw
+        !> second moment, b%xc the first moment (not yet divided by the mass).
+        subroutine add_deformable_share(b, jt, nodes)
+            type(rigid_body_t), intent(inout) :: b
+            real(dp), intent(inout) :: jt(3, 3)
+            logical, intent(in) :: nodes(:)
+            real(dp), allocatable :: rshare(:)
+            real(dp) :: extra, xk(3), mm, d1(3), d2(3, 3)
+            integer :: ee, kk
+            allocate (rshare(st%nnode))
+            rshare = 0
+            ! the rigid elements' own lumped share, as rigid_lumped_mass gave it
+            do ee = 1, model%nhex
+                if (model%hex_part(ee) /= b%part) cycle
+                x = transpose(real(model%x0(:, model%hex_conn(:, ee)), dp))
+                call hex_mass_moments(x, real(model%mat(model%part(b%part)%mat_ix)%ro, dp), mm, d1, d2)
+                rshare(model%hex_conn(:, ee)) = rshare(model%hex_conn(:, ee)) + mm/8.0_dp
+            end do
+            do ee = 1, model%nshell
+                if (model%shell_part(ee) /= b%part) cycle
+                call shell_mass_moments(model, ee, mm, d1, d2)
+                rshare(model%shell_conn(:, ee)) = rshare(model%shell_conn(:, ee)) + mm/4.0_dp
+            end do
+            do kk = 1, st%nnode
+                if (.not. nodes(kk)) cycle
+                extra = real(st%mass(kk), dp) - rshare(kk)
+                if (extra > 1.0e-6_dp*real(st%mass(kk), dp)) then
+                    xk = real(st%x0(:, kk), dp)
+                    b%mass = b%mass + extra
+                    b%xc = b%xc + extra*xk
+                    jt = jt + extra*spread(xk, 2, 3)*spread(xk, 1, 3)
+                end if
+                if (st%rot) jt = jt + 0.5_dp*st%irot(kk)*identity()
+            end do
+        end subroutine add_deformable_share
+
         !> Principal axes, body-frame node positions, initial motion from the
         !> nodes' initial velocities (exact for a rigid field).
         subroutine finish_body(b, jc, nodes)
@@ -336,6 +378,12 @@ contains
                     f = f + real(st%f(:, i), dp)
                     t = t + cross(real(st%x(:, i), dp) - b%xc, real(st%f(:, i), dp))
                 end do
+                ! moments of deformable shells at the body's nodes
+                if (st%rot) then
+                    do k = 1, size(b%node)
+                        t = t + real(st%mom(:, b%node(k)), dp)
+                    end do
+                end if
                 b%vc_old = b%vc
                 b%omega_old = b%omega
                 b%vc = b%vc + ha*f/b%mass

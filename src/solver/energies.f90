@@ -55,6 +55,10 @@ contains
             en%part_mass(p) = en%part_mass(p) + 8.0_dp*mshare
             do k = 1, 8
                 nd = solids%conn(k, e)
+                ! a node of a rigid body: its mass and motion are the body's
+                if (rg%n > 0) then
+                    if (rg%on(nd)) cycle
+                end if
                 en%part_ke(p) = en%part_ke(p) + 0.5_dp*mshare*sum(real(vminus(:, nd), dp)*vplus(:, nd))
                 en%part_mom(:, p) = en%part_mom(:, p) + 0.5_dp*mshare*real(vminus(:, nd) + vplus(:, nd), dp)
             end do
@@ -69,6 +73,9 @@ contains
             mshare = real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/nn
             do k = 1, nn
                 nd = sh%conn(k, e)
+                if (rg%n > 0) then
+                    if (rg%on(nd)) cycle
+                end if
                 en%part_ke(p) = en%part_ke(p) + 0.5_dp*mshare*dot_product(real(vminus(:, nd), dp), real(vplus(:, nd), dp))
                 en%part_mom(:, p) = en%part_mom(:, p) + 0.5_dp*mshare*real(vminus(:, nd) + vplus(:, nd), dp)
             end do
@@ -112,6 +119,10 @@ contains
         if (st%rot) then
             ker = 0
             do nd = 1, st%nnode
+                ! a rigid body's nodes spin with it: their inertia is in the body's
+                if (rg%n > 0) then
+                    if (rg%on(nd)) cycle
+                end if
                 ker = ker + 0.5_dp*st%irot(nd)*dot_product(real(wminus(:, nd), dp), real(wplus(:, nd), dp))
             end do
             en%ke = en%ke + ker
