@@ -30,6 +30,7 @@ module xd_contact_global_search
     !> Nodes sorted into a grid of buckets at least `w` wide in each direction.
     type :: buckets_t
         integer :: nb(3) = 1
+        integer :: reach(3) = 1             !< buckets to scan on each side: ceiling(rmax / w)
         real(wp) :: lo(3) = 0, w(3) = 1
         integer, allocatable :: start(:)    !< (ncell + 1) first position of each cell in item
         integer, allocatable :: item(:)     !< node numbers, cell by cell
@@ -99,13 +100,15 @@ contains
 
     !> Three nested one-dimensional bucket sorts (Benson & Hallquist 1990):
     !> the nodes with active(i) by x slab, each slab by y column, each column
-    !> by z cell. Buckets are at least wmin wide, so every node within wmin
-    !> of a point lies in the point's bucket or a neighbour; their number is
-    !> kept below about twice the number of nodes so memory stays linear.
-    subroutine bucket_sort(xl, active, wmin, bk)
+    !> by z cell. Buckets are about rmax/2 wide and a point's pool is scanned
+    !> over `reach` buckets on each side, so every node within rmax of it is
+    !> seen (half-width buckets scan 5^3 = 125 small buckets, 58% of the
+    !> volume of 27 buckets rmax wide). Their number is kept below about
+    !> twice the number of nodes so memory stays linear.
+    subroutine bucket_sort(xl, active, rmax, bk)
         real(wp), intent(in) :: xl(:, :)
         logical, intent(in) :: active(:)
-        real(wp), intent(in) :: wmin
+        real(wp), intent(in) :: rmax
         type(buckets_t), intent(out) :: bk
         integer :: n, nact, i, d, a, b, ncell, cap
         integer, allocatable :: key(:, :), xs(:), ys(:), zs(:)
@@ -125,14 +128,15 @@ contains
         end do
         ext = hi - bk%lo
         do d = 1, 3
-            bk%nb(d) = max(1, int(min(ext(d)/max(wmin, tiny(1.0_wp)), 1.0e6_wp)))
+            bk%nb(d) = max(1, int(min(ext(d)/max(0.5_wp*rmax, tiny(1.0_wp)), 1.0e6_wp)))
         end do
         cap = max(8, 2*nact)
         do while (product(real(bk%nb, wp)) > real(cap, wp))
             f = (product(real(bk%nb, wp))/cap)**(1.0_wp/3.0_wp)
             bk%nb = max(1, int(bk%nb/max(f, 1.01_wp)))
         end do
-        bk%w = max(ext/bk%nb, wmin)
+        bk%w = max(ext/bk%nb, 0.5_wp*rmax, tiny(1.0_wp))
+        bk%reach = ceiling(rmax/bk%w)
         ncell = product(bk%nb)
         allocate (key(3, n), xs(bk%nb(1) + 1), ys(bk%nb(2) + 1), zs(bk%nb(3) + 1), bk%start(ncell + 1))
         do i = 1, nact
@@ -216,34 +220,43 @@ contains
         type(buckets_t), intent(in) :: bk
         real(wp), intent(in) :: p(3)
         type(search_work_t), intent(inout) :: w
-        integer :: c(3), i, j, cell, q
+        integer :: c(3), i, j, cell, q, q0, q1, n
         real(wp) :: d2
         w%npool = 0
         c = cell_of(bk, p)
-        do i = max(1, c(1) - 1), min(bk%nb(1), c(1) + 1)
-            do j = max(1, c(2) - 1), min(bk%nb(2), c(2) + 1)
+        do i = max(1, c(1) - bk%reach(1)), min(bk%nb(1), c(1) + bk%reach(1))
+            do j = max(1, c(2) - bk%reach(2)), min(bk%nb(2), c(2) + bk%reach(2))
                 cell = bk%nb(3)*((j - 1) + bk%nb(2)*(i - 1))
-                do q = bk%start(cell + max(1, c(3) - 1)), bk%start(cell + min(bk%nb(3), c(3) + 1) + 1) - 1
+                q0 = bk%start(cell + max(1, c(3) - bk%reach(3)))
+                q1 = bk%start(cell + min(bk%nb(3), c(3) + bk%reach(3)) + 1) - 1
+                if (w%npool + q1 - q0 + 1 > size(w%pool)) call grow_pool(w, w%npool + q1 - q0 + 1)
+                ! branch-free compaction: write every candidate, keep those inside
+                n = w%npool
+                do q = q0, q1
                     d2 = (bk%xr(1, q) - p(1))**2 + (bk%xr(2, q) - p(2))**2 + (bk%xr(3, q) - p(3))**2
-                    if (d2 > bk%xr(4, q)) cycle
-                    call push_pool(w, bk%item(q), sqrt(d2))
+                    w%pool(n + 1) = bk%item(q)
+                    w%dist(n + 1) = d2
+                    n = n + merge(1, 0, d2 <= bk%xr(4, q))
                 end do
+                w%npool = n
             end do
         end do
+        w%dist(1:w%npool) = sqrt(w%dist(1:w%npool))
     end subroutine node_pool
 
-    subroutine push_pool(w, m, d)
+    subroutine grow_pool(w, need)
         type(search_work_t), intent(inout) :: w
-        integer, intent(in) :: m
-        real(wp), intent(in) :: d
-        if (w%npool == size(w%pool)) then
-            w%pool = [w%pool, w%pool]
-            w%dist = [w%dist, w%dist]
-        end if
-        w%npool = w%npool + 1
-        w%pool(w%npool) = m
-        w%dist(w%npool) = d
-    end subroutine push_pool
+        integer, intent(in) :: need
+        integer, allocatable :: ip(:)
+        real(wp), allocatable :: rd(:)
+        integer :: n
+        n = max(2*size(w%pool), need)
+        allocate (ip(n), rd(n))
+        ip(1:w%npool) = w%pool(1:w%npool)
+        rd(1:w%npool) = w%dist(1:w%npool)
+        call move_alloc(ip, w%pool)
+        call move_alloc(rd, w%dist)
+    end subroutine grow_pool
 
     !> Master node lists of every slave node (section 4). xl: surface
     !> coordinates; lc: characteristic lengths; reach: the contact reach t_c;
