@@ -650,9 +650,11 @@ def mixed_deck(outdir, gravity=False):
 def contact_block_plate(outdir, name, contact, xcontact=None, endtim=2.25e-3):
     """A 0.2 m steel cube (2x2x2 hexahedra, part 1) flying at 200 m/s down
     onto a 1 m square plate of 10x10 shells 10 mm thick (part 2) 0.3 m
-    below it, with the given contact cards. Contact steps 1-2 only: the
-    global search runs, nothing stops the cube, which passes through the
-    plate. Node set 90 (the centre of the cube's lower face) is dumped."""
+    below it, with the given contact cards. The decks test the global
+    search (when the plate enters the cube's master node lists); at 200 m/s
+    the default penalty cannot stop the cube in the thin plate (its nodes
+    cross the mid-surface within a few steps), so the impact itself is no
+    physics test. Node set 90 (the centre of the cube's lower face) is dumped."""
     blk, hexes = block_mesh(2, 2, 2, 0.2, 0.2, 0.2, origin=(0.4, 0.4, 0.3))
     n = 10
     pid = lambda i, j: 1001 + i + (n + 1) * j
@@ -685,11 +687,62 @@ def contact_block_plate(outdir, name, contact, xcontact=None, endtim=2.25e-3):
     write(os.path.join(outdir, "contact", name + ".k"), lines)
 
 
+def contact_two_bars(outdir, name="two_bars_penalty", xcontact=None, n=20, slsfac=None):
+    """Two identical elastic bars (nu = 0, 100 mm, n elements) 0.1 mm
+    apart, meeting head-on at 5 m/s each through a whole-model single-surface
+    contact: they touch for 2L/c = 39.6 us and leave with their velocities
+    reversed (1-D elastic impact of equal bars). The committed deck has 40
+    elements and SLSFAC 1: with the default 0.1 the interface spring is
+    about as stiff as the bar itself and the contact lasts 61% longer."""
+    L, a, gap, v0 = 0.1, 0.01, 1.0e-4, 5.0
+    A = block_mesh(n, 1, 1, L, a, a)
+    B = block_mesh(n, 1, 1, L, a, a, origin=(L + gap, 0.0, 0.0), nid0=1001, eid0=1001)
+    lines = common("two elastic bars meeting head-on through contact", 1.0e-4, 1.0e-6)
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.0)]
+    lines += part(1, 1, "left bar") + part(2, 1, "right bar")
+    lines += node_set(1, sorted(A[0])) + node_set(2, sorted(B[0]))
+    lines += ["*INITIAL_VELOCITY", f10(1), f10(v0, 0.0, 0.0), "*INITIAL_VELOCITY", f10(2), f10(-v0, 0.0, 0.0)]
+    fa = nodes_where(A[0], lambda x, y, z: abs(x - L) < 1e-12 and y == 0.0 and z == 0.0)
+    fb = nodes_where(B[0], lambda x, y, z: abs(x - L - gap) < 1e-12 and y == 0.0 and z == 0.0)
+    lines += ["*DATABASE_NODOUT", f10(2.0e-7), "*DATABASE_HISTORY_NODE", f10(fa[0], fb[0])]
+    lines += ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
+    if slsfac:
+        lines += ["*CONTROL_CONTACT", f10(slsfac)]
+    if xcontact:
+        lines += ["*CONTROL_XDYNA_CONTACT", xcontact]
+    lines += node_cards({**A[0], **B[0]}) + solid_cards(A[1], 1) + solid_cards(B[1], 2)
+    write(os.path.join(outdir, "contact", name + ".k"), lines)
+
+
+def contact_block_on_block(outdir):
+    """A 0.1 m steel cube (3x3x3) resting under gravity on a fixed 0.2 m
+    plate-like block (4x4x2) with its own nodes, both solid, whole-model
+    single-surface contact. Static penetration m g / (9 k) is tiny; the
+    test asks for under 1% of the solid thickness."""
+    lower = block_mesh(4, 4, 2, 0.2, 0.2, 0.05, origin=(-0.05, -0.05, -0.05))
+    upper = block_mesh(3, 3, 3, 0.1, 0.1, 0.1, nid0=1001, eid0=1001)
+    lines = common("a block resting on a block under gravity", 0.02, 2.0e-4)
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.3)]
+    lines += part(1, 1, "lower block") + part(2, 1, "upper block")
+    lines += node_set(1, nodes_where(lower[0], lambda x, y, z: abs(z + 0.05) < 1e-12))
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1)]
+    lines += ["*DEFINE_CURVE", f10(5), f"{0.0:20.8e}{9.81:20.8e}", f"{10.0:20.8e}{9.81:20.8e}"]
+    lines += ["*LOAD_BODY_Z", f10(5, 1.0)]
+    bottom = nodes_where(upper[0], lambda x, y, z: z == 0.0)
+    lines += ["*DATABASE_NODOUT", f10(2.0e-4), "*DATABASE_HISTORY_NODE"]
+    lines += ["".join(f"{k:10d}" for k in bottom[i:i + 8]) for i in range(0, len(bottom), 8)]
+    lines += ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
+    lines += node_cards({**lower[0], **upper[0]}) + solid_cards(lower[1], 1) + solid_cards(upper[1], 2)
+    write(os.path.join(outdir, "contact", "block_on_block.k"), lines)
+
+
 def contact_decks(outdir):
     """The contact keyword variants and search policies on the cube and plate."""
     single = ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
+    contact_two_bars(outdir, n=40, slsfac=1.0)
+    contact_block_on_block(outdir)
     contact_block_plate(outdir, "search_adaptive", single, f10(2, 0, 0, 0, 0, 0, 0.0, 90))
-    contact_block_plate(outdir, "search_fixed_120", single, f10(1, 120, 0, 0, 0, 0, 0.0, 90))
+    contact_block_plate(outdir, "search_fixed_170", single, f10(1, 170, 0, 0, 0, 0, 0.0, 90))
     contact_block_plate(outdir, "variant_surface_to_surface",
                         ["*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_ID", f10(7) + "cube on plate", f10(1, 2, 3, 3), "", ""],
                         endtim=1.0e-4)

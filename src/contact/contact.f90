@@ -21,12 +21,16 @@ module xd_contact_contact
                         styp_node_set, styp_all, styp_all_but, search_adaptive
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t
+    use xd_contact_segment_check, only: hit_t
+    use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t
+    use xd_contact_enforcement, only: friction_t, penalty_force
     !$ use omp_lib, only: omp_get_wtime
     use xd_core_sorting, only: where_true
     implicit none
     private
     public :: contacts_t, interface_t, build_contacts, contact_search, contact_drift, contact_report, &
-              interface_summary
+              interface_summary, contact_masses, contact_local_search, contact_enforce, contact_work_end, &
+              contact_energy
 
     type :: interface_t
         integer :: id = 0
@@ -47,6 +51,23 @@ module xd_contact_contact
         type(search_counts_t) :: total        !< summed over searches
         real(dp) :: wall = 0                  !< seconds in the global search
         integer, allocatable :: dump(:)       !< slave positions whose lists are dumped
+        ! steps 3-4
+        type(local_search_t) :: ls
+        type(friction_t) :: fr
+        real(wp), allocatable :: ms(:)        !< nodal masses of the surface nodes
+        integer, allocatable :: cseg(:)       !< per slave: segment in contact last cycle (0: none)
+        real(wp), allocatable :: fprev(:, :)  !< per slave: contact force last cycle (comparison vector)
+        real(wp), allocatable :: ft(:, :)     !< per slave: friction force carried over
+        integer :: npair = 0                  !< slaves in contact this cycle
+        type(hit_t), allocatable :: hit(:)    !< their contacts, in slave order
+        integer, allocatable :: pair(:)       !< their slave positions
+        real(wp), allocatable :: fpair(:, :)  !< forces on those slaves
+        real(dp) :: pminus = 0                !< power of this cycle's forces with v(n-1/2)
+        real(dp) :: energy = 0                !< sliding interface energy (minus the contact forces' work)
+        real(dp) :: fslave(3) = 0, fmaster(3) = 0, mslave = 0   !< resultants and mass in contact (rcforc)
+        real(dp) :: wall_local = 0, wall_enforce = 0
+        integer(i8) :: ncontact_total = 0     !< slave-cycles in contact
+        logical :: active = .false.           !< between birth and death this cycle
     end type interface_t
 
     type :: contacts_t
@@ -55,6 +76,9 @@ module xd_contact_contact
         type(interface_t), allocatable :: ifc(:)
         integer :: mnl = 0
         integer :: dump_unit = 0
+        type(search_switches_t) :: sw
+        real(wp) :: dt_limit = huge(1.0_wp)   !< stable step of the stiffest contact spring
+        integer :: dt_node = 0                !< the node that sets it
     end type contacts_t
 
 contains
@@ -73,6 +97,7 @@ contains
         if (ct%n == 0) return
         call build_faces(model, x0, ct%faces)
         ct%mnl = model%ctl%contact%mnl
+        ct%sw = search_switches_t(tracking=model%ctl%contact%tracking, screens=model%ctl%contact%screens)
         allocate (ct%ifc(ct%n), in_a(ct%faces%n), in_b(ct%faces%n))
         do i = 1, ct%n
             associate (c => model%contact(i), it => ct%ifc(i))
@@ -80,6 +105,7 @@ contains
                 it%keyword = c%keyword
                 it%bt = c%bt
                 it%dt = c%dt
+                it%fr = friction_t(fs=c%fs, fd=c%fd, dc=c%dc, vdc=c%vdc)
                 in_b = .false.
                 allocate (slaves(0))
                 select case (c%kind)
@@ -99,7 +125,8 @@ contains
                     call select_faces(c%msid, c%mstyp, c%mref, 'MSID', in_b); if (allocated(error)) return
                 end select
                 call build_surface(ct%faces, model%nnode, in_a, in_b, slaves, c%kind == ct_surface_to_surface, &
-                                   [c%sst, c%mst, c%sfst, c%sfmt], [model%ctl%contact%slsfac, c%sfs, c%sfm], it%surf)
+                                   [c%sst, c%mst, c%sfst, c%sfmt], [model%ctl%contact%slsfac, c%sfs, c%sfm], it%surf, &
+                                   model%hex_conn(:, 1:model%nhex))
                 deallocate (slaves)
                 ! pool margin from the mean characteristic length at t = 0
                 allocate (xl(3, it%surf%nnode), lc(it%surf%nnode))
@@ -288,6 +315,153 @@ contains
         end do
         flush (u)
     end subroutine dump_lists
+
+    !> Nodal masses of the surface nodes, the per-slave state, and the
+    !> stable step of the contact springs: a node of mass m between equal
+    !> masses on springs of total stiffness k_t is stable for dt < 2
+    !> sqrt(m / (2 k_t)); a surface node carries its own spring as a slave
+    !> and the springs of the slaves on its segments as a master, k_t about
+    !> 2 k: dt < sqrt(m / k).
+    subroutine contact_masses(ct, mass)
+        type(contacts_t), intent(inout) :: ct
+        real(wp), intent(in) :: mass(:)
+        integer :: i, k, n
+        real(wp) :: dtk
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                it%ms = mass(s%node)
+                n = s%nslave
+                allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n))
+                it%cseg = 0
+                it%fprev = 0
+                it%ft = 0
+                allocate (it%ls%xl(3, s%nnode), it%ls%vl(3, s%nnode))
+                do k = 1, s%nnode
+                    if (s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp) cycle
+                    dtk = sqrt(it%ms(k)/s%node_k(k))
+                    if (dtk < ct%dt_limit) then
+                        ct%dt_limit = dtk
+                        ct%dt_node = s%node(k)
+                    end if
+                end do
+            end associate
+        end do
+    end subroutine contact_masses
+
+    !> Step 3 on x(n) with v(n-1/2): each slave's contact this cycle
+    !> (slaves are independent of each other).
+    subroutine contact_local_search(ct, x, v, time)
+        type(contacts_t), intent(inout) :: ct
+        real(wp), intent(in) :: x(:, :), v(:, :)
+        real(dp), intent(in) :: time
+        integer :: i, k
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                it%active = time >= it%bt .and. time <= it%dt
+                if (.not. it%active) cycle
+                do k = 1, s%nnode
+                    it%ls%xl(:, k) = x(:, s%node(k))
+                    it%ls%vl(:, k) = v(:, s%node(k))
+                end do
+                do k = 1, s%nslave
+                    call find_contact(s, it%lists, it%ls, k, it%cseg(k), it%fprev(:, k), ct%sw, it%hit(k))
+                end do
+            end associate
+        end do
+    end subroutine contact_local_search
+
+    !> Step 4: penalty forces of the contacts found, added to f on the slave
+    !> and (by the shape functions) the master nodes in slave order, so the
+    !> sums do not depend on threads; the first half of their work.
+    subroutine contact_enforce(ct, f, dt)
+        type(contacts_t), intent(inout) :: ct
+        real(wp), intent(inout) :: f(:, :)
+        real(wp), intent(in) :: dt
+        integer :: i, k, j, sn, m
+        real(wp) :: vrel(3), kpen, meff, mm, fs(3)
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                it%npair = 0
+                it%pminus = 0
+                it%fslave = 0
+                it%fmaster = 0
+                it%mslave = 0
+                if (.not. it%active) then
+                    it%cseg = 0
+                    it%fprev = 0
+                    it%ft = 0
+                    cycle
+                end if
+                do k = 1, s%nslave
+                    if (.not. it%hit(k)%found) then
+                        it%cseg(k) = 0
+                        it%fprev(:, k) = 0
+                        it%ft(:, k) = 0
+                        cycle
+                    end if
+                    sn = s%slave(k)
+                    m = it%hit(k)%seg
+                    ! the softer of the master segment and the slave node (LS-DYNA's SOFT 0)
+                    kpen = s%seg_k(m)
+                    if (s%node_k(sn) > 0.0_wp) kpen = min(kpen, s%node_k(sn))
+                    vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
+                    mm = dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
+                    meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
+                    call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, k), fs)
+                    it%cseg(k) = m
+                    it%fprev(:, k) = fs
+                    it%npair = it%npair + 1
+                    it%pair(it%npair) = k
+                    it%fpair(:, it%npair) = fs
+                    f(:, s%node(sn)) = f(:, s%node(sn)) + fs
+                    do j = 1, 4
+                        if (j == 4 .and. s%seg(4, m) == s%seg(3, m)) exit
+                        f(:, s%node(s%seg(j, m))) = f(:, s%node(s%seg(j, m))) - it%hit(k)%nshape(j)*fs
+                    end do
+                    it%pminus = it%pminus + dot_product(real(fs, dp), real(vrel, dp))
+                    it%fslave = it%fslave + fs
+                    it%fmaster = it%fmaster - fs
+                    it%mslave = it%mslave + it%ms(sn)
+                end do
+                it%ncontact_total = it%ncontact_total + it%npair
+            end associate
+        end do
+    end subroutine contact_enforce
+
+    !> Second half of the contact forces' work, with v(n+1/2): the sliding
+    !> energy is minus that work (springs store it, friction dissipates it).
+    subroutine contact_work_end(ct, v, dt_avg)
+        type(contacts_t), intent(inout) :: ct
+        real(wp), intent(in) :: v(:, :)
+        real(dp), intent(in) :: dt_avg
+        integer :: i, q, k, m
+        real(wp) :: vrel(3)
+        real(dp) :: pplus
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                pplus = 0
+                do q = 1, it%npair
+                    k = it%pair(q)
+                    m = it%hit(k)%seg
+                    vrel = v(:, s%node(s%slave(k))) - matmul(v(:, s%node(s%seg(:, m))), it%hit(k)%nshape)
+                    pplus = pplus + dot_product(real(it%fpair(:, q), dp), real(vrel, dp))
+                end do
+                it%energy = it%energy - 0.5_dp*dt_avg*(it%pminus + pplus)
+            end associate
+        end do
+    end subroutine contact_work_end
+
+    !> Sliding interface energy at t(n): the work booked for earlier cycles
+    !> and the first half of this cycle's (the rule every force follows).
+    real(dp) function contact_energy(ct, dt_avg) result(e)
+        type(contacts_t), intent(in) :: ct
+        real(dp), intent(in) :: dt_avg
+        integer :: i
+        e = 0
+        do i = 1, ct%n
+            e = e + ct%ifc(i)%energy - 0.5_dp*dt_avg*ct%ifc(i)%pminus
+        end do
+    end function contact_energy
 
     !> Set-up lines for the log, one block per interface.
     function interface_summary(ct, model) result(txt)

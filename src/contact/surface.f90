@@ -38,6 +38,7 @@ module xd_contact_surface
         integer, allocatable :: kind(:)        !< seg_shell (two-sided) or seg_solid (outward normal)
         integer, allocatable :: part(:)        !< part index of the element that owns the face
         integer, allocatable :: shell(:)       !< model shell index of a shell on the face (0: none)
+        integer, allocatable :: hex(:)         !< model hexahedron that owns a solid face (0: shell face)
         real(wp), allocatable :: thick(:)      !< segment thickness (section 3)
         real(wp), allocatable :: kgeo(:)       !< bulk modulus x A^2/V (solid) or x A/max diagonal (shell)
         integer, allocatable :: body(:)        !< connected surface region
@@ -52,7 +53,10 @@ module xd_contact_surface
         integer, allocatable :: seg(:, :)      !< (4, nseg) local node numbers
         integer, allocatable :: seg_face(:)    !< index in faces_t
         integer, allocatable :: seg_kind(:), seg_side(:), seg_body(:)
+        integer, allocatable :: seg_elem(:, :) !< (8, nseg) local numbers of the owning hexahedron's nodes
+                                               !< (0: not on this surface, or a shell segment)
         real(wp), allocatable :: seg_t(:)      !< segment thickness after SST/MST overrides
+        real(wp), allocatable :: seg_tn(:, :)  !< (4, nseg) nodal thicknesses for the shape functions (5.2)
         real(wp), allocatable :: seg_k(:)      !< master-side penalty stiffness (force/length)
         integer, allocatable :: node(:)        !< model node of each local node
         integer, allocatable :: node_side(:)   !< side bits
@@ -221,6 +225,8 @@ contains
             end if
         end do
         allocate (f%node(4, f%n), f%kind(f%n), f%part(f%n), f%shell(f%n), f%thick(f%n), f%kgeo(f%n), f%body(f%n))
+        allocate (f%hex(f%n))
+        f%hex = 0
         allocate (f%node_thick(n))
         f%node_thick = 0
         do e = 1, model%nshell
@@ -239,6 +245,7 @@ contains
                 e = solid_of(c)
                 f%node(:, j) = cnode(:, e)
                 f%kind(j) = seg_solid
+                f%hex(j) = chex(e)
                 call solid_segment(chex(e), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
             else
                 f%node(:, j) = cnode(:, c)
@@ -378,8 +385,9 @@ contains
     !> every node a slave. Two-surface: nodes of both sides are slaves
     !> (the symmetric treatment of LS-DYNA's automatic surface-to-surface);
     !> nodes-to-surface: only `slave_nodes`.
-    subroutine build_surface(f, nnode_model, in_a, in_b, slave_nodes, two_way, thick, stiff, s)
+    subroutine build_surface(f, nnode_model, in_a, in_b, slave_nodes, two_way, thick, stiff, s, hex_conn)
         type(faces_t), intent(in) :: f
+        integer, intent(in), optional :: hex_conn(:, :)   !< the model's hexahedra, for seg_elem
         integer, intent(in) :: nnode_model
         logical, intent(in) :: in_a(:), in_b(:)
         integer, intent(in) :: slave_nodes(:)
@@ -396,7 +404,7 @@ contains
         local = 0
         s%nseg = count(in_a .or. in_b)
         allocate (s%seg(4, s%nseg), s%seg_face(s%nseg), s%seg_kind(s%nseg), s%seg_side(s%nseg), s%seg_body(s%nseg))
-        allocate (s%seg_t(s%nseg), s%seg_k(s%nseg))
+        allocate (s%seg_t(s%nseg), s%seg_k(s%nseg), s%seg_tn(4, s%nseg))
         s%nnode = 0
         m = 0
         do j = 1, f%n
@@ -424,6 +432,15 @@ contains
                 local(slave_nodes(i)) = s%nnode
             end if
         end do
+        ! a slave never contacts a face of its own hexahedron (its opposite
+        ! face lies exactly one depth window behind the face)
+        allocate (s%seg_elem(8, s%nseg))
+        s%seg_elem = 0
+        if (present(hex_conn)) then
+            do m = 1, s%nseg
+                if (f%hex(s%seg_face(m)) > 0) s%seg_elem(:, m) = local(hex_conn(:, f%hex(s%seg_face(m))))
+            end do
+        end if
         allocate (s%node(s%nnode), s%node_side(s%nnode), s%node_t(s%nnode), s%node_k(s%nnode))
         do nd = 1, nnode_model
             if (local(nd) > 0) s%node(local(nd)) = nd
@@ -464,11 +481,16 @@ contains
             if (s%seg_kind(m) == seg_shell) then
                 s%nshell_seg = s%nshell_seg + 1
                 s%seg_t(m) = thick(4)*f%thick(j)
-                if (thick(2) > 0.0_wp) s%seg_t(m) = thick(2)
+                s%seg_tn(:, m) = thick(4)*f%node_thick(f%node(:, j))
+                if (thick(2) > 0.0_wp) then
+                    s%seg_t(m) = thick(2)
+                    s%seg_tn(:, m) = thick(2)
+                end if
                 s%max_thick = max(s%max_thick, s%seg_t(m))
             else
                 s%nsolid_seg = s%nsolid_seg + 1
                 s%seg_t(m) = f%thick(j)
+                s%seg_tn(:, m) = f%thick(j)
             end if
             s%seg_k(m) = stiff(1)*stiff(3)*f%kgeo(j)
             do k = 1, 4

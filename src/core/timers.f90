@@ -5,15 +5,16 @@ module xd_core_timers
     private
     public :: timers_t, nphase, phase_name
     public :: ph_input, ph_init, ph_elements, ph_assembly, ph_integrate, ph_contact, &
-              ph_rigid, ph_output, ph_comm, ph_search
+              ph_rigid, ph_output, ph_comm, ph_search, ph_local, ph_enforce
 
     integer, parameter :: ph_input = 1, ph_init = 2, ph_elements = 3, ph_assembly = 4, &
                           ph_integrate = 5, ph_contact = 6, ph_rigid = 7, ph_output = 8, &
-                          ph_comm = 9, ph_search = 10, nphase = 10
+                          ph_comm = 9, ph_search = 10, ph_local = 11, ph_enforce = 12, &
+                          nphase = 12
     character(len=24), parameter :: phase_name(nphase) = [character(len=24) :: &
         'input and checks', 'initialization', 'element processing', 'force assembly', &
         'time integration', 'rigid walls', 'rigid bodies', 'output', 'communication', &
-        'contact global search']
+        'contact global search', 'contact local search', 'contact enforcement']
 
     type :: timers_t
         real(dp) :: wall(nphase) = 0.0_dp

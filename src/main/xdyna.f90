@@ -20,7 +20,7 @@ program xdyna
     use xd_solver_setup, only: setup_run
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
     use xd_contact_rigidwall, only: walls_t, build_walls
-    use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report
+    use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses
     use xd_core_strings, only: join_path
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
     use xd_rigid_bodies, only: rigid_t
@@ -131,8 +131,9 @@ program xdyna
         call log_line(lg, ' *** Error: '//error%message)
         call finish(exit_input)
     end if
-    if (ct%n > 0) call add_warning(model, 'contact: steps 1-2 (surface, global search) run; the local search '// &
-        'and enforcement (steps 3-4) are not in this version, so interfaces exert no force yet')
+    if (ct%n > 0) call contact_masses(ct, st%mass)
+    if (ct%n > 0 .and. model%ctl%contact%lagrange) call add_warning(model, '*CONTROL_XDYNA_CONTACT field ENFORCE: '// &
+        'the Lagrangian projection is not implemented yet; penalty enforcement is used')
     call build_prescribed(model, pn)
     call build_pressures(model, pl)
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')

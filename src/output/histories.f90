@@ -25,6 +25,7 @@ module xd_output_histories
         type(h5file_t) :: h5
         type(h5series_t) :: ser(ndb)
         integer :: nwall = 0
+        logical :: contact = .false.         !< glstat carries the sliding interface energy
         integer, allocatable :: nodes(:)     !< node indices for nodout
         integer, allocatable :: node_ids(:)  !< and their user ids
         character(len=72) :: title = ''
@@ -80,6 +81,11 @@ contains
             if (h%nwall > 0) then
                 cols = [cols, [character(len=32) :: 'stonewall_energy']]
                 units = [units, [character(len=32) :: 'energy']]
+            end if
+            if (model%ncontact > 0) then
+                cols = [cols, [character(len=32) :: 'sliding_interface_energy']]
+                units = [units, [character(len=32) :: 'energy']]
+                h%contact = .true.
             end if
             call series_create(h%h5, 'glstat', cols, units, 0, [0], h%ser(s_glstat))
         end if
@@ -213,7 +219,7 @@ contains
         call row('spring and damper energy', 0.0_dp)
         call row('hourglass energy ', en%hg)
         call row('system damping energy', 0.0_dp)
-        call row('sliding interface energy', 0.0_dp)
+        call row('sliding interface energy', en%slide)
         call row('external work', en%ext)
         call row('total energy', en%total)
         call row('total energy / initial energy', en%ratio)
@@ -225,6 +231,7 @@ contains
         flush (u)
         vals = [real(st%dt, dp), en%ke, en%ie, en%hg, en%ext, en%total, en%ratio, en%vel]
         if (walls%n > 0) vals = [vals, en%wall]
+        if (h%contact) vals = [vals, en%slide]
         call series_append(h%ser(s_glstat), st%time, reshape(vals, [1, size(vals)]))
     contains
         subroutine row(label, x)

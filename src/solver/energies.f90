@@ -13,7 +13,7 @@ module xd_solver_energies
     public :: energies_t, compute_energies
 
     type :: energies_t
-        real(dp) :: ke = 0, ie = 0, hg = 0, ext = 0, wall = 0, total = 0, ratio = 1
+        real(dp) :: ke = 0, ie = 0, hg = 0, ext = 0, wall = 0, slide = 0, total = 0, ratio = 1
         real(dp) :: vel(3) = 0              !< velocity of the centre of mass
         real(dp) :: mass = 0
         real(dp), allocatable :: part_ie(:), part_ke(:), part_hg(:), part_mass(:)
@@ -28,7 +28,7 @@ contains
     !> velocities use v(n) = (v(n-1/2) + v(n+1/2))/2. With shells, the
     !> angular velocities wminus, wplus give the rotational kinetic energy
     !> 1/2 I w(n-1/2).w(n+1/2).
-    subroutine compute_energies(model, st, solids, sh, walls, rg, vminus, vplus, wminus, wplus, dt_avg, en)
+    subroutine compute_energies(model, st, solids, sh, walls, rg, vminus, vplus, wminus, wplus, dt_avg, en, slide)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
@@ -39,6 +39,7 @@ contains
         real(wp), intent(in), optional :: wminus(:, :), wplus(:, :)   !< present when st%rot
         real(dp), intent(in) :: dt_avg       !< step of the velocity update at this time (0 at t = 0)
         type(energies_t), intent(inout) :: en
+        real(dp), intent(in), optional :: slide   !< sliding interface energy (contact)
         integer :: e, k, p, nd, nn
         real(dp) :: mshare, mom(3), ke_b, mom_b(3), ie, hg, ker
         if (.not. allocated(en%part_ie)) then
@@ -127,7 +128,9 @@ contains
             end do
             en%ke = en%ke + ker
         end if
-        en%total = en%ke + en%ie + en%hg + en%wall
+        en%slide = 0
+        if (present(slide)) en%slide = slide
+        en%total = en%ke + en%ie + en%hg + en%wall + en%slide
         if (abs(st%e_initial + en%ext) > tiny(1.0_dp)) then
             en%ratio = en%total/(st%e_initial + en%ext)
         else

@@ -7,7 +7,7 @@ module xd_solver_time_loop
     use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run
     use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid, &
-                                  ph_search
+                                  ph_search, ph_local, ph_enforce
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, solid_forces
     use xd_solver_state, only: state_t
@@ -18,7 +18,8 @@ module xd_solver_time_loop
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
-    use xd_contact_contact, only: contacts_t, contact_search, contact_drift
+    use xd_contact_contact, only: contacts_t, contact_search, contact_drift, contact_local_search, contact_enforce, &
+                                  contact_work_end, contact_energy
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     use xd_rigid_bodies, only: rigid_t, rigid_step
     use xd_elements_shell_bt, only: shells_t, shell_forces
@@ -88,6 +89,8 @@ contains
             if (res%status /= exit_normal) exit
             ! a model of rigid bodies alone has no element step: DTINIT sets it
             if (solids%ngroup == 0 .and. sh%n == 0) dtc = model%ctl%dtinit/model%ctl%tssfac
+            ! the stiffest contact spring's stable step, if it is shorter
+            if (ct%n > 0) dtc = min(dtc, ct%dt_limit)
             st%dt = real(model%ctl%tssfac, wp)*dtc
             if (st%cycle == 0) then
                 if (model%ctl%dtinit > 0.0_wp) st%dt = min(st%dt, model%ctl%dtinit)
@@ -110,6 +113,15 @@ contains
                 ! pressure forces: the same work rule as every force at t(n)
                 call apply_pressures(model, pl, st)
                 st%ext_work = st%ext_work + 0.5_dp*dt_avg*pressure_power(pl, st)
+            end if
+            if (ct%n > 0) then
+                ! steps 3-4 on x(n): contact forces join f(n)
+                call tm%start(ph_local)
+                call contact_local_search(ct, st%x, st%v, st%time)
+                call tm%stop(ph_local)
+                call tm%start(ph_enforce)
+                call contact_enforce(ct, st%f, st%dt)
+                call tm%stop(ph_enforce)
             end if
             call accelerations()
             done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
@@ -158,18 +170,22 @@ contains
                     ! when a(0) /= 0)
                     vn = vminus
                     if (st%rot) vrminus = st%vr
-                    call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en)
+                    call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en, &
+                                          contact_energy(ct, 0.0_dp))
                     st%e_initial = en%total
                     en%ratio = 1.0_dp
                 else
                     vn = 0.5_wp*(vminus + st%v)
-                    call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en)
+                    call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
+                                          contact_energy(ct, dt_avg))
                 end if
                 call tm%stop(ph_output)
                 call check_energy()
                 if (res%status /= exit_normal) exit
                 if (due) call output(force=done .or. st%cycle == 0)
             end if
+            ! the contact forces' work with v(n+1/2), after the energies at t(n)
+            if (ct%n > 0) call contact_work_end(ct, st%v, dt_avg)
             if (opts%progress .and. (tm%elapsed() - t_last_progress >= opts%progress_every .or. done &
                                      .or. st%cycle == 0)) then
                 t_last_progress = tm%elapsed()
@@ -290,6 +306,16 @@ contains
                 i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
                 call fail('energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
                           ftoa(ratio_limit)//'; fastest node '//itoa(model%node_id(i)))
+            else if (en%ke < -(ratio_limit - 1.0_dp)*abs(st%e_initial + en%ext)) then
+                ! 1/2 m v(n-1/2).v(n+1/2) strongly negative: velocities reverse
+                ! every step, the signature of a step beyond the stable limit (a
+                ! stiff spring). Slightly negative values are normal where nodes
+                ! turn round; the threshold is the energy ratio's margin.
+                i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
+                call fail('numerical instability: kinetic energy 1/2 m v(n-1/2).v(n+1/2) is '//ftoa(en%ke)// &
+                          ' (velocities reverse every step); '// &
+                          'fastest node '//itoa(model%node_id(i))//'; a contact penalty scale (SLSFAC, SFS, '// &
+                          'SFM) too high for the time step?')
             end if
         end subroutine check_energy
 

@@ -1,0 +1,238 @@
+!> Step 3 of the automatic contact, the local search (section 5.1 of Whirley
+!> & Engelmann 1993): for each slave node, the segment it was in contact
+!> with last cycle first, then the segments at that segment's node closest to
+!> the contact point; otherwise the master node list of the global search in
+!> order of distance, each master node screened by the tetrahedron test
+!> (Eqs. 1-3) and the bounding-box test, trackable nodes followed along
+!> their opposite region, and every segment at a passing node checked
+!> (section 5.2). Several contacts: the hierarchy (shell interior > shell
+!> tube/pinball or solid interior > solid tube/pinball), ties by the closest
+!> contact point (old-segment search) or by the comparison vector (Eq. 4).
+module xd_contact_local_search
+    use xd_kinds, only: wp
+    use xd_core_vectors, only: cross
+    use xd_contact_surface, only: surface_t, seg_shell, side_a, side_b
+    use xd_contact_segment_check, only: hit_t, segment_check, contact_interior
+    use xd_contact_global_search, only: master_lists_t
+    implicit none
+    private
+    public :: local_search_t, find_contact, search_switches_t
+
+    !> Switches for the accuracy and cost study.
+    type :: search_switches_t
+        logical :: tracking = .true.
+        logical :: screens = .true.
+    end type search_switches_t
+
+    !> What one slave's search needs besides the surface.
+    type :: local_search_t
+        real(wp), allocatable :: xl(:, :)    !< surface coordinates now (3, nnode)
+        real(wp), allocatable :: vl(:, :)    !< surface velocities now (3, nnode)
+    end type local_search_t
+
+    integer, parameter :: max_track_steps = 64
+
+contains
+
+    !> The contact of slave number i (position in s%slave) this cycle, in
+    !> `best` (best%found false: none). `oldseg` is last cycle's segment (0:
+    !> none), `fprev` the contact force it carried (the comparison vector).
+    subroutine find_contact(s, lists, ls, i, oldseg, fprev, sw, best)
+        type(surface_t), intent(in) :: s
+        type(master_lists_t), intent(in) :: lists
+        type(local_search_t), intent(in) :: ls
+        integer, intent(in) :: i, oldseg
+        real(wp), intent(in) :: fprev(3)
+        type(search_switches_t), intent(in) :: sw
+        type(hit_t), intent(out) :: best
+        type(hit_t) :: hit
+        integer :: sn, want, j, k, m, mn, cnode, nsolid_miss
+        real(wp) :: ts, cv(3)
+        logical :: have_v
+
+        sn = s%slave(i)
+        ts = 0.5_wp*s%node_t(sn)
+        want = wanted_side(s, sn)
+        best%found = .false.
+        best%level = 4
+        nsolid_miss = 0
+
+        if (oldseg > 0) then
+            ! the old segment: done if the contact point is inside it (and, on
+            ! a shell, not within a half-thickness of its border)
+            call check(oldseg, hit)
+            if (hit%found .and. hit%kind == contact_interior .and. &
+                .not. (s%seg_kind(oldseg) == seg_shell .and. hit%near_border)) then
+                best = hit
+                return
+            end if
+            if (hit%found) best = hit
+            ! then every segment at the old segment's node nearest the contact point
+            cnode = s%seg(hit%near_node, oldseg)
+            do k = s%seg_ptr(cnode), s%seg_ptr(cnode + 1) - 1
+                m = s%seg_list(k)
+                if (m == oldseg) cycle
+                call try(m, .false.)
+            end do
+            if (acceptable()) return
+            best%found = .false.
+            best%level = 4
+            nsolid_miss = 0
+        end if
+
+        ! the general search: master nodes closest first
+        ! comparison vector (Eq. 4): the force the slave pressed with last
+        ! cycle (minus the contact force on it), else the relative velocity;
+        ! the segment it presses against or approaches has the most negative
+        ! v . n
+        have_v = any(fprev /= 0.0_wp)
+        cv = -fprev
+        do j = lists%ptr(i), lists%ptr(i + 1) - 1
+            mn = lists%node(j)
+            if (.not. have_v) cv = ls%vl(:, sn) - ls%vl(:, mn)      ! Eq. (4)
+            if (lists%trackable(j) .and. sw%tracking) mn = track(mn)
+            if (sw%screens) then
+                if (.not. screened_in(mn)) cycle
+            end if
+            do k = s%seg_ptr(mn), s%seg_ptr(mn + 1) - 1
+                call try(s%seg_list(k), .true.)
+            end do
+        end do
+        if (.not. acceptable()) then
+            best%found = .false.
+            best%level = 4
+        end if
+
+    contains
+
+        subroutine check(m, h)
+            integer, intent(in) :: m
+            type(hit_t), intent(out) :: h
+            real(wp) :: xm(3, 4), tn(4)
+            xm = ls%xl(:, s%seg(:, m))
+            tn = s%seg_tn(:, m)
+            call segment_check(xm, tn, s%seg_kind(m) == seg_shell, ls%xl(:, sn), ts, h)
+            h%seg = m
+        end subroutine check
+
+        !> Check segment m unless it holds the slave or lies on a side the
+        !> slave does not look at; keep it if it beats the best so far.
+        subroutine try(m, general)
+            integer, intent(in) :: m
+            logical, intent(in) :: general
+            type(hit_t) :: h
+            if (any(s%seg(:, m) == sn) .or. any(s%seg_elem(:, m) == sn)) return
+            if (iand(s%seg_side(m), want) == 0) return
+            call check(m, h)
+            if (.not. h%found) then
+                if (s%seg_kind(m) /= seg_shell) nsolid_miss = nsolid_miss + 1
+                return
+            end if
+            if (better(h, best, general)) best = h
+        end subroutine try
+
+        logical function better(h, b, general)
+            type(hit_t), intent(in) :: h, b
+            logical, intent(in) :: general
+            if (.not. b%found) then
+                better = .true.
+            else if (h%level /= b%level) then
+                better = h%level < b%level
+            else if (general) then
+                ! the most negative v . n (Eq. 4)
+                better = dot_product(cv, h%nhat) < dot_product(cv, b%nhat)
+            else
+                better = h%dist < b%dist
+            end if
+        end function better
+
+        !> A lone solid tube/pinball contact among solid segments that are not
+        !> in contact is no contact (a node outside a solid's convex edge).
+        logical function acceptable()
+            acceptable = best%found
+            if (acceptable .and. best%level == 3 .and. nsolid_miss > 0) acceptable = .false.
+        end function acceptable
+
+        !> Tracking along an opposite region: from the master node, step to
+        !> the neighbour closest to the slave while that gets closer.
+        integer function track(start) result(c)
+            integer, intent(in) :: start
+            integer :: step, q, nb, bestn
+            real(wp) :: dbest, dd
+            c = start
+            dbest = sum((ls%xl(:, c) - ls%xl(:, sn))**2)
+            do step = 1, max_track_steps
+                bestn = 0
+                do q = s%nn_ptr(c), s%nn_ptr(c + 1) - 1
+                    nb = s%nn_list(q)
+                    if (nb == sn .or. iand(s%node_side(nb), want) == 0) cycle
+                    dd = sum((ls%xl(:, nb) - ls%xl(:, sn))**2)
+                    if (dd < dbest) then
+                        dbest = dd
+                        bestn = nb
+                    end if
+                end do
+                if (bestn == 0) exit
+                c = bestn
+            end do
+        end function track
+
+        !> The tetrahedron test (Eqs. 1-3) and the bounding-box test, on the
+        !> segments at master node mn: true if one of them admits contact.
+        logical function screened_in(mn)
+            integer, intent(in) :: mn
+            integer :: q, m, a, p1, p2, nnd
+            real(wp) :: h, area, reach, tm, lo(3), hi(3)
+            real(wp) :: xa(3), x1(3), x2(3), xs(3)
+            screened_in = .false.
+            xs = ls%xl(:, sn)
+            xa = ls%xl(:, mn)
+            do q = s%seg_ptr(mn), s%seg_ptr(mn + 1) - 1
+                m = s%seg_list(q)
+                nnd = 4
+                if (s%seg(3, m) == s%seg(4, m)) nnd = 3
+                a = findloc(s%seg(1:nnd, m), mn, 1)
+                p1 = s%seg(mod(a, nnd) + 1, m)
+                p2 = s%seg(mod(a + nnd - 2, nnd) + 1, m)
+                x1 = ls%xl(:, p1)
+                x2 = ls%xl(:, p2)
+                ! characteristic height h = 3 V / A of the tetrahedron slave,
+                ! master node and its two neighbours on the segment (Eq. 1)
+                area = 0.5_wp*norm2(cross(x1 - xa, x2 - xa))
+                if (area <= 0.0_wp) cycle
+                h = dot_product(cross(x1 - xa, x2 - xa), xs - xa)/(2.0_wp*area)
+                tm = s%seg_t(m)
+                if (s%seg_kind(m) == seg_shell) then
+                    tm = 0.5_wp*tm
+                    if (h > tm + ts .or. h < -tm - ts) cycle       ! Eq. (2)
+                else
+                    if (h > ts .or. h < ts - tm) cycle              ! Eq. (3)
+                end if
+                ! bounding box of the three nodes, grown by the thicknesses
+                reach = ts + tm
+                lo = min(xa, x1, x2) - reach
+                hi = max(xa, x1, x2) + reach
+                if (all(xs >= lo .and. xs <= hi)) then
+                    screened_in = .true.
+                    return
+                end if
+            end do
+        end function screened_in
+    end subroutine find_contact
+
+    !> Sides a slave looks at: single surface everything, two surfaces the
+    !> other side, nodes-to-surface the master side.
+    pure integer function wanted_side(s, sn) result(want)
+        type(surface_t), intent(in) :: s
+        integer, intent(in) :: sn
+        if (s%single) then
+            want = side_a
+        else
+            want = 0
+            if (iand(s%node_side(sn), side_a) /= 0) want = side_b
+            if (iand(s%node_side(sn), side_b) /= 0 .and. s%two_way) want = ior(want, side_a)
+            if (want == 0) want = side_b
+        end if
+    end function wanted_side
+
+end module xd_contact_local_search
