@@ -705,6 +705,7 @@ def contact_two_bars(outdir, name="two_bars_penalty", xcontact=None, n=20, slsfa
     fa = nodes_where(A[0], lambda x, y, z: abs(x - L) < 1e-12 and y == 0.0 and z == 0.0)
     fb = nodes_where(B[0], lambda x, y, z: abs(x - L - gap) < 1e-12 and y == 0.0 and z == 0.0)
     lines += ["*DATABASE_NODOUT", f10(2.0e-7), "*DATABASE_HISTORY_NODE", f10(fa[0], fb[0])]
+    lines += ["*DATABASE_RCFORC", f10(2.0e-7)]
     lines += ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
     if slsfac:
         lines += ["*CONTROL_CONTACT", f10(slsfac)]
@@ -736,11 +737,40 @@ def contact_block_on_block(outdir):
     write(os.path.join(outdir, "contact", "block_on_block.k"), lines)
 
 
+def contact_friction(outdir, name, v0, ax):
+    """A 50 mm cube (2x2x2, soft elastic: E 10 MPa, rho 1000) on a fixed
+    plate-like block, under gravity 9.81 down and `ax` along x (a body load),
+    sliding at v0 along x at the start; Coulomb friction FS = FD = 0.3.
+    Sliding: the cube decelerates at mu g - ax. Sticking (v0 = 0, ax below
+    mu g): it stays put."""
+    lower = block_mesh(8, 2, 1, 0.4, 0.1, 0.02, origin=(-0.05, -0.025, -0.02))
+    cube = block_mesh(2, 2, 2, 0.05, 0.05, 0.05, origin=(0.0, 0.0, 0.0), nid0=1001, eid0=1001)
+    lines = common(f"cube on a plate with Coulomb friction ({name})", 0.05, 1.0e-3)
+    lines += ["*MAT_ELASTIC", f10(1, 1000.0, 1.0e7, 0.3)]
+    lines += part(1, 1, "plate") + part(2, 1, "cube")
+    lines += node_set(1, sorted(lower[0]))
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1)]
+    lines += node_set(2, sorted(cube[0]))
+    if v0:
+        lines += ["*INITIAL_VELOCITY", f10(2), f10(v0, 0.0, 0.0)]
+    lines += ["*DEFINE_CURVE", f10(5), f"{0.0:20.8e}{9.81:20.8e}", f"{10.0:20.8e}{9.81:20.8e}"]
+    lines += ["*LOAD_BODY_Z", f10(5, 1.0)]
+    if ax:
+        lines += ["*DEFINE_CURVE", f10(6), f"{0.0:20.8e}{-ax:20.8e}", f"{10.0:20.8e}{-ax:20.8e}"]
+        lines += ["*LOAD_BODY_X", f10(6, 1.0)]
+    lines += ["*DATABASE_RCFORC", f10(1.0e-3)]
+    lines += ["*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE", f10(2, 1, 3, 3), f10(0.3, 0.3), ""]
+    lines += node_cards({**lower[0], **cube[0]}) + solid_cards(lower[1], 1) + solid_cards(cube[1], 2)
+    write(os.path.join(outdir, "contact", name + ".k"), lines)
+
+
 def contact_decks(outdir):
     """The contact keyword variants and search policies on the cube and plate."""
     single = ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
     contact_two_bars(outdir, n=40, slsfac=1.0)
     contact_block_on_block(outdir)
+    contact_friction(outdir, "friction_sliding", 1.0, 0.0)
+    contact_friction(outdir, "friction_sticking", 0.0, 0.2 * 9.81)
     contact_block_plate(outdir, "search_adaptive", single, f10(2, 0, 0, 0, 0, 0, 0.0, 90))
     contact_block_plate(outdir, "search_fixed_170", single, f10(1, 170, 0, 0, 0, 0, 0.0, 90))
     contact_block_plate(outdir, "variant_surface_to_surface",

@@ -30,7 +30,7 @@ module xd_contact_contact
     private
     public :: contacts_t, interface_t, build_contacts, contact_search, contact_drift, contact_report, &
               interface_summary, contact_masses, contact_local_search, contact_enforce, contact_work_end, &
-              contact_energy
+              contact_energy, contact_resultants
 
     type :: interface_t
         integer :: id = 0
@@ -64,7 +64,7 @@ module xd_contact_contact
         real(wp), allocatable :: fpair(:, :)  !< forces on those slaves
         real(dp) :: pminus = 0                !< power of this cycle's forces with v(n-1/2)
         real(dp) :: energy = 0                !< sliding interface energy (minus the contact forces' work)
-        real(dp) :: fslave(3) = 0, fmaster(3) = 0, mslave = 0   !< resultants and mass in contact (rcforc)
+        real(dp) :: fslave(3) = 0, fmaster(3) = 0, mslave = 0, mmaster = 0   !< rcforc: resultants, masses in contact
         real(dp) :: wall_local = 0, wall_enforce = 0
         integer(i8) :: ncontact_total = 0     !< slave-cycles in contact
         logical :: active = .false.           !< between birth and death this cycle
@@ -386,6 +386,7 @@ contains
                 it%fslave = 0
                 it%fmaster = 0
                 it%mslave = 0
+                it%mmaster = 0
                 if (.not. it%active) then
                     it%cseg = 0
                     it%fprev = 0
@@ -422,6 +423,7 @@ contains
                     it%fslave = it%fslave + fs
                     it%fmaster = it%fmaster - fs
                     it%mslave = it%mslave + it%ms(sn)
+                    it%mmaster = it%mmaster + mm
                 end do
                 it%ncontact_total = it%ncontact_total + it%npair
             end associate
@@ -462,6 +464,18 @@ contains
             e = e + ct%ifc(i)%energy - 0.5_dp*dt_avg*ct%ifc(i)%pminus
         end do
     end function contact_energy
+
+    !> rcforc values of every interface: slave force, slave mass in contact,
+    !> master force, master mass in contact (shape-function weighted).
+    function contact_resultants(ct) result(rc)
+        type(contacts_t), intent(in) :: ct
+        real(dp), allocatable :: rc(:, :)
+        integer :: i
+        allocate (rc(8, ct%n))
+        do i = 1, ct%n
+            rc(:, i) = [ct%ifc(i)%fslave, ct%ifc(i)%mslave, ct%ifc(i)%fmaster, ct%ifc(i)%mmaster]
+        end do
+    end function contact_resultants
 
     !> Set-up lines for the log, one block per interface.
     function interface_summary(ct, model) result(txt)

@@ -111,7 +111,8 @@ contains
             real(wp) :: xm(3, 4), tn(4)
             xm = ls%xl(:, s%seg(:, m))
             tn = s%seg_tn(:, m)
-            call segment_check(xm, tn, s%seg_kind(m) == seg_shell, ls%xl(:, sn), ts, h)
+            call segment_check(xm, tn, s%seg_kind(m) == seg_shell, ls%xl(:, sn), ts, h, &
+                               touching=s%seg_body(m) /= s%node_body(sn))
             h%seg = m
         end subroutine check
 
@@ -134,15 +135,20 @@ contains
         logical function better(h, b, general)
             type(hit_t), intent(in) :: h, b
             logical, intent(in) :: general
+            real(wp) :: vh, vb
             if (.not. b%found) then
                 better = .true.
             else if (h%level /= b%level) then
                 better = h%level < b%level
-            else if (general) then
-                ! the most negative v . n (Eq. 4)
-                better = dot_product(cv, h%nhat) < dot_product(cv, b%nhat)
             else
                 better = h%dist < b%dist
+                if (general) then
+                    ! the most negative v . n (Eq. 4); where v does not tell the
+                    ! two apart (v along both surfaces), the closest contact point
+                    vh = dot_product(cv, h%nhat)
+                    vb = dot_product(cv, b%nhat)
+                    if (abs(vh - vb) > 1.0e-6_wp*norm2(cv)) better = vh < vb
+                end if
             end if
         end function better
 

@@ -194,9 +194,13 @@ contains
     !> Segment contact check of slave point xs (half-thickness ts) against
     !> master segment xm (3, 4) with nodal thicknesses tn (4) (shell: full
     !> thickness; solid: the representative thickness), `shell` telling which.
-    pure subroutine segment_check(xm, tn, shell, xs, ts, hit)
+    !> `touching`: a slave exactly on a solid surface (d = ts) counts as in
+    !> contact (another body's surface), or not (the slave's own body, where
+    !> it would be a coplanar neighbour).
+    pure subroutine segment_check(xm, tn, shell, xs, ts, hit, touching)
         real(wp), intent(in) :: xm(3, 4), tn(4), xs(3), ts
         logical, intent(in) :: shell
+        logical, intent(in), optional :: touching
         type(hit_t), intent(inout) :: hit
         real(wp) :: t(3), n(3), lx(3), le(3), nt, tlen, dn(4), e(3), u, q(3), db
         integer :: k, nnd
@@ -236,11 +240,15 @@ contains
             hit%level = 1
             if (hit%kind /= contact_interior) hit%level = 2
         else
-            ! Eq. (3) window, both ends open by a hair: a node lying on the
-            ! surface (d = 0: a coplanar neighbour of the same body) or exactly
-            ! one window deep (the far node of the element under a face) is
-            ! not in contact; either way its force would be nil or spurious
+            ! Eq. (3) window. Its deep end is open by a hair: a node exactly one
+            ! window deep (the far node of an element under the face) is not in
+            ! contact. Its shallow end is open too for the slave's own body: a
+            ! node lying on the surface there is a coplanar neighbour, not a
+            ! contact; on another body d = ts is touching (zero force)
             hit%found = hit%d < ts - 1.0e-9_wp*hit%tm .and. hit%d > ts - (1.0_wp - 1.0e-6_wp)*hit%tm
+            if (present(touching)) then
+                if (touching) hit%found = hit%d <= ts .and. hit%d > ts - (1.0_wp - 1.0e-6_wp)*hit%tm
+            end if
             hit%a = hit%d - ts                                       ! Eq. (10)
             hit%level = 2
             if (hit%kind /= contact_interior) hit%level = 3

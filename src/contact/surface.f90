@@ -60,6 +60,7 @@ module xd_contact_surface
         real(wp), allocatable :: seg_k(:)      !< master-side penalty stiffness (force/length)
         integer, allocatable :: node(:)        !< model node of each local node
         integer, allocatable :: node_side(:)   !< side bits
+        integer, allocatable :: node_body(:)   !< body of the node's segments (0: a node without segments)
         real(wp), allocatable :: node_t(:)     !< slave shell thickness at the node (0: solids only)
         real(wp), allocatable :: node_k(:)     !< slave-side penalty stiffness
         integer, allocatable :: seg_ptr(:), seg_list(:)   !< node -> segments (CSR)
@@ -505,6 +506,11 @@ contains
             if (kmin(nd) < huge(1.0_wp)) s%node_k(nd) = stiff(1)*stiff(2)*kmin(nd)
         end do
 
+        allocate (s%node_body(s%nnode))
+        s%node_body = 0
+        do m = 1, s%nseg
+            s%node_body(s%seg(:, m)) = s%seg_body(m)
+        end do
         ! node -> segments
         allocate (cnt(s%nnode + 1), s%seg_ptr(s%nnode + 1))
         cnt = 0

@@ -154,6 +154,7 @@ contains
             case ('DATABASE_MATSUM'); model%db%matsum = h
             case ('DATABASE_NODOUT'); model%db%nodout = h
             case ('DATABASE_RWFORC'); model%db%rwforc = h
+            case ('DATABASE_RCFORC'); model%db%rcforc = h
             end select
             call no_more_cards(ctx, kw, ic + 1, error)
         case ('DATABASE_HISTORY_NODE', 'DATABASE_HISTORY_NODE_SET')

@@ -251,7 +251,7 @@ module xd_model
     end type history_request_t
 
     type :: database_t
-        type(history_request_t) :: glstat, matsum, nodout, rwforc
+        type(history_request_t) :: glstat, matsum, nodout, rwforc, rcforc
         real(wp) :: d3plot_dt = 0
         integer :: d3plot_npltc = 0
         integer, allocatable :: hist_node(:)     !< node ids for nodout

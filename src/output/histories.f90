@@ -16,7 +16,8 @@ module xd_output_histories
     public :: histories_t, open_histories, histories_due, write_histories, close_histories, version_line
 
     character(len=*), parameter :: xdyna_version = '0.1.0'
-    integer, parameter :: s_glstat = 1, s_matsum = 2, s_nodout = 3, s_rwforc = 4, s_rbdout = 5, ndb = 5
+    integer, parameter :: s_glstat = 1, s_matsum = 2, s_nodout = 3, s_rwforc = 4, s_rbdout = 5, s_rcforc = 6, &
+                          ndb = 6
 
     type :: histories_t
         logical :: on(ndb) = .false.
@@ -53,11 +54,12 @@ contains
 
         h%title = model%title(1:72)
         h%dt = [real(model%db%glstat%dt, dp), real(model%db%matsum%dt, dp), real(model%db%nodout%dt, dp), &
-                real(model%db%rwforc%dt, dp), real(model%db%glstat%dt, dp)]
+                real(model%db%rwforc%dt, dp), real(model%db%glstat%dt, dp), real(model%db%rcforc%dt, dp)]
         h%on = h%dt > 0.0_dp
         h%nwall = model%nwall
         if (h%nwall == 0) h%on(s_rwforc) = .false.
         if (rg%n == 0) h%on(s_rbdout) = .false.
+        if (model%ncontact == 0) h%on(s_rcforc) = .false.
         ! nodout nodes: *DATABASE_HISTORY_NODE ids, then node sets
         allocate (h%nodes(0))
         if (allocated(model%db%hist_node_ix)) h%nodes = model%db%hist_node_ix
@@ -124,6 +126,17 @@ contains
             units = [character(len=32) :: 'force', 'force', 'force', 'force']
             call series_create(h%h5, 'rwforc', cols, units, size(ids), ids, h%ser(s_rwforc))
         end if
+        if (h%on(s_rcforc)) then
+            open (newunit=h%unit(s_rcforc), file=join_path(outdir, 'rcforc'), status='replace', action='write')
+            call header(h%unit(s_rcforc))
+            ids = model%contact(1:model%ncontact)%id
+            call legend(h%unit(s_rcforc), ids, model%contact(1:model%ncontact)%heading)
+            write (h%unit(s_rcforc), '(a)') ''
+            cols = [character(len=32) :: 'slave_x_force', 'slave_y_force', 'slave_z_force', 'slave_mass', &
+                    'master_x_force', 'master_y_force', 'master_z_force', 'master_mass']
+            units = [character(len=32) :: 'force', 'force', 'force', 'mass', 'force', 'force', 'force', 'mass']
+            call series_create(h%h5, 'rcforc', cols, units, size(ids), ids, h%ser(s_rcforc))
+        end if
         if (h%on(s_rbdout)) then
             ! rigid bodies, HDF5 only: part id, or minus the body's number for node-set bodies
             ids = [(merge(model%part(max(rg%b(j)%part, 1))%id, -j, rg%b(j)%part > 0), j=1, rg%n)]
@@ -161,7 +174,7 @@ contains
 
     !> Write the databases that are due at the state's time (all of them if
     !> `force`). vn: full-step velocities; a: accelerations.
-    subroutine write_histories(h, model, st, solids, walls, rg, en, vn, crit, zone_ns, force)
+    subroutine write_histories(h, model, st, solids, walls, rg, en, vn, crit, zone_ns, force, rc)
         type(histories_t), intent(inout) :: h
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
@@ -173,11 +186,13 @@ contains
         integer, intent(in) :: crit(3)           !< controlling element: kind (1 solid, 2 shell), id, part id
         real(dp), intent(in) :: zone_ns
         logical, intent(in) :: force
+        real(dp), intent(in), optional :: rc(:, :)   !< (8, interfaces): slave force, mass, master force, mass
         logical :: due(ndb)
         due = h%on .and. (force .or. st%time >= h%next*(1.0_dp - 1.0e-9_dp))
         if (due(s_glstat)) call write_glstat(h, st, walls, en, crit, zone_ns)
         if (due(s_rwforc)) call write_rwforc(h, model, st, walls)
         if (due(s_rbdout)) call write_rbdout(h, st, rg)
+        if (due(s_rcforc) .and. present(rc)) call write_rcforc(h, model, st, rc)
         if (due(s_matsum)) call write_matsum(h, model, st, en)
         if (due(s_nodout)) call write_nodout(h, st, vn)
         where (due)
@@ -306,6 +321,27 @@ contains
         flush (u)
         call series_append(h%ser(s_nodout), st%time, vals)
     end subroutine write_nodout
+
+    !> Per interface, LS-DYNA's rcforc lines: the resultant of the contact
+    !> forces on the slave nodes and on the master nodes, and the mass of
+    !> the nodes in contact.
+    subroutine write_rcforc(h, model, st, rc)
+        type(histories_t), intent(inout) :: h
+        type(model_t), intent(in) :: model
+        type(state_t), intent(in) :: st
+        real(dp), intent(in) :: rc(:, :)
+        integer :: k
+        do k = 1, model%ncontact
+            write (h%unit(s_rcforc), '(a,i11,a,es12.5,a,es12.5,a,es12.5,a,es12.5,a,es12.5)') '  slave ', &
+                model%contact(k)%id, ' time ', st%time, '  x ', rc(1, k), '  y ', rc(2, k), '  z ', rc(3, k), &
+                ' mass ', rc(4, k)
+            write (h%unit(s_rcforc), '(a,i11,a,es12.5,a,es12.5,a,es12.5,a,es12.5,a,es12.5)') '  master', &
+                model%contact(k)%id, ' time ', st%time, '  x ', rc(5, k), '  y ', rc(6, k), '  z ', rc(7, k), &
+                ' mass ', rc(8, k)
+        end do
+        flush (h%unit(s_rcforc))
+        call series_append(h%ser(s_rcforc), st%time, transpose(rc))
+    end subroutine write_rcforc
 
     subroutine write_rwforc(h, model, st, walls)
         type(histories_t), intent(inout) :: h

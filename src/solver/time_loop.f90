@@ -19,7 +19,7 @@ module xd_solver_time_loop
                                pressure_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
     use xd_contact_contact, only: contacts_t, contact_search, contact_drift, contact_local_search, contact_enforce, &
-                                  contact_work_end, contact_energy
+                                  contact_work_end, contact_energy, contact_resultants
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     use xd_rigid_bodies, only: rigid_t, rigid_step
     use xd_elements_shell_bt, only: shells_t, shell_forces
@@ -340,7 +340,11 @@ contains
             end if
             ns = 0
             if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - t0_wall)/(real(st%cycle, dp)*max(solids%n + sh%n, 1))
-            call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force)
+            if (ct%n > 0) then
+                call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, contact_resultants(ct))
+            else
+                call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force)
+            end if
             call tm%stop(ph_output)
         end subroutine output
 
