@@ -36,6 +36,13 @@ PROBLEMS = [
     ("Column under segment pressure", "uniaxial stress: p L / E", rt.test_pressure),
     ("Belytschko-Tsay cantilever strip", "beam theory, first bending frequency", rt.test_shells),
     ("Clamped square plate under pressure", "plate theory: 0.00126 q a^4 / D", rt.test_clamped_plate),
+    ("Two bars meeting head-on through contact", "1-D theory: 2L/c, velocities reversed; momentum",
+     rt.test_contact_bars),
+    ("Block resting on a block, penalty contact", "static penetration m g / k", rt.test_contact_block_on_block),
+    ("Cube sliding and sticking on a plate", "Coulomb friction: deceleration mu g; static limit",
+     rt.test_contact_friction),
+    ("Square tube axial crush (shells, self-contact)", "Abramowicz & Jones mean force; no pass-through",
+     lambda: rt.test_tube_crush(full=True)),
     ("Thread count", "deterministic assembly: bitwise equal histories", rt.test_threads),
 ]
 

@@ -262,6 +262,7 @@ contains
                 if (.not. allocated(it%xl)) allocate (it%xl(3, it%surf%nnode), it%lc(it%surf%nnode))
                 it%xl = x(:, it%surf%node)
                 call characteristic_lengths(it%surf, it%xl, it%lc)
+                it%ls%lc = it%lc
                 call build_master_lists(it%surf, it%xl, it%lc, it%reach, it%margin, ct%mnl, it%lists, cnt)
                 it%nsearch = it%nsearch + 1
                 it%last_cycle = cycle
@@ -363,6 +364,9 @@ contains
                     it%ls%xl(:, k) = x(:, s%node(k))
                     it%ls%vl(:, k) = v(:, s%node(k))
                 end do
+                ! segments may have stretched by 2u since the search; a master
+                ! surface lies up to t_c off its segment
+                it%ls%grow = 2.0_wp*it%drift + it%reach
                 do k = 1, s%nslave
                     call find_contact(s, it%lists, it%ls, k, it%cseg(k), it%fprev(:, k), ct%sw, it%hit(k))
                 end do

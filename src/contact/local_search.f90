@@ -28,6 +28,8 @@ module xd_contact_local_search
     type :: local_search_t
         real(wp), allocatable :: xl(:, :)    !< surface coordinates now (3, nnode)
         real(wp), allocatable :: vl(:, :)    !< surface velocities now (3, nnode)
+        real(wp), allocatable :: lc(:)       !< characteristic lengths at the last global search
+        real(wp) :: grow = 0                 !< how far segments may have stretched since: 2u, plus the reach
     end type local_search_t
 
     integer, parameter :: max_track_steps = 64
@@ -91,6 +93,10 @@ contains
             mn = lists%node(j)
             if (.not. have_v) cv = ls%vl(:, sn) - ls%vl(:, mn)      ! Eq. (4)
             if (lists%trackable(j) .and. sw%tracking) mn = track(mn)
+            ! every point of a segment at mn lies within L_m of it (grown by
+            ! the motion since the search): a slave farther away than that
+            ! plus the thicknesses cannot touch one (the test of Fig. 3)
+            if (sum((ls%xl(:, mn) - ls%xl(:, sn))**2) > (ls%lc(mn) + ls%grow + ts)**2) cycle
             if (sw%screens) then
                 if (.not. screened_in(mn)) cycle
             end if

@@ -116,12 +116,14 @@ contains
             end if
             if (ct%n > 0) then
                 ! steps 3-4 on x(n): contact forces join f(n)
+                call tm%stop(ph_integrate)
                 call tm%start(ph_local)
                 call contact_local_search(ct, st%x, st%v, st%time)
                 call tm%stop(ph_local)
                 call tm%start(ph_enforce)
                 call contact_enforce(ct, st%f, st%dt)
                 call tm%stop(ph_enforce)
+                call tm%start(ph_integrate)
             end if
             call accelerations()
             done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
