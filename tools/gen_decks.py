@@ -715,7 +715,7 @@ def contact_two_bars(outdir, name="two_bars_penalty", xcontact=None, n=20, slsfa
     write(os.path.join(outdir, "contact", name + ".k"), lines)
 
 
-def contact_block_on_block(outdir):
+def contact_block_on_block(outdir, name="block_on_block", xcontact=None):
     """A 0.1 m steel cube (3x3x3) resting under gravity on a fixed 0.2 m
     plate-like block (4x4x2) with its own nodes, both solid, whole-model
     single-surface contact. Static penetration m g / (9 k) is tiny; the
@@ -733,8 +733,10 @@ def contact_block_on_block(outdir):
     lines += ["*DATABASE_NODOUT", f10(2.0e-4), "*DATABASE_HISTORY_NODE"]
     lines += ["".join(f"{k:10d}" for k in bottom[i:i + 8]) for i in range(0, len(bottom), 8)]
     lines += ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
+    if xcontact:
+        lines += ["*CONTROL_XDYNA_CONTACT", xcontact]
     lines += node_cards({**lower[0], **upper[0]}) + solid_cards(lower[1], 1) + solid_cards(upper[1], 2)
-    write(os.path.join(outdir, "contact", "block_on_block.k"), lines)
+    write(os.path.join(outdir, "contact", name + ".k"), lines)
 
 
 def contact_friction(outdir, name, v0, ax):
@@ -829,6 +831,7 @@ def contact_decks(outdir):
     """The contact keyword variants and search policies on the cube and plate."""
     single = ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
     contact_two_bars(outdir, n=40, slsfac=1.0)
+    contact_two_bars(outdir, "two_bars_lagrange", xcontact=f10(0, 0, 0, 0, 0, 2), n=40)
     contact_block_on_block(outdir)
     tube_crush(outdir)
     contact_friction(outdir, "friction_sliding", 1.0, 0.0)

@@ -21,7 +21,7 @@ module xd_contact_contact
                         styp_node_set, styp_all, styp_all_but, search_adaptive
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t
-    use xd_contact_segment_check, only: hit_t
+    use xd_contact_segment_check, only: hit_t, contact_interior
     use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t
     use xd_contact_enforcement, only: friction_t, penalty_force
     !$ use omp_lib, only: omp_get_wtime
@@ -77,6 +77,7 @@ module xd_contact_contact
         integer :: mnl = 0
         integer :: dump_unit = 0
         type(search_switches_t) :: sw
+        logical :: lagrange = .false.         !< Lagrangian projection instead of penalty
         real(wp) :: dt_limit = huge(1.0_wp)   !< stable step of the stiffest contact spring
         integer :: dt_node = 0                !< the node that sets it
     end type contacts_t
@@ -98,6 +99,7 @@ contains
         call build_faces(model, x0, ct%faces)
         ct%mnl = model%ctl%contact%mnl
         ct%sw = search_switches_t(tracking=model%ctl%contact%tracking, screens=model%ctl%contact%screens)
+        ct%lagrange = model%ctl%contact%lagrange
         allocate (ct%ifc(ct%n), in_a(ct%faces%n), in_b(ct%faces%n))
         do i = 1, ct%n
             associate (c => model%contact(i), it => ct%ifc(i))
@@ -377,11 +379,12 @@ contains
     !> Step 4: penalty forces of the contacts found, added to f on the slave
     !> and (by the shape functions) the master nodes in slave order, so the
     !> sums do not depend on threads; the first half of their work.
-    subroutine contact_enforce(ct, f, dt)
+    subroutine contact_enforce(ct, f, dt, dt_avg, mass, free)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(inout) :: f(:, :)
-        real(wp), intent(in) :: dt
-        integer :: i, k, j, sn, m
+        real(wp), intent(in) :: dt, dt_avg
+        real(wp), intent(in) :: mass(:), free(:, :)
+        integer :: i, k, j, sn, m, q
         real(wp) :: vrel(3), kpen, meff, mm, fs(3)
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
@@ -397,6 +400,7 @@ contains
                     it%ft = 0
                     cycle
                 end if
+                ! penalty forces (Eq. 12) with damping and friction
                 do k = 1, s%nslave
                     if (.not. it%hit(k)%found) then
                         it%cseg(k) = 0
@@ -413,11 +417,20 @@ contains
                     mm = dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
                     meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
                     call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, k), fs)
-                    it%cseg(k) = m
-                    it%fprev(:, k) = fs
                     it%npair = it%npair + 1
                     it%pair(it%npair) = k
                     it%fpair(:, it%npair) = fs
+                end do
+                if (ct%lagrange .and. it%npair > 0) call lagrange_normal(it, s, f, mass, free, dt, dt_avg)
+                ! both sides, in slave order (a deterministic sum)
+                do q = 1, it%npair
+                    k = it%pair(q)
+                    sn = s%slave(k)
+                    m = it%hit(k)%seg
+                    fs = it%fpair(:, q)
+                    vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
+                    it%cseg(k) = m
+                    it%fprev(:, k) = fs
                     f(:, s%node(sn)) = f(:, s%node(sn)) + fs
                     do j = 1, 4
                         if (j == 4 .and. s%seg(4, m) == s%seg(3, m)) exit
@@ -427,12 +440,99 @@ contains
                     it%fslave = it%fslave + fs
                     it%fmaster = it%fmaster - fs
                     it%mslave = it%mslave + it%ms(sn)
-                    it%mmaster = it%mmaster + mm
+                    it%mmaster = it%mmaster + dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
                 end do
                 it%ncontact_total = it%ncontact_total + it%npair
             end associate
         end do
     end subroutine contact_enforce
+
+    !> Lagrangian projection (forward increment Lagrange multipliers, after
+    !> Carpenter, Taylor and Katona 1991): normal impulses J >= 0 such that
+    !> the predicted gap of every pair at t(n+1) closes, x(n+1) = x(n) + dt
+    !> (v(n-1/2) + dt_avg (f + contact) / m). For pair q, the gap's rate
+    !> changes by J (w_s + sum N_i^2 w_i), w = 1/m along the return
+    !> direction (0 where constrained). Pairs sharing nodes are solved by
+    !> Gauss-Seidel sweeps in slave order; an isolated pair (node on node)
+    !> is exact in one. The tangential (friction) part stays as computed,
+    !> capped by mu times the new normal force.
+    subroutine lagrange_normal(it, s, f, mass, free, dt, dt_avg)
+        type(interface_t), intent(inout) :: it
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: f(:, :), mass(:), free(:, :), dt, dt_avg
+        real(wp), allocatable :: pv(:, :), w(:, :), jn(:)
+        integer :: q, k, sn, m, j, sweep, nd
+        real(wp) :: nh(3), g, den, dj, ftan(3), mu, cap, change, scale
+        allocate (pv(3, s%nnode), w(3, s%nnode), jn(it%npair))
+        do nd = 1, s%nnode
+            if (mass(s%node(nd)) > 0.0_wp) then
+                w(:, nd) = free(:, s%node(nd))/mass(s%node(nd))
+            else
+                w(:, nd) = 0
+            end if
+            pv(:, nd) = it%ls%vl(:, nd) + dt_avg*f(:, s%node(nd))*w(:, nd)
+        end do
+        jn = 0
+        scale = 0
+        do sweep = 1, 20
+            change = 0
+            do q = 1, it%npair
+                k = it%pair(q)
+                sn = s%slave(k)
+                m = it%hit(k)%seg
+                nh = it%hit(k)%nhat
+                ! a tube or pinball contact that only touches (a = 0: a node in
+                ! the plane of a face beyond its edge) constrains nothing: a
+                ! zero-gap constraint there would tie the node to the edge
+                if (it%hit(k)%kind /= contact_interior .and. it%hit(k)%a == 0.0_wp) cycle
+                ! predicted gap along the return direction (negative: penetrating)
+                g = -abs(it%hit(k)%a) + dt*dot_product(nh, pv(:, sn) - matmul(pv(:, s%seg(:, m)), it%hit(k)%nshape))* &
+                    pdir(it%hit(k)%a)
+                ! predicted penetrations below 1e-6 of the depth window are left
+                ! alone: at the edge where two faces of one body meet another
+                ! body, a node is "inside" the side face by round-off, and
+                ! enforcing that zero gap fights the real one
+                if (g > -1.0e-6_wp*it%hit(k)%tm .and. jn(q) == 0.0_wp) cycle
+                den = dot_product(nh*nh, w(:, sn))
+                do j = 1, 4
+                    if (j == 4 .and. s%seg(4, m) == s%seg(3, m)) exit
+                    den = den + it%hit(k)%nshape(j)**2*dot_product(nh*nh, w(:, s%seg(j, m)))
+                end do
+                if (den <= 0.0_wp) cycle
+                dj = max(-jn(q), -g/(dt*den))
+                if (dj == 0.0_wp) cycle
+                jn(q) = jn(q) + dj
+                change = max(change, abs(dj))
+                scale = max(scale, jn(q))
+                ! the impulse along +-n: the side -K a n would push the slave
+                pv(:, sn) = pv(:, sn) + dj*pdir(it%hit(k)%a)*nh*w(:, sn)
+                do j = 1, 4
+                    if (j == 4 .and. s%seg(4, m) == s%seg(3, m)) exit
+                    pv(:, s%seg(j, m)) = pv(:, s%seg(j, m)) - dj*pdir(it%hit(k)%a)*it%hit(k)%nshape(j)*nh* &
+                                         w(:, s%seg(j, m))
+                end do
+            end do
+            if (change <= 1.0e-10_wp*max(scale, tiny(1.0_wp))) exit
+        end do
+        do q = 1, it%npair
+            k = it%pair(q)
+            nh = it%hit(k)%nhat*pdir(it%hit(k)%a)
+            ftan = it%fpair(:, q) - dot_product(it%fpair(:, q), nh)*nh
+            mu = it%fr%fd + (it%fr%fs - it%fr%fd)
+            cap = max(mu, 0.0_wp)*jn(q)/dt_avg
+            if (norm2(ftan) > cap) ftan = ftan*(cap/max(norm2(ftan), tiny(1.0_wp)))
+            it%fpair(:, q) = jn(q)/dt_avg*nh + ftan
+        end do
+    end subroutine lagrange_normal
+
+    !> The side -K a n pushes the slave to: +1 along the return direction
+    !> when a <= 0 (solids, shells from the normal side), -1 when a > 0
+    !> (a shell approached from behind). Not sign(1, -a): a = -0.0 must give +1.
+    pure real(wp) function pdir(a)
+        real(wp), intent(in) :: a
+        pdir = 1.0_wp
+        if (a > 0.0_wp) pdir = -1.0_wp
+    end function pdir
 
     !> Second half of the contact forces' work, with v(n+1/2): the sliding
     !> energy is minus that work (springs store it, friction dissipates it).

@@ -132,8 +132,6 @@ program xdyna
         call finish(exit_input)
     end if
     if (ct%n > 0) call contact_masses(ct, st%mass)
-    if (ct%n > 0 .and. model%ctl%contact%lagrange) call add_warning(model, '*CONTROL_XDYNA_CONTACT field ENFORCE: '// &
-        'the Lagrangian projection is not implemented yet; penalty enforcement is used')
     call build_prescribed(model, pn)
     call build_pressures(model, pl)
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')

@@ -121,7 +121,7 @@ contains
                 call contact_local_search(ct, st%x, st%v, st%time)
                 call tm%stop(ph_local)
                 call tm%start(ph_enforce)
-                call contact_enforce(ct, st%f, st%dt)
+                call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%free)
                 call tm%stop(ph_enforce)
                 call tm%start(ph_integrate)
             end if
