@@ -56,3 +56,26 @@ echo "bench: shells median $med ns per element-cycle"
 echo "bench: contact global search alone, crumpled sheet, 1 thread (median of repeats per size)"
 OMP_NUM_THREADS=1 ./bin/search_bench 10000 100000 1000000 | tee $dir/search.txt
 awk 'NR == 2 {a = $3} END {printf "bench: global search cost per slave grows %.2fx from 1e4 to 1e6 nodes\n", $3 / a}' $dir/search.txt
+
+# whole-model single-surface contact: an array of crushing square tubes
+# (1200 shells each), 3 x 3 = 10,800 shells (BENCH_TUBES="10 10" for
+# 120,000), BENCH_TUBE_CYCLES cycles, one thread
+tubes=${BENCH_TUBES:-"3 3"}
+tcycles=${BENCH_TUBE_CYCLES:-1500}
+set -- $tubes
+tdeck=$dir/tubes_$1x$2.k
+/usr/bin/python3 tools/gen_decks.py --bench-tubes $1 $2 $tdeck --cycles $tcycles
+nsh=$(($1 * $2 * 1200))
+out=$dir/tubes
+rm -rf $out
+OMP_NUM_THREADS=1 ./bin/xdyna i=$tdeck outdir=$out > /dev/null
+echo "bench: $nsh shells in $1 x $2 crushing tubes, whole-model single-surface contact, $tcycles cycles, 1 thread"
+awk -v n=$nsh -v c=$tcycles '
+    /time per zone cycle/ {zone = $NF}
+    /contact share/ {share = $(NF-1)}
+    /element processing/ {el = $3}
+    /contact global search/ {gs = $4}
+    /contact local search/ {ls = $4}
+    /contact enforcement/ {en = $3}
+    END {f = 1e9 / (n * c)
+         printf "bench: contact %.1f ns per element-cycle overall (elements %.1f, global search %.1f, local search %.1f, enforcement %.1f); contact share %s%%\n", zone, el * f, gs * f, ls * f, en * f, share}' $out/d3hsp

@@ -827,6 +827,43 @@ def tube_crush(outdir, name="tube_crush", c=0.05, t=0.0015, length=0.15, h=0.005
     write(os.path.join(outdir, "contact", name + ".k"), lines)
 
 
+def bench_tubes(ntx, nty, path, ncycle):
+    """Benchmark: an ntx x nty array of the crushing square tubes of
+    tube_crush (1200 shells each), 70 mm apart, all in one whole-model
+    single-surface contact, crushed at 20 m/s so that folds and self-contact
+    develop within the run's ncycle cycles."""
+    base, shells, nring, nz = square_tube(0.05, 0.0015, 0.15, 0.005)
+    nodes, elems, top, bottom = {}, [], [], []
+    nn, ne = len(base), len(shells)
+    for ty in range(nty):
+        for tx in range(ntx):
+            off = (tx + ntx * ty)
+            dx, dy = 0.07 * tx, 0.07 * ty
+            for k, (x, y, z) in base.items():
+                zz = z
+                if abs(z - 0.12) < 1e-9 and abs(abs(x) - 0.025) < 1e-9 and abs(y) < 0.025 - 1e-9:
+                    x -= math.copysign(2.0e-4, x) * math.cos(math.pi * y / 0.05)
+                nodes[k + off * nn] = (x + dx, y + dy, zz)
+                if z == 0.0:
+                    bottom.append(k + off * nn)
+                if abs(z - 0.15) < 1e-9:
+                    top.append(k + off * nn)
+            elems += [(e + off * ne, *[n + off * nn for n in c]) for e, *c in shells]
+    lines = common(f"benchmark: {ntx}x{nty} crushing tubes, {len(elems)} shells, single-surface contact",
+                   1.0, 1.0, endcyc=ncycle)
+    lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 5), f10(0.0015, 0.0015, 0.0015, 0.0015)]
+    lines += ["*MAT_PIECEWISE_LINEAR_PLASTICITY", f10(1, 7850.0, 200e9, 0.3, 250e6, 1.0e9)]
+    lines += ["*PART", "tubes", f10(1, 2, 1)]
+    lines += node_set(1, sorted(bottom)) + node_set(2, sorted(top))
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1, 1, 1, 1)]
+    lines += ["*DEFINE_CURVE", f10(7), f"{0.0:20.8e}{-20.0:20.8e}", f"{1.0:20.8e}{-20.0:20.8e}"]
+    lines += ["*BOUNDARY_PRESCRIBED_MOTION_SET", f10(2, 3, 0, 7, 1.0)]
+    lines += ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
+    lines += ["*NODE"] + [f"{k:8d}{x:16.9e}{y:16.9e}{z:16.9e}{0:8d}{0:8d}" for k, (x, y, z) in sorted(nodes.items())]
+    lines += ["*ELEMENT_SHELL"] + [f"{s[0]:8d}{1:8d}" + "".join(f"{n:8d}" for n in s[1:]) for s in elems]
+    write(path, lines)
+
+
 def contact_decks(outdir):
     """The contact keyword variants and search policies on the cube and plate."""
     single = ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
@@ -913,7 +950,11 @@ def main():
     ap.add_argument("--bench", nargs=4, metavar=("NX", "NY", "NZ", "FILE"))
     ap.add_argument("--cycles", type=int, default=200)
     ap.add_argument("--bench-shells", nargs=3, metavar=("NX", "NY", "FILE"))
+    ap.add_argument("--bench-tubes", nargs=3, metavar=("NTX", "NTY", "FILE"))
     args = ap.parse_args()
+    if args.bench_tubes:
+        bench_tubes(int(args.bench_tubes[0]), int(args.bench_tubes[1]), args.bench_tubes[2], args.cycles)
+        return
     if args.bench_shells:
         bench_shells(int(args.bench_shells[0]), int(args.bench_shells[1]), args.bench_shells[2], args.cycles)
         return
