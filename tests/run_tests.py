@@ -918,6 +918,31 @@ def test_contact_bars_lagrange():
            drift < 1e-10 and dev < 1e-4)
 
 
+def test_shell_fold():
+    """A U-shaped 1 mm steel strip, its upper leg pushed down by pressure
+    onto its clamped lower leg (one part: shell self-contact, two-sided
+    segments with half-thickness offsets). The upper leg must come down
+    (a node within 1.2 mm of the lower leg's mid-surface: in contact) and
+    never closer than 90% of the thickness sum (0.9 mm, issue 5's bound);
+    the independent checker finds no pass-through."""
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
+    import penetration
+    deck = "input_decks/contact/shell_fold.k"
+    p, out = run_deck(deck, "shell_fold")
+    if p.returncode != 0:
+        record("shell fold runs", False, p.stderr[-300:])
+        return
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        z = f["nodout/z_coordinate"][:]
+    upper = np.nonzero(abs(z[0] - 0.01) < 1e-9)[0]
+    zmin = z[:, upper].min()
+    record(f"shell fold: the upper leg lands on the lower one (closest mid-surface gap {zmin * 1e3:.3f} mm, "
+           f"within 0.9-1.2 mm: 90% of the 1 mm thickness sum or more)", 0.9e-3 <= zmin < 1.2e-3)
+    worst, crossings = penetration.check(os.path.join(ROOT, deck), os.path.join(out, "thist.h5"))
+    record(f"shell fold: no pass-through ({crossings}), overlap {worst:.1%} of the thickness (under 10%)",
+           crossings == 0 and worst < 0.1)
+
+
 def test_contact_block_on_block():
     """A 0.1 m steel cube on a fixed block under gravity, solid on solid,
     penalty contact: the cube's lower nodes must not sink into the block by
@@ -1036,6 +1061,7 @@ def main():
     test_contact_block_on_block()
     test_contact_friction()
     test_tube_crush()
+    test_shell_fold()
     test_format_rules()
     test_runtime_error()
     test_thdiff()

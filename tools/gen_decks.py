@@ -827,6 +827,48 @@ def tube_crush(outdir, name="tube_crush", c=0.05, t=0.0015, length=0.15, h=0.005
     write(os.path.join(outdir, "contact", name + ".k"), lines)
 
 
+def shell_fold(outdir):
+    """A steel strip (1 mm, 20 mm wide) bent into a U: a clamped lower leg
+    and an upper leg 10 mm above it, 100 mm long, joined by a 10 mm web at
+    x = 100 mm; one part, whole-model single-surface contact. A pressure on
+    the outer half of the upper leg, ramped to 60 kPa over 10 ms, folds it
+    down onto the lower leg: self-contact of shells (two-sided segments,
+    half-thickness offsets)."""
+    h, w, L, gap, t = 0.005, 0.02, 0.1, 0.01, 0.001
+    nx, ny = round(L / h), round(w / h)
+    nodes, shells = {}, []
+    # a path of points along the strip: lower leg x 0..L, web z 0..gap, upper leg x L..0
+    path = [(i * h, 0.0) for i in range(nx + 1)] + [(L, gap * k / 2) for k in (1, 2)] + \
+           [(L - i * h, gap) for i in range(1, nx + 1)]
+    for i, (x, z) in enumerate(path):
+        for j in range(ny + 1):
+            nodes[1 + j + (ny + 1) * i] = (x, j * h, z)
+    e = 1
+    for i in range(len(path) - 1):
+        for j in range(ny):
+            n1 = 1 + j + (ny + 1) * i
+            shells.append((e, n1, n1 + ny + 1, n1 + ny + 2, n1 + 1))
+            e += 1
+    lines = common("a U-shaped strip folded onto itself by pressure (shell self-contact)", 0.012, 2.0e-4)
+    lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 3), f10(t, t, t, t)]
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.3)]
+    lines += ["*PART", "strip", f10(1, 2, 1)]
+    lower = [k for k, x in sorted(nodes.items()) if x[2] == 0.0]
+    lines += node_set(1, lower) + ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1, 1, 1, 1)]
+    loaded = [s[0] for s in shells if all(nodes[n][2] == gap and nodes[n][0] <= L / 2 + 1e-9 for n in s[1:])]
+    lines += ["*SET_SHELL_LIST", f10(2)] + ["".join(f"{k:10d}" for k in loaded[i:i + 8])
+                                            for i in range(0, len(loaded), 8)]
+    lines += ["*DEFINE_CURVE", f10(5), f"{0.0:20.8e}{0.0:20.8e}", f"{0.01:20.8e}{6.0e4:20.8e}",
+              f"{1.0:20.8e}{6.0e4:20.8e}"]
+    lines += ["*LOAD_SHELL_SET", f10(2, 5, -1.0)]   # the upper leg's normals point up: push down
+    lines += ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
+    lines += node_set(3, sorted(nodes))
+    lines += ["*DATABASE_NODOUT", f10(2.0e-4), "*DATABASE_HISTORY_NODE_SET", f10(3)]
+    lines += ["*NODE"] + [f"{k:8d}{x:16.9e}{y:16.9e}{z:16.9e}{0:8d}{0:8d}" for k, (x, y, z) in sorted(nodes.items())]
+    lines += ["*ELEMENT_SHELL"] + [f"{s[0]:8d}{1:8d}" + "".join(f"{n:8d}" for n in s[1:]) for s in shells]
+    write(os.path.join(outdir, "contact", "shell_fold.k"), lines)
+
+
 def bench_tubes(ntx, nty, path, ncycle):
     """Benchmark: an ntx x nty array of the crushing square tubes of
     tube_crush (1200 shells each), 70 mm apart, all in one whole-model
@@ -871,6 +913,7 @@ def contact_decks(outdir):
     contact_two_bars(outdir, "two_bars_lagrange", xcontact=f10(0, 0, 0, 0, 0, 2), n=40)
     contact_block_on_block(outdir)
     tube_crush(outdir)
+    shell_fold(outdir)
     contact_friction(outdir, "friction_sliding", 1.0, 0.0)
     contact_friction(outdir, "friction_sticking", 0.0, 0.2 * 9.81)
     contact_block_plate(outdir, "search_adaptive", single, f10(2, 0, 0, 0, 0, 0, 0.0, 90))
