@@ -869,6 +869,54 @@ def shell_fold(outdir):
     write(os.path.join(outdir, "contact", "shell_fold.k"), lines)
 
 
+def shell_on_solid(outdir, name, edge_on):
+    """A 2 mm steel shell plate (40 x 40 mm, 8 x 8 shells, part 2) and a
+    fixed steel block (80 x 80 x 20 mm, 8 x 8 x 2 hexahedra, part 1, top at
+    z = 0), surface-to-surface contact plate on block. edge_on: the plate
+    stands on its lower edge, 2 mm above the block (1 mm from touching with
+    its half-thickness), falling at 2 m/s: it must bounce off the block's
+    face. Else: it lies flat, its lower surface
+    touching the block (mid-surface at z = 1 mm), under gravity: it must
+    rest there, its weight carried by the contact."""
+    lower = block_mesh(8, 8, 2, 0.08, 0.08, 0.02, origin=(-0.04, -0.04, -0.02))
+    n, a, t = 8, 0.04, 0.002
+    nodes, shells = {}, []
+    for j in range(n + 1):
+        for i in range(n + 1):
+            if edge_on:
+                p = (-a / 2 + a * i / n + 1.3e-3, 1.1e-3, 2.0e-3 + a * j / n)
+            else:
+                p = (-a / 2 + a * i / n + 1.3e-3, -a / 2 + a * j / n + 1.1e-3, t / 2)
+            nodes[1001 + i + (n + 1) * j] = p
+    for j in range(n):
+        for i in range(n):
+            n1 = 1001 + i + (n + 1) * j
+            shells.append((1001 + i + n * j, n1, n1 + 1, n1 + n + 2, n1 + n + 1))
+    lines = common(f"shell plate and solid block ({'edge on, falling' if edge_on else 'lying on its face'})",
+                   0.002 if edge_on else 0.01, 1.0e-5 if edge_on else 1.0e-4)
+    lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 3), f10(t, t, t, t)]
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.3)]
+    lines += part(1, 1, "block") + ["*PART", "plate", f10(2, 2, 1)]
+    lines += node_set(1, nodes_where(lower[0], lambda x, y, z: abs(z + 0.02) < 1e-12))
+    lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1)]
+    lines += node_set(2, sorted(nodes))
+    if edge_on:
+        lines += ["*INITIAL_VELOCITY", f10(2), f10(0.0, 0.0, -2.0)]
+    else:
+        lines += ["*DEFINE_CURVE", f10(5), f"{0.0:20.8e}{9.81:20.8e}", f"{10.0:20.8e}{9.81:20.8e}"]
+        lines += ["*LOAD_BODY_Z", f10(5, 1.0)]
+    edge = [k for k, x in sorted(nodes.items()) if abs(x[2] - min(v[2] for v in nodes.values())) < 1e-12]
+    lines += ["*DATABASE_NODOUT", f10(1.0e-6 if edge_on else 1.0e-4), "*DATABASE_HISTORY_NODE"]
+    lines += ["".join(f"{k:10d}" for k in edge[i:i + 8]) for i in range(0, len(edge), 8)]
+    lines += ["*DATABASE_RCFORC", f10(1.0e-6 if edge_on else 1.0e-4)]
+    # the plate's nodes against the block's faces: rcforc's slave resultant
+    # is the force on the plate
+    lines += ["*CONTACT_AUTOMATIC_NODES_TO_SURFACE", f10(2, 1, 3, 3), "", ""]
+    lines += node_cards({**lower[0], **nodes}) + solid_cards(lower[1], 1)
+    lines += ["*ELEMENT_SHELL"] + [f"{s[0]:8d}{2:8d}" + "".join(f"{v:8d}" for v in s[1:]) for s in shells]
+    write(os.path.join(outdir, "contact", name + ".k"), lines)
+
+
 def bench_tubes(ntx, nty, path, ncycle):
     """Benchmark: an ntx x nty array of the crushing square tubes of
     tube_crush (1200 shells each), 70 mm apart, all in one whole-model
@@ -914,6 +962,8 @@ def contact_decks(outdir):
     contact_block_on_block(outdir)
     tube_crush(outdir)
     shell_fold(outdir)
+    shell_on_solid(outdir, "shell_edge_on_solid", True)
+    shell_on_solid(outdir, "shell_lying_on_solid", False)
     contact_friction(outdir, "friction_sliding", 1.0, 0.0)
     contact_friction(outdir, "friction_sticking", 0.0, 0.2 * 9.81)
     contact_block_plate(outdir, "search_adaptive", single, f10(2, 0, 0, 0, 0, 0, 0.0, 90))
