@@ -984,6 +984,26 @@ def test_shell_on_solid():
         record("shell lying on solid runs", False, p.stderr[-300:])
 
 
+def test_initial_penetration():
+    """The edge-on plate starting 0.5 mm into the block with its
+    half-thickness: the initial penetration is allowed and shrinks as the
+    nodes move out (LS-DYNA's IGNORE = 1), so no spring energy is injected:
+    energy ratio within 1e-3 (a penalty force on it would throw the 25 g
+    plate out with 66 J, ratio 33), the log names it, the plate still
+    bounces off the face."""
+    p, out = run_deck("input_decks/contact/shell_edge_initially_penetrating.k", "shell_edge_pen")
+    if p.returncode != 0:
+        record("initially penetrating plate runs", False, p.stderr[-300:])
+        return
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        ratio = f["glstat/energy_ratio"][:]
+        vz = f["matsum/z_momentum"][:, 1] / f["matsum/mass"][0, 1]
+    log = open(os.path.join(out, "d3hsp")).read()
+    dev = np.max(abs(ratio - 1))
+    record(f"initial penetration: allowed, no energy injected ({dev:.1e} within 1e-3), logged, plate bounces "
+           f"({vz[-1]:+.2f} m/s)", dev < 1e-3 and "initial penetrations" in log and vz[-1] > 0.5)
+
+
 def test_contact_block_on_block():
     """A 0.1 m steel cube on a fixed block under gravity, solid on solid,
     penalty contact: the cube's lower nodes must not sink into the block by
@@ -1104,6 +1124,7 @@ def main():
     test_tube_crush()
     test_shell_fold()
     test_shell_on_solid()
+    test_initial_penetration()
     test_format_rules()
     test_runtime_error()
     test_thdiff()

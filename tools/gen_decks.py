@@ -869,7 +869,7 @@ def shell_fold(outdir):
     write(os.path.join(outdir, "contact", "shell_fold.k"), lines)
 
 
-def shell_on_solid(outdir, name, edge_on):
+def shell_on_solid(outdir, name, edge_on, z0=2.0e-3):
     """A 2 mm steel shell plate (40 x 40 mm, 8 x 8 shells, part 2) and a
     fixed steel block (80 x 80 x 20 mm, 8 x 8 x 2 hexahedra, part 1, top at
     z = 0), surface-to-surface contact plate on block. edge_on: the plate
@@ -884,7 +884,7 @@ def shell_on_solid(outdir, name, edge_on):
     for j in range(n + 1):
         for i in range(n + 1):
             if edge_on:
-                p = (-a / 2 + a * i / n + 1.3e-3, 1.1e-3, 2.0e-3 + a * j / n)
+                p = (-a / 2 + a * i / n + 1.3e-3, 1.1e-3, z0 + a * j / n)
             else:
                 p = (-a / 2 + a * i / n + 1.3e-3, -a / 2 + a * j / n + 1.1e-3, t / 2)
             nodes[1001 + i + (n + 1) * j] = p
@@ -964,6 +964,7 @@ def contact_decks(outdir):
     shell_fold(outdir)
     shell_on_solid(outdir, "shell_edge_on_solid", True)
     shell_on_solid(outdir, "shell_lying_on_solid", False)
+    shell_on_solid(outdir, "shell_edge_initially_penetrating", True, z0=5.0e-4)
     contact_friction(outdir, "friction_sliding", 1.0, 0.0)
     contact_friction(outdir, "friction_sticking", 0.0, 0.2 * 9.81)
     contact_block_plate(outdir, "search_adaptive", single, f10(2, 0, 0, 0, 0, 0, 0.0, 90))

@@ -58,6 +58,10 @@ module xd_contact_contact
         integer, allocatable :: cseg(:)       !< per slave: segment in contact last cycle (0: none)
         real(wp), allocatable :: fprev(:, :)  !< per slave: contact force last cycle (comparison vector)
         real(wp), allocatable :: ft(:, :)     !< per slave: friction force carried over
+        real(wp), allocatable :: p0(:)        !< per slave: initial penetration still allowed
+        logical :: started = .false.          !< the first active cycle has been seen
+        integer :: ninit = 0                  !< initial penetrations found
+        real(wp) :: pinit = 0                 !< the largest of them
         integer :: npair = 0                  !< slaves in contact this cycle
         type(hit_t), allocatable :: hit(:)    !< their contacts, in slave order
         integer, allocatable :: pair(:)       !< their slave positions
@@ -334,7 +338,8 @@ contains
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%ms = mass(s%node)
                 n = s%nslave
-                allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n))
+                allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n), it%p0(n))
+                it%p0 = 0
                 it%cseg = 0
                 it%fprev = 0
                 it%ft = 0
@@ -400,13 +405,32 @@ contains
                     it%ft = 0
                     cycle
                 end if
+                ! initial penetrations (the first active cycle) are allowed and
+                ! shrink as the nodes move out, like LS-DYNA's IGNORE = 1: a
+                ! penalty force on them would throw the nodes out with the
+                ! spring's energy
+                if (.not. it%started) then
+                    do k = 1, s%nslave
+                        if (.not. it%hit(k)%found) cycle
+                        if (abs(it%hit(k)%a) <= 0.0_wp) cycle
+                        it%p0(k) = abs(it%hit(k)%a)
+                        it%ninit = it%ninit + 1
+                        it%pinit = max(it%pinit, it%p0(k))
+                    end do
+                    it%started = .true.
+                end if
                 ! penalty forces (Eq. 12) with damping and friction
                 do k = 1, s%nslave
                     if (.not. it%hit(k)%found) then
                         it%cseg(k) = 0
                         it%fprev(:, k) = 0
                         it%ft(:, k) = 0
+                        it%p0(k) = 0
                         cycle
+                    end if
+                    if (it%p0(k) > 0.0_wp) then
+                        it%p0(k) = min(it%p0(k), abs(it%hit(k)%a))
+                        it%hit(k)%a = sign(abs(it%hit(k)%a) - it%p0(k), it%hit(k)%a)
                     end if
                     sn = s%slave(k)
                     m = it%hit(k)%seg
@@ -642,6 +666,12 @@ contains
                 write (buf, '(i12,i9,i10,f15.2,f12.2,f15.2,f13.4,f18.1,f15.3)') it%id, it%surf%nslave, it%nsearch, &
                     avg_m, avg_p, avg_r, it%wall, 1.0e9_dp*it%wall/per, it%worst
                 txt = txt//trim(buf)//nl
+                if (it%ninit > 0) then
+                    write (buf, '(a,i0,a,i0,a,es10.3,a)') '   interface ', it%id, ': ', it%ninit, &
+                        ' initial penetrations (largest ', it%pinit, &
+                        ') allowed, shrinking as the nodes move out (as LS-DYNA''s IGNORE = 1)'
+                    txt = txt//trim(buf)//nl
+                end if
             end associate
         end do
     end function contact_report
