@@ -951,6 +951,24 @@ def contact_patch(outdir):
     write(os.path.join(outdir, "contact", "patch_test.k"), lines)
 
 
+def contact_block_impact(outdir, name, keyword):
+    """Two free steel blocks with non-matching meshes (3 x 3 x 2 on
+    4 x 4 x 2, 0.1 x 0.1 x 0.05 m each, touching), the upper one moving
+    down at 1 m/s: a conservative impact through penalty contact, with the
+    upper block's edge nodes on the plane of the lower block's side faces
+    (the case that must not be taken for a deep tube contact)."""
+    lower = block_mesh(4, 4, 2, 0.1, 0.1, 0.05, origin=(0.0, 0.0, -0.05))
+    upper = block_mesh(3, 3, 2, 0.1, 0.1, 0.05, nid0=1001, eid0=1001)
+    lines = common(f"two blocks, non-matching meshes, impact through {keyword}", 2.0e-4, 2.0e-6)
+    lines += ["*MAT_ELASTIC", f10(1, 7850.0, 200e9, 0.0)]
+    lines += part(1, 1, "lower block") + part(2, 1, "upper block")
+    lines += node_set(9, sorted(upper[0]))
+    lines += ["*INITIAL_VELOCITY", f10(9), f10(0.0, 0.0, -1.0)]
+    lines += ["*" + keyword, f10(2, 1, 3, 3), "", ""]
+    lines += node_cards({**lower[0], **upper[0]}) + solid_cards(lower[1], 1) + solid_cards(upper[1], 2)
+    write(os.path.join(outdir, "contact", name + ".k"), lines)
+
+
 def bench_tubes(ntx, nty, path, ncycle):
     """Benchmark: an ntx x nty array of the crushing square tubes of
     tube_crush (1200 shells each), 70 mm apart, all in one whole-model
@@ -996,6 +1014,8 @@ def contact_decks(outdir):
     contact_block_on_block(outdir)
     tube_crush(outdir)
     shell_fold(outdir)
+    contact_block_impact(outdir, "blocks_impact_two_way", "CONTACT_AUTOMATIC_SURFACE_TO_SURFACE")
+    contact_block_impact(outdir, "blocks_impact_one_way", "CONTACT_AUTOMATIC_NODES_TO_SURFACE")
     shell_on_solid(outdir, "shell_edge_on_solid", True)
     shell_on_solid(outdir, "shell_lying_on_solid", False)
     shell_on_solid(outdir, "shell_edge_initially_penetrating", True, z0=5.0e-4)

@@ -249,6 +249,14 @@ contains
             if (present(touching)) then
                 if (touching) hit%found = hit%d <= ts .and. hit%d > ts - (1.0_wp - 1.0e-6_wp)*hit%tm
             end if
+            ! beyond the border of a solid face, |t| is only a depth when the
+            ! slave lies well behind the face's plane: a node in (or near) the
+            ! plane of a side face, beside it, is not inside the body by |t|.
+            ! Accept the tube or pinball only within 60 degrees of the inward
+            ! normal (a node inside a convex edge is about 45 degrees off each face)
+            if (hit%found .and. hit%kind /= contact_interior .and. hit%d < ts) then
+                if (-nt < 0.5_wp*tlen) hit%found = .false.
+            end if
             hit%a = hit%d - ts                                       ! Eq. (10)
             hit%level = 2
             if (hit%kind /= contact_interior) hit%level = 3
