@@ -899,10 +899,9 @@ def test_contact_bars():
 
 def test_contact_bars_lagrange():
     """The two bars with the Lagrangian projection (ENFORCE 2, no penalty
-    stiffness): the faces close to round-off once in contact, so the
-    contact time is the bars' own. Tolerances: contact time within 3% of
-    2L/c (2.7% measured; issue 5 asks 2%: the rest is the 40-element mesh's
-    dispersion, the wave's tail reaching the faces late); penetration under
+    stiffness): once in contact the faces stop approaching, so the contact
+    time is the bars' own. Tolerances: contact time within 2% of 2L/c
+    (issue 5's figure; +0.6% measured); penetration under
     1 um (the approach of one step, 10 m/s x 0.08 us, before the pair is
     found); momentum to 1e-10; energy ratio within 1e-4 (the projection
     takes out the approach velocity's energy at first touch)."""
@@ -918,8 +917,8 @@ def test_contact_bars_lagrange():
     gap = xb - xa
     touching = t[gap <= 1e-12]
     dur = (touching.max() - touching.min()) / two_l_c - 1 if touching.size else float("nan")
-    record(f"contact bars, Lagrange: contact time within 3% of 2L/c ({dur:+.1%}), penetration under 1 um "
-           f"({-gap.min() * 1e6:.2f} um)", abs(dur) < 0.03 and -gap.min() < 1e-6)
+    record(f"contact bars, Lagrange: contact time within 2% of 2L/c ({dur:+.1%}), penetration under 1 um "
+           f"({-gap.min() * 1e6:.2f} um)", abs(dur) < 0.02 and -gap.min() < 1e-6)
     drift = np.max(abs(mom.sum(axis=1))) / (mass[0, 0] * 5)
     dev = np.max(abs(ratio - 1))
     record(f"contact bars, Lagrange: momentum to 1e-10 ({drift:.1e}), energy ratio within 1e-4 ({dev:.1e})",
@@ -1054,6 +1053,19 @@ def test_contact_block_on_block():
            pen < 2.5e-4)
     record("contact block on block: the cube is held (its lower face stays within 1 mm of z = 0)",
            np.max(abs(z[-1])) < 1e-3)
+    # Lagrangian projection: the constraint stops every approach, so the
+    # cube stays where it was put; 1e-6 of the 25 mm window (25 nm) bounds
+    # what is left (5 nm measured: the first step's fall, and the
+    # non-matching meshes' interpolation)
+    p, out = run_deck("input_decks/contact/block_on_block_lagrange.k", "contact_block_on_block_lagrange")
+    if p.returncode != 0:
+        record("contact block on block (Lagrange) runs", False, p.stderr[-300:])
+        return
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        z = f["nodout/z_coordinate"][:]
+    pen = -np.min(z)
+    record(f"contact block on block, Lagrange: penetration {pen * 1e9:.2f} nm under 25 nm (1e-6 of the thickness)",
+           pen < 2.5e-8)
 
 
 def test_contact_friction():

@@ -1012,6 +1012,7 @@ def contact_decks(outdir):
     contact_two_bars(outdir, n=40, slsfac=1.0)
     contact_two_bars(outdir, "two_bars_lagrange", xcontact=f10(0, 0, 0, 0, 0, 2), n=40)
     contact_block_on_block(outdir)
+    contact_block_on_block(outdir, "block_on_block_lagrange", f10(0, 0, 0, 0, 0, 2))
     tube_crush(outdir)
     shell_fold(outdir)
     contact_block_impact(outdir, "blocks_impact_two_way", "CONTACT_AUTOMATIC_SURFACE_TO_SURFACE")

@@ -473,7 +473,7 @@ contains
 
     !> Lagrangian projection (forward increment Lagrange multipliers, after
     !> Carpenter, Taylor and Katona 1991): normal impulses J >= 0 such that
-    !> the predicted gap of every pair at t(n+1) closes, x(n+1) = x(n) + dt
+    !> no pair's gap closes further over the step to x(n+1) = x(n) + dt
     !> (v(n-1/2) + dt_avg (f + contact) / m). For pair q, the gap's rate
     !> changes by J (w_s + sum N_i^2 w_i), w = 1/m along the return
     !> direction (0 where constrained). Pairs sharing nodes are solved by
@@ -509,14 +509,13 @@ contains
                 ! the plane of a face beyond its edge) constrains nothing: a
                 ! zero-gap constraint there would tie the node to the edge
                 if (it%hit(k)%kind /= contact_interior .and. it%hit(k)%a == 0.0_wp) cycle
-                ! predicted gap along the return direction (negative: penetrating)
-                g = -abs(it%hit(k)%a) + dt*dot_product(nh, pv(:, sn) - matmul(pv(:, s%seg(:, m)), it%hit(k)%nshape))* &
-                    pdir(it%hit(k)%a)
-                ! predicted penetrations below 1e-6 of the depth window are left
-                ! alone: at the edge where two faces of one body meet another
-                ! body, a node is "inside" the side face by round-off, and
-                ! enforcing that zero gap fights the real one
-                if (g > -1.0e-6_wp*it%hit(k)%tm .and. jn(q) == 0.0_wp) cycle
+                ! the change of the gap over the step along the return direction
+                ! (negative: closing). The constraint stops the closing; the
+                ! penetration already there is kept, not pushed out: pushing it
+                ! out in one step would add the energy of that jump each time
+                ! round-off leaves a trace of penetration (a resting contact)
+                g = dt*dot_product(nh, pv(:, sn) - matmul(pv(:, s%seg(:, m)), it%hit(k)%nshape))*pdir(it%hit(k)%a)
+                if (g >= 0.0_wp .and. jn(q) == 0.0_wp) cycle
                 den = dot_product(nh*nh, w(:, sn))
                 do j = 1, 4
                     if (j == 4 .and. s%seg(4, m) == s%seg(3, m)) exit
