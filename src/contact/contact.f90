@@ -82,6 +82,7 @@ module xd_contact_contact
         integer :: dump_unit = 0
         type(search_switches_t) :: sw
         logical :: lagrange = .false.         !< Lagrangian projection instead of penalty
+        real(wp), allocatable :: fnode(:, :)  !< (3, model nodes) contact force on each node this cycle
         real(wp) :: dt_limit = huge(1.0_wp)   !< stable step of the stiffest contact spring
         integer :: dt_node = 0                !< the node that sets it
     end type contacts_t
@@ -334,6 +335,8 @@ contains
         real(wp), intent(in) :: mass(:)
         integer :: i, k, n
         real(wp) :: dtk
+        allocate (ct%fnode(3, size(mass)))
+        ct%fnode = 0
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%ms = mass(s%node)
@@ -391,6 +394,7 @@ contains
         real(wp), intent(in) :: mass(:), free(:, :)
         integer :: i, k, j, sn, m, q
         real(wp) :: vrel(3), kpen, meff, mm, fs(3)
+        ct%fnode = 0
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%npair = 0
@@ -456,9 +460,11 @@ contains
                     it%cseg(k) = m
                     it%fprev(:, k) = fs
                     f(:, s%node(sn)) = f(:, s%node(sn)) + fs
+                    ct%fnode(:, s%node(sn)) = ct%fnode(:, s%node(sn)) + fs
                     do j = 1, 4
                         if (j == 4 .and. s%seg(4, m) == s%seg(3, m)) exit
                         f(:, s%node(s%seg(j, m))) = f(:, s%node(s%seg(j, m))) - it%hit(k)%nshape(j)*fs
+                        ct%fnode(:, s%node(s%seg(j, m))) = ct%fnode(:, s%node(s%seg(j, m))) - it%hit(k)%nshape(j)*fs
                     end do
                     it%pminus = it%pminus + dot_product(real(fs, dp), real(vrel, dp))
                     it%fslave = it%fslave + fs

@@ -60,6 +60,7 @@ contains
         if (h%nwall == 0) h%on(s_rwforc) = .false.
         if (rg%n == 0) h%on(s_rbdout) = .false.
         if (model%ncontact == 0) h%on(s_rcforc) = .false.
+        h%contact = model%ncontact > 0
         ! nodout nodes: *DATABASE_HISTORY_NODE ids, then node sets
         allocate (h%nodes(0))
         if (allocated(model%db%hist_node_ix)) h%nodes = model%db%hist_node_ix
@@ -87,7 +88,6 @@ contains
             if (model%ncontact > 0) then
                 cols = [cols, [character(len=32) :: 'sliding_interface_energy']]
                 units = [units, [character(len=32) :: 'energy']]
-                h%contact = .true.
             end if
             call series_create(h%h5, 'glstat', cols, units, 0, [0], h%ser(s_glstat))
         end if
@@ -114,6 +114,12 @@ contains
                     'x_coordinate', 'y_coordinate', 'z_coordinate']
             units = [character(len=32) :: 'length', 'length', 'length', 'length/time', 'length/time', 'length/time', &
                      'length/time^2', 'length/time^2', 'length/time^2', 'length', 'length', 'length']
+            if (model%ncontact > 0) then
+                ! HDF5 only (LS-DYNA's nodout has no such columns): the contact
+                ! force on the node, the sum over its interfaces
+                cols = [cols, [character(len=32) :: 'x_contact_force', 'y_contact_force', 'z_contact_force']]
+                units = [units, [character(len=32) :: 'force', 'force', 'force']]
+            end if
             call series_create(h%h5, 'nodout', cols, units, size(ids), ids, h%ser(s_nodout))
         end if
         if (h%on(s_rwforc)) then
@@ -174,7 +180,7 @@ contains
 
     !> Write the databases that are due at the state's time (all of them if
     !> `force`). vn: full-step velocities; a: accelerations.
-    subroutine write_histories(h, model, st, solids, walls, rg, en, vn, crit, zone_ns, force, rc)
+    subroutine write_histories(h, model, st, solids, walls, rg, en, vn, crit, zone_ns, force, rc, fc)
         type(histories_t), intent(inout) :: h
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
@@ -187,6 +193,7 @@ contains
         real(dp), intent(in) :: zone_ns
         logical, intent(in) :: force
         real(dp), intent(in), optional :: rc(:, :)   !< (8, interfaces): slave force, mass, master force, mass
+        real(wp), intent(in), optional :: fc(:, :)   !< (3, nodes) contact force per node
         logical :: due(ndb)
         due = h%on .and. (force .or. st%time >= h%next*(1.0_dp - 1.0e-9_dp))
         if (due(s_glstat)) call write_glstat(h, st, walls, en, crit, zone_ns)
@@ -194,7 +201,7 @@ contains
         if (due(s_rbdout)) call write_rbdout(h, st, rg)
         if (due(s_rcforc) .and. present(rc)) call write_rcforc(h, model, st, rc)
         if (due(s_matsum)) call write_matsum(h, model, st, en)
-        if (due(s_nodout)) call write_nodout(h, st, vn)
+        if (due(s_nodout)) call write_nodout(h, st, vn, fc)
         where (due)
             h%next = h%next + h%dt
         end where
@@ -297,10 +304,11 @@ contains
         call series_append(h%ser(s_matsum), st%time, vals)
     end subroutine write_matsum
 
-    subroutine write_nodout(h, st, vn)
+    subroutine write_nodout(h, st, vn, fc)
         type(histories_t), intent(inout) :: h
         type(state_t), intent(in) :: st
         real(wp), intent(in) :: vn(:, :)
+        real(wp), intent(in), optional :: fc(:, :)
         integer :: u, k, nd
         real(dp), allocatable :: vals(:, :)
         u = h%unit(s_nodout)
@@ -319,6 +327,14 @@ contains
         end do
         write (u, '(a)') ''
         flush (u)
+        if (h%contact) then
+            vals = reshape([vals, [(0.0_dp, k=1, 3*size(h%nodes))]], [size(h%nodes), 15])
+            if (present(fc)) then
+                do k = 1, size(h%nodes)
+                    vals(k, 13:15) = fc(:, h%nodes(k))
+                end do
+            end if
+        end if
         call series_append(h%ser(s_nodout), st%time, vals)
     end subroutine write_nodout
 

@@ -343,7 +343,8 @@ contains
             ns = 0
             if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - t0_wall)/(real(st%cycle, dp)*max(solids%n + sh%n, 1))
             if (ct%n > 0) then
-                call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, contact_resultants(ct))
+                call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, contact_resultants(ct), &
+                                     ct%fnode)
             else
                 call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force)
             end if
