@@ -240,6 +240,22 @@ contains
             hit%level = 1
             if (hit%kind /= contact_interior) hit%level = 2
         else
+            ! beyond the border of a solid face, a slave behind the face's plane
+            ! is pushed back along the face normal by its depth below the plane
+            ! (the radial tube direction would push a node inside the body
+            ! sideways, and at aligned edges of two bodies that sideways push
+            ! feeds the hourglass modes); a node beside the face, in or near
+            ! its plane, is not inside the body: accepted only within 60
+            ! degrees of the inward normal (a node inside a convex edge is
+            ! about 45 degrees off each face)
+            if (hit%kind /= contact_interior .and. nt < 0.0_wp .and. tlen > 0.0_wp) then
+                if (-nt >= 0.5_wp*tlen) then
+                    hit%d = nt
+                    hit%nhat = n
+                else
+                    hit%d = huge(1.0_wp)
+                end if
+            end if
             ! Eq. (3) window. Its deep end is open by a hair: a node exactly one
             ! window deep (the far node of an element under the face) is not in
             ! contact. Its shallow end is open too for the slave's own body: a
@@ -248,14 +264,6 @@ contains
             hit%found = hit%d < ts - 1.0e-9_wp*hit%tm .and. hit%d > ts - (1.0_wp - 1.0e-6_wp)*hit%tm
             if (present(touching)) then
                 if (touching) hit%found = hit%d <= ts .and. hit%d > ts - (1.0_wp - 1.0e-6_wp)*hit%tm
-            end if
-            ! beyond the border of a solid face, |t| is only a depth when the
-            ! slave lies well behind the face's plane: a node in (or near) the
-            ! plane of a side face, beside it, is not inside the body by |t|.
-            ! Accept the tube or pinball only within 60 degrees of the inward
-            ! normal (a node inside a convex edge is about 45 degrees off each face)
-            if (hit%found .and. hit%kind /= contact_interior .and. hit%d < ts) then
-                if (-nt < 0.5_wp*tlen) hit%found = .false.
             end if
             hit%a = hit%d - ts                                       ! Eq. (10)
             hit%level = 2
