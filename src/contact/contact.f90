@@ -95,7 +95,7 @@ contains
         real(wp), intent(in) :: x0(:, :)
         type(contacts_t), intent(out) :: ct
         type(error_t), allocatable, intent(out) :: error
-        integer :: i, k, interval, sset
+        integer :: i, interval, sset
         logical, allocatable :: in_a(:), in_b(:), dumped(:)
         integer, allocatable :: slaves(:)
         real(wp), allocatable :: xl(:, :), lc(:)

@@ -17,7 +17,7 @@
 module xd_contact_global_search
     use, intrinsic :: iso_fortran_env, only: int8
     use xd_kinds, only: wp, i8
-    use xd_contact_surface, only: surface_t, segment_diagonals, side_a, side_b, side_slave
+    use xd_contact_surface, only: surface_t, segment_diagonals, side_a, side_b, wanted_side
     use xd_model, only: mnl_minimal, mnl_closest1, mnl_closest3
     use xd_core_sorting, only: where_true
     implicit none
@@ -334,14 +334,7 @@ contains
 
         ! which sides the slave looks at: single surface A against A; two
         ! surfaces each side against the other; nodes-to-surface against B
-        if (s%single) then
-            want = side_a
-        else
-            want = 0
-            if (iand(s%node_side(sn), side_a) /= 0) want = side_b
-            if (iand(s%node_side(sn), side_b) /= 0 .and. s%two_way) want = ior(want, side_a)
-            if (want == 0) want = side_b
-        end if
+        want = wanted_side(s, sn)
 
         call node_pool(bk, xl(:, sn), w)
         npool = npool + w%npool

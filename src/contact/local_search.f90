@@ -11,7 +11,7 @@
 module xd_contact_local_search
     use xd_kinds, only: wp
     use xd_core_vectors, only: cross
-    use xd_contact_surface, only: surface_t, seg_shell, side_a, side_b
+    use xd_contact_surface, only: surface_t, seg_shell, wanted_side
     use xd_contact_segment_check, only: hit_t, segment_check, contact_interior
     use xd_contact_global_search, only: master_lists_t
     implicit none
@@ -231,20 +231,5 @@ contains
             end do
         end function screened_in
     end subroutine find_contact
-
-    !> Sides a slave looks at: single surface everything, two surfaces the
-    !> other side, nodes-to-surface the master side.
-    pure integer function wanted_side(s, sn) result(want)
-        type(surface_t), intent(in) :: s
-        integer, intent(in) :: sn
-        if (s%single) then
-            want = side_a
-        else
-            want = 0
-            if (iand(s%node_side(sn), side_a) /= 0) want = side_b
-            if (iand(s%node_side(sn), side_b) /= 0 .and. s%two_way) want = ior(want, side_a)
-            if (want == 0) want = side_b
-        end if
-    end function wanted_side
 
 end module xd_contact_local_search

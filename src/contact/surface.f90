@@ -18,7 +18,7 @@ module xd_contact_surface
     implicit none
     private
     public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid
-    public :: side_a, side_b, side_slave, face_key, segment_diagonals
+    public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side
 
     integer, parameter :: seg_shell = 1, seg_solid = 2
     !> Bits of a node's or segment's side in an interface: on a segment of
@@ -533,6 +533,21 @@ contains
         end do
         call node_neighbours(s)
     end subroutine build_surface
+
+    !> Sides a slave looks at: single surface everything, two surfaces the
+    !> other side, nodes-to-surface the master side.
+    pure integer function wanted_side(s, sn) result(want)
+        type(surface_t), intent(in) :: s
+        integer, intent(in) :: sn
+        if (s%single) then
+            want = side_a
+        else
+            want = 0
+            if (iand(s%node_side(sn), side_a) /= 0) want = side_b
+            if (iand(s%node_side(sn), side_b) /= 0 .and. s%two_way) want = ior(want, side_a)
+            if (want == 0) want = side_b
+        end if
+    end function wanted_side
 
     !> 3 for a triangle (N4 = N3), else 4.
     pure integer function seg_nodes(sg)
