@@ -8,6 +8,7 @@ program global_search_bench
     use xd_model, only: model_t, part_t, material_t, mat_elastic, mnl_minimal
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t
+    use xd_core_sorting, only: small_sort
     implicit none
     integer :: k, nargs, target
     character(len=32) :: arg
@@ -104,25 +105,9 @@ contains
             call system_clock(c1)
             t(r) = real(c1 - c0, dp)/real(rate, dp)
         end do
-        call sort(t)
+        call small_sort(t)
         write (*, '(i15,i11,f18.1,f16.2,f13.2)') s%nnode, nrep, 1.0e9_dp*t((nrep + 1)/2)/s%nslave, &
             real(cnt%masters, dp)/s%nslave, real(cnt%pool, dp)/s%nslave
     end subroutine one_size
-
-    subroutine sort(a)
-        real(dp), intent(inout) :: a(:)
-        integer :: i, j
-        real(dp) :: v
-        do i = 2, size(a)
-            v = a(i)
-            j = i - 1
-            do while (j >= 1)
-                if (a(j) <= v) exit
-                a(j + 1) = a(j)
-                j = j - 1
-            end do
-            a(j + 1) = v
-        end do
-    end subroutine sort
 
 end program global_search_bench

@@ -35,7 +35,7 @@ contains
         type(model_t), intent(in) :: model
         type(walls_t), intent(out) :: walls
         logical, allocatable :: on(:)
-        integer :: i, s, k
+        integer :: i, s
         walls%n = model%nwall
         if (walls%n == 0) return
         allocate (walls%w(walls%n), on(model%nnode))

@@ -14,7 +14,7 @@ module xd_contact_surface
     use xd_core_vectors, only: cross
     use xd_elements_hex8, only: hex_volume_operator
     use xd_model, only: model_t, mat_rigid
-    use xd_core_sorting, only: where_true
+    use xd_core_sorting, only: where_true, small_sort
     implicit none
     private
     public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid
@@ -123,6 +123,16 @@ contains
         a = 0.5_wp*norm2(cross(xs(:, 3) - xs(:, 1), xs(:, 4) - xs(:, 2)))
     end function segment_area
 
+    !> One-point volume of hexahedron e at coordinates x.
+    real(wp) function hex_vol(model, x, e)
+        type(model_t), intent(in) :: model
+        real(wp), intent(in) :: x(:, :)
+        integer, intent(in) :: e
+        real(wp) :: xe(8, 3), bm(8, 3)
+        xe = transpose(x(:, model%hex_conn(:, e)))
+        call hex_volume_operator(xe, bm, hex_vol)
+    end function hex_vol
+
     !> Bulk modulus E / (3 (1 - 2 nu)) of a part's material (MAT_RIGID's E, PR
     !> set the contact stiffness of a rigid part).
     pure real(wp) function part_bulk(model, p) result(k)
@@ -151,7 +161,7 @@ contains
         allocate (cnode(4, ncand), ckey(4, ncand), chex(ncand), cshell(ncand), vol(model%nhex))
         c = 0
         do e = 1, model%nhex
-            vol(e) = hex_vol(e)
+            vol(e) = hex_vol(model, x, e)
             do k = 1, 6
                 nd = model%hex_conn(hex_face(:, k), e)
                 call face_key(nd, key, nu)
@@ -286,12 +296,6 @@ contains
             end do
         end function solid_of
 
-        real(wp) function hex_vol(e)
-            integer, intent(in) :: e
-            real(wp) :: xe(8, 3), bm(8, 3)
-            xe = transpose(x(:, model%hex_conn(:, e)))
-            call hex_volume_operator(xe, bm, hex_vol)
-        end function hex_vol
 
         !> Solid thickness min(0.6 x smallest diagonal, V / A); stiffness
         !> ingredient K A^2 / V (LS-DYNA's rule for solids).
@@ -580,7 +584,7 @@ contains
                     buf(nb) = s%seg(k, m)
                 end do
             end do
-            call sort_ints(buf(1:nb))
+            call small_sort(buf(1:nb))
             s%nn_list(total + 1:total + nb) = buf(1:nb)
             total = total + nb
             s%nn_ptr(nd + 1) = total + 1
@@ -589,20 +593,5 @@ contains
         tmp = s%nn_list(1:total)
         call move_alloc(tmp, s%nn_list)
     end subroutine node_neighbours
-
-    pure subroutine sort_ints(a)
-        integer, intent(inout) :: a(:)
-        integer :: i, j, t
-        do i = 2, size(a)
-            t = a(i)
-            j = i - 1
-            do while (j >= 1)
-                if (a(j) <= t) exit
-                a(j + 1) = a(j)
-                j = j - 1
-            end do
-            a(j + 1) = t
-        end do
-    end subroutine sort_ints
 
 end module xd_contact_surface

@@ -1,8 +1,9 @@
 !> Sorting and id look-up: user ids (any integers) to dense indices.
 module xd_core_sorting
+    use xd_kinds, only: dp
     implicit none
     private
-    public :: sort_index, id_map_t, where_true
+    public :: sort_index, id_map_t, where_true, small_sort
 
     !> Maps user ids to indices 1..n. Dense ids use a direct table, sparse ones
     !> a sorted list and binary search.
@@ -18,7 +19,44 @@ module xd_core_sorting
         procedure :: find => id_map_find
     end type id_map_t
 
+    !> In-place insertion sort, ascending: for the short lists of a node's
+    !> neighbours or a handful of timings (quadratic: not for long arrays).
+    interface small_sort
+        module procedure small_sort_int, small_sort_dp
+    end interface small_sort
+
 contains
+
+    pure subroutine small_sort_int(a)
+        integer, intent(inout) :: a(:)
+        integer :: i, j, t
+        do i = 2, size(a)
+            t = a(i)
+            j = i - 1
+            do while (j >= 1)
+                if (a(j) <= t) exit
+                a(j + 1) = a(j)
+                j = j - 1
+            end do
+            a(j + 1) = t
+        end do
+    end subroutine small_sort_int
+
+    pure subroutine small_sort_dp(a)
+        real(dp), intent(inout) :: a(:)
+        integer :: i, j
+        real(dp) :: t
+        do i = 2, size(a)
+            t = a(i)
+            j = i - 1
+            do while (j >= 1)
+                if (a(j) <= t) exit
+                a(j + 1) = a(j)
+                j = j - 1
+            end do
+            a(j + 1) = t
+        end do
+    end subroutine small_sort_dp
 
     !> Indices i where mask(i) is true, ascending. (A loop, not pack of an
     !> implied do: no stack temporary of the mask's size on large models.)
