@@ -19,7 +19,7 @@ module xd_contact_contact
     use xd_model, only: model_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, &
                         ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_adaptive
-    use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key
+    use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t
     use xd_contact_segment_check, only: hit_t, contact_interior
     use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t
@@ -461,8 +461,7 @@ contains
                     it%fprev(:, k) = fs
                     f(:, s%node(sn)) = f(:, s%node(sn)) + fs
                     ct%fnode(:, s%node(sn)) = ct%fnode(:, s%node(sn)) + fs
-                    do j = 1, 4
-                        if (j == 4 .and. s%seg(4, m) == s%seg(3, m)) exit
+                    do j = 1, seg_nodes(s%seg(:, m))
                         f(:, s%node(s%seg(j, m))) = f(:, s%node(s%seg(j, m))) - it%hit(k)%nshape(j)*fs
                         ct%fnode(:, s%node(s%seg(j, m))) = ct%fnode(:, s%node(s%seg(j, m))) - it%hit(k)%nshape(j)*fs
                     end do
@@ -523,8 +522,7 @@ contains
                 g = dt*dot_product(nh, pv(:, sn) - matmul(pv(:, s%seg(:, m)), it%hit(k)%nshape))*pdir(it%hit(k)%a)
                 if (g >= 0.0_wp .and. jn(q) == 0.0_wp) cycle
                 den = dot_product(nh*nh, w(:, sn))
-                do j = 1, 4
-                    if (j == 4 .and. s%seg(4, m) == s%seg(3, m)) exit
+                do j = 1, seg_nodes(s%seg(:, m))
                     den = den + it%hit(k)%nshape(j)**2*dot_product(nh*nh, w(:, s%seg(j, m)))
                 end do
                 if (den <= 0.0_wp) cycle
@@ -535,8 +533,7 @@ contains
                 scale = max(scale, jn(q))
                 ! the impulse along +-n: the side -K a n would push the slave
                 pv(:, sn) = pv(:, sn) + dj*pdir(it%hit(k)%a)*nh*w(:, sn)
-                do j = 1, 4
-                    if (j == 4 .and. s%seg(4, m) == s%seg(3, m)) exit
+                do j = 1, seg_nodes(s%seg(:, m))
                     pv(:, s%seg(j, m)) = pv(:, s%seg(j, m)) - dj*pdir(it%hit(k)%a)*it%hit(k)%nshape(j)*nh* &
                                          w(:, s%seg(j, m))
                 end do

@@ -11,7 +11,7 @@
 module xd_contact_local_search
     use xd_kinds, only: wp
     use xd_core_vectors, only: cross
-    use xd_contact_surface, only: surface_t, seg_shell, wanted_side
+    use xd_contact_surface, only: surface_t, seg_shell, wanted_side, seg_nodes
     use xd_contact_segment_check, only: hit_t, segment_check, contact_interior
     use xd_contact_global_search, only: master_lists_t
     implicit none
@@ -201,8 +201,7 @@ contains
             xa = ls%xl(:, mn)
             do q = s%seg_ptr(mn), s%seg_ptr(mn + 1) - 1
                 m = s%seg_list(q)
-                nnd = 4
-                if (s%seg(3, m) == s%seg(4, m)) nnd = 3
+                nnd = seg_nodes(s%seg(:, m))
                 a = findloc(s%seg(1:nnd, m), mn, 1)
                 p1 = s%seg(mod(a, nnd) + 1, m)
                 p2 = s%seg(mod(a + nnd - 2, nnd) + 1, m)

@@ -18,7 +18,7 @@ module xd_contact_surface
     implicit none
     private
     public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid
-    public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side
+    public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side, seg_nodes
 
     integer, parameter :: seg_shell = 1, seg_solid = 2
     !> Bits of a node's or segment's side in an interface: on a segment of
@@ -80,18 +80,9 @@ contains
     pure subroutine face_key(nd, key, nuniq)
         integer, intent(in) :: nd(4)
         integer, intent(out) :: key(4), nuniq
-        integer :: i, j, t
+        integer :: i
         key = nd
-        do i = 2, 4
-            t = key(i)
-            j = i - 1
-            do while (j >= 1)
-                if (key(j) <= t) exit
-                key(j + 1) = key(j)
-                j = j - 1
-            end do
-            key(j + 1) = t
-        end do
+        call small_sort(key)
         nuniq = 1
         do i = 2, 4
             if (key(i) /= key(nuniq)) then
