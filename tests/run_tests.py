@@ -836,7 +836,7 @@ def test_contact_surface_log():
 
 
 def test_contact_search_interval():
-    """The cube falls at 200 m/s through the plate (no enforcement yet).
+    """The cube falls at 200 m/s onto the plate.
     Adaptive interval: the plate node under the slave must be in its master
     node list at the first search where the slave is within reach of the
     plate, i.e. before the slave's contact surface touches the plate's
@@ -863,8 +863,11 @@ def test_contact_search_interval():
             record(f"contact adaptive search: every cycle used lists with 4u/delta <= 1 ({worst:.3f})",
                    worst <= 1.0)
         else:
+            # missed: the plate enters a list only after the cube has passed
+            # it, or (when the run ends before the second search) never
+            seen = f"gap {gap * 1e3:.1f} mm < 0" if found else "never in a list"
             record(f"contact fixed interval 170: plate found only after the cube passed it "
-                   f"(gap {gap * 1e3:.1f} mm < 0); 4u/delta reached {worst:.1f} > 1", gap < 0 and worst > 1)
+                   f"({seen}); 4u/delta reached {worst:.1f} > 1", (not found or gap < 0) and worst > 1)
 
 
 def test_contact_bars():
@@ -1144,38 +1147,12 @@ def test_tube_crush(full=False):
 
 
 def main():
-    unit_tests()
-    test_bar_impact()
-    test_free_block()
-    test_prestressed()
-    test_bar_wall()
-    test_moving_walls()
-    test_gravity_drop()
-    test_plasticity()
-    test_taylor_bar()
-    test_rigid_bodies()
-    test_rigid_constraints()
-    test_pressure()
-    test_shells()
-    test_clamped_plate()
-    test_subsystems()
-    test_malformed()
-    test_contact_surface_log()
-    test_contact_search_interval()
-    test_contact_bars()
-    test_contact_bars_lagrange()
-    test_contact_block_on_block()
-    test_contact_friction()
-    test_tube_crush()
-    test_shell_fold()
-    test_shell_on_solid()
-    test_initial_penetration()
-    test_blocks_impact()
-    test_format_rules()
-    test_runtime_error()
-    test_thdiff()
-    test_threads()
-    test_cli()
+    """Every test; with arguments, only the tests whose names contain one of
+    them (for development: `tests/run_tests.py contact_friction`)."""
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_constraints, test_pressure, test_shells, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_cli]
+    for test in tests:
+        if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
+            test()
     npass = sum(ok for _, ok in results)
     nfail = len(results) - npass
     shutil.rmtree(TMP, ignore_errors=True)

@@ -25,6 +25,8 @@ import sys
 import h5py
 import numpy as np
 
+where = None   # (node id, state number, segment's node ids) of the largest overlap
+
 
 def read_shells(deck):
     """Shell connectivity (ids), part of each shell, and thickness per part."""
@@ -79,7 +81,8 @@ def check(deck, h5):
         for b in near[a]:
             skip_seg[a].update(seg_of[b])
     worst, crossings, prev = 0.0, 0, None
-    for X1 in X:
+    global where
+    for state, X1 in enumerate(X):
         xs = X1[conn]                                  # (nseg, 4, 3)
         cen = xs.mean(1)
         nrm = np.cross(xs[:, 2] - xs[:, 0], xs[:, 3] - xs[:, 1])
@@ -96,8 +99,10 @@ def check(deck, h5):
         inside = inside_quad(p, xs[s_idx], nrm[s_idx])
         over = 0.5 * (tnode[a_idx] + tseg[s_idx]) - np.abs(dist)
         frac = np.where(inside, np.maximum(over, 0.0) / tseg[s_idx], 0.0)
-        if frac.size:
-            worst = max(worst, float(frac.max()))
+        if frac.size and float(frac.max()) > worst:
+            worst = float(frac.max())
+            j = int(np.argmax(frac))
+            where = (int(ids[a_idx[j]]), state, conn_ids[s_idx[j]].tolist())
         cur = {(a, s): dv for a, s, dv, ins in zip(a_idx, s_idx, dist, inside) if ins}
         if prev is not None:
             for key, dv in cur.items():
@@ -123,6 +128,8 @@ def main():
         return 2
     worst, crossings = check(sys.argv[1], sys.argv[2])
     print(f"largest overlap {worst:.3f} of the segment thickness; pass-throughs {crossings}")
+    if where:
+        print(f"  at node {where[0]}, state {where[1]}, segment {where[2]}")
     return 0
 
 

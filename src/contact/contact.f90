@@ -19,7 +19,8 @@ module xd_contact_contact
     use xd_model, only: model_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, &
                         ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_adaptive
-    use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes
+    use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell
+    use xd_core_vectors, only: cross
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t
     use xd_contact_segment_check, only: hit_t, contact_interior
     use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t
@@ -438,9 +439,14 @@ contains
                     end if
                     sn = s%slave(k)
                     m = it%hit(k)%seg
-                    ! the softer of the master segment and the slave node (LS-DYNA's SOFT 0)
+                    ! the softer of the master segment and the slave node (LS-DYNA's
+                    ! SOFT 0), per unit area, times the area the slave node covers
+                    ! facing the master (a node without segments: the segment's k)
                     kpen = s%seg_k(m)
-                    if (s%node_k(sn) > 0.0_wp) kpen = min(kpen, s%node_k(sn))
+                    if (s%node_area(sn) > 0.0_wp) then
+                        kpen = min(kpen/s%seg_area(m), s%node_kpa(sn))* &
+                               facing_area(s, it%ls%xl, sn, it%hit(k)%nhat*pdir(it%hit(k)%a))
+                    end if
                     vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
                     mm = dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
                     meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
@@ -550,6 +556,39 @@ contains
             it%fpair(:, q) = jn(q)/dt_avg*nh + ftan
         end do
     end subroutine lagrange_normal
+
+    !> The area slave node sn covers against a master that pushes it along
+    !> `push`: its share of each of its own segments; of a solid face, the
+    !> share projected on the plane normal to `push`, and only if the face
+    !> is turned toward the master (a node on a block's edge covers the top
+    !> face's area, not the side's); at least a quarter of its whole share.
+    !> A shell counts whole, at its initial area, whatever its angle and
+    !> stretch (a node on a fold line carries the fold).
+    pure real(wp) function facing_area(s, xl, sn, push) result(a)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: xl(:, :), push(3)
+        integer, intent(in) :: sn
+        integer :: q, m, nnd
+        real(wp) :: nv(3), c
+        a = 0
+        do q = s%seg_ptr(sn), s%seg_ptr(sn + 1) - 1
+            m = s%seg_list(q)
+            nnd = seg_nodes(s%seg(:, m))
+            if (nnd == 3) then
+                nv = cross(xl(:, s%seg(2, m)) - xl(:, s%seg(1, m)), xl(:, s%seg(3, m)) - xl(:, s%seg(1, m)))
+            else
+                nv = cross(xl(:, s%seg(3, m)) - xl(:, s%seg(1, m)), xl(:, s%seg(4, m)) - xl(:, s%seg(2, m)))
+            end if
+            ! |nv| is twice the area
+            c = dot_product(nv, push)
+            if (s%seg_kind(m) == seg_shell) then
+                a = a + s%seg_area(m)/nnd
+            else if (c < 0.0_wp) then
+                a = a - 0.5_wp*c/nnd
+            end if
+        end do
+        a = max(a, 0.25_wp*s%node_area(sn))
+    end function facing_area
 
     !> The side -K a n pushes the slave to: +1 along the return direction
     !> when a <= 0 (solids, shells from the normal side), -1 when a > 0

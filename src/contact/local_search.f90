@@ -63,18 +63,22 @@ contains
             ! the old segment: done if the contact point is inside it (and, on
             ! a shell, not within a half-thickness of its border)
             call check(oldseg, hit)
-            if (hit%found .and. hit%kind == contact_interior .and. &
+            if (hit%found .and. hit%kind == contact_interior .and. .not. grazing(hit) .and. &
                 .not. (s%seg_kind(oldseg) == seg_shell .and. hit%near_border)) then
                 best = hit
                 return
             end if
             if (hit%found) best = hit
-            ! then every segment at the old segment's node nearest the contact point
+            ! then every segment at the old segment's node nearest the contact
+            ! point, ties by the comparison vector as below (a node at an
+            ! edge of two faces goes on being pushed by the face that pushed it)
             cnode = s%seg(hit%near_node, oldseg)
+            cv = -fprev
+            if (.not. any(fprev /= 0.0_wp)) cv = ls%vl(:, sn) - ls%vl(:, cnode)
             do k = s%seg_ptr(cnode), s%seg_ptr(cnode + 1) - 1
                 m = s%seg_list(k)
                 if (m == oldseg) cycle
-                call try(m, .false.)
+                call try(m, .true.)
             end do
             if (acceptable()) return
             best%found = .false.
@@ -132,7 +136,10 @@ contains
             if (iand(s%seg_side(m), want) == 0) return
             call check(m, h)
             if (.not. h%found) then
-                if (s%seg_kind(m) /= seg_shell) nsolid_miss = nsolid_miss + 1
+                ! a solid face missed by a hair (the slave on its plane, outside)
+                ! does not make the slave an outside node: it lies on the edge
+                if (s%seg_kind(m) /= seg_shell .and. .not. (h%d >= ts .and. h%d - ts <= 1.0e-5_wp*h%tm)) &
+                    nsolid_miss = nsolid_miss + 1
                 return
             end if
             if (better(h, best, general)) best = h
@@ -146,6 +153,18 @@ contains
                 better = .true.
             else if (h%level /= b%level) then
                 better = h%level < b%level
+            else if (beyond_half(h) .neqv. beyond_half(b)) then
+                ! a node deeper than half a solid's window below one face and
+                ! less deep below another came through the other (the far face
+                ! of a thin solid must not pull a node through it)
+                better = beyond_half(b)
+            else if (grazing(h) .neqv. grazing(b)) then
+                ! a node on a face's plane that penetrates another face of the
+                ! same level lies at their common edge: the face it went
+                ! through pushes it (two bodies with aligned edges, where the
+                ! side face would otherwise win as the closer one, and carry
+                ! nothing)
+                better = grazing(b)
             else
                 better = h%dist < b%dist
                 if (general) then
@@ -158,11 +177,32 @@ contains
             end if
         end function better
 
+        !> A contact that only grazes its segment: a penetration below 1e-5
+        !> of the thickness (round-off on a face's plane).
+        logical function grazing(h)
+            type(hit_t), intent(in) :: h
+            grazing = abs(h%a) <= 1.0e-5_wp*h%tm
+        end function grazing
+
+        !> A solid contact deeper than half its window.
+        logical function beyond_half(h)
+            type(hit_t), intent(in) :: h
+            beyond_half = .false.
+            if (s%seg_kind(h%seg) /= seg_shell) beyond_half = -h%a > 0.5_wp*h%tm
+        end function beyond_half
+
         !> A lone solid tube/pinball contact among solid segments that are not
-        !> in contact is no contact (a node outside a solid's convex edge).
+        !> in contact is no contact (a node outside a solid's convex edge),
+        !> unless the slave was in contact with that very segment last cycle:
+        !> a node pressed onto a face that slides a little beyond its border
+        !> (two bodies with aligned edges) keeps being pushed back along the
+        !> face normal, by its depth below the face's plane, until it leaves
+        !> the 60 degree cone of segment_check. Dropping it there and catching
+        !> it again at depth a moment later would add the spring energy
+        !> k a^2 / 2 at each catch.
         logical function acceptable()
             acceptable = best%found
-            if (acceptable .and. best%level == 3 .and. nsolid_miss > 0) acceptable = .false.
+            if (acceptable .and. best%level == 3 .and. nsolid_miss > 0) acceptable = best%seg == oldseg
         end function acceptable
 
         !> Tracking along an opposite region: from the master node, step to

@@ -41,6 +41,7 @@ module xd_contact_surface
         integer, allocatable :: hex(:)         !< model hexahedron that owns a solid face (0: shell face)
         real(wp), allocatable :: thick(:)      !< segment thickness (section 3)
         real(wp), allocatable :: kgeo(:)       !< bulk modulus x A^2/V (solid) or x A/max diagonal (shell)
+        real(wp), allocatable :: area(:)       !< initial area
         integer, allocatable :: body(:)        !< connected surface region
         integer :: nbody = 0
         integer :: ninterior = 0               !< faces between two continuum elements (not segments)
@@ -58,11 +59,14 @@ module xd_contact_surface
         real(wp), allocatable :: seg_t(:)      !< segment thickness after SST/MST overrides
         real(wp), allocatable :: seg_tn(:, :)  !< (4, nseg) nodal thicknesses for the shape functions (5.2)
         real(wp), allocatable :: seg_k(:)      !< master-side penalty stiffness (force/length)
+        real(wp), allocatable :: seg_area(:)   !< initial segment area
         integer, allocatable :: node(:)        !< model node of each local node
         integer, allocatable :: node_side(:)   !< side bits
         integer, allocatable :: node_body(:)   !< body of the node's segments (0: a node without segments)
         real(wp), allocatable :: node_t(:)     !< slave shell thickness at the node (0: solids only)
-        real(wp), allocatable :: node_k(:)     !< slave-side penalty stiffness
+        real(wp), allocatable :: node_k(:)     !< slave-side penalty stiffness, for the node's whole area
+        real(wp), allocatable :: node_kpa(:)   !< slave-side penalty stiffness per unit area
+        real(wp), allocatable :: node_area(:)  !< the node's share of its segments' initial areas (0: none)
         integer, allocatable :: seg_ptr(:), seg_list(:)   !< node -> segments (CSR)
         integer, allocatable :: nn_ptr(:), nn_list(:)     !< node -> nodes sharing a segment (CSR)
         integer :: nslave = 0
@@ -227,6 +231,7 @@ contains
             end if
         end do
         allocate (f%node(4, f%n), f%kind(f%n), f%part(f%n), f%shell(f%n), f%thick(f%n), f%kgeo(f%n), f%body(f%n))
+        allocate (f%area(f%n))
         allocate (f%hex(f%n))
         f%hex = 0
         allocate (f%node_thick(n))
@@ -249,10 +254,12 @@ contains
                 f%kind(j) = seg_solid
                 f%hex(j) = chex(e)
                 call solid_segment(chex(e), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
+                f%area(j) = segment_area(x(:, f%node(:, j)))
             else
                 f%node(:, j) = cnode(:, c)
                 f%kind(j) = seg_shell
                 call shell_segment(cshell(c), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
+                f%area(j) = segment_area(x(:, f%node(:, j)))
             end if
         end do
         call find_bodies(n, f)
@@ -393,14 +400,14 @@ contains
         type(surface_t), intent(out) :: s
         integer, allocatable :: local(:), cnt(:)
         real(wp), allocatable :: kmin(:)
-        integer :: j, k, m, nd, i, a
+        integer :: j, k, m, nd, i, a, nnd
         logical :: in_any
 
         allocate (local(nnode_model))
         local = 0
         s%nseg = count(in_a .or. in_b)
         allocate (s%seg(4, s%nseg), s%seg_face(s%nseg), s%seg_kind(s%nseg), s%seg_side(s%nseg), s%seg_body(s%nseg))
-        allocate (s%seg_t(s%nseg), s%seg_k(s%nseg), s%seg_tn(4, s%nseg))
+        allocate (s%seg_t(s%nseg), s%seg_k(s%nseg), s%seg_tn(4, s%nseg), s%seg_area(s%nseg))
         s%nnode = 0
         m = 0
         do j = 1, f%n
@@ -466,9 +473,14 @@ contains
         s%slave = where_true(iand(s%node_side, side_slave) /= 0)
 
         ! thickness (SST / MST override, SFST / SFMT scale) and penalty stiffness
-        ! k = SLSFAC x SFM x (K A^2 / V or K A / max diagonal), LS-DYNA's rule
-        allocate (kmin(s%nnode))
+        ! k = SLSFAC x SFM x (K A^2 / V or K A / max diagonal), LS-DYNA's rule,
+        ! for a slave node that covers the segment's area. A slave's spring is
+        ! scaled to the area the node covers (its share of its own segments),
+        ! so that a uniform penetration carries a uniform pressure (the patch
+        ! test): the stiffness per unit area k / A times the node's area
+        allocate (kmin(s%nnode), s%node_area(s%nnode), s%node_kpa(s%nnode))
         kmin = huge(1.0_wp)
+        s%node_area = 0
         s%nshell_seg = 0
         s%nsolid_seg = 0
         s%max_thick = 0
@@ -489,8 +501,11 @@ contains
                 s%seg_tn(:, m) = f%thick(j)
             end if
             s%seg_k(m) = stiff(1)*stiff(3)*f%kgeo(j)
-            do k = 1, 4
-                kmin(s%seg(k, m)) = min(kmin(s%seg(k, m)), f%kgeo(j))
+            s%seg_area(m) = f%area(j)
+            nnd = seg_nodes(s%seg(:, m))
+            do k = 1, nnd
+                kmin(s%seg(k, m)) = min(kmin(s%seg(k, m)), f%kgeo(j)/max(f%area(j), tiny(1.0_wp)))
+                s%node_area(s%seg(k, m)) = s%node_area(s%seg(k, m)) + f%area(j)/nnd
             end do
         end do
         do nd = 1, s%nnode
@@ -498,7 +513,11 @@ contains
             if (thick(1) > 0.0_wp .and. f%node_thick(s%node(nd)) > 0.0_wp) s%node_t(nd) = thick(1)
             s%max_thick = max(s%max_thick, s%node_t(nd))
             s%node_k(nd) = 0
-            if (kmin(nd) < huge(1.0_wp)) s%node_k(nd) = stiff(1)*stiff(2)*kmin(nd)
+            s%node_kpa(nd) = 0
+            if (kmin(nd) < huge(1.0_wp)) then
+                s%node_kpa(nd) = stiff(1)*stiff(2)*kmin(nd)
+                s%node_k(nd) = s%node_kpa(nd)*s%node_area(nd)
+            end if
         end do
 
         allocate (s%node_body(s%nnode))
