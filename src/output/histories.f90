@@ -114,9 +114,13 @@ contains
                     'x_coordinate', 'y_coordinate', 'z_coordinate']
             units = [character(len=32) :: 'length', 'length', 'length', 'length/time', 'length/time', 'length/time', &
                      'length/time^2', 'length/time^2', 'length/time^2', 'length', 'length', 'length']
+            ! HDF5 only (LS-DYNA's nodout has no such columns): the reaction
+            ! of the node's single-point constraints (the force they apply in
+            ! the directions they fix, -f there; 0 elsewhere), and the
+            ! contact force on the node, the sum over its interfaces
+            cols = [cols, [character(len=32) :: 'x_reaction_force', 'y_reaction_force', 'z_reaction_force']]
+            units = [units, [character(len=32) :: 'force', 'force', 'force']]
             if (model%ncontact > 0) then
-                ! HDF5 only (LS-DYNA's nodout has no such columns): the contact
-                ! force on the node, the sum over its interfaces
                 cols = [cols, [character(len=32) :: 'x_contact_force', 'y_contact_force', 'z_contact_force']]
                 units = [units, [character(len=32) :: 'force', 'force', 'force']]
             end if
@@ -327,11 +331,15 @@ contains
         end do
         write (u, '(a)') ''
         flush (u)
+        vals = reshape([vals, [(0.0_dp, k=1, 3*size(h%nodes))]], [size(h%nodes), 15])
+        do k = 1, size(h%nodes)
+            vals(k, 13:15) = -st%f(:, h%nodes(k))*(1.0_wp - st%free(:, h%nodes(k)))
+        end do
         if (h%contact) then
-            vals = reshape([vals, [(0.0_dp, k=1, 3*size(h%nodes))]], [size(h%nodes), 15])
+            vals = reshape([vals, [(0.0_dp, k=1, 3*size(h%nodes))]], [size(h%nodes), 18])
             if (present(fc)) then
                 do k = 1, size(h%nodes)
-                    vals(k, 13:15) = fc(:, h%nodes(k))
+                    vals(k, 16:18) = fc(:, h%nodes(k))
                 end do
             end if
         end if
