@@ -81,9 +81,13 @@ check: deps
 
 demo: deps
 	@$(MAKE) --no-print-directory all
-	@mkdir -p out/demo
-	./bin/xdyna i=input_decks/demo_cantilever.k outdir=out/demo
-	@echo "demo output (log d3hsp, glstat, matsum, nodout, thist.h5) is in out/demo/"
+	@rm -rf out/demo && mkdir -p out/demo
+	./bin/xdyna i=input_decks/contact/tube_crush.k outdir=out/demo
+	@$(PY) tools/xdplot.py mesh out/demo --color plastic_strain --out out/demo/tube_crush_states.png
+	@$(PY) tools/xdplot.py history out/demo --out out/demo/tube_crush_histories.png
+	@echo "demo: a square tube crushed into folds with automatic contact; log d3hsp, time histories"
+	@echo "(glstat, matsum, nodout, rcforc, thist.h5), states (d3plot.h5 + d3plot.xdmf for ParaView)"
+	@echo "and pictures (tube_crush_states.png, tube_crush_histories.png) are in out/demo/"
 
 verify: deps
 	@$(MAKE) --no-print-directory all

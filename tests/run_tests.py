@@ -674,6 +674,77 @@ def test_malformed():
                f"rc={p.returncode} files={files} stderr={p.stderr.strip()[:300]!r} missing={missing}")
 
 
+def test_states():
+    """States (*DATABASE_BINARY_D3PLOT) of a deck with solids and shells
+    (a plate edge-on onto a block, through contact), every 0.1 ms over
+    0.5 ms: d3plot.h5 read back with h5py (the right shapes; coordinates =
+    initial coordinates + displacement to single precision, the storage;
+    the first state's coordinates are the deck's; element stresses finite;
+    contact forces present while the plate touches) and d3plot.xdmf parsed
+    as XML, every HDF5 path in it resolving to a dataset of the stated
+    dimensions. Then tools/xdplot.py writes non-empty PNGs from the run."""
+    import xml.etree.ElementTree as ET
+    src = open(os.path.join(ROOT, "input_decks/contact/shell_edge_on_solid.k")).read()
+    deck = os.path.join(TMP, "states.k")
+    with open(deck, "w") as fh:
+        fh.write(src.replace("*DATABASE_NODOUT", "*DATABASE_BINARY_D3PLOT\n    1.0e-4\n*DATABASE_NODOUT", 1))
+    out = os.path.join(TMP, "states")
+    p = run([XDYNA, "i=" + deck, "outdir=" + out, "endtim=5.0e-4"])
+    if p.returncode != 0:
+        record("states run", False, p.stderr[-300:])
+        return
+    with h5py.File(os.path.join(out, "d3plot.h5"), "r") as f:
+        t = f["states/time"][:]
+        ids = f["mesh/node_ids"][:]
+        nn, nh, ns = len(ids), len(f["mesh/shell_ids"]), len(f["mesh/solid_ids"])
+        ok_shape, err_x, fmax, finite = True, 0.0, 0.0, True
+        x0 = f["states/000001/coordinates"][:]
+        for k in range(len(t)):
+            g = f[f"states/{k + 1:06d}"]
+            for name, shape in (("coordinates", (nn, 3)), ("displacement", (nn, 3)), ("velocity", (nn, 3)),
+                                ("contact_force", (nn, 3)), ("solid_stress", (ns, 6)), ("solid_von_mises", (ns,)),
+                                ("solid_plastic_strain", (ns,)), ("shell_stress", (nh, 6)),
+                                ("shell_von_mises", (nh,)), ("shell_plastic_strain", (nh,)),
+                                ("shell_thickness", (nh,))):
+                ok_shape = ok_shape and name in g and g[name].shape == shape
+            scale = np.abs(x0).max()
+            err_x = max(err_x, np.abs(g["coordinates"][:] - (x0 + g["displacement"][:])).max() / scale)
+            fmax = max(fmax, np.abs(g["contact_force"][:]).max())
+            finite = finite and np.all(np.isfinite(g["solid_stress"][:])) and np.all(np.isfinite(g["shell_stress"][:]))
+            ok_shape = ok_shape and abs(g.attrs["time"][0] - t[k]) == 0.0
+        conn_ok = (f["mesh/solid_connectivity"][:].max() < nn and f["mesh/shell_connectivity"][:].max() < nn
+                   and f["mesh/solid_connectivity"][:].min() >= 0)
+        deck_x = {}
+        for line in src.split("*NODE", 1)[1].split("*", 1)[0].splitlines()[1:]:
+            if line.strip() and not line.startswith("$"):
+                deck_x[int(line[:8])] = [float(line[8:24]), float(line[24:40]), float(line[40:56])]
+        x_deck = np.array([deck_x[i] for i in ids])
+        e0 = np.abs(x0 - x_deck).max() / scale
+        paths = []
+        root = ET.parse(os.path.join(out, "d3plot.xdmf")).getroot()
+        for item in root.iter("DataItem"):
+            fn, path = item.text.strip().split(":", 1)
+            dims = tuple(int(d) for d in item.get("Dimensions").split())
+            paths.append(fn == "d3plot.h5" and path in f and f[path].shape == dims)
+        nxdmf = sum(1 for g in root.iter("Grid") if g.get("CollectionType") == "Spatial")
+    record(f"states: {len(t)} states at 0.1 ms over 0.5 ms (6 expected), increasing times", len(t) == 6
+           and np.all(np.diff(t) > 0) and abs(t[-1] - 5e-4) < 1e-5)
+    record("states: every dataset of every state has the right shape; element stresses finite; connectivity "
+           "indexes the node arrays", ok_shape and finite and conn_ok)
+    record(f"states: coordinates = initial + displacement within single precision ({err_x:.1e} of the size, "
+           f"< 1e-6); the first state is the deck's geometry ({e0:.1e})", err_x < 1e-6 and e0 < 1e-6)
+    record(f"states: the contact force appears in the states while the plate touches ({fmax:.3g} N)", fmax > 0)
+    record(f"states: d3plot.xdmf is XML with {nxdmf} time steps; all {len(paths)} data paths resolve to "
+           f"datasets of the stated dimensions", nxdmf == len(t) and len(paths) > 0 and all(paths))
+    pngs = []
+    for args in (["mesh", out, "--color", "von_mises"], ["mesh", out], ["history", out, out, "--nodes", "1"]):
+        png = os.path.join(TMP, f"states_{len(pngs)}.png")
+        q = run(["/usr/bin/python3", os.path.join(ROOT, "tools", "xdplot.py"), *args, "--out", png])
+        pngs.append(q.returncode == 0 and os.path.exists(png) and os.path.getsize(png) > 10000)
+    record("plotting: tools/xdplot.py writes deformed-mesh (by field, by part) and overlaid history PNGs "
+           "(each over 10 kB)", all(pngs))
+
+
 def test_format_rules():
     """Every format rule of KEYWORDS.md in one deck, and LONG=Y, give results
     bitwise identical to the plain deck (thdiff with zero tolerance)."""
@@ -1199,7 +1270,7 @@ def test_tube_crush(full=False):
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_constraints, test_pressure, test_shells, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_cli]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_constraints, test_pressure, test_shells, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_states, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_cli]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

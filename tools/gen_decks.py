@@ -819,6 +819,7 @@ def tube_crush(outdir, name="tube_crush", c=0.05, t=0.0015, length=0.15, h=0.005
     lines += ["*DEFINE_CURVE", f10(7), f"{0.0:20.8e}{-v:20.8e}", f"{1.0:20.8e}{-v:20.8e}"]
     lines += ["*BOUNDARY_PRESCRIBED_MOTION_SET", f10(2, 3, 0, 7, 1.0)]
     lines += ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
+    lines += ["*DATABASE_RCFORC", f10(endtim / 60), "*DATABASE_BINARY_D3PLOT", f10(endtim / 12)]
     if history_all:
         lines += node_set(3, sorted(nodes))
         lines += ["*DATABASE_NODOUT", f10(endtim / 60), "*DATABASE_HISTORY_NODE_SET", f10(3)]

@@ -12,7 +12,7 @@ module xd_elements_shell_bt
     use xd_materials_plasticity, only: plastic_params_t, plastic_update
     implicit none
     private
-    public :: shells_t, build_shells, shell_forces, shell_masses
+    public :: shells_t, build_shells, shell_forces, shell_masses, shell_frame, point_weight
 
     type :: shells_t
         integer :: n = 0
@@ -207,24 +207,18 @@ contains
         real(wp) :: dzz, dzz_mean
         real(dp) :: pold, pnew
         integer :: k, ip, nip, nn
+        logical :: ok
         real(wp), parameter :: quarter = 0.25_wp
         do k = 1, 4
             xe(:, k) = x(:, sh%conn(k, e))
         end do
         nn = 4
         if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
-        ! corotational frame: normal from the diagonals, x along side 1-2
-        e3 = cross(xe(:, 3) - xe(:, 1), xe(:, 4) - xe(:, 2))
-        if (nn == 3) e3 = cross(xe(:, 2) - xe(:, 1), xe(:, 3) - xe(:, 1))
-        if (.not. (norm2(e3) > 0.0_wp)) then
+        call shell_frame(xe, nn == 3, e1, e2, e3, ok)
+        if (.not. ok) then
             dte = -1
             return
         end if
-        e3 = e3/norm2(e3)
-        e1 = xe(:, 2) - xe(:, 1)
-        e1 = e1 - dot_product(e1, e3)*e3
-        e1 = e1/norm2(e1)
-        e2 = cross(e3, e1)
         xc = sum(xe, 2)/4
         do k = 1, 4
             xl(k) = dot_product(xe(:, k) - xc, e1)
@@ -388,6 +382,34 @@ contains
             sh%alpha(:, ip, e) = al(1, :)
         end subroutine commit
     end subroutine plane_stress_plastic
+
+    !> The corotational frame of a shell with nodes xe (triangle: N4 = N3):
+    !> normal from the diagonals (a triangle's sides), x along side 1-2.
+    !> ok false for a collapsed element.
+    pure subroutine shell_frame(xe, tri, e1, e2, e3, ok)
+        real(wp), intent(in) :: xe(3, 4)
+        logical, intent(in) :: tri
+        real(wp), intent(out) :: e1(3), e2(3), e3(3)
+        logical, intent(out) :: ok
+        e3 = cross(xe(:, 3) - xe(:, 1), xe(:, 4) - xe(:, 2))
+        if (tri) e3 = cross(xe(:, 2) - xe(:, 1), xe(:, 3) - xe(:, 1))
+        ok = norm2(e3) > 0.0_wp
+        e1 = 0
+        e2 = 0
+        if (.not. ok) return
+        e3 = e3/norm2(e3)
+        e1 = xe(:, 2) - xe(:, 1)
+        e1 = e1 - dot_product(e1, e3)*e3
+        e1 = e1/norm2(e1)
+        e2 = cross(e3, e1)
+    end subroutine shell_frame
+
+    !> Weight of integration point ip of nip through the thickness (the
+    !> weights sum to 1).
+    pure real(wp) function point_weight(ip, nip) result(w)
+        integer, intent(in) :: ip, nip
+        w = real(gw(ip, nip), wp)/2
+    end function point_weight
 
     pure function cross(a, b) result(c)
         real(wp), intent(in) :: a(3), b(3)

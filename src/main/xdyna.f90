@@ -27,6 +27,7 @@ program xdyna
     use xd_solver_loads, only: pressures_t, build_pressures
     use xd_elements_shell_bt, only: shells_t
     use xd_output_histories, only: histories_t, open_histories, close_histories
+    use xd_output_states, only: states_t, open_states, close_states
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     !$ use omp_lib, only: omp_set_num_threads
     implicit none
@@ -48,6 +49,7 @@ program xdyna
     type(shells_t) :: sh
     type(assembly_t) :: asm_sh
     type(histories_t) :: hist
+    type(states_t) :: states
     type(log_t) :: lg
     type(timers_t) :: tm
     type(run_result_t) :: res
@@ -155,9 +157,15 @@ program xdyna
         write (error_unit, '(a)') 'xdyna: cannot create the time-history files in '//outdir
         call finish(exit_run)
     end if
+    call open_states(model, outdir, opts%endtim, solids, sh, states, ok)
+    if (.not. ok) then
+        write (error_unit, '(a)') 'xdyna: cannot create d3plot.h5 in '//outdir
+        call finish(exit_run)
+    end if
     call tm%stop(ph_init)
 
-    call run_time_loop(model, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, lg, tm, opts, res)
+    call run_time_loop(model, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, states, lg, tm, opts, res)
+    call close_states(states)
     call close_histories(hist)
     if (ct%n > 0) call log_line(lg, contact_report(ct))
     if (ct%dump_unit /= 0) close (ct%dump_unit)

@@ -14,6 +14,7 @@ module xd_solver_time_loop
     use xd_solver_assembly, only: assembly_t, assemble
     use xd_solver_energies, only: energies_t, compute_energies
     use xd_output_histories, only: histories_t, histories_due, write_histories
+    use xd_output_states, only: states_t, states_due, write_state
     use xd_output_d3hsp, only: log_t, log_line
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
@@ -43,7 +44,7 @@ module xd_solver_time_loop
 
 contains
 
-    subroutine run_time_loop(model, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, lg, tm, opts, res)
+    subroutine run_time_loop(model, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, states, lg, tm, opts, res)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
@@ -56,6 +57,7 @@ contains
         type(rigid_t), intent(inout) :: rg
         type(pressures_t), intent(inout) :: pl
         type(histories_t), intent(inout) :: hist
+        type(states_t), intent(inout) :: states
         type(log_t), intent(in) :: lg
         type(timers_t), intent(inout) :: tm
         type(run_options_t), intent(in) :: opts
@@ -128,7 +130,7 @@ contains
             call accelerations()
             done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
             if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
-            due = histories_due(hist, st%time) .or. done .or. st%cycle == 0
+            due = histories_due(hist, st%time) .or. states_due(states, st%time) .or. done .or. st%cycle == 0
             energy_now = due .or. mod(st%cycle, opts%energy_check_every) == 0
             if (energy_now) vminus = st%v
             ! central differences: v(n+1/2) = v(n-1/2) + a(n) (dt(n-1/2) + dt(n+1/2))/2
@@ -347,6 +349,13 @@ contains
                                      ct%fnode)
             else
                 call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force)
+            end if
+            if (states_due(states, st%time) .or. (force .and. states%on)) then
+                if (ct%n > 0) then
+                    call write_state(states, st, solids, sh, vn, ct%fnode)
+                else
+                    call write_state(states, st, solids, sh, vn)
+                end if
             end if
             call tm%stop(ph_output)
         end subroutine output

@@ -1,0 +1,354 @@
+!> States (*DATABASE_BINARY_D3PLOT): `d3plot.h5` through HDF5's Fortran API
+!> and `d3plot.xdmf` beside it, which ParaView and VisIt open as a time
+!> series. The mesh is written once (group `mesh`: node ids, hexahedra and
+!> shells as 0-based indices into the node arrays, element ids and part
+!> ids); each state is a group `states/NNNNNN` (attribute `time`) with the
+!> coordinates, displacement, velocity and contact force per node, and per
+!> element the stress tensor (global xx yy zz xy yz zx; shells: the mean
+!> through the thickness), the von Mises stress (shells: the largest of
+!> the integration points), the effective plastic strain (shells: the
+!> largest) and the shell thickness. The dataset `states/time` lists the
+!> times. After each state the file is flushed and the XDMF rewritten
+!> (to a temporary file, then renamed), so a killed run leaves every
+!> finished state readable.
+module xd_output_states
+    use hdf5
+    use xd_kinds, only: wp, dp
+    use xd_core_strings, only: join_path
+    use xd_model, only: model_t
+    use xd_solver_state, only: state_t
+    use xd_elements_solid_groups, only: solids_t
+    use xd_elements_shell_bt, only: shells_t, shell_frame, point_weight
+    implicit none
+    private
+    public :: states_t, open_states, states_due, write_state, close_states
+
+    type :: states_t
+        logical :: on = .false.
+        real(dp) :: dt = 0, next = 0
+        integer(hid_t) :: file = -1
+        integer :: n = 0                      !< states written
+        integer :: nnode = 0, nsolid = 0, nshell = 0
+        character(len=:), allocatable :: dir
+        real(dp), allocatable :: times(:)
+    end type states_t
+
+contains
+
+    !> Create d3plot.h5 with the mesh, if the deck asks for states.
+    subroutine open_states(model, outdir, endtim, solids, sh, s, ok)
+        type(model_t), intent(in) :: model
+        character(len=*), intent(in) :: outdir
+        real(dp), intent(in) :: endtim
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        type(states_t), intent(out) :: s
+        logical, intent(out) :: ok
+        integer :: err
+        integer(hid_t) :: g
+        ok = .true.
+        s%dt = real(model%db%d3plot_dt, dp)
+        if (model%db%d3plot_npltc > 0) s%dt = endtim/model%db%d3plot_npltc
+        s%on = s%dt > 0.0_dp
+        if (.not. s%on) return
+        s%dir = outdir
+        s%nnode = model%nnode
+        s%nsolid = solids%n
+        s%nshell = sh%n
+        allocate (s%times(0))
+        call h5open_f(err)
+        call h5fcreate_f(join_path(outdir, 'd3plot.h5'), H5F_ACC_TRUNC_F, s%file, err)
+        ok = err == 0
+        if (.not. ok) return
+        call h5gcreate_f(s%file, 'mesh', g, err)
+        call put_int1(g, 'node_ids', model%node_id(1:model%nnode))
+        if (solids%n > 0) then
+            call put_int2(g, 'solid_connectivity', solids%conn - 1)
+            call put_int1(g, 'solid_ids', solids%eid)
+            call put_int1(g, 'solid_part', model%part(solids%part)%id)
+        end if
+        if (sh%n > 0) then
+            call put_int2(g, 'shell_connectivity', sh%conn - 1)
+            call put_int1(g, 'shell_ids', sh%eid)
+            call put_int1(g, 'shell_part', model%part(sh%part)%id)
+        end if
+        call h5gclose_f(g, err)
+        call h5gcreate_f(s%file, 'states', g, err)
+        call h5gclose_f(g, err)
+        call h5fflush_f(s%file, H5F_SCOPE_GLOBAL_F, err)
+    end subroutine open_states
+
+    logical function states_due(s, time)
+        type(states_t), intent(in) :: s
+        real(dp), intent(in) :: time
+        states_due = s%on .and. time >= s%next*(1.0_dp - 1.0e-12_dp)
+    end function states_due
+
+    !> One state at st%time: v is the velocity at that time, fc the contact
+    !> force per node (absent: zero).
+    subroutine write_state(s, st, solids, sh, v, fc)
+        type(states_t), intent(inout) :: s
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        real(wp), intent(in) :: v(:, :)
+        real(wp), intent(in), optional :: fc(:, :)
+        character(len=16) :: name
+        integer(hid_t) :: g, sp, at
+        integer(hsize_t) :: d1(1)
+        integer :: err, e, ip
+        real(wp), allocatable :: sig(:, :), vm(:), ep(:), th(:)
+        real(wp) :: sg(6), r(3, 3)
+        logical :: ok
+        if (.not. s%on) return
+        s%n = s%n + 1
+        s%times = [s%times, st%time]
+        s%next = s%next + s%dt
+        if (st%time >= s%next) s%next = st%time + s%dt
+        write (name, '(a,i6.6)') 'states/', s%n
+        call h5gcreate_f(s%file, trim(name), g, err)
+        d1 = 1
+        call h5screate_simple_f(1, d1, sp, err)
+        call h5acreate_f(g, 'time', H5T_NATIVE_DOUBLE, sp, at, err)
+        call h5awrite_f(at, H5T_NATIVE_DOUBLE, [st%time], d1, err)
+        call h5aclose_f(at, err)
+        call h5sclose_f(sp, err)
+        call put_real2(g, 'coordinates', st%x)
+        call put_real2(g, 'displacement', st%x - st%x0)
+        call put_real2(g, 'velocity', v)
+        if (present(fc)) then
+            call put_real2(g, 'contact_force', fc)
+        else
+            call put_real2(g, 'contact_force', 0.0_wp*st%x)
+        end if
+        if (solids%n > 0) then
+            allocate (sig(6, solids%n), vm(solids%n), ep(solids%n))
+            ep = 0
+            do e = 1, solids%n
+                sig(:, e) = solids%stress(e)
+                vm(e) = von_mises(sig(:, e))
+            end do
+            if (size(solids%epsp) > 0) ep = solids%epsp
+            call put_real2(g, 'solid_stress', sig)
+            call put_real1(g, 'solid_von_mises', vm)
+            call put_real1(g, 'solid_plastic_strain', ep)
+            deallocate (sig, vm, ep)
+        end if
+        if (sh%n > 0) then
+            allocate (sig(6, sh%n), vm(sh%n), ep(sh%n), th(sh%n))
+            do e = 1, sh%n
+                vm(e) = 0
+                ep(e) = 0
+                sg = 0
+                do ip = 1, sh%nip(e)
+                    ! local (xx yy xy yz zx) at the point, plane stress
+                    vm(e) = max(vm(e), von_mises([sh%sig(1, ip, e), sh%sig(2, ip, e), 0.0_wp, sh%sig(3, ip, e), &
+                                                  sh%sig(4, ip, e), sh%sig(5, ip, e)]))
+                    if (sh%plastic(e)) ep(e) = max(ep(e), sh%epsp(ip, e))
+                    sg = sg + [sh%sig(1, ip, e), sh%sig(2, ip, e), 0.0_wp, sh%sig(3, ip, e), sh%sig(4, ip, e), &
+                               sh%sig(5, ip, e)]*point_weight(ip, sh%nip(e))
+                end do
+                call shell_frame(st%x(:, sh%conn(:, e)), sh%conn(3, e) == sh%conn(4, e), r(:, 1), r(:, 2), r(:, 3), ok)
+                sig(:, e) = to_global(sg, r)
+                th(e) = sh%h(e)
+            end do
+            call put_real2(g, 'shell_stress', sig)
+            call put_real1(g, 'shell_von_mises', vm)
+            call put_real1(g, 'shell_plastic_strain', ep)
+            call put_real1(g, 'shell_thickness', th)
+        end if
+        call h5gclose_f(g, err)
+        ! the list of times, rewritten whole (small)
+        call h5ldelete_if_exists('states/time')
+        call put_double1(s%file, 'states/time', s%times)
+        call h5fflush_f(s%file, H5F_SCOPE_GLOBAL_F, err)
+        call write_xdmf(s)
+    contains
+        subroutine h5ldelete_if_exists(path)
+            character(len=*), intent(in) :: path
+            logical :: there
+            integer :: e2
+            call h5lexists_f(s%file, path, there, e2)
+            if (there) call h5ldelete_f(s%file, path, e2)
+        end subroutine h5ldelete_if_exists
+    end subroutine write_state
+
+    subroutine close_states(s)
+        type(states_t), intent(inout) :: s
+        integer :: err
+        if (.not. s%on .or. s%file < 0) return
+        call h5fclose_f(s%file, err)
+        s%file = -1
+    end subroutine close_states
+
+    !> The XDMF 3 description: a temporal collection of states, each a
+    !> spatial collection of the solid and the shell grids on the same nodes.
+    subroutine write_xdmf(s)
+        type(states_t), intent(in) :: s
+        integer :: u, k
+        character(len=:), allocatable :: tmp, st
+        character(len=32) :: nn, ns, nh, tv, buf
+        tmp = join_path(s%dir, 'd3plot.xdmf.tmp')
+        write (nn, '(i0)') s%nnode
+        write (ns, '(i0)') s%nsolid
+        write (nh, '(i0)') s%nshell
+        open (newunit=u, file=tmp, status='replace', action='write')
+        write (u, '(a)') '<?xml version="1.0" ?>', '<Xdmf Version="3.0">', ' <Domain>', &
+            '  <Grid Name="states" GridType="Collection" CollectionType="Temporal">'
+        do k = 1, s%n
+            write (buf, '(a,i6.6)') 'd3plot.h5:/states/', k
+            st = trim(buf)
+            write (tv, '(es24.16)') s%times(k)
+            write (u, '(a)') '   <Grid Name="state '//itoa0(k)//'" GridType="Collection" CollectionType="Spatial">', &
+                '    <Time Value="'//trim(adjustl(tv))//'"/>'
+            if (s%nsolid > 0) call piece('solids', 'Hexahedron', ns, '8', 'solid')
+            if (s%nshell > 0) call piece('shells', 'Quadrilateral', nh, '4', 'shell')
+            write (u, '(a)') '   </Grid>'
+        end do
+        write (u, '(a)') '  </Grid>', ' </Domain>', '</Xdmf>'
+        close (u)
+        call rename_file(tmp, join_path(s%dir, 'd3plot.xdmf'))
+    contains
+        subroutine piece(gname, topo, ne, npe, pre)
+            character(len=*), intent(in) :: gname, topo, ne, npe, pre
+            write (u, '(a)') '    <Grid Name="'//gname//'" GridType="Uniform">', &
+                '     <Topology TopologyType="'//topo//'" NumberOfElements="'//trim(ne)//'">', &
+                '      <DataItem Dimensions="'//trim(ne)//' '//npe//'" NumberType="Int" Format="HDF">'// &
+                'd3plot.h5:/mesh/'//pre//'_connectivity</DataItem>', '     </Topology>', &
+                '     <Geometry GeometryType="XYZ">', &
+                '      <DataItem Dimensions="'//trim(nn)//' 3" NumberType="Float" Precision="4" Format="HDF">'// &
+                st//'/coordinates</DataItem>', '     </Geometry>'
+            call attr('part', 'Scalar', 'Cell', trim(ne), 'Int', '4', 'd3plot.h5:/mesh/'//pre//'_part')
+            call attr('displacement', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/displacement')
+            call attr('velocity', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/velocity')
+            call attr('contact_force', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/contact_force')
+            call attr('stress', 'Tensor6', 'Cell', trim(ne)//' 6', 'Float', '4', st//'/'//pre//'_stress')
+            call attr('von_mises', 'Scalar', 'Cell', trim(ne), 'Float', '4', st//'/'//pre//'_von_mises')
+            call attr('plastic_strain', 'Scalar', 'Cell', trim(ne), 'Float', '4', st//'/'//pre//'_plastic_strain')
+            if (pre == 'shell') call attr('thickness', 'Scalar', 'Cell', trim(ne), 'Float', '4', st//'/shell_thickness')
+            write (u, '(a)') '    </Grid>'
+        end subroutine piece
+        subroutine attr(aname, atype, centre, dims, ntype, prec, path)
+            character(len=*), intent(in) :: aname, atype, centre, dims, ntype, prec, path
+            write (u, '(a)') '     <Attribute Name="'//aname//'" AttributeType="'//atype//'" Center="'//centre//'">', &
+                '      <DataItem Dimensions="'//dims//'" NumberType="'//ntype//'" Precision="'//prec// &
+                '" Format="HDF">'//path//'</DataItem>', '     </Attribute>'
+        end subroutine attr
+    end subroutine write_xdmf
+
+    function itoa0(i) result(t)
+        integer, intent(in) :: i
+        character(len=:), allocatable :: t
+        character(len=16) :: b
+        write (b, '(i0)') i
+        t = trim(b)
+    end function itoa0
+
+    subroutine rename_file(from, to)
+        use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+        character(len=*), intent(in) :: from, to
+        interface
+            integer(c_int) function c_rename(a, b) bind(c, name='rename')
+                import :: c_int, c_char
+                character(kind=c_char), intent(in) :: a(*), b(*)
+            end function c_rename
+        end interface
+        integer(c_int) :: rc
+        rc = c_rename(from//c_null_char, to//c_null_char)
+    end subroutine rename_file
+
+    pure real(wp) function von_mises(s) result(q)
+        real(wp), intent(in) :: s(6)
+        q = sqrt(0.5_wp*((s(1) - s(2))**2 + (s(2) - s(3))**2 + (s(3) - s(1))**2) + 3.0_wp*(s(4)**2 + s(5)**2 + s(6)**2))
+    end function von_mises
+
+    !> A symmetric tensor (xx yy zz xy yz zx) in the frame r, to global axes.
+    pure function to_global(sl, r) result(sg)
+        real(wp), intent(in) :: sl(6), r(3, 3)
+        real(wp) :: sg(6), t(3, 3), g(3, 3)
+        t = reshape([sl(1), sl(4), sl(6), sl(4), sl(2), sl(5), sl(6), sl(5), sl(3)], [3, 3])
+        g = matmul(r, matmul(t, transpose(r)))
+        sg = [g(1, 1), g(2, 2), g(3, 3), g(1, 2), g(2, 3), g(3, 1)]
+    end function to_global
+
+    subroutine put_int1(g, name, a)
+        integer(hid_t), intent(in) :: g
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: a(:)
+        integer(hid_t) :: sp, ds
+        integer(hsize_t) :: d(1)
+        integer :: err
+        d = size(a)
+        call h5screate_simple_f(1, d, sp, err)
+        call h5dcreate_f(g, name, H5T_NATIVE_INTEGER, sp, ds, err)
+        call h5dwrite_f(ds, H5T_NATIVE_INTEGER, a, d, err)
+        call h5dclose_f(ds, err)
+        call h5sclose_f(sp, err)
+    end subroutine put_int1
+
+    subroutine put_int2(g, name, a)
+        integer(hid_t), intent(in) :: g
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: a(:, :)
+        integer(hid_t) :: sp, ds
+        integer(hsize_t) :: d(2)
+        integer :: err
+        d = shape(a)
+        call h5screate_simple_f(2, d, sp, err)
+        call h5dcreate_f(g, name, H5T_NATIVE_INTEGER, sp, ds, err)
+        call h5dwrite_f(ds, H5T_NATIVE_INTEGER, a, d, err)
+        call h5dclose_f(ds, err)
+        call h5sclose_f(sp, err)
+    end subroutine put_int2
+
+    !> Fields in single precision, like LS-DYNA's d3plot.
+    subroutine put_real2(g, name, a)
+        integer(hid_t), intent(in) :: g
+        character(len=*), intent(in) :: name
+        real(wp), intent(in) :: a(:, :)
+        integer(hid_t) :: sp, ds
+        integer(hsize_t) :: d(2)
+        integer :: err
+        real(kind(1.0e0)), allocatable :: b(:, :)
+        b = real(a, kind(1.0e0))
+        d = shape(a)
+        call h5screate_simple_f(2, d, sp, err)
+        call h5dcreate_f(g, name, H5T_NATIVE_REAL, sp, ds, err)
+        call h5dwrite_f(ds, H5T_NATIVE_REAL, b, d, err)
+        call h5dclose_f(ds, err)
+        call h5sclose_f(sp, err)
+    end subroutine put_real2
+
+    subroutine put_real1(g, name, a)
+        integer(hid_t), intent(in) :: g
+        character(len=*), intent(in) :: name
+        real(wp), intent(in) :: a(:)
+        integer(hid_t) :: sp, ds
+        integer(hsize_t) :: d(1)
+        integer :: err
+        real(kind(1.0e0)), allocatable :: b(:)
+        b = real(a, kind(1.0e0))
+        d = size(a)
+        call h5screate_simple_f(1, d, sp, err)
+        call h5dcreate_f(g, name, H5T_NATIVE_REAL, sp, ds, err)
+        call h5dwrite_f(ds, H5T_NATIVE_REAL, b, d, err)
+        call h5dclose_f(ds, err)
+        call h5sclose_f(sp, err)
+    end subroutine put_real1
+
+    subroutine put_double1(g, name, a)
+        integer(hid_t), intent(in) :: g
+        character(len=*), intent(in) :: name
+        real(dp), intent(in) :: a(:)
+        integer(hid_t) :: sp, ds
+        integer(hsize_t) :: d(1)
+        integer :: err
+        d = size(a)
+        call h5screate_simple_f(1, d, sp, err)
+        call h5dcreate_f(g, name, H5T_NATIVE_DOUBLE, sp, ds, err)
+        call h5dwrite_f(ds, H5T_NATIVE_DOUBLE, a, d, err)
+        call h5dclose_f(ds, err)
+        call h5sclose_f(sp, err)
+    end subroutine put_double1
+
+end module xd_output_states
