@@ -745,6 +745,130 @@ def test_states():
            "(each over 10 kB)", all(pngs))
 
 
+def with_cards(src_deck, name, cards):
+    """A copy of src_deck (under TMP) with `cards` inserted after *KEYWORD."""
+    text = open(os.path.join(ROOT, src_deck)).read()
+    deck = os.path.join(TMP, name + ".k")
+    with open(deck, "w") as fh:
+        fh.write(text.replace("*KEYWORD\n", "*KEYWORD\n" + cards, 1))
+    return deck
+
+
+def same_histories(a, b):
+    """thdiff at zero tolerance, the same number of rows in every series, and
+    the ASCII files equal but for the wall-clock timing lines."""
+    q = run([THDIFF, os.path.join(a, "thist.h5"), os.path.join(b, "thist.h5"), "--rtol", "0", "--atol", "0"])
+    rows = True
+    with h5py.File(os.path.join(a, "thist.h5"), "r") as fa, h5py.File(os.path.join(b, "thist.h5"), "r") as fb:
+        for g in fa:
+            rows = rows and g in fb and fa[g]["time"].shape == fb[g]["time"].shape
+    ascii_same = True
+    for name in ("glstat", "matsum", "nodout", "rcforc", "rwforc"):
+        pa, pb = os.path.join(a, name), os.path.join(b, name)
+        if os.path.exists(pa):
+            la = [x for x in open(pa).read().splitlines()[2:] if "time per zone" not in x]
+            lb = [x for x in open(pb).read().splitlines()[2:] if "time per zone" not in x] if os.path.exists(pb) else []
+            ascii_same = ascii_same and la == lb
+    return q.returncode == 0 and rows and ascii_same, q.stdout[-300:]
+
+
+def test_restart():
+    """Restart dumps (*DATABASE_BINARY_D3DUMP) and r=: for a contact deck
+    with solids and shells, a deck with a rigid part under gravity, a bar
+    against a moving rigid wall and a spot weld that fails, the run to T
+    and the run to T/2 restarted to T give time histories that thdiff
+    passes at zero tolerance, with the same rows (the restart cuts the
+    histories back to the dump and goes on) and the same ASCII files; the
+    states file goes on too. A changed deck and a dump of another build are
+    refused (exit 1)."""
+    cases = [("input_decks/contact/shell_edge_on_solid.k", 1.0e-3),
+             ("input_decks/verify/mixed_solid_shell_rigid_gravity.k", 2.0e-3),
+             ("input_decks/verify/bar_heavy_wall.k", None),
+             ("input_decks/verify/spot_weld_fail.k", None)]
+    for src, endtim in cases:
+        name = os.path.splitext(os.path.basename(src))[0]
+        if endtim is None:
+            for line in open(os.path.join(ROOT, src)).read().split("*CONTROL_TERMINATION\n", 1)[1].splitlines()[:1]:
+                endtim = float(line[:10])
+        deck = with_cards(src, "rs_" + name, "*DATABASE_BINARY_D3DUMP\n         0\n*DATABASE_BINARY_D3PLOT\n"
+                          f"{endtim / 10:10.4g}\n")
+        full, part = os.path.join(TMP, "rs_full_" + name), os.path.join(TMP, "rs_part_" + name)
+        p1 = run([XDYNA, "i=" + deck, "outdir=" + full, f"endtim={endtim!r}"])
+        p2 = run([XDYNA, "i=" + deck, "outdir=" + part, f"endtim={endtim / 2!r}"])
+        p3 = run([XDYNA, "r=" + os.path.join(part, "d3dump.h5"), f"endtim={endtim!r}"])
+        if p1.returncode or p2.returncode or p3.returncode:
+            record(f"restart {name} runs", False, (p1.stderr + p2.stderr + p3.stderr)[-300:])
+            continue
+        ok, msg = same_histories(full, part)
+        with h5py.File(os.path.join(full, "d3plot.h5"), "r") as fa, h5py.File(os.path.join(part, "d3plot.h5"), "r") as fb:
+            ta, tb = fa["states/time"][:], fb["states/time"][:]
+            states = np.array_equal(ta, tb) and all(
+                np.array_equal(fa[f"states/{k:06d}/coordinates"][:], fb[f"states/{k:06d}/coordinates"][:])
+                for k in range(1, len(ta) + 1))
+        record(f"restart {name}: run to T/2 and restarted gives the run to T bitwise (thdiff at zero "
+               f"tolerance, same rows, same ASCII files, same {len(ta)} states)", ok and states, msg)
+    # refusals, on the last case's dump
+    dump = os.path.join(part, "d3dump.h5")
+    changed = os.path.join(TMP, "rs_changed.k")
+    with open(changed, "w") as fh:
+        fh.write(open(deck).read().replace("*KEYWORD\n", "*KEYWORD\n$ an edit after the dump\n", 1))
+    q = run([XDYNA, "r=" + dump, "i=" + changed])
+    record("restart: a deck changed since the dump is refused (exit 1, says so)",
+           q.returncode == 1 and "has changed since the dump" in q.stderr, q.stderr[-200:])
+    other = os.path.join(TMP, "rs_other_build.h5")
+    shutil.copy(dump, other)
+    with h5py.File(other, "r+") as f:
+        del f.attrs["build"]
+        f.attrs.create("build", np.bytes_("xdyna 0.0.9, real 32 bits, another compiler"))
+    q = run([XDYNA, "r=" + other])
+    record("restart: a dump of another build is refused (exit 1, names both builds)",
+           q.returncode == 1 and "another build" in q.stderr, q.stderr[-200:])
+
+
+def test_batch_signals():
+    """Batch operation on the tube crush (1 ms, about 6 s): SIGUSR2 prints a
+    status line; SIGTERM writes a restart dump and stops with exit 3, and
+    the restart completes identically to the uninterrupted run (thdiff at
+    zero tolerance); wallclock=W stops with a dump (exit 3) before W
+    seconds, and its restart is identical too."""
+    import signal
+    import time
+    deck = "input_decks/contact/tube_crush.k"
+    full = os.path.join(TMP, "batch_full")
+    run([XDYNA, "i=" + os.path.join(ROOT, deck), "outdir=" + full, "endtim=1.0e-3"])
+    out = os.path.join(TMP, "batch_sig")
+    shutil.rmtree(out, ignore_errors=True)
+    e = dict(os.environ)
+    e.setdefault("OMP_NUM_THREADS", "1")
+    proc = subprocess.Popen([XDYNA, "i=" + os.path.join(ROOT, deck), "outdir=" + out, "endtim=1.0e-3"],
+                            cwd=ROOT, env=e, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(1.5)
+    proc.send_signal(signal.SIGUSR2)
+    time.sleep(0.5)
+    proc.send_signal(signal.SIGTERM)
+    so, se = proc.communicate(timeout=120)
+    status = sum(1 for line in so.splitlines() if line.startswith(" cycle"))
+    record(f"batch: SIGUSR2 prints a status line ({status} progress lines, the first one and the status)",
+           status >= 2, so[-300:])
+    dumped = os.path.exists(os.path.join(out, "d3dump.h5"))
+    record("batch: SIGTERM mid-run stops with exit 3 and a restart dump", proc.returncode == 3 and dumped,
+           f"rc={proc.returncode} {se[-200:]}")
+    q = run([XDYNA, "r=" + os.path.join(out, "d3dump.h5"), "endtim=1.0e-3"])
+    ok, msg = same_histories(full, out)
+    record("batch: the restart after SIGTERM completes identically (thdiff at zero tolerance)",
+           q.returncode == 0 and ok, msg + q.stderr[-200:])
+    out = os.path.join(TMP, "batch_wall")
+    shutil.rmtree(out, ignore_errors=True)
+    t0 = time.time()
+    p = run([XDYNA, "i=" + os.path.join(ROOT, deck), "outdir=" + out, "endtim=1.0e-3", "wallclock=2"])
+    took = time.time() - t0
+    record(f"batch: wallclock=2 stops with exit 3 and a dump before the limit ({took:.2f} s)",
+           p.returncode == 3 and took < 2.0 and os.path.exists(os.path.join(out, "d3dump.h5")), p.stderr[-200:])
+    q = run([XDYNA, "r=" + os.path.join(out, "d3dump.h5"), "endtim=1.0e-3"])
+    ok, msg = same_histories(full, out)
+    record("batch: the restart after the wall-clock stop completes identically", q.returncode == 0 and ok, msg)
+
+
 def test_format_rules():
     """Every format rule of KEYWORDS.md in one deck, and LONG=Y, give results
     bitwise identical to the plain deck (thdiff with zero tolerance)."""
@@ -1270,7 +1394,7 @@ def test_tube_crush(full=False):
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_constraints, test_pressure, test_shells, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_states, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_cli]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_constraints, test_pressure, test_shells, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_states, test_restart, test_batch_signals, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_cli]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

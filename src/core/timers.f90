@@ -26,6 +26,7 @@ module xd_core_timers
         procedure :: start => timer_start
         procedure :: stop => timer_stop
         procedure :: elapsed => timer_elapsed
+        procedure :: begin => timer_begin
     end type timers_t
 
 contains
@@ -51,7 +52,14 @@ contains
         self%cpu(ph) = self%cpu(ph) + real(c, dp) - self%cpu_start(ph)
     end subroutine timer_stop
 
-    !> Wall seconds since the first timer started.
+    !> Start the wall clock of elapsed() now (the program's first statement,
+    !> so that it counts the parallel start-up too).
+    subroutine timer_begin(self)
+        class(timers_t), intent(inout) :: self
+        call system_clock(self%t0)
+    end subroutine timer_begin
+
+    !> Wall seconds since begin() or the first timer started.
     real(dp) function timer_elapsed(self)
         class(timers_t), intent(in) :: self
         integer(i8) :: now, rate

@@ -30,6 +30,7 @@ module xd_input_deck_source
         procedure :: file_of => source_file_of
         procedure :: is_comment => source_is_comment
         procedure :: is_keyword => source_is_keyword
+        procedure :: digest => source_digest
     end type deck_source_t
 
 contains
@@ -238,5 +239,28 @@ contains
         source_is_keyword = .false.
         if (self%llen(i) > 0) source_is_keyword = self%files(self%lfile(i))%text(self%lstart(i):self%lstart(i)) == '*'
     end function source_is_keyword
+
+    !> A fingerprint of the deck's text, every file in reading order: its
+    !> length and FNV-1a (32 bits) of its characters, as 'length-hash'. A
+    !> restart compares it with the dump's to refuse a changed deck.
+    function source_digest(src) result(d)
+        class(deck_source_t), intent(in) :: src
+        character(len=:), allocatable :: d
+        integer, parameter :: i8 = selected_int_kind(18)
+        integer(i8) :: h, n
+        integer(i8), parameter :: prime = 16777619_i8, mask = 4294967295_i8
+        integer :: f, k
+        character(len=40) :: buf
+        h = 2166136261_i8
+        n = 0
+        do f = 1, src%nfile
+            do k = 1, len(src%files(f)%text)
+                h = iand(ieor(h, int(ichar(src%files(f)%text(k:k)), i8))*prime, mask)
+            end do
+            n = n + len(src%files(f)%text)
+        end do
+        write (buf, '(i0,a,z8.8)') n, '-', h
+        d = trim(buf)
+    end function source_digest
 
 end module xd_input_deck_source

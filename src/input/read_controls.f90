@@ -184,6 +184,7 @@ contains
             call get_card(ctx, kw, ic, 'CYCL', 1, card, error)
             if (allocated(error)) return
             call get_int(card, 1, dump, 0, error); if (allocated(error)) return
+            model%db%d3dump = max(dump, 0)
         end select
     end subroutine read_database
 

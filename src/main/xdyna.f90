@@ -4,7 +4,7 @@
 program xdyna
     use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
     use xd_kinds, only: wp, dp
-    use xd_core_errors, only: error_t, exit_normal, exit_input, exit_run
+    use xd_core_errors, only: error_t, exit_normal, exit_input, exit_run, exit_signal
     use xd_core_strings, only: to_lower, itoa
     use xd_core_parallel_env, only: parallel_env_t, parallel_start, parallel_stop, terminate
     use xd_core_timers, only: timers_t, ph_input, ph_init
@@ -26,8 +26,10 @@ program xdyna
     use xd_rigid_bodies, only: rigid_t
     use xd_solver_loads, only: pressures_t, build_pressures
     use xd_elements_shell_bt, only: shells_t
-    use xd_output_histories, only: histories_t, open_histories, close_histories
-    use xd_output_states, only: states_t, open_states, close_states
+    use xd_output_histories, only: histories_t, open_histories, close_histories, history_marks_t
+    use xd_output_states, only: states_t, open_states, close_states, states_marks_t
+    use xd_solver_restart, only: dump_meta_t, read_dump_meta, read_dump, build_tag, dump_format
+    use xd_core_signals, only: signals_install
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     !$ use omp_lib, only: omp_set_num_threads
     implicit none
@@ -52,6 +54,12 @@ program xdyna
     type(states_t) :: states
     type(log_t) :: lg
     type(timers_t) :: tm
+    type(dump_meta_t) :: meta
+    type(history_marks_t) :: hmarks
+    type(states_marks_t) :: smarks
+    character(len=:), allocatable :: dump_error
+    logical :: outdir_given
+    real(dp) :: wallclock
     type(run_result_t) :: res
     type(error_t), allocatable :: error
     character(len=:), allocatable :: deck, outdir, arg, restart
@@ -59,6 +67,7 @@ program xdyna
     real(dp) :: endtim_cli
     integer :: i, ncpu, nfree
 
+    call tm%begin()
     call parallel_start(env)
     call tm%start(ph_input)
     deck = ''
@@ -67,6 +76,9 @@ program xdyna
     check_only = .false.
     endtim_cli = -1.0_dp
     ncpu = 0
+    outdir_given = .false.
+    wallclock = 0
+    call wallclock_env()
     do i = 1, command_argument_count()
         arg = get_arg(i)
         select case (to_lower(arg))
@@ -82,12 +94,25 @@ program xdyna
             call keyword_arg(arg)
         end select
     end do
+    if (len(restart) > 0) then
+        ! a restart: the dump names its deck and output directory, and must
+        ! come from this build
+        call read_dump_meta(restart, meta, ok)
+        if (.not. ok) then
+            write (error_unit, '(a)') 'xdyna: r='//restart//': not a readable restart dump'
+            call finish(exit_input)
+        end if
+        if (meta%format /= dump_format .or. meta%build /= build_tag()) then
+            write (error_unit, '(a)') 'xdyna: r='//restart//': the dump was written by another build ('// &
+                meta%build//', format '//itoa(meta%format)//'); this is '//build_tag()//', format '// &
+                itoa(dump_format)
+            call finish(exit_input)
+        end if
+        if (len(deck) == 0) deck = meta%deck
+        if (.not. outdir_given) outdir = meta%outdir
+    end if
     if (len(deck) == 0) then
         write (error_unit, '(a)') 'xdyna: no input deck (i=deck.k); see xdyna --help'
-        call finish(exit_input)
-    end if
-    if (len(restart) > 0) then
-        write (error_unit, '(a)') 'xdyna: r='//restart//': restart is not implemented in this version'
         call finish(exit_input)
     end if
     !$ if (ncpu > 0) call omp_set_num_threads(ncpu)
@@ -98,10 +123,14 @@ program xdyna
     end if
     if (.not. check_only) then
         call execute_command_line('mkdir -p "'//outdir//'"')
-        call log_open(outdir, lg, ok)
+        call log_open(outdir, lg, ok, append=len(restart) > 0)
         if (.not. ok) then
             write (error_unit, '(a)') 'xdyna: cannot write the log in '//outdir
             call finish(exit_input)
+        end if
+        if (len(restart) > 0) then
+            call log_line(lg, '')
+            call log_line(lg, ' R e s t a r t   from '//restart//' at cycle '//itoa(meta%cycle))
         end if
         call log_line(lg, ' command line: xdyna i='//deck//' outdir='//outdir)
         call log_line(lg, ' ranks '//itoa(env%nranks)//', threads per rank '//itoa(env%nthreads))
@@ -118,6 +147,14 @@ program xdyna
         call finish(exit_input)
     end if
     call tm%stop(ph_input)
+    if (len(restart) > 0) then
+        if (ctx%src%digest() /= meta%digest) then
+            write (error_unit, '(a)') 'xdyna: r='//restart//': the deck '//deck//' has changed since the dump '// &
+                '(fingerprint '//ctx%src%digest()//', the dump''s '//meta%digest//'); a restart needs the same deck'
+            call log_line(lg, ' *** Error: the deck has changed since the dump')
+            call finish(exit_input)
+        end if
+    end if
 
     call tm%start(ph_init)
     call setup_run(model, maps%hex, st, solids, asm, rg, sh, asm_sh, nfree, error)
@@ -152,12 +189,34 @@ program xdyna
     opts%endtim = real(model%ctl%endtim, dp)
     if (endtim_cli > 0.0_dp) opts%endtim = endtim_cli
     if (opts%endtim <= 0.0_dp) opts%endtim = huge(1.0_dp)
-    call open_histories(model, outdir, rg, hist, ok)
+    if (len(restart) > 0) then
+        call read_dump(restart, st, solids, sh, walls, rg, ct, hmarks, smarks, dump_error)
+        if (allocated(dump_error)) then
+            write (error_unit, '(a)') 'xdyna: r='//restart//': the dump does not fit this model: '//dump_error
+            call finish(exit_input)
+        end if
+        call open_histories(model, outdir, rg, hist, ok, resume=hmarks)
+    else
+        call open_histories(model, outdir, rg, hist, ok)
+    end if
     if (.not. ok) then
         write (error_unit, '(a)') 'xdyna: cannot create the time-history files in '//outdir
         call finish(exit_run)
     end if
-    call open_states(model, outdir, opts%endtim, solids, sh, states, ok)
+    if (len(restart) > 0) then
+        call open_states(model, outdir, opts%endtim, solids, sh, states, ok, resume=smarks)
+    else
+        call open_states(model, outdir, opts%endtim, solids, sh, states, ok)
+    end if
+    ! restart dumps: every N cycles and at the end if the deck asks, and
+    ! always on a stop signal or the wall-clock limit
+    opts%dump_every = model%db%d3dump
+    opts%wallclock = wallclock
+    opts%dump_path = join_path(outdir, 'd3dump.h5')
+    opts%meta%deck = deck
+    opts%meta%digest = ctx%src%digest()
+    opts%meta%outdir = outdir
+    call signals_install()
     if (.not. ok) then
         write (error_unit, '(a)') 'xdyna: cannot create d3plot.h5 in '//outdir
         call finish(exit_run)
@@ -170,7 +229,11 @@ program xdyna
     if (ct%n > 0) call log_line(lg, contact_report(ct))
     if (ct%dump_unit /= 0) close (ct%dump_unit)
     call timing_table(lg, tm, res%ncycle, solids%n + sh%n, tm%elapsed())
-    if (res%status /= exit_normal) then
+    if (res%status == exit_signal) then
+        write (error_unit, '(a)') 'xdyna: '//res%message
+        call log_line(lg, ' S t o p p e d   (restart with xdyna r='//opts%dump_path//')')
+        call finish(res%status)
+    else if (res%status /= exit_normal) then
         write (error_unit, '(a)') 'xdyna: '//res%message
         call log_line(lg, ' E r r o r   t e r m i n a t i o n')
         call finish(res%status)
@@ -190,6 +253,20 @@ contains
     end function get_arg
 
     !> name=value arguments, LS-DYNA style.
+    !> XDYNA_WALLCLOCK (seconds), as wallclock= (the command line wins).
+    subroutine wallclock_env()
+        character(len=64) :: v
+        integer :: n, st
+        logical :: good
+        call get_environment_variable('XDYNA_WALLCLOCK', v, length=n, status=st)
+        if (st /= 0 .or. n == 0) return
+        call parse_real(trim(v), wallclock, good)
+        if (.not. good .or. wallclock <= 0.0_dp) then
+            write (error_unit, '(a)') 'xdyna: XDYNA_WALLCLOCK='//trim(v)//' is not a positive number of seconds'
+            call finish(exit_input)
+        end if
+    end subroutine wallclock_env
+
     subroutine keyword_arg(a)
         character(len=*), intent(in) :: a
         integer :: k
@@ -207,6 +284,13 @@ contains
             deck = val
         case ('outdir', 'o')
             outdir = val
+            outdir_given = .true.
+        case ('wallclock')
+            call parse_real(val, wallclock, good)
+            if (.not. good .or. wallclock <= 0.0_dp) then
+                write (error_unit, '(a)') 'xdyna: wallclock='//val//' is not a positive number of seconds'
+                call finish(exit_input)
+            end if
         case ('r')
             restart = val
         case ('endtim')

@@ -254,6 +254,8 @@ module xd_model
         type(history_request_t) :: glstat, matsum, nodout, rwforc, rcforc
         real(wp) :: d3plot_dt = 0
         integer :: d3plot_npltc = 0
+        integer :: d3dump = -1                   !< *DATABASE_BINARY_D3DUMP cycles between dumps (0: only at
+                                                 !< the end; -1: not asked for)
         integer, allocatable :: hist_node(:)     !< node ids for nodout
         integer, allocatable :: hist_node_ix(:)
         integer, allocatable :: hist_set(:)      !< node set ids for nodout

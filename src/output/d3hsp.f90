@@ -19,12 +19,22 @@ module xd_output_d3hsp
 
 contains
 
-    subroutine log_open(outdir, lg, ok)
+    !> Create the log, or (append: a restart) go on after the first run's.
+    subroutine log_open(outdir, lg, ok, append)
         character(len=*), intent(in) :: outdir
         type(log_t), intent(out) :: lg
         logical, intent(out) :: ok
+        logical, intent(in), optional :: append
         integer :: st
-        open (newunit=lg%unit, file=join_path(outdir, 'd3hsp'), status='replace', action='write', iostat=st)
+        logical :: more
+        more = .false.
+        if (present(append)) more = append
+        if (more) then
+            open (newunit=lg%unit, file=join_path(outdir, 'd3hsp'), status='unknown', position='append', &
+                  action='write', iostat=st)
+        else
+            open (newunit=lg%unit, file=join_path(outdir, 'd3hsp'), status='replace', action='write', iostat=st)
+        end if
         ok = st == 0
         lg%open = ok
         if (.not. ok) return

@@ -2,18 +2,21 @@
 !> layout, and the same series in thist.h5. Written at the *DATABASE_*
 !> intervals (the first cycle at or past each output time) and at the end.
 module xd_output_histories
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa, join_path
+    use xd_core_files, only: truncate_file
     use xd_model, only: model_t, find_set, set_node
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
     use xd_solver_energies, only: energies_t
     use xd_contact_rigidwall, only: walls_t
     use xd_rigid_bodies, only: rigid_t
-    use xd_output_thist_h5, only: h5file_t, h5series_t, h5_open, h5_close, series_create, series_append
+    use xd_output_thist_h5, only: h5file_t, h5series_t, h5_open, h5_reopen, h5_close, series_create, series_open, &
+                                  series_append
     implicit none
     private
-    public :: histories_t, open_histories, histories_due, write_histories, close_histories, version_line
+    public :: histories_t, open_histories, histories_due, write_histories, close_histories, version_line, &
+              history_marks_t, history_marks
 
     character(len=*), parameter :: xdyna_version = '0.1.0'
     integer, parameter :: s_glstat = 1, s_matsum = 2, s_nodout = 3, s_rwforc = 4, s_rbdout = 5, s_rcforc = 6, &
@@ -33,7 +36,33 @@ module xd_output_histories
         integer :: nwritten = 0
     end type histories_t
 
+    !> Where the histories stand: enough to go on from a restart dump.
+    type :: history_marks_t
+        real(dp) :: next(ndb) = 0       !< next output time of each database
+        integer :: nt(ndb) = 0          !< rows written to thist.h5
+        integer(i8) :: bytes(ndb) = 0   !< size of each ASCII file
+        integer :: nwritten = 0
+    end type history_marks_t
+
 contains
+
+    !> The marks of h now (the ASCII files flushed).
+    function history_marks(h) result(m)
+        type(histories_t), intent(in) :: h
+        type(history_marks_t) :: m
+        integer :: k
+        integer(i8) :: sz
+        m%next = h%next
+        m%nwritten = h%nwritten
+        do k = 1, ndb
+            m%nt(k) = h%ser(k)%nt
+            if (h%on(k) .and. h%unit(k) /= 0) then
+                flush (h%unit(k))
+                inquire (unit=h%unit(k), size=sz)
+                m%bytes(k) = sz
+            end if
+        end do
+    end function history_marks
 
     function version_line() result(s)
         character(len=:), allocatable :: s
@@ -42,12 +71,16 @@ contains
         s = repeat(' ', 20)//'xdyna '//xdyna_version//'  date '//d(5:6)//'/'//d(7:8)//'/'//d(1:4)
     end function version_line
 
-    subroutine open_histories(model, outdir, rg, h, ok)
+    !> Create the history files; with `resume` (a restart), open the ones
+    !> the run wrote instead, cut back to the marks of the dump, and go on.
+    subroutine open_histories(model, outdir, rg, h, ok, resume)
         type(model_t), intent(in) :: model
         type(rigid_t), intent(in) :: rg
         character(len=*), intent(in) :: outdir
         type(histories_t), intent(out) :: h
         logical, intent(out) :: ok
+        type(history_marks_t), intent(in), optional :: resume
+        logical :: fresh
         character(len=32), allocatable :: cols(:), units(:)
         integer :: k, s, j
         integer, allocatable :: ids(:)
@@ -72,11 +105,18 @@ contains
         end if
         if (size(h%nodes) == 0) h%on(s_nodout) = .false.
 
-        call h5_open(join_path(outdir, 'thist.h5'), h%h5, ok)
+        fresh = .not. present(resume)
+        if (fresh) then
+            call h5_open(join_path(outdir, 'thist.h5'), h%h5, ok)
+        else
+            call h5_reopen(join_path(outdir, 'thist.h5'), h%h5, ok)
+            h%next = resume%next
+            h%nwritten = resume%nwritten
+        end if
         if (.not. ok) return
         if (h%on(s_glstat)) then
-            open (newunit=h%unit(s_glstat), file=join_path(outdir, 'glstat'), status='replace', action='write')
-            call header(h%unit(s_glstat))
+            call start_file(s_glstat, 'glstat')
+            if (fresh) call header(h%unit(s_glstat))
             cols = [character(len=32) :: 'time_step', 'kinetic_energy', 'internal_energy', 'hourglass_energy', &
                     'external_work', 'total_energy', 'energy_ratio', 'x_velocity', 'y_velocity', 'z_velocity']
             units = [character(len=32) :: 'time', 'energy', 'energy', 'energy', 'energy', 'energy', '1', &
@@ -89,26 +129,27 @@ contains
                 cols = [cols, [character(len=32) :: 'sliding_interface_energy']]
                 units = [units, [character(len=32) :: 'energy']]
             end if
-            call series_create(h%h5, 'glstat', cols, units, 0, [0], h%ser(s_glstat))
+            call make_series('glstat', cols, units, 0, [0], s_glstat)
         end if
         if (h%on(s_matsum)) then
-            open (newunit=h%unit(s_matsum), file=join_path(outdir, 'matsum'), status='replace', action='write')
-            call header(h%unit(s_matsum))
-            call legend(h%unit(s_matsum), model%part(1:model%npart)%id, model%part(1:model%npart)%heading)
-            write (h%unit(s_matsum), '(a)') '', '', ''
+            call start_file(s_matsum, 'matsum')
+            if (fresh) call header(h%unit(s_matsum))
+            if (fresh) then
+                call legend(h%unit(s_matsum), model%part(1:model%npart)%id, model%part(1:model%npart)%heading)
+                write (h%unit(s_matsum), '(a)') '', '', ''
+            end if
             cols = [character(len=32) :: 'internal_energy', 'kinetic_energy', 'hourglass_energy', 'x_momentum', &
                     'y_momentum', 'z_momentum', 'mass']
             units = [character(len=32) :: 'energy', 'energy', 'energy', 'mass*length/time', 'mass*length/time', &
                      'mass*length/time', 'mass']
-            call series_create(h%h5, 'matsum', cols, units, model%npart, model%part(1:model%npart)%id, &
-                               h%ser(s_matsum))
+            call make_series('matsum', cols, units, model%npart, model%part(1:model%npart)%id, s_matsum)
         end if
         if (h%on(s_nodout)) then
-            open (newunit=h%unit(s_nodout), file=join_path(outdir, 'nodout'), status='replace', action='write')
-            call header(h%unit(s_nodout))
+            call start_file(s_nodout, 'nodout')
+            if (fresh) call header(h%unit(s_nodout))
             ids = model%node_id(h%nodes)
             h%node_ids = ids
-            call legend(h%unit(s_nodout), ids, [(repeat(' ', 70), j=1, size(ids))])
+            if (fresh) call legend(h%unit(s_nodout), ids, [(repeat(' ', 70), j=1, size(ids))])
             cols = [character(len=32) :: 'x_displacement', 'y_displacement', 'z_displacement', 'x_velocity', &
                     'y_velocity', 'z_velocity', 'x_acceleration', 'y_acceleration', 'z_acceleration', &
                     'x_coordinate', 'y_coordinate', 'z_coordinate']
@@ -124,28 +165,32 @@ contains
                 cols = [cols, [character(len=32) :: 'x_contact_force', 'y_contact_force', 'z_contact_force']]
                 units = [units, [character(len=32) :: 'force', 'force', 'force']]
             end if
-            call series_create(h%h5, 'nodout', cols, units, size(ids), ids, h%ser(s_nodout))
+            call make_series('nodout', cols, units, size(ids), ids, s_nodout)
         end if
         if (h%on(s_rwforc)) then
-            open (newunit=h%unit(s_rwforc), file=join_path(outdir, 'rwforc'), status='replace', action='write')
-            call header(h%unit(s_rwforc))
+            call start_file(s_rwforc, 'rwforc')
+            if (fresh) call header(h%unit(s_rwforc))
             ids = model%wall(1:model%nwall)%id
-            call legend(h%unit(s_rwforc), ids, model%wall(1:model%nwall)%heading)
-            write (h%unit(s_rwforc), '(a)') '', '    time       wall#   normal-force    x-force        y-force        z-force'
+            if (fresh) then
+                call legend(h%unit(s_rwforc), ids, model%wall(1:model%nwall)%heading)
+                write (h%unit(s_rwforc), '(a)') '', '    time       wall#   normal-force    x-force        y-force        z-force'
+            end if
             cols = [character(len=32) :: 'normal_force', 'x_force', 'y_force', 'z_force']
             units = [character(len=32) :: 'force', 'force', 'force', 'force']
-            call series_create(h%h5, 'rwforc', cols, units, size(ids), ids, h%ser(s_rwforc))
+            call make_series('rwforc', cols, units, size(ids), ids, s_rwforc)
         end if
         if (h%on(s_rcforc)) then
-            open (newunit=h%unit(s_rcforc), file=join_path(outdir, 'rcforc'), status='replace', action='write')
-            call header(h%unit(s_rcforc))
+            call start_file(s_rcforc, 'rcforc')
+            if (fresh) call header(h%unit(s_rcforc))
             ids = model%contact(1:model%ncontact)%id
-            call legend(h%unit(s_rcforc), ids, model%contact(1:model%ncontact)%heading)
-            write (h%unit(s_rcforc), '(a)') ''
+            if (fresh) then
+                call legend(h%unit(s_rcforc), ids, model%contact(1:model%ncontact)%heading)
+                write (h%unit(s_rcforc), '(a)') ''
+            end if
             cols = [character(len=32) :: 'slave_x_force', 'slave_y_force', 'slave_z_force', 'slave_mass', &
                     'master_x_force', 'master_y_force', 'master_z_force', 'master_mass']
             units = [character(len=32) :: 'force', 'force', 'force', 'mass', 'force', 'force', 'force', 'mass']
-            call series_create(h%h5, 'rcforc', cols, units, size(ids), ids, h%ser(s_rcforc))
+            call make_series('rcforc', cols, units, size(ids), ids, s_rcforc)
         end if
         if (h%on(s_rbdout)) then
             ! rigid bodies, HDF5 only: part id, or minus the body's number for node-set bodies
@@ -155,9 +200,33 @@ contains
                     'z_angular_momentum']
             units = [character(len=32) :: 'length/time', 'length/time', 'length/time', '1/time', '1/time', &
                      '1/time', 'mass*length^2/time', 'mass*length^2/time', 'mass*length^2/time']
-            call series_create(h%h5, 'rbdout', cols, units, rg%n, ids, h%ser(s_rbdout))
+            call make_series('rbdout', cols, units, rg%n, ids, s_rbdout)
         end if
     contains
+        !> Create file `name` for database k, or (resuming) cut it back to
+        !> the size it had at the dump and append.
+        subroutine start_file(k, name)
+            integer, intent(in) :: k
+            character(len=*), intent(in) :: name
+            if (fresh) then
+                open (newunit=h%unit(k), file=join_path(outdir, name), status='replace', action='write')
+            else
+                call truncate_file(join_path(outdir, name), resume%bytes(k))
+                open (newunit=h%unit(k), file=join_path(outdir, name), status='old', action='write', &
+                      position='append')
+            end if
+        end subroutine start_file
+        subroutine make_series(name, cols, units, nent, ids, k)
+            character(len=*), intent(in) :: name, cols(:), units(:)
+            integer, intent(in) :: nent, ids(:), k
+            logical :: good
+            if (fresh) then
+                call series_create(h%h5, name, cols, units, nent, ids, h%ser(k))
+            else
+                call series_open(h%h5, name, cols, nent, resume%nt(k), h%ser(k), good)
+                ok = ok .and. good
+            end if
+        end subroutine make_series
         subroutine header(u)
             integer, intent(in) :: u
             write (u, '(a)') ' '//h%title

@@ -15,13 +15,14 @@ module xd_output_states
     use hdf5
     use xd_kinds, only: wp, dp
     use xd_core_strings, only: join_path
+    use xd_core_files, only: rename_file
     use xd_model, only: model_t
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_shell_bt, only: shells_t, shell_frame, point_weight
     implicit none
     private
-    public :: states_t, open_states, states_due, write_state, close_states
+    public :: states_t, open_states, states_due, write_state, close_states, states_marks_t, states_marks
 
     type :: states_t
         logical :: on = .false.
@@ -33,10 +34,31 @@ module xd_output_states
         real(dp), allocatable :: times(:)
     end type states_t
 
+    !> Where the states stand: enough to go on from a restart dump.
+    type :: states_marks_t
+        integer :: n = 0
+        real(dp) :: next = 0
+        real(dp), allocatable :: times(:)
+    end type states_marks_t
+
 contains
 
-    !> Create d3plot.h5 with the mesh, if the deck asks for states.
-    subroutine open_states(model, outdir, endtim, solids, sh, s, ok)
+    function states_marks(s) result(m)
+        type(states_t), intent(in) :: s
+        type(states_marks_t) :: m
+        m%n = s%n
+        m%next = s%next
+        if (allocated(s%times)) then
+            m%times = s%times
+        else
+            allocate (m%times(0))
+        end if
+    end function states_marks
+
+    !> Create d3plot.h5 with the mesh, if the deck asks for states; with
+    !> `resume` (a restart), open the run's file, drop the states written
+    !> after the dump and go on.
+    subroutine open_states(model, outdir, endtim, solids, sh, s, ok, resume)
         type(model_t), intent(in) :: model
         character(len=*), intent(in) :: outdir
         real(dp), intent(in) :: endtim
@@ -44,8 +66,11 @@ contains
         type(shells_t), intent(in) :: sh
         type(states_t), intent(out) :: s
         logical, intent(out) :: ok
-        integer :: err
+        type(states_marks_t), intent(in), optional :: resume
+        integer :: err, k
         integer(hid_t) :: g
+        logical :: there
+        character(len=16) :: name
         ok = .true.
         s%dt = real(model%db%d3plot_dt, dp)
         if (model%db%d3plot_npltc > 0) s%dt = endtim/model%db%d3plot_npltc
@@ -57,6 +82,28 @@ contains
         s%nshell = sh%n
         allocate (s%times(0))
         call h5open_f(err)
+        if (present(resume)) then
+            call h5fopen_f(join_path(outdir, 'd3plot.h5'), H5F_ACC_RDWR_F, s%file, err)
+            ok = err == 0
+            if (.not. ok) return
+            s%n = resume%n
+            s%next = resume%next
+            s%times = resume%times
+            k = s%n
+            do
+                k = k + 1
+                write (name, '(a,i6.6)') 'states/', k
+                call h5lexists_f(s%file, trim(name), there, err)
+                if (.not. there) exit
+                call h5ldelete_f(s%file, trim(name), err)
+            end do
+            call h5lexists_f(s%file, 'states/time', there, err)
+            if (there) call h5ldelete_f(s%file, 'states/time', err)
+            call put_double1(s%file, 'states/time', s%times)
+            call h5fflush_f(s%file, H5F_SCOPE_GLOBAL_F, err)
+            call write_xdmf(s)
+            return
+        end if
         call h5fcreate_f(join_path(outdir, 'd3plot.h5'), H5F_ACC_TRUNC_F, s%file, err)
         ok = err == 0
         if (.not. ok) return
@@ -243,19 +290,6 @@ contains
         write (b, '(i0)') i
         t = trim(b)
     end function itoa0
-
-    subroutine rename_file(from, to)
-        use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
-        character(len=*), intent(in) :: from, to
-        interface
-            integer(c_int) function c_rename(a, b) bind(c, name='rename')
-                import :: c_int, c_char
-                character(kind=c_char), intent(in) :: a(*), b(*)
-            end function c_rename
-        end interface
-        integer(c_int) :: rc
-        rc = c_rename(from//c_null_char, to//c_null_char)
-    end subroutine rename_file
 
     pure real(wp) function von_mises(s) result(q)
         real(wp), intent(in) :: s(6)

@@ -9,7 +9,7 @@ module xd_output_thist_h5
     use xd_kinds, only: wp, dp
     implicit none
     private
-    public :: h5file_t, h5series_t, h5_open, h5_close, series_create, series_append
+    public :: h5file_t, h5series_t, h5_open, h5_reopen, h5_close, series_create, series_open, series_append
 
     type :: h5file_t
         integer(hid_t) :: id = -1
@@ -36,6 +36,58 @@ contains
         ok = err == 0
         f%open = ok
     end subroutine h5_open
+
+    !> Open an existing file to go on appending (a restart).
+    subroutine h5_reopen(path, f, ok)
+        character(len=*), intent(in) :: path
+        type(h5file_t), intent(out) :: f
+        logical, intent(out) :: ok
+        integer :: err
+        call h5open_f(err)
+        call h5fopen_f(path, H5F_ACC_RDWR_F, f%id, err)
+        ok = err == 0
+        f%open = ok
+    end subroutine h5_reopen
+
+    !> Open the existing group `name` written by series_create, keep its
+    !> first nt rows (those of the run up to a restart dump) and append
+    !> after them.
+    subroutine series_open(f, name, cols, nent, nt, s, ok)
+        type(h5file_t), intent(in) :: f
+        character(len=*), intent(in) :: name
+        character(len=*), intent(in) :: cols(:)
+        integer, intent(in) :: nent, nt
+        type(h5series_t), intent(out) :: s
+        logical, intent(out) :: ok
+        integer :: err, k
+        s%ncol = size(cols)
+        s%nent = nent
+        s%file = f%id
+        s%nt = nt
+        call h5gopen_f(f%id, name, s%gid, err)
+        ok = err == 0
+        if (.not. ok) return
+        allocate (s%dset(s%ncol))
+        call h5dopen_f(s%gid, 'time', s%tset, err)
+        ok = ok .and. err == 0
+        call cut(s%tset, 0)
+        do k = 1, s%ncol
+            call h5dopen_f(s%gid, trim(cols(k)), s%dset(k), err)
+            ok = ok .and. err == 0
+            if (err == 0) call cut(s%dset(k), nent)
+        end do
+    contains
+        subroutine cut(ds, ne)
+            integer(hid_t), intent(in) :: ds
+            integer, intent(in) :: ne
+            integer :: e
+            if (ne > 0) then
+                call h5dset_extent_f(ds, [int(ne, hsize_t), int(nt, hsize_t)], e)
+            else
+                call h5dset_extent_f(ds, [int(nt, hsize_t)], e)
+            end if
+        end subroutine cut
+    end subroutine series_open
 
     subroutine h5_close(f, series)
         type(h5file_t), intent(inout) :: f

@@ -24,6 +24,7 @@ module xd_solver_state
         real(dp) :: time = 0.0_dp
         real(wp) :: dt = 0.0_wp               !< step about to be taken (t -> t + dt)
         real(wp) :: dt_old = 0.0_wp           !< step just taken
+        real(dp) :: dt_avg_prev = 0.0_dp      !< (dt_old + the step before) / 2: the last velocity update's
         real(wp) :: dt_first = 0.0_wp         !< first step, for DTMIN
         integer :: cycle = 0
         integer :: crit_elem = 0              !< element that set the step: solids index, or minus the shell's

@@ -5,7 +5,7 @@ module xd_solver_time_loop
     use, intrinsic :: iso_fortran_env, only: output_unit
     use xd_kinds, only: wp, dp
     use xd_core_strings, only: itoa, rtoa, ftoa
-    use xd_core_errors, only: exit_normal, exit_run
+    use xd_core_errors, only: exit_normal, exit_run, exit_signal
     use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid, &
                                   ph_search, ph_local, ph_enforce
     use xd_model, only: model_t
@@ -14,7 +14,10 @@ module xd_solver_time_loop
     use xd_solver_assembly, only: assembly_t, assemble
     use xd_solver_energies, only: energies_t, compute_energies
     use xd_output_histories, only: histories_t, histories_due, write_histories
-    use xd_output_states, only: states_t, states_due, write_state
+    use xd_output_states, only: states_t, states_due, write_state, states_marks
+    use xd_output_histories, only: history_marks
+    use xd_solver_restart, only: dump_meta_t, write_dump
+    use xd_core_signals, only: stop_signal, status_signal
     use xd_output_d3hsp, only: log_t, log_line
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
@@ -33,6 +36,10 @@ module xd_solver_time_loop
         logical :: progress = .true.
         real(dp) :: progress_every = 5.0_dp  !< wall seconds between progress lines
         integer :: energy_check_every = 100  !< cycles between energy checks
+        integer :: dump_every = -1           !< cycles between restart dumps (0: at the end only; -1: none)
+        real(dp) :: wallclock = 0.0_dp       !< wall seconds allowed (0: no limit): stop with a dump before
+        character(len=:), allocatable :: dump_path
+        type(dump_meta_t) :: meta            !< what a dump says about the run
     end type run_options_t
 
     type :: run_result_t
@@ -65,29 +72,41 @@ contains
         type(energies_t) :: en
         real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :)
         real(wp) :: dtc, g_new(3)
-        real(dp) :: dt_avg, dt_avg_prev, wpm
-        real(dp) :: t_last_progress, ratio_limit, t0_wall
-        logical :: done, due, energy_now
-        integer :: nd
+        real(dp) :: dt_avg, wpm
+        real(dp) :: t_last_progress, ratio_limit, t0_wall, t_dump
+        logical :: done, due, energy_now, dumped_end
+        integer :: nd, cycle0
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode))
         if (st%rot) allocate (vrminus(3, st%nnode))
         ratio_limit = 1.5_dp
         if (model%ctl%endeng > 0.0_wp) ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
         t0_wall = tm%elapsed()
+        cycle0 = st%cycle
+        dumped_end = .false.
+        t_dump = 0
         t_last_progress = t0_wall
-        dt_avg_prev = 0
 
         ! cycle n: forces at t(n) on x(n) with v(n-1/2); v(n+1/2) with the
         ! constraints; output at t(n); then x(n+1)
         do
+            ! the end-of-run restart dump: the state at the start of the last
+            ! cycle (a restart with a later end time goes on from there as
+            ! the longer run would have, writing the outputs of t(n) again)
+            if (opts%dump_every >= 0 .and. .not. dumped_end) then
+                if (st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp) .or. &
+                    (model%ctl%endcyc > 0 .and. st%cycle >= model%ctl%endcyc)) then
+                    call dump()
+                    dumped_end = .true.
+                end if
+            end if
             if (ct%n > 0) then
                 ! step 2 where due, on x(n); steps 3-4 will follow here
                 call tm%start(ph_search)
                 call contact_search(ct, st%x, model%node_id, st%cycle, st%time)
                 call tm%stop(ph_search)
             end if
-            call element_pass(st%dt_old, dt_avg_prev, dtc)
+            call element_pass(st%dt_old, st%dt_avg_prev, dtc)
             if (res%status /= exit_normal) exit
             ! a model of rigid bodies alone has no element step: DTINIT sets it
             if (solids%ngroup == 0 .and. sh%n == 0) dtc = model%ctl%dtinit/model%ctl%tssfac
@@ -207,9 +226,33 @@ contains
             st%time = st%time + real(st%dt, dp)
             st%cycle = st%cycle + 1
             st%dt_old = st%dt
-            dt_avg_prev = dt_avg
+            st%dt_avg_prev = dt_avg
             call tm%stop(ph_integrate)
+            ! batch: a status line on SIGUSR2; a dump every N cycles; on SIGTERM
+            ! or SIGUSR1, or near the wall-clock limit, a dump and exit 3
+            if (status_signal()) call progress()
+            if (opts%dump_every > 0) then
+                if (mod(st%cycle, opts%dump_every) == 0) call dump()
+            end if
+            if (stop_signal() /= 0) then
+                call dump()
+                call stop_run('stopped by signal '//itoa(stop_signal())//'; restart dump '//opts%dump_path)
+                exit
+            end if
+            if (opts%wallclock > 0.0_dp) then
+                ! margin: 10 cycles, 5% of the allowance, twice the last dump's
+                ! time, and 0.5 s for the dump, closing the files and the
+                ! parallel shutdown
+                if (tm%elapsed() + max(10.0_dp*(tm%elapsed() - t0_wall)/max(st%cycle - cycle0, 1), &
+                                       0.05_dp*opts%wallclock, 2.0_dp*t_dump) + 0.5_dp >= opts%wallclock) then
+                    call dump()
+                    call stop_run('wall-clock limit of '//ftoa(opts%wallclock)//' s near; restart dump '// &
+                                  opts%dump_path)
+                    exit
+                end if
+            end if
         end do
+
         res%ncycle = st%cycle
         res%loop_wall = tm%elapsed() - t0_wall
         if (res%status == exit_normal) then
@@ -322,6 +365,32 @@ contains
                           'SFM) too high for the time step?')
             end if
         end subroutine check_energy
+
+        !> The restart dump of the state at the end of this cycle.
+        subroutine dump()
+            logical :: ok
+            real(dp) :: t1
+            t1 = tm%elapsed()
+            call tm%start(ph_output)
+            call write_dump(opts%dump_path, opts%meta, st, solids, sh, walls, rg, ct, history_marks(hist), &
+                            states_marks(states), ok)
+            call tm%stop(ph_output)
+            t_dump = tm%elapsed() - t1
+            if (ok) then
+                call log_line(lg, ' restart dump at cycle '//itoa(st%cycle)//', time '//rtoa(st%time)//': '// &
+                              opts%dump_path)
+            else
+                call log_line(lg, ' *** Warning: could not write the restart dump '//opts%dump_path)
+            end if
+        end subroutine dump
+
+        subroutine stop_run(text)
+            character(len=*), intent(in) :: text
+            res%status = exit_signal
+            res%message = 'stopped at time '//rtoa(st%time)//', cycle '//itoa(st%cycle)//': '//text
+            call log_line(lg, '')
+            call log_line(lg, ' *** '//res%message)
+        end subroutine stop_run
 
         subroutine fail(text)
             character(len=*), intent(in) :: text

@@ -1,0 +1,445 @@
+!> Restart dumps (*DATABASE_BINARY_D3DUMP, the end of a run, a stop signal,
+!> the wall-clock limit): one HDF5 file, `d3dump.h5`, replaced whole each
+!> time (written to a temporary file, then renamed). A restart reads the
+!> deck again and builds the model as the first run did (everything that
+!> does not change during a run is rebuilt, bit for bit the same), then
+!> takes from the dump what changes: nodal state, element state, rigid
+!> bodies and walls, contact (master node lists, per-slave history,
+!> energies, search schedule), and where the output files stood. The root
+!> carries the format version, the build (version, precision, compiler)
+!> and the deck's fingerprint; a restart refuses a dump whose build or deck
+!> differs.
+module xd_solver_restart
+    use hdf5
+    use xd_kinds, only: wp, dp, i8
+    use xd_core_strings, only: itoa
+    use xd_core_files, only: rename_file
+    use xd_output_h5io, only: dput, dget, put_text, get_text
+    use xd_solver_state, only: state_t
+    use xd_elements_solid_groups, only: solids_t
+    use xd_elements_shell_bt, only: shells_t
+    use xd_contact_rigidwall, only: walls_t
+    use xd_rigid_bodies, only: rigid_t
+    use xd_contact_contact, only: contacts_t
+    use xd_output_histories, only: history_marks_t
+    use xd_output_states, only: states_marks_t
+    implicit none
+    private
+    public :: dump_meta_t, write_dump, read_dump_meta, read_dump, build_tag, dump_format
+
+    integer, parameter :: dump_format = 1
+
+    !> What a dump says about itself.
+    type :: dump_meta_t
+        integer :: format = 0
+        character(len=:), allocatable :: build, deck, digest, outdir
+        real(dp) :: time = 0
+        integer :: cycle = 0
+    end type dump_meta_t
+
+contains
+
+    !> The build a dump belongs to: version, working precision, compiler.
+    function build_tag() result(t)
+        use, intrinsic :: iso_fortran_env, only: compiler_version
+        character(len=:), allocatable :: t
+        t = 'xdyna 0.1.0, real '//itoa(storage_size(1.0_wp))//' bits, '//compiler_version()
+    end function build_tag
+
+    subroutine write_dump(path, meta, st, solids, sh, walls, rg, ct, hm, sm, ok)
+        character(len=*), intent(in) :: path
+        type(dump_meta_t), intent(in) :: meta
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        type(walls_t), intent(in) :: walls
+        type(rigid_t), intent(in) :: rg
+        type(contacts_t), intent(in) :: ct
+        type(history_marks_t), intent(in) :: hm
+        type(states_marks_t), intent(in) :: sm
+        logical, intent(out) :: ok
+        integer(hid_t) :: f, g, r
+        integer :: err, k
+        call h5open_f(err)
+        call h5fcreate_f(path//'.tmp', H5F_ACC_TRUNC_F, f, err)
+        ok = err == 0
+        if (.not. ok) return
+        call put_text(f, 'format', itoa(dump_format))
+        call put_text(f, 'build', build_tag())
+        call put_text(f, 'deck', meta%deck)
+        call put_text(f, 'deck_digest', meta%digest)
+        call put_text(f, 'outdir', meta%outdir)
+        call dput(f, 'time', [st%time])
+        call dput(f, 'cycle', [st%cycle])
+
+        call h5gcreate_f(f, 'state', g, err)
+        call dput(g, 'x', [st%x])
+        call dput(g, 'v', [st%v])
+        if (st%rot) call dput(g, 'vr', [st%vr])
+        call dput(g, 'dt', [st%dt, st%dt_old, st%dt_first])
+        call dput(g, 'sums', [st%dt_avg_prev, st%ext_work, st%e_initial])
+        call dput(g, 'crit_elem', [st%crit_elem])
+        call h5gclose_f(g, err)
+
+        call h5gcreate_f(f, 'solids', g, err)
+        call dput(g, 'sig', solids%sig)
+        call dput(g, 'vol', solids%vol)
+        call dput(g, 'qhg', solids%qhg)
+        call dput(g, 'qbv', solids%qbv)
+        call dput(g, 'epsp', solids%epsp)
+        call dput(g, 'alpha', solids%alpha)
+        call dput(g, 'eint', solids%eint)
+        call dput(g, 'ehg', solids%ehg)
+        call dput(g, 'pend_int', solids%pend_int)
+        call dput(g, 'pend_hg', solids%pend_hg)
+        call h5gclose_f(g, err)
+
+        call h5gcreate_f(f, 'shells', g, err)
+        if (sh%n > 0) then
+            call dput(g, 'sig', [sh%sig])
+            call dput(g, 'qhg', [sh%qhg])
+            call dput(g, 'epsp', [sh%epsp])
+            call dput(g, 'alpha', [sh%alpha])
+            call dput(g, 'eint', sh%eint)
+            call dput(g, 'ehg', sh%ehg)
+            call dput(g, 'pend_int', sh%pend_int)
+            call dput(g, 'pend_hg', sh%pend_hg)
+            call dput(g, 'h', sh%h)
+        end if
+        call h5gclose_f(g, err)
+
+        call h5gcreate_f(f, 'walls', g, err)
+        do k = 1, walls%n
+            call dput(g, 'w'//itoa(k), [walls%w(k)%shift, walls%w(k)%vel, walls%w(k)%vel_old, walls%w(k)%energy])
+        end do
+        call h5gclose_f(g, err)
+
+        call h5gcreate_f(f, 'rigid', g, err)
+        do k = 1, rg%n
+            associate (b => rg%b(k))
+                call dput(g, 'b'//itoa(k), [b%xc, b%vc, b%vc_old, b%q, b%pi, b%omega, b%omega_old, b%tfail])
+                call dput(g, 'b'//itoa(k)//'_active', [merge(1, 0, b%active)])
+            end associate
+        end do
+        call h5gclose_f(g, err)
+
+        call h5gcreate_f(f, 'contact', g, err)
+        do k = 1, ct%n
+            associate (it => ct%ifc(k))
+                call h5gcreate_f(g, 'i'//itoa(k), r, err)
+                if (allocated(it%lists%ptr)) then
+                    call dput(r, 'list_ptr', it%lists%ptr)
+                    call dput(r, 'list_node', it%lists%node)
+                    call dput(r, 'list_trackable', merge(1, 0, it%lists%trackable))
+                    call dput(r, 'xl', [it%xl])
+                    call dput(r, 'lc', it%lc)
+                end if
+                call dput(r, 'ls_lc', it%ls%lc)
+                call dput(r, 'reals', [it%margin, it%reach, it%drift, it%worst, it%pinit])
+                call dput(r, 'ints', [it%last_cycle, it%nsearch, it%ninit, merge(1, 0, it%started)])
+                call dput(r, 'counts', [it%total%pool, it%total%reduced, it%total%masters, it%ncontact_total])
+                call dput(r, 'energy', [it%energy])
+                call dput(r, 'cseg', it%cseg)
+                call dput(r, 'fprev', [it%fprev])
+                call dput(r, 'ft', [it%ft])
+                call dput(r, 'p0', it%p0)
+                call h5gclose_f(r, err)
+            end associate
+        end do
+        call h5gclose_f(g, err)
+
+        call h5gcreate_f(f, 'output', g, err)
+        call dput(g, 'hist_next', hm%next)
+        call dput(g, 'hist_nt', hm%nt)
+        call dput(g, 'hist_bytes', hm%bytes)
+        call dput(g, 'hist_nwritten', [hm%nwritten])
+        call dput(g, 'states_n', [sm%n])
+        call dput(g, 'states_next', [sm%next])
+        call dput(g, 'states_times', sm%times)
+        call h5gclose_f(g, err)
+        call h5fclose_f(f, err)
+        ok = err == 0
+        if (ok) call rename_file(path//'.tmp', path)
+    end subroutine write_dump
+
+    !> The dump's own description; ok false if it is not a readable dump.
+    subroutine read_dump_meta(path, meta, ok)
+        character(len=*), intent(in) :: path
+        type(dump_meta_t), intent(out) :: meta
+        logical, intent(out) :: ok
+        integer(hid_t) :: f
+        integer :: err, ios
+        logical :: there, good
+        real(dp), allocatable :: t(:)
+        integer, allocatable :: c(:)
+        character(len=:), allocatable :: fmt
+        inquire (file=path, exist=there)
+        ok = there
+        if (.not. ok) return
+        call h5open_f(err)
+        call h5eset_auto_f(0, err)
+        call h5fopen_f(path, H5F_ACC_RDONLY_F, f, err)
+        call h5eset_auto_f(1, err)
+        ok = err == 0
+        if (.not. ok) return
+        fmt = get_text(f, 'format')
+        read (fmt, *, iostat=ios) meta%format
+        if (ios /= 0) meta%format = 0
+        meta%build = get_text(f, 'build')
+        meta%deck = get_text(f, 'deck')
+        meta%digest = get_text(f, 'deck_digest')
+        meta%outdir = get_text(f, 'outdir')
+        call dget(f, 'time', t, good)
+        if (good) meta%time = t(1)
+        call dget(f, 'cycle', c, good)
+        if (good) meta%cycle = c(1)
+        call h5fclose_f(f, err)
+    end subroutine read_dump_meta
+
+    !> Put the dump's state into structures the deck has just built;
+    !> `error` names what does not fit (a dump of another model).
+    subroutine read_dump(path, st, solids, sh, walls, rg, ct, hm, sm, error)
+        character(len=*), intent(in) :: path
+        type(state_t), intent(inout) :: st
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        type(walls_t), intent(inout) :: walls
+        type(rigid_t), intent(inout) :: rg
+        type(contacts_t), intent(inout) :: ct
+        type(history_marks_t), intent(out) :: hm
+        type(states_marks_t), intent(out) :: sm
+        character(len=:), allocatable, intent(out) :: error
+        integer(hid_t) :: f, g, r
+        integer :: err, k
+        real(wp), allocatable :: bw(:)
+        real(dp), allocatable :: bd(:)
+        integer, allocatable :: bi(:)
+        integer(i8), allocatable :: bl(:)
+        logical :: there
+        call h5open_f(err)
+        call h5fopen_f(path, H5F_ACC_RDONLY_F, f, err)
+        if (err /= 0) then
+            error = 'cannot open the dump'
+            return
+        end if
+        call dget(f, 'cycle', bi, there)
+        if (ok_size(size(bi), 1, 'cycle')) st%cycle = bi(1)
+        call dget(f, 'time', bd, there)
+        if (ok_size(size(bd), 1, 'time')) st%time = bd(1)
+
+        call h5gopen_f(f, 'state', g, err)
+        call getw(g, 'x', size(st%x))
+        if (ok()) st%x = reshape(bw, shape(st%x))
+        call getw(g, 'v', size(st%v))
+        if (ok()) st%v = reshape(bw, shape(st%v))
+        if (st%rot) then
+            call getw(g, 'vr', size(st%vr))
+            if (ok()) st%vr = reshape(bw, shape(st%vr))
+        end if
+        call getw(g, 'dt', 3)
+        if (ok()) then
+            st%dt = bw(1)
+            st%dt_old = bw(2)
+            st%dt_first = bw(3)
+        end if
+        call getd(g, 'sums', 3)
+        if (ok()) then
+            st%dt_avg_prev = bd(1)
+            st%ext_work = bd(2)
+            st%e_initial = bd(3)
+        end if
+        call geti(g, 'crit_elem', 1)
+        if (ok()) st%crit_elem = bi(1)
+        call h5gclose_f(g, err)
+
+        call h5gopen_f(f, 'solids', g, err)
+        call getw(g, 'sig', size(solids%sig)); if (ok()) solids%sig = bw
+        call getw(g, 'vol', size(solids%vol)); if (ok()) solids%vol = bw
+        call getw(g, 'qhg', size(solids%qhg)); if (ok()) solids%qhg = bw
+        call getw(g, 'qbv', size(solids%qbv)); if (ok()) solids%qbv = bw
+        call getw(g, 'epsp', size(solids%epsp)); if (ok()) solids%epsp = bw
+        call getw(g, 'alpha', size(solids%alpha)); if (ok()) solids%alpha = bw
+        call getd(g, 'eint', size(solids%eint)); if (ok()) solids%eint = bd
+        call getd(g, 'ehg', size(solids%ehg)); if (ok()) solids%ehg = bd
+        call getd(g, 'pend_int', size(solids%pend_int)); if (ok()) solids%pend_int = bd
+        call getd(g, 'pend_hg', size(solids%pend_hg)); if (ok()) solids%pend_hg = bd
+        call h5gclose_f(g, err)
+
+        if (sh%n > 0) then
+            call h5gopen_f(f, 'shells', g, err)
+            call getw(g, 'sig', size(sh%sig)); if (ok()) sh%sig = reshape(bw, shape(sh%sig))
+            call getw(g, 'qhg', size(sh%qhg)); if (ok()) sh%qhg = reshape(bw, shape(sh%qhg))
+            call getw(g, 'epsp', size(sh%epsp)); if (ok()) sh%epsp = reshape(bw, shape(sh%epsp))
+            call getw(g, 'alpha', size(sh%alpha)); if (ok()) sh%alpha = reshape(bw, shape(sh%alpha))
+            call getd(g, 'eint', sh%n); if (ok()) sh%eint = bd
+            call getd(g, 'ehg', sh%n); if (ok()) sh%ehg = bd
+            call getd(g, 'pend_int', sh%n); if (ok()) sh%pend_int = bd
+            call getd(g, 'pend_hg', sh%n); if (ok()) sh%pend_hg = bd
+            call getw(g, 'h', sh%n); if (ok()) sh%h = bw
+            call h5gclose_f(g, err)
+        end if
+
+        call h5gopen_f(f, 'walls', g, err)
+        do k = 1, walls%n
+            call getd(g, 'w'//itoa(k), 4)
+            if (ok()) then
+                walls%w(k)%shift = bd(1)
+                walls%w(k)%vel = bd(2)
+                walls%w(k)%vel_old = bd(3)
+                walls%w(k)%energy = bd(4)
+            end if
+        end do
+        call h5gclose_f(g, err)
+
+        call h5gopen_f(f, 'rigid', g, err)
+        do k = 1, rg%n
+            associate (b => rg%b(k))
+                call getd(g, 'b'//itoa(k), 28)
+                if (ok()) then
+                    b%xc = bd(1:3)
+                    b%vc = bd(4:6)
+                    b%vc_old = bd(7:9)
+                    b%q = reshape(bd(10:18), [3, 3])
+                    b%pi = bd(19:21)
+                    b%omega = bd(22:24)
+                    b%omega_old = bd(25:27)
+                    b%tfail = bd(28)
+                end if
+                call geti(g, 'b'//itoa(k)//'_active', 1)
+                if (ok()) b%active = bi(1) /= 0
+            end associate
+        end do
+        call h5gclose_f(g, err)
+
+        call h5gopen_f(f, 'contact', g, err)
+        do k = 1, ct%n
+            associate (it => ct%ifc(k), s => ct%ifc(k)%surf)
+                call h5gopen_f(g, 'i'//itoa(k), r, err)
+                if (err /= 0) then
+                    call fail('contact interface '//itoa(k)//' is missing')
+                    exit
+                end if
+                call dget(r, 'list_ptr', bi, there)
+                if (there) then
+                    it%lists%ptr = bi
+                    call dget(r, 'list_node', bi, there)
+                    it%lists%node = bi
+                    call dget(r, 'list_trackable', bi, there)
+                    it%lists%trackable = bi /= 0
+                    if (.not. allocated(it%xl)) allocate (it%xl(3, s%nnode), it%lc(s%nnode))
+                    call getw(r, 'xl', size(it%xl)); if (ok()) it%xl = reshape(bw, shape(it%xl))
+                    call getw(r, 'lc', size(it%lc)); if (ok()) it%lc = bw
+                    if (size(it%lists%ptr) /= s%nslave + 1) call fail('contact interface '//itoa(k)// &
+                                                                       ' has another number of slave nodes')
+                end if
+                call getw(r, 'ls_lc', -1)
+                if (ok()) it%ls%lc = bw
+                call getw(r, 'reals', 5)
+                if (ok()) then
+                    it%margin = bw(1)
+                    it%reach = bw(2)
+                    it%drift = bw(3)
+                    it%worst = bw(4)
+                    it%pinit = bw(5)
+                end if
+                call geti(r, 'ints', 4)
+                if (ok()) then
+                    it%last_cycle = bi(1)
+                    it%nsearch = bi(2)
+                    it%ninit = bi(3)
+                    it%started = bi(4) /= 0
+                end if
+                call dget(r, 'counts', bl, there)
+                if (ok_size(size(bl), 4, 'counts')) then
+                    it%total%pool = bl(1)
+                    it%total%reduced = bl(2)
+                    it%total%masters = bl(3)
+                    it%ncontact_total = bl(4)
+                end if
+                call getd(r, 'energy', 1); if (ok()) it%energy = bd(1)
+                call geti(r, 'cseg', size(it%cseg)); if (ok()) it%cseg = bi
+                call getw(r, 'fprev', size(it%fprev)); if (ok()) it%fprev = reshape(bw, shape(it%fprev))
+                call getw(r, 'ft', size(it%ft)); if (ok()) it%ft = reshape(bw, shape(it%ft))
+                call getw(r, 'p0', size(it%p0)); if (ok()) it%p0 = bw
+                call h5gclose_f(r, err)
+            end associate
+        end do
+        call h5gclose_f(g, err)
+
+        call h5gopen_f(f, 'output', g, err)
+        call getd(g, 'hist_next', size(hm%next)); if (ok()) hm%next = bd
+        call geti(g, 'hist_nt', size(hm%nt)); if (ok()) hm%nt = bi
+        call dget(g, 'hist_bytes', bl, there)
+        if (ok_size(size(bl), size(hm%bytes), 'hist_bytes')) hm%bytes = bl
+        call geti(g, 'hist_nwritten', 1); if (ok()) hm%nwritten = bi(1)
+        call geti(g, 'states_n', 1); if (ok()) sm%n = bi(1)
+        call getd(g, 'states_next', 1); if (ok()) sm%next = bd(1)
+        call getd(g, 'states_times', -1); if (ok()) sm%times = bd
+        call h5gclose_f(g, err)
+        call h5fclose_f(f, err)
+
+    contains
+
+        logical function ok()
+            ok = .not. allocated(error)
+        end function ok
+
+        subroutine fail(text)
+            character(len=*), intent(in) :: text
+            if (.not. allocated(error)) error = text
+        end subroutine fail
+
+        logical function ok_size(got, want, name)
+            integer, intent(in) :: got, want
+            character(len=*), intent(in) :: name
+            ok_size = got == want .or. want < 0
+            if (.not. ok_size) call fail(name//': '//itoa(got)//' values in the dump, '//itoa(want)// &
+                                         ' in the model')
+            ok_size = ok_size .and. ok()
+        end function ok_size
+
+        !> Read `name` (n values, or any number if n < 0) into bw / bd / bi.
+        subroutine getw(loc, name, n)
+            integer(hid_t), intent(in) :: loc
+            character(len=*), intent(in) :: name
+            integer, intent(in) :: n
+            logical :: there
+            if (.not. ok()) return
+            call dget(loc, name, bw, there)
+            if (.not. there) then
+                call fail(name//' is missing')
+            else if (.not. ok_size(size(bw), n, name)) then
+                continue
+            end if
+        end subroutine getw
+
+        subroutine getd(loc, name, n)
+            integer(hid_t), intent(in) :: loc
+            character(len=*), intent(in) :: name
+            integer, intent(in) :: n
+            logical :: there
+            if (.not. ok()) return
+            call dget(loc, name, bd, there)
+            if (.not. there) then
+                call fail(name//' is missing')
+            else if (.not. ok_size(size(bd), n, name)) then
+                continue
+            end if
+        end subroutine getd
+
+        subroutine geti(loc, name, n)
+            integer(hid_t), intent(in) :: loc
+            character(len=*), intent(in) :: name
+            integer, intent(in) :: n
+            logical :: there
+            if (.not. ok()) return
+            call dget(loc, name, bi, there)
+            if (.not. there) then
+                call fail(name//' is missing')
+            else if (.not. ok_size(size(bi), n, name)) then
+                continue
+            end if
+        end subroutine geti
+    end subroutine read_dump
+
+end module xd_solver_restart
