@@ -51,6 +51,24 @@ done
 med=$(sort -n $dir/ns_shell.txt | awk '{a[NR]=$1} END {print a[int((NR + 1) / 2)]}')
 echo "bench: shells median $med ns per element-cycle"
 
+# states: the same plate with 20 states over the run (d3plot.h5 + XDMF);
+# their cost against the median above (aim: at most 10% of the run)
+tend=$(/usr/bin/python3 -c "import h5py; print(h5py.File('$dir/shell1/thist.h5')['glstat/time'][-1])")
+sdt=$(/usr/bin/python3 -c "print($tend / 20 * 0.999)")
+/usr/bin/python3 tools/gen_decks.py --bench-shells 400 250 $dir/plate_states.k --cycles $scycles --states-dt $sdt
+: > $dir/ns_states.txt
+i=1
+while [ $i -le $runs ]; do
+    out=$dir/states$i
+    rm -rf $out
+    OMP_NUM_THREADS=1 ./bin/xdyna i=$dir/plate_states.k outdir=$out > /dev/null
+    grep 'time per zone cycle' $out/d3hsp | awk '{print $NF}' >> $dir/ns_states.txt
+    i=$((i + 1))
+done
+nst=$(/usr/bin/python3 -c "import h5py; print(len(h5py.File('$dir/states1/d3plot.h5')['states/time']))")
+smed=$(sort -n $dir/ns_states.txt | awk '{a[NR]=$1} END {print a[int((NR + 1) / 2)]}')
+echo "bench: shells with $nst states: median $smed ns per element-cycle, states cost $(awk -v a=$smed -v b=$med 'BEGIN {printf "%.1f", 100 * (a - b) / b}')% of the run ($(du -m $dir/states1/d3plot.h5 | cut -f1) MB of states)"
+
 # global search alone (contact step 2) on crumpled sheets of 1e4, 1e5, 1e6
 # surface nodes: the cost per slave node must stay flat (a linear search)
 echo "bench: contact global search alone, crumpled sheet, 1 thread (median of repeats per size)"

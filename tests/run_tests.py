@@ -736,6 +736,17 @@ def test_states():
     record(f"states: the contact force appears in the states while the plate touches ({fmax:.3g} N)", fmax > 0)
     record(f"states: d3plot.xdmf is XML with {nxdmf} time steps; all {len(paths)} data paths resolve to "
            f"datasets of the stated dimensions", nxdmf == len(t) and len(paths) > 0 and all(paths))
+    if shutil.which("pvpython"):
+        # ParaView's own XDMF reader, where Debian's paraview is installed
+        # (make deps does not install it: it is large); skipped otherwise
+        q = run(["pvpython", os.path.join(ROOT, "tools", "xdmf_check.py"), os.path.join(out, "d3plot.xdmf")])
+        lines = [x for x in q.stdout.splitlines() if x.startswith(("time steps", "block"))]
+        good = (q.returncode == 0 and lines and lines[0].startswith("time steps 6 ")
+                and sum(1 for x in lines if x.startswith("block")) == 2)
+        record("states: ParaView (pvpython) reads d3plot.xdmf as a time series of 6 steps with the solid "
+               "and shell blocks", good, q.stdout[-300:] + q.stderr[-300:])
+    else:
+        print("SKIP states: pvpython is not installed (Debian's paraview); the XDMF was checked with h5py only")
     pngs = []
     for args in (["mesh", out, "--color", "von_mises"], ["mesh", out], ["history", out, out, "--nodes", "1"]):
         png = os.path.join(TMP, f"states_{len(pngs)}.png")
@@ -867,6 +878,76 @@ def test_batch_signals():
     q = run([XDYNA, "r=" + os.path.join(out, "d3dump.h5"), "endtim=1.0e-3"])
     ok, msg = same_histories(full, out)
     record("batch: the restart after the wall-clock stop completes identically", q.returncode == 0 and ok, msg)
+    # a killed run (SIGKILL: no chance to close anything) leaves every
+    # finished state and history row readable
+    import xml.etree.ElementTree as ET
+    kdeck = with_cards(deck, "killed", "*DATABASE_BINARY_D3PLOT\n   5.0e-05\n")
+    out = os.path.join(TMP, "batch_killed")
+    shutil.rmtree(out, ignore_errors=True)
+    proc = subprocess.Popen([XDYNA, "i=" + kdeck, "outdir=" + out, "endtim=1.0e-3"], cwd=ROOT, env=e,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    time.sleep(2.0)
+    proc.kill()
+    proc.wait()
+    try:
+        with h5py.File(os.path.join(out, "d3plot.h5"), "r") as f:
+            t = f["states/time"][:]
+            for k in range(1, len(t) + 1):
+                f[f"states/{k:06d}/coordinates"][:]
+                f[f"states/{k:06d}/shell_stress"][:]
+        root = ET.parse(os.path.join(out, "d3plot.xdmf")).getroot()
+        nx = sum(1 for g in root.iter("Grid") if g.get("CollectionType") == "Spatial")
+        with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+            rows = len(f["glstat/time"])
+        good = len(t) >= 2 and nx == len(t) and rows >= 2
+        detail = f"{len(t)} states, {nx} in the XDMF, {rows} glstat rows"
+    except (OSError, KeyError, ET.ParseError) as err:
+        good, detail = False, str(err)
+    record(f"batch: after SIGKILL mid-run every finished state and history row reads back ({detail})", good)
+
+
+def test_slurm_example():
+    """doc/slurm/xdyna.sbatch run outside SLURM with stand-ins for squeue
+    (62 s left: XDYNA_WALLCLOCK 2 s), srun (runs the command) and scontrol
+    (records the requeue): the tube crush to 1 ms (3-6 s) stops with a dump
+    (exit 3) and asks for a requeue; each next start finds the dump and
+    restarts from it, until the run ends normally, with the histories of
+    an uninterrupted run (thdiff at zero tolerance)."""
+    stub = os.path.join(TMP, "slurm_stubs")
+    os.makedirs(stub, exist_ok=True)
+    log = os.path.join(TMP, "slurm_requeue.log")
+    for name, body in (("squeue", "echo 1:02"), ("srun", 'shift; exec "$@"'),
+                       ("scontrol", f'echo "$@" >> {log}')):
+        path = os.path.join(stub, name)
+        with open(path, "w") as fh:
+            fh.write("#!/bin/sh\n" + body + "\n")
+        os.chmod(path, 0o755)
+    out = os.path.join(TMP, "slurm_run")
+    shutil.rmtree(out, ignore_errors=True)
+    deck = with_cards("input_decks/contact/tube_crush.k", "slurm_tube", "")
+    with open(deck) as fh:
+        text = fh.read()
+    with open(deck, "w") as fh:
+        fh.write(text.replace("     0.006", "     0.001", 1))
+    env = {"PATH": stub + ":" + os.environ["PATH"], "SLURM_JOB_ID": "42", "SLURM_CPUS_PER_TASK": "1",
+           "SLURM_SUBMIT_DIR": ROOT}
+    script = os.path.join(ROOT, "doc", "slurm", "xdyna.sbatch")
+    p1 = run(["bash", script, deck, out], env=env)
+    requeued = os.path.exists(log) and "requeue 42" in open(log).read()
+    record("slurm example: the first start stops with a dump before its time (exit 3) and requeues",
+           p1.returncode == 3 and requeued and os.path.exists(os.path.join(out, "d3dump.h5")),
+           p1.stdout[-300:] + p1.stderr[-300:])
+    starts = 1
+    p2 = p1
+    while p2.returncode == 3 and starts < 8:
+        p2 = run(["bash", script, deck, out], env=env)
+        starts += 1
+    full = os.path.join(TMP, "slurm_full")
+    run([XDYNA, "i=" + deck, "outdir=" + full])
+    ok, msg = same_histories(full, out)
+    record(f"slurm example: each requeued start restarts from the dump; after {starts} starts the run ends "
+           f"like an uninterrupted one", p2.returncode == 0 and starts > 1 and ok,
+           msg + p2.stdout[-200:] + p2.stderr[-200:])
 
 
 def test_format_rules():
@@ -1394,7 +1475,7 @@ def test_tube_crush(full=False):
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_constraints, test_pressure, test_shells, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_states, test_restart, test_batch_signals, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_cli]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_constraints, test_pressure, test_shells, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_cli]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -1077,10 +1077,11 @@ def bench_block(nx, ny, nz, path, ncycle):
     write(path, lines)
 
 
-def bench_shells(nx, ny, path, ncycle):
+def bench_shells(nx, ny, path, ncycle, states_dt=None):
     """Benchmark: an nx x ny plate of Belytschko-Tsay shells, *MAT_024 with 5
     points through the thickness, clamped on one edge and thrown out of its
-    plane hard enough to yield. Runs ncycle cycles."""
+    plane hard enough to yield. Runs ncycle cycles; states every states_dt
+    if given."""
     a, b, t = nx * 0.01, ny * 0.01, 0.002
     lines = common(f"benchmark plate {nx}x{ny} Belytschko-Tsay shells, *MAT_024, NIP 5", 1.0, 1.0, endcyc=ncycle)
     lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 5), f10(t, t, t, t)]
@@ -1090,6 +1091,8 @@ def bench_shells(nx, ny, path, ncycle):
     lines += node_set(1, [nid(0, j) for j in range(ny + 1)])
     lines += ["*BOUNDARY_SPC_SET", f10(1, 0, 1, 1, 1, 1, 1, 1)]
     lines += ["*INITIAL_VELOCITY", f10(0), f10(0.0, 0.0, 30.0)]
+    if states_dt:
+        lines += ["*DATABASE_BINARY_D3PLOT", f"{states_dt:10.4e}"]
     lines += ["*NODE"] + [f"{nid(i, j):8d}{a * i / nx:16.9e}{b * j / ny:16.9e}{0.0:16.9e}{0:8d}{0:8d}"
                           for j in range(ny + 1) for i in range(nx + 1)]
     lines += ["*ELEMENT_SHELL"] + [f"{1 + i + nx * j:8d}{1:8d}{nid(i, j):8d}{nid(i + 1, j):8d}{nid(i + 1, j + 1):8d}"
@@ -1104,12 +1107,14 @@ def main():
     ap.add_argument("--cycles", type=int, default=200)
     ap.add_argument("--bench-shells", nargs=3, metavar=("NX", "NY", "FILE"))
     ap.add_argument("--bench-tubes", nargs=3, metavar=("NTX", "NTY", "FILE"))
+    ap.add_argument("--states-dt", type=float, default=None, help="--bench-shells: states every DT")
     args = ap.parse_args()
     if args.bench_tubes:
         bench_tubes(int(args.bench_tubes[0]), int(args.bench_tubes[1]), args.bench_tubes[2], args.cycles)
         return
     if args.bench_shells:
-        bench_shells(int(args.bench_shells[0]), int(args.bench_shells[1]), args.bench_shells[2], args.cycles)
+        bench_shells(int(args.bench_shells[0]), int(args.bench_shells[1]), args.bench_shells[2], args.cycles,
+                     args.states_dt)
         return
     if args.bench:
         nx, ny, nz = (int(v) for v in args.bench[:3])

@@ -97,9 +97,7 @@ contains
                 if (.not. there) exit
                 call h5ldelete_f(s%file, trim(name), err)
             end do
-            call h5lexists_f(s%file, 'states/time', there, err)
-            if (there) call h5ldelete_f(s%file, 'states/time', err)
-            call put_double1(s%file, 'states/time', s%times)
+            call set_times(s)
             call h5fflush_f(s%file, H5F_SCOPE_GLOBAL_F, err)
             call write_xdmf(s)
             return
@@ -206,19 +204,38 @@ contains
         end if
         call h5gclose_f(g, err)
         ! the list of times, rewritten whole (small)
-        call h5ldelete_if_exists('states/time')
-        call put_double1(s%file, 'states/time', s%times)
+        call set_times(s)
         call h5fflush_f(s%file, H5F_SCOPE_GLOBAL_F, err)
         call write_xdmf(s)
-    contains
-        subroutine h5ldelete_if_exists(path)
-            character(len=*), intent(in) :: path
-            logical :: there
-            integer :: e2
-            call h5lexists_f(s%file, path, there, e2)
-            if (there) call h5ldelete_f(s%file, path, e2)
-        end subroutine h5ldelete_if_exists
     end subroutine write_state
+
+    !> states/time: an extendible dataset set to s%times (grown in place, so
+    !> that a run killed at any moment leaves it readable).
+    subroutine set_times(s)
+        type(states_t), intent(in) :: s
+        integer(hid_t) :: ds, sp, pl
+        integer(hsize_t) :: d(1), mx(1), ch(1)
+        integer :: err
+        logical :: there
+        call h5lexists_f(s%file, 'states/time', there, err)
+        if (.not. there) then
+            d = 0
+            mx = H5S_UNLIMITED_F
+            ch = 64
+            call h5screate_simple_f(1, d, sp, err, mx)
+            call h5pcreate_f(H5P_DATASET_CREATE_F, pl, err)
+            call h5pset_chunk_f(pl, 1, ch, err)
+            call h5dcreate_f(s%file, 'states/time', H5T_NATIVE_DOUBLE, sp, ds, err, pl)
+            call h5pclose_f(pl, err)
+            call h5sclose_f(sp, err)
+        else
+            call h5dopen_f(s%file, 'states/time', ds, err)
+        end if
+        d = size(s%times)
+        call h5dset_extent_f(ds, d, err)
+        if (size(s%times) > 0) call h5dwrite_f(ds, H5T_NATIVE_DOUBLE, s%times, d, err)
+        call h5dclose_f(ds, err)
+    end subroutine set_times
 
     subroutine close_states(s)
         type(states_t), intent(inout) :: s
@@ -344,7 +361,8 @@ contains
         integer(hsize_t) :: d(2)
         integer :: err
         real(kind(1.0e0)), allocatable :: b(:, :)
-        b = real(a, kind(1.0e0))
+        allocate (b(size(a, 1), size(a, 2)))
+        b(:, :) = real(a, kind(1.0e0))
         d = shape(a)
         call h5screate_simple_f(2, d, sp, err)
         call h5dcreate_f(g, name, H5T_NATIVE_REAL, sp, ds, err)
@@ -361,7 +379,8 @@ contains
         integer(hsize_t) :: d(1)
         integer :: err
         real(kind(1.0e0)), allocatable :: b(:)
-        b = real(a, kind(1.0e0))
+        allocate (b(size(a)))
+        b(:) = real(a, kind(1.0e0))
         d = size(a)
         call h5screate_simple_f(1, d, sp, err)
         call h5dcreate_f(g, name, H5T_NATIVE_REAL, sp, ds, err)
@@ -370,19 +389,5 @@ contains
         call h5sclose_f(sp, err)
     end subroutine put_real1
 
-    subroutine put_double1(g, name, a)
-        integer(hid_t), intent(in) :: g
-        character(len=*), intent(in) :: name
-        real(dp), intent(in) :: a(:)
-        integer(hid_t) :: sp, ds
-        integer(hsize_t) :: d(1)
-        integer :: err
-        d = size(a)
-        call h5screate_simple_f(1, d, sp, err)
-        call h5dcreate_f(g, name, H5T_NATIVE_DOUBLE, sp, ds, err)
-        call h5dwrite_f(ds, H5T_NATIVE_DOUBLE, a, d, err)
-        call h5dclose_f(ds, err)
-        call h5sclose_f(sp, err)
-    end subroutine put_double1
 
 end module xd_output_states

@@ -348,11 +348,11 @@ contains
                     if (any(st%v(:, i) /= st%v(:, i)) .or. any(abs(st%v(:, i)) > huge(1.0_wp))) exit
                 end do
                 if (i > st%nnode) i = 1
-                call fail('energy is NaN or infinite; first bad node '//itoa(model%node_id(i)))
+                call fail('energy is NaN or infinite; first bad node '//node_where(i))
             else if (en%ratio > ratio_limit) then
                 i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
                 call fail('energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
-                          ftoa(ratio_limit)//'; fastest node '//itoa(model%node_id(i)))
+                          ftoa(ratio_limit)//'; fastest node '//node_where(i))
             else if (en%ke < -(ratio_limit - 1.0_dp)*abs(st%e_initial + en%ext)) then
                 ! 1/2 m v(n-1/2).v(n+1/2) strongly negative: velocities reverse
                 ! every step, the signature of a step beyond the stable limit (a
@@ -361,7 +361,7 @@ contains
                 i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
                 call fail('numerical instability: kinetic energy 1/2 m v(n-1/2).v(n+1/2) is '//ftoa(en%ke)// &
                           ' (velocities reverse every step); '// &
-                          'fastest node '//itoa(model%node_id(i))//'; a contact penalty scale (SLSFAC, SFS, '// &
+                          'fastest node '//node_where(i)//'; a contact penalty scale (SLSFAC, SFS, '// &
                           'SFM) too high for the time step?')
             end if
         end subroutine check_energy
@@ -391,6 +391,26 @@ contains
             call log_line(lg, '')
             call log_line(lg, ' *** '//res%message)
         end subroutine stop_run
+
+        !> 'node 12 (part 3)': a node and the part of an element on it.
+        function node_where(i) result(txt)
+            integer, intent(in) :: i
+            character(len=:), allocatable :: txt
+            integer :: e
+            txt = itoa(model%node_id(i))
+            do e = 1, solids%n
+                if (any(solids%conn(:, e) == i)) then
+                    txt = txt//' (part '//itoa(model%part(solids%part(e))%id)//')'
+                    return
+                end if
+            end do
+            do e = 1, sh%n
+                if (any(sh%conn(:, e) == i)) then
+                    txt = txt//' (part '//itoa(model%part(sh%part(e))%id)//')'
+                    return
+                end if
+            end do
+        end function node_where
 
         subroutine fail(text)
             character(len=*), intent(in) :: text
