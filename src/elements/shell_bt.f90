@@ -9,7 +9,7 @@ module xd_elements_shell_bt
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc, alloc_dp
     use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid
-    use xd_materials_plasticity, only: plastic_params_t, plastic_update
+    use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor, equivalent_stress
     implicit none
     private
     public :: shells_t, build_shells, shell_forces, shell_masses, shell_frame, point_weight
@@ -337,12 +337,25 @@ contains
         real(wp), intent(inout) :: s(5)
         real(wp), intent(out) :: dzz               !< the thickness strain rate found
         real(wp) :: lam, mu, d(1, 6), sg(1, 6), ep(1), al(1, 6), z0, z1, f0, f1, z2
+        real(wp) :: qe, st(6), xi(6), xeq, sy, h
         integer :: it
         dzz = -sh%nu(e)/(1 - sh%nu(e))*(dd(1) + dd(2))
         if (dt <= 0.0_wp) return
         mu = sh%e(e)/(2*(1 + sh%nu(e)))
         lam = sh%e(e)*sh%nu(e)/((1 + sh%nu(e))*(1 - 2*sh%nu(e)))
         z0 = -sh%nu(e)/(1 - sh%nu(e))*(dd(1) + dd(2))
+        ! the elastic plane-stress trial (s_zz stays 0 with d_zz = z0): inside
+        ! the yield surface, the 3-D return below would change nothing, so
+        ! the point is done (most points of a crash model, most of the time)
+        qe = sh%e(e)/(1 - sh%nu(e)**2)
+        st = [s(1) + dt*qe*(dd(1) + sh%nu(e)*dd(2)), s(2) + dt*qe*(dd(2) + sh%nu(e)*dd(1)), 0.0_wp, &
+              s(3) + dt*mu*dd(3), s(4) + dt*mu*dd(4), s(5) + dt*mu*dd(5)]
+        call equivalent_stress(st, sh%alpha(:, ip, e), xi, xeq)
+        call yield_stress(sh%pp(sh%pmat(e)), sh%epsp(ip, e), sy, h)
+        if (xeq <= rate_factor(sh%pp(sh%pmat(e)), [dd(1), dd(2), z0, 0.5_wp*dd(3), 0.5_wp*dd(4), 0.5_wp*dd(5)])*sy) then
+            s = [st(1), st(2), st(4), st(5), st(6)]
+            return
+        end if
         z1 = -(dd(1) + dd(2))
         f0 = szz(z0)
         if (abs(f0) <= 1.0e-10_wp*max(maxval(abs(s)), 1.0_wp)) then
@@ -391,16 +404,23 @@ contains
         logical, intent(in) :: tri
         real(wp), intent(out) :: e1(3), e2(3), e3(3)
         logical, intent(out) :: ok
-        e3 = cross(xe(:, 3) - xe(:, 1), xe(:, 4) - xe(:, 2))
-        if (tri) e3 = cross(xe(:, 2) - xe(:, 1), xe(:, 3) - xe(:, 1))
-        ok = norm2(e3) > 0.0_wp
+        real(wp) :: n3
+        if (tri) then
+            e3 = cross(xe(:, 2) - xe(:, 1), xe(:, 3) - xe(:, 1))
+        else
+            e3 = cross(xe(:, 3) - xe(:, 1), xe(:, 4) - xe(:, 2))
+        end if
+        ! lengths as sqrt(x.x): norm2's overflow-safe scaling costs much
+        ! more, and coordinates are far from overflow
+        n3 = sqrt(e3(1)**2 + e3(2)**2 + e3(3)**2)
+        ok = n3 > 0.0_wp
         e1 = 0
         e2 = 0
         if (.not. ok) return
-        e3 = e3/norm2(e3)
+        e3 = e3/n3
         e1 = xe(:, 2) - xe(:, 1)
-        e1 = e1 - dot_product(e1, e3)*e3
-        e1 = e1/norm2(e1)
+        e1 = e1 - (e1(1)*e3(1) + e1(2)*e3(2) + e1(3)*e3(3))*e3
+        e1 = e1/sqrt(e1(1)**2 + e1(2)**2 + e1(3)**2)
         e2 = cross(e3, e1)
     end subroutine shell_frame
 

@@ -8,7 +8,7 @@ module xd_materials_plasticity
     use xd_kinds, only: wp
     implicit none
     private
-    public :: plastic_params_t, plastic_update, yield_stress
+    public :: plastic_params_t, plastic_update, yield_stress, rate_factor, equivalent_stress
 
     !> Parameters of one plastic material, as the kernel needs them.
     type :: plastic_params_t
@@ -53,6 +53,34 @@ contains
         end if
     end subroutine yield_stress
 
+    !> The relative stress xi = dev(sig) - alpha and its von Mises value.
+    pure subroutine equivalent_stress(sig, alpha, xi, xeq)
+        real(wp), intent(in) :: sig(6), alpha(6)
+        real(wp), intent(out) :: xi(6), xeq
+        real(wp) :: pm
+        pm = (sig(1) + sig(2) + sig(3))/3.0_wp
+        xi(1:3) = sig(1:3) - pm - alpha(1:3)
+        xi(4:6) = sig(4:6) - alpha(4:6)
+        xeq = sqrt(1.5_wp*(xi(1)**2 + xi(2)**2 + xi(3)**2 + 2.0_wp*(xi(4)**2 + xi(5)**2 + xi(6)**2)))
+    end subroutine equivalent_stress
+
+    !> Cowper-Symonds scaling of the yield stress, 1 + (edot / C)^(1/P), with
+    !> the effective deviatoric strain rate sqrt(2/3 d':d') of the rate d
+    !> (xx yy zz xy yz zx, tensor shears); 1 when rate independent.
+    pure real(wp) function rate_factor(pp, d) result(fac)
+        type(plastic_params_t), intent(in) :: pp
+        real(wp), intent(in) :: d(6)
+        real(wp) :: dm, edot, rate
+        fac = 1.0_wp
+        if (pp%c > 0.0_wp .and. pp%p > 0.0_wp) then
+            dm = (d(1) + d(2) + d(3))/3.0_wp
+            edot = sqrt(2.0_wp/3.0_wp*((d(1) - dm)**2 + (d(2) - dm)**2 + (d(3) - dm)**2 &
+                                        + 2.0_wp*(d(4)**2 + d(5)**2 + d(6)**2)))
+            rate = edot/pp%c
+            if (rate > 0.0_wp) fac = 1.0_wp + rate**(1.0_wp/pp%p)
+        end if
+    end function rate_factor
+
     !> Jaumann rotation is done by the caller. Elastic trial, then return to
     !> the (rate-scaled) yield surface along the deviatoric direction; the
     !> kinematic share of the hardening moves the back stress alpha.
@@ -61,7 +89,7 @@ contains
         real(wp), intent(in) :: lam, mu, d(n, 6), dt
         type(plastic_params_t), intent(in) :: pp
         real(wp), intent(inout) :: sig(n, 6), epsp(n), alpha(n, 6)
-        real(wp) :: tr, pm, xi(6), xeq, rate, fac, sy, h, dl, g, hk, dm, edot
+        real(wp) :: tr, xi(6), xeq, fac, sy, h, dl, g, hk, s6(6), a6(6), d6(6)
         integer :: i, it
         hk = (1.0_wp - pp%beta)*pp%ep
         if (pp%ncurve > 0) hk = 0
@@ -69,19 +97,11 @@ contains
             tr = lam*(d(i, 1) + d(i, 2) + d(i, 3))*dt
             sig(i, 1:3) = sig(i, 1:3) + tr + 2.0_wp*mu*dt*d(i, 1:3)
             sig(i, 4:6) = sig(i, 4:6) + 2.0_wp*mu*dt*d(i, 4:6)
-            pm = (sig(i, 1) + sig(i, 2) + sig(i, 3))/3.0_wp
-            xi(1:3) = sig(i, 1:3) - pm - alpha(i, 1:3)
-            xi(4:6) = sig(i, 4:6) - alpha(i, 4:6)
-            xeq = sqrt(1.5_wp*(xi(1)**2 + xi(2)**2 + xi(3)**2 + 2.0_wp*(xi(4)**2 + xi(5)**2 + xi(6)**2)))
-            fac = 1.0_wp
-            if (pp%c > 0.0_wp .and. pp%p > 0.0_wp) then
-                ! effective deviatoric strain rate sqrt(2/3 d':d')
-                dm = (d(i, 1) + d(i, 2) + d(i, 3))/3.0_wp
-                edot = sqrt(2.0_wp/3.0_wp*((d(i, 1) - dm)**2 + (d(i, 2) - dm)**2 + (d(i, 3) - dm)**2 &
-                                            + 2.0_wp*(d(i, 4)**2 + d(i, 5)**2 + d(i, 6)**2)))
-                rate = edot/pp%c
-                if (rate > 0.0_wp) fac = 1.0_wp + rate**(1.0_wp/pp%p)
-            end if
+            s6 = sig(i, :)
+            a6 = alpha(i, :)
+            d6 = d(i, :)
+            call equivalent_stress(s6, a6, xi, xeq)
+            fac = rate_factor(pp, d6)
             call yield_stress(pp, epsp(i), sy, h)
             if (xeq <= fac*sy) cycle
             ! consistency: xeq - (3 mu + hk) dl = fac sy(epsp + dl); Newton
