@@ -234,7 +234,7 @@ contains
         logical function screened_in(mn)
             integer, intent(in) :: mn
             integer :: q, m, a, p1, p2, nnd
-            real(wp) :: h, area, reach, tm, lo(3), hi(3)
+            real(wp) :: h, area2, reach, tm, lo(3), hi(3), c(3)
             real(wp) :: xa(3), x1(3), x2(3), xs(3)
             screened_in = .false.
             xs = ls%xl(:, sn)
@@ -247,26 +247,28 @@ contains
                 p2 = s%seg(mod(a + nnd - 2, nnd) + 1, m)
                 x1 = ls%xl(:, p1)
                 x2 = ls%xl(:, p2)
-                ! characteristic height h = 3 V / A of the tetrahedron slave,
-                ! master node and its two neighbours on the segment (Eq. 1)
-                area = 0.5_wp*norm2(cross(x1 - xa, x2 - xa))
-                if (area <= 0.0_wp) cycle
-                h = dot_product(cross(x1 - xa, x2 - xa), xs - xa)/(2.0_wp*area)
                 tm = s%seg_t(m)
+                if (s%seg_kind(m) == seg_shell) tm = 0.5_wp*tm
+                ! both tests must pass; the bounding box of the three nodes,
+                ! grown by the thicknesses, is the cheaper one: first
+                reach = ts + tm
+                lo = min(xa, x1, x2) - reach
+                hi = max(xa, x1, x2) + reach
+                if (.not. all(xs >= lo .and. xs <= hi)) cycle
+                ! characteristic height h = 3 V / A of the tetrahedron slave,
+                ! master node and its two neighbours on the segment (Eq. 1):
+                ! the slave's distance along the normal c / |c| of the base
+                c = cross(x1 - xa, x2 - xa)
+                area2 = sqrt(c(1)**2 + c(2)**2 + c(3)**2)
+                if (area2 <= 0.0_wp) cycle
+                h = (c(1)*(xs(1) - xa(1)) + c(2)*(xs(2) - xa(2)) + c(3)*(xs(3) - xa(3)))/area2
                 if (s%seg_kind(m) == seg_shell) then
-                    tm = 0.5_wp*tm
                     if (h > tm + ts .or. h < -tm - ts) cycle       ! Eq. (2)
                 else
                     if (h > ts .or. h < ts - tm) cycle              ! Eq. (3)
                 end if
-                ! bounding box of the three nodes, grown by the thicknesses
-                reach = ts + tm
-                lo = min(xa, x1, x2) - reach
-                hi = max(xa, x1, x2) + reach
-                if (all(xs >= lo .and. xs <= hi)) then
-                    screened_in = .true.
-                    return
-                end if
+                screened_in = .true.
+                return
             end do
         end function screened_in
     end subroutine find_contact

@@ -356,6 +356,16 @@ contains
             s = [st(1), st(2), st(4), st(5), st(6)]
             return
         end if
+        if (sh%pp(sh%pmat(e))%ncurve > 0 .or. sh%pp(sh%pmat(e))%beta >= 1.0_wp) then
+            ! isotropic hardening: the plane-stress return in closed form
+            call plane_stress_return(sh%e(e), sh%nu(e), sh%pp(sh%pmat(e)), &
+                                     rate_factor(sh%pp(sh%pmat(e)), [dd(1), dd(2), z0, 0.5_wp*dd(3), 0.5_wp*dd(4), &
+                                                                     0.5_wp*dd(5)]), &
+                                     [st(1), st(2), st(4), st(5), st(6)], s, sh%epsp(ip, e), dzz)
+            dzz = dzz/dt
+            return
+        end if
+        ! mixed hardening: the 3-D radial return, d_zz iterated so that s_zz = 0
         z1 = -(dd(1) + dd(2))
         f0 = szz(z0)
         if (abs(f0) <= 1.0e-10_wp*max(maxval(abs(s)), 1.0_wp)) then
@@ -395,6 +405,59 @@ contains
             sh%alpha(:, ip, e) = al(1, :)
         end subroutine commit
     end subroutine plane_stress_plastic
+
+    !> Plane-stress J2 return with isotropic hardening (Simo & Taylor 1986):
+    !> from the elastic trial st (xx yy xy yz zx) to the stress s on the yield
+    !> surface fac x sy(epsp). In the eigenbasis of the plane-stress
+    !> projection P the backward-Euler return scales each mode by a closed
+    !> form of the plastic multiplier dg: the equal-biaxial mode by
+    !> 1/(1 + E dg/(3(1 - nu))), the shear modes (in-plane and transverse) by
+    !> 1/(1 + 2 G dg); dg solves 1/2 phi^2 = 1/3 (fac sy(epsp + de))^2 with
+    !> phi^2 = xi.P.xi and de = sqrt(2/3) dg phi (Newton on one scalar). The
+    !> same state as the 3-D radial return with s_zz = 0 imposed, at a
+    !> fraction of the cost. dezz: the thickness strain increment (elastic
+    !> and plastic). s on entry: the stress before the step.
+    pure subroutine plane_stress_return(ym, nu, pp, fac, st, s, epsp, dezz)
+        real(wp), intent(in) :: ym, nu, fac, st(5)
+        type(plastic_params_t), intent(in) :: pp
+        real(wp), intent(inout) :: s(5), epsp
+        real(wp), intent(out) :: dezz
+        real(wp), parameter :: r2 = sqrt(2.0_wp), c23 = sqrt(2.0_wp/3.0_wp)
+        real(wp) :: a1, a2, c1, c2, q1, rr, dg, u1, u2, phi2, phi, dphi2, dphi, de, sy, h, f, fp, sold
+        integer :: it
+        c1 = ym/(3.0_wp*(1.0_wp - nu))
+        c2 = ym/(1.0_wp + nu)
+        a1 = (st(1) + st(2))/r2
+        a2 = (st(2) - st(1))/r2
+        q1 = a1*a1/3.0_wp
+        rr = a2*a2 + 2.0_wp*(st(3)**2 + st(4)**2 + st(5)**2)
+        sold = s(1) + s(2)
+        dg = 0
+        do it = 1, 40
+            u1 = 1.0_wp/(1.0_wp + c1*dg)
+            u2 = 1.0_wp/(1.0_wp + c2*dg)
+            phi2 = q1*u1*u1 + rr*u2*u2
+            phi = sqrt(phi2)
+            de = c23*dg*phi
+            call yield_stress(pp, epsp + de, sy, h)
+            f = 0.5_wp*phi2 - (fac*sy)**2/3.0_wp
+            if (abs(f) <= 1.0e-12_wp*phi2) exit
+            dphi2 = -2.0_wp*(q1*c1*u1**3 + rr*c2*u2**3)
+            dphi = dphi2/(2.0_wp*phi)
+            fp = 0.5_wp*dphi2 - 2.0_wp/3.0_wp*fac*sy*fac*h*c23*(phi + dg*dphi)
+            if (fp >= 0.0_wp) exit
+            dg = max(dg - f/fp, 0.5_wp*dg)
+        end do
+        a1 = a1*u1
+        a2 = a2*u2
+        s(1) = (a1 - a2)/r2
+        s(2) = (a1 + a2)/r2
+        s(3:5) = st(3:5)*u2
+        epsp = epsp + de
+        ! thickness: elastic -nu/E (the in-plane stress sum's change) and
+        ! plastic -(de_xx + de_yy) = -dg (s_xx + s_yy)/3 (incompressible)
+        dezz = -nu/ym*(s(1) + s(2) - sold) - dg*(s(1) + s(2))/3.0_wp
+    end subroutine plane_stress_return
 
     !> The corotational frame of a shell with nodes xe (triangle: N4 = N3):
     !> normal from the diagonals (a triangle's sides), x along side 1-2.
