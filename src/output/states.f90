@@ -30,6 +30,7 @@ module xd_output_states
         integer(hid_t) :: file = -1
         integer :: n = 0                      !< states written
         integer :: nnode = 0, nsolid = 0, nshell = 0
+        logical :: contact = .false.          !< the model has contact: states carry the contact force
         character(len=:), allocatable :: dir
         real(dp), allocatable :: times(:)
     end type states_t
@@ -80,6 +81,7 @@ contains
         s%nnode = model%nnode
         s%nsolid = solids%n
         s%nshell = sh%n
+        s%contact = model%ncontact > 0
         allocate (s%times(0))
         call h5open_f(err)
         if (present(resume)) then
@@ -143,7 +145,7 @@ contains
         integer(hsize_t) :: d1(1)
         integer :: err, e, ip
         real(wp), allocatable :: sig(:, :), vm(:), ep(:), th(:)
-        real(wp) :: sg(6), r(3, 3)
+        real(wp) :: sg(6), r(3, 3), q2, w
         logical :: ok
         if (.not. s%on) return
         s%n = s%n + 1
@@ -161,9 +163,9 @@ contains
         call put_real2(g, 'coordinates', st%x)
         call put_real2(g, 'displacement', st%x - st%x0)
         call put_real2(g, 'velocity', v)
-        if (present(fc)) then
+        if (s%contact .and. present(fc)) then
             call put_real2(g, 'contact_force', fc)
-        else
+        else if (s%contact) then
             call put_real2(g, 'contact_force', 0.0_wp*st%x)
         end if
         if (solids%n > 0) then
@@ -182,17 +184,24 @@ contains
         if (sh%n > 0) then
             allocate (sig(6, sh%n), vm(sh%n), ep(sh%n), th(sh%n))
             do e = 1, sh%n
-                vm(e) = 0
+                q2 = 0
                 ep(e) = 0
                 sg = 0
                 do ip = 1, sh%nip(e)
-                    ! local (xx yy xy yz zx) at the point, plane stress
-                    vm(e) = max(vm(e), von_mises([sh%sig(1, ip, e), sh%sig(2, ip, e), 0.0_wp, sh%sig(3, ip, e), &
-                                                  sh%sig(4, ip, e), sh%sig(5, ip, e)]))
+                    ! local (xx yy xy yz zx) at the point, plane stress: the
+                    ! squared von Mises stress, the largest kept
+                    associate (p => sh%sig(:, ip, e))
+                        q2 = max(q2, p(1)**2 - p(1)*p(2) + p(2)**2 + 3.0_wp*(p(3)**2 + p(4)**2 + p(5)**2))
+                        w = point_weight(ip, sh%nip(e))
+                        sg(1) = sg(1) + w*p(1)
+                        sg(2) = sg(2) + w*p(2)
+                        sg(4) = sg(4) + w*p(3)
+                        sg(5) = sg(5) + w*p(4)
+                        sg(6) = sg(6) + w*p(5)
+                    end associate
                     if (sh%plastic(e)) ep(e) = max(ep(e), sh%epsp(ip, e))
-                    sg = sg + [sh%sig(1, ip, e), sh%sig(2, ip, e), 0.0_wp, sh%sig(3, ip, e), sh%sig(4, ip, e), &
-                               sh%sig(5, ip, e)]*point_weight(ip, sh%nip(e))
                 end do
+                vm(e) = sqrt(q2)
                 call shell_frame(st%x(:, sh%conn(:, e)), sh%conn(3, e) == sh%conn(4, e), r(:, 1), r(:, 2), r(:, 3), ok)
                 sig(:, e) = to_global(sg, r)
                 th(e) = sh%h(e)
@@ -285,7 +294,8 @@ contains
             call attr('part', 'Scalar', 'Cell', trim(ne), 'Int', '4', 'd3plot.h5:/mesh/'//pre//'_part')
             call attr('displacement', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/displacement')
             call attr('velocity', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/velocity')
-            call attr('contact_force', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/contact_force')
+            if (s%contact) call attr('contact_force', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', &
+                                    st//'/contact_force')
             call attr('stress', 'Tensor6', 'Cell', trim(ne)//' 6', 'Float', '4', st//'/'//pre//'_stress')
             call attr('von_mises', 'Scalar', 'Cell', trim(ne), 'Float', '4', st//'/'//pre//'_von_mises')
             call attr('plastic_strain', 'Scalar', 'Cell', trim(ne), 'Float', '4', st//'/'//pre//'_plastic_strain')
@@ -317,8 +327,18 @@ contains
     pure function to_global(sl, r) result(sg)
         real(wp), intent(in) :: sl(6), r(3, 3)
         real(wp) :: sg(6), t(3, 3), g(3, 3)
-        t = reshape([sl(1), sl(4), sl(6), sl(4), sl(2), sl(5), sl(6), sl(5), sl(3)], [3, 3])
-        g = matmul(r, matmul(t, transpose(r)))
+        integer :: i, j
+        t(:, 1) = [sl(1), sl(4), sl(6)]
+        t(:, 2) = [sl(4), sl(2), sl(5)]
+        t(:, 3) = [sl(6), sl(5), sl(3)]
+        ! g = r t r^T, written out (matmul on 3 x 3 goes through the library)
+        do j = 1, 3
+            do i = 1, 3
+                g(i, j) = r(i, 1)*(t(1, 1)*r(j, 1) + t(1, 2)*r(j, 2) + t(1, 3)*r(j, 3)) &
+                          + r(i, 2)*(t(2, 1)*r(j, 1) + t(2, 2)*r(j, 2) + t(2, 3)*r(j, 3)) &
+                          + r(i, 3)*(t(3, 1)*r(j, 1) + t(3, 2)*r(j, 2) + t(3, 3)*r(j, 3))
+            end do
+        end do
         sg = [g(1, 1), g(2, 2), g(3, 3), g(1, 2), g(2, 3), g(3, 1)]
     end function to_global
 

@@ -149,9 +149,12 @@ contains
             call accelerations()
             done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
             if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
-            due = histories_due(hist, st%time) .or. states_due(states, st%time) .or. done .or. st%cycle == 0
-            energy_now = due .or. mod(st%cycle, opts%energy_check_every) == 0
-            if (energy_now) vminus = st%v
+            ! energies where histories are due (or every energy_check_every
+            ! cycles); a state alone needs only the velocities at t(n)
+            energy_now = histories_due(hist, st%time) .or. done .or. st%cycle == 0 .or. &
+                         mod(st%cycle, opts%energy_check_every) == 0
+            due = energy_now .or. states_due(states, st%time)
+            if (due) vminus = st%v
             ! central differences: v(n+1/2) = v(n-1/2) + a(n) (dt(n-1/2) + dt(n+1/2))/2
             !$omp parallel do schedule(static)
             do nd = 1, st%nnode
@@ -159,7 +162,7 @@ contains
             end do
             !$omp end parallel do
             if (st%rot) then
-                if (energy_now) vrminus = st%vr
+                if (due) vrminus = st%vr
                 do nd = 1, st%nnode
                     if (st%irot(nd) > 0.0_wp) st%vr(:, nd) = st%vr(:, nd) + &
                         real(dt_avg, wp)*st%mom(:, nd)/st%irot(nd)*st%free_r(:, nd)
@@ -185,7 +188,10 @@ contains
             if (model%nbody > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
             if (pl%n > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*pressure_power(pl, st)
 
-            if (energy_now) then
+            if (due .and. .not. energy_now) then
+                vn = 0.5_wp*(vminus + st%v)
+                call output(force=.false.)
+            else if (energy_now) then
                 call tm%start(ph_output)
                 if (st%cycle == 0) then
                     ! at t = 0 the kinetic energy is that of the initial velocities
@@ -205,7 +211,8 @@ contains
                 call tm%stop(ph_output)
                 call check_energy()
                 if (res%status /= exit_normal) exit
-                if (due) call output(force=done .or. st%cycle == 0)
+                if (histories_due(hist, st%time) .or. states_due(states, st%time) .or. done .or. st%cycle == 0) &
+                    call output(force=done .or. st%cycle == 0)
             end if
             ! the contact forces' work with v(n+1/2), after the energies at t(n)
             if (ct%n > 0) call contact_work_end(ct, st%v, dt_avg)
