@@ -62,6 +62,8 @@ module xd_contact_contact
         real(wp), allocatable :: p0(:)        !< per slave: initial penetration still allowed
         logical :: started = .false.          !< the first active cycle has been seen
         integer :: ninit = 0                  !< initial penetrations found
+        integer :: nlate = 0                  !< contacts found deeper than one step's approach
+        real(wp) :: plate = 0                 !< the largest depth allowed to them
         real(wp) :: pinit = 0                 !< the largest of them
         integer :: npair = 0                  !< slaves in contact this cycle
         type(hit_t), allocatable :: hit(:)    !< their contacts, in slave order
@@ -394,7 +396,7 @@ contains
         real(wp), intent(in) :: dt, dt_avg
         real(wp), intent(in) :: mass(:), free(:, :)
         integer :: i, k, j, sn, m, q
-        real(wp) :: vrel(3), kpen, meff, mm, fs(3)
+        real(wp) :: vrel(3), kpen, meff, mm, fs(3), reach
         ct%fnode = 0
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
@@ -433,11 +435,26 @@ contains
                         it%p0(k) = 0
                         cycle
                     end if
+                    sn = s%slave(k)
+                    if (it%cseg(k) == 0) then
+                        ! a contact found deeper than the node can have gone in one
+                        ! step (it came through an edge, edge to edge, where no
+                        ! node-to-segment check sees it): the excess is allowed
+                        ! like an initial penetration, not thrown out with the
+                        ! spring's energy (on rigid bodies that energy ran away)
+                        m = it%hit(k)%seg
+                        vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
+                        reach = 2.0_wp*abs(dot_product(vrel, it%hit(k)%nhat))*dt + 1.0e-3_wp*it%hit(k)%tm
+                        if (abs(it%hit(k)%a) > reach) then
+                            it%p0(k) = abs(it%hit(k)%a) - reach
+                            it%nlate = it%nlate + 1
+                            it%plate = max(it%plate, it%p0(k))
+                        end if
+                    end if
                     if (it%p0(k) > 0.0_wp) then
                         it%p0(k) = min(it%p0(k), abs(it%hit(k)%a))
                         it%hit(k)%a = sign(abs(it%hit(k)%a) - it%p0(k), it%hit(k)%a)
                     end if
-                    sn = s%slave(k)
                     m = it%hit(k)%seg
                     ! the softer of the master segment and the slave node (LS-DYNA's
                     ! SOFT 0), per unit area, times the area the slave node covers
@@ -654,7 +671,7 @@ contains
         character(len=200) :: buf
         character(len=1), parameter :: nl = new_line('a')
         integer :: i
-        txt = ' c o n t a c t   i n t e r f a c e s   (steps 1-2 of the automatic contact)'//nl
+        txt = ' c o n t a c t   i n t e r f a c e s   (the automatic contact of Whirley and Engelmann)'//nl
         write (buf, '(a,i0,a,i0,a,i0,a)') '   exterior faces of the model: ', ct%faces%n, ' segments on ', &
             ct%faces%nbody, ' bodies; ', ct%faces%ninterior, ' interior faces left out'
         txt = txt//trim(buf)//nl
@@ -711,6 +728,12 @@ contains
                     write (buf, '(a,i0,a,i0,a,es10.3,a)') '   interface ', it%id, ': ', it%ninit, &
                         ' initial penetrations (largest ', it%pinit, &
                         ') allowed, shrinking as the nodes move out (as LS-DYNA''s IGNORE = 1)'
+                    txt = txt//trim(buf)//nl
+                end if
+                if (it%nlate > 0) then
+                    write (buf, '(a,i0,a,i0,a,es10.3,a)') '   interface ', it%id, ': ', it%nlate, &
+                        ' contacts found deeper than one step''s approach (largest excess ', it%plate, &
+                        '): the excess allowed like an initial penetration'
                     txt = txt//trim(buf)//nl
                 end if
             end associate

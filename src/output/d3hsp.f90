@@ -115,7 +115,7 @@ contains
         end if
         if (model%ncontact > 0) then
             s = s//'   contact ................... on  ('//itoa(model%ncontact)//' interface(s); automatic, '// &
-                'steps 1-2: surface and global search)'//nl
+                'four steps: surface, global and local search, enforcement)'//nl
         else
             s = s//'   contact ................... off (no contact keyword)'//nl
         end if
