@@ -60,6 +60,8 @@ module xd_contact_contact
         real(wp), allocatable :: fprev(:, :)  !< per slave: contact force last cycle (comparison vector)
         real(wp), allocatable :: ft(:, :)     !< per slave: friction force carried over
         real(wp), allocatable :: p0(:)        !< per slave: initial penetration still allowed
+        real(wp), allocatable :: kp(:)        !< per slave: the penalty stiffness of its current contact
+        real(wp), allocatable :: araw(:)      !< per slave: its penetration last cycle (before allowances)
         logical :: started = .false.          !< the first active cycle has been seen
         integer :: ninit = 0                  !< initial penetrations found
         integer :: nlate = 0                  !< contacts found deeper than one step's approach
@@ -345,6 +347,9 @@ contains
                 it%ms = mass(s%node)
                 n = s%nslave
                 allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n), it%p0(n))
+                allocate (it%kp(n), it%araw(n))
+                it%kp = 0
+                it%araw = 0
                 it%p0 = 0
                 it%cseg = 0
                 it%fprev = 0
@@ -436,21 +441,25 @@ contains
                         cycle
                     end if
                     sn = s%slave(k)
-                    if (it%cseg(k) == 0) then
-                        ! a contact found deeper than the node can have gone in one
-                        ! step (it came through an edge, edge to edge, where no
-                        ! node-to-segment check sees it): the excess is allowed
-                        ! like an initial penetration, not thrown out with the
-                        ! spring's energy (on rigid bodies that energy ran away)
-                        m = it%hit(k)%seg
+                    m = it%hit(k)%seg
+                    if (it%cseg(k) /= m) then
+                        ! a contact found, or moved to another segment, deeper than
+                        ! the node can have gone in one step (it came through an
+                        ! edge, edge to edge, where no node-to-segment check sees
+                        ! it, or a tube takes over far below a face's plane): the
+                        ! excess is allowed like an initial penetration, not thrown
+                        ! out with the spring's energy (on rigid bricks that
+                        ! energy ran away)
                         vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
                         reach = 2.0_wp*abs(dot_product(vrel, it%hit(k)%nhat))*dt + 1.0e-3_wp*it%hit(k)%tm
-                        if (abs(it%hit(k)%a) > reach) then
+                        if (it%cseg(k) /= 0) reach = reach + it%araw(k)
+                        if (abs(it%hit(k)%a) > reach .and. abs(it%hit(k)%a) - reach > it%p0(k)) then
                             it%p0(k) = abs(it%hit(k)%a) - reach
                             it%nlate = it%nlate + 1
                             it%plate = max(it%plate, it%p0(k))
                         end if
                     end if
+                    it%araw(k) = abs(it%hit(k)%a)
                     if (it%p0(k) > 0.0_wp) then
                         it%p0(k) = min(it%p0(k), abs(it%hit(k)%a))
                         it%hit(k)%a = sign(abs(it%hit(k)%a) - it%p0(k), it%hit(k)%a)
@@ -459,10 +468,19 @@ contains
                     ! the softer of the master segment and the slave node (LS-DYNA's
                     ! SOFT 0), per unit area, times the area the slave node covers
                     ! facing the master (a node without segments: the segment's k)
-                    kpen = s%seg_k(m)
-                    if (s%node_area(sn) > 0.0_wp) then
-                        kpen = min(kpen/s%seg_area(m), s%node_kpa(sn))* &
-                               facing_area(s, it%ls%xl, sn, it%hit(k)%nhat*pdir(it%hit(k)%a))
+                    ! The spring is set when the contact starts or moves to another
+                    ! segment and kept while it stays: a stiffness that changed
+                    ! during the contact (the facing area turns with the bodies)
+                    ! would not be conservative (rigid bricks gained energy from it)
+                    if (it%cseg(k) /= m .or. it%kp(k) <= 0.0_wp) then
+                        kpen = s%seg_k(m)
+                        if (s%node_area(sn) > 0.0_wp) then
+                            kpen = min(kpen/s%seg_area(m), s%node_kpa(sn))* &
+                                   facing_area(s, it%ls%xl, sn, it%hit(k)%nhat*pdir(it%hit(k)%a))
+                        end if
+                        it%kp(k) = kpen
+                    else
+                        kpen = it%kp(k)
                     end if
                     vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
                     mm = dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
@@ -732,7 +750,8 @@ contains
                 end if
                 if (it%nlate > 0) then
                     write (buf, '(a,i0,a,i0,a,es10.3,a)') '   interface ', it%id, ': ', it%nlate, &
-                        ' contacts found deeper than one step''s approach (largest excess ', it%plate, &
+                        ' contacts found (or moved to another segment) deeper than one step''s approach '// &
+                        '(largest excess ', it%plate, &
                         '): the excess allowed like an initial penetration'
                     txt = txt//trim(buf)//nl
                 end if
