@@ -112,89 +112,85 @@ contains
         call put_any(g, name, h5kind_to_type(int64, H5_INTEGER_KIND), size(a), c_loc(b))
     end subroutine put_i8
 
+    !> Read the n values of open dataset ds into the buffer at buf (type t,
+    !> room for max(n, 1)) and close it.
+    subroutine read_close(ds, t, n, buf)
+        use, intrinsic :: iso_c_binding, only: c_ptr
+        integer(hid_t), intent(in) :: ds, t
+        integer, intent(in) :: n
+        type(c_ptr), intent(in) :: buf
+        type(c_ptr) :: cp
+        integer :: err
+        if (n > 0) then
+            cp = buf
+            call h5dread_f(ds, t, cp, err)
+        end if
+        call h5dclose_f(ds, err)
+    end subroutine read_close
+
     !> Read dataset `name` whole into b (allocated to its size); ok false if
     !> it is absent.
     subroutine get_r4(g, name, b, ok)
-        use, intrinsic :: iso_c_binding, only: c_loc, c_ptr
+        use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         real(real32), allocatable, target, intent(out) :: b(:)
         logical, intent(out) :: ok
         integer(hid_t) :: ds
-        integer :: n, err
-        type(c_ptr) :: cp
+        integer :: n
         call open_any(g, name, n, ds)
         ok = n >= 0
         if (.not. ok) return
         allocate (b(max(n, 1)))
-        if (n > 0) then
-            cp = c_loc(b)
-            call h5dread_f(ds, h5kind_to_type(real32, H5_REAL_KIND), cp, err)
-        end if
-        call h5dclose_f(ds, err)
+        call read_close(ds, h5kind_to_type(real32, H5_REAL_KIND), n, c_loc(b))
         b = b(1:n)
     end subroutine get_r4
 
     subroutine get_r8(g, name, b, ok)
-        use, intrinsic :: iso_c_binding, only: c_loc, c_ptr
+        use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         real(real64), allocatable, target, intent(out) :: b(:)
         logical, intent(out) :: ok
         integer(hid_t) :: ds
-        integer :: n, err
-        type(c_ptr) :: cp
+        integer :: n
         call open_any(g, name, n, ds)
         ok = n >= 0
         if (.not. ok) return
         allocate (b(max(n, 1)))
-        if (n > 0) then
-            cp = c_loc(b)
-            call h5dread_f(ds, h5kind_to_type(real64, H5_REAL_KIND), cp, err)
-        end if
-        call h5dclose_f(ds, err)
+        call read_close(ds, h5kind_to_type(real64, H5_REAL_KIND), n, c_loc(b))
         b = b(1:n)
     end subroutine get_r8
 
     subroutine get_i4(g, name, b, ok)
-        use, intrinsic :: iso_c_binding, only: c_loc, c_ptr
+        use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         integer(int32), allocatable, target, intent(out) :: b(:)
         logical, intent(out) :: ok
         integer(hid_t) :: ds
-        integer :: n, err
-        type(c_ptr) :: cp
+        integer :: n
         call open_any(g, name, n, ds)
         ok = n >= 0
         if (.not. ok) return
         allocate (b(max(n, 1)))
-        if (n > 0) then
-            cp = c_loc(b)
-            call h5dread_f(ds, h5kind_to_type(int32, H5_INTEGER_KIND), cp, err)
-        end if
-        call h5dclose_f(ds, err)
+        call read_close(ds, h5kind_to_type(int32, H5_INTEGER_KIND), n, c_loc(b))
         b = b(1:n)
     end subroutine get_i4
 
     subroutine get_i8(g, name, b, ok)
-        use, intrinsic :: iso_c_binding, only: c_loc, c_ptr
+        use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         integer(int64), allocatable, target, intent(out) :: b(:)
         logical, intent(out) :: ok
         integer(hid_t) :: ds
-        integer :: n, err
-        type(c_ptr) :: cp
+        integer :: n
         call open_any(g, name, n, ds)
         ok = n >= 0
         if (.not. ok) return
         allocate (b(max(n, 1)))
-        if (n > 0) then
-            cp = c_loc(b)
-            call h5dread_f(ds, h5kind_to_type(int64, H5_INTEGER_KIND), cp, err)
-        end if
-        call h5dclose_f(ds, err)
+        call read_close(ds, h5kind_to_type(int64, H5_INTEGER_KIND), n, c_loc(b))
         b = b(1:n)
     end subroutine get_i8
 

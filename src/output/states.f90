@@ -342,72 +342,66 @@ contains
         sg = [g(1, 1), g(2, 2), g(3, 3), g(1, 2), g(2, 3), g(3, 1)]
     end function to_global
 
+    !> A dataset of the given dims (Fortran order; h5py sees them reversed)
+    !> and type from the buffer at buf.
+    subroutine put_dataset(g, name, dims, t, buf)
+        use, intrinsic :: iso_c_binding, only: c_ptr
+        integer(hid_t), intent(in) :: g, t
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: dims(:)
+        type(c_ptr), intent(in) :: buf
+        integer(hid_t) :: sp, ds
+        integer :: err
+        call h5screate_simple_f(size(dims), int(dims, hsize_t), sp, err)
+        call h5dcreate_f(g, name, t, sp, ds, err)
+        if (product(dims) > 0) call h5dwrite_f(ds, t, buf, err)
+        call h5dclose_f(ds, err)
+        call h5sclose_f(sp, err)
+    end subroutine put_dataset
+
     subroutine put_int1(g, name, a)
+        use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         integer, intent(in) :: a(:)
-        integer(hid_t) :: sp, ds
-        integer(hsize_t) :: d(1)
-        integer :: err
-        d = size(a)
-        call h5screate_simple_f(1, d, sp, err)
-        call h5dcreate_f(g, name, H5T_NATIVE_INTEGER, sp, ds, err)
-        call h5dwrite_f(ds, H5T_NATIVE_INTEGER, a, d, err)
-        call h5dclose_f(ds, err)
-        call h5sclose_f(sp, err)
+        integer, allocatable, target :: b(:)
+        allocate (b(max(size(a), 1)))
+        b(1:size(a)) = a
+        call put_dataset(g, name, [size(a)], H5T_NATIVE_INTEGER, c_loc(b))
     end subroutine put_int1
 
     subroutine put_int2(g, name, a)
+        use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         integer, intent(in) :: a(:, :)
-        integer(hid_t) :: sp, ds
-        integer(hsize_t) :: d(2)
-        integer :: err
-        d = shape(a)
-        call h5screate_simple_f(2, d, sp, err)
-        call h5dcreate_f(g, name, H5T_NATIVE_INTEGER, sp, ds, err)
-        call h5dwrite_f(ds, H5T_NATIVE_INTEGER, a, d, err)
-        call h5dclose_f(ds, err)
-        call h5sclose_f(sp, err)
+        integer, allocatable, target :: b(:, :)
+        allocate (b(size(a, 1), max(size(a, 2), 1)))
+        b(:, 1:size(a, 2)) = a
+        call put_dataset(g, name, shape(a), H5T_NATIVE_INTEGER, c_loc(b))
     end subroutine put_int2
 
     !> Fields in single precision, like LS-DYNA's d3plot.
     subroutine put_real2(g, name, a)
+        use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         real(wp), intent(in) :: a(:, :)
-        integer(hid_t) :: sp, ds
-        integer(hsize_t) :: d(2)
-        integer :: err
-        real(kind(1.0e0)), allocatable :: b(:, :)
-        allocate (b(size(a, 1), size(a, 2)))
-        b(:, :) = real(a, kind(1.0e0))
-        d = shape(a)
-        call h5screate_simple_f(2, d, sp, err)
-        call h5dcreate_f(g, name, H5T_NATIVE_REAL, sp, ds, err)
-        call h5dwrite_f(ds, H5T_NATIVE_REAL, b, d, err)
-        call h5dclose_f(ds, err)
-        call h5sclose_f(sp, err)
+        real(kind(1.0e0)), allocatable, target :: b(:, :)
+        allocate (b(size(a, 1), max(size(a, 2), 1)))
+        b(:, 1:size(a, 2)) = real(a, kind(1.0e0))
+        call put_dataset(g, name, shape(a), H5T_NATIVE_REAL, c_loc(b))
     end subroutine put_real2
 
     subroutine put_real1(g, name, a)
+        use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         real(wp), intent(in) :: a(:)
-        integer(hid_t) :: sp, ds
-        integer(hsize_t) :: d(1)
-        integer :: err
-        real(kind(1.0e0)), allocatable :: b(:)
-        allocate (b(size(a)))
-        b(:) = real(a, kind(1.0e0))
-        d = size(a)
-        call h5screate_simple_f(1, d, sp, err)
-        call h5dcreate_f(g, name, H5T_NATIVE_REAL, sp, ds, err)
-        call h5dwrite_f(ds, H5T_NATIVE_REAL, b, d, err)
-        call h5dclose_f(ds, err)
-        call h5sclose_f(sp, err)
+        real(kind(1.0e0)), allocatable, target :: b(:)
+        allocate (b(max(size(a), 1)))
+        b(1:size(a)) = real(a, kind(1.0e0))
+        call put_dataset(g, name, [size(a)], H5T_NATIVE_REAL, c_loc(b))
     end subroutine put_real1
-
 
 end module xd_output_states
