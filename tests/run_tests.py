@@ -1154,6 +1154,14 @@ def test_contact_search_interval():
                    f"({seen}); 4u/delta reached {worst:.1f} > 1", (not found or gap < 0) and worst > 1)
 
 
+def bars_histories(out):
+    """Time, the facing end nodes' x, the parts' x momentum and mass, and the
+    energy ratio of a two-bars run."""
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        return (f["nodout/time"][:], f["nodout/x_coordinate"][:, 0], f["nodout/x_coordinate"][:, 1],
+                f["matsum/x_momentum"][:], f["matsum/mass"][:], f["glstat/energy_ratio"][:])
+
+
 def test_contact_bars():
     """Two equal elastic bars (nu = 0, 40 elements, 100 mm) meet head-on at
     +-5 m/s through whole-model single-surface penalty contact (SLSFAC 1).
@@ -1167,10 +1175,7 @@ def test_contact_bars():
     if p.returncode != 0:
         record("contact two bars runs", False, p.stderr[-300:])
         return
-    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
-        t, xa, xb = f["nodout/time"][:], f["nodout/x_coordinate"][:, 0], f["nodout/x_coordinate"][:, 1]
-        mom, mass = f["matsum/x_momentum"][:], f["matsum/mass"][:]
-        ratio = f["glstat/energy_ratio"][:]
+    t, xa, xb, mom, mass, ratio = bars_histories(out)
     two_l_c = 2 * 0.1 / np.sqrt(200e9 / 7850.0)
     touching = t[xb - xa < 0]
     dur = (touching.max() - touching.min()) / two_l_c - 1 if touching.size else float("nan")
@@ -1200,10 +1205,7 @@ def test_contact_bars_lagrange():
     if p.returncode != 0:
         record("contact two bars (Lagrange) runs", False, p.stderr[-300:])
         return
-    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
-        t, xa, xb = f["nodout/time"][:], f["nodout/x_coordinate"][:, 0], f["nodout/x_coordinate"][:, 1]
-        mom, mass = f["matsum/x_momentum"][:], f["matsum/mass"][:]
-        ratio = f["glstat/energy_ratio"][:]
+    t, xa, xb, mom, mass, ratio = bars_histories(out)
     two_l_c = 2 * 0.1 / np.sqrt(200e9 / 7850.0)
     gap = xb - xa
     touching = t[gap <= 1e-12]

@@ -406,11 +406,7 @@ contains
             logical :: there
             if (.not. ok()) return
             call dget(loc, name, bw, there)
-            if (.not. there) then
-                call fail(name//' is missing')
-            else if (.not. ok_size(size(bw), n, name)) then
-                continue
-            end if
+            call expect(there, size(bw), n, name)
         end subroutine getw
 
         subroutine getd(loc, name, n)
@@ -420,11 +416,7 @@ contains
             logical :: there
             if (.not. ok()) return
             call dget(loc, name, bd, there)
-            if (.not. there) then
-                call fail(name//' is missing')
-            else if (.not. ok_size(size(bd), n, name)) then
-                continue
-            end if
+            call expect(there, size(bd), n, name)
         end subroutine getd
 
         subroutine geti(loc, name, n)
@@ -434,12 +426,20 @@ contains
             logical :: there
             if (.not. ok()) return
             call dget(loc, name, bi, there)
+            call expect(there, size(bi), n, name)
+        end subroutine geti
+
+        !> A dataset read must be there with the model's number of values.
+        subroutine expect(there, got, n, name)
+            logical, intent(in) :: there
+            integer, intent(in) :: got, n
+            character(len=*), intent(in) :: name
             if (.not. there) then
                 call fail(name//' is missing')
-            else if (.not. ok_size(size(bi), n, name)) then
+            else if (.not. ok_size(got, n, name)) then
                 continue
             end if
-        end subroutine geti
+        end subroutine expect
     end subroutine read_dump
 
 end module xd_solver_restart

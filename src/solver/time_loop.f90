@@ -393,10 +393,7 @@ contains
 
         subroutine stop_run(text)
             character(len=*), intent(in) :: text
-            res%status = exit_signal
-            res%message = 'stopped at time '//rtoa(st%time)//', cycle '//itoa(st%cycle)//': '//text
-            call log_line(lg, '')
-            call log_line(lg, ' *** '//res%message)
+            call end_run(exit_signal, 'stopped', text)
         end subroutine stop_run
 
         !> 'node 12 (part 3)': a node and the part of an element on it.
@@ -421,11 +418,19 @@ contains
 
         subroutine fail(text)
             character(len=*), intent(in) :: text
-            res%status = exit_run
-            res%message = 'error termination at time '//rtoa(st%time)//', cycle '//itoa(st%cycle)//': '//text
+            call end_run(exit_run, 'error termination', text)
+        end subroutine fail
+
+        !> The run ends early with exit status `code`: the message, with the
+        !> time and cycle, for the caller and the log.
+        subroutine end_run(code, what, text)
+            integer, intent(in) :: code
+            character(len=*), intent(in) :: what, text
+            res%status = code
+            res%message = what//' at time '//rtoa(st%time)//', cycle '//itoa(st%cycle)//': '//text
             call log_line(lg, '')
             call log_line(lg, ' *** '//res%message)
-        end subroutine fail
+        end subroutine end_run
 
         subroutine output(force)
             logical, intent(in) :: force
