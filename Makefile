@@ -31,7 +31,7 @@ TEST_SRC := $(sort $(wildcard tests/unit/test_*.f90))
 
 flat = $(subst /,_,$(patsubst src/%,%,$(patsubst tests/%,tests_%,$(basename $(1))))).o
 
-.PHONY: all deps check demo bench debug clean verify tests
+.PHONY: all deps check demo bench debug clean verify tests examples
 all: bin/xdyna$(SUFFIX) bin/thdiff
 
 deps:
@@ -88,6 +88,12 @@ demo: deps
 	@echo "demo: a square tube crushed into folds with automatic contact; log d3hsp, time histories"
 	@echo "(glstat, matsum, nodout, rcforc, thist.h5), states (d3plot.h5 + d3plot.xdmf for ParaView)"
 	@echo "and pictures (tube_crush_states.png, tube_crush_histories.png) are in out/demo/"
+
+# the paper's three examples (section 7) with the search knobs: runs in
+# out/examples/, pictures in doc/examples/, tables in doc/examples.md
+examples: deps
+	@$(MAKE) --no-print-directory all
+	@$(PY) tools/examples.py
 
 verify: deps
 	@$(MAKE) --no-print-directory all

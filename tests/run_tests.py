@@ -1482,10 +1482,99 @@ def test_tube_crush(full=False):
                f"{paj / 1e3:.1f} kN ({pm / paj - 1:+.0%}; band 0.5x-2.5x, see the test)", 0.5 < pm / paj < 2.5)
 
 
+def test_penetration_checker():
+    """The penetration checker (tools/penetration.py) measured on made-up
+    states, so that the checks that lean on it can fail: a node pushed
+    3 mm into a 10 mm hexahedron through its top face must read 0.3 of the
+    element's depth (its depth below the nearest exterior face); 2 mm
+    inside a side face and 4 mm below the top must read 0.2 (the nearest
+    face); outside, 0. A node of a 2 mm shell 1.5 mm
+    from another 2 mm shell's mid-surface overlaps (2 + 2)/2 - 1.5 = 0.5 mm,
+    0.25 of the thickness; moved through to the other side between two
+    states it is one pass-through."""
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
+    import penetration as pen
+    h = 0.01
+    cube = np.array([[0, 0, 0], [h, 0, 0], [h, h, 0], [0, h, 0], [0, 0, h], [h, 0, h], [h, h, h], [0, h, h]], float)
+    for label, p, want in (("through the top face", [0.005, 0.005, h - 0.003], 0.3),
+                           ("near an edge, through a side face", [h - 0.002, 0.005, h - 0.004], 0.2),
+                           ("outside", [0.005, 0.005, h + 0.001], 0.0)):
+        X = np.vstack([cube, [p]])[None]                 # the ninth node belongs to no element
+        surf = pen.Surfaces(9, [], [], [list(range(8))], [1])
+        worst, _ = pen.check_states(surf, X, np.zeros((1, 0)), np.arange(1, 10))
+        record(f"penetration checker: a node {label} reads {worst:.3f} of the element depth (expected {want})",
+               abs(worst - want) < 1e-9)
+    sq = [[0, 0, 0], [h, 0, 0], [h, h, 0], [0, h, 0]]
+    def two_shells(z):
+        other = [[0.002, 0.002, z], [0.008, 0.002, z], [0.008, 0.008, z], [0.002, 0.008, z]]
+        return np.array(sq + other, float)
+    surf = pen.Surfaces(8, [[0, 1, 2, 3], [4, 5, 6, 7]], [1, 2])
+    X = np.array([two_shells(0.0015), two_shells(-0.0015)])
+    worst, crossings = pen.check_states(surf, X, np.full((2, 2), 0.002), np.arange(1, 9))
+    record(f"penetration checker: shells 1.5 mm apart overlap {worst:.3f} of the thickness (expected 0.25); "
+           f"crossing between two states is {crossings} pass-through(s) (expected 4: the four corners)",
+           abs(worst - 0.25) < 1e-9 and crossings == 4)
+
+
+def test_wall_of_blocks():
+    """Paper 7.2 (input_decks/paper/wall_of_blocks.k): a 0.2 m steel block at
+    10 m/s strikes the end of a floating wall of 24 rigid bricks, all apart
+    at the start, whole-model single-surface contact, 40 ms.
+    - No external force: the total momentum (matsum, all parts) stays
+      within 1e-6 of the impactor's initial 628 kg m/s (penalty forces act
+      in equal and opposite pairs);
+    - energy ratio within 1% throughout (no dissipation but the contact's
+      and the hourglass's, both booked);
+    - the motion spreads from the struck end: the struck bricks (row 1 and 2
+      of column 1) move before any brick of the far column 6;
+    - the penetration checker finds no node deeper than 20% of the local
+      thickness and no pass-through (issue 7);
+    - regression: glstat and rcforc match the reviewed reference run
+      (tests/reference/wall_of_blocks, see its README) within 1e-4 of each
+      series' peak (the ASCII files' five digits)."""
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
+    import penetration
+    p, out = run_deck("input_decks/paper/wall_of_blocks.k", "wall_of_blocks")
+    record("wall of blocks runs (exit 0)", p.returncode == 0, p.stderr[-300:])
+    if p.returncode != 0:
+        return
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        m = f["matsum"]
+        t = m["time"][:]
+        ids = m["ids"][:]
+        mom = np.stack([m["x_momentum"][:].sum(1), m["y_momentum"][:].sum(1), m["z_momentum"][:].sum(1)], -1)
+        ke = m["kinetic_energy"][:]
+    dev = np.max(np.linalg.norm(mom - mom[0], axis=1)) / np.linalg.norm(mom[0])
+    record(f"wall of blocks: total momentum conserved within 1e-6 ({dev:.1e} of {np.linalg.norm(mom[0]):.1f} kg m/s)",
+           dev < 1e-6)
+    g = glstat(out)
+    edev = np.max(abs(g["energy_ratio"] - 1))
+    record(f"wall of blocks: energy ratio within 1% throughout ({edev:.1e})", edev < 0.01)
+    def first_move(pids):
+        cols = [list(ids).index(q) for q in pids]
+        moving = np.nonzero(ke[:, cols].max(1) > 1e-3)[0]
+        return t[moving[0]] if len(moving) else np.inf
+    t_struck, t_far = first_move([1, 7]), first_move([6, 12, 18, 24])
+    record(f"wall of blocks: the struck bricks move first ({t_struck * 1e3:.2f} ms), the far column later "
+           f"({t_far * 1e3:.2f} ms)", t_struck < t_far < np.inf)
+    with h5py.File(os.path.join(out, "d3plot.h5"), "r") as f:
+        parts = set(f["mesh/solid_part"][:].tolist())
+        nsol = len(f["mesh/solid_part"])
+    record(f"wall of blocks: the states carry the rigid bricks too ({nsol} hexahedra of {len(parts)} parts; "
+           f"expected 24 x 16 + 64 of 25)", nsol == 24 * 16 + 64 and parts == set(range(1, 26)))
+    worst, crossings, nstate, t_worst = penetration.check_run(out)
+    record(f"wall of blocks: largest penetration {worst:.1%} of the local thickness (under 20%) at "
+           f"{t_worst * 1e3:.1f} ms, pass-throughs {crossings} (0), {nstate} states", worst < 0.2 and crossings == 0)
+    q = run([THDIFF, out, os.path.join(ROOT, "tests", "reference", "wall_of_blocks"), "--rtol", "1e-4", "--atol", "1e-9",
+             "--only", "glstat,rcforc", "--common"])
+    record("wall of blocks: glstat and rcforc match the reference run (thdiff rtol 1e-4 of peak)", q.returncode == 0,
+           q.stdout[-600:])
+
+
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_constraints, test_pressure, test_shells, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_cli]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_constraints, test_pressure, test_shells, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_cli]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

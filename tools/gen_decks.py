@@ -1021,7 +1021,6 @@ def contact_decks(outdir):
     contact_block_impact(outdir, "blocks_impact_two_way", "CONTACT_AUTOMATIC_SURFACE_TO_SURFACE")
     contact_block_impact(outdir, "blocks_impact_one_way", "CONTACT_AUTOMATIC_NODES_TO_SURFACE")
     contact_patch(outdir)
-    paper_wall_of_blocks(outdir)
     shell_on_solid(outdir, "shell_edge_on_solid", True)
     shell_on_solid(outdir, "shell_lying_on_solid", False)
     shell_on_solid(outdir, "shell_edge_initially_penetrating", True, z0=5.0e-4)
@@ -1101,54 +1100,6 @@ def bench_shells(nx, ny, path, ncycle, states_dt=None):
     write(path, lines)
 
 
-def paper_wall_of_blocks(outdir, nrow=4, ncol=6, gap=0.002, v0=10.0, endtim=0.04):
-    """Section 7.2 of the paper: a stiff elastic block striking the end of a
-    wall of rigid blocks. The wall is nrow rows of ncol bricks (0.2 x 0.1 x
-    0.1 m, two hexahedra each: a very coarse mesh, as the paper keeps it),
-    laid in running bond (alternate rows shifted by half a brick) with a
-    gap between all bricks, so that nothing is in contact at the start and
-    the run-time search finds every contact. Each brick is its own
-    *MAT_RIGID part (concrete-like: 2400 kg/m^3, E 30 GPa for the contact
-    stiffness). No gravity, no floor: the wall floats, as a test of the
-    search rather than of masonry. The impactor, a steel block of 2 x 2 x 2
-    hexahedra (0.2 m), moves along the wall at v0 and strikes the lower two
-    rows of the end column. Whole-model single-surface contact."""
-    bl, bw, bh = 0.2, 0.1, 0.1
-    nodes, elems = {}, []
-    nid, eid = 1, 1
-    lines = common("paper 7.2: a stiff elastic block strikes the end of a wall of rigid blocks", endtim, endtim / 200)
-    lines += ["*MAT_RIGID", f10(1, 2400.0, 30e9, 0.2)]
-    lines += ["*MAT_ELASTIC", f10(2, 7850.0, 200e9, 0.3)]
-    pid = 0
-    for r in range(nrow):
-        shift = 0.5 * (bl + gap) if r % 2 else 0.0
-        for c in range(ncol):
-            pid += 1
-            x0 = shift + c * (bl + gap)
-            z0 = r * (bh + gap)
-            bn, bx = block_mesh(2, 1, 1, bl, bw, bh, origin=(x0, 0.0, z0), nid0=nid, eid0=eid)
-            nodes.update(bn)
-            lines += part(pid, 1, f"brick row {r + 1} column {c + 1}")
-            elems.append((pid, bx))
-            nid += len(bn)
-            eid += len(bx)
-    imp = pid + 1
-    a = 0.2
-    x0 = -gap - a - 0.003
-    inodes, ihex = block_mesh(2, 2, 2, a, a, a, origin=(x0, -0.05, 0.0), nid0=nid, eid0=eid)
-    nodes.update(inodes)
-    lines += part(imp, 2, "impactor (elastic steel)")
-    elems.append((imp, ihex))
-    lines += node_set(1, sorted(inodes))
-    lines += ["*INITIAL_VELOCITY", f10(1), f10(v0, 0.0, 0.0)]
-    lines += ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
-    lines += ["*DATABASE_RCFORC", f10(endtim / 200), "*DATABASE_BINARY_D3PLOT", f10(endtim / 40)]
-    lines += node_cards(nodes)
-    for p_, hx in elems:
-        lines += solid_cards(hx, p_)
-    write(os.path.join(outdir, "paper", "wall_of_blocks.k"), lines)
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--outdir", default="input_decks")
@@ -1196,6 +1147,8 @@ def main():
     spot_weld(args.outdir, "spot_weld_fail", 1.0e-6)
     demo_cantilever(args.outdir)
     contact_decks(args.outdir)
+    import paper_decks
+    paper_decks.all_decks(args.outdir)
 
 
 if __name__ == "__main__":

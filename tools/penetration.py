@@ -1,31 +1,291 @@
 #!/usr/bin/python3
 """Penetration checker, independent of xdyna's contact code.
 
-    penetration.py DECK THIST_H5
+    penetration.py RUN [--json]        states of RUN/d3plot.h5 (shells and solids)
+    penetration.py DECK THIST_H5       shells of DECK, nodes of thist.h5's nodout
 
-Reads the shells of a keyword deck (*ELEMENT_SHELL, *SECTION_SHELL
-thickness, *PART) and the nodal coordinates of every output state from the
-nodout group of thist.h5 (the deck must request all nodes). For every node
-and every shell segment that does not contain the node, nor share a
-segment with it, it measures the distance from the node to the segment's
-mid-surface (the plane through the segment's centre with the normal of its
-diagonals, where the node's projection falls inside the segment). Reports:
+Surfaces: every shell is a two-sided segment of its thickness t (from the
+states' shell_thickness, or the deck's section); every hexahedron face that
+belongs to one hexahedron only is an outward segment of a solid, whose
+local thickness is the element's depth behind it (twice the distance from
+the face's centre to the element's centre).
 
-- the largest overlap of the two half-thicknesses, (t_node + t_seg)/2 - |d|,
-  as a fraction of t_seg (0 when the surfaces do not overlap);
-- pass-throughs: a node whose signed distance to a segment changes sign
-  between two states while its projection lies inside the segment in both
-  (it crossed the mid-surface).
+For every node and every segment near it, skipping segments that contain
+the node or a node of an element sharing one with it, the node is projected
+on the segment: a shell segment's bilinear surface (the closest point), a
+solid face's plane (through its centre, normal to its diagonals); where the
+projection falls inside the segment:
 
-Brute force over node-segment pairs near each other, vectorised with numpy:
-fine for the test decks (1e3-1e4 shells), not for production models.
+- shell segment: the overlap is (t_node + t)/2 - |d|, where t_node is the
+  largest thickness of the node's own shells (0 for a solid's node);
+- solid face: where the node (inflated by t_node/2) lies inside the
+  hexahedron, its depth t_node/2 - d below the nearest of that element's
+  exterior faces. Faces of the node's own solid part are skipped: a solid
+  part is not checked against itself.
+
+Reported: the largest overlap as a fraction of the segment's local
+thickness, with node, state and segment, and the pass-throughs: a node
+whose signed distance to a shell segment changes sign between two states
+while its projection lies inside the segment in both (it crossed the
+mid-surface). With a few dozen states, pass-throughs between two states
+that come back are not seen; the overlap check is the stricter of the two.
+
+Candidate pairs come from a uniform grid of cells one segment size plus
+one thickness wide, so the cost is linear in the model size.
 """
+import json
+import os
 import sys
 
 import h5py
 import numpy as np
 
+HEX_FACES = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+
 where = None   # (node id, state number, segment's node ids) of the largest overlap
+
+
+class Surfaces:
+    """Segments of one model: conn (nseg, 4) node indices, kind (0 shell,
+    1 solid face), part, elem_nodes (the nodes of the segment's element, for
+    the skip rule), solid face's opposite-centre data for the depth."""
+
+    def __init__(self, nn, shells, shell_part, hexes=None, hex_part=None):
+        conn, kind, part, elem = [], [], [], []
+        for s, p in zip(shells, shell_part):
+            conn.append(s)
+            kind.append(0)
+            part.append(p)
+            elem.append(tuple(s))
+        self.nshell = len(conn)
+        self.face_elem = []
+        if hexes is not None and len(hexes):
+            count = {}
+            for e, h in enumerate(hexes):
+                for f in HEX_FACES:
+                    key = tuple(sorted(h[i] for i in f))
+                    count[key] = count.get(key, 0) + 1
+            for e, h in enumerate(hexes):
+                for f in HEX_FACES:
+                    if count[tuple(sorted(h[i] for i in f))] == 1:
+                        conn.append([h[i] for i in f])
+                        kind.append(1)
+                        part.append(hex_part[e])
+                        elem.append(tuple(h))
+                        self.face_elem.append(e)
+        self.conn = np.array(conn, dtype=np.int64).reshape(-1, 4)
+        self.kind = np.array(kind)
+        self.part = np.array(part)
+        self.hexes = np.array(hexes, dtype=np.int64) if hexes is not None and len(hexes) else None
+        self.face_elem = np.array(self.face_elem, dtype=np.int64)
+        # nodes to skip per node: all nodes of elements that contain it
+        near = [set() for _ in range(nn)]
+        for ns in elem:
+            for a in ns:
+                near[a].update(ns)
+        self.elem_nodes = elem
+        self.near = near
+        self.node_part = -np.ones(nn, dtype=np.int64)      # solid part of each node (-1: none)
+        if self.hexes is not None:
+            for e, h in enumerate(self.hexes):
+                self.node_part[h] = hex_part[e]
+
+    def skip(self, a, s):
+        """Does segment s contain node a or a node of an element touching a?"""
+        if self.kind[s] == 1 and self.node_part[a] == self.part[s]:
+            return True
+        return not self.near[a].isdisjoint(self.elem_nodes[s])
+
+
+def candidate_pairs(X, cen, reach):
+    """(node, segment) pairs with the node within reach[s] of segment s's
+    centre, from a uniform grid of cells max(reach) wide."""
+    h = float(reach.max())
+    cell_n = np.floor(X / h).astype(np.int64)
+    cell_s = np.floor(cen / h).astype(np.int64)
+    bucket = {}
+    for a, c in enumerate(map(tuple, cell_n)):
+        bucket.setdefault(c, []).append(a)
+    A, S = [], []
+    offs = [(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)]
+    for s, (ci, cj, ck) in enumerate(map(tuple, cell_s)):
+        for di, dj, dk in offs:
+            lst = bucket.get((ci + di, cj + dj, ck + dk))
+            if lst:
+                A.extend(lst)
+                S.extend([s] * len(lst))
+    A, S = np.array(A, dtype=np.int64), np.array(S, dtype=np.int64)
+    if len(A):
+        d = np.linalg.norm(X[A] - cen[S], axis=1)
+        ok = d < reach[S]
+        A, S = A[ok], S[ok]
+    return A, S
+
+
+def inside_quad(p, xs, nrm):
+    """Is p (on the segment's plane) inside the quadrilateral xs (4 corners;
+    a triangle repeats its third corner)?"""
+    ok = np.ones(len(p), dtype=bool)
+    for k in range(4):
+        a, b = xs[:, k], xs[:, (k + 1) % 4]
+        c = np.einsum("ij,ij->i", np.cross(b - a, p - a), nrm)
+        ok &= c >= -1e-12 * np.einsum("ij,ij->i", b - a, b - a)
+    return ok
+
+
+def bilinear_distance(P, Q, iters=8):
+    """Signed distance of points P (n, 3) to the bilinear patches Q (n, 4, 3)
+    at the closest point (Newton on (x(xi, eta) - p) . x_xi = (x - p) . x_eta
+    = 0 from the patch centre), sign by the normal x_xi x x_eta there, and
+    whether that point lies inside the patch (|xi|, |eta| <= 1). Triangles
+    (fourth corner = third) are bilinear patches too, degenerate at one
+    corner."""
+    n = len(P)
+    if n == 0:
+        return np.zeros(0), np.zeros(0, dtype=bool)
+    xi = np.zeros(n)
+    eta = np.zeros(n)
+    sx = np.array([-1.0, 1.0, 1.0, -1.0])
+    se = np.array([-1.0, -1.0, 1.0, 1.0])
+    a = 0.25 * np.einsum("k,nkj->nj", sx, Q)                 # x = c + a xi + b eta + h xi eta
+    b = 0.25 * np.einsum("k,nkj->nj", se, Q)
+    h = 0.25 * np.einsum("k,nkj->nj", sx * se, Q)
+    c = Q.mean(1)
+    for _ in range(iters):
+        x = c + a * xi[:, None] + b * eta[:, None] + h * (xi * eta)[:, None]
+        r = x - P
+        tx = a + h * eta[:, None]
+        te = b + h * xi[:, None]
+        g1 = np.einsum("ij,ij->i", r, tx)
+        g2 = np.einsum("ij,ij->i", r, te)
+        h11 = np.einsum("ij,ij->i", tx, tx)
+        h22 = np.einsum("ij,ij->i", te, te)
+        h12 = np.einsum("ij,ij->i", tx, te) + np.einsum("ij,ij->i", r, h)
+        det = h11 * h22 - h12 * h12
+        det = np.where(np.abs(det) < 1e-30, 1e-30, det)
+        xi = np.clip(xi - (h22 * g1 - h12 * g2) / det, -1.5, 1.5)
+        eta = np.clip(eta - (h11 * g2 - h12 * g1) / det, -1.5, 1.5)
+    x = c + a * xi[:, None] + b * eta[:, None] + h * (xi * eta)[:, None]
+    nrm = np.cross(a + h * eta[:, None], b + h * xi[:, None])
+    nrm /= np.maximum(np.linalg.norm(nrm, axis=1), 1e-30)[:, None]
+    d = np.linalg.norm(P - x, axis=1) * np.sign(np.einsum("ij,ij->i", P - x, nrm))
+    tol = 1e-9
+    return d, (np.abs(xi) <= 1 + tol) & (np.abs(eta) <= 1 + tol)
+
+
+def solid_depth(surf, X, A, S, dist, tnode):
+    """Depths of nodes A in the elements of solid faces S: where the node
+    (inflated by half its shell thickness) is inside the hexahedron, its
+    depth below the nearest exterior face of that element, given to that
+    face's pair only (the other pairs of the node and element get 0)."""
+    E = surf.face_elem[S - surf.nshell]
+    hx = X[surf.hexes[E]]                                    # (P, 8, 3)
+    half = 0.5 * tnode[A]
+    inside = np.ones(len(A), dtype=bool)
+    for f in HEX_FACES:
+        q = hx[:, f]
+        c = q.mean(1)
+        n = np.cross(q[:, 2] - q[:, 0], q[:, 3] - q[:, 1])
+        n /= np.linalg.norm(n, axis=1)[:, None]
+        inside &= np.einsum("ij,ij->i", X[A] - c, n) <= half
+    depth = np.where(inside, half - dist, 0.0)
+    key = A * (len(surf.hexes) + 1) + E
+    order = np.lexsort((depth, key))
+    first = np.ones(len(order), dtype=bool)
+    first[1:] = key[order][1:] != key[order][:-1]
+    out = np.zeros(len(A))
+    out[order[first]] = depth[order[first]]
+    return out
+
+
+def check_states(surf, states, tshell_states, node_ids):
+    """Largest overlap fraction and pass-throughs over the states; sets
+    `where`. states: (nstate, nn, 3) coordinates; tshell_states: (nstate,
+    nshell) thicknesses."""
+    global where
+    where = None
+    conn = surf.conn
+    nn = states.shape[1]
+    worst, crossings, prev = 0.0, 0, None
+    skip_cache = {}
+    for state, X in enumerate(states):
+        tsh = np.asarray(tshell_states[state], dtype=float)
+        xs = X[conn]                                           # (nseg, 4, 3)
+        cen = xs.mean(1)
+        nrm = np.cross(xs[:, 2] - xs[:, 0], xs[:, 3] - xs[:, 1])
+        nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+        size = np.max(np.linalg.norm(xs - cen[:, None], axis=2), axis=1)
+        tseg = np.zeros(len(conn))
+        tseg[:surf.nshell] = tsh
+        tnode = np.zeros(nn)
+        for k in range(4):
+            np.maximum.at(tnode, conn[:surf.nshell, k], tsh)
+        if surf.hexes is not None and len(surf.face_elem):
+            ecen = X[surf.hexes[surf.face_elem]].mean(1)      # element centres of the faces
+            tseg[surf.nshell:] = 2.0 * np.abs(np.einsum("ij,ij->i", cen[surf.nshell:] - ecen,
+                                                        nrm[surf.nshell:]))
+        reach = size + tseg + tnode.max()
+        A, S = candidate_pairs(X, cen, reach)
+        keep = np.empty(len(A), dtype=bool)
+        for i, (a, s) in enumerate(zip(A.tolist(), S.tolist())):
+            k = (a, s)
+            v = skip_cache.get(k)
+            if v is None:
+                v = skip_cache[k] = surf.skip(a, s)
+            keep[i] = not v
+        A, S = A[keep], S[keep]
+        dist = np.einsum("ij,ij->i", X[A] - cen[S], nrm[S])
+        p = X[A] - dist[:, None] * nrm[S]
+        inside = inside_quad(p, xs[S], nrm[S])
+        shell = surf.kind[S] == 0
+        # shells: the distance to the segment's bilinear surface (a crushed
+        # segment warps by a good part of its thickness: its mean plane would
+        # show overlaps that are not there)
+        bd, bin_ = bilinear_distance(X[A[shell]], xs[S[shell]])
+        dist[shell] = bd
+        inside[shell] = bin_
+        over = np.where(shell & inside, 0.5 * (tnode[A] + tseg[S]) - np.abs(dist), 0.0)
+        if not shell.all():
+            over[~shell] = solid_depth(surf, X, A[~shell], S[~shell], dist[~shell], tnode)
+        frac = np.maximum(over, 0.0) / np.maximum(tseg[S], 1e-30)
+        if frac.size and float(frac.max()) > worst:
+            worst = float(frac.max())
+            j = int(np.argmax(frac))
+            where = (int(node_ids[A[j]]), state, [int(node_ids[v]) for v in conn[S[j]]])
+        cur = {(a, s): dv for a, s, dv, ins, sh in zip(A.tolist(), S.tolist(), dist.tolist(), inside, shell)
+               if ins and sh}
+        if prev is not None:
+            for key, dv in cur.items():
+                pv = prev.get(key)
+                if pv is not None and pv != 0.0 and (pv > 0.0) != (dv > 0.0):
+                    crossings += 1
+        prev = cur
+    return worst, crossings
+
+
+def check_run(run):
+    """Shells and solids of RUN/d3plot.h5: (worst fraction, pass-throughs,
+    number of states, time of the worst state)."""
+    with h5py.File(os.path.join(run, "d3plot.h5"), "r") as f:
+        ids = f["mesh/node_ids"][:]
+        nn = len(ids)
+        m = f["mesh"]
+        shells = m["shell_connectivity"][:] if "shell_connectivity" in m else np.zeros((0, 4), np.int64)
+        spart = m["shell_part"][:] if "shell_part" in m else np.zeros(0, np.int64)
+        hexes = m["solid_connectivity"][:] if "solid_connectivity" in m else None
+        hpart = m["solid_part"][:] if "solid_part" in m else None
+        names = sorted(k for k in f["states"] if k != "time")
+        times = f["states/time"][:]
+        X = np.array([f[f"states/{k}/coordinates"][:] for k in names], dtype=float)
+        if len(shells):
+            T = np.array([f[f"states/{k}/shell_thickness"][:] for k in names], dtype=float)
+        else:
+            T = np.zeros((len(names), 0))
+    surf = Surfaces(nn, shells.tolist(), spart.tolist(), None if hexes is None else hexes.tolist(),
+                    None if hpart is None else hpart.tolist())
+    worst, crossings = check_states(surf, X, T, ids)
+    t_worst = float(times[where[1]]) if where else 0.0
+    return worst, crossings, len(names), t_worst
 
 
 def read_shells(deck):
@@ -52,86 +312,45 @@ def read_shells(deck):
             part_sec[int(line[0:10])] = int(line[10:20])
     sh = np.array(shells)
     t = np.array([sec_t[part_sec[p]] for p in sh[:, 1]])
-    return sh[:, 2:6], t
+    return sh[:, 2:6], sh[:, 1], t
 
 
 def check(deck, h5):
-    conn_ids, tseg = read_shells(deck)
+    """Shells of DECK against the nodout states of THIST_H5 (every node
+    must be a history node): (worst fraction, pass-throughs)."""
+    conn_ids, parts, tseg = read_shells(deck)
     with h5py.File(h5, "r") as f:
         ids = f["nodout/ids"][:]
         X = np.stack([f["nodout/x_coordinate"][:], f["nodout/y_coordinate"][:], f["nodout/z_coordinate"][:]], -1)
     index = {int(n): k for k, n in enumerate(ids)}
     conn = np.vectorize(index.get)(conn_ids)
-    nn = len(ids)
-    # node thickness: the largest shell thickness at the node
-    tnode = np.zeros(nn)
-    for k in range(4):
-        np.maximum.at(tnode, conn[:, k], tseg)
-    # node-segment pairs to skip: the node's own segments and its neighbours'
-    near = [set() for _ in range(nn)]
-    for s in range(len(conn)):
-        for a in conn[s]:
-            near[a].update(conn[s])
-    skip_seg = [set() for _ in range(nn)]
-    seg_of = [set() for _ in range(nn)]
-    for s in range(len(conn)):
-        for a in conn[s]:
-            seg_of[a].add(s)
-    for a in range(nn):
-        for b in near[a]:
-            skip_seg[a].update(seg_of[b])
-    worst, crossings, prev = 0.0, 0, None
-    global where
-    for state, X1 in enumerate(X):
-        xs = X1[conn]                                  # (nseg, 4, 3)
-        cen = xs.mean(1)
-        nrm = np.cross(xs[:, 2] - xs[:, 0], xs[:, 3] - xs[:, 1])
-        nrm /= np.linalg.norm(nrm, axis=1)[:, None]
-        size = np.max(np.linalg.norm(xs - cen[:, None], axis=2), axis=1)
-        # candidate pairs: node within one segment size of the centre
-        diff = X1[:, None, :] - cen[None, :, :]        # (nn, nseg, 3)
-        close = np.linalg.norm(diff, axis=2) < size[None] + tseg[None]
-        a_idx, s_idx = np.nonzero(close)
-        keep = np.array([s not in skip_seg[a] for a, s in zip(a_idx, s_idx)], dtype=bool)
-        a_idx, s_idx = a_idx[keep], s_idx[keep]
-        dist = np.einsum("ij,ij->i", diff[a_idx, s_idx], nrm[s_idx])
-        p = X1[a_idx] - dist[:, None] * nrm[s_idx]
-        inside = inside_quad(p, xs[s_idx], nrm[s_idx])
-        over = 0.5 * (tnode[a_idx] + tseg[s_idx]) - np.abs(dist)
-        frac = np.where(inside, np.maximum(over, 0.0) / tseg[s_idx], 0.0)
-        if frac.size and float(frac.max()) > worst:
-            worst = float(frac.max())
-            j = int(np.argmax(frac))
-            where = (int(ids[a_idx[j]]), state, conn_ids[s_idx[j]].tolist())
-        cur = {(a, s): dv for a, s, dv, ins in zip(a_idx, s_idx, dist, inside) if ins}
-        if prev is not None:
-            for key, dv in cur.items():
-                if key in prev and np.sign(prev[key]) != np.sign(dv) and prev[key] != 0.0:
-                    crossings += 1
-        prev = cur
-    return worst, crossings
+    surf = Surfaces(len(ids), conn.tolist(), parts.tolist())
+    return check_states(surf, X, np.broadcast_to(tseg, (len(X), len(tseg))), ids)
 
 
-def inside_quad(p, xs, nrm):
-    """Is p (on the segment's plane) inside the quadrilateral xs (4 corners)?"""
-    ok = np.ones(len(p), dtype=bool)
-    for k in range(4):
-        a, b = xs[:, k], xs[:, (k + 1) % 4]
-        c = np.einsum("ij,ij->i", np.cross(b - a, p - a), nrm)
-        ok &= c >= 0.0
-    return ok
-
-
-def main():
-    if len(sys.argv) != 3:
+def main(argv):
+    as_json = "--json" in argv
+    args = [a for a in argv if a != "--json"]
+    if len(args) == 1:
+        worst, crossings, nstate, t_worst = check_run(args[0])
+        res = {"largest_overlap": worst, "pass_throughs": crossings, "states": nstate, "time": t_worst,
+               "node": where[0] if where else None, "segment": where[2] if where else None}
+    elif len(args) == 2:
+        worst, crossings = check(args[0], args[1])
+        res = {"largest_overlap": worst, "pass_throughs": crossings,
+               "node": where[0] if where else None, "segment": where[2] if where else None}
+    else:
         print(__doc__)
         return 2
-    worst, crossings = check(sys.argv[1], sys.argv[2])
-    print(f"largest overlap {worst:.3f} of the segment thickness; pass-throughs {crossings}")
-    if where:
-        print(f"  at node {where[0]}, state {where[1]}, segment {where[2]}")
+    if as_json:
+        print(json.dumps(res))
+    else:
+        print(f"largest overlap {worst:.3f} of the local thickness; pass-throughs {crossings}")
+        if where:
+            extra = f" (t = {res['time'] * 1e3:.3f} ms)" if "time" in res else ""
+            print(f"  at node {where[0]}, state {where[1]}{extra}, segment {where[2]}")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(sys.argv[1:]))

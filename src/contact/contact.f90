@@ -61,7 +61,7 @@ module xd_contact_contact
         real(wp), allocatable :: ft(:, :)     !< per slave: friction force carried over
         real(wp), allocatable :: p0(:)        !< per slave: initial penetration still allowed
         real(wp), allocatable :: kp(:)        !< per slave: the penalty stiffness of its current contact
-        real(wp), allocatable :: araw(:)      !< per slave: its penetration last cycle (before allowances)
+        real(wp), allocatable :: aeff(:)      !< per slave: its penetration last cycle, less the allowance p0
         logical :: started = .false.          !< the first active cycle has been seen
         integer :: ninit = 0                  !< initial penetrations found
         integer :: nlate = 0                  !< contacts found deeper than one step's approach
@@ -347,9 +347,9 @@ contains
                 it%ms = mass(s%node)
                 n = s%nslave
                 allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n), it%p0(n))
-                allocate (it%kp(n), it%araw(n))
+                allocate (it%kp(n), it%aeff(n))
                 it%kp = 0
-                it%araw = 0
+                it%aeff = 0
                 it%p0 = 0
                 it%cseg = 0
                 it%fprev = 0
@@ -442,29 +442,6 @@ contains
                     end if
                     sn = s%slave(k)
                     m = it%hit(k)%seg
-                    if (it%cseg(k) /= m) then
-                        ! a contact found, or moved to another segment, deeper than
-                        ! the node can have gone in one step (it came through an
-                        ! edge, edge to edge, where no node-to-segment check sees
-                        ! it, or a tube takes over far below a face's plane): the
-                        ! excess is allowed like an initial penetration, not thrown
-                        ! out with the spring's energy (on rigid bricks that
-                        ! energy ran away)
-                        vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
-                        reach = 2.0_wp*abs(dot_product(vrel, it%hit(k)%nhat))*dt + 1.0e-3_wp*it%hit(k)%tm
-                        if (it%cseg(k) /= 0) reach = reach + it%araw(k)
-                        if (abs(it%hit(k)%a) > reach .and. abs(it%hit(k)%a) - reach > it%p0(k)) then
-                            it%p0(k) = abs(it%hit(k)%a) - reach
-                            it%nlate = it%nlate + 1
-                            it%plate = max(it%plate, it%p0(k))
-                        end if
-                    end if
-                    it%araw(k) = abs(it%hit(k)%a)
-                    if (it%p0(k) > 0.0_wp) then
-                        it%p0(k) = min(it%p0(k), abs(it%hit(k)%a))
-                        it%hit(k)%a = sign(abs(it%hit(k)%a) - it%p0(k), it%hit(k)%a)
-                    end if
-                    m = it%hit(k)%seg
                     ! the softer of the master segment and the slave node (LS-DYNA's
                     ! SOFT 0), per unit area, times the area the slave node covers
                     ! facing the master (a node without segments: the segment's k)
@@ -478,10 +455,52 @@ contains
                             kpen = min(kpen/s%seg_area(m), s%node_kpa(sn))* &
                                    facing_area(s, it%ls%xl, sn, it%hit(k)%nhat*pdir(it%hit(k)%a))
                         end if
-                        it%kp(k) = kpen
                     else
                         kpen = it%kp(k)
                     end if
+                    if (it%cseg(k) /= m) then
+                        ! a contact found, or moved to another segment, deeper than
+                        ! the node can have gone in one step (it came through an
+                        ! edge, edge to edge, where no node-to-segment check sees
+                        ! it, or a tube takes over far below a face's plane): the
+                        ! excess is allowed like an initial penetration, not thrown
+                        ! out with the spring's energy (on rigid bricks that
+                        ! energy ran away). A move keeps the spring's energy: the
+                        ! depth on the new segment may be the old one scaled by
+                        ! sqrt(k_old/k_new), plus one step's approach (a corner
+                        ! node of a block inside a rigid brick's corner, handed
+                        ! between the end and the top face, gained energy at each
+                        ! move when the old raw depth was the bound)
+                        vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
+                        reach = 2.0_wp*abs(dot_product(vrel, it%hit(k)%nhat))*dt + 1.0e-3_wp*it%hit(k)%tm
+                        if (it%cseg(k) /= 0 .and. it%kp(k) > 0.0_wp) &
+                            reach = reach + it%aeff(k)*sqrt(it%kp(k)/max(kpen, tiny(1.0_wp)))
+                        if (abs(it%hit(k)%a) > reach .and. abs(it%hit(k)%a) - reach > it%p0(k)) then
+                            it%nlate = it%nlate + 1
+                            it%plate = max(it%plate, abs(it%hit(k)%a) - reach)
+                        end if
+                        ! the allowance is set afresh: one carried from a deeper
+                        ! segment would cancel the depth on a shallower one. A move
+                        ! into a crease (the old segment shares a node with the new
+                        ! one and lies on the node's side of its plane: the node is
+                        ! in both) gets none: a block's
+                        ! corner in a shell's crease, handed between its two sides
+                        ! each cycle, sank through with the shallower side's force
+                        if (it%cseg(k) /= 0) then
+                            if (any(s%seg(:, it%cseg(k)) == s%seg(1, m) .or. s%seg(:, it%cseg(k)) == s%seg(2, m) .or. &
+                                    s%seg(:, it%cseg(k)) == s%seg(3, m) .or. s%seg(:, it%cseg(k)) == s%seg(4, m)) .and. &
+                                dot_product(seg_centre(s, it%ls%xl, it%cseg(k)) - seg_centre(s, it%ls%xl, m), &
+                                            it%hit(k)%nhat*pdir(it%hit(k)%a)) > 1.0e-3_wp*it%hit(k)%tm) reach = huge(1.0_wp)
+                        end if
+                        it%p0(k) = max(0.0_wp, abs(it%hit(k)%a) - reach)
+                    end if
+                    it%kp(k) = kpen
+                    if (it%p0(k) > 0.0_wp) then
+                        it%p0(k) = min(it%p0(k), abs(it%hit(k)%a))
+                        it%hit(k)%a = sign(abs(it%hit(k)%a) - it%p0(k), it%hit(k)%a)
+                    end if
+                    it%aeff(k) = abs(it%hit(k)%a)
+                    m = it%hit(k)%seg
                     vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
                     mm = dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
                     meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
@@ -624,6 +643,15 @@ contains
         end do
         a = max(a, 0.25_wp*s%node_area(sn))
     end function facing_area
+
+    !> Centre of segment m (the mean of its corners).
+    pure function seg_centre(s, xl, m) result(c)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: xl(:, :)
+        integer, intent(in) :: m
+        real(wp) :: c(3)
+        c = 0.25_wp*(xl(:, s%seg(1, m)) + xl(:, s%seg(2, m)) + xl(:, s%seg(3, m)) + xl(:, s%seg(4, m)))
+    end function seg_centre
 
     !> The side -K a n pushes the slave to: +1 along the return direction
     !> when a <= 0 (solids, shells from the normal side), -1 when a > 0

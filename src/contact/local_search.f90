@@ -234,8 +234,8 @@ contains
         logical function screened_in(mn)
             integer, intent(in) :: mn
             integer :: q, m, a, p1, p2, nnd
-            real(wp) :: h, area2, reach, tm, lo(3), hi(3), c(3)
-            real(wp) :: xa(3), x1(3), x2(3), xs(3)
+            real(wp) :: h, area2, reach, tm, lo(3), hi(3), c(3), warp
+            real(wp) :: xa(3), x1(3), x2(3), x3(3), xs(3)
             screened_in = .false.
             xs = ls%xl(:, sn)
             xa = ls%xl(:, mn)
@@ -247,13 +247,18 @@ contains
                 p2 = s%seg(mod(a + nnd - 2, nnd) + 1, m)
                 x1 = ls%xl(:, p1)
                 x2 = ls%xl(:, p2)
+                ! the segment's fourth node (a triangle: its third again)
+                x3 = ls%xl(:, s%seg(mod(a + 1, nnd) + 1, m))
                 tm = s%seg_t(m)
                 if (s%seg_kind(m) == seg_shell) tm = 0.5_wp*tm
-                ! both tests must pass; the bounding box of the three nodes,
-                ! grown by the thicknesses, is the cheaper one: first
+                ! both tests must pass; the bounding box of the segment, grown
+                ! by the thicknesses, is the cheaper one: first (the box of the
+                ! three nodes at mn alone left out the part of the segment near
+                ! its far corner, where a slave whose list holds mn alone went
+                ! unseen until it was deep in a crushed tube's band)
                 reach = ts + tm
-                lo = min(xa, x1, x2) - reach
-                hi = max(xa, x1, x2) + reach
+                lo = min(xa, x1, x2, x3) - reach
+                hi = max(xa, x1, x2, x3) + reach
                 if (.not. all(xs >= lo .and. xs <= hi)) cycle
                 ! characteristic height h = 3 V / A of the tetrahedron slave,
                 ! master node and its two neighbours on the segment (Eq. 1):
@@ -262,10 +267,13 @@ contains
                 area2 = sqrt(c(1)**2 + c(2)**2 + c(3)**2)
                 if (area2 <= 0.0_wp) cycle
                 h = (c(1)*(xs(1) - xa(1)) + c(2)*(xs(2) - xa(2)) + c(3)*(xs(3) - xa(3)))/area2
+                ! a warped segment leaves the base plane by up to the height of
+                ! its fourth node: the bounds of Eqs. (2)-(3) grow by it
+                warp = abs(dot_product(c, x3 - xa))/area2
                 if (s%seg_kind(m) == seg_shell) then
-                    if (h > tm + ts .or. h < -tm - ts) cycle       ! Eq. (2)
+                    if (h > tm + ts + warp .or. h < -tm - ts - warp) cycle       ! Eq. (2)
                 else
-                    if (h > ts .or. h < ts - tm) cycle              ! Eq. (3)
+                    if (h > ts + warp .or. h < ts - tm - warp) cycle              ! Eq. (3)
                 end if
                 screened_in = .true.
                 return

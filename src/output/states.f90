@@ -7,7 +7,9 @@
 !> element the stress tensor (global xx yy zz xy yz zx; shells: the mean
 !> through the thickness), the von Mises stress (shells: the largest of
 !> the integration points), the effective plastic strain (shells: the
-!> largest) and the shell thickness. The dataset `states/time` lists the
+!> largest) and the shell thickness. Rigid parts' elements follow the
+!> deformable ones in the mesh (LS-DYNA writes them too) with zero stress
+!> and strain and their section's thickness. The dataset `states/time` lists the
 !> times. After each state the file is flushed and the XDMF rewritten
 !> (to a temporary file, then renamed), so a killed run leaves every
 !> finished state readable.
@@ -16,7 +18,7 @@ module xd_output_states
     use xd_kinds, only: wp, dp
     use xd_core_strings, only: join_path
     use xd_core_files, only: rename_file
-    use xd_model, only: model_t
+    use xd_model, only: model_t, mat_rigid
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_shell_bt, only: shells_t, shell_frame, point_weight
@@ -29,7 +31,9 @@ module xd_output_states
         real(dp) :: dt = 0, next = 0
         integer(hid_t) :: file = -1
         integer :: n = 0                      !< states written
-        integer :: nnode = 0, nsolid = 0, nshell = 0
+        integer :: nnode = 0, nsolid = 0, nshell = 0   !< all elements, rigid ones included
+        integer :: nrhex = 0, nrshell = 0                !< rigid elements (after the deformable ones)
+        real(wp), allocatable :: rshell_t(:)             !< rigid shells' thickness
         logical :: contact = .false.          !< the model has contact: states carry the contact force
         character(len=:), allocatable :: dir
         real(dp), allocatable :: times(:)
@@ -68,10 +72,11 @@ contains
         type(states_t), intent(out) :: s
         logical, intent(out) :: ok
         type(states_marks_t), intent(in), optional :: resume
-        integer :: err, k
+        integer :: err, k, e
         integer(hid_t) :: g
         logical :: there
         character(len=16) :: name
+        integer, allocatable :: rhex(:), rshell(:)
         ok = .true.
         s%dt = real(model%db%d3plot_dt, dp)
         if (model%db%d3plot_npltc > 0) s%dt = endtim/model%db%d3plot_npltc
@@ -79,8 +84,18 @@ contains
         if (.not. s%on) return
         s%dir = outdir
         s%nnode = model%nnode
-        s%nsolid = solids%n
-        s%nshell = sh%n
+        allocate (rhex(0), rshell(0))
+        do e = 1, model%nhex
+            if (model%mat(model%part(model%hex_part(e))%mat_ix)%mtype == mat_rigid) rhex = [rhex, e]
+        end do
+        do e = 1, model%nshell
+            if (model%mat(model%part(model%shell_part(e))%mat_ix)%mtype == mat_rigid) rshell = [rshell, e]
+        end do
+        s%nrhex = size(rhex)
+        s%nrshell = size(rshell)
+        s%nsolid = solids%n + s%nrhex
+        s%nshell = sh%n + s%nrshell
+        s%rshell_t = [(sum(model%shell_t(:, rshell(e)))/4, e=1, s%nrshell)]
         s%contact = model%ncontact > 0
         allocate (s%times(0))
         call h5open_f(err)
@@ -109,15 +124,15 @@ contains
         if (.not. ok) return
         call h5gcreate_f(s%file, 'mesh', g, err)
         call put_int1(g, 'node_ids', model%node_id(1:model%nnode))
-        if (solids%n > 0) then
-            call put_int2(g, 'solid_connectivity', solids%conn - 1)
-            call put_int1(g, 'solid_ids', solids%eid)
-            call put_int1(g, 'solid_part', model%part(solids%part)%id)
+        if (s%nsolid > 0) then
+            call put_int2(g, 'solid_connectivity', reshape([solids%conn, model%hex_conn(:, rhex)], [8, s%nsolid]) - 1)
+            call put_int1(g, 'solid_ids', [solids%eid, model%hex_id(rhex)])
+            call put_int1(g, 'solid_part', model%part([solids%part, model%hex_part(rhex)])%id)
         end if
-        if (sh%n > 0) then
-            call put_int2(g, 'shell_connectivity', sh%conn - 1)
-            call put_int1(g, 'shell_ids', sh%eid)
-            call put_int1(g, 'shell_part', model%part(sh%part)%id)
+        if (s%nshell > 0) then
+            call put_int2(g, 'shell_connectivity', reshape([sh%conn, model%shell_conn(:, rshell)], [4, s%nshell]) - 1)
+            call put_int1(g, 'shell_ids', [sh%eid, model%shell_id(rshell)])
+            call put_int1(g, 'shell_part', model%part([sh%part, model%shell_part(rshell)])%id)
         end if
         call h5gclose_f(g, err)
         call h5gcreate_f(s%file, 'states', g, err)
@@ -168,21 +183,27 @@ contains
         else if (s%contact) then
             call put_real2(g, 'contact_force', 0.0_wp*st%x)
         end if
-        if (solids%n > 0) then
-            allocate (sig(6, solids%n), vm(solids%n), ep(solids%n))
+        if (s%nsolid > 0) then
+            allocate (sig(6, s%nsolid), vm(s%nsolid), ep(s%nsolid))
             ep = 0
+            sig = 0
+            vm = 0
             do e = 1, solids%n
                 sig(:, e) = solids%stress(e)
                 vm(e) = von_mises(sig(:, e))
             end do
-            if (size(solids%epsp) > 0) ep = solids%epsp
+            if (size(solids%epsp) > 0) ep(1:solids%n) = solids%epsp
             call put_real2(g, 'solid_stress', sig)
             call put_real1(g, 'solid_von_mises', vm)
             call put_real1(g, 'solid_plastic_strain', ep)
             deallocate (sig, vm, ep)
         end if
-        if (sh%n > 0) then
-            allocate (sig(6, sh%n), vm(sh%n), ep(sh%n), th(sh%n))
+        if (s%nshell > 0) then
+            allocate (sig(6, s%nshell), vm(s%nshell), ep(s%nshell), th(s%nshell))
+            sig = 0
+            vm = 0
+            ep = 0
+            th(sh%n + 1:) = s%rshell_t
             do e = 1, sh%n
                 q2 = 0
                 ep(e) = 0

@@ -143,6 +143,10 @@ contains
                 call dput(r, 'fprev', [it%fprev])
                 call dput(r, 'ft', [it%ft])
                 call dput(r, 'p0', it%p0)
+                call dput(r, 'kp', it%kp)
+                call dput(r, 'aeff', it%aeff)
+                call dput(r, 'late', [it%plate])
+                call dput(r, 'nlate', [it%nlate])
                 call h5gclose_f(r, err)
             end associate
         end do
@@ -361,6 +365,10 @@ contains
                 call getw(r, 'fprev', size(it%fprev)); if (ok()) it%fprev = reshape(bw, shape(it%fprev))
                 call getw(r, 'ft', size(it%ft)); if (ok()) it%ft = reshape(bw, shape(it%ft))
                 call getw(r, 'p0', size(it%p0)); if (ok()) it%p0 = bw
+                call getw(r, 'kp', size(it%kp)); if (ok()) it%kp = bw
+                call getw(r, 'aeff', size(it%aeff)); if (ok()) it%aeff = bw
+                call getw(r, 'late', 1); if (ok()) it%plate = bw(1)
+                call geti(r, 'nlate', 1); if (ok()) it%nlate = bi(1)
                 call h5gclose_f(r, err)
             end associate
         end do
