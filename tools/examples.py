@@ -40,12 +40,12 @@ XD = os.path.join(ROOT, "bin", "xdyna")
 PY = "/usr/bin/python3"
 
 EXAMPLES = {
-    "wide_flange_beam": {"title": "7.1 Wide-flange beam crush", "times": [0.0, 0.012, 0.015, 0.02],
+    "wide_flange_beam": {"title": "7.1 Wide-flange beam crush", "times": [0.0, 0.012, 0.016, 0.02],
                          "view": [8, 20], "color": "part"},
     "wall_of_blocks": {"title": "7.2 Wall of blocks", "times": [0.0, 0.01, 0.025, 0.04],
                        "view": [20, -60], "color": "part"},
     "front_frame": {"title": "7.3 Vehicle front frame", "times": [0.0, 0.005, 0.015, 0.03],
-                    "view": [20, -30], "color": "part"},
+                    "view": [20, 70], "color": "part"},
 }
 
 # name: (what it is, *CONTROL_XDYNA_CONTACT card or None)
@@ -103,7 +103,12 @@ def energies(run):
     with h5py.File(os.path.join(run, "thist.h5"), "r") as f:
         g = f["glstat"]
         ratio = g["energy_ratio"][:]
+        # the same once 1% of the energy is in (at the very start the ratio
+        # of two tiny numbers swings: the beam's pressure has done 0.3 mJ)
+        put_in = np.maximum(g["kinetic_energy"][0] + g["internal_energy"][0], 0.0) + np.maximum(g["external_work"][:], 0)
+        ready = put_in >= 0.01 * put_in.max()
         e = {"ratio_end": float(ratio[-1]), "ratio_dev": float(np.max(np.abs(ratio - 1.0))),
+             "ratio_dev_in": float(np.max(np.abs(ratio[ready] - 1.0))), "put_in": float(put_in.max()),
              "kinetic0": float(g["kinetic_energy"][0]), "kinetic": float(g["kinetic_energy"][-1]),
              "internal": float(g["internal_energy"][-1]), "hourglass": float(g["hourglass_energy"][-1]),
              "sliding": float(g["sliding_interface_energy"][-1]),
@@ -181,7 +186,8 @@ def tables(results):
     """Markdown tables of all runs."""
     out = ["### Default settings (one thread)", "",
            "| example | elements | cycles | run time (s) | contact share | ns per element-cycle | energy ratio: "
-           "worst departure | hourglass / internal, worst part | sliding energy at the end (J) | "
+           "worst departure (once 1% of the energy is in) | hourglass / internal, worst part | sliding energy "
+           "at the end, of the energy put in (J) | "
            "largest penetration (of the local thickness) | pass-throughs | energy and penetration checks | hourglass |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, rs in results.items():
@@ -191,9 +197,9 @@ def tables(results):
             continue
         e = r["energy"]
         out.append(f"| {EXAMPLES[name]['title']} | {r['elements']} | {r['cycles']} | {r['total']:.1f} | "
-                   f"{r['contact_share'] * 100:.1f}% | {r['ns_zone_cycle']:.0f} | {e['ratio_dev']:.2e} | "
-                   f"{e['hg_share_max'] * 100:.2f}% | {e['sliding']:.1f} of {e['kinetic0']:.0f} initial "
-                   f"kinetic | {r['penetration']['worst'] * 100:.1f}% | {r['penetration']['pass_throughs']} | "
+                   f"{r['contact_share'] * 100:.1f}% | {r['ns_zone_cycle']:.0f} | {e['ratio_dev']:.2e} "
+                   f"({e['ratio_dev_in']:.2e}) | {e['hg_share_max'] * 100:.2f}% | {e['sliding']:.1f} of "
+                   f"{e['put_in']:.0f} | {r['penetration']['worst'] * 100:.1f}% | {r['penetration']['pass_throughs']} | "
                    f"{'pass' if ok_checks(r) else 'FAIL'} | {hg_note(r)} |")
     out += ["", "### Energy per part (default settings)", "",
             "Hourglass energy at the end over the largest internal energy the part had (an elastic part gives "

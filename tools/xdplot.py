@@ -130,7 +130,7 @@ def mesh(run, times, colour, view, out):
     polys, owner = faces_of(f)
     m = f["mesh"]
     fig = plt.figure(figsize=(4.2 * len(picks), 4.6))
-    cmap = plt.get_cmap("tab10" if colour == "part" else "viridis")
+    cmap = plt.get_cmap("tab20" if colour == "part" else "viridis")
     vals_all = []
     for s in picks:
         g = f[f"states/{s + 1:06d}"]
@@ -155,7 +155,8 @@ def mesh(run, times, colour, view, out):
         v = vals_all[j]
         if colour == "part":
             parts = sorted(set(v))
-            cols = [cmap(parts.index(p) % 10) for p in v]
+            # tab20's strong colours first, then its light ones: 20 parts apart
+            cols = [cmap((2 * parts.index(p)) % 20 + (parts.index(p) // 10) % 2) for p in v]
         else:
             cols = [cmap((a - lo) / (hi - lo)) for a in v]
         pc = Poly3DCollection([x[p] for p in polys], facecolors=cols, edgecolors="k", linewidths=0.1)
