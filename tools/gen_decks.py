@@ -47,6 +47,17 @@ def solid_cards(hexes, pid):
     return out
 
 
+def grid_shell_cards(nx, ny, pid=1):
+    """*ELEMENT_SHELL cards of an nx x ny grid of quadrilaterals on nodes
+    numbered 1 + i + (nx + 1) j, elements numbered from 1 row by row."""
+    out = ["*ELEMENT_SHELL"]
+    for j in range(ny):
+        for i in range(nx):
+            n1 = 1 + i + (nx + 1) * j
+            out.append(f"{1 + i + nx * j:8d}{pid:8d}{n1:8d}{n1 + 1:8d}{n1 + nx + 2:8d}{n1 + nx + 1:8d}")
+    return out
+
+
 def f10(*vals):
     """Fields of ten columns: ints right-justified, reals in 10 characters."""
     s = ""
@@ -369,14 +380,7 @@ def rigid_shell_spin(outdir):
     lines += ["*PART", "rigid plate", f10(1, 2, 1)]
     lines += ["*INITIAL_VELOCITY_GENERATION", f10(1, 2, 10.0, 1.0, 0.0, 0.0, 0, 0),
               f10(a / 2, b / 2, 0.0, 1.0, 2.0, 3.0, 0, 0)]
-    lines += ["*NODE"] + [f"{k:8d}{x:16.9e}{y:16.9e}{z:16.9e}{0:8d}{0:8d}" for k, (x, y, z) in sorted(nodes.items())]
-    lines += ["*ELEMENT_SHELL"]
-    e = 1
-    for j in range(ny):
-        for i in range(nx):
-            n1 = 1 + i + (nx + 1) * j
-            lines.append(f"{e:8d}{1:8d}{n1:8d}{n1 + 1:8d}{n1 + nx + 2:8d}{n1 + nx + 1:8d}")
-            e += 1
+    lines += node_cards(nodes) + grid_shell_cards(nx, ny)
     write(os.path.join(outdir, "verify", "rigid_shell_spin.k"), lines)
 
 
@@ -398,14 +402,7 @@ def shell_warped_spin(outdir):
     lines += ["*PART", "warped patch", f10(1, 2, 1)]
     lines += ["*INITIAL_VELOCITY_GENERATION", f10(1, 2, 100.0, 0.0, 0.0, 0.0, 0, 0),
               f10(h / 2, h / 2, 0.0, 1.0, 0.0, 0.0, 0, 0)]
-    lines += ["*NODE"] + [f"{k:8d}{x:16.9e}{y:16.9e}{z:16.9e}{0:8d}{0:8d}" for k, (x, y, z) in sorted(nodes.items())]
-    lines += ["*ELEMENT_SHELL"]
-    e = 1
-    for j in range(n):
-        for i in range(n):
-            n1 = 1 + i + (n + 1) * j
-            lines.append(f"{e:8d}{1:8d}{n1:8d}{n1 + 1:8d}{n1 + n + 2:8d}{n1 + n + 1:8d}")
-            e += 1
+    lines += node_cards(nodes) + grid_shell_cards(n, n)
     write(os.path.join(outdir, "verify", "shell_warped_spin.k"), lines)
 
 
