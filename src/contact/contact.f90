@@ -481,16 +481,11 @@ contains
                         end if
                         ! the allowance is set afresh: one carried from a deeper
                         ! segment would cancel the depth on a shallower one. A move
-                        ! into a crease (the old segment shares a node with the new
-                        ! one and lies on the node's side of its plane: the node is
-                        ! in both) gets none: a block's
-                        ! corner in a shell's crease, handed between its two sides
-                        ! each cycle, sank through with the shallower side's force
+                        ! into a crease gets none: a block's corner in a shell's
+                        ! crease, handed between its two sides each cycle, sank
+                        ! through with the shallower side's force
                         if (it%cseg(k) /= 0) then
-                            if (any(s%seg(:, it%cseg(k)) == s%seg(1, m) .or. s%seg(:, it%cseg(k)) == s%seg(2, m) .or. &
-                                    s%seg(:, it%cseg(k)) == s%seg(3, m) .or. s%seg(:, it%cseg(k)) == s%seg(4, m)) .and. &
-                                dot_product(seg_centre(s, it%ls%xl, it%cseg(k)) - seg_centre(s, it%ls%xl, m), &
-                                            it%hit(k)%nhat*pdir(it%hit(k)%a)) > 1.0e-3_wp*it%hit(k)%tm) reach = huge(1.0_wp)
+                            if (into_crease(s, it%ls%xl, it%cseg(k), it%hit(k))) reach = huge(1.0_wp)
                         end if
                         it%p0(k) = max(0.0_wp, abs(it%hit(k)%a) - reach)
                     end if
@@ -644,14 +639,22 @@ contains
         a = max(a, 0.25_wp*s%node_area(sn))
     end function facing_area
 
-    !> Centre of segment m (the mean of its corners).
-    pure function seg_centre(s, xl, m) result(c)
+    !> A move from segment `old` to the segment of `hit` into a crease: the
+    !> two share a node and the old one lies on the slave's side of the new
+    !> one's plane (beyond 1e-3 of the window), so the slave is in both.
+    pure logical function into_crease(s, xl, old, hit)
         type(surface_t), intent(in) :: s
         real(wp), intent(in) :: xl(:, :)
-        integer, intent(in) :: m
-        real(wp) :: c(3)
-        c = 0.25_wp*(xl(:, s%seg(1, m)) + xl(:, s%seg(2, m)) + xl(:, s%seg(3, m)) + xl(:, s%seg(4, m)))
-    end function seg_centre
+        integer, intent(in) :: old
+        type(hit_t), intent(in) :: hit
+        real(wp) :: c_old(3), c_new(3)
+        integer :: j
+        into_crease = .false.
+        if (.not. any([(any(s%seg(:, old) == s%seg(j, hit%seg)), j=1, 4)])) return
+        c_old = 0.25_wp*sum(xl(:, s%seg(:, old)), 2)
+        c_new = 0.25_wp*sum(xl(:, s%seg(:, hit%seg)), 2)
+        into_crease = dot_product(c_old - c_new, hit%nhat*pdir(hit%a)) > 1.0e-3_wp*hit%tm
+    end function into_crease
 
     !> The side -K a n pushes the slave to: +1 along the return direction
     !> when a <= 0 (solids, shells from the normal side), -1 when a > 0

@@ -297,9 +297,9 @@ contains
         ! the rigid spin about the in-plane axes (wx = dvz/dy, wy = -dvz/dx):
         ! that spin moves the warped nodes in-plane by (wy zl, -wx zl), an
         ! hourglass pattern, and without this correction a warped element
-        ! turning as a rigid body strained its membrane hourglass springs (in
-        ! the tube crush they stored a fifth of the internal energy and doubled
-        ! the mean crush force)
+        ! turning as a rigid body strained its membrane hourglass springs (a
+        ! warped patch spinning free stored 1.4% of its kinetic energy in
+        ! them; the tube crush's mean force was 49.1 kN, now 41.5 kN)
         hx = dot_product(hv, xl)
         hy = dot_product(hv, yl)
         gam = hv - hx*b1 - hy*b2

@@ -84,13 +84,9 @@ contains
         if (.not. s%on) return
         s%dir = outdir
         s%nnode = model%nnode
-        allocate (rhex(0), rshell(0))
-        do e = 1, model%nhex
-            if (model%mat(model%part(model%hex_part(e))%mat_ix)%mtype == mat_rigid) rhex = [rhex, e]
-        end do
-        do e = 1, model%nshell
-            if (model%mat(model%part(model%shell_part(e))%mat_ix)%mtype == mat_rigid) rshell = [rshell, e]
-        end do
+        rhex = pack([(e, e=1, model%nhex)], model%mat(model%part(model%hex_part(1:model%nhex))%mat_ix)%mtype == mat_rigid)
+        rshell = pack([(e, e=1, model%nshell)], &
+                      model%mat(model%part(model%shell_part(1:model%nshell))%mat_ix)%mtype == mat_rigid)
         s%nrhex = size(rhex)
         s%nrshell = size(rshell)
         s%nsolid = solids%n + s%nrhex
