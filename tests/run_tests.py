@@ -1060,19 +1060,25 @@ def test_thdiff():
 
 
 def test_threads():
-    """Force assembly is deterministic: 1 and 2 threads give bitwise equal histories."""
+    """Force assembly is deterministic: 1 and 2 threads give bitwise equal
+    histories; with contact, 1, 2 and 4 threads."""
     p1, o1 = run_deck("input_decks/verify/prestressed_block.k", "threads1", env={"OMP_NUM_THREADS": "1"})
     p2, o2 = run_deck("input_decks/verify/prestressed_block.k", "threads2", env={"OMP_NUM_THREADS": "2"})
     q = run([THDIFF, o1, o2, "--rtol", "0", "--atol", "0"])
     record("OMP_NUM_THREADS 1 and 2 give bitwise identical time histories", q.returncode == 0, q.stdout[-300:])
-    # with contact: the global search runs threaded (slave blocks joined in
-    # order), the local search and the force sums in slave order
-    deck = "input_decks/contact/tube_crush.k"
-    p1, o1 = run_deck(deck, "threads_c1", env={"OMP_NUM_THREADS": "1"}, extra=("endtim=0.0015",))
-    p2, o2 = run_deck(deck, "threads_c2", env={"OMP_NUM_THREADS": "2"}, extra=("endtim=0.0015",))
-    q = run([THDIFF, o1, o2, "--rtol", "0", "--atol", "0"])
-    record("tube crush with contact: OMP_NUM_THREADS 1 and 2 give bitwise identical time histories",
-           p1.returncode == 0 and p2.returncode == 0 and q.returncode == 0, q.stdout[-300:])
+    # with contact (issue 8): the shells, the global search (slave blocks
+    # joined in order), the local search and the per-slave penalty forces run
+    # threaded; the pairs are listed and their forces summed in slave order.
+    # 4 threads on this 2-core machine are oversubscribed, which changes the
+    # threads' timing, not the result
+    for deck, name, endtim in (("input_decks/contact/tube_crush.k", "tube crush", "0.0015"),
+                               ("input_decks/paper/wall_of_blocks.k", "wall of blocks", "0.01")):
+        runs = [run_deck(deck, f"threads_c{n}", env={"OMP_NUM_THREADS": str(n)}, extra=(f"endtim={endtim}",))
+                for n in (1, 2, 4)]
+        qs = [run([THDIFF, runs[0][1], o, "--rtol", "0", "--atol", "0"]) for _, o in runs[1:]]
+        record(f"{name} with contact: OMP_NUM_THREADS 1, 2 and 4 give bitwise identical time histories",
+               all(p.returncode == 0 for p, _ in runs) and all(q.returncode == 0 for q in qs),
+               " ".join(q.stdout[-200:] for q in qs))
 
 
 def test_cli():

@@ -61,6 +61,7 @@ module xd_contact_contact
         real(wp), allocatable :: ft(:, :)     !< per slave: friction force carried over
         real(wp), allocatable :: p0(:)        !< per slave: initial penetration still allowed
         real(wp), allocatable :: kp(:)        !< per slave: the penalty stiffness of its current contact
+        real(wp), allocatable :: fk(:, :)     !< per slave: this cycle's contact force on it
         real(wp), allocatable :: aeff(:)      !< per slave: its penetration last cycle, less the allowance p0
         logical :: started = .false.          !< the first active cycle has been seen
         integer :: ninit = 0                  !< initial penetrations found
@@ -347,9 +348,10 @@ contains
                 it%ms = mass(s%node)
                 n = s%nslave
                 allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n), it%p0(n))
-                allocate (it%kp(n), it%aeff(n))
+                allocate (it%kp(n), it%aeff(n), it%fk(3, n))
                 it%kp = 0
                 it%aeff = 0
+                it%fk = 0
                 it%p0 = 0
                 it%cseg = 0
                 it%fprev = 0
@@ -385,12 +387,28 @@ contains
                 ! segments may have stretched by 2u since the search; a master
                 ! surface lies up to t_c off its segment
                 it%ls%grow = 2.0_wp*it%drift + it%reach
-                do k = 1, s%nslave
-                    call find_contact(s, it%lists, it%ls, k, it%cseg(k), it%fprev(:, k), ct%sw, it%hit(k))
-                end do
+                call find_contacts(s, it%lists, it%ls, it%cseg, it%fprev, ct%sw, it%hit)
             end associate
         end do
     end subroutine contact_local_search
+
+    !> The local search of every slave, threaded: a slave's search reads the
+    !> surface and writes only its own hit.
+    subroutine find_contacts(s, lists, ls, cseg, fprev, sw, hit)
+        type(surface_t), intent(in) :: s
+        type(master_lists_t), intent(in) :: lists
+        type(local_search_t), intent(in) :: ls
+        integer, intent(in) :: cseg(:)
+        real(wp), intent(in) :: fprev(:, :)
+        type(search_switches_t), intent(in) :: sw
+        type(hit_t), intent(inout) :: hit(:)
+        integer :: k
+        !$omp parallel do schedule(dynamic, 64) default(shared) private(k)
+        do k = 1, s%nslave
+            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), sw, hit(k))
+        end do
+        !$omp end parallel do
+    end subroutine find_contacts
 
     !> Step 4: penalty forces of the contacts found, added to f on the slave
     !> and (by the shape functions) the master nodes in slave order, so the
@@ -400,8 +418,8 @@ contains
         real(wp), intent(inout) :: f(:, :)
         real(wp), intent(in) :: dt, dt_avg
         real(wp), intent(in) :: mass(:), free(:, :)
-        integer :: i, k, j, sn, m, q
-        real(wp) :: vrel(3), kpen, meff, mm, fs(3), reach
+        integer :: i, k, j, sn, m, q, nlate
+        real(wp) :: vrel(3), kpen, meff, mm, fs(3), reach, plate
         ct%fnode = 0
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
@@ -431,7 +449,13 @@ contains
                     end do
                     it%started = .true.
                 end if
-                ! penalty forces (Eq. 12) with damping and friction
+                ! penalty forces (Eq. 12) with damping and friction, per slave
+                ! (threaded: each writes only its own entries), then listed as
+                ! pairs in slave order
+                nlate = 0
+                plate = 0
+                !$omp parallel do schedule(dynamic, 64) default(shared) &
+                !$omp private(k, sn, m, kpen, reach, vrel, mm, meff) reduction(+:nlate) reduction(max:plate)
                 do k = 1, s%nslave
                     if (.not. it%hit(k)%found) then
                         it%cseg(k) = 0
@@ -476,8 +500,8 @@ contains
                         if (it%cseg(k) /= 0 .and. it%kp(k) > 0.0_wp) &
                             reach = reach + it%aeff(k)*sqrt(it%kp(k)/max(kpen, tiny(1.0_wp)))
                         if (abs(it%hit(k)%a) > reach .and. abs(it%hit(k)%a) - reach > it%p0(k)) then
-                            it%nlate = it%nlate + 1
-                            it%plate = max(it%plate, abs(it%hit(k)%a) - reach)
+                            nlate = nlate + 1
+                            plate = max(plate, abs(it%hit(k)%a) - reach)
                         end if
                         ! the allowance is set afresh: one carried from a deeper
                         ! segment would cancel the depth on a shallower one. A move
@@ -499,10 +523,16 @@ contains
                     vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
                     mm = dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
                     meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
-                    call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, k), fs)
+                    call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, k), it%fk(:, k))
+                end do
+                !$omp end parallel do
+                it%nlate = it%nlate + nlate
+                it%plate = max(it%plate, plate)
+                do k = 1, s%nslave
+                    if (.not. it%hit(k)%found) cycle
                     it%npair = it%npair + 1
                     it%pair(it%npair) = k
-                    it%fpair(:, it%npair) = fs
+                    it%fpair(:, it%npair) = it%fk(:, k)
                 end do
                 if (ct%lagrange .and. it%npair > 0) call lagrange_normal(it, s, f, mass, free, dt, dt_avg)
                 ! both sides, in slave order (a deterministic sum)

@@ -173,25 +173,43 @@ contains
     end function area
 
     !> Forces and moments of every shell at x(n) with v(n-1/2), w(n-1/2).
+    !> Threaded over elements: each writes only its own slots and state; the
+    !> smallest step and the first bad element are combined by element
+    !> number, so the result does not depend on the threads.
     subroutine shell_forces(sh, x, v, w, dt, dt_avg_prev)
         type(shells_t), intent(inout) :: sh
         real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
         real(dp), intent(in) :: dt_avg_prev
-        integer :: e
-        real(wp) :: dte
+        integer :: e, tcrit, tbad
+        real(wp) :: dte, tmin
         sh%dtmin = huge(1.0_wp)
+        sh%crit = 0
         sh%bad = 0
+        !$omp parallel default(shared) private(e, dte, tmin, tcrit, tbad)
+        tmin = huge(1.0_wp)
+        tcrit = 0
+        tbad = 0
+        !$omp do schedule(static)
         do e = 1, sh%n
             call shell_element(sh, e, x, v, w, dt, dt_avg_prev, dte)
             if (.not. (dte > 0.0_wp)) then
-                if (sh%bad == 0) sh%bad = e
+                if (tbad == 0) tbad = e
                 cycle
             end if
-            if (dte < sh%dtmin) then
-                sh%dtmin = dte
-                sh%crit = e
+            if (dte < tmin) then
+                tmin = dte
+                tcrit = e
             end if
         end do
+        !$omp end do
+        !$omp critical (shell_step)
+        if (tbad > 0 .and. (sh%bad == 0 .or. tbad < sh%bad)) sh%bad = tbad
+        if (tcrit > 0 .and. (tmin < sh%dtmin .or. (tmin == sh%dtmin .and. tcrit < sh%crit))) then
+            sh%dtmin = tmin
+            sh%crit = tcrit
+        end if
+        !$omp end critical (shell_step)
+        !$omp end parallel
     end subroutine shell_forces
 
     subroutine shell_element(sh, e, x, v, w, dt, dt_avg_prev, dte)
