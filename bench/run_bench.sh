@@ -97,3 +97,19 @@ awk -v n=$nsh -v c=$tcycles '
     /contact enforcement/ {en = $3}
     END {f = 1e9 / (n * c)
          printf "bench: contact %.1f ns per element-cycle overall (elements %.1f, global search %.1f, local search %.1f, enforcement %.1f); contact share %s%%\n", zone, el * f, gs * f, ls * f, en * f, share}' $out/d3hsp
+
+# threads: the shell plate and the tubes again with 2 threads (results are
+# bitwise the same as with one; this machine has 2 cores)
+out2=$dir/shell_t2
+rm -rf $out2
+OMP_NUM_THREADS=2 ./bin/xdyna i=$sdeck outdir=$out2 > /dev/null
+ns2=$(grep 'time per zone cycle' $out2/d3hsp | awk '{print $NF}')
+echo "bench: threads: shells $med ns per element-cycle on 1 thread (median), $ns2 on 2: speed-up $(awk -v a=$med -v b=$ns2 'BEGIN {printf "%.2f", a / b}')x"
+out2=$dir/tubes_t2
+rm -rf $out2
+OMP_NUM_THREADS=2 ./bin/xdyna i=$tdeck outdir=$out2 > /dev/null
+awk -v t1="$(grep '  total' $out/d3hsp | awk '{print $NF}')" '
+    /  total/ {t2 = $NF}
+    /element processing/ {el2 = $3}
+    /contact local search/ {ls2 = $4}
+    END {printf "bench: threads: tubes %.2f s on 1 thread, %.2f s on 2: speed-up %.2fx (elements %.2f s, local search %.2f s on 2)\n", t1, t2, t1 / t2, el2, ls2}' $out2/d3hsp
