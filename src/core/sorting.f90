@@ -5,6 +5,12 @@ module xd_core_sorting
     private
     public :: sort_index, id_map_t, where_true, small_sort
 
+    !> Stable merge sort of integer or real(dp) keys: perm such that
+    !> keys(perm) is ascending, equal keys in their original order.
+    interface sort_index
+        module procedure sort_index_int, sort_index_dp
+    end interface sort_index
+
     !> Maps user ids to indices 1..n. Dense ids use a direct table, sparse ones
     !> a sorted list and binary search.
     type :: id_map_t
@@ -74,9 +80,15 @@ contains
         end do
     end function where_true
 
-    !> Stable merge sort: perm such that keys(perm) is ascending.
-    subroutine sort_index(keys, perm)
+    !> Integer keys (up to 2^53 in size: exact as doubles).
+    subroutine sort_index_int(keys, perm)
         integer, intent(in) :: keys(:)
+        integer, allocatable, intent(out) :: perm(:)
+        call sort_index_dp(real(keys, dp), perm)
+    end subroutine sort_index_int
+
+    subroutine sort_index_dp(keys, perm)
+        real(dp), intent(in) :: keys(:)
         integer, allocatable, intent(out) :: perm(:)
         integer, allocatable :: tmp(:)
         integer :: n, i, width, lo, mid, hi
@@ -115,7 +127,7 @@ contains
             end do
             perm(l:h) = tmp(l:h)
         end subroutine merge_runs
-    end subroutine sort_index
+    end subroutine sort_index_dp
 
     !> Build the map from ids(1:n). `dup` returns the first id seen twice (0 if none).
     subroutine id_map_build(self, ids, dup)

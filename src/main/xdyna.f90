@@ -31,6 +31,7 @@ program xdyna
     use xd_solver_restart, only: dump_meta_t, read_dump_meta, read_dump, build_tag, dump_format
     use xd_core_signals, only: signals_install
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
+    use xd_solver_decomposition, only: decomposition_report
     !$ use omp_lib, only: omp_set_num_threads
     implicit none
 
@@ -65,7 +66,7 @@ program xdyna
     character(len=:), allocatable :: deck, outdir, arg, restart
     logical :: check_only, ok
     real(dp) :: endtim_cli
-    integer :: i, ncpu, nfree
+    integer :: i, ncpu, nfree, nparts
 
     call tm%begin()
     call parallel_start(env)
@@ -76,6 +77,7 @@ program xdyna
     check_only = .false.
     endtim_cli = -1.0_dp
     ncpu = 0
+    nparts = 0
     outdir_given = .false.
     wallclock = 0
     call wallclock_env()
@@ -176,6 +178,7 @@ program xdyna
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')
     if (check_only) then
         write (output_unit, '(a)') model_summary(model, solids, rg%n)
+        if (nparts > 0) write (output_unit, '(a)') decomposition_report(model, nparts)
         write (output_unit, '(a)') ' xdyna --check: input is valid; nothing was run'
         call finish(exit_normal)
     end if
@@ -305,6 +308,12 @@ contains
                 write (error_unit, '(a)') 'xdyna: ncpu='//val//' is not a positive integer'
                 call finish(exit_input)
             end if
+        case ('parts')
+            call parse_int(val, nparts, good)
+            if (.not. good .or. nparts < 1) then
+                write (error_unit, '(a)') 'xdyna: parts='//val//' is not a positive integer'
+                call finish(exit_input)
+            end if
         case ('unsupported')
             select case (to_lower(val))
             case ('warn'); ropts%warn_unsupported = .true.
@@ -323,6 +332,7 @@ contains
         write (output_unit, '(a)') &
             'usage: xdyna i=deck.k [outdir=DIR] [endtim=T] [ncpu=N] [unsupported=error|warn]', &
             '       xdyna --check i=deck.k    read and validate the deck, print the model summary, run nothing', &
+            '       xdyna --check i=deck.k parts=N   also the domain decomposition N MPI ranks would use', &
             '       xdyna --help | --version', &
             '       mpirun -np N xdyna i=deck.k', &
             '', &

@@ -1,0 +1,65 @@
+!> Recursive coordinate bisection: the domain decomposition of the MPI runs
+!> (issue 8). Elements, given as centroids with a cost each (the time an
+!> element-cycle takes: a shell with five points costs about twice a
+!> one-point hexahedron), are split into parts of nearly equal cost whose
+!> boundaries are planes across the longest side of each box, so a part is
+!> compact and its halo small.
+module xd_core_partition
+    use xd_kinds, only: wp, dp
+    use xd_core_sorting, only: sort_index
+    implicit none
+    private
+    public :: rcb_partition
+
+contains
+
+    !> part(e) in 1..nparts for the centroids xc(3, n) with costs w(n) > 0.
+    !> A set going to np parts is cut across the longest side of its box
+    !> where the cost below the cut comes nearest to np/2 of np shares; each
+    !> side is cut again. Equal coordinates keep the order of the elements,
+    !> so the partition depends on the model alone (and not on the ranks or
+    !> threads that compute it).
+    subroutine rcb_partition(xc, w, nparts, part)
+        real(wp), intent(in) :: xc(:, :), w(:)
+        integer, intent(in) :: nparts
+        integer, intent(out) :: part(:)
+        integer :: e
+        part = 1
+        if (nparts <= 1 .or. size(w) == 0) return
+        call bisect([(e, e=1, size(w))], 1, nparts)
+    contains
+        recursive subroutine bisect(set, first, np)
+            integer, intent(in) :: set(:), first, np
+            integer, allocatable :: perm(:)
+            real(dp) :: total, target, cum
+            real(wp) :: lo(3), hi(3)
+            integer :: nl, k, ax, n
+            n = size(set)
+            if (np == 1 .or. n <= 1) then
+                part(set) = first
+                return
+            end if
+            nl = np/2
+            lo = minval(xc(:, set), 2)
+            hi = maxval(xc(:, set), 2)
+            ax = maxloc(hi - lo, 1)
+            call sort_index(real(xc(ax, set), dp), perm)
+            total = sum(real(w(set), dp))
+            target = total*nl/np
+            ! the cut after k elements: the first k whose cumulative cost
+            ! reaches the target, or the one before if that is nearer
+            cum = 0
+            do k = 1, n - 1
+                cum = cum + w(set(perm(k)))
+                if (cum >= target) exit
+            end do
+            k = min(k, n - 1)
+            if (k > 1) then
+                if (target - (cum - w(set(perm(k)))) < cum - target) k = k - 1
+            end if
+            call bisect(set(perm(1:k)), first, nl)
+            call bisect(set(perm(k + 1:n)), first + nl, np - nl)
+        end subroutine bisect
+    end subroutine rcb_partition
+
+end module xd_core_partition

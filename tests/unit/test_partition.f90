@@ -1,0 +1,69 @@
+!> Recursive coordinate bisection: cost balance, compact parts, determinism.
+program test_partition
+    use xd_kinds, only: wp
+    use xd_testing, only: check, test_summary
+    use xd_core_partition, only: rcb_partition
+    implicit none
+    integer, parameter :: nx = 20, ny = 10, nz = 5, n = nx*ny*nz
+    real(wp) :: xc(3, n), w(n), cost(8), vol
+    integer :: part(n), again(n), i, j, k, e, np, p
+    real(wp) :: lo(3), hi(3)
+    logical :: balanced, compact, weighted
+    character(len=120) :: msg
+
+    e = 0
+    do k = 1, nz
+        do j = 1, ny
+            do i = 1, nx
+                e = e + 1
+                xc(:, e) = [i - 0.5_wp, j - 0.5_wp, k - 0.5_wp]
+            end do
+        end do
+    end do
+    ! unit costs: every part within 3% of the mean (three levels of cuts,
+    ! each off by at most half an element of 125)
+    w = 1
+    balanced = .true.
+    compact = .true.
+    do np = 1, 8
+        call rcb_partition(xc, w, np, part)
+        cost = 0
+        do e = 1, n
+            cost(part(e)) = cost(part(e)) + w(e)
+        end do
+        balanced = balanced .and. all(part >= 1 .and. part <= np) .and. &
+                   maxval(cost(1:np)) <= 1.03_wp*n/np .and. minval(cost(1:np)) >= 0.97_wp*n/np
+        ! compact: each part fills at least half of its bounding box
+        do p = 1, np
+            lo = minval(xc(:, pack([(e, e=1, n)], part == p)), 2) - 0.5_wp
+            hi = maxval(xc(:, pack([(e, e=1, n)], part == p)), 2) + 0.5_wp
+            vol = product(hi - lo)
+            compact = compact .and. count(part == p) >= 0.5_wp*vol
+        end do
+    end do
+    call check(balanced, 'unit costs, 1 to 8 parts: every part within 3% of the mean')
+    call check(compact, 'every part fills at least half of its bounding box')
+    ! costs 3 on the half x < 10 (shells next to solids, say): balance by cost
+    where (xc(1, :) < 10.0_wp)
+        w = 3
+    elsewhere
+        w = 1
+    end where
+    call rcb_partition(xc, w, 6, part)
+    cost = 0
+    do e = 1, n
+        cost(part(e)) = cost(part(e)) + w(e)
+    end do
+    weighted = maxval(cost(1:6)) <= 1.03_wp*sum(w)/6 .and. minval(cost(1:6)) >= 0.97_wp*sum(w)/6
+    write (msg, '(a,2f8.1,a,f8.1)') 'weighted costs, 6 parts: within 3% of the mean (', minval(cost(1:6)), &
+        maxval(cost(1:6)), ' against', sum(w)/6
+    call check(weighted, trim(msg))
+    ! cost 3 against 1: the parts in the costly half hold a third as many
+    ! elements (111 against 333)
+    write (msg, '(a,2i5,a)') 'by cost, not by count: the parts hold ', minval([(count(part == p), p=1, 6)]), &
+        maxval([(count(part == p), p=1, 6)]), ' elements (expected about 111 and 333)'
+    call check(maxval([(count(part == p), p=1, 6)]) >= 2.8*minval([(count(part == p), p=1, 6)]), trim(msg))
+    call rcb_partition(xc, w, 6, again)
+    call check(all(again == part), 'the same model gives the same partition')
+    call test_summary()
+end program test_partition
