@@ -79,10 +79,10 @@ contains
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt, dt_avg
         integer :: k, nd, nc
-        real(wp) :: xn(3), d, dvn, vold(3), vprev(3), vt(3), vtn, cut, nrm(3)
+        real(wp) :: xn(3), dvn, vold(3), vprev(3), vt(3), vtn, cut
         real(dp) :: de, sum_m, sum_j, vw
         integer, allocatable :: hit(:)
-        real(wp), allocatable :: gap(:), hn(:, :)
+        real(wp), allocatable :: gap(:), hn(:, :), dall(:)
         wn%force = 0
         wn%normal_force = 0
         wn%vel_old = wn%vel
@@ -91,19 +91,25 @@ contains
             return
         end if
         ! nodes that would end the step behind the wall (the wall at its
-        ! present speed), with their distance and the wall normal there
-        allocate (hit(size(wn%node)), gap(size(wn%node)), hn(3, size(wn%node)))
-        nc = 0
+        ! present speed), with their distance and the wall normal there: the
+        ! distances threaded, the list in node order
+        allocate (hit(size(wn%node)), gap(size(wn%node)), hn(3, size(wn%node)), dall(size(wn%node)))
+        !$omp parallel do schedule(static) default(shared) private(k, nd, xn)
         do k = 1, size(wn%node)
             nd = wn%node(k)
+            dall(k) = 0
             if (st%mass(nd) <= 0.0_wp) cycle
             xn = st%x(:, nd) + dt*st%v(:, nd)
-            call wall_distance(w, wn, xn, real(dt*wn%vel, wp), d, nrm)
-            if (d >= 0.0_wp) cycle
+            call wall_distance(w, wn, xn, real(dt*wn%vel, wp), dall(k), hn(:, k))
+        end do
+        !$omp end parallel do
+        nc = 0
+        do k = 1, size(wn%node)
+            if (dall(k) >= 0.0_wp) cycle
             nc = nc + 1
-            hit(nc) = nd
-            gap(nc) = d
-            hn(:, nc) = nrm
+            hit(nc) = wn%node(k)
+            gap(nc) = dall(k)
+            hn(:, nc) = hn(:, k)
         end do
         ! a moving wall takes the nodes' impulses: with J_i = m_i dv_i and the
         ! wall ending at v_w - sum J / M, each node ending on the wall gives
