@@ -190,11 +190,15 @@ def tables(results):
            "at the end, of the energy put in (J) | "
            "largest penetration (of the local thickness) | pass-throughs | energy and penetration checks | hourglass |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    part_rows = []
     for name, rs in results.items():
         r = rs.get("default")
         if not r or r["rc"] != 0:
             out.append(f"| {name} | | | failed (exit {r['rc'] if r else '?'}) | | | | | | | | no | |")
             continue
+        for pid, p in sorted(r["energy"]["parts"].items()):
+            part_rows.append(f"| {name} | {pid} | {p['internal']:.1f} | {p['internal_max']:.1f} | "
+                             f"{p['hourglass']:.2f} | {p['share'] * 100:.2f}% |")
         e = r["energy"]
         out.append(f"| {EXAMPLES[name]['title']} | {r['elements']} | {r['cycles']} | {r['total']:.1f} | "
                    f"{r['contact_share'] * 100:.1f}% | {r['ns_zone_cycle']:.0f} | {e['ratio_dev']:.2e} "
@@ -205,14 +209,7 @@ def tables(results):
             "Hourglass energy at the end over the largest internal energy the part had (an elastic part gives "
             "its strain energy back to motion: at the end its internal energy is near zero).", "",
             "| example | part | internal at the end (J) | largest internal (J) | hourglass at the end (J) | "
-            "hourglass / largest internal |", "|---|---|---|---|---|---|"]
-    for name, rs in results.items():
-        r = rs.get("default")
-        if not r or r["rc"] != 0:
-            continue
-        for pid, p in sorted(r["energy"]["parts"].items()):
-            out.append(f"| {name} | {pid} | {p['internal']:.1f} | {p['internal_max']:.1f} | {p['hourglass']:.2f} | "
-                       f"{p['share'] * 100:.2f}% |")
+            "hourglass / largest internal |", "|---|---|---|---|---|---|"] + part_rows
     if any(len(rs) > 1 for rs in results.values()):
         out += ["", "### Search knobs (one thread)", "",
                 "Difference: the largest distance of a node at the end from where the run with a global "
