@@ -27,11 +27,12 @@ module xd_contact_contact
     use xd_contact_enforcement, only: friction_t, penalty_force
     !$ use omp_lib, only: omp_get_wtime
     use xd_core_sorting, only: where_true
+    use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_max, comm_sum_dp
     implicit none
     private
     public :: contacts_t, interface_t, build_contacts, contact_search, contact_drift, contact_report, &
               interface_summary, contact_masses, contact_local_search, contact_enforce, contact_work_end, &
-              contact_energy, contact_resultants
+              contact_energy, contact_resultants, gather_contact_state, scatter_contact_state
 
     type :: interface_t
         integer :: id = 0
@@ -78,6 +79,8 @@ module xd_contact_contact
         real(dp) :: wall_local = 0, wall_enforce = 0
         integer(i8) :: ncontact_total = 0     !< slave-cycles in contact
         logical :: active = .false.           !< between birth and death this cycle
+        logical, allocatable :: owned(:)      !< per slave: searched and enforced here (MPI: this rank's)
+        integer, allocatable :: mine(:)       !< those slaves' positions
     end type interface_t
 
     type :: contacts_t
@@ -91,6 +94,8 @@ module xd_contact_contact
         real(wp), allocatable :: fnode(:, :)  !< (3, model nodes) contact force on each node this cycle
         real(wp) :: dt_limit = huge(1.0_wp)   !< stable step of the stiffest contact spring
         integer :: dt_node = 0                !< the node that sets it
+        logical :: distributed = .false.      !< slaves split over MPI ranks: contacts are gathered
+        integer :: nranks = 1
     end type contacts_t
 
 contains
@@ -276,7 +281,7 @@ contains
                 it%xl = x(:, it%surf%node)
                 call characteristic_lengths(it%surf, it%xl, it%lc)
                 it%ls%lc = it%lc
-                call build_master_lists(it%surf, it%xl, it%lc, it%reach, it%margin, ct%mnl, it%lists, cnt)
+                call build_master_lists(it%surf, it%xl, it%lc, it%reach, it%margin, ct%mnl, it%lists, cnt, it%owned)
                 it%nsearch = it%nsearch + 1
                 it%last_cycle = cycle
                 it%drift = 0
@@ -348,7 +353,9 @@ contains
                 it%ms = mass(s%node)
                 n = s%nslave
                 allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n), it%p0(n))
-                allocate (it%kp(n), it%aeff(n), it%fk(3, n))
+                allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n))
+                it%owned = .true.
+                it%mine = [(k, k=1, n)]
                 it%kp = 0
                 it%aeff = 0
                 it%fk = 0
@@ -387,24 +394,26 @@ contains
                 ! segments may have stretched by 2u since the search; a master
                 ! surface lies up to t_c off its segment
                 it%ls%grow = 2.0_wp*it%drift + it%reach
-                call find_contacts(s, it%lists, it%ls, it%cseg, it%fprev, ct%sw, it%hit)
+                call find_contacts(s, it%lists, it%ls, it%cseg, it%fprev, ct%sw, it%mine, it%hit)
             end associate
         end do
     end subroutine contact_local_search
 
     !> The local search of every slave, threaded: a slave's search reads the
     !> surface and writes only its own hit.
-    subroutine find_contacts(s, lists, ls, cseg, fprev, sw, hit)
+    subroutine find_contacts(s, lists, ls, cseg, fprev, sw, mine, hit)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
         integer, intent(in) :: cseg(:)
         real(wp), intent(in) :: fprev(:, :)
         type(search_switches_t), intent(in) :: sw
+        integer, intent(in) :: mine(:)
         type(hit_t), intent(inout) :: hit(:)
-        integer :: k
-        !$omp parallel do schedule(dynamic, 64) default(shared) private(k)
-        do k = 1, s%nslave
+        integer :: i, k
+        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k)
+        do i = 1, size(mine)
+            k = mine(i)
             call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), sw, hit(k))
         end do
         !$omp end parallel do
@@ -418,7 +427,7 @@ contains
         real(wp), intent(inout) :: f(:, :)
         real(wp), intent(in) :: dt, dt_avg
         real(wp), intent(in) :: mass(:), free(:, :)
-        integer :: i, k, j, sn, m, q, nlate
+        integer :: i, k, j, sn, m, q, nlate, i2
         real(wp) :: vrel(3), kpen, meff, mm, fs(3), reach, plate
         ct%fnode = 0
         do i = 1, ct%n
@@ -440,7 +449,8 @@ contains
                 ! penalty force on them would throw the nodes out with the
                 ! spring's energy
                 if (.not. it%started) then
-                    do k = 1, s%nslave
+                    do i2 = 1, size(it%mine)
+                        k = it%mine(i2)
                         if (.not. it%hit(k)%found) cycle
                         if (abs(it%hit(k)%a) <= 0.0_wp) cycle
                         it%p0(k) = abs(it%hit(k)%a)
@@ -455,8 +465,9 @@ contains
                 nlate = 0
                 plate = 0
                 !$omp parallel do schedule(dynamic, 64) default(shared) &
-                !$omp private(k, sn, m, kpen, reach, vrel, mm, meff) reduction(+:nlate) reduction(max:plate)
-                do k = 1, s%nslave
+                !$omp private(i2, k, sn, m, kpen, reach, vrel, mm, meff) reduction(+:nlate) reduction(max:plate)
+                do i2 = 1, size(it%mine)
+                    k = it%mine(i2)
                     if (.not. it%hit(k)%found) then
                         it%cseg(k) = 0
                         it%fprev(:, k) = 0
@@ -528,6 +539,8 @@ contains
                 !$omp end parallel do
                 it%nlate = it%nlate + nlate
                 it%plate = max(it%plate, plate)
+                ! MPI: the contacts the other ranks' slaves found
+                if (ct%distributed) call gather_contacts(it, ct%nranks)
                 do k = 1, s%nslave
                     if (.not. it%hit(k)%found) cycle
                     it%npair = it%npair + 1
@@ -560,6 +573,139 @@ contains
             end associate
         end do
     end subroutine contact_enforce
+
+    !> MPI: every rank's own slaves' contacts of this cycle (what the pair
+    !> list, the nodal sums and the work need), so that every rank holds the
+    !> hits and forces of all slaves; records in slave order per rank.
+    subroutine gather_contacts(it, nranks)
+        type(interface_t), intent(inout) :: it
+        integer, intent(in) :: nranks
+        real(dp), allocatable :: mine(:, :), all(:, :)
+        integer :: i, k, n
+        n = 0
+        do i = 1, size(it%mine)
+            if (it%hit(it%mine(i))%found) n = n + 1
+        end do
+        allocate (mine(14, n))
+        n = 0
+        do i = 1, size(it%mine)
+            k = it%mine(i)
+            if (.not. it%hit(k)%found) cycle
+            n = n + 1
+            associate (h => it%hit(k))
+                mine(:, n) = [real(k, dp), real(h%seg, dp), real(h%kind, dp), real(h%a, dp), real(h%nshape, dp), &
+                              real(h%nhat, dp), real(it%fk(:, k), dp)]
+            end associate
+        end do
+        call comm_gather_records(mine, nranks, all)
+        do k = 1, size(it%owned)
+            if (.not. it%owned(k)) it%hit(k)%found = .false.
+        end do
+        do i = 1, size(all, 2)
+            k = nint(all(1, i))
+            if (it%owned(k)) cycle
+            associate (h => it%hit(k))
+                h%found = .true.
+                h%seg = nint(all(2, i))
+                h%kind = nint(all(3, i))
+                h%a = real(all(4, i), wp)
+                h%nshape = real(all(5:8, i), wp)
+                h%nhat = real(all(9:11, i), wp)
+                it%fk(:, k) = real(all(12:14, i), wp)
+            end associate
+        end do
+    end subroutine gather_contacts
+
+    !> MPI, before a restart dump and the end-of-run report: every slave's
+    !> state and master node list from its rank, and the counters summed
+    !> (the largest for the depths), on every rank.
+    subroutine gather_contact_state(ct)
+        type(contacts_t), intent(inout) :: ct
+        integer :: i, k, n, ns, kk(2)
+        integer, allocatable :: cnt(:), ptr(:), ib(:), tb(:)
+        real(dp) :: mx(2)
+        do i = 1, ct%n
+            associate (it => ct%ifc(i))
+                ns = size(it%owned)
+                do k = 1, ns
+                    if (it%owned(k)) cycle
+                    it%cseg(k) = 0
+                    it%fprev(:, k) = 0
+                    it%ft(:, k) = 0
+                    it%p0(k) = 0
+                    it%kp(k) = 0
+                    it%aeff(k) = 0
+                end do
+                call comm_sum_int(it%cseg, ns)
+                call comm_sum_wp(it%fprev, 3*ns)
+                call comm_sum_wp(it%ft, 3*ns)
+                call comm_sum_wp(it%p0, ns)
+                call comm_sum_wp(it%kp, ns)
+                call comm_sum_wp(it%aeff, ns)
+                if (allocated(it%lists%ptr)) then
+                    cnt = it%lists%ptr(2:ns + 1) - it%lists%ptr(1:ns)
+                    call comm_sum_int(cnt, ns)
+                    allocate (ptr(ns + 1))
+                    ptr(1) = 1
+                    do k = 1, ns
+                        ptr(k + 1) = ptr(k) + cnt(k)
+                    end do
+                    allocate (ib(ptr(ns + 1) - 1), tb(ptr(ns + 1) - 1))
+                    ib = 0
+                    tb = 0
+                    do k = 1, ns
+                        if (.not. it%owned(k)) cycle
+                        n = cnt(k)
+                        ib(ptr(k):ptr(k) + n - 1) = it%lists%node(it%lists%ptr(k):it%lists%ptr(k) + n - 1)
+                        tb(ptr(k):ptr(k) + n - 1) = merge(1, 0, it%lists%trackable(it%lists%ptr(k):it%lists%ptr(k) + n - 1))
+                    end do
+                    call comm_sum_int(ib, size(ib))
+                    call comm_sum_int(tb, size(tb))
+                    it%lists%ptr = ptr
+                    it%lists%node = ib
+                    it%lists%trackable = tb /= 0
+                    deallocate (ptr, ib, tb)
+                end if
+                call sum_i8(it%total%pool)
+                call sum_i8(it%total%reduced)
+                call sum_i8(it%total%masters)
+                kk = [it%ninit, it%nlate]
+                call comm_sum_int(kk, 2)
+                it%ninit = kk(1)
+                it%nlate = kk(2)
+                mx = [real(it%plate, dp), real(it%pinit, dp)]
+                call comm_max(mx)
+                it%plate = real(mx(1), wp)
+                it%pinit = real(mx(2), wp)
+            end associate
+        end do
+    contains
+        subroutine sum_i8(c)
+            integer(i8), intent(inout) :: c
+            real(dp) :: b(1)
+            b = real(c, dp)
+            call comm_sum_dp(b)
+            c = nint(b(1), i8)
+        end subroutine sum_i8
+    end subroutine gather_contact_state
+
+    !> After gather_contact_state: the summed counters stay on rank 0 only,
+    !> so that the ranks' further counts add up to the totals again.
+    subroutine scatter_contact_state(ct, rank)
+        type(contacts_t), intent(inout) :: ct
+        integer, intent(in) :: rank
+        integer :: i
+        if (rank == 0) return
+        do i = 1, ct%n
+            associate (it => ct%ifc(i))
+                it%total%pool = 0
+                it%total%reduced = 0
+                it%total%masters = 0
+                it%ninit = 0
+                it%nlate = 0
+            end associate
+        end do
+    end subroutine scatter_contact_state
 
     !> Lagrangian projection (forward increment Lagrange multipliers, after
     !> Carpenter, Taylor and Katona 1991): normal impulses J >= 0 such that

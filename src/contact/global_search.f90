@@ -261,12 +261,13 @@ contains
     !> Master node lists of every slave node (section 4). xl: surface
     !> coordinates; lc: characteristic lengths; reach: the contact reach t_c;
     !> margin: the pool margin delta; mnl: the list policy.
-    subroutine build_master_lists(s, xl, lc, reach, margin, mnl, lists, counts)
+    subroutine build_master_lists(s, xl, lc, reach, margin, mnl, lists, counts, owned)
         type(surface_t), intent(in) :: s
         real(wp), intent(in) :: xl(:, :), lc(:), reach, margin
         integer, intent(in) :: mnl
         type(master_lists_t), intent(inout) :: lists
         type(search_counts_t), intent(out) :: counts
+        logical, intent(in), optional :: owned(:)   !< the slaves to search for (others get empty lists)
         type(buckets_t) :: bk
         type(search_work_t) :: w
         type(block_out_t), allocatable :: blk(:)
@@ -293,6 +294,12 @@ contains
             allocate (blk(ib)%cnt(last - first + 1), blk(ib)%node(8*(last - first + 1)), &
                       blk(ib)%trk(8*(last - first + 1)))
             do i = first, last
+                if (present(owned)) then
+                    if (.not. owned(i)) then
+                        blk(ib)%cnt(i - first + 1) = 0
+                        cycle
+                    end if
+                end if
                 call one_slave(s, bk, xl, lc, reach + margin, mnl, s%slave(i), w, blk(ib), i - first + 1, &
                                npool, nred)
             end do

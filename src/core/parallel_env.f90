@@ -37,19 +37,24 @@ contains
         if (up .and. .not. down) call MPI_Finalize()
     end subroutine parallel_stop
 
-    !> End the program with exit status `code`. Flushes standard streams; aborts
-    !> the whole MPI job when several ranks run, so no rank is left waiting.
-    subroutine terminate(code)
+    !> End the program with exit status `code`. Flushes standard streams. When
+    !> several ranks run and the code is not 0, aborts the whole MPI job so
+    !> that no rank is left waiting, unless `collective` says that every rank
+    !> ends here with this code (then they finish together, quietly).
+    subroutine terminate(code, collective)
         integer, intent(in) :: code
-        logical :: up, down
+        logical, intent(in), optional :: collective
+        logical :: up, down, together
         integer :: nranks
+        together = .false.
+        if (present(collective)) together = collective
         flush (output_unit)
         flush (error_unit)
         call MPI_Initialized(up)
         call MPI_Finalized(down)
         if (up .and. .not. down) then
             call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-            if (nranks > 1 .and. code /= 0) call MPI_Abort(MPI_COMM_WORLD, code)
+            if (nranks > 1 .and. code /= 0 .and. .not. together) call MPI_Abort(MPI_COMM_WORLD, code)
             call MPI_Finalize()
         end if
         stop code, quiet=.true.

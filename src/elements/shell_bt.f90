@@ -34,6 +34,7 @@ module xd_elements_shell_bt
         real(wp) :: dtmin = 0
         integer :: crit = 0, bad = 0
         logical :: thickness_update = .false.   !< *CONTROL_SHELL ISTUPD
+        integer, allocatable :: mine(:)       !< the elements computed here (MPI: this rank's)
     end type shells_t
 
     ! Gauss points and weights on [-1, 1], NIP 1..10 (rows: nip)
@@ -94,6 +95,7 @@ contains
         keep = pack([(e, e=1, model%nshell)], &
                     [(model%mat(model%part(model%shell_part(e))%mat_ix)%mtype /= mat_rigid, e=1, model%nshell)])
         sh%n = size(keep)
+        sh%mine = [(e, e=1, sh%n)]
         if (sh%n == 0) return
         sh%thickness_update = model%ctl%istupd /= 0
         allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%e(sh%n), sh%nu(sh%n), &
@@ -180,17 +182,18 @@ contains
         type(shells_t), intent(inout) :: sh
         real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
         real(dp), intent(in) :: dt_avg_prev
-        integer :: e, tcrit, tbad
+        integer :: e, i, tcrit, tbad
         real(wp) :: dte, tmin
         sh%dtmin = huge(1.0_wp)
         sh%crit = 0
         sh%bad = 0
-        !$omp parallel default(shared) private(e, dte, tmin, tcrit, tbad)
+        !$omp parallel default(shared) private(e, i, dte, tmin, tcrit, tbad)
         tmin = huge(1.0_wp)
         tcrit = 0
         tbad = 0
         !$omp do schedule(static)
-        do e = 1, sh%n
+        do i = 1, size(sh%mine)
+            e = sh%mine(i)
             call shell_element(sh, e, x, v, w, dt, dt_avg_prev, dte)
             if (.not. (dte > 0.0_wp)) then
                 if (tbad == 0) tbad = e

@@ -58,6 +58,7 @@ module xd_elements_solid_groups
         integer, allocatable :: gcrit(:)       !< per group: element that sets it
         integer, allocatable :: gbad(:)        !< per group: first element with volume <= 0
         integer, allocatable :: group_of(:)    !< group of each element
+        logical, allocatable :: active(:)      !< per group: computed here (MPI: this rank's)
     contains
         procedure :: stress => solid_stress
         procedure :: set_stress => solid_set_stress
@@ -83,7 +84,8 @@ contains
         if (s%n == 0) then
             allocate (s%group(0), s%conn(8, 0), s%part(0), s%eid(0), s%model_ix(0), s%vol0(0), s%vol(0), &
                       s%gdt(0), s%gcrit(0), s%gbad(0), s%fslot(3, 0), s%eint(0), s%ehg(0), s%pend_int(0), &
-                      s%pend_hg(0), s%sig(0), s%qhg(0), s%qbv(0), s%epsp(0), s%alpha(0), s%group_of(0))
+                      s%pend_hg(0), s%sig(0), s%qhg(0), s%qbv(0), s%epsp(0), s%alpha(0), s%group_of(0), &
+                      s%active(0))
             return
         end if
         call alloc(s%conn, 8, s%n, 'solid connectivity')
@@ -123,6 +125,8 @@ contains
         call alloc(s%gbad, s%ngroup, 'group flags')
         call alloc(s%qhg, 12*s%n, 'hourglass forces')
         call alloc(s%group_of, s%n, 'element groups')
+        allocate (s%active(s%ngroup))
+        s%active = .true.
         do g = 1, s%ngroup
             s%group_of(s%group(g)%first:s%group(g)%last) = g
         end do
@@ -234,7 +238,7 @@ contains
         integer :: g
         !$omp parallel do schedule(dynamic, 4) default(shared) private(g)
         do g = 1, s%ngroup
-            call group_kernel(s, g, x, v, dt, dt_avg_prev)
+            if (s%active(g)) call group_kernel(s, g, x, v, dt, dt_avg_prev)
         end do
         !$omp end parallel do
     end subroutine solid_forces

@@ -32,10 +32,13 @@ program xdyna
     use xd_core_signals, only: signals_install
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     use xd_solver_decomposition, only: decomposition_report
+    use xd_solver_domain, only: domain_t, build_domain, domain_summary
+    use xd_contact_contact, only: gather_contact_state, scatter_contact_state
     !$ use omp_lib, only: omp_set_num_threads
     implicit none
 
     type(parallel_env_t) :: env
+    type(domain_t) :: dom
     type(read_options_t) :: ropts
     type(run_options_t) :: opts
     type(model_t) :: model
@@ -85,10 +88,10 @@ program xdyna
         arg = get_arg(i)
         select case (to_lower(arg))
         case ('--help', '-h')
-            call usage()
+            if (env%rank == 0) call usage()
             call finish(exit_normal)
         case ('--version')
-            write (output_unit, '(a)') 'xdyna 0.1.0'
+            if (env%rank == 0) write (output_unit, '(a)') 'xdyna 0.1.0'
             call finish(exit_normal)
         case ('--check')
             check_only = .true.
@@ -101,34 +104,30 @@ program xdyna
         ! come from this build
         call read_dump_meta(restart, meta, ok)
         if (.not. ok) then
-            write (error_unit, '(a)') 'xdyna: r='//restart//': not a readable restart dump'
+            call say('xdyna: r='//restart//': not a readable restart dump')
             call finish(exit_input)
         end if
         if (meta%format /= dump_format .or. meta%build /= build_tag()) then
-            write (error_unit, '(a)') 'xdyna: r='//restart//': the dump was written by another build ('// &
+            call say('xdyna: r='//restart//': the dump was written by another build ('// &
                 meta%build//', format '//itoa(meta%format)//'); this is '//build_tag()//', format '// &
-                itoa(dump_format)
+                itoa(dump_format))
             call finish(exit_input)
         end if
         if (len(deck) == 0) deck = meta%deck
         if (.not. outdir_given) outdir = meta%outdir
     end if
     if (len(deck) == 0) then
-        write (error_unit, '(a)') 'xdyna: no input deck (i=deck.k); see xdyna --help'
+        call say('xdyna: no input deck (i=deck.k); see xdyna --help')
         call finish(exit_input)
     end if
     !$ if (ncpu > 0) call omp_set_num_threads(ncpu)
 
-    if (env%rank > 0) then
-        ! domain decomposition is not there yet: rank 0 runs the whole model
-        call finish(exit_normal)
-    end if
-    if (.not. check_only) then
+    if (.not. check_only .and. env%rank == 0) then
         call execute_command_line('mkdir -p "'//outdir//'"')
         call log_open(outdir, lg, ok, append=len(restart) > 0)
         if (.not. ok) then
-            write (error_unit, '(a)') 'xdyna: cannot write the log in '//outdir
-            call finish(exit_input)
+            call say('xdyna: cannot write the log in '//outdir)
+            call finish_alone(exit_input)
         end if
         if (len(restart) > 0) then
             call log_line(lg, '')
@@ -136,14 +135,12 @@ program xdyna
         end if
         call log_line(lg, ' command line: xdyna i='//deck//' outdir='//outdir)
         call log_line(lg, ' ranks '//itoa(env%nranks)//', threads per rank '//itoa(env%nthreads))
-        if (env%nranks > 1) call log_line(lg, ' *** Warning: several MPI ranks: rank 0 runs the whole model '// &
-                                          '(domain decomposition is not implemented yet)')
     end if
 
     call read_deck(deck, ropts, model, ctx, error)
     if (.not. allocated(error)) call check_model(ctx, model, maps, error)
     if (allocated(error)) then
-        write (error_unit, '(a)') error%message
+        call say(error%message)
         call log_line(lg, ' *** Error: '//error%message)
         call log_line(lg, ' E r r o r   t e r m i n a t i o n   (input)')
         call finish(exit_input)
@@ -151,8 +148,8 @@ program xdyna
     call tm%stop(ph_input)
     if (len(restart) > 0) then
         if (ctx%src%digest() /= meta%digest) then
-            write (error_unit, '(a)') 'xdyna: r='//restart//': the deck '//deck//' has changed since the dump '// &
-                '(fingerprint '//ctx%src%digest()//', the dump''s '//meta%digest//'); a restart needs the same deck'
+            call say('xdyna: r='//restart//': the deck '//deck//' has changed since the dump '// &
+                '(fingerprint '//ctx%src%digest()//', the dump''s '//meta%digest//'); a restart needs the same deck')
             call log_line(lg, ' *** Error: the deck has changed since the dump')
             call finish(exit_input)
         end if
@@ -161,14 +158,14 @@ program xdyna
     call tm%start(ph_init)
     call setup_run(model, maps%hex, st, solids, asm, rg, sh, asm_sh, nfree, error)
     if (allocated(error)) then
-        write (error_unit, '(a)') model%deck_path//': '//error%message
+        call say(model%deck_path//': '//error%message)
         call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
         call finish(exit_input)
     end if
     call build_walls(model, walls)
     call build_contacts(model, st%x0, ct, error)
     if (allocated(error)) then
-        write (error_unit, '(a)') error%message
+        call say(error%message)
         call log_line(lg, ' *** Error: '//error%message)
         call finish(exit_input)
     end if
@@ -177,15 +174,19 @@ program xdyna
     call build_pressures(model, pl)
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')
     if (check_only) then
-        write (output_unit, '(a)') model_summary(model, solids, rg%n)
-        if (nparts > 0) write (output_unit, '(a)') decomposition_report(model, nparts)
-        write (output_unit, '(a)') ' xdyna --check: input is valid; nothing was run'
+        if (env%rank == 0) then
+            write (output_unit, '(a)') model_summary(model, solids, rg%n)
+            if (nparts > 0) write (output_unit, '(a)') decomposition_report(model, nparts)
+            write (output_unit, '(a)') ' xdyna --check: input is valid; nothing was run'
+        end if
         call finish(exit_normal)
     end if
+    call build_domain(st%x0, solids, sh, asm, asm_sh, ct, env%rank, env%nranks, dom)
+    if (dom%on) call log_line(lg, domain_summary(dom))
     call log_line(lg, model_summary(model, solids, rg%n))
     if (ct%n > 0) then
         call log_line(lg, interface_summary(ct, model))
-        if (model%ctl%contact%dump_nsid > 0) then
+        if (model%ctl%contact%dump_nsid > 0 .and. env%rank == 0) then
             open (newunit=ct%dump_unit, file=join_path(outdir, 'contact_debug'), status='replace', action='write')
         end if
     end if
@@ -195,21 +196,22 @@ program xdyna
     if (len(restart) > 0) then
         call read_dump(restart, st, solids, sh, walls, rg, ct, hmarks, smarks, dump_error)
         if (allocated(dump_error)) then
-            write (error_unit, '(a)') 'xdyna: r='//restart//': the dump does not fit this model: '//dump_error
+            call say('xdyna: r='//restart//': the dump does not fit this model: '//dump_error)
             call finish(exit_input)
         end if
-        call open_histories(model, outdir, rg, hist, ok, resume=hmarks)
+        if (dom%on) call scatter_contact_state(ct, env%rank)
+        call open_histories(model, outdir, rg, hist, ok, resume=hmarks, writer=env%rank == 0)
     else
-        call open_histories(model, outdir, rg, hist, ok)
+        call open_histories(model, outdir, rg, hist, ok, writer=env%rank == 0)
     end if
     if (.not. ok) then
-        write (error_unit, '(a)') 'xdyna: cannot create the time-history files in '//outdir
-        call finish(exit_run)
+        call say('xdyna: cannot create the time-history files in '//outdir)
+        call finish_alone(exit_run)
     end if
     if (len(restart) > 0) then
-        call open_states(model, outdir, opts%endtim, solids, sh, states, ok, resume=smarks)
+        call open_states(model, outdir, opts%endtim, solids, sh, states, ok, resume=smarks, writer=env%rank == 0)
     else
-        call open_states(model, outdir, opts%endtim, solids, sh, states, ok)
+        call open_states(model, outdir, opts%endtim, solids, sh, states, ok, writer=env%rank == 0)
     end if
     ! restart dumps: every N cycles and at the end if the deck asks, and
     ! always on a stop signal or the wall-clock limit
@@ -221,27 +223,29 @@ program xdyna
     opts%meta%outdir = outdir
     call signals_install()
     if (.not. ok) then
-        write (error_unit, '(a)') 'xdyna: cannot create d3plot.h5 in '//outdir
-        call finish(exit_run)
+        call say('xdyna: cannot create d3plot.h5 in '//outdir)
+        call finish_alone(exit_run)
     end if
     call tm%stop(ph_init)
 
-    call run_time_loop(model, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, states, lg, tm, opts, res)
+    opts%progress = env%rank == 0
+    call run_time_loop(model, dom, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, states, lg, tm, opts, res)
     call close_states(states)
     call close_histories(hist)
+    if (dom%on .and. ct%n > 0) call gather_contact_state(ct)
     if (ct%n > 0) call log_line(lg, contact_report(ct))
     if (ct%dump_unit /= 0) close (ct%dump_unit)
     call timing_table(lg, tm, res%ncycle, solids%n + sh%n, tm%elapsed())
     if (res%status == exit_signal) then
-        write (error_unit, '(a)') 'xdyna: '//res%message
+        call say('xdyna: '//res%message)
         call log_line(lg, ' S t o p p e d   (restart with xdyna r='//opts%dump_path//')')
         call finish(res%status)
     else if (res%status /= exit_normal) then
-        write (error_unit, '(a)') 'xdyna: '//res%message
+        call say('xdyna: '//res%message)
         call log_line(lg, ' E r r o r   t e r m i n a t i o n')
         call finish(res%status)
     end if
-    write (output_unit, '(a)') ' normal termination: '//itoa(res%ncycle)//' cycles; output in '//outdir
+    if (env%rank == 0) write (output_unit, '(a)') ' normal termination: '//itoa(res%ncycle)//' cycles; output in '//outdir
     call finish(exit_normal)
 
 contains
@@ -265,7 +269,7 @@ contains
         if (st /= 0 .or. n == 0) return
         call parse_real(trim(v), wallclock, good)
         if (.not. good .or. wallclock <= 0.0_dp) then
-            write (error_unit, '(a)') 'xdyna: XDYNA_WALLCLOCK='//trim(v)//' is not a positive number of seconds'
+            call say('xdyna: XDYNA_WALLCLOCK='//trim(v)//' is not a positive number of seconds')
             call finish(exit_input)
         end if
     end subroutine wallclock_env
@@ -277,7 +281,7 @@ contains
         logical :: good
         k = index(a, '=')
         if (k == 0) then
-            write (error_unit, '(a)') 'xdyna: unknown argument '''//a//'''; see xdyna --help'
+            call say('xdyna: unknown argument '''//a//'''; see xdyna --help')
             call finish(exit_input)
         end if
         key = to_lower(a(1:k - 1))
@@ -291,7 +295,7 @@ contains
         case ('wallclock')
             call parse_real(val, wallclock, good)
             if (.not. good .or. wallclock <= 0.0_dp) then
-                write (error_unit, '(a)') 'xdyna: wallclock='//val//' is not a positive number of seconds'
+                call say('xdyna: wallclock='//val//' is not a positive number of seconds')
                 call finish(exit_input)
             end if
         case ('r')
@@ -299,19 +303,19 @@ contains
         case ('endtim')
             call parse_real(val, endtim_cli, good)
             if (.not. good .or. endtim_cli <= 0.0_dp) then
-                write (error_unit, '(a)') 'xdyna: endtim='//val//' is not a positive number'
+                call say('xdyna: endtim='//val//' is not a positive number')
                 call finish(exit_input)
             end if
         case ('ncpu')
             call parse_int(val, ncpu, good)
             if (.not. good .or. ncpu < 1) then
-                write (error_unit, '(a)') 'xdyna: ncpu='//val//' is not a positive integer'
+                call say('xdyna: ncpu='//val//' is not a positive integer')
                 call finish(exit_input)
             end if
         case ('parts')
             call parse_int(val, nparts, good)
             if (.not. good .or. nparts < 1) then
-                write (error_unit, '(a)') 'xdyna: parts='//val//' is not a positive integer'
+                call say('xdyna: parts='//val//' is not a positive integer')
                 call finish(exit_input)
             end if
         case ('unsupported')
@@ -319,11 +323,11 @@ contains
             case ('warn'); ropts%warn_unsupported = .true.
             case ('error'); ropts%warn_unsupported = .false.
             case default
-                write (error_unit, '(a)') 'xdyna: unsupported='//val//' must be error or warn'
+                call say('xdyna: unsupported='//val//' must be error or warn')
                 call finish(exit_input)
             end select
         case default
-            write (error_unit, '(a)') 'xdyna: unknown argument '''//a//'''; see xdyna --help'
+            call say('xdyna: unknown argument '''//a//'''; see xdyna --help')
             call finish(exit_input)
         end select
     end subroutine keyword_arg
@@ -345,10 +349,26 @@ contains
         write (output_unit, '(a)', advance='no') skip_list_text()
     end subroutine usage
 
+    !> End: every rank comes here with the same code (all of them read the
+    !> deck and run the same checks), so the ranks finish together.
     subroutine finish(code)
         integer, intent(in) :: code
         call log_close(lg)
-        call terminate(code)
+        call terminate(code, collective=.true.)
     end subroutine finish
+
+    !> End where rank 0 alone failed (its files): the other ranks are
+    !> stopped too (MPI_Abort).
+    subroutine finish_alone(code)
+        integer, intent(in) :: code
+        call log_close(lg)
+        call terminate(code)
+    end subroutine finish_alone
+
+    !> A message for standard error, from rank 0 alone.
+    subroutine say(text)
+        character(len=*), intent(in) :: text
+        if (env%rank == 0) write (error_unit, '(a)') text
+    end subroutine say
 
 end program xdyna

@@ -34,6 +34,7 @@ module xd_output_histories
         integer, allocatable :: node_ids(:)  !< and their user ids
         character(len=72) :: title = ''
         integer :: nwritten = 0
+        logical :: writer = .true.           !< this process writes the files (MPI: rank 0)
     end type histories_t
 
     !> Where the histories stand: enough to go on from a restart dump.
@@ -73,13 +74,14 @@ contains
 
     !> Create the history files; with `resume` (a restart), open the ones
     !> the run wrote instead, cut back to the marks of the dump, and go on.
-    subroutine open_histories(model, outdir, rg, h, ok, resume)
+    subroutine open_histories(model, outdir, rg, h, ok, resume, writer)
         type(model_t), intent(in) :: model
         type(rigid_t), intent(in) :: rg
         character(len=*), intent(in) :: outdir
         type(histories_t), intent(out) :: h
         logical, intent(out) :: ok
         type(history_marks_t), intent(in), optional :: resume
+        logical, intent(in), optional :: writer   !< .false.: keep the schedule only (MPI ranks > 0)
         logical :: fresh
         character(len=32), allocatable :: cols(:), units(:)
         integer :: k, s, j
@@ -106,6 +108,15 @@ contains
         if (size(h%nodes) == 0) h%on(s_nodout) = .false.
 
         fresh = .not. present(resume)
+        if (present(writer)) h%writer = writer
+        if (.not. h%writer) then
+            if (.not. fresh) then
+                h%next = resume%next
+                h%nwritten = resume%nwritten
+            end if
+            ok = .true.
+            return
+        end if
         if (fresh) then
             call h5_open(join_path(outdir, 'thist.h5'), h%h5, ok)
         else
@@ -269,12 +280,14 @@ contains
         real(wp), intent(in), optional :: fc(:, :)   !< (3, nodes) contact force per node
         logical :: due(ndb)
         due = h%on .and. (force .or. st%time >= h%next*(1.0_dp - 1.0e-9_dp))
-        if (due(s_glstat)) call write_glstat(h, st, walls, en, crit, zone_ns)
-        if (due(s_rwforc)) call write_rwforc(h, model, st, walls)
-        if (due(s_rbdout)) call write_rbdout(h, st, rg)
-        if (due(s_rcforc) .and. present(rc)) call write_rcforc(h, model, st, rc)
-        if (due(s_matsum)) call write_matsum(h, model, st, en)
-        if (due(s_nodout)) call write_nodout(h, st, vn, fc)
+        if (h%writer) then
+            if (due(s_glstat)) call write_glstat(h, st, walls, en, crit, zone_ns)
+            if (due(s_rwforc)) call write_rwforc(h, model, st, walls)
+            if (due(s_rbdout)) call write_rbdout(h, st, rg)
+            if (due(s_rcforc) .and. present(rc)) call write_rcforc(h, model, st, rc)
+            if (due(s_matsum)) call write_matsum(h, model, st, en)
+            if (due(s_nodout)) call write_nodout(h, st, vn, fc)
+        end if
         where (due)
             h%next = h%next + h%dt
         end where
@@ -471,6 +484,7 @@ contains
     subroutine close_histories(h)
         type(histories_t), intent(inout) :: h
         integer :: k
+        if (.not. h%writer) return
         do k = 1, ndb
             if (h%on(k) .and. h%unit(k) /= 0) close (h%unit(k))
             h%unit(k) = 0

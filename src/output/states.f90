@@ -31,6 +31,7 @@ module xd_output_states
         real(dp) :: dt = 0, next = 0
         integer(hid_t) :: file = -1
         integer :: n = 0                      !< states written
+        logical :: writer = .true.            !< this process writes the file (MPI: rank 0)
         integer :: nnode = 0, nsolid = 0, nshell = 0   !< all elements, rigid ones included
         integer :: nrhex = 0, nrshell = 0                !< rigid elements (after the deformable ones)
         real(wp), allocatable :: rshell_t(:)             !< rigid shells' thickness
@@ -63,7 +64,7 @@ contains
     !> Create d3plot.h5 with the mesh, if the deck asks for states; with
     !> `resume` (a restart), open the run's file, drop the states written
     !> after the dump and go on.
-    subroutine open_states(model, outdir, endtim, solids, sh, s, ok, resume)
+    subroutine open_states(model, outdir, endtim, solids, sh, s, ok, resume, writer)
         type(model_t), intent(in) :: model
         character(len=*), intent(in) :: outdir
         real(dp), intent(in) :: endtim
@@ -72,6 +73,7 @@ contains
         type(states_t), intent(out) :: s
         logical, intent(out) :: ok
         type(states_marks_t), intent(in), optional :: resume
+        logical, intent(in), optional :: writer   !< .false.: keep the schedule only (MPI ranks > 0)
         integer :: err, k, e
         integer(hid_t) :: g
         logical :: there
@@ -94,6 +96,15 @@ contains
         s%rshell_t = [(sum(model%shell_t(:, rshell(e)))/4, e=1, s%nrshell)]
         s%contact = model%ncontact > 0
         allocate (s%times(0))
+        if (present(writer)) s%writer = writer
+        if (.not. s%writer) then
+            if (present(resume)) then
+                s%n = resume%n
+                s%next = resume%next
+                s%times = resume%times
+            end if
+            return
+        end if
         call h5open_f(err)
         if (present(resume)) then
             call h5fopen_f(join_path(outdir, 'd3plot.h5'), H5F_ACC_RDWR_F, s%file, err)
@@ -163,6 +174,7 @@ contains
         s%times = [s%times, st%time]
         s%next = s%next + s%dt
         if (st%time >= s%next) s%next = st%time + s%dt
+        if (.not. s%writer) return
         write (name, '(a,i6.6)') 'states/', s%n
         call h5gcreate_f(s%file, trim(name), g, err)
         d1 = 1

@@ -49,19 +49,37 @@ contains
         end do
     end subroutine build_assembly
 
-    !> f(:, node) = sum of its slots, in slot order (added to f with `add`).
-    subroutine assemble(asm, fslot, f, add)
+    !> f(:, node) = sum of its slots, in slot order (added to f with `add`),
+    !> for every node or the nodes listed in `nodes`.
+    subroutine assemble(asm, fslot, f, add, nodes)
         type(assembly_t), intent(in) :: asm
         real(wp), contiguous, intent(in) :: fslot(:, :)
         real(wp), contiguous, intent(inout) :: f(:, :)
         logical, intent(in), optional :: add
+        integer, intent(in), optional :: nodes(:)
         logical :: acc
-        integer :: nd, j
-        real(wp) :: s1, s2, s3
+        integer :: i, n
         acc = .false.
         if (present(add)) acc = add
-        !$omp parallel do schedule(static) private(nd, j, s1, s2, s3)
-        do nd = 1, asm%nnode
+        if (present(nodes)) then
+            n = size(nodes)
+        else
+            n = asm%nnode
+        end if
+        !$omp parallel do schedule(static) private(i)
+        do i = 1, n
+            if (present(nodes)) then
+                call node_sum(nodes(i))
+            else
+                call node_sum(i)
+            end if
+        end do
+        !$omp end parallel do
+    contains
+        subroutine node_sum(nd)
+            integer, intent(in) :: nd
+            integer :: j
+            real(wp) :: s1, s2, s3
             s1 = 0; s2 = 0; s3 = 0
             if (acc) then
                 s1 = f(1, nd); s2 = f(2, nd); s3 = f(3, nd)
@@ -72,8 +90,7 @@ contains
                 s3 = s3 + fslot(3, asm%slot(j))
             end do
             f(1, nd) = s1; f(2, nd) = s2; f(3, nd) = s3
-        end do
-        !$omp end parallel do
+        end subroutine node_sum
     end subroutine assemble
 
 end module xd_solver_assembly

@@ -7,7 +7,7 @@ module xd_solver_time_loop
     use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run, exit_signal
     use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid, &
-                                  ph_search, ph_local, ph_enforce
+                                  ph_search, ph_local, ph_enforce, ph_comm
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, solid_forces
     use xd_solver_state, only: state_t
@@ -23,10 +23,13 @@ module xd_solver_time_loop
                                pressure_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
     use xd_contact_contact, only: contacts_t, contact_search, contact_drift, contact_local_search, contact_enforce, &
-                                  contact_work_end, contact_energy, contact_resultants
+                                  contact_work_end, contact_energy, contact_resultants, gather_contact_state, &
+                                  scatter_contact_state
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     use xd_rigid_bodies, only: rigid_t, rigid_step
     use xd_elements_shell_bt, only: shells_t, shell_forces
+    use xd_solver_domain, only: domain_t, share_slots, sum_nodes, gather_energy_state, gather_element_state
+    use xd_core_comm, only: comm_gather_small, comm_max
     implicit none
     private
     public :: run_options_t, run_result_t, run_time_loop
@@ -51,8 +54,10 @@ module xd_solver_time_loop
 
 contains
 
-    subroutine run_time_loop(model, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, states, lg, tm, opts, res)
+    subroutine run_time_loop(model, dom, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, states, lg, tm, &
+                             opts, res)
         type(model_t), intent(in) :: model
+        type(domain_t), intent(in) :: dom
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(assembly_t), intent(in) :: asm
@@ -74,8 +79,8 @@ contains
         real(wp) :: dtc, g_new(3)
         real(dp) :: dt_avg, wpm
         real(dp) :: t_last_progress, ratio_limit, t0_wall, t_dump
-        logical :: done, due, energy_now, dumped_end
-        integer :: nd, cycle0
+        logical :: done, due, energy_now, dumped_end, near_limit, status_now
+        integer :: nd, cycle0, stop_sig
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode))
         if (st%rot) allocate (vrminus(3, st%nnode))
@@ -193,6 +198,7 @@ contains
                 call output(force=.false.)
             else if (energy_now) then
                 call tm%start(ph_output)
+                call gather_energy_state(dom, solids, sh)
                 if (st%cycle == 0) then
                     ! at t = 0 the kinetic energy is that of the initial velocities
                     ! (the start v(1/2) = v(0) + a(0) dt/2 adds an O(dt^2) offset
@@ -237,26 +243,21 @@ contains
             call tm%stop(ph_integrate)
             ! batch: a status line on SIGUSR2; a dump every N cycles; on SIGTERM
             ! or SIGUSR1, or near the wall-clock limit, a dump and exit 3
-            if (status_signal()) call progress()
+            call stop_flags(stop_sig, near_limit, status_now)
+            if (status_now) call progress()
             if (opts%dump_every > 0) then
                 if (mod(st%cycle, opts%dump_every) == 0) call dump()
             end if
-            if (stop_signal() /= 0) then
+            if (stop_sig /= 0) then
                 call dump()
-                call stop_run('stopped by signal '//itoa(stop_signal())//'; restart dump '//opts%dump_path)
+                call stop_run('stopped by signal '//itoa(stop_sig)//'; restart dump '//opts%dump_path)
                 exit
             end if
-            if (opts%wallclock > 0.0_dp) then
-                ! margin: 10 cycles, 5% of the allowance, twice the last dump's
-                ! time, and 0.5 s for the dump, closing the files and the
-                ! parallel shutdown
-                if (tm%elapsed() + max(10.0_dp*(tm%elapsed() - t0_wall)/max(st%cycle - cycle0, 1), &
-                                       0.05_dp*opts%wallclock, 2.0_dp*t_dump) + 0.5_dp >= opts%wallclock) then
-                    call dump()
-                    call stop_run('wall-clock limit of '//ftoa(opts%wallclock)//' s near; restart dump '// &
-                                  opts%dump_path)
-                    exit
-                end if
+            if (near_limit) then
+                call dump()
+                call stop_run('wall-clock limit of '//ftoa(opts%wallclock)//' s near; restart dump '// &
+                              opts%dump_path)
+                exit
             end if
         end do
 
@@ -270,61 +271,154 @@ contains
 
     contains
 
-        !> Element forces and the stable step; stops on a bad element.
+        !> Element forces and the stable step; stops on a bad element. Under
+        !> MPI each rank computes its own elements; the step, the first bad
+        !> element and the halo slots are shared, then the nodal forces.
         subroutine element_pass(dt, dt_avg_prev, dtcrit)
             real(wp), intent(in) :: dt
             real(dp), intent(in) :: dt_avg_prev
             real(wp), intent(out) :: dtcrit
-            integer :: g, e
+            integer :: g, bad_kind, bad
             call tm%start(ph_elements)
             call solid_forces(solids, st%x, st%v, dt, dt_avg_prev)
             call tm%stop(ph_elements)
+            ! the first bad element (1: solid volume, 2: solid NaN, 3: shell)
+            ! and the smallest step, in element order (solids first)
             dtcrit = huge(1.0_wp)
+            bad_kind = 0
+            bad = 0
             do g = 1, solids%ngroup
+                if (.not. solids%active(g)) cycle
                 if (solids%gbad(g) /= 0) then
-                    e = solids%gbad(g)
-                    if (solids%vol(e) /= solids%vol(e) .or. any(st%x(:, solids%conn(:, e)) /= st%x(:, solids%conn(:, e)))) then
-                        call fail('NaN in the coordinates of solid '//itoa(solids%eid(e))//' of part '// &
-                                  itoa(model%part(solids%part(e))%id))
-                    else
-                        call fail('negative volume in solid '//itoa(solids%eid(e))//' of part '// &
-                                  itoa(model%part(solids%part(e))%id))
-                    end if
-                    return
+                    bad_kind = 1
+                    bad = solids%gbad(g)
+                    exit
                 end if
                 if (solids%gdt(g) < 0.0_wp) then
-                    e = solids%gcrit(g)
-                    call fail('NaN in solid '//itoa(solids%eid(e))//' of part '// &
-                              itoa(model%part(solids%part(e))%id)//' (its nodes'' velocities)')
-                    return
+                    bad_kind = 2
+                    bad = solids%gcrit(g)
+                    exit
                 end if
                 if (solids%gdt(g) < dtcrit) then
                     dtcrit = solids%gdt(g)
                     st%crit_elem = solids%gcrit(g)
                 end if
             end do
-            call tm%start(ph_assembly)
-            call assemble(asm, solids%fslot, st%f)
-            call tm%stop(ph_assembly)
             if (sh%n > 0) then
                 call tm%start(ph_elements)
                 call shell_forces(sh, st%x, st%v, st%vr, dt, dt_avg_prev)
                 call tm%stop(ph_elements)
-                if (sh%bad /= 0) then
-                    call fail('shell '//itoa(sh%eid(sh%bad))//' of part '//itoa(model%part(sh%part(sh%bad))%id)// &
-                              ' has collapsed (zero or negative area)')
-                    return
+                if (sh%bad /= 0 .and. bad_kind == 0) then
+                    bad_kind = 3
+                    bad = sh%bad
                 end if
                 if (sh%dtmin < dtcrit) then
                     dtcrit = sh%dtmin
                     st%crit_elem = -sh%crit
                 end if
+            end if
+            if (dom%on) then
+                call tm%start(ph_comm)
+                call reduce_step(dtcrit, bad_kind, bad)
+                call tm%stop(ph_comm)
+            end if
+            select case (bad_kind)
+            case (1)
+                if (solids%vol(bad) /= solids%vol(bad) .or. any(st%x(:, solids%conn(:, bad)) /= &
+                                                              st%x(:, solids%conn(:, bad)))) then
+                    call fail('NaN in the coordinates of solid '//itoa(solids%eid(bad))//' of part '// &
+                              itoa(model%part(solids%part(bad))%id))
+                else
+                    call fail('negative volume in solid '//itoa(solids%eid(bad))//' of part '// &
+                              itoa(model%part(solids%part(bad))%id))
+                end if
+                return
+            case (2)
+                call fail('NaN in solid '//itoa(solids%eid(bad))//' of part '// &
+                          itoa(model%part(solids%part(bad))%id)//' (its nodes'' velocities)')
+                return
+            case (3)
+                call fail('shell '//itoa(sh%eid(bad))//' of part '//itoa(model%part(sh%part(bad))%id)// &
+                          ' has collapsed (zero or negative area)')
+                return
+            end select
+            if (dom%on) then
+                ! the halo: slots of other ranks' elements on this rank's nodes
+                call tm%start(ph_comm)
+                call share_slots(dom, solids, sh)
+                call tm%stop(ph_comm)
                 call tm%start(ph_assembly)
+                call assemble(asm, solids%fslot, st%f, nodes=dom%nodes)
+                if (sh%n > 0) then
+                    call assemble(asm_sh, sh%fslot, st%f, add=.true., nodes=dom%nodes)
+                    call assemble(asm_sh, sh%mslot, st%mom, nodes=dom%nodes)
+                end if
+                call tm%stop(ph_assembly)
+                call tm%start(ph_comm)
+                call sum_nodes(dom, st%f)
+                if (sh%n > 0) call sum_nodes(dom, st%mom)
+                call tm%stop(ph_comm)
+                return
+            end if
+            call tm%start(ph_assembly)
+            call assemble(asm, solids%fslot, st%f)
+            if (sh%n > 0) then
                 call assemble(asm_sh, sh%fslot, st%f, add=.true.)
                 call assemble(asm_sh, sh%mslot, st%mom)
-                call tm%stop(ph_assembly)
             end if
+            call tm%stop(ph_assembly)
         end subroutine element_pass
+
+        !> MPI: the smallest step of all ranks (ties: solids before shells, then
+        !> the lower element, as the serial scan finds it) and the first bad
+        !> element (solids before shells, then the lower element).
+        subroutine reduce_step(dtcrit, bad_kind, bad)
+            real(wp), intent(inout) :: dtcrit
+            integer, intent(inout) :: bad_kind, bad
+            real(dp) :: rec(4), all(4, dom%nranks)
+            integer :: r, best
+            rec = [real(dtcrit, dp), real(st%crit_elem, dp), real(bad_kind, dp), real(bad, dp)]
+            call comm_gather_small(rec, all)
+            best = 0
+            do r = 1, dom%nranks
+                if (all(3, r) == 0) cycle
+                if (best == 0) then
+                    best = r
+                else if (all(3, r) < all(3, best) .or. (all(3, r) == all(3, best) .and. all(4, r) < all(4, best))) then
+                    best = r
+                end if
+            end do
+            if (best > 0) then
+                bad_kind = nint(all(3, best))
+                bad = nint(all(4, best))
+                return
+            end if
+            best = 1
+            do r = 2, dom%nranks
+                if (all(1, r) < all(1, best)) then
+                    best = r
+                else if (all(1, r) == all(1, best) .and. before(all(2, r), all(2, best))) then
+                    best = r
+                end if
+            end do
+            dtcrit = real(all(1, best), wp)
+            st%crit_elem = nint(all(2, best))
+        end subroutine reduce_step
+
+        !> Is the step's element c1 before c2 in the serial scan (solids > 0
+        !> before shells < 0; 0, none, last)?
+        logical function before(c1, c2)
+            real(dp), intent(in) :: c1, c2
+            if (c2 == 0) then
+                before = c1 /= 0
+            else if (c1 > 0 .and. c2 > 0) then
+                before = c1 < c2
+            else if (c1 < 0 .and. c2 < 0) then
+                before = c1 > c2
+            else
+                before = c1 > 0 .and. c2 < 0
+            end if
+        end function before
 
         !> 'solid 12 of part 3' or 'shell 7 of part 2': the element of the step.
         function controlling() result(txt)
@@ -335,6 +429,27 @@ contains
             if (st%crit_elem < 0) txt = 'shell '//itoa(sh%eid(-st%crit_elem))//' of part '// &
                                         itoa(model%part(sh%part(-st%crit_elem))%id)
         end function controlling
+        !> The signals and the wall-clock limit, the same on every rank (MPI:
+        !> the largest over the ranks, so all stop at the same cycle). The
+        !> wall-clock margin: 10 cycles, 5% of the allowance, twice the last
+        !> dump's time, and 0.5 s for the dump, closing the files and the
+        !> parallel shutdown.
+        subroutine stop_flags(sig, limit, status)
+            integer, intent(out) :: sig
+            logical, intent(out) :: limit, status
+            real(dp) :: fl(3)
+            limit = .false.
+            if (opts%wallclock > 0.0_dp) then
+                limit = tm%elapsed() + max(10.0_dp*(tm%elapsed() - t0_wall)/max(st%cycle - cycle0, 1), &
+                                           0.05_dp*opts%wallclock, 2.0_dp*t_dump) + 0.5_dp >= opts%wallclock
+            end if
+            fl = [real(stop_signal(), dp), merge(1.0_dp, 0.0_dp, limit), merge(1.0_dp, 0.0_dp, status_signal())]
+            if (dom%on) call comm_max(fl)
+            sig = nint(fl(1))
+            limit = fl(2) > 0
+            status = fl(3) > 0
+        end subroutine stop_flags
+
         subroutine accelerations()
             integer :: i
             !$omp parallel do schedule(static)
@@ -379,8 +494,12 @@ contains
             real(dp) :: t1
             t1 = tm%elapsed()
             call tm%start(ph_output)
-            call write_dump(opts%dump_path, opts%meta, st, solids, sh, walls, rg, ct, history_marks(hist), &
-                            states_marks(states), ok)
+            call gather_element_state(dom, solids, sh)
+            ok = .true.
+            if (dom%on) call gather_contact_state(ct)
+            if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, walls, rg, ct, &
+                                               history_marks(hist), states_marks(states), ok)
+            if (dom%on) call scatter_contact_state(ct, dom%rank)
             call tm%stop(ph_output)
             t_dump = tm%elapsed() - t1
             if (ok) then
@@ -452,6 +571,7 @@ contains
                 call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force)
             end if
             if (states_due(states, st%time) .or. (force .and. states%on)) then
+                call gather_element_state(dom, solids, sh)
                 if (ct%n > 0) then
                     call write_state(states, st, solids, sh, vn, ct%fnode)
                 else

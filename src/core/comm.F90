@@ -1,0 +1,77 @@
+!> The MPI operations the solver uses, on MPI_COMM_WORLD, called by every
+!> rank at the same point (outside OpenMP regions). Sums that must be exact
+!> are sums where every entry has one contributing rank and the others give
+!> zero (x + 0 = x), so their result does not depend on the order MPI
+!> chooses: this is how the ranks share what their own elements and slave
+!> nodes computed and still reproduce the serial run bit for bit.
+module xd_core_comm
+    use mpi_f08, only: MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, &
+                       MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_Datatype
+    use xd_kinds, only: wp, dp
+    implicit none
+    private
+    public :: comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max, comm_gather_small, comm_gather_records
+
+contains
+
+    type(MPI_Datatype) function wp_type()
+#ifdef XD_SINGLE
+        wp_type = MPI_REAL
+#else
+        wp_type = MPI_DOUBLE_PRECISION
+#endif
+    end function wp_type
+
+    !> In-place sums over the ranks of a(1:n).
+    subroutine comm_sum_wp(a, n)
+        integer, intent(in) :: n
+        real(wp), intent(inout) :: a(*)
+        if (n > 0) call MPI_Allreduce(MPI_IN_PLACE, a(1:n), n, wp_type(), MPI_SUM, MPI_COMM_WORLD)
+    end subroutine comm_sum_wp
+
+
+    subroutine comm_sum_int(a, n)
+        integer, intent(in) :: n
+        integer, intent(inout) :: a(*)
+        if (n > 0) call MPI_Allreduce(MPI_IN_PLACE, a(1:n), n, MPI_INTEGER, MPI_SUM, MPI_COMM_WORLD)
+    end subroutine comm_sum_int
+
+    !> In-place sum over the ranks of a(:) in double precision.
+    subroutine comm_sum_dp(a)
+        real(dp), contiguous, intent(inout) :: a(:)
+        call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_DOUBLE_PRECISION, MPI_SUM, MPI_COMM_WORLD)
+    end subroutine comm_sum_dp
+
+    !> In-place maximum over the ranks of a(:).
+    subroutine comm_max(a)
+        real(dp), contiguous, intent(inout) :: a(:)
+        call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
+    end subroutine comm_max
+
+    !> all(:, r) = rec from rank r - 1 (a few values per rank).
+    subroutine comm_gather_small(rec, all)
+        real(dp), contiguous, intent(in) :: rec(:)
+        real(dp), contiguous, intent(out) :: all(:, :)
+        call MPI_Allgather(rec, size(rec), MPI_DOUBLE_PRECISION, all, size(rec), MPI_DOUBLE_PRECISION, &
+                           MPI_COMM_WORLD)
+    end subroutine comm_gather_small
+
+    !> Every rank's records (columns of width size(mine, 1)), rank by rank:
+    !> all(:, 1:total), allocated here.
+    subroutine comm_gather_records(mine, nranks, all)
+        real(dp), contiguous, intent(in) :: mine(:, :)
+        integer, intent(in) :: nranks
+        real(dp), allocatable, intent(out) :: all(:, :)
+        integer :: cnt(nranks), disp(nranks), r, w, n
+        w = size(mine, 1)
+        n = w*size(mine, 2)
+        call MPI_Allgather(n, 1, MPI_INTEGER, cnt, 1, MPI_INTEGER, MPI_COMM_WORLD)
+        disp(1) = 0
+        do r = 2, nranks
+            disp(r) = disp(r - 1) + cnt(r - 1)
+        end do
+        allocate (all(w, sum(cnt)/max(w, 1)))
+        call MPI_Allgatherv(mine, n, MPI_DOUBLE_PRECISION, all, cnt, disp, MPI_DOUBLE_PRECISION, MPI_COMM_WORLD)
+    end subroutine comm_gather_records
+
+end module xd_core_comm

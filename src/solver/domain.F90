@@ -1,0 +1,330 @@
+!> The MPI domain decomposition of a run (issue 8). Every rank reads the
+!> deck and holds the whole mesh and the nodal state; the work is split:
+!>
+!> - elements: solid groups and deformable shells are cut into `nranks`
+!>   parts by recursive coordinate bisection weighted by cost (a hexahedron
+!>   1, a shell 0.4 NIP); a rank computes only its own elements' forces;
+!> - nodes: each node is assembled by one rank (the rank of its first
+!>   element in slot order). The force slots of elements on other ranks
+!>   that a node needs (the halo) are exchanged first, so every node's force
+!>   is the sum of its slots in the serial order; the assembled forces and
+!>   moments are then shared by an exact sum (one rank gives each node's
+!>   value, the others zero). The velocity update, rigid bodies, rigid walls
+!>   and loads then run on identical data on every rank;
+!> - contact: each interface's slave nodes are cut by coordinate bisection;
+!>   a rank searches (global and local) and computes the penalty forces of
+!>   its own slaves against every master segment, and the contacts found are
+!>   gathered so that every rank adds them to the nodal forces in slave order.
+!>
+!> Element state (energies for glstat and matsum; stresses for d3plot and the
+!> restart dump) lives with the element's rank and is gathered, exactly, when
+!> an output needs it. Results are bitwise those of the serial run for any
+!> rank count. The price is memory: the mesh and nodal arrays are on every
+!> rank, and the nodal exchange is O(nodes) a cycle.
+module xd_solver_domain
+    use xd_kinds, only: wp, dp
+    use xd_core_partition, only: rcb_partition
+    use xd_core_comm, only: comm_sum_wp, comm_sum_dp
+    use xd_elements_solid_groups, only: solids_t
+    use xd_elements_shell_bt, only: shells_t
+    use xd_solver_assembly, only: assembly_t
+    use xd_contact_contact, only: contacts_t
+    use xd_core_sorting, only: where_true
+    use xd_core_strings, only: itoa
+    implicit none
+    private
+    public :: domain_t, build_domain, domain_summary, share_slots, sum_nodes, gather_energy_state, gather_element_state
+
+    type :: domain_t
+        integer :: rank = 0, nranks = 1
+        logical :: on = .false.               !< more than one rank
+        integer, allocatable :: nodes(:)      !< nodes this rank assembles
+        logical, allocatable :: node_mine(:)
+        logical, allocatable :: solid_mine(:) !< per solid element: its group is this rank's
+        logical, allocatable :: shell_mine(:)
+        integer, allocatable :: bslot(:)      !< halo: solid force slots assembled on another rank
+        logical, allocatable :: bslot_mine(:)
+        integer, allocatable :: bshell(:)     !< halo: shell slots likewise
+        logical, allocatable :: bshell_mine(:)
+        integer :: nhalo = 0                  !< nodes with elements on more than one rank
+        real(dp), allocatable :: cost(:)      !< element cost per rank
+        integer, allocatable :: nslave(:)     !< slave nodes per rank (all interfaces)
+    end type domain_t
+
+contains
+
+    !> Split the work of the model over `nranks` ranks; this is rank `rank`.
+    !> Sets the element groups' and shells' ownership and each interface's
+    !> own slave nodes.
+    subroutine build_domain(x0, solids, sh, asm, asm_sh, ct, rank, nranks, dom)
+        real(wp), intent(in) :: x0(:, :)
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        type(assembly_t), intent(in) :: asm, asm_sh
+        type(contacts_t), intent(inout) :: ct
+        integer, intent(in) :: rank, nranks
+        type(domain_t), intent(out) :: dom
+        real(wp), allocatable :: xc(:, :), w(:)
+        integer, allocatable :: part(:), arank(:), spart(:), grank(:), shrank(:)
+        logical, allocatable :: multi(:)
+        integer :: ni, g, e, k, nd, j, r, i, nnode
+        dom%rank = rank
+        dom%nranks = nranks
+        dom%on = nranks > 1
+        nnode = asm%nnode
+
+        ! work items: the solid groups, then the shells
+        ni = solids%ngroup + sh%n
+        allocate (xc(3, ni), w(ni), part(ni))
+        do g = 1, solids%ngroup
+            associate (gr => solids%group(g))
+                xc(:, g) = 0
+                do e = gr%first, gr%last
+                    xc(:, g) = xc(:, g) + sum(x0(:, solids%conn(:, e)), 2)/8
+                end do
+                xc(:, g) = xc(:, g)/(gr%last - gr%first + 1)
+                w(g) = real(gr%last - gr%first + 1, wp)
+            end associate
+        end do
+        do e = 1, sh%n
+            xc(:, solids%ngroup + e) = sum(x0(:, sh%conn(:, e)), 2)/4
+            w(solids%ngroup + e) = 0.4_wp*sh%nip(e)
+        end do
+        call rcb_partition(xc, w, nranks, part)
+        part = part - 1
+        grank = part(1:solids%ngroup)
+        shrank = part(solids%ngroup + 1:)
+        allocate (dom%cost(nranks))
+        dom%cost = 0
+        do i = 1, ni
+            dom%cost(part(i) + 1) = dom%cost(part(i) + 1) + w(i)
+        end do
+        solids%active = grank == rank
+        allocate (dom%solid_mine(solids%n))
+        do g = 1, solids%ngroup
+            dom%solid_mine(solids%group(g)%first:solids%group(g)%last) = grank(g) == rank
+        end do
+        dom%shell_mine = shrank == rank
+        sh%mine = where_true(dom%shell_mine)
+
+        ! each node's assembling rank: that of its first slot; nodes of no
+        ! deformable element (rigid bodies, free nodes) go to rank 0
+        allocate (arank(nnode), multi(nnode))
+        arank = -1
+        multi = .false.
+        do nd = 1, nnode
+            do j = asm%ptr(nd), asm%ptr(nd + 1) - 1
+                r = grank(solids%group_of((asm%slot(j) - 1)/8 + 1))
+                call seen(nd, r)
+            end do
+            if (sh%n > 0) then
+                do j = asm_sh%ptr(nd), asm_sh%ptr(nd + 1) - 1
+                    r = shrank((asm_sh%slot(j) - 1)/4 + 1)
+                    call seen(nd, r)
+                end do
+            end if
+            if (arank(nd) < 0) arank(nd) = 0
+        end do
+        dom%nhalo = count(multi)
+        dom%node_mine = arank == rank
+        dom%nodes = where_true(dom%node_mine)
+        ! the halo slots: on a node that another rank assembles
+        dom%bslot = [integer ::]
+        dom%bshell = [integer ::]
+        allocate (dom%bslot_mine(0), dom%bshell_mine(0))
+        do nd = 1, nnode
+            if (.not. multi(nd)) cycle
+            do j = asm%ptr(nd), asm%ptr(nd + 1) - 1
+                r = grank(solids%group_of((asm%slot(j) - 1)/8 + 1))
+                if (r /= arank(nd)) then
+                    dom%bslot = [dom%bslot, asm%slot(j)]
+                    dom%bslot_mine = [dom%bslot_mine, r == rank]
+                end if
+            end do
+            if (sh%n == 0) cycle
+            do j = asm_sh%ptr(nd), asm_sh%ptr(nd + 1) - 1
+                r = shrank((asm_sh%slot(j) - 1)/4 + 1)
+                if (r /= arank(nd)) then
+                    dom%bshell = [dom%bshell, asm_sh%slot(j)]
+                    dom%bshell_mine = [dom%bshell_mine, r == rank]
+                end if
+            end do
+        end do
+
+        ! contact: each interface's slaves by coordinate bisection (slaves
+        ! whose lists go to the debug dump stay on rank 0, which writes it)
+        allocate (dom%nslave(nranks))
+        dom%nslave = 0
+        ct%distributed = dom%on
+        ct%nranks = nranks
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                deallocate (xc, w)
+                if (allocated(spart)) deallocate (spart)
+                allocate (xc(3, s%nslave), w(s%nslave), spart(s%nslave))
+                do k = 1, s%nslave
+                    xc(:, k) = x0(:, s%node(s%slave(k)))
+                end do
+                w = 1
+                call rcb_partition(xc, w, nranks, spart)
+                spart = spart - 1
+                if (allocated(it%dump)) spart(it%dump) = 0
+                it%owned = spart == rank
+                it%mine = where_true(it%owned)
+                do r = 1, nranks
+                    dom%nslave(r) = dom%nslave(r) + count(spart == r - 1)
+                end do
+            end associate
+        end do
+    contains
+        subroutine seen(nd, r)
+            integer, intent(in) :: nd, r
+            if (arank(nd) < 0) then
+                arank(nd) = r
+            else if (arank(nd) /= r) then
+                multi(nd) = .true.
+            end if
+        end subroutine seen
+    end subroutine build_domain
+
+    !> Log lines: the ranks' shares of the work and the halo.
+    function domain_summary(dom) result(txt)
+        type(domain_t), intent(in) :: dom
+        character(len=:), allocatable :: txt
+        character(len=200) :: buf
+        integer :: r
+        txt = ' d o m a i n   d e c o m p o s i t i o n   ('//itoa(dom%nranks)// &
+              ' MPI ranks, recursive coordinate bisection)'//new_line('a')// &
+              '   rank   element cost   cost / mean   slave nodes'//new_line('a')
+        do r = 1, dom%nranks
+            write (buf, '(i7,f15.1,f14.3,i14)') r - 1, dom%cost(r), dom%cost(r)/max(sum(dom%cost)/dom%nranks, &
+                                                                                   tiny(1.0_dp)), dom%nslave(r)
+            txt = txt//trim(buf)//new_line('a')
+        end do
+        write (buf, '(a,i0,a,i0,a,i0,a)') '   halo: ', dom%nhalo, ' nodes on more than one rank; ', &
+            size(dom%bslot) + size(dom%bshell), ' force slots exchanged a cycle; nodal forces shared: ', &
+            3*size(dom%node_mine), ' values a cycle'
+        txt = txt//trim(buf)
+    end function domain_summary
+
+    !> Halo exchange: the force (and moment) slots that other ranks' nodes
+    !> need, from the ranks that computed them.
+    subroutine share_slots(dom, solids, sh)
+        type(domain_t), intent(in) :: dom
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        real(wp), allocatable :: buf(:, :)
+        integer :: nb, ns, i
+        nb = size(dom%bslot)
+        ns = size(dom%bshell)
+        if (nb + ns == 0) return
+        allocate (buf(3, nb + 2*ns))
+        buf = 0
+        do i = 1, nb
+            if (dom%bslot_mine(i)) buf(:, i) = solids%fslot(:, dom%bslot(i))
+        end do
+        do i = 1, ns
+            if (.not. dom%bshell_mine(i)) cycle
+            buf(:, nb + i) = sh%fslot(:, dom%bshell(i))
+            buf(:, nb + ns + i) = sh%mslot(:, dom%bshell(i))
+        end do
+        call comm_sum_wp(buf, size(buf))
+        do i = 1, nb
+            solids%fslot(:, dom%bslot(i)) = buf(:, i)
+        end do
+        do i = 1, ns
+            sh%fslot(:, dom%bshell(i)) = buf(:, nb + i)
+            sh%mslot(:, dom%bshell(i)) = buf(:, nb + ns + i)
+        end do
+    end subroutine share_slots
+
+    !> a(:, node) from the node's assembling rank on every rank (exact).
+    subroutine sum_nodes(dom, a)
+        type(domain_t), intent(in) :: dom
+        real(wp), contiguous, intent(inout) :: a(:, :)
+        integer :: nd
+        !$omp parallel do schedule(static)
+        do nd = 1, size(a, 2)
+            if (.not. dom%node_mine(nd)) a(:, nd) = 0
+        end do
+        !$omp end parallel do
+        call comm_sum_wp(a, size(a))
+    end subroutine sum_nodes
+
+    !> The element energies (and shell thicknesses) from their ranks, for
+    !> glstat and matsum.
+    subroutine gather_energy_state(dom, solids, sh)
+        type(domain_t), intent(in) :: dom
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        if (.not. dom%on) return
+        call merge_dp(solids%eint, 1, dom%solid_mine)
+        call merge_dp(solids%ehg, 1, dom%solid_mine)
+        call merge_dp(solids%pend_int, 1, dom%solid_mine)
+        call merge_dp(solids%pend_hg, 1, dom%solid_mine)
+        if (sh%n == 0) return
+        call merge_dp(sh%eint, 1, dom%shell_mine)
+        call merge_dp(sh%ehg, 1, dom%shell_mine)
+        call merge_dp(sh%pend_int, 1, dom%shell_mine)
+        call merge_dp(sh%pend_hg, 1, dom%shell_mine)
+        call merge_wp(sh%h, 1, dom%shell_mine)
+    end subroutine gather_energy_state
+
+    !> All element state from the elements' ranks: for d3plot and the dump.
+    subroutine gather_element_state(dom, solids, sh)
+        type(domain_t), intent(in) :: dom
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        if (.not. dom%on) return
+        call gather_energy_state(dom, solids, sh)
+        call merge_wp(solids%sig, 6, dom%solid_mine)
+        call merge_wp(solids%vol, 1, dom%solid_mine)
+        call merge_wp(solids%qhg, 12, dom%solid_mine)
+        call merge_wp(solids%qbv, 1, dom%solid_mine)
+        if (size(solids%epsp) > 0) then
+            call merge_wp(solids%epsp, 1, dom%solid_mine)
+            call merge_wp(solids%alpha, 6, dom%solid_mine)
+        end if
+        if (sh%n == 0) return
+        call merge_wp(sh%sig, 50, dom%shell_mine)
+        call merge_wp(sh%qhg, 5, dom%shell_mine)
+        call merge_wp(sh%epsp, 10, dom%shell_mine)
+        call merge_wp(sh%alpha, 60, dom%shell_mine)
+    end subroutine gather_element_state
+
+    !> a holds `stride` values per element: element e's are entries
+    !> stride (e-1) + 1 .. stride e (the solids' group blocks hold the same
+    !> entries, since a group is one rank's whole). Other ranks' elements are
+    !> zeroed, then the ranks' arrays summed.
+    subroutine merge_wp(a, stride, mine)
+        real(wp), intent(inout) :: a(*)
+        integer, intent(in) :: stride
+        logical, intent(in) :: mine(:)
+        integer :: e
+        do e = 1, size(mine)
+            if (.not. mine(e)) a(stride*(e - 1) + 1:stride*e) = 0
+        end do
+        call comm_sum_wp(a, stride*size(mine))
+    end subroutine merge_wp
+
+#ifdef XD_SINGLE
+    subroutine merge_dp(a, stride, mine)
+        real(dp), intent(inout) :: a(*)
+        integer, intent(in) :: stride
+        logical, intent(in) :: mine(:)
+        integer :: e
+        do e = 1, size(mine)
+            if (.not. mine(e)) a(stride*(e - 1) + 1:stride*e) = 0
+        end do
+        call comm_sum_dp(a(1:stride*size(mine)))
+    end subroutine merge_dp
+#else
+    subroutine merge_dp(a, stride, mine)
+        real(dp), intent(inout) :: a(*)
+        integer, intent(in) :: stride
+        logical, intent(in) :: mine(:)
+        call merge_wp(a, stride, mine)
+    end subroutine merge_dp
+#endif
+
+end module xd_solver_domain
