@@ -181,7 +181,7 @@ program xdyna
         end if
         call finish(exit_normal)
     end if
-    call build_domain(st%x0, solids, sh, asm, asm_sh, ct, env%rank, env%nranks, dom)
+    call build_domain(model, st%x0, solids, sh, asm, asm_sh, ct, env%rank, env%nranks, dom)
     if (dom%on) call log_line(lg, domain_summary(dom))
     call log_line(lg, model_summary(model, solids, rg%n))
     if (ct%n > 0) then

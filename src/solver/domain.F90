@@ -31,6 +31,7 @@ module xd_solver_domain
     use xd_contact_contact, only: contacts_t
     use xd_core_sorting, only: where_true
     use xd_core_strings, only: itoa
+    use xd_model, only: model_t
     implicit none
     private
     public :: domain_t, build_domain, domain_summary, share_slots, sum_nodes, gather_energy_state, gather_element_state
@@ -49,6 +50,7 @@ module xd_solver_domain
         integer :: nhalo = 0                  !< nodes with elements on more than one rank
         real(dp), allocatable :: cost(:)      !< element cost per rank
         integer, allocatable :: nslave(:)     !< slave nodes per rank (all interfaces)
+        character(len=:), allocatable :: parts_text(:)   !< per rank: the part ids of its elements
     end type domain_t
 
 contains
@@ -56,7 +58,8 @@ contains
     !> Split the work of the model over `nranks` ranks; this is rank `rank`.
     !> Sets the element groups' and shells' ownership and each interface's
     !> own slave nodes.
-    subroutine build_domain(x0, solids, sh, asm, asm_sh, ct, rank, nranks, dom)
+    subroutine build_domain(model, x0, solids, sh, asm, asm_sh, ct, rank, nranks, dom)
+        type(model_t), intent(in) :: model
         real(wp), intent(in) :: x0(:, :)
         type(solids_t), intent(inout) :: solids
         type(shells_t), intent(inout) :: sh
@@ -100,6 +103,7 @@ contains
             dom%cost(part(i) + 1) = dom%cost(part(i) + 1) + w(i)
         end do
         solids%active = grank == rank
+        call list_parts()
         allocate (dom%solid_mine(solids%n))
         do g = 1, solids%ngroup
             dom%solid_mine(solids%group(g)%first:solids%group(g)%last) = grank(g) == rank
@@ -177,6 +181,28 @@ contains
             end associate
         end do
     contains
+        !> Per rank, the ids of the parts it has elements of.
+        subroutine list_parts()
+            logical :: on(model%npart, nranks)
+            character(len=12*model%npart + 8) :: t(nranks)
+            integer :: p, q
+            on = .false.
+            do q = 1, solids%ngroup
+                on(solids%group(q)%part, grank(q) + 1) = .true.
+            end do
+            do q = 1, sh%n
+                on(sh%part(q), shrank(q) + 1) = .true.
+            end do
+            do q = 1, nranks
+                t(q) = ''
+                do p = 1, model%npart
+                    if (on(p, q)) t(q) = trim(t(q))//' '//itoa(model%part(p)%id)
+                end do
+                if (len_trim(t(q)) == 0) t(q) = ' none'
+            end do
+            dom%parts_text = t
+        end subroutine list_parts
+
         subroutine seen(nd, r)
             integer, intent(in) :: nd, r
             if (arank(nd) < 0) then
@@ -195,11 +221,11 @@ contains
         integer :: r
         txt = ' d o m a i n   d e c o m p o s i t i o n   ('//itoa(dom%nranks)// &
               ' MPI ranks, recursive coordinate bisection)'//new_line('a')// &
-              '   rank   element cost   cost / mean   slave nodes'//new_line('a')
+              '   rank   element cost   cost / mean   slave nodes   parts'//new_line('a')
         do r = 1, dom%nranks
-            write (buf, '(i7,f15.1,f14.3,i14)') r - 1, dom%cost(r), dom%cost(r)/max(sum(dom%cost)/dom%nranks, &
-                                                                                   tiny(1.0_dp)), dom%nslave(r)
-            txt = txt//trim(buf)//new_line('a')
+            write (buf, '(i7,f15.1,f14.3,i14,3x)') r - 1, dom%cost(r), dom%cost(r)/max(sum(dom%cost)/dom%nranks, &
+                                                                                      tiny(1.0_dp)), dom%nslave(r)
+            txt = txt//trim(buf)//'  '//trim(dom%parts_text(r)(1:min(len_trim(dom%parts_text(r)), 120)))//new_line('a')
         end do
         write (buf, '(a,i0,a,i0,a,i0,a)') '   halo: ', dom%nhalo, ' nodes on more than one rank; ', &
             size(dom%bslot) + size(dom%bshell), ' force slots exchanged a cycle; nodal forces shared: ', &
