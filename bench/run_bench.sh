@@ -113,3 +113,29 @@ awk -v t1="$(grep '  total' $out/d3hsp | awk '{print $NF}')" '
     /element processing/ {el2 = $3}
     /contact local search/ {ls2 = $4}
     END {printf "bench: threads: tubes %.2f s on 1 thread, %.2f s on 2: speed-up %.2fx (elements %.2f s, local search %.2f s on 2)\n", t1, t2, t1 / t2, el2, ls2}' $out2/d3hsp
+
+# ranks: the same two decks on 2 MPI ranks of one thread (bitwise the same
+# results as one rank). The d3hsp of rank 0 splits the MPI time: the halo
+# exchange (force slots of elements on the other rank, then the nodal forces
+# and moments), the contact exchange (the contacts each rank's slaves found)
+# and the wait at the cycle's first collective (the other rank's elements
+# not done: load imbalance)
+mpi="mpirun --allow-run-as-root --oversubscribe -np 2 -x OMP_NUM_THREADS=1"
+out2=$dir/shell_r2
+rm -rf $out2
+OMP_NUM_THREADS=1 $mpi ./bin/xdyna i=$sdeck outdir=$out2 > /dev/null
+awk -v med=$med -v n=100000 -v c=$scycles '
+    /time per zone cycle/ {zone = $NF}
+    /MPI halo exchange/ {halo = $4}
+    /MPI wait/ {wait = $4}
+    /  total/ {tot = $NF}
+    END {printf "bench: ranks: shells %s ns per element-cycle on 1 rank (median), %s on 2: speed-up %.2fx; halo exchange %.1f%% of the run (%.0f us a cycle), wait %.1f%%\n", med, zone, med / zone, 100 * halo / tot, 1e6 * halo / c, 100 * wait / tot}' $out2/d3hsp
+out2=$dir/tubes_r2
+rm -rf $out2
+OMP_NUM_THREADS=1 $mpi ./bin/xdyna i=$tdeck outdir=$out2 > /dev/null
+awk -v t1="$(grep '  total' $out/d3hsp | awk '{print $NF}')" -v c=$tcycles '
+    /  total/ {t2 = $NF}
+    /MPI halo exchange/ {halo = $4}
+    /MPI contact exchange/ {ghost = $4}
+    /MPI wait/ {wait = $4}
+    END {printf "bench: ranks: tubes %.2f s on 1 rank, %.2f s on 2: speed-up %.2fx; halo exchange %.1f%% (%.0f us a cycle), contact exchange %.1f%% (%.0f us a cycle), wait %.1f%%\n", t1, t2, t1 / t2, 100 * halo / t2, 1e6 * halo / c, 100 * ghost / t2, 1e6 * ghost / c, 100 * wait / t2}' $out2/d3hsp

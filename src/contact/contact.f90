@@ -96,6 +96,7 @@ module xd_contact_contact
         integer :: dt_node = 0                !< the node that sets it
         logical :: distributed = .false.      !< slaves split over MPI ranks: contacts are gathered
         integer :: nranks = 1
+        real(dp) :: wall_gather = 0           !< seconds gathering the ranks' contacts
     end type contacts_t
 
 contains
@@ -429,6 +430,7 @@ contains
         real(wp), intent(in) :: mass(:), free(:, :)
         integer :: i, k, j, sn, m, q, nlate, i2
         real(wp) :: vrel(3), kpen, meff, mm, fs(3), reach, plate
+        real(dp) :: t0
         ct%fnode = 0
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
@@ -540,7 +542,11 @@ contains
                 it%nlate = it%nlate + nlate
                 it%plate = max(it%plate, plate)
                 ! MPI: the contacts the other ranks' slaves found
-                if (ct%distributed) call gather_contacts(it, ct%nranks)
+                if (ct%distributed) then
+                    t0 = wtime()
+                    call gather_contacts(it, ct%nranks)
+                    ct%wall_gather = ct%wall_gather + (wtime() - t0)
+                end if
                 do k = 1, s%nslave
                     if (.not. it%hit(k)%found) cycle
                     it%npair = it%npair + 1

@@ -10,7 +10,7 @@ module xd_core_comm
     use xd_kinds, only: wp, dp
     implicit none
     private
-    public :: comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max, comm_gather_small, comm_gather_records
+    public :: comm_gather_wp, comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max, comm_gather_small, comm_gather_records
 
 contains
 
@@ -35,6 +35,15 @@ contains
         integer, intent(inout) :: a(*)
         if (n > 0) call MPI_Allreduce(MPI_IN_PLACE, a(1:n), n, MPI_INTEGER, MPI_SUM, MPI_COMM_WORLD)
     end subroutine comm_sum_int
+
+    !> all = every rank's `mine`, rank after rank (rank r - 1 gives cnt(r)
+    !> values at offset disp(r)).
+    subroutine comm_gather_wp(mine, n, all, cnt, disp)
+        integer, intent(in) :: n, cnt(:), disp(:)
+        real(wp), intent(in) :: mine(*)
+        real(wp), intent(inout) :: all(*)
+        call MPI_Allgatherv(mine(1:max(n, 1)), n, wp_type(), all(1:sum(cnt)), cnt, disp, wp_type(), MPI_COMM_WORLD)
+    end subroutine comm_gather_wp
 
     !> In-place sum over the ranks of a(:) in double precision.
     subroutine comm_sum_dp(a)

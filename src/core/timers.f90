@@ -5,16 +5,17 @@ module xd_core_timers
     private
     public :: timers_t, nphase, phase_name
     public :: ph_input, ph_init, ph_elements, ph_assembly, ph_integrate, ph_contact, &
-              ph_rigid, ph_output, ph_comm, ph_search, ph_local, ph_enforce
+              ph_rigid, ph_output, ph_comm, ph_search, ph_local, ph_enforce, ph_ghost, ph_wait
 
     integer, parameter :: ph_input = 1, ph_init = 2, ph_elements = 3, ph_assembly = 4, &
                           ph_integrate = 5, ph_contact = 6, ph_rigid = 7, ph_output = 8, &
                           ph_comm = 9, ph_search = 10, ph_local = 11, ph_enforce = 12, &
-                          nphase = 12
+                          ph_ghost = 13, ph_wait = 14, nphase = 14
     character(len=24), parameter :: phase_name(nphase) = [character(len=24) :: &
         'input and checks', 'initialization', 'element processing', 'force assembly', &
-        'time integration', 'rigid walls', 'rigid bodies', 'output', 'communication', &
-        'contact global search', 'contact local search', 'contact enforcement']
+        'time integration', 'rigid walls', 'rigid bodies', 'output', 'MPI halo exchange', &
+        'contact global search', 'contact local search', 'contact enforcement', 'MPI contact exchange', &
+        'MPI wait (imbalance)']
 
     type :: timers_t
         real(dp) :: wall(nphase) = 0.0_dp
@@ -27,6 +28,7 @@ module xd_core_timers
         procedure :: stop => timer_stop
         procedure :: elapsed => timer_elapsed
         procedure :: begin => timer_begin
+        procedure :: move => timer_move
     end type timers_t
 
 contains
@@ -51,6 +53,17 @@ contains
         self%wall(ph) = self%wall(ph) + real(now - self%wall_start(ph), dp)/real(rate, dp)
         self%cpu(ph) = self%cpu(ph) + real(c, dp) - self%cpu_start(ph)
     end subroutine timer_stop
+
+    !> Book `seconds` of phase `from` (measured inside it) to phase `to`.
+    subroutine timer_move(self, from, to, seconds)
+        class(timers_t), intent(inout) :: self
+        integer, intent(in) :: from, to
+        real(dp), intent(in) :: seconds
+        self%wall(from) = self%wall(from) - seconds
+        self%wall(to) = self%wall(to) + seconds
+        self%cpu(from) = self%cpu(from) - seconds
+        self%cpu(to) = self%cpu(to) + seconds
+    end subroutine timer_move
 
     !> Start the wall clock of elapsed() now (the program's first statement,
     !> so that it counts the parallel start-up too).

@@ -4,7 +4,7 @@ module xd_output_d3hsp
     use xd_kinds, only: wp, dp
     use xd_core_strings, only: itoa, join_path
     use xd_core_timers, only: timers_t, nphase, phase_name, ph_elements, ph_assembly, ph_integrate, &
-                              ph_contact, ph_output, ph_search, ph_local, ph_enforce
+                              ph_contact, ph_output, ph_search, ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, hg_stiffness
     use xd_output_histories, only: version_line
@@ -174,12 +174,13 @@ contains
         call log_line(lg, trim(buf))
         loop_wall = tm%wall(ph_elements) + tm%wall(ph_assembly) + tm%wall(ph_integrate) + &
                     tm%wall(ph_contact) + tm%wall(ph_search) + tm%wall(ph_local) + tm%wall(ph_enforce) + &
-                    tm%wall(ph_output)
+                    tm%wall(ph_output) + tm%wall(ph_comm) + tm%wall(ph_ghost) + tm%wall(ph_wait)
         ns = 0
         if (ncycle > 0 .and. nelem > 0) ns = 1.0e9_dp*loop_wall/(real(ncycle, dp)*nelem)
         call log_line(lg, '')
         write (buf, '(a,f6.1,a)') '   contact share of the time loop ....... ', &
-            100.0_dp*(tm%wall(ph_contact) + tm%wall(ph_search) + tm%wall(ph_local) + tm%wall(ph_enforce))/ &
+            100.0_dp*(tm%wall(ph_contact) + tm%wall(ph_search) + tm%wall(ph_local) + tm%wall(ph_enforce) + &
+                      tm%wall(ph_ghost))/ &
             max(loop_wall, 1.0e-12_dp), ' %'
         call log_line(lg, trim(buf))
         write (buf, '(a,i12)') '   cycles ............................... ', ncycle

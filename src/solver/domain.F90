@@ -24,7 +24,7 @@
 module xd_solver_domain
     use xd_kinds, only: wp, dp
     use xd_core_partition, only: rcb_partition
-    use xd_core_comm, only: comm_sum_wp, comm_sum_dp
+    use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_shell_bt, only: shells_t
     use xd_solver_assembly, only: assembly_t
@@ -34,12 +34,14 @@ module xd_solver_domain
     use xd_model, only: model_t
     implicit none
     private
-    public :: domain_t, build_domain, domain_summary, share_slots, sum_nodes, gather_energy_state, gather_element_state
+    public :: domain_t, build_domain, domain_summary, share_slots, share_nodes, gather_energy_state, gather_element_state
 
     type :: domain_t
         integer :: rank = 0, nranks = 1
         logical :: on = .false.               !< more than one rank
         integer, allocatable :: nodes(:)      !< nodes this rank assembles
+        integer, allocatable :: by_rank(:)    !< every node, rank 0's first, then rank 1's, ...
+        integer, allocatable :: ncount(:), noff(:)   !< per rank: its nodes' count and offset in by_rank
         logical, allocatable :: node_mine(:)
         logical, allocatable :: solid_mine(:) !< per solid element: its group is this rank's
         logical, allocatable :: shell_mine(:)
@@ -132,6 +134,12 @@ contains
         dom%nhalo = count(multi)
         dom%node_mine = arank == rank
         dom%nodes = where_true(dom%node_mine)
+        allocate (dom%by_rank(0), dom%ncount(nranks), dom%noff(nranks))
+        do r = 1, nranks
+            dom%noff(r) = size(dom%by_rank)
+            dom%by_rank = [dom%by_rank, where_true(arank == r - 1)]
+            dom%ncount(r) = size(dom%by_rank) - dom%noff(r)
+        end do
         ! the halo slots: on a node that another rank assembles
         dom%bslot = [integer ::]
         dom%bshell = [integer ::]
@@ -264,18 +272,37 @@ contains
         end do
     end subroutine share_slots
 
-    !> a(:, node) from the node's assembling rank on every rank (exact).
-    subroutine sum_nodes(dom, a)
+    !> f(:, node) (and m(:, node)) from the node's assembling rank, on every
+    !> rank: each rank packs its nodes' values, all ranks gather them.
+    subroutine share_nodes(dom, f, m)
         type(domain_t), intent(in) :: dom
-        real(wp), contiguous, intent(inout) :: a(:, :)
-        integer :: nd
-        !$omp parallel do schedule(static)
-        do nd = 1, size(a, 2)
-            if (.not. dom%node_mine(nd)) a(:, nd) = 0
+        real(wp), contiguous, intent(inout) :: f(:, :)
+        real(wp), contiguous, intent(inout), optional :: m(:, :)
+        real(wp), allocatable :: mine(:, :), all(:, :)
+        integer :: w, i, nd, r
+        w = 3
+        if (present(m)) w = 6
+        allocate (mine(w, max(size(dom%nodes), 1)), all(w, size(dom%by_rank)))
+        !$omp parallel do schedule(static) private(nd)
+        do i = 1, size(dom%nodes)
+            nd = dom%nodes(i)
+            mine(1:3, i) = f(:, nd)
+            if (w == 6) mine(4:6, i) = m(:, nd)
         end do
         !$omp end parallel do
-        call comm_sum_wp(a, size(a))
-    end subroutine sum_nodes
+        call comm_gather_wp(mine, w*size(dom%nodes), all, w*dom%ncount, w*dom%noff)
+        ! the other ranks' nodes (this rank's are in place)
+        do r = 1, dom%nranks
+            if (r == dom%rank + 1) cycle
+            !$omp parallel do schedule(static) private(nd)
+            do i = dom%noff(r) + 1, dom%noff(r) + dom%ncount(r)
+                nd = dom%by_rank(i)
+                f(:, nd) = all(1:3, i)
+                if (w == 6) m(:, nd) = all(4:6, i)
+            end do
+            !$omp end parallel do
+        end do
+    end subroutine share_nodes
 
     !> The element energies (and shell thicknesses) from their ranks, for
     !> glstat and matsum.

@@ -7,7 +7,7 @@ module xd_solver_time_loop
     use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run, exit_signal
     use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid, &
-                                  ph_search, ph_local, ph_enforce, ph_comm
+                                  ph_search, ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, solid_forces
     use xd_solver_state, only: state_t
@@ -28,7 +28,7 @@ module xd_solver_time_loop
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     use xd_rigid_bodies, only: rigid_t, rigid_step
     use xd_elements_shell_bt, only: shells_t, shell_forces
-    use xd_solver_domain, only: domain_t, share_slots, sum_nodes, gather_energy_state, gather_element_state
+    use xd_solver_domain, only: domain_t, share_slots, share_nodes, gather_energy_state, gather_element_state
     use xd_core_comm, only: comm_gather_small, comm_max
     implicit none
     private
@@ -78,7 +78,7 @@ contains
         real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :)
         real(wp) :: dtc, g_new(3)
         real(dp) :: dt_avg, wpm
-        real(dp) :: t_last_progress, ratio_limit, t0_wall, t_dump
+        real(dp) :: t_last_progress, ratio_limit, t0_wall, t_dump, t_gather
         logical :: done, due, energy_now, dumped_end, near_limit, status_now
         integer :: nd, cycle0, stop_sig
 
@@ -147,8 +147,10 @@ contains
                 call contact_local_search(ct, st%x, st%v, st%time)
                 call tm%stop(ph_local)
                 call tm%start(ph_enforce)
+                t_gather = ct%wall_gather
                 call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%free)
                 call tm%stop(ph_enforce)
+                if (dom%on) call tm%move(ph_enforce, ph_ghost, ct%wall_gather - t_gather)
                 call tm%start(ph_integrate)
             end if
             call accelerations()
@@ -318,9 +320,11 @@ contains
                 end if
             end if
             if (dom%on) then
-                call tm%start(ph_comm)
+                ! the cycle's first collective: the time here is mostly the
+                ! wait for the slowest rank's elements
+                call tm%start(ph_wait)
                 call reduce_step(dtcrit, bad_kind, bad)
-                call tm%stop(ph_comm)
+                call tm%stop(ph_wait)
             end if
             select case (bad_kind)
             case (1)
@@ -355,8 +359,11 @@ contains
                 end if
                 call tm%stop(ph_assembly)
                 call tm%start(ph_comm)
-                call sum_nodes(dom, st%f)
-                if (sh%n > 0) call sum_nodes(dom, st%mom)
+                if (sh%n > 0) then
+                    call share_nodes(dom, st%f, st%mom)
+                else
+                    call share_nodes(dom, st%f)
+                end if
                 call tm%stop(ph_comm)
                 return
             end if
