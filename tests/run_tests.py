@@ -1188,6 +1188,18 @@ def test_mpi():
         else (False, (p2.stderr + p3.stderr)[-300:])
     record("MPI restart: dumped on 2 ranks at T/2, restarted on 4 to T, gives the serial run to T bitwise", ok, msg)
 
+    # batch under MPI: the wall-clock guard stops every rank at the same cycle
+    # with a dump (exit 3; the ranks take the largest of their flags each
+    # cycle); the restart on 2 ranks ends as the uninterrupted serial run
+    deck = os.path.join(ROOT, "input_decks/contact/tube_crush.k")
+    p0, serial = run_deck("input_decks/contact/tube_crush.k", "mpi_wc_serial")
+    out = os.path.join(TMP, "mpi_wc")
+    p1 = mpirun(2, ["i=" + deck, "outdir=" + out, "wallclock=1.5"])
+    p2 = mpirun(2, ["r=" + os.path.join(out, "d3dump.h5")]) if p1.returncode == 3 else p1
+    ok, msg = same_histories(serial, out) if p2.returncode == 0 and p0.returncode == 0 else (False, p1.stderr[-300:])
+    record("MPI wall-clock stop: 2 ranks stop together with a dump (exit 3), the restart on 2 ranks ends as the "
+           "serial run, bitwise", p1.returncode == 3 and ok, f"rc={p1.returncode} {msg}")
+
     # errors under MPI: an input error is reported once, exit 1; a run gone
     # bad stops every rank with exit 2 and the diagnostic
     p = mpirun(2, ["i=" + os.path.join(ROOT, "tests/decks/malformed/bad_number.k"),
