@@ -196,10 +196,12 @@ contains
             ep = 0
             sig = 0
             vm = 0
+            !$omp parallel do schedule(static)
             do e = 1, solids%n
                 sig(:, e) = solids%stress(e)
                 vm(e) = von_mises(sig(:, e))
             end do
+            !$omp end parallel do
             if (size(solids%epsp) > 0) ep(1:solids%n) = solids%epsp
             call put_real2(g, 'solid_stress', sig)
             call put_real1(g, 'solid_von_mises', vm)
@@ -212,6 +214,8 @@ contains
             vm = 0
             ep = 0
             th(sh%n + 1:) = s%rshell_t
+            ! each element writes its own entries: threaded, the same result
+            !$omp parallel do schedule(static) private(q2, sg, ip, w, r, ok)
             do e = 1, sh%n
                 q2 = 0
                 ep(e) = 0
@@ -235,6 +239,7 @@ contains
                 sig(:, e) = to_global(sg, r)
                 th(e) = sh%h(e)
             end do
+            !$omp end parallel do
             call put_real2(g, 'shell_stress', sig)
             call put_real1(g, 'shell_von_mises', vm)
             call put_real1(g, 'shell_plastic_strain', ep)
