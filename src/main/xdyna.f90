@@ -31,7 +31,6 @@ program xdyna
     use xd_solver_restart, only: dump_meta_t, read_dump_meta, read_dump, build_tag, dump_format
     use xd_core_signals, only: signals_install
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
-    use xd_solver_decomposition, only: decomposition_report
     use xd_solver_domain, only: domain_t, build_domain, domain_summary
     use xd_contact_contact, only: gather_contact_state, scatter_contact_state
     !$ use omp_lib, only: omp_set_num_threads
@@ -176,7 +175,11 @@ program xdyna
     if (check_only) then
         if (env%rank == 0) then
             write (output_unit, '(a)') model_summary(model, solids, rg%n)
-            if (nparts > 0) write (output_unit, '(a)') decomposition_report(model, nparts)
+            if (nparts > 0) then
+                ! the decomposition a run on nparts ranks makes
+                call build_domain(model, st%x0, solids, sh, asm, asm_sh, ct, 0, nparts, dom)
+                write (output_unit, '(a)') domain_summary(dom)
+            end if
             write (output_unit, '(a)') ' xdyna --check: input is valid; nothing was run'
         end if
         call finish(exit_normal)
@@ -336,7 +339,7 @@ contains
         write (output_unit, '(a)') &
             'usage: xdyna i=deck.k [outdir=DIR] [endtim=T] [ncpu=N] [unsupported=error|warn]', &
             '       xdyna --check i=deck.k    read and validate the deck, print the model summary, run nothing', &
-            '       xdyna --check i=deck.k parts=N   also the domain decomposition N MPI ranks would use', &
+            '       xdyna --check i=deck.k parts=N   also the domain decomposition a run on N MPI ranks makes', &
             '       xdyna --help | --version', &
             '       mpirun -np N xdyna i=deck.k', &
             '', &

@@ -235,9 +235,12 @@ contains
                                                                                       tiny(1.0_dp)), dom%nslave(r)
             txt = txt//trim(buf)//'  '//trim(dom%parts_text(r)(1:min(len_trim(dom%parts_text(r)), 120)))//new_line('a')
         end do
-        write (buf, '(a,i0,a,i0,a,i0,a)') '   halo: ', dom%nhalo, ' nodes on more than one rank; ', &
-            size(dom%bslot) + size(dom%bshell), ' force slots exchanged a cycle; nodal forces shared: ', &
-            3*size(dom%node_mine), ' values a cycle'
+        write (buf, '(a,f8.3,a,i0,a,i0,a)') '   largest cost / mean ', &
+            maxval(dom%cost)/max(sum(dom%cost)/dom%nranks, tiny(1.0_dp)), '; nodes on rank boundaries ', &
+            dom%nhalo, ' of ', size(dom%node_mine), ' (the halo)'
+        txt = txt//trim(buf)//new_line('a')
+        write (buf, '(a,i0,a)') '   halo exchange a cycle: ', size(dom%bslot) + size(dom%bshell), &
+            ' force slots, then every rank''s nodal forces to all (the nodal state is on every rank)'
         txt = txt//trim(buf)
     end function domain_summary
 
