@@ -140,28 +140,13 @@ contains
             dom%by_rank = [dom%by_rank, where_true(arank == r - 1)]
             dom%ncount(r) = size(dom%by_rank) - dom%noff(r)
         end do
-        ! the halo slots: on a node that another rank assembles
-        dom%bslot = [integer ::]
-        dom%bshell = [integer ::]
-        allocate (dom%bslot_mine(0), dom%bshell_mine(0))
-        do nd = 1, nnode
-            if (.not. multi(nd)) cycle
-            do j = asm%ptr(nd), asm%ptr(nd + 1) - 1
-                r = grank(solids%group_of((asm%slot(j) - 1)/8 + 1))
-                if (r /= arank(nd)) then
-                    dom%bslot = [dom%bslot, asm%slot(j)]
-                    dom%bslot_mine = [dom%bslot_mine, r == rank]
-                end if
-            end do
-            if (sh%n == 0) cycle
-            do j = asm_sh%ptr(nd), asm_sh%ptr(nd + 1) - 1
-                r = shrank((asm_sh%slot(j) - 1)/4 + 1)
-                if (r /= arank(nd)) then
-                    dom%bshell = [dom%bshell, asm_sh%slot(j)]
-                    dom%bshell_mine = [dom%bshell_mine, r == rank]
-                end if
-            end do
-        end do
+        ! the halo slots: those of elements on a node that another rank assembles
+        call halo_slots(8, solids%conn, grank(solids%group_of), dom%bslot, dom%bslot_mine)
+        if (sh%n > 0) then
+            call halo_slots(4, sh%conn, shrank, dom%bshell, dom%bshell_mine)
+        else
+            allocate (dom%bshell(0), dom%bshell_mine(0))
+        end if
 
         ! contact: each interface's slaves by coordinate bisection (slaves
         ! whose lists go to the debug dump stay on rank 0, which writes it)
@@ -210,6 +195,23 @@ contains
             end do
             dom%parts_text = t
         end subroutine list_parts
+
+        !> Slots (nen per element) whose element's rank is not its node's.
+        subroutine halo_slots(nen, conn, erank, list, mine)
+            integer, intent(in) :: nen, conn(:, :), erank(:)
+            integer, allocatable, intent(out) :: list(:)
+            logical, allocatable, intent(out) :: mine(:)
+            logical, allocatable :: halo(:)
+            integer :: e, k
+            allocate (halo(nen*size(erank)))
+            do e = 1, size(erank)
+                do k = 1, nen
+                    halo(nen*(e - 1) + k) = erank(e) /= arank(conn(k, e))
+                end do
+            end do
+            list = where_true(halo)
+            mine = erank((list - 1)/nen + 1) == rank
+        end subroutine halo_slots
 
         subroutine seen(nd, r)
             integer, intent(in) :: nd, r
