@@ -31,7 +31,7 @@ TEST_SRC := $(sort $(wildcard tests/unit/test_*.f90))
 
 flat = $(subst /,_,$(patsubst src/%,%,$(patsubst tests/%,tests_%,$(basename $(1))))).o
 
-.PHONY: all deps check demo bench debug clean verify tests examples
+.PHONY: all deps check demo bench debug clean verify tests examples stability
 all: bin/xdyna$(SUFFIX) bin/thdiff
 
 deps:
@@ -98,6 +98,10 @@ examples: deps
 verify: deps
 	@$(MAKE) --no-print-directory all
 	@$(PY) tools/verify.py
+
+stability: deps
+	@$(MAKE) --no-print-directory all
+	@$(PY) tools/stability.py
 
 bench: deps
 	@$(MAKE) --no-print-directory all bin/search_bench$(SUFFIX)

@@ -367,6 +367,31 @@ def rigid_spin(outdir):
     write(os.path.join(outdir, "verify", "rigid_spin.k"), lines)
 
 
+def rigid_block_wall(outdir, name, tilt):
+    """A *MAT_RIGID block (0.1 x 0.06 x 0.04 m, 4 x 3 x 2 hexahedra) falling
+    at 10 m/s onto a planar rigid wall at z = 0, its mesh turned by tilt[0]
+    about x and tilt[1] about y degrees (0, 0: the face lands flat; tilted:
+    a corner lands first and the body turns). The wall stops its nodes by
+    impulses on the body; every node's history is written."""
+    nodes, hexes = block_mesh(4, 3, 2, 0.1, 0.06, 0.04, origin=(-0.05, -0.03, -0.02))
+    ax, ay = (math.radians(t) for t in tilt)
+    out = {}
+    for k, (x, y, z) in nodes.items():
+        y, z = y * math.cos(ax) - z * math.sin(ax), y * math.sin(ax) + z * math.cos(ax)
+        x, z = x * math.cos(ay) + z * math.sin(ay), -x * math.sin(ay) + z * math.cos(ay)
+        out[k] = (x, y, z)
+    zmin = min(z for _, _, z in out.values())
+    nodes = {k: (x, y, z - zmin + 1.0e-3) for k, (x, y, z) in out.items()}
+    lines = common("rigid block on a planar rigid wall", 0.02, 1.0e-4)
+    lines = [x if x != f10(0.0, 0.9) else f10(1.0e-5, 0.9) for x in lines]
+    lines += ["*MAT_RIGID", f10(1, 7850.0, 210e9, 0.3)] + part(1, 1, "rigid block")
+    lines += ["*RIGIDWALL_PLANAR", f10(0), f10(0.0, 0.0, 0.0, 0.0, 0.0, 1.0)]
+    lines += ["*INITIAL_VELOCITY", f10(0), f10(0.0, 0.0, -10.0)]
+    lines += node_set(1, sorted(nodes)) + ["*DATABASE_NODOUT", f10(1.0e-4), "*DATABASE_HISTORY_NODE_SET", f10(1)]
+    lines += node_cards(nodes) + solid_cards(hexes, 1)
+    write(os.path.join(outdir, "verify", name + ".k"), lines)
+
+
 def rigid_shell_spin(outdir):
     """A *MAT_RIGID plate of shells (0.2 x 0.1 m, 2 mm) spinning torque-free
     about a non-principal axis: inertia from the shells (with the thickness
@@ -1158,6 +1183,8 @@ def main():
     taylor_bar(args.outdir, "taylor_bar_coarse", 3, 3, 36)
     taylor_bar(args.outdir, "taylor_bar_fine", 5, 5, 60)
     rigid_spin(args.outdir)
+    rigid_block_wall(args.outdir, "rigid_block_wall", (0.0, 0.0))
+    rigid_block_wall(args.outdir, "rigid_block_wall_corner", (30.0, 20.0))
     rod_with_rigid_mass(args.outdir)
     rigid_shell_spin(args.outdir)
     shell_warped_spin(args.outdir)

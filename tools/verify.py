@@ -66,8 +66,13 @@ def main():
             lines.append(f"| {title if k == 0 else ''} | {ref if k == 0 else ''} | {name} | "
                          f"{'yes' if ok else '**no**'} | {f'{wall:.1f}' if k == 0 else ''} |")
     lines += ["", f"{len(rt.results) - nfail} checks passed, {nfail} failed."]
-    with open(os.path.join(ROOT, "doc", "verification.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
+    # the stability summary (make stability) stays below its marker
+    doc = os.path.join(ROOT, "doc", "verification.md")
+    tail = ""
+    if os.path.exists(doc) and "<!-- stability -->" in open(doc).read():
+        tail = "\n<!-- stability -->" + open(doc).read().split("<!-- stability -->", 1)[1]
+    with open(doc, "w") as f:
+        f.write("\n".join(lines) + "\n" + tail)
     shutil.rmtree(rt.TMP, ignore_errors=True)
     print(f"verify: wrote doc/verification.md ({len(rt.results) - nfail} passed, {nfail} failed)")
     return 1 if nfail else 0

@@ -12,10 +12,11 @@ module xd_contact_rigidwall
     use xd_core_sorting, only: where_true
     implicit none
     private
-    public :: walls_t, build_walls, apply_walls, walls_kinetic
+    public :: walls_t, wall_nodes_t, build_walls, apply_walls, walls_kinetic, wall_distance
 
     type :: wall_nodes_t
         integer, allocatable :: node(:)     !< nodes the wall stops
+        logical, allocatable :: on(:)       !< per model node: in node(:)
         real(dp) :: shift = 0               !< moving wall: distance moved along the normal
         real(dp) :: vel = 0, vel_old = 0    !< moving wall: velocity along the normal
         real(dp) :: energy = 0              !< kinetic energy removed so far
@@ -53,6 +54,7 @@ contains
                     on(model%set(s)%member_ix) = .false.
                 end if
                 walls%w(i)%node = where_true(on)
+                walls%w(i)%on = on
                 walls%w(i)%vel = real(w%v0, dp)
                 walls%w(i)%vel_old = walls%w(i)%vel
             end associate
@@ -62,22 +64,27 @@ contains
     !> Correct the half-step velocities v(n+1/2) so that no node of a wall's
     !> list ends the step behind it; dt is the coming step, dt_avg the one the
     !> velocity update used (for the force).
-    subroutine apply_walls(model, walls, st, dt, dt_avg)
+    !> The walls on the nodes of deformable bodies; `body_node` marks the
+    !> nodes of rigid bodies, which take the walls' impulses as bodies
+    !> (xd_rigid_bodies).
+    subroutine apply_walls(model, walls, st, dt, dt_avg, body_node)
         type(model_t), intent(in) :: model
         type(walls_t), intent(inout) :: walls
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt, dt_avg
+        logical, intent(in) :: body_node(:)
         integer :: i
         do i = 1, walls%n
-            call apply_wall(model%wall(i), walls%w(i), st, dt, dt_avg)
+            call apply_wall(model%wall(i), walls%w(i), st, dt, dt_avg, body_node)
         end do
     end subroutine apply_walls
 
-    subroutine apply_wall(w, wn, st, dt, dt_avg)
+    subroutine apply_wall(w, wn, st, dt, dt_avg, body_node)
         type(rigidwall_t), intent(in) :: w
         type(wall_nodes_t), intent(inout) :: wn
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt, dt_avg
+        logical, intent(in) :: body_node(:)
         integer :: k, nd, nc
         real(wp) :: xn(3), dvn, vold(3), vprev(3), vt(3), vtn, cut
         real(dp) :: de, sum_m, sum_j, vw
@@ -98,7 +105,7 @@ contains
         do k = 1, size(wn%node)
             nd = wn%node(k)
             dall(k) = 0
-            if (st%mass(nd) <= 0.0_wp) cycle
+            if (st%mass(nd) <= 0.0_wp .or. body_node(nd)) cycle
             xn = st%x(:, nd) + dt*st%v(:, nd)
             call wall_distance(w, wn, xn, real(dt*wn%vel, wp), dall(k), hn(:, k))
         end do

@@ -5,7 +5,7 @@ program xdyna
     use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
     use xd_kinds, only: wp, dp
     use xd_core_errors, only: error_t, exit_normal, exit_input, exit_run, exit_signal
-    use xd_core_strings, only: to_lower, itoa
+    use xd_core_strings, only: to_lower, itoa, ftoa
     use xd_core_parallel_env, only: parallel_env_t, parallel_start, parallel_stop, terminate
     use xd_core_timers, only: timers_t, ph_input, ph_init
     use xd_input_deck_reader, only: read_deck, read_options_t
@@ -14,7 +14,7 @@ program xdyna
     use xd_input_model_check, only: check_model, id_maps_t
     use xd_input_keyword_table, only: skip_list_text
     use xd_model, only: model_t
-    use xd_elements_solid_groups, only: solids_t
+    use xd_elements_solid_groups, only: solids_t, stiff_volume_parts
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t
     use xd_solver_setup, only: setup_run
@@ -172,6 +172,15 @@ program xdyna
     call build_prescribed(model, pn)
     call build_pressures(model, pl)
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')
+    do i = 1, size(stiff_volume_parts(solids))
+        associate (p => model%part(stiff_volume_parts(solids)))
+            call add_warning(model, 'part '//itoa(p(i)%id)//' is nearly incompressible (nu '// &
+                             ftoa(real(model%mat(p(i)%mat_ix)%pr, dp))//') under viscous hourglass control '// &
+                             'with QM above 0.01: such parts can go unstable (a block at nu 0.499 on a rigid wall '// &
+                             'did at QM 0.05 and 0.1, not at QM 0.01 nor with IHQ 4; at nu 0.4999 it did with IHQ 4 '// &
+                             'too): a smaller QM, a stiffness form (*CONTROL_HOURGLASS, *HOURGLASS) or nu <= 0.499')
+        end associate
+    end do
     if (check_only) then
         if (env%rank == 0) then
             write (output_unit, '(a)') model_summary(model, solids, rg%n)

@@ -14,6 +14,7 @@ module xd_rigid_bodies
     use xd_model, only: model_t, mat_rigid, find_set, set_node, curve_value, constraint_dirs
     use xd_solver_state, only: state_t
     use xd_core_vectors, only: cross
+    use xd_contact_rigidwall, only: walls_t, wall_distance
     implicit none
     private
     public :: rigid_t, rigid_body_t, rigid_lumped_mass, build_rigid, rigid_step, rigid_energy, is_rigid_part
@@ -41,6 +42,7 @@ module xd_rigid_bodies
         integer :: n = 0
         type(rigid_body_t), allocatable :: b(:)
         logical, allocatable :: on(:)       !< node's mass belongs to a part-based rigid body
+        logical, allocatable :: member(:)   !< node of an active rigid body (it moves with it)
     end type rigid_t
 
 contains
@@ -232,6 +234,11 @@ contains
             call finish_body(rg%b(nb), jt, mark)
             if (allocated(error)) return
         end do
+        allocate (rg%member(st%nnode))
+        rg%member = .false.
+        do nb = 1, rg%n
+            rg%member(rg%b(nb)%node) = .true.
+        end do
         ! prescribed motions of rigid parts
         do nb = 1, rg%n
             allocate (rg%b(nb)%pres(0))
@@ -350,12 +357,13 @@ contains
     !> After the velocity update: force and torque from the nodal forces f(n)
     !> at x(n), new velocities, new placement; the nodes get chord velocities
     !> that bring them to their places on the body at t(n+1).
-    subroutine rigid_step(rg, model, st, dt, dt_avg, work)
+    subroutine rigid_step(rg, model, st, dt, dt_avg, work, walls)
         type(rigid_t), intent(inout) :: rg
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt, dt_avg
         real(dp), intent(out) :: work            !< work of the prescribed motions this cycle
+        type(walls_t), intent(inout) :: walls    !< rigid walls: they stop the bodies' nodes by impulses
         integer :: ib, k, i, it, j, ip
         real(dp) :: f(3), t(3), qm(3, 3), xn(3), h, ha, vpred(3), pipred(3), wfix(3), tt
         logical :: fixr(3)
@@ -369,6 +377,7 @@ contains
                 if (tt >= b%tfail) then
                     ! a spot weld lets go: its nodes carry on with the velocities they have
                     b%active = .false.
+                    rg%member(b%node) = .false.
                     cycle
                 end if
                 f = 0
@@ -420,6 +429,7 @@ contains
                 end do
                 work = work + b%mass*dot_product(b%vc - vpred, 0.5_dp*(b%vc_old + b%vc)) &
                        + dot_product(b%pi - pipred, 0.5_dp*(b%omega_old + b%omega))
+                if (walls%n > 0) call wall_impulses(b, qm, fixr, wfix)
                 b%q = matmul(cayley(h*b%omega), b%q)
                 b%xc = b%xc + h*b%vc
                 do k = 1, size(b%node)
@@ -430,6 +440,76 @@ contains
                 end do
             end associate
         end do
+    contains
+        !> Rigid walls on the body: a node that would end the step behind a
+        !> wall gets the normal impulse J >= 0 that brings it onto the wall,
+        !> through the body's effective mass there, 1 / (1/M + (r x n).I^-1
+        !> (r x n)) (and 1/M_wall for a moving wall); sequential sweeps over
+        !> the nodes until the impulses settle. Minus their work is the
+        !> wall's energy, J / dt_avg its force. Friction is not applied to
+        !> rigid bodies.
+        subroutine wall_impulses(b, qm, fixr, wfix)
+            type(rigid_body_t), intent(inout) :: b
+            real(dp), intent(in) :: qm(3, 3), wfix(3)
+            logical, intent(in) :: fixr(3)
+            integer :: iw, k, i, sweep
+            real(dp) :: r(3), vn, rn(3), den, dj, jsum, is(3, 3), jt(3), lt(3), de, vw0
+            real(wp) :: d, nrm(3), xp(3)
+            real(dp), allocatable :: jn(:)
+            allocate (jn(size(b%node)))
+            is = inertia(b, qm)
+            do iw = 1, walls%n
+                associate (w => model%wall(iw), wn => walls%w(iw))
+                    if (tt < w%birth .or. tt > w%death) cycle
+                    jn = 0
+                    jsum = 0
+                    jt = 0
+                    lt = 0
+                    vw0 = wn%vel
+                    do sweep = 1, 20
+                        dj = 0
+                        do k = 1, size(b%node)
+                            i = b%node(k)
+                            if (.not. wn%on(i)) cycle
+                            r = real(st%x(:, i), dp) - b%xc
+                            xp = real(real(st%x(:, i), dp) + h*(b%vc + cross(b%omega, r)), wp)
+                            call wall_distance(w, wn, xp, real(h*wn%vel, wp), d, nrm)
+                            if (d >= 0.0_wp .and. jn(k) == 0.0_dp) cycle
+                            rn = cross(r, real(nrm, dp))
+                            ! translation only in the body's free directions (the
+                            ! sweeps settle what fixed rotations leave out)
+                            den = sum(merge(real(nrm, dp)**2, 0.0_dp, .not. b%fix_t))/b%mass + &
+                                  dot_product(rn, solve3(is, rn))
+                            if (w%moving) den = den + 1.0_dp/w%mass
+                            ! the change that ends the node on the wall, J kept >= 0
+                            vn = -real(d, dp)/h
+                            vn = max(-jn(k), vn/max(den, tiny(1.0_dp)))
+                            if (vn == 0.0_dp) cycle
+                            jn(k) = jn(k) + vn
+                            jsum = jsum + vn
+                            dj = max(dj, abs(vn))
+                            b%vc = b%vc + vn*real(nrm, dp)/b%mass
+                            where (b%fix_t) b%vc = 0
+                            b%pi = b%pi + vn*rn
+                            jt = jt + vn*real(nrm, dp)
+                            lt = lt + vn*rn
+                            call constrained_omega(b, qm, fixr, wfix)
+                            if (w%moving) wn%vel = wn%vel - vn/w%mass
+                            wn%force = wn%force - real(vn*real(nrm, dp)/ha, wp)
+                        end do
+                        if (dj <= 1.0e-12_dp*max(maxval(abs(jn)), tiny(1.0_dp))) exit
+                    end do
+                    if (jsum == 0.0_dp) cycle
+                    ! the impulses' work by the rule every force follows: with
+                    ! the mean of the velocities before and after the step
+                    ! (v(n-1/2), v(n+1/2)); a moving wall gets what it gains
+                    de = -dot_product(jt, 0.5_dp*(b%vc_old + b%vc)) - dot_product(lt, 0.5_dp*(b%omega_old + b%omega))
+                    if (w%moving) de = de - 0.5_dp*w%mass*(wn%vel**2 - vw0**2)
+                    wn%energy = wn%energy + de
+                    wn%normal_force = -dot_product(wn%force, w%normal)
+                end associate
+            end do
+        end subroutine wall_impulses
     end subroutine rigid_step
 
     !> omega from pi with the inertia at orientation q; fixed rotation

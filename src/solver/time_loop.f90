@@ -9,7 +9,7 @@ module xd_solver_time_loop
     use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid, &
                                   ph_search, ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
     use xd_model, only: model_t
-    use xd_elements_solid_groups, only: solids_t, solid_forces
+    use xd_elements_solid_groups, only: solids_t, solid_forces, stiff_volume_parts
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
     use xd_solver_energies, only: energies_t, compute_energies
@@ -76,19 +76,23 @@ contains
         type(run_result_t), intent(out) :: res
         type(energies_t) :: en
         real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :)
+        logical, allocatable :: no_body(:)   !< no node is a rigid body's (models without rigid bodies)
         real(wp) :: dtc, g_new(3)
         real(dp) :: dt_avg, wpm
         real(dp) :: t_last_progress, ratio_limit, t0_wall, t_dump, t_gather
         logical :: done, due, energy_now, dumped_end, near_limit, status_now
         integer :: nd, cycle0, stop_sig
+        integer :: nreverse   !< cycles in a row whose kinetic energy says velocities reverse
 
-        allocate (vn(3, st%nnode), vminus(3, st%nnode))
+        allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode))
+        no_body = .false.
         if (st%rot) allocate (vrminus(3, st%nnode))
         ratio_limit = 1.5_dp
         if (model%ctl%endeng > 0.0_wp) ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
         t0_wall = tm%elapsed()
         cycle0 = st%cycle
         dumped_end = .false.
+        nreverse = 0
         t_dump = 0
         t_last_progress = t0_wall
 
@@ -116,7 +120,16 @@ contains
             ! a model of rigid bodies alone has no element step: DTINIT sets it
             if (solids%ngroup == 0 .and. sh%n == 0) dtc = model%ctl%dtinit/model%ctl%tssfac
             ! the stiffest contact spring's stable step, if it is shorter
-            if (ct%n > 0) dtc = min(dtc, ct%dt_limit)
+            if (ct%n > 0) then
+                if (ct%dt_limit < dtc) then
+                    if (st%cycle == cycle0) call log_line(lg, ' *** Warning: the stiffest contact spring''s stable '// &
+                        'step '//rtoa(real(ct%dt_limit, dp))//' (node '//itoa(model%node_id(ct%dt_node))// &
+                        ') is below the elements'' '//rtoa(real(dtc, dp))//': the contact sets the time step, '// &
+                        'at '//ftoa(real(dtc/ct%dt_limit, dp))//' times the cycles (penalty scale SLSFAC, SFS, '// &
+                        'SFM too high?)')
+                    dtc = ct%dt_limit
+                end if
+            end if
             st%dt = real(model%ctl%tssfac, wp)*dtc
             if (st%cycle == 0) then
                 if (model%ctl%dtinit > 0.0_wp) st%dt = min(st%dt, model%ctl%dtinit)
@@ -159,7 +172,7 @@ contains
             ! energies where histories are due (or every energy_check_every
             ! cycles); a state alone needs only the velocities at t(n)
             energy_now = histories_due(hist, st%time) .or. done .or. st%cycle == 0 .or. &
-                         mod(st%cycle, opts%energy_check_every) == 0
+                         mod(st%cycle, opts%energy_check_every) == 0 .or. nreverse > 0
             due = energy_now .or. states_due(states, st%time)
             if (due) vminus = st%v
             ! central differences: v(n+1/2) = v(n-1/2) + a(n) (dt(n-1/2) + dt(n+1/2))/2
@@ -178,7 +191,11 @@ contains
             call tm%stop(ph_integrate)
             if (walls%n > 0) then
                 call tm%start(ph_contact)
-                call apply_walls(model, walls, st, st%dt, real(dt_avg, wp))
+                if (rg%n > 0) then
+                    call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), rg%member)
+                else
+                    call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), no_body)
+                end if
                 call tm%stop(ph_contact)
             end if
             if (pn%n > 0) then
@@ -187,7 +204,7 @@ contains
             end if
             if (rg%n > 0) then
                 call tm%start(ph_rigid)
-                call rigid_step(rg, model, st, st%dt, real(dt_avg, wp), wpm)
+                call rigid_step(rg, model, st, st%dt, real(dt_avg, wp), wpm, walls)
                 st%ext_work = st%ext_work + wpm
                 call tm%stop(ph_rigid)
             end if
@@ -472,6 +489,7 @@ contains
 
         subroutine check_energy()
             integer :: i
+            integer, allocatable :: sv(:)
             if (en%total /= en%total .or. abs(en%total) > huge(1.0_wp)) then
                 do i = 1, st%nnode
                     if (any(st%v(:, i) /= st%v(:, i)) .or. any(abs(st%v(:, i)) > huge(1.0_wp))) exit
@@ -480,18 +498,39 @@ contains
                 call fail('energy is NaN or infinite; first bad node '//node_where(i))
             else if (en%ratio > ratio_limit) then
                 i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
-                call fail('energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
-                          ftoa(ratio_limit)//'; fastest node '//node_where(i))
+                sv = stiff_volume_parts(solids)
+                if (size(sv) > 0) then
+                    call fail('energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
+                              ftoa(ratio_limit)//'; fastest node '//node_where(i)//'; part '// &
+                              itoa(model%part(sv(1))%id)//' is nearly incompressible under '// &
+                              'viscous hourglass control (see the d3hsp warning)')
+                else
+                    call fail('energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
+                              ftoa(ratio_limit)//'; fastest node '//node_where(i))
+                end if
             else if (en%ke < -(ratio_limit - 1.0_dp)*abs(st%e_initial + en%ext)) then
-                ! 1/2 m v(n-1/2).v(n+1/2) strongly negative: velocities reverse
-                ! every step, the signature of a step beyond the stable limit (a
-                ! stiff spring). Slightly negative values are normal where nodes
-                ! turn round; the threshold is the energy ratio's margin.
+                ! 1/2 m v(n-1/2).v(n+1/2) strongly negative: velocities reverse.
+                ! Once, it is a stiff body bouncing (a nearly incompressible
+                ! block on a wall turns round within a step); every step, it is
+                ! the signature of a step beyond the stable limit (a stiff
+                ! spring). So the energies are checked at each following cycle,
+                ! and the run stops at the third cycle in a row. Slightly
+                ! negative values are normal where nodes turn round; the
+                ! threshold is the energy ratio's margin.
+                nreverse = nreverse + 1
+                if (nreverse < 3) return
                 i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
-                call fail('numerical instability: kinetic energy 1/2 m v(n-1/2).v(n+1/2) is '//ftoa(en%ke)// &
-                          ' (velocities reverse every step); '// &
-                          'fastest node '//node_where(i)//'; a contact penalty scale (SLSFAC, SFS, '// &
-                          'SFM) too high for the time step?')
+                if (ct%n > 0) then
+                    call fail('numerical instability: kinetic energy 1/2 m v(n-1/2).v(n+1/2) is '//ftoa(en%ke)// &
+                              ' (velocities reverse every step); fastest node '//node_where(i)// &
+                              '; a contact penalty scale (SLSFAC, SFS, SFM) too high for the time step?')
+                else
+                    call fail('numerical instability: kinetic energy 1/2 m v(n-1/2).v(n+1/2) is '//ftoa(en%ke)// &
+                              ' (velocities reverse every step); fastest node '//node_where(i)// &
+                              '; a time step beyond the stable limit (TSSFAC too high?)')
+                end if
+            else
+                nreverse = 0
             end if
         end subroutine check_energy
 
