@@ -623,11 +623,11 @@ def shell_tension_tri(outdir):
         f.write(text)
 
 
-def clamped_plate(outdir):
-    """A clamped square steel plate (0.2 m, 2 mm) under a small uniform
-    pressure (*LOAD_SHELL_SET) ramped over about four periods and held: the
-    centre settles at 0.00126 q a^4 / D (plate theory)."""
-    a, t, n = 0.2, 0.002, 16
+def clamped_plate(outdir, n=16, name="clamped_plate"):
+    """A clamped square steel plate (0.2 m, 2 mm, n x n shells) under a
+    small uniform pressure (*LOAD_SHELL_SET) ramped over about four periods
+    and held: the centre settles at 0.00126 q a^4 / D (plate theory)."""
+    a, t = 0.2, 0.002
     nodes = {}
     for j in range(n + 1):
         for i in range(n + 1):
@@ -654,7 +654,7 @@ def clamped_plate(outdir):
     lines += ["*LOAD_SHELL_SET", f10(1, 50, 1.0)]
     lines += ["*NODE"] + [f"{k:8d}{x:16.9e}{y:16.9e}{z:16.9e}{0:8d}{0:8d}" for k, (x, y, z) in sorted(nodes.items())]
     lines += ["*ELEMENT_SHELL"] + [f"{s[0]:8d}{1:8d}" + "".join(f"{v:8d}" for v in s[1:]) for s in shells]
-    write(os.path.join(outdir, "verify", "clamped_plate.k"), lines)
+    write(os.path.join(outdir, "verify", name + ".k"), lines)
 
 
 def mixed_deck(outdir, gravity=False):

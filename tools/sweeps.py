@@ -1,0 +1,263 @@
+#!/usr/bin/python3
+"""make sweeps: accuracy against run time (issue 9). Each sweep varies one
+knob and measures, for every setting, the error and the wall time:
+
+- against analytic answers: two bars meeting through contact (1-D theory:
+  each leaves at its speed reversed), a clamped plate under pressure (plate
+  theory), an elastic bar struck at one end (rho c v0);
+- for the contact-heavy tube crush, against a converged reference (global
+  search every cycle) and with the independent penetration checker.
+
+Writes doc/accuracy.md (a table per sweep) and doc/accuracy/*.png (error
+against wall time). Runs on one thread; wall times are this machine's.
+"""
+import os
+import subprocess
+import sys
+import time
+
+import h5py
+import matplotlib
+import numpy as np
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+import gen_decks as g  # noqa: E402
+import penetration  # noqa: E402
+
+OUT = os.path.join(ROOT, "build", "sweeps")
+DOC = os.path.join(ROOT, "doc", "accuracy.md")
+FIG = os.path.join(ROOT, "doc", "accuracy")
+BIN = {"double": os.path.join(ROOT, "bin", "xdyna"), "single": os.path.join(ROOT, "bin", "xdyna_single")}
+
+
+def run(deck, name, precision="double", extra=()):
+    out = os.path.join(OUT, "runs", name)
+    t0 = time.time()
+    p = subprocess.run([BIN[precision], "i=" + deck, "outdir=" + out, *extra], capture_output=True, text=True,
+                       env={**os.environ, "OMP_NUM_THREADS": "1"})
+    wall = time.time() - t0
+    if p.returncode != 0:
+        raise RuntimeError(f"{name}: exit {p.returncode}: {p.stderr[-300:]}")
+    return out, wall
+
+
+def variant(src_lines, name, cards=(), tssfac=None):
+    """A deck from generator lines with cards added after *KEYWORD and the
+    time-step scale replaced."""
+    lines = list(src_lines)
+    if tssfac is not None:
+        lines = [g.f10(0.0, tssfac) if x == g.f10(0.0, 0.9) else x for x in lines]
+    lines = lines[:1] + list(cards) + lines[1:]
+    path = os.path.join(OUT, "decks", name + ".k")
+    g.write(path, lines)
+    return path
+
+
+def capture(fn, *args, **kw):
+    """The lines a gen_decks function writes (it writes to OUT/tmp)."""
+    tmp = os.path.join(OUT, "tmp")
+    fn(tmp, *args, **kw)
+    for root, _, files in os.walk(tmp):
+        for f in files:
+            path = os.path.join(root, f)
+            text = open(path).read().rstrip("\n")
+            os.remove(path)
+            return [x for x in text.split("\n") if x != "*END"]
+    raise RuntimeError("no deck written")
+
+
+# ---- the measures ----------------------------------------------------------
+
+def bars_error(out):
+    """Two bars at +-5 m/s: relative error of the mean speed they leave with
+    (1-D theory: 5 m/s each, reversed)."""
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        mom, mass = f["matsum/x_momentum"][-1], f["matsum/mass"][-1]
+    v = mom / mass
+    return abs((abs(v[0]) + abs(v[1])) / 2 - 5.0) / 5.0
+
+
+def plate_error(out):
+    """Clamped plate: centre deflection averaged over the hold against
+    0.00126 q a^4 / D."""
+    E, nu, th, a, q = 200e9, 0.3, 0.002, 0.2, 1000.0
+    w = 0.00126 * q * a ** 4 / (E * th ** 3 / (12 * (1 - nu ** 2)))
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        t, z = f["nodout/time"][:], f["nodout/z_displacement"][:, 0]
+    return abs(-z[t > 0.01].mean() / w - 1)
+
+
+def bar_error(out):
+    """Bar struck at one end (as the bar_impact test measures it): the
+    larger of the wave-arrival error at x = 0.75 (half speed reached, against
+    x / c) and the stress behind the front (from the displacements at 0.2
+    and 0.3, against rho c v0)."""
+    E, rho, v0 = 200e9, 7850.0, 10.0
+    c = np.sqrt(E / rho)
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        t, x0 = f["nodout/time"][:], f["nodout/x_coordinate"][0]
+        vx, ux = f["nodout/x_velocity"][:], f["nodout/x_displacement"][:]
+    j = int(np.argmin(abs(x0 - 0.75)))
+    v = vx[:, j]
+    k = int(np.argmax(v > -v0 / 2))
+    tc = t[k - 1] + (t[k] - t[k - 1]) * (-v0 / 2 - v[k - 1]) / (v[k] - v[k - 1])
+    j1, j2 = int(np.argmin(abs(x0 - 0.2))), int(np.argmin(abs(x0 - 0.3)))
+    sigma = E * (ux[-1, j2] - ux[-1, j1]) / (x0[j2] - x0[j1])
+    return max(abs(tc / (0.75 / c) - 1), abs(sigma / (-rho * c * v0) - 1))
+
+
+def tube_measures(deck, out, ref):
+    """Tube crush against the reference run: the largest end distance of a
+    node (mm), the mean crush force's relative difference, and the
+    penetration checker's worst overlap (fraction of the thickness)."""
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f, h5py.File(os.path.join(ref, "thist.h5"), "r") as r:
+        xa = np.stack([f[f"nodout/{c}_coordinate"][-1] for c in "xyz"])
+        xb = np.stack([r[f"nodout/{c}_coordinate"][-1] for c in "xyz"])
+        wa, wb = f["glstat/external_work"][-1], r["glstat/external_work"][-1]
+    worst, crossings = penetration.check(deck, os.path.join(out, "thist.h5"))
+    return 1e3 * float(np.max(np.linalg.norm(xa - xb, axis=0))), abs(wa / wb - 1), worst, crossings
+
+
+# ---- the sweeps ------------------------------------------------------------
+
+def sweep_bars(title, settings, fig, note):
+    """settings: (label, deck lines, precision). Error: the bars' rebound."""
+    rows = []
+    for label, lines, prec in settings:
+        name = "bars_" + "".join(c if c.isalnum() else "_" for c in label)
+        out, wall = run(variant(lines, name), name, prec)
+        rows.append((label, bars_error(out), wall))
+    table = ["| setting | rebound error | wall (s) |", "|---|---|---|"]
+    table += [f"| {a} | {e:.2e} | {w:.2f} |" for a, e, w in rows]
+    plot(fig, title, rows, "rebound speed error (1-D theory)")
+    return section(title, note, table, fig)
+
+
+def plot(fig, title, rows, ylabel):
+    plt.figure(figsize=(5.5, 3.8))
+    for label, err, wall in rows:
+        plt.loglog(wall, max(err, 1e-16), "o")
+        plt.annotate(label, (wall, max(err, 1e-16)), textcoords="offset points", xytext=(4, 4), fontsize=8)
+    plt.xlabel("wall time (s)")
+    plt.ylabel(ylabel)
+    plt.title(title, fontsize=10)
+    plt.grid(True, which="both", alpha=0.3)
+    plt.tight_layout()
+    plt.savefig(os.path.join(FIG, fig + ".png"), dpi=110)
+    plt.close()
+
+
+def section(title, note, table, fig):
+    return [f"## {title}", "", note, ""] + table + ["", f"![{title}](accuracy/{fig}.png)", ""]
+
+
+def main():
+    os.makedirs(FIG, exist_ok=True)
+    os.makedirs(os.path.join(OUT, "decks"), exist_ok=True)
+    doc = ["# Accuracy against run time", "",
+           "Written by `make sweeps` (`tools/sweeps.py`): each sweep varies one knob; errors against analytic "
+           "answers or, for the tube crush, against a converged run; wall times on one thread of this machine "
+           f"({os.cpu_count()} cores). The defaults are the settings marked *default*.", ""]
+    bars = lambda n=20, **kw: capture(g.contact_two_bars, "b", n=n, **kw)
+
+    # mesh size: two bars (contact) and the clamped plate (smooth)
+    rows = []
+    for n in (10, 20, 40, 80, 160):
+        name = f"bars_mesh_{n}"
+        out, wall = run(variant(bars(n, slsfac=1.0), name), name)
+        rows.append((f"{n} elements", bars_error(out), wall, n))
+    prow = []
+    for n in (4, 8, 16, 32):
+        name = f"plate_{n}"
+        out, wall = run(variant(capture(g.clamped_plate, n=n), name), name)
+        prow.append((f"{n} x {n}", plate_error(out), wall, n))
+    ob = np.polyfit(np.log([r[3] for r in rows]), np.log([r[1] for r in rows]), 1)[0]
+    op = np.polyfit(np.log([r[3] for r in prow[1:]]), np.log([max(r[1], 1e-16) for r in prow[1:]]), 1)[0]
+    table = ["| problem | mesh | error | wall (s) |", "|---|---|---|---|"]
+    table += [f"| two bars, rebound | {a} | {e:.2e} | {w:.2f} |" for a, e, w, _ in rows]
+    table += [f"| clamped plate, deflection | {a} | {e:.2e} | {w:.2f} |" for a, e, w, _ in prow]
+    plot("mesh", "mesh size", [(a, e, w) for a, e, w, _ in rows + prow], "relative error")
+    doc += section("Mesh size", f"Observed convergence order (slope of log error against log elements per side): "
+                   f"two bars {-ob:.2f} (contact: the sudden stop rings on as mesh dispersion), clamped plate "
+                   f"{-op:.2f} (8 to 32 per side; one-point shells converge at order 2 in smooth bending).",
+                   table, "mesh")
+
+    # penalty scale and enforcement, on the bars (analytic)
+    doc += sweep_bars("Penalty scale and enforcement (two bars)",
+                      [(f"SLSFAC {s:g}" + (" (default)" if s == 0.1 else ""), bars(40, slsfac=s), "double")
+                       for s in (0.001, 0.01, 0.1, 1.0, 10.0)] +
+                      [("Lagrangian projection", bars(40, xcontact=g.f10(0, 0, 0, 0, 0, 2)), "double")],
+                      "penalty", "SLSFAC x0.01 to x100 of the default 0.1, and the Lagrangian projection; 40 "
+                      "elements per bar. A soft spring lets the bars sink into each other and lengthens the "
+                      "contact; a stiff one sets the time step (d3hsp warns), costing cycles.")
+
+    # time-step scale: the struck bar (stress plateau) and the bars
+    rows = []
+    bi = capture(g.bar_impact)
+    for s in (0.3, 0.5, 0.7, 0.9):
+        name = f"bar_tssfac_{s}"
+        out, wall = run(variant(bi, name, tssfac=s), name)
+        rows.append((f"TSSFAC {s:g}" + (" (default)" if s == 0.9 else ""), bar_error(out), wall))
+    table = ["| setting | error (wave arrival, stress) | wall (s) |", "|---|---|---|"]
+    table += [f"| {a} | {e:.2e} | {w:.2f} |" for a, e, w in rows]
+    plot("tssfac", "time-step scale (struck bar)", rows, "wave arrival / stress error")
+    doc += section("Time-step scale", "The elastic bar struck at one end (200 elements): the larger of the "
+                   "wave-arrival error at x = 0.75 and the stress error behind the front. Central differences "
+                   "are least dispersive near the stability limit, so a smaller step costs cycles without "
+                   "gaining accuracy.", table, "tssfac")
+
+    # single against double precision: bars and plate
+    rows = []
+    for prec in ("double", "single"):
+        out, wall = run(variant(bars(40, slsfac=1.0), "bars_" + prec), "bars_" + prec, prec)
+        rows.append((f"two bars, {prec}", bars_error(out), wall))
+        out, wall = run(variant(capture(g.clamped_plate, n=16), "plate_" + prec), "plate_" + prec, prec)
+        rows.append((f"clamped plate, {prec}", plate_error(out), wall))
+    table = ["| run | error | wall (s) |", "|---|---|---|"] + [f"| {a} | {e:.2e} | {w:.2f} |" for a, e, w in rows]
+    plot("precision", "single against double precision", rows, "relative error")
+    doc += section("Single against double precision", "`make PRECISION=single` builds `bin/xdyna_single`: "
+                   "field data in 32 bits, energies and time in 64.", table, "precision")
+
+    # contact knobs on the tube crush, against the search-every-cycle run
+    tube = capture(g.tube_crush, endtim=4.0e-3)
+    xc = lambda search=0, nsrch=0, mnl=0, track=0, enforce=0: ["*CONTROL_XDYNA_CONTACT",
+                                                              g.f10(search, nsrch, mnl, track, 0, enforce)]
+    knobs = [("search every cycle (reference)", xc(1, 1), None), ("every 5 cycles", xc(1, 5), None),
+             ("every 10 cycles (default)", [], None), ("every 20 cycles", xc(1, 20), None),
+             ("adaptive", xc(2), None), ("closest node", xc(mnl=1), None), ("three closest", xc(mnl=3), None),
+             ("tracking off", xc(track=2), None), ("SLSFAC 0.01", ["*CONTROL_CONTACT", g.f10(0.01)], None),
+             ("SLSFAC 1", ["*CONTROL_CONTACT", g.f10(1.0)], None), ("Lagrangian", xc(enforce=2), None),
+             ("TSSFAC 0.6", [], 0.6), ("single precision", [], "single")]
+    rows, ref = [], None
+    for label, cards, opt in knobs:
+        name = "tube_" + "".join(c if c.isalnum() else "_" for c in label)
+        deck = variant(tube, name, cards=cards, tssfac=opt if isinstance(opt, float) else None)
+        out, wall = run(deck, name, "single" if opt == "single" else "double")
+        ref = ref or out
+        rows.append((label, deck, out, wall))
+    table = ["| setting | end-state distance from the reference (mm) | mean force difference | worst overlap "
+             "(checker) | pass-throughs | wall (s) |", "|---|---|---|---|---|---|"]
+    prow = []
+    for label, deck, out, wall in rows:
+        dx, df, worst, cross = tube_measures(deck, out, ref)
+        table.append(f"| {label} | {dx:.3f} | {df:.2e} | {worst:.1%} | {cross} | {wall:.2f} |")
+        if out != ref:
+            prow.append((label, df, wall))
+    plot("tube", "tube crush: contact knobs", prow, "mean crush force difference")
+    doc += section("Contact knobs on the tube crush", "1,200 shells crushed 40 mm in 4 ms with whole-model "
+                   "contact; the reference searches every cycle. The crush is unstable (folds), so small "
+                   "differences grow: the end-state distance measures how far a setting moves the answer, "
+                   "the mean force how much it matters to an analyst, and the checker what contact lets "
+                   "through.", table, "tube")
+    with open(DOC, "w") as f:
+        f.write("\n".join(doc) + "\n")
+    print(f"sweeps: wrote {os.path.relpath(DOC, ROOT)} and {len(os.listdir(FIG))} plots")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
