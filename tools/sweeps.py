@@ -45,12 +45,15 @@ def run(deck, name, precision="double", extra=()):
     return out, wall
 
 
-def variant(src_lines, name, cards=(), tssfac=None):
-    """A deck from generator lines with cards added after *KEYWORD and the
-    time-step scale replaced."""
+def variant(src_lines, name, cards=(), tssfac=None, endtim=None):
+    """A deck from generator lines with cards added after *KEYWORD, the
+    time-step scale and the termination time replaced."""
     lines = list(src_lines)
     if tssfac is not None:
         lines = [g.f10(0.0, tssfac) if x == g.f10(0.0, 0.9) else x for x in lines]
+    if endtim is not None:
+        k = lines.index("*CONTROL_TERMINATION")
+        lines[k + 1] = g.f10(endtim, 0)
     lines = lines[:1] + list(cards) + lines[1:]
     path = os.path.join(OUT, "decks", name + ".k")
     g.write(path, lines)
@@ -73,12 +76,13 @@ def capture(fn, *args, **kw):
 # ---- the measures ----------------------------------------------------------
 
 def bars_error(out):
-    """Two bars at +-5 m/s: relative error of the mean speed they leave with
-    (1-D theory: 5 m/s each, reversed)."""
+    """Two bars at +5 and -5 m/s: the larger relative error of the velocity
+    each leaves with (1-D theory: -5 and +5 m/s; bars that pass through each
+    other score 2)."""
     with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
         mom, mass = f["matsum/x_momentum"][-1], f["matsum/mass"][-1]
     v = mom / mass
-    return abs((abs(v[0]) + abs(v[1])) / 2 - 5.0) / 5.0
+    return max(abs(v[0] + 5.0), abs(v[1] - 5.0)) / 5.0
 
 
 def plate_error(out):
@@ -125,14 +129,19 @@ def tube_measures(deck, out, ref):
 # ---- the sweeps ------------------------------------------------------------
 
 def sweep_bars(title, settings, fig, note):
-    """settings: (label, deck lines, precision). Error: the bars' rebound."""
+    """settings: (label, deck lines, precision). Error: the bars' rebound,
+    run to 0.4 ms so that the softest spring lets go too."""
     rows = []
     for label, lines, prec in settings:
         name = "bars_" + "".join(c if c.isalnum() else "_" for c in label)
-        out, wall = run(variant(lines, name), name, prec)
-        rows.append((label, bars_error(out), wall))
-    table = ["| setting | rebound error | wall (s) |", "|---|---|---|"]
-    table += [f"| {a} | {e:.2e} | {w:.2f} |" for a, e, w in rows]
+        out, wall = run(variant(lines, name, endtim=4.0e-4), name, prec)
+        with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+            gap = f["nodout/x_coordinate"][:, 1] - f["nodout/x_coordinate"][:, 0]
+        rows.append((label, bars_error(out), wall, max(0.0, -gap.min()) * 1e3))
+    table = ["| setting | rebound error | deepest overlap of the facing ends (mm; element 2.5 mm) | wall (s) |",
+             "|---|---|---|---|"]
+    table += [f"| {a} | {e:.2e} | {o:.4f} | {w:.2f} |" for a, e, w, o in rows]
+    rows = [r[:3] for r in rows]
     plot(fig, title, rows, "rebound speed error (1-D theory)")
     return section(title, note, table, fig)
 
@@ -176,15 +185,17 @@ def main():
         out, wall = run(variant(capture(g.clamped_plate, n=n), name), name)
         prow.append((f"{n} x {n}", plate_error(out), wall, n))
     ob = np.polyfit(np.log([r[3] for r in rows]), np.log([r[1] for r in rows]), 1)[0]
-    op = np.polyfit(np.log([r[3] for r in prow[1:]]), np.log([max(r[1], 1e-16) for r in prow[1:]]), 1)[0]
     table = ["| problem | mesh | error | wall (s) |", "|---|---|---|---|"]
     table += [f"| two bars, rebound | {a} | {e:.2e} | {w:.2f} |" for a, e, w, _ in rows]
     table += [f"| clamped plate, deflection | {a} | {e:.2e} | {w:.2f} |" for a, e, w, _ in prow]
     plot("mesh", "mesh size", [(a, e, w) for a, e, w, _ in rows + prow], "relative error")
-    doc += section("Mesh size", f"Observed convergence order (slope of log error against log elements per side): "
-                   f"two bars {-ob:.2f} (contact: the sudden stop rings on as mesh dispersion), clamped plate "
-                   f"{-op:.2f} (8 to 32 per side; one-point shells converge at order 2 in smooth bending).",
-                   table, "mesh")
+    doc += section("Mesh size", f"Two bars (SLSFAC 1): the rebound error falls with the mesh at the observed order "
+                   f"{-ob:.2f} (slope of log error against log elements): the sudden stop rings on in the bars "
+                   "as mesh dispersion, which refines slowly, while the cost grows as the square of the "
+                   "elements (more elements, smaller steps). Clamped plate: from 4 x 4 to 8 x 8 the error "
+                   f"drops {prow[0][1] / max(prow[1][1], 1e-16):.0f}-fold; from 8 x 8 on it stays near 0.1%, set "
+                   "by the residual vibration in the time average the measure uses, not by the mesh (no "
+                   "order can be read there).", table, "mesh")
 
     # penalty scale and enforcement, on the bars (analytic)
     doc += sweep_bars("Penalty scale and enforcement (two bars)",
