@@ -7,6 +7,7 @@ import datetime
 import importlib.util
 import os
 import platform
+import re
 import shutil
 import sys
 import time
@@ -47,13 +48,30 @@ PROBLEMS = [
 ]
 
 
+CHECK = re.compile(r"^(?P<q>.*?) (?:within|to|under|below) (?P<tol>[0-9.e+-]+ ?%?)(?: of (?P<ref>.*?))? "
+                   r"\((?P<res>[^()]*)\)$")
+
+
+def columns(name):
+    """A check's name split into quantity, tolerance, reference and result
+    where it has the form 'quantity within TOL of REF (RESULT)'; otherwise
+    the whole name is the quantity."""
+    m = CHECK.match(name)
+    if not m:
+        return name, "", "", ""
+    return m.group("q"), m.group("tol").strip(), m.group("ref") or "", m.group("res")
+
+
 def main():
     lines = ["# Verification", "",
              f"Written by `make verify` on {datetime.date.today().isoformat()} "
-             f"({platform.machine()}, {os.cpu_count()} cores). Each check states its figure and "
-             "tolerance; the tolerances and their reasons are in `tests/run_tests.py`. Wall time is "
-             "that of the whole problem (all its runs), one thread unless stated.", "",
-             "| problem | reference | check | pass | wall (s) |", "|---|---|---|---|---|"]
+             f"({platform.machine()}, {os.cpu_count()} cores). Each check states its quantity, the "
+             "reference it is held to (the problem's source in the second column), its result (the error "
+             "where the check is a relative one), the tolerance and pass/fail; the reasons for the "
+             "tolerances are in `tests/run_tests.py`. Wall time is that of the whole problem (all its "
+             "runs), one thread unless stated.", "",
+             "| problem | reference (source) | quantity | against | result | tolerance | pass | wall (s) |",
+             "|---|---|---|---|---|---|---|---|"]
     nfail = 0
     for title, ref, fn in PROBLEMS:
         start = len(rt.results)
@@ -63,8 +81,9 @@ def main():
         rows = rt.results[start:]
         for k, (name, ok) in enumerate(rows):
             nfail += not ok
-            lines.append(f"| {title if k == 0 else ''} | {ref if k == 0 else ''} | {name} | "
-                         f"{'yes' if ok else '**no**'} | {f'{wall:.1f}' if k == 0 else ''} |")
+            q, tol, against, res = columns(name)
+            lines.append(f"| {title if k == 0 else ''} | {ref if k == 0 else ''} | {q} | {against} | {res} | "
+                         f"{tol} | {'yes' if ok else '**no**'} | {f'{wall:.1f}' if k == 0 else ''} |")
     lines += ["", f"{len(rt.results) - nfail} checks passed, {nfail} failed."]
     # the stability summary (make stability) stays below its marker
     doc = os.path.join(ROOT, "doc", "verification.md")

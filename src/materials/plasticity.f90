@@ -10,6 +10,10 @@ module xd_materials_plasticity
     private
     public :: plastic_params_t, plastic_update, yield_stress, rate_factor, equivalent_stress
 
+    ! Newton tolerance: 1e-12 relative in double precision, ten round-offs in
+    ! single (1e-12 cannot be reached there)
+    real(wp), parameter :: tol12 = max(1.0e-12_wp, 10*epsilon(1.0_wp))
+
     !> Parameters of one plastic material, as the kernel needs them.
     type :: plastic_params_t
         real(wp) :: sigy = 0          !< initial yield stress (bilinear)
@@ -110,7 +114,7 @@ contains
             do it = 1, 30
                 call yield_stress(pp, epsp(i) + dl, sy, h)
                 g = xeq - (3.0_wp*mu + hk)*dl - fac*sy
-                if (abs(g) <= 1.0e-12_wp*xeq) exit
+                if (abs(g) <= tol12*xeq) exit
                 dl = dl + g/(3.0_wp*mu + hk + fac*h)
                 dl = max(dl, 0.0_wp)
             end do
