@@ -32,6 +32,8 @@ PROBLEMS = [
      rt.test_taylor_bar),
     ("Rigid bodies", "closed-form box inertia; torque-free conservation; rod with end mass",
      rt.test_rigid_bodies),
+    ("Rigid body on a planar rigid wall", "plastic impact: the wall takes the kinetic energy; no node behind it",
+     rt.test_rigid_wall_bodies),
     ("Prescribed rigid motion and spot welds", "the prescribed curves; conservation; failure time",
      rt.test_rigid_constraints),
     ("Column under segment pressure", "uniaxial stress: p L / E", rt.test_pressure),
@@ -69,7 +71,8 @@ def main():
              "reference it is held to (the problem's source in the second column), its result (the error "
              "where the check is a relative one), the tolerance and pass/fail; the reasons for the "
              "tolerances are in `tests/run_tests.py`. Wall time is that of the whole problem (all its "
-             "runs), one thread unless stated.", "",
+             "runs), one thread unless stated. Error against run time for each knob: `doc/accuracy.md` "
+             "(`make sweeps`); stiff and extreme cases: below (`make stability`).", "",
              "| problem | reference (source) | quantity | against | result | tolerance | pass | wall (s) |",
              "|---|---|---|---|---|---|---|---|"]
     nfail = 0
