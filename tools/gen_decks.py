@@ -529,11 +529,12 @@ def pressure_column(outdir):
     write(os.path.join(outdir, "verify", "pressure_column.k"), lines)
 
 
-def shell_cantilever(outdir):
-    """A cantilever strip of Belytschko-Tsay shells (nu = 0), clamped at
-    x = 0, released from the first mode's velocity shape: it vibrates at the
-    beam's first frequency f1 = (1.875^2 / 2 pi) sqrt(E t^2 / (12 rho L^4))."""
-    L, b, t, nx, ny = 0.2, 0.02, 0.002, 20, 2
+def shell_cantilever(outdir, nx=20, name="shell_cantilever"):
+    """A cantilever strip of Belytschko-Tsay shells (nu = 0, nx along its
+    length), clamped at x = 0, released from the first mode's velocity
+    shape: it vibrates at the beam's first frequency
+    f1 = (1.875^2 / 2 pi) sqrt(E t^2 / (12 rho L^4))."""
+    L, b, t, ny = 0.2, 0.02, 0.002, 2
     E, rho = 200e9, 7850.0
     nodes = {}
     for j in range(ny + 1):
@@ -570,7 +571,7 @@ def shell_cantilever(outdir):
     out = ["*NODE"] + [f"{n:8d}{x:16.9e}{y:16.9e}{z:16.9e}{0:8d}{0:8d}" for n, (x, y, z) in sorted(nodes.items())]
     out += ["*ELEMENT_SHELL"] + [f"{s[0]:8d}{1:8d}" + "".join(f"{v:8d}" for v in s[1:]) for s in shells]
     lines += out
-    write(os.path.join(outdir, "verify", "shell_cantilever.k"), lines)
+    write(os.path.join(outdir, "verify", name + ".k"), lines)
 
 
 def shell_tension(outdir):

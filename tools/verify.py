@@ -42,6 +42,8 @@ PROBLEMS = [
     ("Two bars meeting head-on through contact", "1-D theory: 2L/c, velocities reversed; momentum",
      rt.test_contact_bars),
     ("Block resting on a block, penalty contact", "static penetration m g / k", rt.test_contact_block_on_block),
+    ("Contact patch test", "a uniform pressure passes through a contact interface undisturbed",
+     rt.test_contact_patch),
     ("Cube sliding and sticking on a plate", "Coulomb friction: deceleration mu g; static limit",
      rt.test_contact_friction),
     ("Square tube axial crush (shells, self-contact)", "Abramowicz & Jones mean force; no pass-through",
