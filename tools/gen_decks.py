@@ -383,7 +383,7 @@ def rigid_block_wall(outdir, name, tilt):
     zmin = min(z for _, _, z in out.values())
     nodes = {k: (x, y, z - zmin + 1.0e-3) for k, (x, y, z) in out.items()}
     lines = common("rigid block on a planar rigid wall", 0.02, 1.0e-4)
-    lines = [x if x != f10(0.0, 0.9) else f10(1.0e-5, 0.9) for x in lines]
+    lines[lines.index("*CONTROL_TIMESTEP") + 1] = f10(1.0e-5, 0.9)
     lines += ["*MAT_RIGID", f10(1, 7850.0, 210e9, 0.3)] + part(1, 1, "rigid block")
     lines += ["*RIGIDWALL_PLANAR", f10(0), f10(0.0, 0.0, 0.0, 0.0, 0.0, 1.0)]
     lines += ["*INITIAL_VELOCITY", f10(0), f10(0.0, 0.0, -10.0)]

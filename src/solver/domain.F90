@@ -329,12 +329,14 @@ contains
     end subroutine gather_energy_state
 
     !> All element state from the elements' ranks: for d3plot and the dump.
-    subroutine gather_element_state(dom, solids, sh)
+    !> `energies`: also the energies (not when this cycle gathered them).
+    subroutine gather_element_state(dom, solids, sh, energies)
         type(domain_t), intent(in) :: dom
         type(solids_t), intent(inout) :: solids
         type(shells_t), intent(inout) :: sh
+        logical, intent(in) :: energies
         if (.not. dom%on) return
-        call gather_energy_state(dom, solids, sh)
+        if (energies) call gather_energy_state(dom, solids, sh)
         call merge_wp(solids%sig, 6, dom%solid_mine)
         call merge_wp(solids%vol, 1, dom%solid_mine)
         call merge_wp(solids%qhg, 12, dom%solid_mine)

@@ -540,7 +540,7 @@ contains
             real(dp) :: t1
             t1 = tm%elapsed()
             call tm%start(ph_output)
-            call gather_element_state(dom, solids, sh)
+            call gather_element_state(dom, solids, sh, energies=.true.)
             ok = .true.
             if (dom%on) call gather_contact_state(ct)
             if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, walls, rg, ct, &
@@ -617,7 +617,9 @@ contains
                 call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force)
             end if
             if (states_due(states, st%time) .or. (force .and. states%on)) then
-                call gather_element_state(dom, solids, sh)
+                ! the energies (and shell thicknesses) are gathered already
+                ! where this cycle computed the energies
+                call gather_element_state(dom, solids, sh, energies=.not. energy_now)
                 if (ct%n > 0) then
                     call write_state(states, st, solids, sh, vn, ct%fnode)
                 else
