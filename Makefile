@@ -31,7 +31,7 @@ TEST_SRC := $(sort $(wildcard tests/unit/test_*.f90))
 
 flat = $(subst /,_,$(patsubst src/%,%,$(patsubst tests/%,tests_%,$(basename $(1))))).o
 
-.PHONY: all deps check demo bench debug clean verify tests examples stability sweeps
+.PHONY: all deps check demo bench debug clean verify tests examples stability sweeps contact-suite
 all: bin/xdyna$(SUFFIX) bin/thdiff
 
 deps:
@@ -103,6 +103,10 @@ sweeps: deps
 	@$(MAKE) --no-print-directory all
 	@$(MAKE) --no-print-directory PRECISION=single bin/xdyna_single
 	@$(PY) tools/sweeps.py
+
+contact-suite: deps
+	@$(MAKE) --no-print-directory all
+	@$(PY) tools/contact_suite.py
 
 stability: deps
 	@$(MAKE) --no-print-directory all

@@ -2,8 +2,9 @@
 !> searches (step 2), and the diagnostics the log reports. Steps 3 and 4
 !> (local search and enforcement) work from the master node lists kept here.
 !>
-!> Search interval. Fixed: every N cycles (BSORT, else NSRCH of
-!> *CONTROL_XDYNA_CONTACT, else NSBCS, else 10). Adaptive: the interface
+!> Search interval. Fixed: at most N cycles apart (BSORT, else NSRCH of
+!> *CONTROL_XDYNA_CONTACT, else NSBCS, else 10), and also whenever 4u > delta
+!> as below, so the bound holds for every policy. Adaptive: the interface
 !> keeps u, a bound on how far any of its nodes has moved since the last
 !> search (the sum over cycles of dt x the largest nodal speed), and
 !> searches again at the start of any cycle where 4u > delta, the pool
@@ -269,7 +270,9 @@ contains
                 else if (it%adaptive) then
                     due = 4.0_wp*it%drift > it%margin
                 else
-                    due = cycle - it%last_cycle >= it%interval
+                    ! the fixed interval is the longest: a search also runs as
+                    ! soon as the motion could have used up the pool margin
+                    due = cycle - it%last_cycle >= it%interval .or. 4.0_wp*it%drift > it%margin
                 end if
                 if (.not. due) then
                     ! the lists of the last search serve this cycle: how much
