@@ -25,15 +25,15 @@ module xd_contact_contact
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t
     use xd_contact_segment_check, only: hit_t, contact_interior
     use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t
-    use xd_contact_enforcement, only: friction_t, penalty_force
+    use xd_contact_enforcement, only: friction_t, penalty_force, lagrange_projection, slave_stiffness, pdir
     !$ use omp_lib, only: omp_get_wtime
     use xd_core_sorting, only: where_true
-    use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_max, comm_sum_dp
+    use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_dp
     implicit none
     private
     public :: contacts_t, interface_t, build_contacts, contact_search, contact_drift, contact_report, &
               interface_summary, contact_masses, contact_local_search, contact_enforce, contact_work_end, &
-              contact_energy, contact_resultants, gather_contact_state, scatter_contact_state
+              contact_energy, contact_resultants, gather_contact_state, scatter_contact_state, contact_events
 
     type :: interface_t
         integer :: id = 0
@@ -66,10 +66,16 @@ module xd_contact_contact
         real(wp), allocatable :: fk(:, :)     !< per slave: this cycle's contact force on it
         real(wp), allocatable :: aeff(:)      !< per slave: its penetration last cycle, less the allowance p0
         logical :: started = .false.          !< the first active cycle has been seen
-        integer :: ninit = 0                  !< initial penetrations found
-        integer :: nlate = 0                  !< contacts found deeper than one step's approach
-        real(wp) :: plate = 0                 !< the largest depth allowed to them
-        real(wp) :: pinit = 0                 !< the largest of them
+        integer :: ninit = 0                  !< initial penetrations found (allowed as IGNORE = 1)
+        integer :: nlate = 0                  !< contacts deeper than one step's approach (excess allowed)
+        real(wp) :: plate = 0                 !< the deepest of them
+        real(wp) :: pinit = 0                 !< the deepest initial penetration
+        integer :: nrel = 0                   !< contacts lost while deeper than one step can undo
+        real(wp) :: prel = 0                  !< the deepest of them
+        integer, allocatable :: evk(:)        !< per slave: this cycle's event (ev_none, ev_initial, ...)
+        real(wp), allocatable :: evd(:)       !< per slave: the depth of that event
+        integer :: nev = 0                    !< events not yet written to the log
+        type(contact_event_t), allocatable :: ev(:)
         integer :: npair = 0                  !< slaves in contact this cycle
         type(hit_t), allocatable :: hit(:)    !< their contacts, in slave order
         integer, allocatable :: pair(:)       !< their slave positions
@@ -83,6 +89,22 @@ module xd_contact_contact
         logical, allocatable :: owned(:)      !< per slave: searched and enforced here (MPI: this rank's)
         integer, allocatable :: mine(:)       !< those slaves' positions
     end type interface_t
+
+    !> Named in d3hsp as they happen: an initial penetration (allowed and
+    !> shrinking, as LS-DYNA's IGNORE = 1), a contact found deeper than one
+    !> step's approach (pushed out by its spring: energy enters, the
+    !> energy ratio shows it), a contact released while deep.
+    integer, parameter :: ev_none = 0, ev_initial = 1, ev_late = 2, ev_released = 3
+    integer, parameter :: max_named = 200   !< late and released events named per interface (all counted)
+    real(wp), parameter :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
+
+    type :: contact_event_t
+        integer :: kind = ev_none
+        integer :: slave = 0                  !< surface-local node
+        integer :: seg = 0                    !< segment
+        real(dp) :: time = 0
+        real(wp) :: depth = 0
+    end type contact_event_t
 
     type :: contacts_t
         integer :: n = 0
@@ -340,11 +362,16 @@ contains
     end subroutine dump_lists
 
     !> Nodal masses of the surface nodes, the per-slave state, and the
-    !> stable step of the contact springs: a node of mass m between equal
-    !> masses on springs of total stiffness k_t is stable for dt < 2
-    !> sqrt(m / (2 k_t)); a surface node carries its own spring as a slave
-    !> and the springs of the slaves on its segments as a master, k_t about
-    !> 2 k: dt < sqrt(m / k).
+    !> step of the contact springs: a node of mass m between equal masses
+    !> on springs of total stiffness k_t is stable for dt < 2 sqrt(m /
+    !> (2 k_t)); a surface node carries its own spring as a slave and the
+    !> springs of the slaves on its segments as a master, k_t about 2 k:
+    !> dt < sqrt(m / k). Stable is not enough: a contact resolved in two
+    !> or three steps (omega dt = 1.3 at that bound) gains or loses up to
+    !> the whole impact energy in the central difference's onset and
+    !> release (a 1 mm shell plate at SLSFAC 1 left its impact with 135%
+    !> more energy), so the step is held to omega dt <= 0.5, omega =
+    !> sqrt(2 k / m): dt < 0.35 sqrt(m / k) (contact_step_scale).
     subroutine contact_masses(ct, mass)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: mass(:)
@@ -357,7 +384,9 @@ contains
                 it%ms = mass(s%node)
                 n = s%nslave
                 allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n), it%p0(n))
-                allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n))
+                allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n), it%evk(n), it%evd(n), it%ev(16))
+                it%evk = ev_none
+                it%evd = 0
                 it%owned = .true.
                 it%mine = [(k, k=1, n)]
                 it%kp = 0
@@ -370,7 +399,7 @@ contains
                 allocate (it%ls%xl(3, s%nnode), it%ls%vl(3, s%nnode))
                 do k = 1, s%nnode
                     if (s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp) cycle
-                    dtk = sqrt(it%ms(k)/s%node_k(k))
+                    dtk = contact_step_scale*sqrt(it%ms(k)/s%node_k(k))
                     if (dtk < ct%dt_limit) then
                         ct%dt_limit = dtk
                         ct%dt_node = s%node(k)
@@ -382,35 +411,44 @@ contains
 
     !> Step 3 on x(n) with v(n-1/2): each slave's contact this cycle
     !> (slaves are independent of each other).
-    subroutine contact_local_search(ct, x, v, time)
+    subroutine contact_local_search(ct, x, v, time, dt)
         type(contacts_t), intent(inout) :: ct
-        real(wp), intent(in) :: x(:, :), v(:, :)
+        real(wp), intent(in) :: x(:, :), v(:, :), dt
         real(dp), intent(in) :: time
         integer :: i, k
+        real(wp) :: v2
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%active = time >= it%bt .and. time <= it%dt
                 if (.not. it%active) cycle
+                v2 = 0
                 do k = 1, s%nnode
                     it%ls%xl(:, k) = x(:, s%node(k))
                     it%ls%vl(:, k) = v(:, s%node(k))
+                    v2 = max(v2, sum(v(:, s%node(k))**2))
                 end do
+                ! Lagrangian projection: pairs that one step's approach (two
+                ! nodes at the largest speed) could close are found before
+                ! they touch, so that none penetrates (section 6)
+                it%ls%lead = 0
+                if (ct%lagrange) it%ls%lead = 2.0_wp*dt*sqrt(v2)
                 ! segments may have stretched by 2u since the search; a master
                 ! surface lies up to t_c off its segment
-                it%ls%grow = 2.0_wp*it%drift + it%reach
-                call find_contacts(s, it%lists, it%ls, it%cseg, it%fprev, ct%sw, it%mine, it%hit)
+                it%ls%grow = 2.0_wp*it%drift + it%reach + it%ls%lead
+                it%ls%dt = dt
+                call find_contacts(s, it%lists, it%ls, it%cseg, it%fprev, it%aeff + it%p0, ct%sw, it%mine, it%hit)
             end associate
         end do
     end subroutine contact_local_search
 
     !> The local search of every slave, threaded: a slave's search reads the
     !> surface and writes only its own hit.
-    subroutine find_contacts(s, lists, ls, cseg, fprev, sw, mine, hit)
+    subroutine find_contacts(s, lists, ls, cseg, fprev, aprev, sw, mine, hit)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
         integer, intent(in) :: cseg(:)
-        real(wp), intent(in) :: fprev(:, :)
+        real(wp), intent(in) :: fprev(:, :), aprev(:)
         type(search_switches_t), intent(in) :: sw
         integer, intent(in) :: mine(:)
         type(hit_t), intent(inout) :: hit(:)
@@ -418,7 +456,7 @@ contains
         !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k)
         do i = 1, size(mine)
             k = mine(i)
-            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), sw, hit(k))
+            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k))
         end do
         !$omp end parallel do
     end subroutine find_contacts
@@ -426,13 +464,14 @@ contains
     !> Step 4: penalty forces of the contacts found, added to f on the slave
     !> and (by the shape functions) the master nodes in slave order, so the
     !> sums do not depend on threads; the first half of their work.
-    subroutine contact_enforce(ct, f, dt, dt_avg, mass, free)
+    subroutine contact_enforce(ct, f, dt, dt_avg, mass, free, time)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(inout) :: f(:, :)
         real(wp), intent(in) :: dt, dt_avg
         real(wp), intent(in) :: mass(:), free(:, :)
-        integer :: i, k, j, sn, m, q, nlate, i2
-        real(wp) :: vrel(3), kpen, meff, mm, fs(3), reach, plate
+        real(dp), intent(in) :: time
+        integer :: i, k, j, sn, m, q, i2
+        real(wp) :: vrel(3), fs(3)
         real(dp) :: t0
         ct%fnode = 0
         do i = 1, ct%n
@@ -447,103 +486,19 @@ contains
                     it%cseg = 0
                     it%fprev = 0
                     it%ft = 0
+                    it%kp = 0
                     cycle
-                end if
-                ! initial penetrations (the first active cycle) are allowed and
-                ! shrink as the nodes move out, like LS-DYNA's IGNORE = 1: a
-                ! penalty force on them would throw the nodes out with the
-                ! spring's energy
-                if (.not. it%started) then
-                    do i2 = 1, size(it%mine)
-                        k = it%mine(i2)
-                        if (.not. it%hit(k)%found) cycle
-                        if (abs(it%hit(k)%a) <= 0.0_wp) cycle
-                        it%p0(k) = abs(it%hit(k)%a)
-                        it%ninit = it%ninit + 1
-                        it%pinit = max(it%pinit, it%p0(k))
-                    end do
-                    it%started = .true.
                 end if
                 ! penalty forces (Eq. 12) with damping and friction, per slave
                 ! (threaded: each writes only its own entries), then listed as
                 ! pairs in slave order
-                nlate = 0
-                plate = 0
-                !$omp parallel do schedule(dynamic, 64) default(shared) &
-                !$omp private(i2, k, sn, m, kpen, reach, vrel, mm, meff) reduction(+:nlate) reduction(max:plate)
+                !$omp parallel do schedule(dynamic, 64) default(shared) private(i2, k)
                 do i2 = 1, size(it%mine)
                     k = it%mine(i2)
-                    if (.not. it%hit(k)%found) then
-                        it%cseg(k) = 0
-                        it%fprev(:, k) = 0
-                        it%ft(:, k) = 0
-                        it%p0(k) = 0
-                        cycle
-                    end if
-                    sn = s%slave(k)
-                    m = it%hit(k)%seg
-                    ! the softer of the master segment and the slave node (LS-DYNA's
-                    ! SOFT 0), per unit area, times the area the slave node covers
-                    ! facing the master (a node without segments: the segment's k)
-                    ! The spring is set when the contact starts or moves to another
-                    ! segment and kept while it stays: a stiffness that changed
-                    ! during the contact (the facing area turns with the bodies)
-                    ! would not be conservative (rigid bricks gained energy from it)
-                    if (it%cseg(k) /= m .or. it%kp(k) <= 0.0_wp) then
-                        kpen = s%seg_k(m)
-                        if (s%node_area(sn) > 0.0_wp) then
-                            kpen = min(kpen/s%seg_area(m), s%node_kpa(sn))* &
-                                   facing_area(s, it%ls%xl, sn, it%hit(k)%nhat*pdir(it%hit(k)%a))
-                        end if
-                    else
-                        kpen = it%kp(k)
-                    end if
-                    if (it%cseg(k) /= m) then
-                        ! a contact found, or moved to another segment, deeper than
-                        ! the node can have gone in one step (it came through an
-                        ! edge, edge to edge, where no node-to-segment check sees
-                        ! it, or a tube takes over far below a face's plane): the
-                        ! excess is allowed like an initial penetration, not thrown
-                        ! out with the spring's energy (on rigid bricks that
-                        ! energy ran away). A move keeps the spring's energy: the
-                        ! depth on the new segment may be the old one scaled by
-                        ! sqrt(k_old/k_new), plus one step's approach (a corner
-                        ! node of a block inside a rigid brick's corner, handed
-                        ! between the end and the top face, gained energy at each
-                        ! move when the old raw depth was the bound)
-                        vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
-                        reach = 2.0_wp*abs(dot_product(vrel, it%hit(k)%nhat))*dt + 1.0e-3_wp*it%hit(k)%tm
-                        if (it%cseg(k) /= 0 .and. it%kp(k) > 0.0_wp) &
-                            reach = reach + it%aeff(k)*sqrt(it%kp(k)/max(kpen, tiny(1.0_wp)))
-                        if (abs(it%hit(k)%a) > reach .and. abs(it%hit(k)%a) - reach > it%p0(k)) then
-                            nlate = nlate + 1
-                            plate = max(plate, abs(it%hit(k)%a) - reach)
-                        end if
-                        ! the allowance is set afresh: one carried from a deeper
-                        ! segment would cancel the depth on a shallower one. A move
-                        ! into a crease gets none: a block's corner in a shell's
-                        ! crease, handed between its two sides each cycle, sank
-                        ! through with the shallower side's force
-                        if (it%cseg(k) /= 0) then
-                            if (into_crease(s, it%ls%xl, it%cseg(k), it%hit(k))) reach = huge(1.0_wp)
-                        end if
-                        it%p0(k) = max(0.0_wp, abs(it%hit(k)%a) - reach)
-                    end if
-                    it%kp(k) = kpen
-                    if (it%p0(k) > 0.0_wp) then
-                        it%p0(k) = min(it%p0(k), abs(it%hit(k)%a))
-                        it%hit(k)%a = sign(abs(it%hit(k)%a) - it%p0(k), it%hit(k)%a)
-                    end if
-                    it%aeff(k) = abs(it%hit(k)%a)
-                    m = it%hit(k)%seg
-                    vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
-                    mm = dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
-                    meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
-                    call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, k), it%fk(:, k))
+                    call slave_force(it, s, k, dt)
                 end do
                 !$omp end parallel do
-                it%nlate = it%nlate + nlate
-                it%plate = max(it%plate, plate)
+                it%started = .true.
                 ! MPI: the contacts the other ranks' slaves found
                 if (ct%distributed) then
                     t0 = wtime()
@@ -551,12 +506,14 @@ contains
                     ct%wall_gather = ct%wall_gather + (wtime() - t0)
                 end if
                 do k = 1, s%nslave
+                    if (it%evk(k) /= ev_none) call add_event(it, k, time)
                     if (.not. it%hit(k)%found) cycle
                     it%npair = it%npair + 1
                     it%pair(it%npair) = k
                     it%fpair(:, it%npair) = it%fk(:, k)
                 end do
-                if (ct%lagrange .and. it%npair > 0) call lagrange_normal(it, s, f, mass, free, dt, dt_avg)
+                if (ct%lagrange .and. it%npair > 0) call lagrange_projection(s, it%npair, it%pair, it%hit, it%fpair, &
+                                                                      it%ls%vl, it%fr, f, mass, free, dt, dt_avg)
                 ! both sides, in slave order (a deterministic sum)
                 do q = 1, it%npair
                     k = it%pair(q)
@@ -583,6 +540,161 @@ contains
         end do
     end subroutine contact_enforce
 
+    !> One slave's penalty force (Eq. 12) in it%fk(:, k), and its event.
+    !>
+    !> The spring (the softer of the master segment and the slave node,
+    !> LS-DYNA's SOFT 0, per unit area, times the area the node covers
+    !> facing the master) is set when a contact starts or moves to another
+    !> segment, and kept while it stays (a stiffness that changed during a
+    !> contact would not be conservative). No depth is allowed away: a
+    !> contact, new or moved, may be deeper than the slave's depth last
+    !> cycle by twice this step's approach at most (the depth below a
+    !> surface does not jump where a node crosses from one segment to the
+    !> next); a deeper one did not come through that segment and is not
+    !> taken, and is named in d3hsp. Only the penetrations present at the
+    !> first active cycle are allowed (LS-DYNA's IGNORE = 1): each is named
+    !> in d3hsp, and the allowance shrinks as the node moves out.
+    subroutine slave_force(it, s, k, dt)
+        type(interface_t), intent(inout) :: it
+        type(surface_t), intent(in) :: s
+        integer, intent(in) :: k
+        real(wp), intent(in) :: dt
+        integer :: sn, m
+        real(wp) :: kpen, vrel(3), mm, meff, reach
+        sn = s%slave(k)
+        it%evk(k) = ev_none
+        if (.not. it%hit(k)%found) then
+            if (it%cseg(k) /= 0) then
+                ! lost: by separation, or released while deeper than the
+                ! node's relative motion could undo in one step
+                m = it%cseg(k)
+                vrel = it%ls%vl(:, sn) - sum(it%ls%vl(:, s%seg(:, m)), 2)/4.0_wp
+                if (it%aeff(k) > 2.0_wp*dt*norm2(vrel) + 1.0e-3_wp*s%seg_t(m)) then
+                    it%evk(k) = ev_released
+                    it%evd(k) = it%aeff(k)
+                    it%hit(k)%seg = m
+                end if
+            end if
+            it%cseg(k) = 0
+            it%fprev(:, k) = 0
+            it%ft(:, k) = 0
+            it%p0(k) = 0
+            it%kp(k) = 0
+            it%aeff(k) = 0
+            return
+        end if
+        m = it%hit(k)%seg
+        vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
+        if (.not. it%started) then
+            ! initial penetration: allowed, shrinking as the node moves out
+            if (abs(it%hit(k)%a) > 0.0_wp) then
+                it%p0(k) = abs(it%hit(k)%a)
+                it%evk(k) = ev_initial
+                it%evd(k) = it%p0(k)
+            end if
+        else if (it%cseg(k) /= m) then
+            ! a new contact deeper than the node can have gone in one step,
+            ! or a move to a segment where the depth jumps beyond the depth
+            ! last cycle plus the step's approach: the node did not come
+            ! through this segment (it slid in the plane of one face of a
+            ! body into the window of the next face, or came through an
+            ! edge where no node-to-segment check sees it). Pushing the
+            ! whole depth out would add the spring energy k a^2 / 2; the
+            ! excess is allowed like an initial penetration (shrinking as
+            ! the node moves out) and named in d3hsp. Across a flat or
+            ! convex surface the depth does not jump at a move, so a node
+            ! handed between segments (aligned meshes) gets no allowance.
+            reach = 2.0_wp*abs(dot_product(vrel, it%hit(k)%nhat))*dt + 1.0e-3_wp*it%hit(k)%tm
+            if (it%cseg(k) /= 0) reach = reach + it%aeff(k) + it%p0(k)
+            if (abs(it%hit(k)%a) > reach) then
+                it%evk(k) = ev_late
+                it%evd(k) = abs(it%hit(k)%a) - reach
+                it%p0(k) = abs(it%hit(k)%a) - reach
+            end if
+        end if
+        if (it%cseg(k) /= m .or. it%kp(k) <= 0.0_wp) then
+            kpen = slave_stiffness(s, it%ls%xl, sn, m, it%hit(k)%nhat*pdir(it%hit(k)%a))
+            it%kp(k) = kpen
+        else
+            kpen = it%kp(k)
+        end if
+        if (it%p0(k) > 0.0_wp) then
+            it%p0(k) = min(it%p0(k), abs(it%hit(k)%a))
+            it%hit(k)%a = sign(abs(it%hit(k)%a) - it%p0(k), it%hit(k)%a)
+        end if
+        it%aeff(k) = abs(it%hit(k)%a)
+        mm = dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
+        meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
+        call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, k), it%fk(:, k))
+    end subroutine slave_force
+
+    !> Book slave k's event of this cycle: counted, the deepest kept, named
+    !> in the list the log takes (initial penetrations all, the others up
+    !> to max_named per interface).
+    subroutine add_event(it, k, time)
+        type(interface_t), intent(inout) :: it
+        integer, intent(in) :: k
+        real(dp), intent(in) :: time
+        type(contact_event_t), allocatable :: tmp(:)
+        logical :: named
+        select case (it%evk(k))
+        case (ev_initial)
+            it%ninit = it%ninit + 1
+            it%pinit = max(it%pinit, it%evd(k))
+            named = .true.
+        case (ev_late)
+            it%nlate = it%nlate + 1
+            it%plate = max(it%plate, it%evd(k))
+            named = it%nlate <= max_named
+        case default
+            it%nrel = it%nrel + 1
+            it%prel = max(it%prel, it%evd(k))
+            named = it%nrel <= max_named
+        end select
+        if (.not. named) return
+        if (it%nev == size(it%ev)) then
+            allocate (tmp(2*size(it%ev)))
+            tmp(1:it%nev) = it%ev
+            call move_alloc(tmp, it%ev)
+        end if
+        it%nev = it%nev + 1
+        it%ev(it%nev) = contact_event_t(kind=it%evk(k), slave=it%surf%slave(k), seg=it%hit(k)%seg, &
+                                        time=time, depth=it%evd(k))
+    end subroutine add_event
+
+    !> The events booked since the last call, one line each, for d3hsp (and
+    !> the list emptied).
+    function contact_events(ct, node_id) result(txt)
+        type(contacts_t), intent(inout) :: ct
+        integer, intent(in) :: node_id(:)
+        character(len=:), allocatable :: txt
+        character(len=240) :: buf
+        character(len=64) :: what
+        integer :: i, q, j, nd(4)
+        txt = ''
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                do q = 1, it%nev
+                    associate (e => it%ev(q))
+                        select case (e%kind)
+                        case (ev_initial); what = 'initial penetration (allowed)'
+                        case (ev_late); what = 'contact deeper than a step: excess allowed'
+                        case default; what = 'contact released deep'
+                        end select
+                        nd = 0
+                        if (e%seg > 0) nd = node_id(s%node(s%seg(:, e%seg)))
+                        write (buf, '(a,i0,a,es12.5,a,a,a,i0,a,4(1x,i0),a,es11.4)') '   interface ', it%id, ' t ', &
+                            e%time, ': ', trim(what), ': node ', node_id(s%node(e%slave)), ', segment', &
+                            (nd(j), j=1, 4), ', depth ', e%depth
+                        if (len(txt) > 0) txt = txt//new_line('a')
+                        txt = txt//trim(buf)
+                    end associate
+                end do
+                it%nev = 0
+            end associate
+        end do
+    end function contact_events
+
     !> MPI: every rank's own slaves' contacts of this cycle (what the pair
     !> list, the nodal sums and the work need), so that every rank holds the
     !> hits and forces of all slaves; records in slave order per rank.
@@ -593,28 +705,35 @@ contains
         integer :: i, k, n
         n = 0
         do i = 1, size(it%mine)
-            if (it%hit(it%mine(i))%found) n = n + 1
+            k = it%mine(i)
+            if (it%hit(k)%found .or. it%evk(k) /= ev_none) n = n + 1
         end do
-        allocate (mine(14, n))
+        allocate (mine(17, n))
         n = 0
         do i = 1, size(it%mine)
             k = it%mine(i)
-            if (.not. it%hit(k)%found) cycle
+            if (.not. (it%hit(k)%found .or. it%evk(k) /= ev_none)) cycle
             n = n + 1
             associate (h => it%hit(k))
                 mine(:, n) = [real(k, dp), real(h%seg, dp), real(h%kind, dp), real(h%a, dp), real(h%nshape, dp), &
-                              real(h%nhat, dp), real(it%fk(:, k), dp)]
+                              real(h%nhat, dp), real(it%fk(:, k), dp), merge(1.0_dp, 0.0_dp, h%found), &
+                              real(it%evk(k), dp), real(it%evd(k), dp)]
             end associate
         end do
         call comm_gather_records(mine, nranks, all)
         do k = 1, size(it%owned)
-            if (.not. it%owned(k)) it%hit(k)%found = .false.
+            if (.not. it%owned(k)) then
+                it%hit(k)%found = .false.
+                it%evk(k) = ev_none
+            end if
         end do
         do i = 1, size(all, 2)
             k = nint(all(1, i))
             if (it%owned(k)) cycle
+            it%evk(k) = nint(all(16, i))
+            it%evd(k) = real(all(17, i), wp)
             associate (h => it%hit(k))
-                h%found = .true.
+                h%found = all(15, i) > 0.5_dp
                 h%seg = nint(all(2, i))
                 h%kind = nint(all(3, i))
                 h%a = real(all(4, i), wp)
@@ -630,9 +749,8 @@ contains
     !> (the largest for the depths), on every rank.
     subroutine gather_contact_state(ct)
         type(contacts_t), intent(inout) :: ct
-        integer :: i, k, n, ns, kk(2)
+        integer :: i, k, n, ns
         integer, allocatable :: cnt(:), ptr(:), ib(:), tb(:)
-        real(dp) :: mx(2)
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 ns = size(it%owned)
@@ -678,14 +796,6 @@ contains
                 call sum_i8(it%total%pool)
                 call sum_i8(it%total%reduced)
                 call sum_i8(it%total%masters)
-                kk = [it%ninit, it%nlate]
-                call comm_sum_int(kk, 2)
-                it%ninit = kk(1)
-                it%nlate = kk(2)
-                mx = [real(it%plate, dp), real(it%pinit, dp)]
-                call comm_max(mx)
-                it%plate = real(mx(1), wp)
-                it%pinit = real(mx(2), wp)
             end associate
         end do
     contains
@@ -710,145 +820,9 @@ contains
                 it%total%pool = 0
                 it%total%reduced = 0
                 it%total%masters = 0
-                it%ninit = 0
-                it%nlate = 0
             end associate
         end do
     end subroutine scatter_contact_state
-
-    !> Lagrangian projection (forward increment Lagrange multipliers, after
-    !> Carpenter, Taylor and Katona 1991): normal impulses J >= 0 such that
-    !> no pair's gap closes further over the step to x(n+1) = x(n) + dt
-    !> (v(n-1/2) + dt_avg (f + contact) / m). For pair q, the gap's rate
-    !> changes by J (w_s + sum N_i^2 w_i), w = 1/m along the return
-    !> direction (0 where constrained). Pairs sharing nodes are solved by
-    !> Gauss-Seidel sweeps in slave order; an isolated pair (node on node)
-    !> is exact in one. The tangential (friction) part stays as computed,
-    !> capped by mu times the new normal force.
-    subroutine lagrange_normal(it, s, f, mass, free, dt, dt_avg)
-        type(interface_t), intent(inout) :: it
-        type(surface_t), intent(in) :: s
-        real(wp), intent(in) :: f(:, :), mass(:), free(:, :), dt, dt_avg
-        real(wp), allocatable :: pv(:, :), w(:, :), jn(:)
-        integer :: q, k, sn, m, j, sweep, nd
-        real(wp) :: nh(3), g, den, dj, ftan(3), mu, cap, change, scale
-        allocate (pv(3, s%nnode), w(3, s%nnode), jn(it%npair))
-        do nd = 1, s%nnode
-            if (mass(s%node(nd)) > 0.0_wp) then
-                w(:, nd) = free(:, s%node(nd))/mass(s%node(nd))
-            else
-                w(:, nd) = 0
-            end if
-            pv(:, nd) = it%ls%vl(:, nd) + dt_avg*f(:, s%node(nd))*w(:, nd)
-        end do
-        jn = 0
-        scale = 0
-        do sweep = 1, 20
-            change = 0
-            do q = 1, it%npair
-                k = it%pair(q)
-                sn = s%slave(k)
-                m = it%hit(k)%seg
-                nh = it%hit(k)%nhat
-                ! a tube or pinball contact that only touches (a = 0: a node in
-                ! the plane of a face beyond its edge) constrains nothing: a
-                ! zero-gap constraint there would tie the node to the edge
-                if (it%hit(k)%kind /= contact_interior .and. it%hit(k)%a == 0.0_wp) cycle
-                ! the change of the gap over the step along the return direction
-                ! (negative: closing). The constraint stops the closing; the
-                ! penetration already there is kept, not pushed out: pushing it
-                ! out in one step would add the energy of that jump each time
-                ! round-off leaves a trace of penetration (a resting contact)
-                g = dt*dot_product(nh, pv(:, sn) - matmul(pv(:, s%seg(:, m)), it%hit(k)%nshape))*pdir(it%hit(k)%a)
-                if (g >= 0.0_wp .and. jn(q) == 0.0_wp) cycle
-                den = dot_product(nh*nh, w(:, sn))
-                do j = 1, seg_nodes(s%seg(:, m))
-                    den = den + it%hit(k)%nshape(j)**2*dot_product(nh*nh, w(:, s%seg(j, m)))
-                end do
-                if (den <= 0.0_wp) cycle
-                dj = max(-jn(q), -g/(dt*den))
-                if (dj == 0.0_wp) cycle
-                jn(q) = jn(q) + dj
-                change = max(change, abs(dj))
-                scale = max(scale, jn(q))
-                ! the impulse along +-n: the side -K a n would push the slave
-                pv(:, sn) = pv(:, sn) + dj*pdir(it%hit(k)%a)*nh*w(:, sn)
-                do j = 1, seg_nodes(s%seg(:, m))
-                    pv(:, s%seg(j, m)) = pv(:, s%seg(j, m)) - dj*pdir(it%hit(k)%a)*it%hit(k)%nshape(j)*nh* &
-                                         w(:, s%seg(j, m))
-                end do
-            end do
-            if (change <= 1.0e-10_wp*max(scale, tiny(1.0_wp))) exit
-        end do
-        do q = 1, it%npair
-            k = it%pair(q)
-            nh = it%hit(k)%nhat*pdir(it%hit(k)%a)
-            ftan = it%fpair(:, q) - dot_product(it%fpair(:, q), nh)*nh
-            mu = it%fr%fd + (it%fr%fs - it%fr%fd)
-            cap = max(mu, 0.0_wp)*jn(q)/dt_avg
-            if (norm2(ftan) > cap) ftan = ftan*(cap/max(norm2(ftan), tiny(1.0_wp)))
-            it%fpair(:, q) = jn(q)/dt_avg*nh + ftan
-        end do
-    end subroutine lagrange_normal
-
-    !> The area slave node sn covers against a master that pushes it along
-    !> `push`: its share of each of its own segments; of a solid face, the
-    !> share projected on the plane normal to `push`, and only if the face
-    !> is turned toward the master (a node on a block's edge covers the top
-    !> face's area, not the side's); at least a quarter of its whole share.
-    !> A shell counts whole, at its initial area, whatever its angle and
-    !> stretch (a node on a fold line carries the fold).
-    pure real(wp) function facing_area(s, xl, sn, push) result(a)
-        type(surface_t), intent(in) :: s
-        real(wp), intent(in) :: xl(:, :), push(3)
-        integer, intent(in) :: sn
-        integer :: q, m, nnd
-        real(wp) :: nv(3), c
-        a = 0
-        do q = s%seg_ptr(sn), s%seg_ptr(sn + 1) - 1
-            m = s%seg_list(q)
-            nnd = seg_nodes(s%seg(:, m))
-            if (nnd == 3) then
-                nv = cross(xl(:, s%seg(2, m)) - xl(:, s%seg(1, m)), xl(:, s%seg(3, m)) - xl(:, s%seg(1, m)))
-            else
-                nv = cross(xl(:, s%seg(3, m)) - xl(:, s%seg(1, m)), xl(:, s%seg(4, m)) - xl(:, s%seg(2, m)))
-            end if
-            ! |nv| is twice the area
-            c = dot_product(nv, push)
-            if (s%seg_kind(m) == seg_shell) then
-                a = a + s%seg_area(m)/nnd
-            else if (c < 0.0_wp) then
-                a = a - 0.5_wp*c/nnd
-            end if
-        end do
-        a = max(a, 0.25_wp*s%node_area(sn))
-    end function facing_area
-
-    !> A move from segment `old` to the segment of `hit` into a crease: the
-    !> two share a node and the old one lies on the slave's side of the new
-    !> one's plane (beyond 1e-3 of the window), so the slave is in both.
-    pure logical function into_crease(s, xl, old, hit)
-        type(surface_t), intent(in) :: s
-        real(wp), intent(in) :: xl(:, :)
-        integer, intent(in) :: old
-        type(hit_t), intent(in) :: hit
-        real(wp) :: c_old(3), c_new(3)
-        integer :: j
-        into_crease = .false.
-        if (.not. any([(any(s%seg(:, old) == s%seg(j, hit%seg)), j=1, 4)])) return
-        c_old = 0.25_wp*sum(xl(:, s%seg(:, old)), 2)
-        c_new = 0.25_wp*sum(xl(:, s%seg(:, hit%seg)), 2)
-        into_crease = dot_product(c_old - c_new, hit%nhat*pdir(hit%a)) > 1.0e-3_wp*hit%tm
-    end function into_crease
-
-    !> The side -K a n pushes the slave to: +1 along the return direction
-    !> when a <= 0 (solids, shells from the normal side), -1 when a > 0
-    !> (a shell approached from behind). Not sign(1, -a): a = -0.0 must give +1.
-    pure real(wp) function pdir(a)
-        real(wp), intent(in) :: a
-        pdir = 1.0_wp
-        if (a > 0.0_wp) pdir = -1.0_wp
-    end function pdir
 
     !> Second half of the contact forces' work, with v(n+1/2): the sliding
     !> energy is minus that work (springs store it, friction dissipates it).
@@ -939,8 +913,9 @@ contains
     end function interface_summary
 
     !> End-of-run lines: searches, sizes and time per interface.
-    function contact_report(ct) result(txt)
+    function contact_report(ct, e_ref) result(txt)
         type(contacts_t), intent(in) :: ct
+        real(dp), intent(in) :: e_ref          !< the run's initial total energy (the scale of "created")
         character(len=:), allocatable :: txt
         character(len=220) :: buf
         character(len=1), parameter :: nl = new_line('a')
@@ -960,15 +935,29 @@ contains
                 txt = txt//trim(buf)//nl
                 if (it%ninit > 0) then
                     write (buf, '(a,i0,a,i0,a,es10.3,a)') '   interface ', it%id, ': ', it%ninit, &
-                        ' initial penetrations (largest ', it%pinit, &
-                        ') allowed, shrinking as the nodes move out (as LS-DYNA''s IGNORE = 1)'
+                        ' initial penetrations (deepest ', it%pinit, &
+                        ') allowed, shrinking as the nodes move out (as LS-DYNA''s IGNORE = 1), each named above'
                     txt = txt//trim(buf)//nl
                 end if
                 if (it%nlate > 0) then
-                    write (buf, '(a,i0,a,i0,a,es10.3,a)') '   interface ', it%id, ': ', it%nlate, &
-                        ' contacts found (or moved to another segment) deeper than one step''s approach '// &
-                        '(largest excess ', it%plate, &
-                        '): the excess allowed like an initial penetration'
+                    write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%nlate, &
+                        ' contacts found (or moved) deeper than one step''s approach (largest excess ', it%plate, &
+                        ') allowed like initial penetrations; the first ', min(it%nlate, max_named), ' named above'
+                    txt = txt//trim(buf)//nl
+                end if
+                if (it%energy < -0.01_dp*abs(e_ref)) then
+                    ! the ratio books this work as (negative) sliding energy, so
+                    ! it stays at 1 while the contact creates energy
+                    write (buf, '(a,i0,a,es10.3,a,f6.1,a)') '   *** Warning: interface ', it%id, &
+                        ': its forces did net positive work ', -it%energy, ' (', -100.0_dp*it%energy/abs(e_ref), &
+                        '% of the initial energy): energy created, which the energy ratio does not show'
+                    txt = txt//trim(buf)//nl
+                    txt = txt//'       (springs too stiff for the step: SLSFAC, SFS, SFM; or depths pushed out at once)'//nl
+                end if
+                if (it%nrel > 0) then
+                    write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%nrel, &
+                        ' contacts released while deeper than one step can undo (deepest ', it%prel, &
+                        '); the first ', min(it%nrel, max_named), ' named above'
                     txt = txt//trim(buf)//nl
                 end if
             end associate

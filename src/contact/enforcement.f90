@@ -1,15 +1,19 @@
 !> Step 4 of the automatic contact, constraint enforcement (section 6 of
-!> Whirley & Engelmann 1993), for one slave node in contact: the penalty
-!> force (Eq. 12), viscous contact damping (VDC) and Coulomb friction
-!> (FS, FD, DC, as LS-DYNA's contact cards define them). The master side
-!> takes the opposite force spread by the segment's shape functions (the
-!> caller assembles it).
+!> Whirley & Engelmann 1993): the penalty force of one slave node in
+!> contact (Eq. 12), viscous contact damping (VDC) and Coulomb friction
+!> (FS, FD, DC, as LS-DYNA's contact cards define them); the penalty
+!> stiffness rule (from the bulk modulus and the element size, per unit
+!> area, times the area the slave covers); and the Lagrangian projection
+!> of the section's second method. The master side takes the opposite
+!> force spread by the segment's shape functions (the caller assembles it).
 module xd_contact_enforcement
     use xd_kinds, only: wp
-    use xd_contact_segment_check, only: hit_t
+    use xd_core_vectors, only: cross
+    use xd_contact_segment_check, only: hit_t, contact_interior
+    use xd_contact_surface, only: surface_t, seg_shell, seg_nodes
     implicit none
     private
-    public :: friction_t, penalty_force
+    public :: friction_t, penalty_force, lagrange_projection, slave_stiffness, facing_area, pdir
 
     !> Card 2 of the contact keyword.
     type :: friction_t
@@ -58,5 +62,152 @@ contains
         end if
         f = fn + ft
     end subroutine penalty_force
+
+
+    !> The penalty stiffness of slave sn against segment m (section 6, the
+    !> rule after Eq. 12): the softer of the master segment and the slave
+    !> node per unit area (LS-DYNA's SOFT 0), times the area the node covers
+    !> facing the master's push; a node without area of its own takes the
+    !> segment's stiffness.
+    pure real(wp) function slave_stiffness(s, xl, sn, m, push) result(kpen)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: xl(:, :), push(3)
+        integer, intent(in) :: sn, m
+        kpen = s%seg_k(m)
+        if (s%node_area(sn) > 0.0_wp) kpen = min(kpen/s%seg_area(m), s%node_kpa(sn))*facing_area(s, xl, sn, push)
+    end function slave_stiffness
+
+    !> Lagrangian projection (forward increment Lagrange multipliers, after
+    !> Carpenter, Taylor and Katona 1991): normal impulses J >= 0 such that
+    !> no pair's gap closes further over the step to x(n+1) = x(n) + dt
+    !> (v(n-1/2) + dt_avg (f + contact) / m). For pair q, the gap's rate
+    !> changes by J (w_s + sum N_i^2 w_i), w = 1/m along the return
+    !> direction (0 where constrained). Pairs sharing nodes are solved by
+    !> Gauss-Seidel sweeps in slave order; an isolated pair (node on node)
+    !> is exact in one. The tangential (friction) part stays as computed,
+    !> capped by mu times the new normal force.
+    !>
+    !> pair(1:npair): the slave positions in contact, in slave order; hit:
+    !> every slave's contact; fpair: their penalty forces in, the projected
+    !> forces out; vl: the surface nodes' velocities v(n-1/2); f: the model's
+    !> nodal forces without contact; mass, free: nodal masses and the
+    !> unconstrained directions (1 or 0).
+    subroutine lagrange_projection(s, npair, pair, hit, fpair, vl, fr, f, mass, free, dt, dt_avg)
+        type(surface_t), intent(in) :: s
+        integer, intent(in) :: npair, pair(:)
+        type(hit_t), intent(in) :: hit(:)
+        real(wp), intent(inout) :: fpair(:, :)
+        real(wp), intent(in) :: vl(:, :)
+        type(friction_t), intent(in) :: fr
+        real(wp), intent(in) :: f(:, :), mass(:), free(:, :), dt, dt_avg
+        real(wp), allocatable :: pv(:, :), w(:, :), jn(:)
+        integer :: q, k, sn, m, j, sweep, nd
+        real(wp) :: nh(3), g, den, dj, ftan(3), mu, cap, change, scale, vrel(3)
+        allocate (pv(3, s%nnode), w(3, s%nnode), jn(npair))
+        do nd = 1, s%nnode
+            if (mass(s%node(nd)) > 0.0_wp) then
+                w(:, nd) = free(:, s%node(nd))/mass(s%node(nd))
+            else
+                w(:, nd) = 0
+            end if
+            pv(:, nd) = vl(:, nd) + dt_avg*f(:, s%node(nd))*w(:, nd)
+        end do
+        jn = 0
+        scale = 0
+        do sweep = 1, 20
+            change = 0
+            do q = 1, npair
+                k = pair(q)
+                sn = s%slave(k)
+                m = hit(k)%seg
+                nh = hit(k)%nhat
+                ! a tube or pinball contact that only touches (a = 0: a node in
+                ! the plane of a face beyond its edge) constrains nothing: a
+                ! zero-gap constraint there would tie the node to the edge
+                if (hit(k)%kind /= contact_interior .and. hit(k)%a == 0.0_wp .and. hit(k)%gap == 0.0_wp) cycle
+                ! the change of the gap over the step along the return direction
+                ! (negative: closing). The constraint stops the closing; the
+                ! penetration already there is kept, not pushed out: pushing it
+                ! out in one step would add the energy of that jump each time
+                ! round-off leaves a trace of penetration (a resting contact)
+                g = dt*dot_product(nh, pv(:, sn) - matmul(pv(:, s%seg(:, m)), hit(k)%nshape))*pdir(hit(k)%a) + &
+                    hit(k)%gap
+                if (g >= 0.0_wp .and. jn(q) == 0.0_wp) cycle
+                den = dot_product(nh*nh, w(:, sn))
+                do j = 1, seg_nodes(s%seg(:, m))
+                    den = den + hit(k)%nshape(j)**2*dot_product(nh*nh, w(:, s%seg(j, m)))
+                end do
+                if (den <= 0.0_wp) cycle
+                dj = max(-jn(q), -g/(dt*den))
+                if (dj == 0.0_wp) cycle
+                jn(q) = jn(q) + dj
+                change = max(change, abs(dj))
+                scale = max(scale, jn(q))
+                ! the impulse along +-n: the side -K a n would push the slave
+                pv(:, sn) = pv(:, sn) + dj*pdir(hit(k)%a)*nh*w(:, sn)
+                do j = 1, seg_nodes(s%seg(:, m))
+                    pv(:, s%seg(j, m)) = pv(:, s%seg(j, m)) - dj*pdir(hit(k)%a)*hit(k)%nshape(j)*nh* &
+                                         w(:, s%seg(j, m))
+                end do
+            end do
+            if (change <= 1.0e-10_wp*max(scale, tiny(1.0_wp))) exit
+        end do
+        do q = 1, npair
+            k = pair(q)
+            nh = hit(k)%nhat*pdir(hit(k)%a)
+            ftan = fpair(:, q) - dot_product(fpair(:, q), nh)*nh
+            ! mu = FD + (FS - FD) exp(-DC |v_t|), v_t the sliding velocity
+            vrel = vl(:, s%slave(k)) - matmul(vl(:, s%seg(:, hit(k)%seg)), hit(k)%nshape)
+            vrel = vrel - dot_product(vrel, nh)*nh
+            mu = fr%fd + (fr%fs - fr%fd)*exp(-fr%dc*norm2(vrel))
+            cap = max(mu, 0.0_wp)*jn(q)/dt_avg
+            if (norm2(ftan) > cap) ftan = ftan*(cap/max(norm2(ftan), tiny(1.0_wp)))
+            fpair(:, q) = jn(q)/dt_avg*nh + ftan
+        end do
+    end subroutine lagrange_projection
+
+    !> The area slave node sn covers against a master that pushes it along
+    !> `push`: its share of each of its own segments; of a solid face, the
+    !> share projected on the plane normal to `push`, and only if the face
+    !> is turned toward the master (a node on a block's edge covers the top
+    !> face's area, not the side's); at least a quarter of its whole share.
+    !> A shell counts whole, at its initial area, whatever its angle and
+    !> stretch (a node on a fold line carries the fold).
+    pure real(wp) function facing_area(s, xl, sn, push) result(a)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: xl(:, :), push(3)
+        integer, intent(in) :: sn
+        integer :: q, m, nnd
+        real(wp) :: nv(3), c
+        a = 0
+        do q = s%seg_ptr(sn), s%seg_ptr(sn + 1) - 1
+            m = s%seg_list(q)
+            nnd = seg_nodes(s%seg(:, m))
+            if (nnd == 3) then
+                nv = cross(xl(:, s%seg(2, m)) - xl(:, s%seg(1, m)), xl(:, s%seg(3, m)) - xl(:, s%seg(1, m)))
+            else
+                nv = cross(xl(:, s%seg(3, m)) - xl(:, s%seg(1, m)), xl(:, s%seg(4, m)) - xl(:, s%seg(2, m)))
+            end if
+            ! |nv| is twice the area
+            c = dot_product(nv, push)
+            if (s%seg_kind(m) == seg_shell) then
+                a = a + s%seg_area(m)/nnd
+            else if (c < 0.0_wp) then
+                a = a - 0.5_wp*c/nnd
+            end if
+        end do
+        ! a nodes-to-surface slave on no segment of the surface: its whole area
+        if (s%seg_ptr(sn + 1) == s%seg_ptr(sn)) a = s%node_area(sn)
+        a = max(a, 0.25_wp*s%node_area(sn))
+    end function facing_area
+
+    !> The side -K a n pushes the slave to: +1 along the return direction
+    !> when a <= 0 (solids, shells from the normal side), -1 when a > 0
+    !> (a shell approached from behind). Not sign(1, -a): a = -0.0 must give +1.
+    pure real(wp) function pdir(a)
+        real(wp), intent(in) :: a
+        pdir = 1.0_wp
+        if (a > 0.0_wp) pdir = -1.0_wp
+    end function pdir
 
 end module xd_contact_enforcement

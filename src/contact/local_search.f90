@@ -30,6 +30,8 @@ module xd_contact_local_search
         real(wp), allocatable :: vl(:, :)    !< surface velocities now (3, nnode)
         real(wp), allocatable :: lc(:)       !< characteristic lengths at the last global search
         real(wp) :: grow = 0                 !< how far segments may have stretched since: 2u, plus the reach
+        real(wp) :: lead = 0                 !< Lagrangian projection: contacts found this far before they touch
+        real(wp) :: dt = 0                   !< this cycle's step (how deep a new contact can be)
     end type local_search_t
 
     integer, parameter :: max_track_steps = 64
@@ -39,12 +41,13 @@ contains
     !> The contact of slave number i (position in s%slave) this cycle, in
     !> `best` (best%found false: none). `oldseg` is last cycle's segment (0:
     !> none), `fprev` the contact force it carried (the comparison vector).
-    subroutine find_contact(s, lists, ls, i, oldseg, fprev, sw, best)
+    subroutine find_contact(s, lists, ls, i, oldseg, fprev, aprev, sw, best)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
         integer, intent(in) :: i, oldseg
         real(wp), intent(in) :: fprev(3)
+        real(wp), intent(in) :: aprev          !< the slave's depth last cycle (0: not in contact)
         type(search_switches_t), intent(in) :: sw
         type(hit_t), intent(out) :: best
         type(hit_t) :: hit
@@ -63,6 +66,9 @@ contains
             ! the old segment: done if the contact point is inside it (and, on
             ! a shell, not within a half-thickness of its border)
             call check(oldseg, hit)
+            if (hit%found) then
+                if (in_plane_own(oldseg, hit)) hit%found = .false.
+            end if
             if (hit%found .and. hit%kind == contact_interior .and. .not. grazing(hit) .and. &
                 .not. (s%seg_kind(oldseg) == seg_shell .and. hit%near_border)) then
                 best = hit
@@ -122,7 +128,7 @@ contains
             xm = ls%xl(:, s%seg(:, m))
             tn = s%seg_tn(:, m)
             call segment_check(xm, tn, s%seg_kind(m) == seg_shell, ls%xl(:, sn), ts, h, &
-                               touching=s%seg_body(m) /= s%node_body(sn))
+                               touching=s%seg_body(m) /= s%node_body(sn), lead=ls%lead)
             h%seg = m
         end subroutine check
 
@@ -135,6 +141,9 @@ contains
             if (any(s%seg(:, m) == sn) .or. any(s%seg_elem(:, m) == sn)) return
             if (iand(s%seg_side(m), want) == 0) return
             call check(m, h)
+            if (h%found) then
+                if (in_plane_own(m, h)) return
+            end if
             if (.not. h%found) then
                 ! a solid face missed by a hair (the slave on its plane, outside)
                 ! does not make the slave an outside node: it lies on the edge
@@ -153,6 +162,14 @@ contains
                 better = .true.
             else if (h%level /= b%level) then
                 better = h%level < b%level
+            else if (squarer(h, b) /= 0) then
+                ! two solid faces: the one the slave's own solid surface
+                ! meets squarely (its outward normals against the push):
+                ! the end faces of two aligned bars, not the side face the
+                ! node lies in; for a node of a plate under a sliding
+                ! block, the block's bottom face, not its front face
+                ! moving away over it
+                better = squarer(h, b) > 0
             else if (beyond_half(h) .neqv. beyond_half(b)) then
                 ! a node deeper than half a solid's window below one face and
                 ! less deep below another came through the other (the far face
@@ -160,11 +177,28 @@ contains
                 better = beyond_half(b)
             else if (grazing(h) .neqv. grazing(b)) then
                 ! a node on a face's plane that penetrates another face of the
-                ! same level lies at their common edge: the face it went
-                ! through pushes it (two bodies with aligned edges, where the
-                ! side face would otherwise win as the closer one, and carry
-                ! nothing)
-                better = grazing(b)
+                ! same level by no more than it can have gone since last cycle
+                ! (its depth then plus twice this step's approach) lies at
+                ! their common edge: the face it went through pushes it (two
+                ! bodies with aligned edges, where the side face would
+                ! otherwise win as the closer one, and carry nothing). Deeper
+                ! than that, it did not come through the other face: it slid
+                ! in the plane of the first (a node under a sliding block
+                ! enters the window of the block's back face from its deep
+                ! end), and the face it lies on keeps it
+                ! Which face: the one the slave's own surface faces. A node
+                ! with solid faces of its own takes the master face whose
+                ! push is most nearly against its own outward normals (the
+                ! end faces of two aligned bars, not the side face the node
+                ! lies in; a node on a plate under a sliding block, the
+                ! block's bottom face, not its front face moving away).
+                ! Without solid faces of its own (a shell or a lone node),
+                ! the face it can have reached since last cycle.
+                if (grazing(b)) then
+                    better = reachable(h)
+                else
+                    better = .not. reachable(b)
+                end if
             else
                 better = h%dist < b%dist
                 if (general) then
@@ -176,6 +210,69 @@ contains
                 end if
             end if
         end function better
+
+        !> +1 if h's push meets the slave's own solid faces more squarely
+        !> than b's (by more than 0.1 in the cosine), -1 if less, 0 if
+        !> neither is clearly so or either is not a solid face.
+        integer function squarer(h, b)
+            type(hit_t), intent(in) :: h, b
+            real(wp) :: fh, fb
+            squarer = 0
+            if (s%seg_kind(h%seg) == seg_shell .or. s%seg_kind(b%seg) == seg_shell) return
+            fh = facing(h)
+            if (fh < -2.0_wp) return
+            fb = facing(b)
+            if (fh > fb + 0.1_wp) squarer = 1
+            if (fb > fh + 0.1_wp) squarer = -1
+        end function squarer
+
+        !> A tube or pinball contact with a shell segment of the slave's own
+        !> body, pushing the slave within 60 degrees of the segment's plane:
+        !> a neighbour in the same sheet (a flat plate of shells as thick as
+        !> its elements reaches its next segments edge-on), not a fold that
+        !> has closed (that meets the segment face-on). Not a contact.
+        logical function in_plane_own(m, h)
+            integer, intent(in) :: m
+            type(hit_t), intent(in) :: h
+            real(wp) :: nv(3)
+            in_plane_own = .false.
+            if (s%seg_kind(m) /= seg_shell .or. h%kind == contact_interior) return
+            if (s%seg_body(m) /= s%node_body(sn)) return
+            nv = cross(ls%xl(:, s%seg(3, m)) - ls%xl(:, s%seg(1, m)), ls%xl(:, s%seg(4, m)) - ls%xl(:, s%seg(2, m)))
+            in_plane_own = abs(dot_product(nv, h%nhat)) < 0.5_wp*norm2(nv)
+        end function in_plane_own
+
+        !> How squarely the slave's own solid faces meet the push of
+        !> contact h: the largest -n_s . push over the slave's solid
+        !> segments (unit outward normals n_s); -3 if it has none.
+        real(wp) function facing(h)
+            type(hit_t), intent(in) :: h
+            integer :: q, m2, nnd
+            real(wp) :: nv(3), ln
+            facing = -3.0_wp
+            do q = s%seg_ptr(sn), s%seg_ptr(sn + 1) - 1
+                m2 = s%seg_list(q)
+                if (s%seg_kind(m2) == seg_shell) cycle
+                nnd = seg_nodes(s%seg(:, m2))
+                if (nnd == 3) then
+                    nv = cross(ls%xl(:, s%seg(2, m2)) - ls%xl(:, s%seg(1, m2)), ls%xl(:, s%seg(3, m2)) - ls%xl(:, s%seg(1, m2)))
+                else
+                    nv = cross(ls%xl(:, s%seg(3, m2)) - ls%xl(:, s%seg(1, m2)), ls%xl(:, s%seg(4, m2)) - ls%xl(:, s%seg(2, m2)))
+                end if
+                ln = norm2(nv)
+                if (ln <= 0.0_wp) cycle
+                facing = max(facing, -dot_product(nv, h%nhat)/ln)
+            end do
+        end function facing
+
+        !> The contact's depth is within the slave's depth last cycle plus
+        !> twice this step's approach along the return direction.
+        logical function reachable(h)
+            type(hit_t), intent(in) :: h
+            real(wp) :: vr(3)
+            vr = ls%vl(:, sn) - matmul(ls%vl(:, s%seg(:, h%seg)), h%nshape)
+            reachable = abs(h%a) <= aprev + 2.0_wp*ls%dt*abs(dot_product(vr, h%nhat)) + 1.0e-3_wp*h%tm
+        end function reachable
 
         !> A contact that only grazes its segment: a penetration below 1e-5
         !> of the thickness (round-off on a face's plane).
@@ -202,7 +299,8 @@ contains
         !> k a^2 / 2 at each catch.
         logical function acceptable()
             acceptable = best%found
-            if (acceptable .and. best%level == 3 .and. nsolid_miss > 0) acceptable = best%seg == oldseg
+            if (.not. acceptable .or. nsolid_miss == 0 .or. best%kind == contact_interior) return
+            if (s%seg_kind(best%seg) /= seg_shell) acceptable = best%seg == oldseg
         end function acceptable
 
         !> Tracking along an opposite region: from the master node, step to
@@ -256,7 +354,7 @@ contains
                 ! three nodes at mn alone left out the part of the segment near
                 ! its far corner, where a slave whose list holds mn alone went
                 ! unseen until it was deep in a crushed tube's band)
-                reach = ts + tm
+                reach = ts + tm + ls%lead
                 lo = min(xa, x1, x2, x3) - reach
                 hi = max(xa, x1, x2, x3) + reach
                 if (.not. all(xs >= lo .and. xs <= hi)) cycle
@@ -271,9 +369,9 @@ contains
                 ! its fourth node: the bounds of Eqs. (2)-(3) grow by it
                 warp = abs(dot_product(c, x3 - xa))/area2
                 if (s%seg_kind(m) == seg_shell) then
-                    if (h > tm + ts + warp .or. h < -tm - ts - warp) cycle       ! Eq. (2)
+                    if (h > tm + ts + warp + ls%lead .or. h < -tm - ts - warp - ls%lead) cycle     ! Eq. (2)
                 else
-                    if (h > ts + warp .or. h < ts - tm - warp) cycle              ! Eq. (3)
+                    if (h > ts + warp + ls%lead .or. h < ts - tm - warp) cycle                  ! Eq. (3)
                 end if
                 screened_in = .true.
                 return

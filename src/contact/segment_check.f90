@@ -31,6 +31,8 @@ module xd_contact_segment_check
                                           !< 3 solid tube/pinball (4: no contact)
         integer :: near_node = 1          !< segment node (1-4) closest to the contact point
         logical :: near_border = .false.  !< contact point within tm of the segment border
+        real(wp) :: gap = 0               !< found ahead of touching (Lagrangian lead): the open gap, a = 0
+        logical :: converged = .true.     !< the Newton iteration of Eqs. (5)-(6) converged
     end type hit_t
 
 contains
@@ -46,26 +48,32 @@ contains
     !> the kind (interior, line, point). Quadrilaterals: Newton on Eqs. (5)-(6)
     !> from the centre, then clamping; triangles (N4 = N3): the plane's
     !> projection in area coordinates, then clamping.
-    pure subroutine project_segment(xm, p, xi, eta, nsh, kind)
+    pure subroutine project_segment(xm, p, xi, eta, nsh, kind, converged)
         real(wp), intent(in) :: xm(3, 4), p(3)
         real(wp), intent(out) :: xi, eta, nsh(4)
         integer, intent(out) :: kind
+        logical, intent(out), optional :: converged
+        logical :: conv
+        conv = .true.
         if (all(xm(:, 3) == xm(:, 4))) then
             call project_triangle(xm, p, xi, eta, nsh, kind)
         else
-            call project_quad(xm, p, xi, eta, nsh, kind)
+            call project_quad(xm, p, xi, eta, nsh, kind, conv)
         end if
+        if (present(converged)) converged = conv
     end subroutine project_segment
 
-    pure subroutine project_quad(xm, p, xi, eta, nsh, kind)
+    pure subroutine project_quad(xm, p, xi, eta, nsh, kind, converged)
         real(wp), intent(in) :: xm(3, 4), p(3)
         real(wp), intent(out) :: xi, eta, nsh(4)
         integer, intent(out) :: kind
-        real(wp) :: lx(3), le(3), lxe(3), r(3), j11, j12, j22, g1, g2, det, dxi, deta
+        logical, intent(out) :: converged
+        real(wp) :: lx(3), le(3), lxe(3), r(3), j11, j12, j22, g1, g2, det, dxi, deta, xb, eb, db, dn
         integer :: it
         logical :: out_xi, out_eta
         xi = 0
         eta = 0
+        converged = .false.
         ! L_xi eta is constant on a bilinear patch
         lxe = 0.25_wp*(xm(:, 1) - xm(:, 2) + xm(:, 3) - xm(:, 4))
         do it = 1, 12
@@ -84,7 +92,10 @@ contains
             ! far outside the patch the bilinear map is meaningless: stay near it
             xi = max(-2.0_wp, min(2.0_wp, xi + dxi))
             eta = max(-2.0_wp, min(2.0_wp, eta + deta))
-            if (abs(dxi) + abs(deta) < 1.0e-10_wp) exit
+            if (abs(dxi) + abs(deta) < 1.0e-10_wp) then
+                converged = .true.
+                exit
+            end if
         end do
         ! a slave right above an edge or corner (aligned meshes) is inside:
         ! round-off must not turn it into a tube or pinball contact
@@ -93,44 +104,56 @@ contains
         if (.not. out_xi) xi = max(-1.0_wp, min(1.0_wp, xi))
         if (.not. out_eta) eta = max(-1.0_wp, min(1.0_wp, eta))
         kind = contact_interior
-        if (out_xi .and. out_eta) then
-            ! point contact: the corner
-            xi = sign(1.0_wp, xi)
-            eta = sign(1.0_wp, eta)
-            kind = contact_point
-        else if (out_xi) then
-            ! line contact: closest point of the edge xi = +-1
-            xi = sign(1.0_wp, xi)
-            call edge_param(xm, p, xi, .true., eta, kind)
-        else if (out_eta) then
-            eta = sign(1.0_wp, eta)
-            call edge_param(xm, p, eta, .false., xi, kind)
+        if (out_xi .or. out_eta .or. .not. converged) then
+            ! outside (or Newton lost): the closest point of the border, over
+            ! all four straight edges. With one coordinate out that is usually
+            ! the edge it points to; with both out it may be either edge at
+            ! the corner, or the corner itself (an obtuse corner's closest
+            ! point lies on an edge, not at the corner); a Newton iteration
+            ! that did not converge keeps its clamped point only where that
+            ! is closer than the border
+            dn = huge(1.0_wp)
+            if (.not. (out_xi .or. out_eta)) dn = sum((p - matmul(xm, shape4(xi, eta)))**2)
+            call border_point(xm, p, xb, eb, kind, db)
+            if (db < dn) then
+                xi = xb
+                eta = eb
+            else
+                kind = contact_interior
+            end if
         end if
         nsh = shape4(xi, eta)
     end subroutine project_quad
 
-    !> On the straight edge where one coordinate is fixed at `fixed` (+-1),
-    !> the other coordinate of the point closest to p, clamped to [-1, 1].
-    pure subroutine edge_param(xm, p, fixed, fix_xi, s, kind)
-        real(wp), intent(in) :: xm(3, 4), p(3), fixed
-        logical, intent(in) :: fix_xi
-        real(wp), intent(out) :: s
+    !> The closest point to p of the four straight edges of quad xm: its
+    !> (xi, eta), line or point contact, and its squared distance.
+    pure subroutine border_point(xm, p, xi, eta, kind, dbest)
+        real(wp), intent(in) :: xm(3, 4), p(3)
+        real(wp), intent(out) :: xi, eta, dbest
         integer, intent(out) :: kind
-        real(wp) :: a(3), b(3), e(3), u
-        if (fix_xi) then
-            a = matmul(xm, shape4(fixed, -1.0_wp))
-            b = matmul(xm, shape4(fixed, 1.0_wp))
-        else
-            a = matmul(xm, shape4(-1.0_wp, fixed))
-            b = matmul(xm, shape4(1.0_wp, fixed))
-        end if
-        e = b - a
-        u = dot_product(p - a, e)/max(dot_product(e, e), tiny(1.0_wp))
-        kind = contact_line
-        if (u <= 0.0_wp .or. u >= 1.0_wp) kind = contact_point
-        u = max(0.0_wp, min(1.0_wp, u))
-        s = 2*u - 1
-    end subroutine edge_param
+        real(wp), parameter :: cx(4) = [-1.0_wp, 1.0_wp, 1.0_wp, -1.0_wp], ce(4) = [-1.0_wp, -1.0_wp, 1.0_wp, 1.0_wp]
+        real(wp) :: e(3), u, q(3), dd
+        integer :: k, k2
+        dbest = huge(1.0_wp)
+        xi = 0
+        eta = 0
+        kind = contact_point
+        do k = 1, 4
+            k2 = mod(k, 4) + 1
+            e = xm(:, k2) - xm(:, k)
+            u = dot_product(p - xm(:, k), e)/max(dot_product(e, e), tiny(1.0_wp))
+            u = max(0.0_wp, min(1.0_wp, u))
+            q = xm(:, k) + u*e
+            dd = sum((p - q)**2)
+            if (dd < dbest) then
+                dbest = dd
+                xi = cx(k) + u*(cx(k2) - cx(k))
+                eta = ce(k) + u*(ce(k2) - ce(k))
+                kind = contact_line
+                if (u <= 0.0_wp .or. u >= 1.0_wp) kind = contact_point
+            end if
+        end do
+    end subroutine border_point
 
     pure subroutine tangents(xm, xi, eta, lx, le)
         real(wp), intent(in) :: xm(3, 4), xi, eta
@@ -197,14 +220,20 @@ contains
     !> `touching`: a slave exactly on a solid surface (d = ts) counts as in
     !> contact (another body's surface), or not (the slave's own body, where
     !> it would be a coplanar neighbour).
-    pure subroutine segment_check(xm, tn, shell, xs, ts, hit, touching)
+    pure subroutine segment_check(xm, tn, shell, xs, ts, hit, touching, lead)
         real(wp), intent(in) :: xm(3, 4), tn(4), xs(3), ts
         logical, intent(in) :: shell
         logical, intent(in), optional :: touching
+        real(wp), intent(in), optional :: lead
         type(hit_t), intent(inout) :: hit
-        real(wp) :: t(3), n(3), lx(3), le(3), nt, tlen, dn(4), e(3), u, q(3), db
+        real(wp) :: t(3), n(3), lx(3), le(3), nt, tlen, dn(4), e(3), u, q(3), db, ahead
         integer :: k, nnd
-        call project_segment(xm, xs, hit%xi, hit%eta, hit%nshape, hit%kind)
+        logical :: on_seg, under
+        ahead = 0
+        under = .false.
+        if (present(lead)) ahead = lead
+        hit%gap = 0
+        call project_segment(xm, xs, hit%xi, hit%eta, hit%nshape, hit%kind, hit%converged)
         hit%xc = matmul(xm, hit%nshape)
         ! thickness at the contact point from the shape functions: a half-
         ! thickness for shells, the depth window itself for solids
@@ -222,10 +251,17 @@ contains
         tlen = norm2(t)
         nt = dot_product(n, t)
         hit%dist = tlen
-        if (nt == 0.0_wp .or. tlen <= 1.0e-12_wp*maxval(abs(xm))) then
+        on_seg = tlen <= 1.0e-12_wp*maxval(abs(xm))
+        if (on_seg .or. (nt == 0.0_wp .and. hit%kind == contact_interior)) then
             ! the slave lies on the segment: the normal is the return direction
             hit%d = 0
             hit%nhat = n
+        else if (nt == 0.0_wp) then
+            ! in the segment's plane beyond an edge or corner: the tube or
+            ! pinball's own direction, the distance |t| (Eqs. 8-9 with the
+            ! sign that n . t cannot give)
+            hit%d = tlen
+            hit%nhat = t/tlen
         else
             hit%d = tlen*sign(1.0_wp, nt)                 ! Eq. (8)
             hit%nhat = t/tlen*sign(1.0_wp, nt)            ! Eq. (9), a unit vector
@@ -236,6 +272,13 @@ contains
                 hit%a = hit%d - sign(1.0_wp, hit%d)*(ts + hit%tm)    ! Eq. (11)
             else
                 hit%a = -(ts + hit%tm)
+            end if
+            if (.not. hit%found .and. abs(hit%d) < ts + hit%tm + ahead) then
+                ! found ahead of touching: the push direction in nhat, a = 0
+                hit%found = .true.
+                hit%gap = abs(hit%d) - (ts + hit%tm)
+                hit%nhat = hit%nhat*sign(1.0_wp, hit%d)
+                hit%a = 0
             end if
             hit%level = 1
             if (hit%kind /= contact_interior) hit%level = 2
@@ -248,10 +291,17 @@ contains
             ! its plane, is not inside the body: accepted only within 60
             ! degrees of the inward normal (a node inside a convex edge is
             ! about 45 degrees off each face)
+            under = .false.
             if (hit%kind /= contact_interior .and. nt < 0.0_wp .and. tlen > 0.0_wp) then
                 if (-nt >= 0.5_wp*tlen) then
                     hit%d = nt
                     hit%nhat = n
+                    ! within 25 degrees of the inward normal the node lies
+                    ! under the face, a little beyond its border (aligned
+                    ! edges of two bodies, the edge bulging by a hair): the
+                    ! face's level, not a tube's, or the grazing side face
+                    ! of the same body would win and carry nothing
+                    under = -nt >= 0.9_wp*tlen
                 else
                     hit%d = huge(1.0_wp)
                 end if
@@ -266,8 +316,18 @@ contains
                 if (touching) hit%found = hit%d <= ts .and. hit%d > ts - (1.0_wp - 1.0e-6_wp)*hit%tm
             end if
             hit%a = hit%d - ts                                       ! Eq. (10)
+            ! (on the slave's own body only strictly ahead: a coplanar
+            ! neighbour at d = ts is no contact)
+            if (.not. hit%found .and. ahead > 0.0_wp .and. hit%d >= ts .and. hit%d < ts + ahead .and. &
+                (hit%d > ts .or. touching_ok())) then
+                if (hit%kind == contact_interior .or. dot_product(n, hit%nhat) >= 0.5_wp) then
+                    hit%found = .true.
+                    hit%gap = hit%d - ts
+                    hit%a = 0
+                end if
+            end if
             hit%level = 2
-            if (hit%kind /= contact_interior) hit%level = 3
+            if (hit%kind /= contact_interior .and. .not. under) hit%level = 3
         end if
         if (.not. hit%found) hit%level = 4
         ! nearest node, and whether the contact point is within tm of the border
@@ -285,6 +345,11 @@ contains
             db = min(db, norm2(hit%xc - q))
         end do
         hit%near_border = db <= hit%tm
+    contains
+        pure logical function touching_ok()
+            touching_ok = .false.
+            if (present(touching)) touching_ok = touching
+        end function touching_ok
     end subroutine segment_check
 
 end module xd_contact_segment_check

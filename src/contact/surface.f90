@@ -508,6 +508,7 @@ contains
                 s%node_area(s%seg(k, m)) = s%node_area(s%seg(k, m)) + f%area(j)/nnd
             end do
         end do
+        if (size(slave_nodes) > 0) call lone_slave_areas()
         do nd = 1, s%nnode
             s%node_t(nd) = thick(3)*f%node_thick(s%node(nd))
             if (thick(1) > 0.0_wp .and. f%node_thick(s%node(nd)) > 0.0_wp) s%node_t(nd) = thick(1)
@@ -546,6 +547,32 @@ contains
             end do
         end do
         call node_neighbours(s)
+    contains
+        !> Nodes-to-surface slaves on no segment of this surface (a node set,
+        !> or the slave side's faces, which are not master segments): their
+        !> area and stiffness per area from the model's exterior faces at
+        !> them, as every other slave's, so their springs scale with the area
+        !> they cover and enter the contact time-step bound. A node on no
+        !> exterior face keeps none (it takes the segment's stiffness).
+        subroutine lone_slave_areas()
+            logical, allocatable :: onseg(:)
+            integer :: jf, kk, n2, nn
+            allocate (onseg(s%nnode))
+            onseg = .false.
+            do m = 1, s%nseg
+                onseg(s%seg(:, m)) = .true.
+            end do
+            do jf = 1, f%n
+                nn = seg_nodes(f%node(:, jf))
+                do kk = 1, nn
+                    n2 = local(f%node(kk, jf))
+                    if (n2 == 0) cycle
+                    if (onseg(n2)) cycle
+                    kmin(n2) = min(kmin(n2), f%kgeo(jf)/max(f%area(jf), tiny(1.0_wp)))
+                    s%node_area(n2) = s%node_area(n2) + f%area(jf)/nn
+                end do
+            end do
+        end subroutine lone_slave_areas
     end subroutine build_surface
 
     !> Sides a slave looks at: single surface everything, two surfaces the

@@ -245,7 +245,7 @@ program xdyna
     call close_states(states)
     call close_histories(hist)
     if (dom%on .and. ct%n > 0) call gather_contact_state(ct)
-    if (ct%n > 0) call log_line(lg, contact_report(ct))
+    if (ct%n > 0) call log_line(lg, contact_report(ct, st%e_initial))
     if (ct%dump_unit /= 0) close (ct%dump_unit)
     call timing_table(lg, tm, res%ncycle, solids%n + sh%n, tm%elapsed())
     if (res%status == exit_signal) then

@@ -147,6 +147,8 @@ contains
                 call dput(r, 'aeff', it%aeff)
                 call dput(r, 'late', [it%plate])
                 call dput(r, 'nlate', [it%nlate])
+                call dput(r, 'nrel', [it%nrel])
+                call dput(r, 'rel', [it%prel])
                 call h5gclose_f(r, err)
             end associate
         end do
@@ -369,6 +371,8 @@ contains
                 call getw(r, 'aeff', size(it%aeff)); if (ok()) it%aeff = bw
                 call getw(r, 'late', 1); if (ok()) it%plate = bw(1)
                 call geti(r, 'nlate', 1); if (ok()) it%nlate = bi(1)
+                call geti(r, 'nrel', 1); if (ok()) it%nrel = bi(1)
+                call getw(r, 'rel', 1); if (ok()) it%prel = bw(1)
                 call h5gclose_f(r, err)
             end associate
         end do

@@ -24,7 +24,7 @@ module xd_solver_time_loop
     use xd_contact_rigidwall, only: walls_t, apply_walls
     use xd_contact_contact, only: contacts_t, contact_search, contact_drift, contact_local_search, contact_enforce, &
                                   contact_work_end, contact_energy, contact_resultants, gather_contact_state, &
-                                  scatter_contact_state
+                                  scatter_contact_state, contact_events
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     use xd_rigid_bodies, only: rigid_t, rigid_step
     use xd_elements_shell_bt, only: shells_t, shell_forces
@@ -157,13 +157,14 @@ contains
                 ! steps 3-4 on x(n): contact forces join f(n)
                 call tm%stop(ph_integrate)
                 call tm%start(ph_local)
-                call contact_local_search(ct, st%x, st%v, st%time)
+                call contact_local_search(ct, st%x, st%v, st%time, st%dt)
                 call tm%stop(ph_local)
                 call tm%start(ph_enforce)
                 t_gather = ct%wall_gather
-                call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%free)
+                call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%free, st%time)
                 call tm%stop(ph_enforce)
                 if (dom%on) call tm%move(ph_enforce, ph_ghost, ct%wall_gather - t_gather)
+                if (any(ct%ifc(:)%nev > 0)) call log_line(lg, contact_events(ct, model%node_id))
                 call tm%start(ph_integrate)
             end if
             call accelerations()

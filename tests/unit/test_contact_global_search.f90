@@ -19,6 +19,7 @@ program test_contact_global_search
     call random_cloud(3000, 0.2_wp, 0.2_wp, 'random cloud, 3000 points, one bucket per axis')
     call crumpled_sheet()
     call figure4()
+    call figure4_paper()
     call test_summary()
 
 contains
@@ -193,6 +194,84 @@ contains
         call check(size(got) == 3, 'closest-3: three master nodes', list(got))
         if (size(got) == 3) call check(all(got == [9, 17, 10]), 'closest-3: nodes 9, 17, 10', list(got))
     end subroutine figure4
+
+    !> The paper's own Fig. 4 walk-through (section 4, step C), m1..m8 as
+    !> the text describes them, in the x-z plane, strips of width 0.1 in y
+    !> (each node has a twin at y = 0.1). Slave s at the origin on body S:
+    !> ... m6 - m1 - a - s - b - m5 ...; opposite region P: m2 - m8;
+    !> opposite region Q: m7 - m3 - m4. Distances 0.58, 0.70, 1.12, 1.29,
+    !> 1.40, 1.57, 1.86, 1.92 (m1..m8). Long tails to far nodes set the
+    !> characteristic lengths so that every m is in the reduced pool.
+    !> Expected (the paper): m1 nontrackable from step A, stored, and its
+    !> neighbour m6 marked nontrackable (step C3, the propagation); m2
+    !> unmarked: trackable, m8 marked trackable; m3 unmarked: trackable, m4
+    !> and m7 marked trackable; m4 trackable: not stored; m5 nontrackable
+    !> from step A: stored; m6 nontrackable (from m1): stored; m7, m8: not
+    !> stored. Final list: m1 N, m2 T, m3 T, m5 N, m6 N (and the twins of
+    !> the nontrackable ones, N).
+    subroutine figure4_paper()
+        type(model_t) :: m
+        type(faces_t) :: f
+        type(surface_t) :: s
+        type(master_lists_t) :: l
+        type(search_counts_t) :: cnt
+        real(wp), allocatable :: lc(:), xl(:, :)
+        real(wp), parameter :: w = 0.1_wp
+        ! polyline nodes (x, z): S = T6 m6 m1 a s b m5 T5; P = T8 m8 m2; Q = T7 m7 m3 m4 T4
+        real(wp), parameter :: ps(2, 8) = reshape([-0.6_wp, 4.5_wp, -0.6_wp, 1.45_wp, -0.3_wp, 0.5_wp, -0.3_wp, 0.0_wp, &
+                                                   0.0_wp, 0.0_wp, 0.4_wp, 0.0_wp, 1.4_wp, 0.0_wp, 1.4_wp, -3.2_wp], [2, 8])
+        real(wp), parameter :: pp(2, 3) = reshape([-4.7_wp, -0.9_wp, -1.7_wp, -0.9_wp, 0.0_wp, -0.7_wp], [2, 3])
+        real(wp), parameter :: pq(2, 5) = reshape([0.85_wp, 5.0_wp, 0.85_wp, 1.65_wp, 1.0_wp, 0.5_wp, 1.25_wp, 0.3_wp, &
+                                                   4.5_wp, 0.3_wp], [2, 5])
+        integer :: is(8), ip(3), iq(5), js(8), jp(3), jq(5), sl, k
+        integer, allocatable :: got(:), want(:)
+        logical, allocatable :: trk(:)
+        call empty_model(m, 3)
+        call strip(m, ps, w, 1, is, js)
+        call strip(m, pp, w, 2, ip, jp)
+        call strip(m, pq, w, 3, iq, jq)
+        call build_faces(m, m%x0, f)
+        call check(f%nbody == 3, 'Fig. 4 (paper): the slave''s body and two opposite regions are three bodies')
+        call build_surface(f, m%nnode, [(.true., k=1, f%n)], [(.false., k=1, f%n)], [integer ::], .false., &
+                           [0.0_wp, 0.0_wp, 1.0_wp, 1.0_wp], [0.1_wp, 1.0_wp, 1.0_wp], s)
+        allocate (xl(3, s%nnode), lc(s%nnode))
+        xl = m%x0(:, s%node)
+        call characteristic_lengths(s, xl, lc)
+        sl = findloc(s%node(s%slave), is(5), 1)
+        call build_master_lists(s, xl, lc, 0.0_wp, 0.05_wp, mnl_minimal, l, cnt)
+        got = s%node(l%node(l%ptr(sl):l%ptr(sl + 1) - 1))
+        trk = l%trackable(l%ptr(sl):l%ptr(sl + 1) - 1)
+        ! m1, m1', m2, m3, m5, m5', m6, m6' in order of distance
+        want = [is(3), js(3), ip(3), iq(3), is(7), js(7), is(2), js(2)]
+        call check(size(got) == size(want), 'Fig. 4 (paper): eight master nodes (m1, m2, m3, m5, m6 and the twins '// &
+                   'of m1, m5, m6)', 'got'//list(got)//' want'//list(want))
+        if (size(got) == size(want)) then
+            call check(all(got == want), 'Fig. 4 (paper): the list is m1, m2, m3, m5, m6 in order of distance', &
+                       'got'//list(got)//' want'//list(want))
+            call check(all(trk .eqv. [.false., .false., .true., .true., .false., .false., .false., .false.]), &
+                       'Fig. 4 (paper): m2 and m3 trackable, m1, m5 and m6 nontrackable')
+        end if
+        call check(.not. any(got == iq(4)) .and. .not. any(got == iq(2)) .and. .not. any(got == ip(2)), &
+                   'Fig. 4 (paper): m4, m7, m8 marked trackable by a closer node of their region: not stored')
+        call check(any(got == is(2)), 'Fig. 4 (paper): m6 stored as nontrackable through m1 (step C3 propagation)')
+    end subroutine figure4_paper
+
+    !> Shells along polyline p (x, z) with width w in y, part pid; the
+    !> node indices at y = 0 (i0) and y = w (i1).
+    subroutine strip(m, p, w, pid, i0, i1)
+        type(model_t), intent(inout) :: m
+        real(wp), intent(in) :: p(:, :), w
+        integer, intent(in) :: pid
+        integer, intent(out) :: i0(:), i1(:)
+        integer :: q
+        do q = 1, size(p, 2)
+            i0(q) = node_at(m, [p(1, q), 0.0_wp, p(2, q)], .false.)
+            i1(q) = node_at(m, [p(1, q), w, p(2, q)], .false.)
+        end do
+        do q = 1, size(p, 2) - 1
+            call add_shell(m, [i0(q), i0(q + 1), i1(q + 1), i1(q)], 0.001_wp, pid)
+        end do
+    end subroutine strip
 
     subroutine assert_id(got, want)
         integer, intent(in) :: got, want

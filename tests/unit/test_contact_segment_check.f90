@@ -86,5 +86,51 @@ program test_contact_segment_check
     call segment_check(sq, tn, .true., [0.9_wp, 0.0_wp, 0.05_wp], 0.0_wp, h)
     call check(h%near_node == 2 .or. h%near_node == 3, 'segment check: nearest node is on the x = 1 side')
     call check(h%near_border, 'segment check: 0.1 from the border with tm 0.1 is near the border')
+    ! issue 16, (a): a shell slave in the plane of a master shell, beyond its
+    ! edge (n . t = 0), is at the tube distance |t| along t, not on the
+    ! segment (d = 0 made coplanar plates pass 10 mm into each other, and a
+    ! flat plate of thick shells find contact with its own segments)
+    tn = 0.2_wp
+    call segment_check(sq, tn, .true., [1.05_wp, 0.2_wp, 0.0_wp], 0.1_wp, h)
+    call check(h%kind == contact_line .and. h%found .and. abs(h%d - 0.05_wp) < tol .and. &
+               abs(h%a + 0.15_wp) < tol .and. all(abs(h%nhat - [1.0_wp, 0.0_wp, 0.0_wp]) < tol), &
+               'segment check: in-plane slave 0.05 beyond an edge: d = |t| = 0.05, a = -0.15, return along t (+x)')
+    call segment_check(sq, tn, .true., [1.5_wp, 0.2_wp, 0.0_wp], 0.1_wp, h)
+    call check(.not. h%found .and. abs(h%d - 0.5_wp) < tol, &
+               'segment check: in-plane slave 0.5 beyond an edge of a 0.2 shell (ts 0.1) is no contact')
+    call segment_check(sq, tn, .true., [1.1_wp, 1.1_wp, 0.0_wp], 0.1_wp, h)
+    call check(h%kind == contact_point .and. h%found .and. abs(h%d - sqrt(0.02_wp)) < tol .and. &
+               all(abs(h%nhat - [1.0_wp, 1.0_wp, 0.0_wp]/sqrt(2.0_wp)) < tol), &
+               'segment check: in-plane slave beyond a corner: pinball distance and direction')
+    ! issue 16, (b): both parametric coordinates out of range at an obtuse
+    ! (150 degree) corner: the closest point is on an edge, not the corner
+    call obtuse_corner()
+
     call test_summary()
+contains
+
+    subroutine obtuse_corner()
+        real(wp) :: q(3, 4), pp(3), e(3), u, foot(3), dline, dcorner
+        q = reshape([0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp + sqrt(3.0_wp)/2, 0.5_wp, 0.0_wp, &
+                     0.0_wp, 1.0_wp, 0.0_wp], [3, 4])
+        pp = [1.3_wp, -0.1_wp, 0.05_wp]
+        e = q(:, 3) - q(:, 2)
+        u = dot_product(pp - q(:, 2), e)/dot_product(e, e)
+        foot = q(:, 2) + u*e
+        dline = norm2(pp - foot)
+        dcorner = norm2(pp - q(:, 2))
+        call segment_check(q, [0.6_wp, 0.6_wp, 0.6_wp, 0.6_wp], .true., pp, 0.0_wp, h)
+        call check(h%kind == contact_line .and. abs(h%dist - dline) < 1.0e-9_wp .and. dcorner - dline > 0.05_wp, &
+                   'segment check: 150 degree corner, both coordinates out: closest point on the edge (distance ' &
+                   //trim(fmt(dline))//' against the corner''s '//trim(fmt(dcorner))//')')
+        call check(h%found .and. norm2(h%xc - foot) < 1.0e-9_wp, &
+                   'segment check: 150 degree corner: contact point is the foot on the edge, the contact is found')
+    end subroutine obtuse_corner
+
+    function fmt(x) result(t)
+        real(wp), intent(in) :: x
+        character(len=16) :: t
+        write (t, '(f8.4)') x
+    end function fmt
+
 end program test_contact_segment_check
