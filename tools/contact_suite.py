@@ -598,9 +598,10 @@ EXCEPTIONS = [
      "the contact creates 2.3-2.8% of the impact energy at overhanging corners and tube contacts (open)"),
     (r"^bars_single_lag_rand_1to1_k2_v10_n40$", "5.5% against 5%: the Lagrangian bar's own error at 40 elements is "
                                                  "3.4%, the random mesh adds 2 points"),
-    (r"^shell_on_block_single_lag_node_1to1_k4_v1000_t1mm$", "Lagrangian projection against a free rigid body at "
-                                                             "1000 m/s: the total momentum drifts by 13% (open: not "
-                                                             "understood; at 10 m/s it holds to round-off)"),
+    (r"^shell_on_block_single_lag_node_1to1_k4_v(100|1000)_t1mm$", "Lagrangian projection against a free rigid "
+                                                                   "body at 100 and 1000 m/s: the total momentum drifts "
+                                                                   "by 9-13% (open: not understood; at 1 and 10 m/s it "
+                                                                   "holds to round-off)"),
 ]
 
 

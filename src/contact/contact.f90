@@ -398,7 +398,7 @@ contains
                 it%ft = 0
                 allocate (it%ls%xl(3, s%nnode), it%ls%vl(3, s%nnode))
                 do k = 1, s%nnode
-                    if (s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp) cycle
+                    if (s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp .or. s%node_rigid(k)) cycle
                     dtk = contact_step_scale*sqrt(it%ms(k)/s%node_k(k))
                     if (dtk < ct%dt_limit) then
                         ct%dt_limit = dtk

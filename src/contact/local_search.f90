@@ -226,11 +226,11 @@ contains
             if (fb > fh + 0.1_wp) squarer = -1
         end function squarer
 
-        !> A tube or pinball contact with a shell segment of the slave's own
-        !> body, pushing the slave within 60 degrees of the segment's plane:
-        !> a neighbour in the same sheet (a flat plate of shells as thick as
-        !> its elements reaches its next segments edge-on), not a fold that
-        !> has closed (that meets the segment face-on). Not a contact.
+        !> A tube or pinball contact with a neighbouring shell segment of the
+        !> slave's own body (a node within three rings of it), pushing the slave within 60 degrees of the segment's
+        !> plane: the next segment in the same sheet (a flat plate of shells
+        !> as thick as its elements reaches it edge-on), not a fold that has
+        !> closed. Not a contact.
         logical function in_plane_own(m, h)
             integer, intent(in) :: m
             type(hit_t), intent(in) :: h
@@ -238,9 +238,45 @@ contains
             in_plane_own = .false.
             if (s%seg_kind(m) /= seg_shell .or. h%kind == contact_interior) return
             if (s%seg_body(m) /= s%node_body(sn)) return
+            ! a neighbour: the segment has a node within three rings of the
+            ! slave along the sheet (a sheet up to about three elements thick
+            ! reaches that far in its plane); a fold that closes from farther
+            ! along the sheet is no neighbour: left out, it would be found
+            ! late and deep
+            if (.not. within_rings(m, 3)) return
             nv = cross(ls%xl(:, s%seg(3, m)) - ls%xl(:, s%seg(1, m)), ls%xl(:, s%seg(4, m)) - ls%xl(:, s%seg(2, m)))
             in_plane_own = abs(dot_product(nv, h%nhat)) < 0.5_wp*norm2(nv)
         end function in_plane_own
+
+        !> Segment m has a node within `rings` steps of the slave along the
+        !> surface's node-to-node adjacency.
+        logical function within_rings(m, rings)
+            integer, intent(in) :: m, rings
+            integer :: front(64), next(64), nf, nx, r, a, q, b
+            within_rings = .false.
+            nf = 1
+            front(1) = sn
+            do r = 1, rings
+                nx = 0
+                do a = 1, nf
+                    do q = s%nn_ptr(front(a)), s%nn_ptr(front(a) + 1) - 1
+                        b = s%nn_list(q)
+                        if (any(s%seg(:, m) == b)) then
+                            within_rings = .true.
+                            return
+                        end if
+                        if (nx < size(next)) then
+                            if (.not. any(next(1:nx) == b)) then
+                                nx = nx + 1
+                                next(nx) = b
+                            end if
+                        end if
+                    end do
+                end do
+                front(1:nx) = next(1:nx)
+                nf = nx
+            end do
+        end function within_rings
 
         !> How squarely the slave's own solid faces meet the push of
         !> contact h: the largest -n_s . push over the slave's solid

@@ -43,6 +43,7 @@ module xd_contact_surface
         real(wp), allocatable :: kgeo(:)       !< bulk modulus x A^2/V (solid) or x A/max diagonal (shell)
         real(wp), allocatable :: area(:)       !< initial area
         integer, allocatable :: body(:)        !< connected surface region
+        logical, allocatable :: rigid(:)       !< on a *MAT_RIGID part
         integer :: nbody = 0
         integer :: ninterior = 0               !< faces between two continuum elements (not segments)
         real(wp), allocatable :: node_thick(:) !< (model nodes) largest shell thickness at the node
@@ -67,6 +68,7 @@ module xd_contact_surface
         real(wp), allocatable :: node_k(:)     !< slave-side penalty stiffness, for the node's whole area
         real(wp), allocatable :: node_kpa(:)   !< slave-side penalty stiffness per unit area
         real(wp), allocatable :: node_area(:)  !< the node's share of its segments' initial areas (0: none)
+        logical, allocatable :: node_rigid(:)  !< every segment at the node is on a rigid part (it moves with the body)
         integer, allocatable :: seg_ptr(:), seg_list(:)   !< node -> segments (CSR)
         integer, allocatable :: nn_ptr(:), nn_list(:)     !< node -> nodes sharing a segment (CSR)
         integer :: nslave = 0
@@ -261,6 +263,10 @@ contains
                 call shell_segment(cshell(c), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
                 f%area(j) = segment_area(x(:, f%node(:, j)))
             end if
+        end do
+        allocate (f%rigid(f%n))
+        do j = 1, f%n
+            f%rigid(j) = model%mat(model%part(f%part(j))%mat_ix)%mtype == mat_rigid
         end do
         call find_bodies(n, f)
     contains
@@ -521,6 +527,16 @@ contains
             end if
         end do
 
+        ! a node on rigid parts only moves with its body, whose mass, not the
+        ! node's, meets the contact springs (the contact step leaves it out)
+        allocate (s%node_rigid(s%nnode))
+        s%node_rigid = .true.
+        do m = 1, s%nseg
+            if (.not. f%rigid(s%seg_face(m))) s%node_rigid(s%seg(:, m)) = .false.
+        end do
+        do i = 1, size(slave_nodes)
+            s%node_rigid(local(slave_nodes(i))) = .false.
+        end do
         allocate (s%node_body(s%nnode))
         s%node_body = 0
         do m = 1, s%nseg
