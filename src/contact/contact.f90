@@ -91,9 +91,9 @@ module xd_contact_contact
     end type interface_t
 
     !> Named in d3hsp as they happen: an initial penetration (allowed and
-    !> shrinking, as LS-DYNA's IGNORE = 1), a contact found deeper than one
-    !> step's approach (pushed out by its spring: energy enters, the
-    !> energy ratio shows it), a contact released while deep.
+    !> shrinking, as LS-DYNA's IGNORE = 1), a contact found or moved deeper
+    !> than one step's approach (the excess allowed the same way), a
+    !> contact released while deep.
     integer, parameter :: ev_none = 0, ev_initial = 1, ev_late = 2, ev_released = 3
     integer, parameter :: max_named = 200   !< late and released events named per interface (all counted)
     real(wp), parameter :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
@@ -421,17 +421,18 @@ contains
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%active = time >= it%bt .and. time <= it%dt
                 if (.not. it%active) cycle
-                v2 = 0
                 do k = 1, s%nnode
                     it%ls%xl(:, k) = x(:, s%node(k))
                     it%ls%vl(:, k) = v(:, s%node(k))
-                    v2 = max(v2, sum(v(:, s%node(k))**2))
                 end do
                 ! Lagrangian projection: pairs that one step's approach (two
                 ! nodes at the largest speed) could close are found before
                 ! they touch, so that none penetrates (section 6)
                 it%ls%lead = 0
-                if (ct%lagrange) it%ls%lead = 2.0_wp*dt*sqrt(v2)
+                if (ct%lagrange) then
+                    v2 = maxval(sum(it%ls%vl**2, 1))
+                    it%ls%lead = 2.0_wp*dt*sqrt(v2)
+                end if
                 ! segments may have stretched by 2u since the search; a master
                 ! surface lies up to t_c off its segment
                 it%ls%grow = 2.0_wp*it%drift + it%reach + it%ls%lead
@@ -546,14 +547,13 @@ contains
     !> LS-DYNA's SOFT 0, per unit area, times the area the node covers
     !> facing the master) is set when a contact starts or moves to another
     !> segment, and kept while it stays (a stiffness that changed during a
-    !> contact would not be conservative). No depth is allowed away: a
-    !> contact, new or moved, may be deeper than the slave's depth last
-    !> cycle by twice this step's approach at most (the depth below a
-    !> surface does not jump where a node crosses from one segment to the
-    !> next); a deeper one did not come through that segment and is not
-    !> taken, and is named in d3hsp. Only the penetrations present at the
-    !> first active cycle are allowed (LS-DYNA's IGNORE = 1): each is named
-    !> in d3hsp, and the allowance shrinks as the node moves out.
+    !> contact would not be conservative). A contact, new or moved, may be
+    !> deeper than the slave's depth last cycle by twice this step's
+    !> approach at most (the depth below a surface does not jump where a
+    !> node crosses from one segment to the next); the excess of a deeper
+    !> one, which did not come through that segment, is allowed and named
+    !> in d3hsp, as the penetrations present at the first active cycle are
+    !> (LS-DYNA's IGNORE = 1). An allowance shrinks as the node moves out.
     subroutine slave_force(it, s, k, dt)
         type(interface_t), intent(inout) :: it
         type(surface_t), intent(in) :: s
@@ -575,12 +575,7 @@ contains
                     it%hit(k)%seg = m
                 end if
             end if
-            it%cseg(k) = 0
-            it%fprev(:, k) = 0
-            it%ft(:, k) = 0
-            it%p0(k) = 0
-            it%kp(k) = 0
-            it%aeff(k) = 0
+            call forget_slave(it, k)
             return
         end if
         m = it%hit(k)%seg
@@ -627,6 +622,18 @@ contains
         meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
         call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, k), it%fk(:, k))
     end subroutine slave_force
+
+    !> Slave k out of contact: its contact state cleared.
+    pure subroutine forget_slave(it, k)
+        type(interface_t), intent(inout) :: it
+        integer, intent(in) :: k
+        it%cseg(k) = 0
+        it%fprev(:, k) = 0
+        it%ft(:, k) = 0
+        it%p0(k) = 0
+        it%kp(k) = 0
+        it%aeff(k) = 0
+    end subroutine forget_slave
 
     !> Book slave k's event of this cycle: counted, the deepest kept, named
     !> in the list the log takes (initial penetrations all, the others up
@@ -745,8 +752,9 @@ contains
     end subroutine gather_contacts
 
     !> MPI, before a restart dump and the end-of-run report: every slave's
-    !> state and master node list from its rank, and the counters summed
-    !> (the largest for the depths), on every rank.
+    !> state and master node list from its rank, and the search counters
+    !> summed, on every rank (the event counters are counted on every rank
+    !> alike already).
     subroutine gather_contact_state(ct)
         type(contacts_t), intent(inout) :: ct
         integer :: i, k, n, ns
@@ -755,13 +763,7 @@ contains
             associate (it => ct%ifc(i))
                 ns = size(it%owned)
                 do k = 1, ns
-                    if (it%owned(k)) cycle
-                    it%cseg(k) = 0
-                    it%fprev(:, k) = 0
-                    it%ft(:, k) = 0
-                    it%p0(k) = 0
-                    it%kp(k) = 0
-                    it%aeff(k) = 0
+                    if (.not. it%owned(k)) call forget_slave(it, k)
                 end do
                 call comm_sum_int(it%cseg, ns)
                 call comm_sum_wp(it%fprev, 3*ns)

@@ -8,9 +8,8 @@
 !> force spread by the segment's shape functions (the caller assembles it).
 module xd_contact_enforcement
     use xd_kinds, only: wp
-    use xd_core_vectors, only: cross
     use xd_contact_segment_check, only: hit_t, contact_interior
-    use xd_contact_surface, only: surface_t, seg_shell, seg_nodes
+    use xd_contact_surface, only: surface_t, seg_shell, seg_nodes, seg_normal
     implicit none
     private
     public :: friction_t, penalty_force, lagrange_projection, slave_stiffness, facing_area, pdir
@@ -183,12 +182,7 @@ contains
         do q = s%seg_ptr(sn), s%seg_ptr(sn + 1) - 1
             m = s%seg_list(q)
             nnd = seg_nodes(s%seg(:, m))
-            if (nnd == 3) then
-                nv = cross(xl(:, s%seg(2, m)) - xl(:, s%seg(1, m)), xl(:, s%seg(3, m)) - xl(:, s%seg(1, m)))
-            else
-                nv = cross(xl(:, s%seg(3, m)) - xl(:, s%seg(1, m)), xl(:, s%seg(4, m)) - xl(:, s%seg(2, m)))
-            end if
-            ! |nv| is twice the area
+            nv = seg_normal(s, xl, m)      ! |nv| is twice the area
             c = dot_product(nv, push)
             if (s%seg_kind(m) == seg_shell) then
                 a = a + s%seg_area(m)/nnd

@@ -11,7 +11,7 @@
 module xd_contact_local_search
     use xd_kinds, only: wp
     use xd_core_vectors, only: cross
-    use xd_contact_surface, only: surface_t, seg_shell, wanted_side, seg_nodes
+    use xd_contact_surface, only: surface_t, seg_shell, wanted_side, seg_nodes, seg_normal
     use xd_contact_segment_check, only: hit_t, segment_check, contact_interior
     use xd_contact_global_search, only: master_lists_t
     implicit none
@@ -186,14 +186,6 @@ contains
                 ! in the plane of the first (a node under a sliding block
                 ! enters the window of the block's back face from its deep
                 ! end), and the face it lies on keeps it
-                ! Which face: the one the slave's own surface faces. A node
-                ! with solid faces of its own takes the master face whose
-                ! push is most nearly against its own outward normals (the
-                ! end faces of two aligned bars, not the side face the node
-                ! lies in; a node on a plate under a sliding block, the
-                ! block's bottom face, not its front face moving away).
-                ! Without solid faces of its own (a shell or a lone node),
-                ! the face it can have reached since last cycle.
                 if (grazing(b)) then
                     better = reachable(h)
                 else
@@ -227,10 +219,10 @@ contains
         end function squarer
 
         !> A tube or pinball contact with a neighbouring shell segment of the
-        !> slave's own body (a node within three rings of it), pushing the slave within 60 degrees of the segment's
-        !> plane: the next segment in the same sheet (a flat plate of shells
-        !> as thick as its elements reaches it edge-on), not a fold that has
-        !> closed. Not a contact.
+        !> slave's own body (a node within three rings of it), pushing the
+        !> slave within 60 degrees of the segment's plane: the next segment
+        !> in the same sheet (a flat plate of shells as thick as its elements
+        !> reaches it edge-on), not a fold that has closed. Not a contact.
         logical function in_plane_own(m, h)
             integer, intent(in) :: m
             type(hit_t), intent(in) :: h
@@ -244,7 +236,7 @@ contains
             ! along the sheet is no neighbour: left out, it would be found
             ! late and deep
             if (.not. within_rings(m, 3)) return
-            nv = cross(ls%xl(:, s%seg(3, m)) - ls%xl(:, s%seg(1, m)), ls%xl(:, s%seg(4, m)) - ls%xl(:, s%seg(2, m)))
+            nv = seg_normal(s, ls%xl, m)
             in_plane_own = abs(dot_product(nv, h%nhat)) < 0.5_wp*norm2(nv)
         end function in_plane_own
 
@@ -283,18 +275,13 @@ contains
         !> segments (unit outward normals n_s); -3 if it has none.
         real(wp) function facing(h)
             type(hit_t), intent(in) :: h
-            integer :: q, m2, nnd
+            integer :: q, m2
             real(wp) :: nv(3), ln
             facing = -3.0_wp
             do q = s%seg_ptr(sn), s%seg_ptr(sn + 1) - 1
                 m2 = s%seg_list(q)
                 if (s%seg_kind(m2) == seg_shell) cycle
-                nnd = seg_nodes(s%seg(:, m2))
-                if (nnd == 3) then
-                    nv = cross(ls%xl(:, s%seg(2, m2)) - ls%xl(:, s%seg(1, m2)), ls%xl(:, s%seg(3, m2)) - ls%xl(:, s%seg(1, m2)))
-                else
-                    nv = cross(ls%xl(:, s%seg(3, m2)) - ls%xl(:, s%seg(1, m2)), ls%xl(:, s%seg(4, m2)) - ls%xl(:, s%seg(2, m2)))
-                end if
+                nv = seg_normal(s, ls%xl, m2)
                 ln = norm2(nv)
                 if (ln <= 0.0_wp) cycle
                 facing = max(facing, -dot_product(nv, h%nhat)/ln)
@@ -306,7 +293,11 @@ contains
         logical function reachable(h)
             type(hit_t), intent(in) :: h
             real(wp) :: vr(3)
-            vr = ls%vl(:, sn) - matmul(ls%vl(:, s%seg(:, h%seg)), h%nshape)
+            integer :: j
+            vr = ls%vl(:, sn)
+            do j = 1, 4
+                vr = vr - h%nshape(j)*ls%vl(:, s%seg(j, h%seg))
+            end do
             reachable = abs(h%a) <= aprev + 2.0_wp*ls%dt*abs(dot_product(vr, h%nhat)) + 1.0e-3_wp*h%tm
         end function reachable
 

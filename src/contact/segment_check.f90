@@ -291,7 +291,6 @@ contains
             ! its plane, is not inside the body: accepted only within 60
             ! degrees of the inward normal (a node inside a convex edge is
             ! about 45 degrees off each face)
-            under = .false.
             if (hit%kind /= contact_interior .and. nt < 0.0_wp .and. tlen > 0.0_wp) then
                 if (-nt >= 0.5_wp*tlen) then
                     hit%d = nt

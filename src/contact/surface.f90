@@ -18,7 +18,7 @@ module xd_contact_surface
     implicit none
     private
     public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid
-    public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side, seg_nodes
+    public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side, seg_nodes, seg_normal
 
     integer, parameter :: seg_shell = 1, seg_solid = 2
     !> Bits of a node's or segment's side in an interface: on a segment of
@@ -607,6 +607,20 @@ contains
     end function wanted_side
 
     !> 3 for a triangle (N4 = N3), else 4.
+    !> Normal of segment m at coordinates xl, twice the area long, on the
+    !> side its node order gives (outward for a solid face).
+    pure function seg_normal(s, xl, m) result(nv)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: xl(:, :)
+        integer, intent(in) :: m
+        real(wp) :: nv(3)
+        if (seg_nodes(s%seg(:, m)) == 3) then
+            nv = cross(xl(:, s%seg(2, m)) - xl(:, s%seg(1, m)), xl(:, s%seg(3, m)) - xl(:, s%seg(1, m)))
+        else
+            nv = cross(xl(:, s%seg(3, m)) - xl(:, s%seg(1, m)), xl(:, s%seg(4, m)) - xl(:, s%seg(2, m)))
+        end if
+    end function seg_normal
+
     pure integer function seg_nodes(sg)
         integer, intent(in) :: sg(4)
         seg_nodes = 4
