@@ -7,7 +7,8 @@
 module xd_contact_rigidwall
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc
-    use xd_model, only: model_t, rigidwall_t, find_set, set_node
+    use xd_model, only: model_t, rigidwall_t, find_set, set_node, find_box
+    use xd_core_strings, only: itoa
     use xd_solver_state, only: state_t
     use xd_core_sorting, only: where_true
     implicit none
@@ -31,15 +32,26 @@ module xd_contact_rigidwall
 
 contains
 
-    !> Node lists: NSID (0: every node) less NSIDEX.
-    subroutine build_walls(model, walls)
+    !> Node lists, as LS-DYNA chooses a wall's nodes: NSID (0: every node),
+    !> within box BOXID if given, less NSIDEX; with OFFSET > 0 only those
+    !> within OFFSET of the wall at t = 0. A node behind the wall (or inside
+    !> the cylinder) at t = 0 by more than round-off is not held by it: it
+    !> would be thrown out in one step. Such nodes are listed in `notes`
+    !> (for d3hsp) with the wall and their depth; nodes on the wall are held.
+    subroutine build_walls(model, x0, walls, notes)
         type(model_t), intent(in) :: model
+        real(wp), intent(in) :: x0(:, :)
         type(walls_t), intent(out) :: walls
+        character(len=:), allocatable, intent(out) :: notes
         logical, allocatable :: on(:)
-        integer :: i, s
+        integer :: i, s, b, nd, nbehind
+        real(wp) :: d, nrm(3), tol, deepest
+        character(len=16) :: buf
+        notes = ''
         walls%n = model%nwall
         if (walls%n == 0) return
         allocate (walls%w(walls%n), on(model%nnode))
+        tol = 1.0e-6_wp*max(norm2(maxval(x0, dim=2) - minval(x0, dim=2)), tiny(1.0_wp))
         do i = 1, walls%n
             associate (w => model%wall(i))
                 if (w%nsid == 0) then
@@ -49,14 +61,45 @@ contains
                     s = find_set(model, set_node, w%nsid)
                     on(model%set(s)%member_ix) = .true.
                 end if
+                if (w%boxid /= 0) then
+                    b = find_box(model, w%boxid)
+                    do nd = 1, model%nnode
+                        if (any(x0(:, nd) < model%box(b)%lo) .or. any(x0(:, nd) > model%box(b)%hi)) on(nd) = .false.
+                    end do
+                end if
                 if (w%nsidex /= 0) then
                     s = find_set(model, set_node, w%nsidex)
                     on(model%set(s)%member_ix) = .false.
                 end if
-                walls%w(i)%node = where_true(on)
-                walls%w(i)%on = on
                 walls%w(i)%vel = real(w%v0, dp)
                 walls%w(i)%vel_old = walls%w(i)%vel
+                nbehind = 0
+                deepest = 0
+                do nd = 1, model%nnode
+                    if (.not. on(nd)) cycle
+                    call wall_distance(w, walls%w(i), x0(:, nd), 0.0_wp, d, nrm)
+                    if (w%offset > 0.0_wp .and. d > w%offset) then
+                        on(nd) = .false.
+                    else if (d < -tol) then
+                        on(nd) = .false.
+                        nbehind = nbehind + 1
+                        deepest = max(deepest, -d)
+                        if (nbehind <= 20) then
+                            write (buf, '(es10.3)') -d
+                            notes = notes//'rigid wall '//itoa(w%id)//': node '//itoa(model%node_id(nd))// &
+                                    ' lies '//trim(adjustl(buf))//' behind the wall at t = 0; the wall does not hold it'// &
+                                    new_line('a')
+                        end if
+                    end if
+                end do
+                if (nbehind > 20) then
+                    write (buf, '(es10.3)') deepest
+                    notes = notes//'rigid wall '//itoa(w%id)//': '//itoa(nbehind - 20)// &
+                            ' more nodes behind the wall at t = 0 (deepest '//trim(adjustl(buf))//'), not held'// &
+                            new_line('a')
+                end if
+                walls%w(i)%node = where_true(on)
+                walls%w(i)%on = on
             end associate
         end do
     end subroutine build_walls
@@ -162,6 +205,8 @@ contains
         if (w%moving) de = de - 0.5_dp*w%mass*(wn%vel**2 - wn%vel_old**2)
         wn%shift = wn%shift + dt*wn%vel
         wn%normal_force = -dot_product(wn%force, w%normal)
+        ! a cylinder presses radially: the force across its axis
+        if (w%cylinder) wn%normal_force = norm2(wn%force + wn%normal_force*w%normal)
         wn%energy = wn%energy + de
     end subroutine apply_wall
 
@@ -181,14 +226,15 @@ contains
             rr = norm2(radial)
             d = huge(1.0_wp)
             nrm = w%normal
-            if (s < 0.0_wp .or. s > w%length .or. rr <= 0.0_wp) return
+            if (rr <= 0.0_wp) return
+            if (w%length > 0.0_wp .and. (s < 0.0_wp .or. s > w%length)) return
             d = rr - w%radius
             nrm = radial/rr
             return
         end if
         r = r - real(wn%shift, wp)*w%normal - ahead*w%normal
         nrm = w%normal
-        d = dot_product(r, w%normal) - w%offset
+        d = dot_product(r, w%normal)
         if (w%finite) then
             if (dot_product(r, w%l) < 0.0_wp .or. dot_product(r, w%l) > w%lenl .or. &
                 dot_product(r, w%m) < 0.0_wp .or. dot_product(r, w%m) > w%lenm) d = huge(1.0_wp)

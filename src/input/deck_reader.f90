@@ -20,6 +20,8 @@ module xd_input_deck_reader
     use xd_input_read_loads, only: read_load
     use xd_input_read_contacts, only: read_contact
     use xd_model, only: model_t
+    use xd_kinds, only: dp
+    use xd_input_expression, only: evaluate
     implicit none
     private
     public :: read_deck, read_options_t
@@ -46,7 +48,7 @@ contains
         call cut_keywords(ctx, kws, nkw)
         ! parameters first, so that a field may use one defined further down
         do i = 1, nkw
-            if (kws(i)%name == 'PARAMETER') then
+            if (index(kws(i)%name, 'PARAMETER') == 1) then
                 call read_parameter(ctx, kws(i), error)
                 if (allocated(error)) return
             end if
@@ -150,14 +152,79 @@ contains
         end subroutine unsupported
     end subroutine dispatch
 
-    !> Cards of four pairs: name (A10, first character the type R/I/C) and value (A10).
+    !> *PARAMETER(_LOCAL): cards of four pairs, name (A10, first character
+    !> the type R/I/C, then the name) and value (A10).
+    !> *PARAMETER_EXPRESSION(_LOCAL): cards PRMR (A10) EXPRESSION (A70), an
+    !> expression continued on cards whose first 10 columns are blank; it may
+    !> use parameters defined before it. _LOCAL: seen only from its own file.
     subroutine read_parameter(ctx, kw, error)
         type(read_ctx_t), intent(inout) :: ctx
         type(keyword_t), intent(in) :: kw
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         integer :: ic, k
-        character(len=:), allocatable :: nm
+        character(len=:), allocatable :: nm, scope, line, ex, msg
+        character(len=40) :: buf
+        real(dp) :: v
+        scope = ''
+        if (index(kw%name, '_LOCAL') > 0) scope = ctx%src%file_of(kw%kw_line)
+        if (index(kw%name, '_EXPRESSION') > 0) then
+            ic = 1
+            do while (ic <= kw%ncard)
+                line = ctx%src%line(kw%card_line(ic))
+                nm = trim(adjustl(line(1:min(10, len(line)))))
+                ex = ''
+                if (len(line) > 10) ex = line(11:)
+                if (len(nm) == 0) then
+                    if (len_trim(ex) == 0) then
+                        ic = ic + 1
+                        cycle
+                    end if
+                    call make_error(error, ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)// &
+                                    ' field PRMR: a continuation card with no expression before it')
+                    return
+                end if
+                ! continuation cards: first 10 columns blank
+                do while (ic < kw%ncard)
+                    line = ctx%src%line(kw%card_line(ic + 1))
+                    if (len_trim(line(1:min(10, len(line)))) > 0) exit
+                    if (len(line) > 10) ex = ex//' '//line(11:)
+                    ic = ic + 1
+                end do
+                if (scan(to_upper(nm(1:1)), 'RI') /= 1 .or. len(nm) < 2) then
+                    call make_error(error, ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)// &
+                                    ' field PRMR: '''//nm//''' must start with its type R or I, then the name')
+                    return
+                end if
+                call evaluate(ex, ctx%params, ctx%src%file_of(kw%card_line(ic)), v, msg)
+                if (len(msg) > 0) then
+                    call make_error(error, ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)// &
+                                    ' field EXPRESSION of '''//trim(adjustl(nm(2:)))//''': '//msg)
+                    return
+                end if
+                if (to_upper(nm(1:1)) == 'I') then
+                    ! an integer parameter: truncated as LS-DYNA's LS_INTEGER,
+                    ! but a value within round-off of an integer is that integer
+                    if (abs(v - anint(v)) <= 1.0e-9_dp*max(1.0_dp, abs(v))) then
+                        write (buf, '(f0.0)') anint(v)
+                    else
+                        write (buf, '(f0.0)') aint(v)
+                    end if
+                    k = index(buf, '.')
+                    if (k > 0) buf(k:) = ''
+                    if (len_trim(buf) == 0 .or. buf == '-') buf = '0'
+                else
+                    write (buf, '(es23.16)') v
+                end if
+                if (len(scope) > 0) then
+                    call ctx%params%add(adjustl(nm(2:)), nm(1:1), trim(adjustl(buf)), scope)
+                else
+                    call ctx%params%add(adjustl(nm(2:)), nm(1:1), trim(adjustl(buf)))
+                end if
+                ic = ic + 1
+            end do
+            return
+        end if
         do ic = 1, kw%ncard
             call get_card(ctx, kw, ic, 'PRMR1 VAL1 PRMR2 VAL2 PRMR3 VAL3 PRMR4 VAL4', 1, card, error)
             if (allocated(error)) return
@@ -170,7 +237,11 @@ contains
                                     ': '''//nm//''' must start with its type R, I or C, then the name')
                     return
                 end if
-                call ctx%params%add(adjustl(nm(2:)), nm(1:1), get_text(card, k + 1))
+                if (len(scope) > 0) then
+                    call ctx%params%add(adjustl(nm(2:)), nm(1:1), get_text(card, k + 1), scope)
+                else
+                    call ctx%params%add(adjustl(nm(2:)), nm(1:1), get_text(card, k + 1))
+                end if
             end do
         end do
     end subroutine read_parameter

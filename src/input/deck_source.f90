@@ -24,6 +24,8 @@ module xd_input_deck_source
         integer, allocatable :: lstart(:)   !< first character in that file's text
         integer, allocatable :: llen(:)     !< length without the newline
         integer, allocatable :: lnum(:)     !< line number in its file
+        integer :: ndir = 0                 !< *INCLUDE_PATH directories
+        type(file_text_t), allocatable :: dirs(:)
     contains
         procedure :: line => source_line
         procedure :: where => source_where
@@ -49,7 +51,7 @@ contains
         character(len=*), intent(in) :: path
         integer, intent(in) :: depth, from_file, from_line
         type(error_t), allocatable, intent(out) :: error
-        integer :: ifile, pos, n, lineno, eol, k, j
+        integer :: ifile, pos, n, lineno, eol, k, j, nincl
         character(len=:), allocatable :: word, fname, cont
         logical :: more
 
@@ -72,6 +74,7 @@ contains
 
         pos = 1
         lineno = 0
+        nincl = 0
         do while (pos <= n)
             call line_bounds(src%files(ifile)%text, pos, k, eol)
             lineno = lineno + 1
@@ -83,38 +86,89 @@ contains
                 src%nline = src%nline - 1
                 exit
             end if
-            if (word /= '*INCLUDE') cycle
-            ! *INCLUDE: the file name is the next non-comment card, ' +' continues it
+            if (word /= '*INCLUDE' .and. word /= '*INCLUDE_PATH' .and. word /= '*INCLUDE_PATH_RELATIVE') cycle
+            ! *INCLUDE: every card up to the next keyword is a file name (one
+            ! per card, as LS-DYNA allows), ' +' at its end continues it on the
+            ! next card. *INCLUDE_PATH(_RELATIVE): each card a directory where
+            ! included files are looked for (relative: to the main deck's).
             src%nline = src%nline - 1
-            fname = ''
-            more = .true.
-            do while (more .and. pos <= n)
-                call line_bounds(src%files(ifile)%text, pos, k, eol)
-                lineno = lineno + 1
-                cont = src%files(ifile)%text(pos:k)
-                pos = eol + 1
-                if (len(cont) > 0) then
-                    if (cont(1:1) == '$') cycle
-                end if
-                j = len_trim(cont)
-                more = .false.
-                if (j >= 2) then
-                    if (cont(j - 1:j) == ' +') then
-                        more = .true.
-                        j = j - 2
+            do while (pos <= n)
+                if (src%files(ifile)%text(pos:pos) == '*') exit
+                fname = ''
+                more = .true.
+                do while (more .and. pos <= n)
+                    if (src%files(ifile)%text(pos:pos) == '*') exit
+                    call line_bounds(src%files(ifile)%text, pos, k, eol)
+                    lineno = lineno + 1
+                    cont = src%files(ifile)%text(pos:k)
+                    pos = eol + 1
+                    if (len(cont) > 0) then
+                        if (cont(1:1) == '$') cycle
                     end if
+                    j = len_trim(cont)
+                    more = .false.
+                    if (j >= 2) then
+                        if (cont(j - 1:j) == ' +') then
+                            more = .true.
+                            j = j - 2
+                        end if
+                    end if
+                    fname = fname//trim(adjustl(cont(1:j)))
+                end do
+                if (len(fname) == 0) cycle
+                if (word == '*INCLUDE_PATH') then
+                    call add_search_dir(src, join_path(dirname(path), fname))
+                else if (word == '*INCLUDE_PATH_RELATIVE') then
+                    call add_search_dir(src, join_path(dirname(src%files(1)%name), fname))
+                else
+                    call load_file(src, find_include(src, dirname(path), fname), depth + 1, ifile, lineno, error)
+                    if (allocated(error)) return
+                    nincl = nincl + 1
                 end if
-                fname = fname//trim(adjustl(cont(1:j)))
             end do
-            if (len(fname) == 0) then
+            if (word == '*INCLUDE' .and. nincl == 0) then
                 call make_error(error, '*INCLUDE card 1 field FILENAME: no file name given', &
                                 src%files(ifile)%name, lineno)
                 return
             end if
-            call load_file(src, join_path(dirname(path), fname), depth + 1, ifile, lineno, error)
-            if (allocated(error)) return
+            nincl = 0
         end do
     end subroutine load_file
+
+    subroutine add_search_dir(src, dir)
+        type(deck_source_t), intent(inout) :: src
+        character(len=*), intent(in) :: dir
+        type(file_text_t), allocatable :: tmp(:)
+        if (.not. allocated(src%dirs)) allocate (src%dirs(4))
+        if (src%ndir == size(src%dirs)) then
+            allocate (tmp(2*src%ndir))
+            tmp(1:src%ndir) = src%dirs(1:src%ndir)
+            call move_alloc(tmp, src%dirs)
+        end if
+        src%ndir = src%ndir + 1
+        src%dirs(src%ndir)%name = dir
+    end subroutine add_search_dir
+
+    !> An included file: next to the including file, else in the
+    !> *INCLUDE_PATH directories in the order given; the first place if none
+    !> has it (the open then fails naming it).
+    function find_include(src, here, fname) result(p)
+        type(deck_source_t), intent(in) :: src
+        character(len=*), intent(in) :: here, fname
+        character(len=:), allocatable :: p
+        logical :: there
+        integer :: i
+        p = join_path(here, fname)
+        inquire (file=p, exist=there)
+        if (there) return
+        do i = 1, src%ndir
+            inquire (file=join_path(src%dirs(i)%name, fname), exist=there)
+            if (there) then
+                p = join_path(src%dirs(i)%name, fname)
+                return
+            end if
+        end do
+    end function find_include
 
     !> The line that starts at `pos`: its last character `last` (a carriage
     !> return before the newline is dropped) and the position `eol` of its

@@ -42,9 +42,11 @@ module xd_input_field_reader
         character(len=32), allocatable :: name(:)
         character(len=1), allocatable :: ptype(:)
         character(len=80), allocatable :: value(:)
+        character(len=256), allocatable :: scope(:)   !< '' global; else the file of a *PARAMETER_LOCAL
     contains
         procedure :: add => param_add
         procedure :: find => param_find
+        procedure :: find_scoped => param_find_scoped
     end type param_table_t
 
     !> One card split into field texts, with what is needed to report on it.
@@ -187,7 +189,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         integer :: ip
         character(len=80) :: v
-        ip = params%find(card%f(i)(k:))
+        ip = params%find_scoped(card%f(i)(k:), card%file)
         if (ip == 0) then
             call card_error(card, i, 'parameter '''//trim(card%f(i)(k:))//''' is not defined', error)
             return
@@ -393,44 +395,74 @@ contains
         call make_error(error, msg)
     end subroutine card_error
 
-    subroutine param_add(self, name, ptype, value)
+    !> Define or redefine a parameter; `scope` (a file name) makes it local
+    !> to that file (*PARAMETER_LOCAL), none makes it global.
+    subroutine param_add(self, name, ptype, value, scope)
         class(param_table_t), intent(inout) :: self
         character(len=*), intent(in) :: name, ptype, value
+        character(len=*), intent(in), optional :: scope
         character(len=32), allocatable :: tn(:)
         character(len=1), allocatable :: tt(:)
         character(len=80), allocatable :: tv(:)
+        character(len=256), allocatable :: ts(:)
+        character(len=256) :: sc
         integer :: k
+        sc = ''
+        if (present(scope)) sc = scope
         if (.not. allocated(self%name)) then
-            allocate (self%name(16), self%ptype(16), self%value(16))
+            allocate (self%name(16), self%ptype(16), self%value(16), self%scope(16))
         end if
-        k = self%find(name)
-        if (k == 0) then
+        do k = 1, self%n
+            if (self%name(k) == to_upper(adjustl(name)) .and. self%scope(k) == sc) exit
+        end do
+        if (k > self%n) then
             if (self%n == size(self%name)) then
-                allocate (tn(2*self%n), tt(2*self%n), tv(2*self%n))
+                allocate (tn(2*self%n), tt(2*self%n), tv(2*self%n), ts(2*self%n))
                 tn(1:self%n) = self%name(1:self%n)
                 tt(1:self%n) = self%ptype(1:self%n)
                 tv(1:self%n) = self%value(1:self%n)
+                ts(1:self%n) = self%scope(1:self%n)
                 call move_alloc(tn, self%name)
                 call move_alloc(tt, self%ptype)
                 call move_alloc(tv, self%value)
+                call move_alloc(ts, self%scope)
             end if
             self%n = self%n + 1
             k = self%n
         end if
-        self%name(k) = to_upper(name)
+        self%name(k) = to_upper(adjustl(name))
         self%ptype(k) = to_upper(ptype)
         self%value(k) = adjustl(value)
+        self%scope(k) = sc
     end subroutine param_add
 
+    !> A global parameter.
     integer function param_find(self, name) result(k)
         class(param_table_t), intent(in) :: self
         character(len=*), intent(in) :: name
-        character(len=32) :: key
-        key = to_upper(adjustl(name))
-        do k = 1, self%n
-            if (self%name(k) == key) return
-        end do
-        k = 0
+        k = self%find_scoped(name, '')
     end function param_find
+
+    !> The parameter seen from file `scope`: its local one if it has one,
+    !> else the global one; 0 if neither.
+    integer function param_find_scoped(self, name, scope) result(k)
+        class(param_table_t), intent(in) :: self
+        character(len=*), intent(in) :: name, scope
+        character(len=32) :: key
+        integer :: i
+        key = to_upper(adjustl(name))
+        k = 0
+        do i = 1, self%n
+            if (self%name(i) /= key) cycle
+            if (len_trim(self%scope(i)) > 0) then
+                if (self%scope(i) == scope) then
+                    k = i
+                    return
+                end if
+            else
+                k = i
+            end if
+        end do
+    end function param_find_scoped
 
 end module xd_input_field_reader

@@ -39,9 +39,15 @@ module xd_input_keyword_table
         entry_t('KEYWORD', fam_meta, '', .false.), &
         entry_t('TITLE', fam_meta, '', .false.), &
         entry_t('PARAMETER', fam_meta, '', .false.), &
+        entry_t('PARAMETER_LOCAL', fam_meta, '', .false.), &
+        entry_t('PARAMETER_EXPRESSION', fam_meta, '', .false.), &
+        entry_t('PARAMETER_EXPRESSION_LOCAL', fam_meta, '', .false.), &
+        entry_t('PARAMETER_NOECHO', fam_meta, 'PARAMETER', .false.), &
+        entry_t('PARAMETER_EXPRESSION_NOECHO', fam_meta, 'PARAMETER_EXPRESSION', .false.), &
         entry_t('NODE', fam_geometry, '', .false.), &
         entry_t('ELEMENT_SOLID', fam_geometry, '', .false.), &
         entry_t('PART', fam_geometry, '', .false.), &
+        entry_t('PART_INERTIA', fam_geometry, '', .false.), &
         entry_t('ELEMENT_SHELL', fam_geometry, '', .false.), &
         entry_t('ELEMENT_SHELL_THICKNESS', fam_geometry, '', .false.), &
         entry_t('SECTION_SOLID', fam_section, '', .false.), &
@@ -64,6 +70,12 @@ module xd_input_keyword_table
         entry_t('SET_SHELL_LIST', fam_set, '', .false.), &
         entry_t('SET_SHELL', fam_set, 'SET_SHELL_LIST', .false.), &
         entry_t('SET_SHELL_LIST_GENERATE', fam_set, '', .false.), &
+        entry_t('SET_NODE_GENERAL', fam_set, '', .false.), &
+        entry_t('SET_SHELL_GENERAL', fam_set, '', .false.), &
+        entry_t('SET_PART_GENERAL', fam_set, '', .false.), &
+        entry_t('SET_NODE_ADD', fam_set, '', .false.), &
+        entry_t('SET_PART_ADD', fam_set, '', .false.), &
+        entry_t('SET_SHELL_ADD', fam_set, '', .false.), &
         entry_t('BOUNDARY_SPC_NODE', fam_condition, '', .true.), &
         entry_t('BOUNDARY_SPC_SET', fam_condition, '', .true.), &
         entry_t('BOUNDARY_PRESCRIBED_MOTION_NODE', fam_condition, '', .true.), &
@@ -90,7 +102,12 @@ module xd_input_keyword_table
         entry_t('LOAD_BODY_X', fam_load, '', .false.), &
         entry_t('LOAD_BODY_Y', fam_load, '', .false.), &
         entry_t('LOAD_BODY_Z', fam_load, '', .false.), &
+        entry_t('DEFINE_BOX', fam_load, '', .false.), &
         entry_t('RIGIDWALL_PLANAR', fam_load, '', .true.), &
+        entry_t('RIGIDWALL_PLANAR_FORCES', fam_load, '', .true.), &
+        entry_t('RIGIDWALL_PLANAR_FINITE_FORCES', fam_load, '', .true.), &
+        entry_t('RIGIDWALL_PLANAR_MOVING_FORCES', fam_load, '', .true.), &
+        entry_t('RIGIDWALL_PLANAR_FINITE_MOVING_FORCES', fam_load, '', .true.), &
         entry_t('RIGIDWALL_PLANAR_FINITE', fam_load, '', .true.), &
         entry_t('RIGIDWALL_PLANAR_MOVING', fam_load, '', .true.), &
         entry_t('RIGIDWALL_PLANAR_FINITE_MOVING', fam_load, '', .true.), &
@@ -126,10 +143,7 @@ module xd_input_keyword_table
         entry_t('CONTROL_MPP_*', fam_skip, '', .false.), &
         entry_t('SENSOR_DEFINE_*', fam_skip, '', .false.), &
         ! in KEYWORDS.md, arriving with later work: a clear message until then
-        entry_t('SET_NODE_GENERAL', fam_planned, '', .false.), &
-        entry_t('SET_PART_GENERAL', fam_planned, '', .false.), &
-
-        entry_t('RIGIDWALL_PLANAR_FORCES', fam_planned, '', .true.), &
+        entry_t('SET_SOLID_GENERAL', fam_planned, '', .false.), &
         entry_t('CONTACT_AUTOMATIC_SINGLE_SURFACE', fam_contact, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', fam_contact, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_GENERAL', fam_contact, '', .true.), &

@@ -7,10 +7,12 @@ module xd_input_model_check
     use xd_core_strings, only: itoa
     use xd_core_sorting, only: id_map_t
     use xd_input_context, only: read_ctx_t, add_warning
+    use xd_input_set_rules, only: resolve_set_rules
     use xd_input_check_contacts, only: check_contacts
     use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
                                 hex_regular, hex_wedge, hex_tet, hex_bad
-    use xd_model, only: model_t, find_set, mat_rigid, set_node, set_shell, pressure_t, set_part, iv_node_set, iv_node, iv_generation
+    use xd_model, only: model_t, find_set, mat_rigid, set_node, set_shell, pressure_t, set_part, iv_node_set, iv_node, &
+        iv_generation, find_box
     implicit none
     private
     public :: check_model, id_maps_t
@@ -30,6 +32,7 @@ contains
         call check_parts(ctx, model, maps, error); if (allocated(error)) return
         call check_hexes(ctx, model, maps, error); if (allocated(error)) return
         call check_shells(ctx, model, maps, error); if (allocated(error)) return
+        call check_rigid_mass(ctx, model, maps, error); if (allocated(error)) return
         call check_sets(ctx, model, maps, error); if (allocated(error)) return
         call check_conditions(ctx, model, maps, error); if (allocated(error)) return
         call check_loads(ctx, model, maps%node, maps%part, error); if (allocated(error)) return
@@ -220,6 +223,12 @@ contains
                 end if
             end do
             where (model%shell_t(:, e) <= 0.0_wp) model%shell_t(:, e) = model%sec_shell(model%part(p)%shell_sec_ix)%t
+            if (any(model%shell_t(:, e) <= 0.0_wp) .and. model%mat(model%part(p)%mat_ix)%mtype /= mat_rigid) then
+                call make_error(error, at//': zero thickness at a node (neither the element nor section '// &
+                                itoa(model%part(p)%secid)//' of part '//itoa(model%part(p)%id)// &
+                                ' gives one); a deformable shell needs a positive thickness')
+                return
+            end if
             d1 = model%x0(:, model%shell_conn(3, e)) - model%x0(:, model%shell_conn(1, e))
             d2 = model%x0(:, model%shell_conn(4, e)) - model%x0(:, model%shell_conn(2, e))
             if (model%shell_conn(3, e) == model%shell_conn(4, e)) &
@@ -231,6 +240,62 @@ contains
             end if
         end do
     end subroutine check_shells
+
+    !> A rigid part whose elements have no mass (zero density, or shells of
+    !> zero thickness: mass is density x volume, as LS-DYNA computes it)
+    !> needs *PART_INERTIA, unless it is fixed in every direction (CMO 1,
+    !> CON1 = CON2 = 7), where its mass is never used: that is allowed and
+    !> named. *PART_INERTIA is for rigid parts only; its NODEID must exist.
+    subroutine check_rigid_mass(ctx, model, maps, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_maps_t), intent(in) :: maps
+        type(error_t), allocatable, intent(out) :: error
+        integer :: p, e
+        logical :: massless, fixed
+        do p = 1, model%npart
+            associate (pt => model%part(p), mat => model%mat(model%part(p)%mat_ix))
+                if (mat%mtype /= mat_rigid) then
+                    if (pt%inertia) then
+                        call make_error(error, ctx%src%where(pt%src)//': *PART_INERTIA part '//itoa(pt%id)// &
+                                        ': its material is not *MAT_RIGID (the inertia of a deformable part '// &
+                                        'comes from its elements)')
+                        return
+                    end if
+                    cycle
+                end if
+                if (pt%inertia) then
+                    if (pt%nodeid /= 0 .and. maps%node%find(pt%nodeid) == 0) then
+                        call make_error(error, ctx%src%where(pt%src)//': *PART_INERTIA part '//itoa(pt%id)// &
+                                        ' field NODEID: node '//itoa(pt%nodeid)//' is not defined')
+                        return
+                    end if
+                    cycle
+                end if
+                massless = .not. (mat%ro > 0.0_wp)
+                if (.not. massless) then
+                    massless = .true.
+                    do e = 1, model%nshell
+                        if (model%shell_part(e) == p .and. any(model%shell_t(:, e) > 0.0_wp)) massless = .false.
+                    end do
+                    if (model%nhex > 0) then
+                        if (any(model%hex_part == p)) massless = .false.
+                    end if
+                end if
+                if (.not. massless) cycle
+                fixed = mat%cmo == 1 .and. mat%con1 == 7 .and. mat%con2 == 7
+                if (.not. fixed) then
+                    call make_error(error, ctx%src%where(pt%src)//': rigid part '//itoa(pt%id)// &
+                                    ' has no mass (zero density or zero shell thickness) and is free to move: '// &
+                                    'give it a thickness, a density or *PART_INERTIA')
+                    return
+                end if
+                call add_warning(model, ctx%src%where(pt%src)//': rigid part '//itoa(pt%id)//' has no mass '// &
+                                 '(zero density or shell thickness); it is fixed in all directions (CMO 1, '// &
+                                 'CON1 7, CON2 7), so it runs as a fixed body without mass')
+            end associate
+        end do
+    end subroutine check_rigid_mass
 
     function rtoa_short(x) result(s)
         real(wp), intent(in) :: x
@@ -245,6 +310,17 @@ contains
         type(id_maps_t), intent(in) :: maps
         type(error_t), allocatable, intent(out) :: error
         integer :: i, j, k
+        do i = 1, model%nset
+            do j = 1, i - 1
+                if (model%set(j)%id == model%set(i)%id .and. model%set(j)%kind == model%set(i)%kind) then
+                    call make_error(error, ctx%src%where(model%set(i)%src)//': '//set_word(model%set(i)%kind)// &
+                                    ' '//itoa(model%set(i)%id)//' is defined twice')
+                    return
+                end if
+            end do
+        end do
+        call resolve_set_rules(ctx, model, maps%node, maps%part, error)
+        if (allocated(error)) return
         do i = 1, model%nset
             associate (s => model%set(i))
                 do j = 1, i - 1
@@ -513,6 +589,11 @@ contains
                 if (w%nsidex /= 0 .and. find_set(model, set_node, w%nsidex) == 0) then
                     call make_error(error, ctx%src%where(w%src)//': *RIGIDWALL_PLANAR field NSIDEX: node set '// &
                                     itoa(w%nsidex)//' is not defined')
+                    return
+                end if
+                if (w%boxid /= 0 .and. find_box(model, w%boxid) == 0) then
+                    call make_error(error, ctx%src%where(w%src)//': *RIGIDWALL field BOXID: box '// &
+                                    itoa(w%boxid)//' is not defined (*DEFINE_BOX)')
                     return
                 end if
             end associate

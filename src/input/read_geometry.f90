@@ -25,7 +25,7 @@ contains
             call read_node(ctx, kw, model, error)
         case ('ELEMENT_SOLID')
             call read_element_solid(ctx, kw, model, error)
-        case ('PART')
+        case ('PART', 'PART_INERTIA')
             call read_part(ctx, kw, model, error)
         case ('ELEMENT_SHELL', 'ELEMENT_SHELL_THICKNESS')
             call read_element_shell(ctx, kw, model, error)
@@ -216,7 +216,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: head, card
         type(part_t) :: p
-        integer :: ic, eosid, tmid
+        integer :: ic, eosid, tmid, k, ircs, step
         ic = 1
         do while (ic <= kw%ncard)
             call get_card(ctx, kw, ic, 'HEADING:70', 1, head, error, raw=.true.)
@@ -248,11 +248,52 @@ contains
             if (tmid /= 0) call add_warning(model, ctx%src%where(kw%card_line(ic + 1))// &
                                             ': *PART field TMID: thermal material ignored')
             p%src = kw%card_line(ic + 1)
+            step = 2
+            if (kw%name == 'PART_INERTIA') then
+                ! cards 3-5: XC YC ZC TM IRCS NODEID; IXX IXY IXZ IYY IYZ IZZ; VTX..VRZ
+                if (ic + 4 > kw%ncard) then
+                    call make_error(error, ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)// &
+                                    ' needs cards 3 to 5 (XC YC ZC TM IRCS NODEID; IXX..IZZ; VTX..VRZ)')
+                    return
+                end if
+                p%inertia = .true.
+                call get_card(ctx, kw, ic + 2, 'XC YC ZC TM IRCS NODEID', 3, card, error)
+                if (allocated(error)) return
+                do k = 1, 3
+                    call get_real(card, k, p%xc(k), 0.0_wp, error); if (allocated(error)) return
+                end do
+                call get_real(card, 4, p%tm, 0.0_wp, error); if (allocated(error)) return
+                call get_int(card, 5, ircs, 0, error); if (allocated(error)) return
+                call get_int(card, 6, p%nodeid, 0, error); if (allocated(error)) return
+                if (.not. (p%tm > 0.0_wp)) then
+                    call card_error(card, 4, 'the translational mass TM must be positive', error); return
+                end if
+                if (ircs /= 0) then
+                    call card_error(card, 5, 'IRCS 1 (principal moments with orientation vectors) is not '// &
+                                    'supported; give the global tensor (IRCS 0)', error)
+                    return
+                end if
+                call get_card(ctx, kw, ic + 3, 'IXX IXY IXZ IYY IYZ IZZ', 4, card, error)
+                if (allocated(error)) return
+                do k = 1, 6
+                    call get_real(card, k, p%itens(k), 0.0_wp, error); if (allocated(error)) return
+                end do
+                if (.not. (p%itens(1) > 0.0_wp .and. p%itens(4) > 0.0_wp .and. p%itens(6) > 0.0_wp)) then
+                    call card_error(card, 1, 'IXX, IYY and IZZ must be positive', error); return
+                end if
+                call get_card(ctx, kw, ic + 4, 'VTX VTY VTZ VRX VRY VRZ', 5, card, error)
+                if (allocated(error)) return
+                do k = 1, 3
+                    call get_real(card, k, p%vt(k), 0.0_wp, error); if (allocated(error)) return
+                    call get_real(card, 3 + k, p%vr(k), 0.0_wp, error); if (allocated(error)) return
+                end do
+                step = 5
+            end if
             if (.not. allocated(model%part)) allocate (model%part(8))
             if (model%npart == size(model%part)) model%part = [model%part, model%part]
             model%npart = model%npart + 1
             model%part(model%npart) = p
-            ic = ic + 2
+            ic = ic + step
         end do
     end subroutine read_part
 

@@ -7,7 +7,7 @@ module xd_input_read_loads
                                      card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
-    use xd_model, only: model_t, curve_t, body_load_t, rigidwall_t, segment_set_t, pressure_t
+    use xd_model, only: model_t, curve_t, body_load_t, rigidwall_t, segment_set_t, pressure_t, box_t, find_box
     implicit none
     private
     public :: read_load
@@ -25,8 +25,11 @@ contains
         case ('LOAD_BODY_X', 'LOAD_BODY_Y', 'LOAD_BODY_Z')
             call read_body(ctx, kw, model, error)
         case ('RIGIDWALL_PLANAR', 'RIGIDWALL_PLANAR_FINITE', 'RIGIDWALL_PLANAR_MOVING', &
-              'RIGIDWALL_PLANAR_FINITE_MOVING')
+              'RIGIDWALL_PLANAR_FINITE_MOVING', 'RIGIDWALL_PLANAR_FORCES', 'RIGIDWALL_PLANAR_FINITE_FORCES', &
+              'RIGIDWALL_PLANAR_MOVING_FORCES', 'RIGIDWALL_PLANAR_FINITE_MOVING_FORCES')
             call read_wall(ctx, kw, model, error)
+        case ('DEFINE_BOX')
+            call read_box(ctx, kw, model, error)
         case ('RIGIDWALL_GEOMETRIC_CYLINDER')
             call read_cylinder(ctx, kw, model, error)
         case ('SET_SEGMENT')
@@ -139,7 +142,9 @@ contains
 
     !> Card 1 NSID NSIDEX BOXID BIRTH DEATH; card 2 XT YT ZT XH YH ZH FRIC;
     !> card 3 RADCYL LENCYL NSEGS. Nodes are kept outside the cylinder whose
-    !> axis runs from the tail towards the head for LENCYL.
+    !> axis runs from the tail towards the head for LENCYL; LENCYL = 0 is a
+    !> cylinder of infinite length both ways (LS-DYNA's meaning). _DISPLAY
+    !> adds a card PID RO E PR for the wall's picture, which xdyna does not draw.
     subroutine read_cylinder(ctx, kw, model, error)
         type(read_ctx_t), intent(in) :: ctx
         type(keyword_t), intent(in) :: kw
@@ -147,7 +152,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         type(rigidwall_t) :: w
-        integer :: ic, boxid
+        integer :: ic, nsegs
         ic = first_card(kw)
         call read_wall_id(ctx, kw, w, error); if (allocated(error)) return
         if (ic + 2 > kw%ncard) then
@@ -158,12 +163,9 @@ contains
         if (allocated(error)) return
         call get_int(card, 1, w%nsid, 0, error); if (allocated(error)) return
         call get_int(card, 2, w%nsidex, 0, error); if (allocated(error)) return
-        call get_int(card, 3, boxid, 0, error); if (allocated(error)) return
+        call get_int(card, 3, w%boxid, 0, error); if (allocated(error)) return
         call get_real(card, 4, w%birth, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 5, w%death, 1.0e20_wp, error, zero_default=.true.); if (allocated(error)) return
-        if (boxid /= 0) then
-            call card_error(card, 3, 'boxes are not supported (BOXID must be 0)', error); return
-        end if
         w%src = kw%card_line(ic)
         call read_wall_axis(ctx, kw, ic + 1, 'XT YT ZT XH YH ZH FRIC', w, card, error)
         if (allocated(error)) return
@@ -171,10 +173,17 @@ contains
         if (allocated(error)) return
         call get_real(card, 1, w%radius, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 2, w%length, 0.0_wp, error); if (allocated(error)) return
+        call get_int(card, 3, nsegs, 0, error); if (allocated(error)) return
         if (.not. (w%radius > 0.0_wp)) then
             call card_error(card, 1, 'the radius must be positive', error); return
         end if
-        if (w%length <= 0.0_wp) w%length = huge(1.0_wp)
+        if (w%length < 0.0_wp) then
+            call card_error(card, 2, 'LENCYL must not be negative (0: infinite length)', error); return
+        end if
+        if (nsegs /= 0) then
+            call card_error(card, 3, 'a cylinder of varying radius (NSEGS > 0) is not supported', error); return
+        end if
+        if (index(kw%written, '_DISPLAY') > 0 .and. ic + 3 <= kw%ncard) ic = ic + 1
         w%cylinder = .true.
         if (.not. allocated(model%wall)) allocate (model%wall(4))
         if (model%nwall == size(model%wall)) model%wall = [model%wall, model%wall]
@@ -223,9 +232,47 @@ contains
         end if
         w%normal = w%normal/norm2(w%normal)
         if (w%fric < 0.0_wp .or. w%fric > 1.0_wp) then
-            call card_error(card, 7, 'FRIC must lie in [0, 1]', error); return
+            call card_error(card, 7, 'FRIC must lie in [0, 1] (welding, 2 and 3, is not implemented)', error); return
         end if
     end subroutine read_wall_axis
+
+    !> *DEFINE_BOX: BOXID XMN XMX YMN YMX ZMN ZMX.
+    subroutine read_box(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(box_t) :: b
+        integer :: ic, k
+        ic = first_card(kw)
+        if (ic > kw%ncard) then
+            call make_error(error, ctx%src%where(kw%kw_line)//': '//trim(kw%written)//' needs its card')
+            return
+        end if
+        call get_card(ctx, kw, ic, 'BOXID XMN XMX YMN YMX ZMN ZMX', 1, card, error)
+        if (allocated(error)) return
+        call get_int(card, 1, b%id, 0, error); if (allocated(error)) return
+        if (b%id <= 0) then
+            call card_error(card, 1, 'box id must be a positive integer', error); return
+        end if
+        if (find_box(model, b%id) > 0) then
+            call card_error(card, 1, 'box '//trim(card%f(1))//' is defined twice', error); return
+        end if
+        do k = 1, 3
+            call get_real(card, 2*k, b%lo(k), 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 2*k + 1, b%hi(k), 0.0_wp, error); if (allocated(error)) return
+            if (b%hi(k) < b%lo(k)) then
+                call card_error(card, 2*k + 1, 'the box''s upper bound is below its lower bound', error); return
+            end if
+        end do
+        b%src = kw%card_line(ic)
+        if (.not. allocated(model%box)) allocate (model%box(4))
+        if (model%nbox == size(model%box)) model%box = [model%box, model%box]
+        model%nbox = model%nbox + 1
+        model%box(model%nbox) = b
+        call no_more_cards(ctx, kw, ic + 1, error)
+    end subroutine read_box
 
     !> Card 1 LCID SIDR SFA SFO OFFA OFFO DATTYP; then points A O (E20 each).
     !> Offsets first, then scales: a = SFA (A + OFFA), o = SFO (O + OFFO).
@@ -335,7 +382,7 @@ contains
         type(card_t) :: card
         type(rigidwall_t) :: w
         real(wp) :: hev(3), rwksf, wvel
-        integer :: ic, boxid, k
+        integer :: ic, k, ssid
         ic = first_card(kw)
         call read_wall_id(ctx, kw, w, error); if (allocated(error)) return
         if (ic + 1 > kw%ncard) then
@@ -346,16 +393,16 @@ contains
         if (allocated(error)) return
         call get_int(card, 1, w%nsid, 0, error); if (allocated(error)) return
         call get_int(card, 2, w%nsidex, 0, error); if (allocated(error)) return
-        call get_int(card, 3, boxid, 0, error); if (allocated(error)) return
+        call get_int(card, 3, w%boxid, 0, error); if (allocated(error)) return
         call get_real(card, 4, w%offset, 0.0_wp, error); if (allocated(error)) return
+        if (w%offset < 0.0_wp) then
+            call card_error(card, 4, 'OFFSET must not be negative (0: every node of NSID/BOXID)', error); return
+        end if
         call get_real(card, 5, w%birth, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 6, w%death, 1.0e20_wp, error, zero_default=.true.); if (allocated(error)) return
         call get_real(card, 7, rwksf, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
         if (rwksf /= 1.0_wp) call add_warning(model, ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)// &
             ' field RWKSF: the wall is a stonewall (kinematic), not a penalty wall; the scale is ignored')
-        if (boxid /= 0) then
-            call card_error(card, 3, 'boxes are not supported (BOXID must be 0)', error); return
-        end if
         w%src = kw%card_line(ic)
         call read_wall_axis(ctx, kw, ic + 1, 'XT YT ZT XH YH ZH FRIC WVEL', w, card, error)
         if (allocated(error)) return
@@ -403,6 +450,20 @@ contains
             end if
             w%moving = .true.
             ic = ic + 1
+        end if
+        if (index(kw%name, '_FORCES') > 0) then
+            ! SOFT SSID N1-N4: a segment set whose share of the wall force
+            ! LS-DYNA writes to rwforc; the wall's total force is written
+            if (ic + 2 <= kw%ncard) then
+                call get_card(ctx, kw, ic + 2, 'SOFT SSID N1 N2 N3 N4', 3, card, error)
+                if (allocated(error)) return
+                call get_int(card, 2, ssid, 0, error); if (allocated(error)) return
+                if (ssid /= 0 .or. .not. card_blank(card)) call add_warning(model, &
+                    ctx%src%where(kw%card_line(ic + 2))//': '//trim(kw%written)//' fields SOFT SSID N1-N4: '// &
+                    'the force on a segment set is not written; rwforc has the whole wall''s force')
+                ic = ic + 1
+            end if
+            w%forces = .true.
         end if
         if (.not. allocated(model%wall)) allocate (model%wall(4))
         if (model%nwall == size(model%wall)) model%wall = [model%wall, model%wall]

@@ -87,9 +87,11 @@ contains
             call get_real(card, k, s%t(k), 0.0_wp, error); if (allocated(error)) return
         end do
         if (s%t(2) == 0.0_wp) s%t(2:4) = s%t(1)
-        if (.not. all(s%t > 0.0_wp)) then
-            call card_error(card, 1, 'shell thickness must be positive', error); return
+        if (any(s%t < 0.0_wp)) then
+            call card_error(card, minloc(s%t, 1), 'shell thickness must not be negative', error); return
         end if
+        ! zero: the elements give their own (*ELEMENT_SHELL_THICKNESS), or the
+        ! part is rigid; checked per element once parts and materials are known
         s%src = kw%card_line(ic)
         if (.not. allocated(model%sec_shell)) allocate (model%sec_shell(8))
         if (model%nsec_shell == size(model%sec_shell)) model%sec_shell = [model%sec_shell, model%sec_shell]

@@ -2,7 +2,8 @@
 module xd_input_read_sets
     use xd_core_errors, only: error_t
     use xd_core_strings, only: itoa
-    use xd_input_field_reader, only: card_t, card_format_t, card_format, get_int, card_error, card_blank
+    use xd_input_field_reader, only: card_t, card_format_t, card_format, get_int, card_error, card_blank, get_text
+    use xd_core_strings, only: to_upper
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card
     use xd_model, only: model_t, set_t, set_node, set_part, set_shell
@@ -38,6 +39,12 @@ contains
         generate = index(kw%name, '_GENERATE') > 0
         s%src = kw%card_line(ic)
         allocate (s%member(64))
+        if (index(kw%name, '_GENERAL') > 0 .or. index(kw%name, '_ADD') > 0) then
+            call read_rules(ctx, kw, ic, s, error)
+            if (allocated(error)) return
+            call store(model, s)
+            return
+        end if
         if (generate) then
             spec = 'B1BEG B1END B2BEG B2END B3BEG B3END B4BEG B4END'
         else
@@ -73,11 +80,60 @@ contains
             end if
         end do
         s%member = s%member(1:s%n)
+        call store(model, s)
+    end subroutine read_set
+
+    subroutine store(model, s)
+        type(model_t), intent(inout) :: model
+        type(set_t), intent(in) :: s
         if (.not. allocated(model%set)) allocate (model%set(8))
         if (model%nset == size(model%set)) model%set = [model%set, model%set]
         model%nset = model%nset + 1
         model%set(model%nset) = s
-    end subroutine read_set
+    end subroutine store
+
+    !> _GENERAL cards OPTION E1..E7 (the options are checked when the set is
+    !> resolved, with the model known); _ADD cards DSID1..DSID8 (sets of the
+    !> same kind, united).
+    subroutine read_rules(ctx, kw, ic0, s, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        integer, intent(in) :: ic0
+        type(set_t), intent(inout) :: s
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        integer :: ic, k, n
+        s%add = index(kw%name, '_ADD') > 0
+        n = max(kw%ncard - ic0, 1)
+        allocate (s%rule_op(n), s%rule_val(8, n), s%rule_line(n))
+        s%rule_val = 0
+        s%nrule = 0
+        do ic = ic0 + 1, kw%ncard
+            if (s%add) then
+                call get_card(ctx, kw, ic, 'DSID1 DSID2 DSID3 DSID4 DSID5 DSID6 DSID7 DSID8', 2, card, error)
+            else
+                call get_card(ctx, kw, ic, 'OPTION E1 E2 E3 E4 E5 E6 E7', 2, card, error)
+            end if
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            s%nrule = s%nrule + 1
+            s%rule_line(s%nrule) = kw%card_line(ic)
+            if (s%add) then
+                s%rule_op(s%nrule) = 'ADD'
+                do k = 1, 8
+                    call get_int(card, k, s%rule_val(k, s%nrule), 0, error); if (allocated(error)) return
+                    if (s%rule_val(k, s%nrule) < 0) then
+                        call card_error(card, k, 'set ids must be positive', error); return
+                    end if
+                end do
+            else
+                s%rule_op(s%nrule) = to_upper(get_text(card, 1))
+                do k = 1, 7
+                    call get_int(card, k + 1, s%rule_val(k, s%nrule), 0, error); if (allocated(error)) return
+                end do
+            end if
+        end do
+    end subroutine read_rules
 
     subroutine push(s, v)
         type(set_t), intent(inout) :: s

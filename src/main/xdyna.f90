@@ -60,7 +60,7 @@ program xdyna
     type(dump_meta_t) :: meta
     type(history_marks_t) :: hmarks
     type(states_marks_t) :: smarks
-    character(len=:), allocatable :: dump_error
+    character(len=:), allocatable :: dump_error, wall_notes
     logical :: outdir_given
     real(dp) :: wallclock
     type(run_result_t) :: res
@@ -161,7 +161,12 @@ program xdyna
         call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
         call finish(exit_input)
     end if
-    call build_walls(model, walls)
+    call build_walls(model, st%x0, walls, wall_notes)
+    do while (len(wall_notes) > 0)
+        i = index(wall_notes, new_line('a'))
+        call add_warning(model, wall_notes(1:i - 1))
+        wall_notes = wall_notes(i + 1:)
+    end do
     call build_contacts(model, st%x0, ct, error)
     if (allocated(error)) then
         call say(error%message)

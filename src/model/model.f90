@@ -8,6 +8,7 @@ module xd_model
     public :: model_t, part_t, section_solid_t, section_shell_t, material_t, hourglass_t, set_t
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
     public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, segment_set_t, pressure_t, curve_value
+    public :: box_t, find_box
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
@@ -27,6 +28,11 @@ module xd_model
         integer :: sec_ix = 0, mat_ix = 0, hg_ix = 0
         integer :: shell_sec_ix = 0         !< the section is a *SECTION_SHELL
         integer :: src = 0                  !< deck line of its card
+        !> *PART_INERTIA (rigid parts): mass, centre (or node), global inertia
+        !> tensor about the centre, initial velocities of the body
+        logical :: inertia = .false.
+        real(wp) :: tm = 0, xc(3) = 0, itens(6) = 0, vt(3) = 0, vr(3) = 0
+        integer :: nodeid = 0
     end type part_t
 
     type :: section_solid_t
@@ -75,6 +81,13 @@ module xd_model
         integer, allocatable :: member(:)
         integer, allocatable :: member_ix(:)
         integer :: src = 0
+        !> _GENERAL: rules (OPTION, up to 7 values) resolved once the model
+        !> is read; _ADD: `rule_val` holds the sets whose union this is
+        integer :: nrule = 0
+        character(len=10), allocatable :: rule_op(:)
+        integer, allocatable :: rule_val(:, :)
+        integer, allocatable :: rule_line(:)
+        logical :: add = .false.
     end type set_t
 
     !> Constraint on a node (is_set false) or on a node set.
@@ -172,8 +185,8 @@ module xd_model
     type :: rigidwall_t
         integer :: id = 0
         character(len=70) :: heading = ''
-        integer :: nsid = 0, nsidex = 0
-        real(wp) :: offset = 0
+        integer :: nsid = 0, nsidex = 0, boxid = 0
+        real(wp) :: offset = 0               !< > 0: only nodes within OFFSET of the wall at t = 0
         real(wp) :: birth = 0, death = 1.0e20_wp
         real(wp) :: tail(3) = 0, normal(3) = 0
         real(wp) :: fric = 0
@@ -182,9 +195,17 @@ module xd_model
         logical :: moving = .false.          !< _MOVING: a wall of `mass` moving along its normal
         real(wp) :: mass = 0, v0 = 0
         logical :: cylinder = .false.        !< *RIGIDWALL_GEOMETRIC_CYLINDER: nodes stay outside
-        real(wp) :: radius = 0, length = 0   !< cylinder: axis from tail along `normal`
+        real(wp) :: radius = 0, length = 0   !< cylinder: axis from tail along `normal`; length 0: infinite both ways
+        logical :: forces = .false.          !< _FORCES: the optional force-segment card was given
         integer :: src = 0
     end type rigidwall_t
+
+    !> *DEFINE_BOX: an axis-aligned box.
+    type :: box_t
+        integer :: id = 0
+        real(wp) :: lo(3) = 0, hi(3) = 0
+        integer :: src = 0
+    end type box_t
 
     !> Contact variants: every one runs the same automatic algorithm; they
     !> differ in which nodes are slaves and which segments masters.
@@ -300,6 +321,8 @@ module xd_model
         type(curve_t), allocatable :: curve(:)
         type(body_load_t), allocatable :: body(:)
         type(rigidwall_t), allocatable :: wall(:)
+        integer :: nbox = 0
+        type(box_t), allocatable :: box(:)
         integer :: ncontact = 0
         type(contact_t), allocatable :: contact(:)
         integer :: nspc = 0, nivel = 0, nistress = 0
@@ -340,6 +363,16 @@ contains
         end do
         ix = 0
     end function find_set
+
+    !> Index of *DEFINE_BOX `id` (0: none).
+    pure integer function find_box(model, id) result(ix)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: id
+        do ix = 1, model%nbox
+            if (model%box(ix)%id == id) return
+        end do
+        ix = 0
+    end function find_box
 
     !> Value of a time curve at t: linear between points, held constant beyond
     !> its first and last points.

@@ -192,8 +192,32 @@ contains
                     mark(model%shell_conn(:, e)) = .true.
                 end do
                 call add_deformable_share(b, jt, mark)
-                b%xc = b%xc/b%mass
-                jt = jt - b%mass*spread(b%xc, 2, 3)*spread(b%xc, 1, 3)
+                if (b%mass > 0.0_dp) then
+                    b%xc = b%xc/b%mass
+                    jt = jt - b%mass*spread(b%xc, 2, 3)*spread(b%xc, 1, 3)
+                else
+                    ! a massless body fixed in every direction (the input check
+                    ! allows no other): unit mass and inertia about its nodes'
+                    ! centroid keep the algebra finite; it never moves
+                    b%mass = 1
+                    b%xc = 0
+                    do k = 1, st%nnode
+                        if (mark(k)) b%xc = b%xc + real(st%x0(:, k), dp)
+                    end do
+                    b%xc = b%xc/max(count(mark), 1)
+                    jt = 0.5_dp*identity()
+                end if
+                if (model%part(p)%inertia) then
+                    ! *PART_INERTIA: the deck's mass, centre and global inertia
+                    ! tensor I replace the elements'; J = tr(I)/2 1 - I
+                    b%mass = real(model%part(p)%tm, dp)
+                    b%xc = real(model%part(p)%xc, dp)
+                    if (model%part(p)%nodeid /= 0) b%xc = real(st%x0(:, findloc(model%node_id, model%part(p)%nodeid, 1)), dp)
+                    associate (it => real(model%part(p)%itens, dp))
+                        jt = -reshape([it(1), it(2), it(3), it(2), it(4), it(5), it(3), it(5), it(6)], [3, 3])
+                        jt = jt + 0.5_dp*(it(1) + it(4) + it(6))*identity()
+                    end associate
+                end if
                 b%fix_t = constraint_dirs(mat%con1)
                 b%fix_r = constraint_dirs(mat%con2)
                 rg%on = rg%on .or. mark
@@ -336,11 +360,18 @@ contains
                 lm = lm + st%mass(n)*cross(r, real(st%v(:, n), dp))
                 il = il + st%mass(n)*(dot_product(r, r)*identity() - spread(r, 2, 3)*spread(r, 1, 3))
             end do
-            b%vc = b%vc/sum(real(st%mass(b%node), dp))
-            if (size(b%node) >= 3) then
+            if (sum(real(st%mass(b%node), dp)) > 0.0_dp) b%vc = b%vc/sum(real(st%mass(b%node), dp))
+            if (size(b%node) >= 3 .and. sum(real(st%mass(b%node), dp)) > 0.0_dp) then
                 b%omega = solve3(il, lm)
             else
                 b%omega = 0
+            end if
+            if (b%part > 0) then
+                ! *PART_INERTIA gives the body's initial motion itself
+                if (model%part(b%part)%inertia) then
+                    b%vc = real(model%part(b%part)%vt, dp)
+                    b%omega = real(model%part(b%part)%vr, dp)
+                end if
             end if
             where (b%fix_t) b%vc = 0
             where (b%fix_r) b%omega = 0

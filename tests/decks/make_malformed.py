@@ -72,8 +72,8 @@ def main():
        "bad_integer.k:{line}: *PART card 2 field SECID: '1.5' is not an integer")
     mk("unknown_keyword", lambda L: L.insert(3, "*FOO_BAR") or 4,
        "unknown_keyword.k:{line}: *FOO_BAR is not a supported keyword")
-    mk("planned_keyword", lambda L: L.insert(3, "*RIGIDWALL_PLANAR_FORCES") or 4,
-       "planned_keyword.k:{line}: *RIGIDWALL_PLANAR_FORCES is not implemented")
+    mk("planned_keyword", lambda L: L.insert(3, "*SET_SOLID_GENERAL") or 4,
+       "planned_keyword.k:{line}: *SET_SOLID_GENERAL is not implemented")
     mk("contact_bad_sstyp", lambda L: (L.insert(3, "*CONTACT_AUTOMATIC_SINGLE_SURFACE"),
                                        L.insert(4, "         1         0         9")) and 5,
        "contact_bad_sstyp.k:{line}: *CONTACT_AUTOMATIC_SINGLE_SURFACE card 1 field SSTYP: SSTYP 9 is not 0-6")

@@ -31,7 +31,7 @@ program test_keyword_table
     call check(kw%width_mode == width_long, 'a keyword without suffix inherits the deck format')
     call look('*CONTROL_MPP_IO_NOD3DUMP')
     call check(kw%family == fam_skip, 'prefix entries of the skip list (*CONTROL_MPP_*)')
-    call look('*RIGIDWALL_PLANAR_FORCES_ID')
+    call look('*SET_SOLID_GENERAL_TITLE')
     call check(kw%family == fam_planned, 'keywords for later work are told apart from unknown ones')
     call look('*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID')
     call check(kw%family == fam_contact .and. kw%has_id .and. kw%name == 'CONTACT_AUTOMATIC_SINGLE_SURFACE', &

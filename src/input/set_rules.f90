@@ -1,0 +1,290 @@
+!> The sets built by rules: *SET_NODE_GENERAL, *SET_SHELL_GENERAL,
+!> *SET_PART_GENERAL (OPTION E1..E7 cards applied in order, the D options
+!> taking away what earlier cards gave) and *SET_NODE_ADD, *SET_PART_ADD,
+!> *SET_SHELL_ADD (unions of sets of the same kind, which may themselves be
+!> rule sets). Resolved into plain member lists once elements, parts and
+!> boxes are known, before any set is used.
+module xd_input_set_rules
+    use xd_kinds, only: wp
+    use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: itoa
+    use xd_core_sorting, only: id_map_t
+    use xd_input_context, only: read_ctx_t
+    use xd_model, only: model_t, set_node, set_part, set_shell, find_set, find_box
+    implicit none
+    private
+    public :: resolve_set_rules
+
+contains
+
+    !> Shell connectivity and parts must be resolved (indices) already.
+    subroutine resolve_set_rules(ctx, model, nodes, parts, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_map_t), intent(in) :: nodes, parts
+        type(error_t), allocatable, intent(out) :: error
+        integer :: i, pass
+        logical :: progress, pending
+        logical, allocatable :: done(:)
+        allocate (done(model%nset))
+        done = [(model%set(i)%nrule == 0 .and. .not. model%set(i)%add, i=1, model%nset)]
+        do i = 1, model%nset
+            if (done(i) .or. model%set(i)%add) cycle
+            call resolve_general(ctx, model, i, nodes, parts, error)
+            if (allocated(error)) return
+            done(i) = .true.
+        end do
+        ! unions, in as many passes as they nest
+        do pass = 1, model%nset + 1
+            progress = .false.
+            pending = .false.
+            do i = 1, model%nset
+                if (done(i)) cycle
+                call resolve_add(ctx, model, i, done, progress, error)
+                if (allocated(error)) return
+                if (.not. done(i)) pending = .true.
+            end do
+            if (.not. pending) exit
+            if (.not. progress) then
+                do i = 1, model%nset
+                    if (.not. done(i)) exit
+                end do
+                call make_error(error, ctx%src%where(model%set(i)%src)//': set '//itoa(model%set(i)%id)// &
+                                ' (_ADD) includes itself through other sets')
+                return
+            end if
+        end do
+    end subroutine resolve_set_rules
+
+    subroutine resolve_add(ctx, model, i, done, progress, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        integer, intent(in) :: i
+        logical, intent(inout) :: done(:), progress
+        type(error_t), allocatable, intent(out) :: error
+        integer :: r, k, j, m
+        integer, allocatable :: mem(:)
+        allocate (mem(0))
+        associate (s => model%set(i))
+            do r = 1, s%nrule
+                do k = 1, 8
+                    if (s%rule_val(k, r) == 0) cycle
+                    j = find_set(model, s%kind, s%rule_val(k, r))
+                    if (j == 0) then
+                        call make_error(error, ctx%src%where(s%rule_line(r))//': set '//itoa(s%id)// &
+                                        ' (_ADD) field DSID'//itoa(k)//': set '//itoa(s%rule_val(k, r))// &
+                                        ' of the same kind is not defined')
+                        return
+                    end if
+                    if (.not. done(j)) return
+                    mem = [mem, model%set(j)%member(1:model%set(j)%n)]
+                end do
+            end do
+            ! the union, duplicates dropped, first occurrence kept
+            m = 0
+            do k = 1, size(mem)
+                if (any(mem(1:m) == mem(k))) cycle
+                m = m + 1
+                mem(m) = mem(k)
+            end do
+            s%member = mem(1:m)
+            s%n = m
+        end associate
+        done(i) = .true.
+        progress = .true.
+    end subroutine resolve_add
+
+    subroutine resolve_general(ctx, model, i, nodes, parts, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        integer, intent(in) :: i
+        type(id_map_t), intent(in) :: nodes, parts
+        type(error_t), allocatable, intent(out) :: error
+        logical, allocatable :: on(:), pick(:)
+        integer :: r, k, n, e, b, v, j
+        logical :: del
+        character(len=10) :: op
+        character(len=:), allocatable :: at
+        associate (s => model%set(i))
+            select case (s%kind)
+            case (set_node); n = model%nnode
+            case (set_part); n = model%npart
+            case default; n = model%nshell
+            end select
+            allocate (on(n), pick(n))
+            on = .false.
+            do r = 1, s%nrule
+                op = s%rule_op(r)
+                at = ctx%src%where(s%rule_line(r))//': set '//itoa(s%id)//' (_GENERAL) option '//trim(op)
+                del = op(1:1) == 'D'
+                if (del) op = op(2:)
+                pick = .false.
+                select case (trim(op))
+                case ('ALL')
+                    pick = .true.
+                case ('NODE', 'PART', 'ELEM', 'SHELL', 'SOLID', 'BOX', 'SET_SHELL', 'SET_NODE', 'SET_PART')
+                    do k = 1, 7
+                        v = s%rule_val(k, r)
+                        if (v == 0) cycle
+                        call pick_one(trim(op), v, k)
+                        if (allocated(error)) return
+                    end do
+                case default
+                    call make_error(error, at//': not supported for this set (ALL, NODE, ELEM, SHELL, SOLID, '// &
+                                    'PART, BOX, SET_SHELL, SET_NODE, SET_PART and their D forms are)')
+                    return
+                end select
+                if (del) then
+                    on = on .and. .not. pick
+                else
+                    on = on .or. pick
+                end if
+            end do
+            n = count(on)
+            s%n = n
+            select case (s%kind)
+            case (set_node); s%member = pack(model%node_id, on)
+            case (set_part); s%member = pack([(model%part(j)%id, j=1, model%npart)], on)
+            case default; s%member = pack(model%shell_id(1:model%nshell), on)
+            end select
+        end associate
+    contains
+        subroutine pick_one(what, v, k)
+            character(len=*), intent(in) :: what
+            integer, intent(in) :: v, k
+            integer :: p, j2, ix
+            associate (s => model%set(i))
+                select case (what)
+                case ('NODE')
+                    if (s%kind /= set_node) call wrong()
+                    if (allocated(error)) return
+                    ix = nodes%find(v)
+                    if (ix == 0) call missing('node')
+                    if (allocated(error)) return
+                    pick(ix) = .true.
+                case ('PART')
+                    p = parts%find(v)
+                    if (p == 0) call missing('part')
+                    if (allocated(error)) return
+                    select case (s%kind)
+                    case (set_part)
+                        pick(p) = .true.
+                    case (set_node)
+                        do e = 1, model%nshell
+                            if (model%shell_part(e) == p) pick(model%shell_conn(:, e)) = .true.
+                        end do
+                        do e = 1, model%nhex
+                            if (model%hex_part(e) == p) pick(model%hex_conn(:, e)) = .true.
+                        end do
+                    case default
+                        where (model%shell_part(1:model%nshell) == p) pick = .true.
+                    end select
+                case ('ELEM', 'SHELL')
+                    if (s%kind == set_part) call wrong()
+                    if (allocated(error)) return
+                    ix = findloc(model%shell_id(1:model%nshell), v, 1)
+                    if (ix == 0) call missing('shell')
+                    if (allocated(error)) return
+                    if (s%kind == set_node) then
+                        pick(model%shell_conn(:, ix)) = .true.
+                    else
+                        pick(ix) = .true.
+                    end if
+                case ('SOLID')
+                    if (s%kind /= set_node) call wrong()
+                    if (allocated(error)) return
+                    ix = 0
+                    if (model%nhex > 0) ix = findloc(model%hex_id(1:model%nhex), v, 1)
+                    if (ix == 0) call missing('solid')
+                    if (allocated(error)) return
+                    pick(model%hex_conn(:, ix)) = .true.
+                case ('BOX')
+                    b = find_box(model, v)
+                    if (b == 0) call missing('box')
+                    if (allocated(error)) return
+                    select case (s%kind)
+                    case (set_node)
+                        do j2 = 1, model%nnode
+                            if (inside(model%x0(:, j2))) pick(j2) = .true.
+                        end do
+                    case (set_shell)
+                        ! a shell is in the box when its centre is
+                        do e = 1, model%nshell
+                            if (inside(sum(model%x0(:, model%shell_conn(:, e)), dim=2)/4)) pick(e) = .true.
+                        end do
+                    case default
+                        call wrong()
+                    end select
+                case ('SET_SHELL', 'SET_NODE', 'SET_PART')
+                    select case (what)
+                    case ('SET_SHELL'); j2 = find_set(model, set_shell, v)
+                    case ('SET_NODE'); j2 = find_set(model, set_node, v)
+                    case default; j2 = find_set(model, set_part, v)
+                    end select
+                    if (j2 == 0) call missing(what(5:)//' set')
+                    if (allocated(error)) return
+                    if (model%set(j2)%nrule > 0 .or. model%set(j2)%add) then
+                        call make_error(error, at//' field E'//itoa(k)//': set '//itoa(v)// &
+                                        ' is itself built by rules; list sets cannot nest here')
+                        return
+                    end if
+                    call pick_from_set(model%set(j2)%kind, model%set(j2)%member(1:model%set(j2)%n))
+                end select
+            end associate
+        end subroutine pick_one
+
+        subroutine pick_from_set(kind, ids)
+            integer, intent(in) :: kind, ids(:)
+            integer :: q, ix, p
+            associate (s => model%set(i))
+                do q = 1, size(ids)
+                    select case (kind)
+                    case (set_node)
+                        if (s%kind /= set_node) call wrong()
+                        if (allocated(error)) return
+                        ix = nodes%find(ids(q))
+                        if (ix > 0) pick(ix) = .true.
+                    case (set_shell)
+                        ix = findloc(model%shell_id(1:model%nshell), ids(q), 1)
+                        if (ix == 0) cycle
+                        if (s%kind == set_node) then
+                            pick(model%shell_conn(:, ix)) = .true.
+                        else if (s%kind == set_shell) then
+                            pick(ix) = .true.
+                        end if
+                    case default
+                        p = parts%find(ids(q))
+                        if (p == 0) cycle
+                        if (s%kind == set_part) then
+                            pick(p) = .true.
+                        else if (s%kind == set_shell) then
+                            where (model%shell_part(1:model%nshell) == p) pick = .true.
+                        else
+                            do e = 1, model%nshell
+                                if (model%shell_part(e) == p) pick(model%shell_conn(:, e)) = .true.
+                            end do
+                            do e = 1, model%nhex
+                                if (model%hex_part(e) == p) pick(model%hex_conn(:, e)) = .true.
+                            end do
+                        end if
+                    end select
+                end do
+            end associate
+        end subroutine pick_from_set
+
+        logical function inside(x)
+            real(wp), intent(in) :: x(3)
+            inside = all(x >= model%box(b)%lo) .and. all(x <= model%box(b)%hi)
+        end function inside
+
+        subroutine missing(what)
+            character(len=*), intent(in) :: what
+            call make_error(error, at//': '//what//' '//itoa(v)//' is not defined')
+        end subroutine missing
+
+        subroutine wrong()
+            call make_error(error, at//': this option does not apply to a set of this kind')
+        end subroutine wrong
+    end subroutine resolve_general
+
+end module xd_input_set_rules
