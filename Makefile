@@ -31,7 +31,7 @@ TEST_SRC := $(sort $(wildcard tests/unit/test_*.f90))
 
 flat = $(subst /,_,$(patsubst src/%,%,$(patsubst tests/%,tests_%,$(basename $(1))))).o
 
-.PHONY: all deps check demo bench debug clean verify tests examples stability sweeps contact-suite
+.PHONY: all deps check demo bench debug clean verify tests examples stability sweeps contact-suite public
 all: bin/xdyna$(SUFFIX) bin/thdiff
 
 deps:
@@ -111,6 +111,10 @@ contact-suite: deps
 stability: deps
 	@$(MAKE) --no-print-directory all
 	@$(PY) tools/stability.py
+
+public: deps
+	@$(MAKE) --no-print-directory all
+	@$(PY) tools/public_decks.py
 
 bench: deps
 	@$(MAKE) --no-print-directory all bin/search_bench$(SUFFIX)

@@ -1826,10 +1826,124 @@ def test_wall_of_blocks():
            q.stdout[-600:])
 
 
+def test_public_forms():
+    """Input forms of decks written by others (tests/decks/forms): *INCLUDE
+    with several file cards and a name continued with ' +', *INCLUDE_PATH,
+    *PARAMETER_EXPRESSION (thk = 1*2 + sqrt(|-4|)*0.5 - max(0, 1) + 1 = 3),
+    *PARAMETER_LOCAL, *SET_NODE_GENERAL_TITLE (BOX + NODE - DNODE),
+    *SET_PART_ADD, *SET_SHELL_GENERAL, *DEFINE_BOX, *RIGIDWALL_PLANAR_FORCES
+    with BOXID, an infinite cylinder, *PART_INERTIA on a rigid part of
+    zero-thickness shells, *ELEMENT_SHELL_THICKNESS of zeros; and LS-DYNA's
+    command line: jobid=, o=, memory=, ncpu=-N. Masses are sums of the
+    deck's numbers, exact but for float round-off: tolerance 1e-6."""
+    out = os.path.join(TMP, "forms")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    printed = os.path.join(out, "printed.txt")
+    p = run([XDYNA, "i=" + os.path.join(ROOT, "tests/decks/forms/main.k"), "outdir=" + out, "jobid=job",
+             "o=" + printed, "memory=200m", "memory2=64000000", "ncpu=-1"])
+    record("forms: the deck of public input forms runs (exit 0)", p.returncode == 0, p.stderr[-400:])
+    if p.returncode != 0:
+        return
+    names = sorted(os.listdir(out))
+    record("forms: jobid= prefixes every output file, o= names the printed output (" + " ".join(names) + ")",
+           names == ["job.glstat", "job.matsum", "job.nodout", "job.rwforc", "job.thist.h5", "printed.txt"])
+    log = open(printed).read()
+    record("forms: memory= is accepted and named in d3hsp", "memory=200m accepted" in log)
+    with h5py.File(os.path.join(out, "job.thist.h5"), "r") as f:
+        ids = list(f["matsum/ids"][:])
+        mass = f["matsum/mass"][0]
+        zmom = f["matsum/z_momentum"][0]
+        vz = f["nodout/z_velocity"][:]
+    plate = 7.85e-9 * 100.0 * 100.0 * 3.0        # rho x area x thk from the expression
+    record(f"forms: plate mass = rho A thk with thk from *PARAMETER_EXPRESSION ({mass[ids.index(1)]:.6e} "
+           f"against {plate:.6e})", abs(mass[ids.index(1)] / plate - 1) < 1e-6)
+    record(f"forms: *PART_INERTIA mass 1e-3 and initial z momentum TM VTZ = -0.01 ({mass[ids.index(2)]:.6e}, "
+           f"{zmom[ids.index(2)]:.6e})", abs(mass[ids.index(2)] / 1e-3 - 1) < 1e-6
+           and abs(zmom[ids.index(2)] / -0.01 - 1) < 1e-6)
+    # node 12 lies in box 10 (constrained through *SET_NODE_GENERAL); node
+    # 11, taken away by DNODE, is free: both start at vz = 1
+    record(f"forms: *SET_NODE_GENERAL BOX - DNODE: node 12 held (|vz| max {abs(vz[:, 1]).max():.2e}), "
+           f"node 11 free (|vz| max {abs(vz[:, 0]).max():.2e})", abs(vz[:, 1]).max() == 0.0
+           and abs(vz[:, 0]).max() > 0.5)
+    # input errors of the new forms: exit 1 naming file, line, keyword, field
+    cases = [
+        ("*PARAMETER_EXPRESSION\nR     bad        1.0/(2.0-2.0)\n", "bad_expr", ["bad_expr.k:5",
+         "*PARAMETER_EXPRESSION field EXPRESSION of 'bad'", "division by zero"]),
+        ("*PARAMETER_EXPRESSION\nR     bad        2.0*undefined_name\n", "undef_expr",
+         ["undef_expr.k:5", "parameter 'UNDEFINED_NAME' is not defined"]),
+        ("*INCLUDE\nthere.k\nnot_there.k\n", "missing_include", ["missing_include.k:6", "not_there.k"]),
+        ("*SET_NODE_GENERAL\n         7\nBOX             99\n", "missing_box", ["missing_box.k:6", "box 99"]),
+    ]
+    for text, name, expect in cases:
+        d = os.path.join(out, "err")
+        os.makedirs(d, exist_ok=True)
+        with open(os.path.join(d, "there.k"), "w") as f:
+            f.write("*KEYWORD\n*END\n")
+        with open(os.path.join(d, name + ".k"), "w") as f:
+            f.write("*KEYWORD\n*TITLE\nerror\n" + text + "*CONTROL_TERMINATION\n  1.0e-5\n*NODE\n"
+                    "       1             0.0             0.0             0.0\n*END\n")
+        q = run([XDYNA, "i=" + os.path.join(d, name + ".k"), "outdir=" + os.path.join(d, name)])
+        record(f"forms: {name} exits 1 naming " + "; ".join(expect),
+               q.returncode == 1 and all(e in q.stderr for e in expect), q.stderr[-300:])
+
+
+PUBLIC = os.path.join(os.path.dirname(ROOT), "shared", "public-decks")
+
+
+def public_figures(out, stdout):
+    """Energy ratios of the progress lines (the decks ask for no glstat), the
+    post's x-force history (rwforc wall 2) and the mean x velocity of the
+    deck's history nodes (nodout) from a run of a public car deck."""
+    ratio = np.array([float(v) for v in re.findall(r"ratio\s+(\S+)", stdout)])
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        rw = f["rwforc"]
+        ids = list(rw["ids"][:])
+        fx = rw["x_force"][:, ids.index(2)]
+        vx = f["nodout/x_velocity"][:].mean(axis=1)
+    return ratio, fx, vx
+
+
+def test_public_decks():
+    """The public decks of ../shared/public-decks run unchanged: car5 and car6
+    for their first 10 ms (the pole is struck at 1.9 and 4.4 ms; the full runs
+    are `make public`), ball_plate to its end. Asserted: normal termination,
+    energy ratio within 2% (the issue's), the post pushed back (its x-force
+    on the car positive: the car runs towards -x), the body's x momentum
+    falling. SKIP where the corpus is absent."""
+    if not os.path.isdir(PUBLIC):
+        print("SKIP public decks: ../shared/public-decks is not here")
+        return
+    for deck, end in (("car5_main.k", "0.010"), ("car6_main.k", "0.010")):
+        out = os.path.join(TMP, "public_" + deck[:-2])
+        shutil.rmtree(out, ignore_errors=True)
+        p = run([XDYNA, "i=" + os.path.join(PUBLIC, deck), "outdir=" + out, "endtim=" + end])
+        record(f"public {deck}: runs unchanged to normal termination at {end} s", p.returncode == 0
+               and "normal termination" in p.stdout, p.stderr[-300:])
+        if p.returncode != 0:
+            continue
+        ratio, fx, px = public_figures(out, p.stdout)
+        dev = float(np.max(abs(ratio - 1)))
+        record(f"public {deck}: energy ratio within 2% of 1 (largest deviation {dev:.4f})", dev < 0.02)
+        # the post stops the car: the wall's x-force (force of the nodes on
+        # the wall) points along the car's motion, -x
+        record(f"public {deck}: the post is struck (largest x-force on it {fx.min():.3e} N)", fx.min() < -1e3)
+        record(f"public {deck}: the car slows down (mean x velocity of its history nodes {px[0]:.4e} -> "
+               f"{px[-1]:.4e})", px[0] < 0 and px[-1] > 0.95 * px[0])
+    out = os.path.join(TMP, "public_ball_plate")
+    shutil.rmtree(out, ignore_errors=True)
+    p = run([XDYNA, "i=" + os.path.join(PUBLIC, "ball_plate.k"), "outdir=" + out])
+    record("public ball_plate.k: runs unchanged to normal termination", p.returncode == 0
+           and "normal termination" in p.stdout, p.stderr[-300:])
+    if p.returncode == 0:
+        dev = float(np.max(abs(glstat(out)["energy_ratio"] - 1)))
+        record(f"public ball_plate.k: energy ratio within 2% of 1 (largest deviation {dev:.4f})", dev < 0.02)
+
+
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -1,7 +1,13 @@
 #!/usr/bin/python3
 """Penetration checker, independent of xdyna's contact code.
 
-    penetration.py RUN [--json]        states of RUN/d3plot.h5 (shells and solids)
+    penetration.py RUN [--json] [--parts=1,2] [--growth]
+                                       states of RUN/d3plot.h5 (shells and solids);
+                                       --parts: only nodes and segments of those
+                                       parts (a deck's contact set); --growth: an
+                                       overlap counts only beyond what the pair had
+                                       in the first state (overlaps the deck's
+                                       geometry starts with)
     penetration.py DECK THIST_H5       shells of DECK, nodes of thist.h5's nodout
 
 Surfaces: every shell is a two-sided segment of its thickness t (from the
@@ -198,7 +204,7 @@ def solid_depth(surf, X, A, S, dist, tnode):
     return out
 
 
-def check_states(surf, states, tshell_states, node_ids):
+def check_states(surf, states, tshell_states, node_ids, parts=None, growth=False, seg_part=None):
     """Largest overlap fraction and pass-throughs over the states; sets
     `where`. states: (nstate, nn, 3) coordinates; tshell_states: (nstate,
     nshell) thicknesses."""
@@ -208,6 +214,12 @@ def check_states(surf, states, tshell_states, node_ids):
     nn = states.shape[1]
     worst, crossings, prev = 0.0, 0, None
     skip_cache = {}
+    base = {}
+    seg_ok = node_ok = None
+    if parts is not None:
+        seg_ok = np.isin(np.asarray(seg_part), parts)
+        node_ok = np.zeros(nn, dtype=bool)
+        node_ok[np.unique(conn[seg_ok].ravel())] = True
     for state, X in enumerate(states):
         tsh = np.asarray(tshell_states[state], dtype=float)
         xs = X[conn]                                           # (nseg, 4, 3)
@@ -233,6 +245,8 @@ def check_states(surf, states, tshell_states, node_ids):
             if v is None:
                 v = skip_cache[k] = surf.skip(a, s)
             keep[i] = not v
+        if seg_ok is not None:
+            keep &= seg_ok[S] & node_ok[A]
         A, S = A[keep], S[keep]
         dist = np.einsum("ij,ij->i", X[A] - cen[S], nrm[S])
         p = X[A] - dist[:, None] * nrm[S]
@@ -247,6 +261,11 @@ def check_states(surf, states, tshell_states, node_ids):
         over = np.where(shell & inside, 0.5 * (tnode[A] + tseg[S]) - np.abs(dist), 0.0)
         if not shell.all():
             over[~shell] = solid_depth(surf, X, A[~shell], S[~shell], dist[~shell], tnode)
+        if growth:
+            pairs = list(zip(A.tolist(), S.tolist()))
+            if state == 0:
+                base = {k: max(o, 0.0) for k, o in zip(pairs, over.tolist())}
+            over = over - np.array([base.get(k, 0.0) for k in pairs])
         frac = np.maximum(over, 0.0) / np.maximum(tseg[S], 1e-30)
         if frac.size and float(frac.max()) > worst:
             worst = float(frac.max())
@@ -263,7 +282,7 @@ def check_states(surf, states, tshell_states, node_ids):
     return worst, crossings
 
 
-def check_run(run):
+def check_run(run, parts=None, growth=False):
     """Shells and solids of RUN/d3plot.h5: (worst fraction, pass-throughs,
     number of states, time of the worst state)."""
     with h5py.File(os.path.join(run, "d3plot.h5"), "r") as f:
@@ -283,7 +302,8 @@ def check_run(run):
             T = np.zeros((len(names), 0))
     surf = Surfaces(nn, shells.tolist(), spart.tolist(), None if hexes is None else hexes.tolist(),
                     None if hpart is None else hpart.tolist())
-    worst, crossings = check_states(surf, X, T, ids)
+    seg_part = list(spart.tolist()) + ([] if hpart is None else [hpart[e] for e in surf.face_elem])
+    worst, crossings = check_states(surf, X, T, ids, parts, growth, seg_part)
     t_worst = float(times[where[1]]) if where else 0.0
     return worst, crossings, len(names), t_worst
 
@@ -330,9 +350,14 @@ def check(deck, h5):
 
 def main(argv):
     as_json = "--json" in argv
-    args = [a for a in argv if a != "--json"]
+    growth = "--growth" in argv
+    parts = None
+    for a in argv:
+        if a.startswith("--parts="):
+            parts = [int(v) for v in a[8:].split(",") if v]
+    args = [a for a in argv if not a.startswith("--")]
     if len(args) == 1:
-        worst, crossings, nstate, t_worst = check_run(args[0])
+        worst, crossings, nstate, t_worst = check_run(args[0], parts, growth)
         res = {"largest_overlap": worst, "pass_throughs": crossings, "states": nstate, "time": t_worst,
                "node": where[0] if where else None, "segment": where[2] if where else None}
     elif len(args) == 2:

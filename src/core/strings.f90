@@ -3,7 +3,7 @@ module xd_core_strings
     use xd_kinds, only: wp, dp
     implicit none
     private
-    public :: to_upper, to_lower, itoa, rtoa, ftoa, dirname, join_path, starts_with
+    public :: to_upper, to_lower, itoa, rtoa, ftoa, dirname, join_path, starts_with, out_path
 
 contains
 
@@ -86,6 +86,22 @@ contains
             p = dir//'/'//name
         end if
     end function join_path
+
+    !> An output file of a run: `stem` is the output directory, or the
+    !> directory and a job prefix ending in '.' (jobid=: 'dir/job.').
+    pure function out_path(stem, name) result(p)
+        character(len=*), intent(in) :: stem, name
+        character(len=:), allocatable :: p
+        integer :: n
+        n = len(stem)
+        p = join_path(stem, name)
+        if (n == 0) return
+        if (stem(n:n) /= '.' .or. stem == '.' .or. stem == '..') return
+        if (n >= 2) then
+            if (stem(n - 1:n) == '/.') return
+        end if
+        p = stem//name
+    end function out_path
 
     pure logical function starts_with(s, prefix)
         character(len=*), intent(in) :: s, prefix

@@ -143,7 +143,7 @@ contains
             n = count(on)
             s%n = n
             select case (s%kind)
-            case (set_node); s%member = pack(model%node_id, on)
+            case (set_node); s%member = pack(model%node_id(1:model%nnode), on)
             case (set_part); s%member = pack([(model%part(j)%id, j=1, model%npart)], on)
             case default; s%member = pack(model%shell_id(1:model%nshell), on)
             end select

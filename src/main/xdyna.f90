@@ -21,7 +21,7 @@ program xdyna
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
     use xd_contact_rigidwall, only: walls_t, build_walls
     use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses
-    use xd_core_strings, only: join_path
+    use xd_core_strings, only: join_path, out_path
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
     use xd_rigid_bodies, only: rigid_t
     use xd_solver_loads, only: pressures_t, build_pressures
@@ -65,8 +65,9 @@ program xdyna
     real(dp) :: wallclock
     type(run_result_t) :: res
     type(error_t), allocatable :: error
-    character(len=:), allocatable :: deck, outdir, arg, restart
+    character(len=:), allocatable :: deck, outdir, arg, restart, printed, jobid, stem
     logical :: check_only, ok
+    character(len=:), allocatable :: memory_note
     real(dp) :: endtim_cli
     integer :: i, ncpu, nfree, nparts
 
@@ -75,6 +76,9 @@ program xdyna
     call tm%start(ph_input)
     deck = ''
     outdir = '.'
+    printed = ''
+    memory_note = ''
+    jobid = ''
     restart = ''
     check_only = .false.
     endtim_cli = -1.0_dp
@@ -120,10 +124,13 @@ program xdyna
         call finish(exit_input)
     end if
     !$ if (ncpu > 0) call omp_set_num_threads(ncpu)
+    stem = outdir
+    if (len(jobid) > 0) stem = join_path(outdir, jobid//'.')
 
     if (.not. check_only .and. env%rank == 0) then
         call execute_command_line('mkdir -p "'//outdir//'"')
-        call log_open(outdir, lg, ok, append=len(restart) > 0)
+        if (len(printed) == 0) printed = out_path(stem, 'd3hsp')
+        call log_open(printed, lg, ok, append=len(restart) > 0)
         if (.not. ok) then
             call say('xdyna: cannot write the log in '//outdir)
             call finish_alone(exit_input)
@@ -133,6 +140,8 @@ program xdyna
             call log_line(lg, ' R e s t a r t   from '//restart//' at cycle '//itoa(meta%cycle))
         end if
         call log_line(lg, ' command line: xdyna i='//deck//' outdir='//outdir)
+        if (len(jobid) > 0) call log_line(lg, ' jobid='//jobid//': every output file is named '//jobid//'.<file>')
+        if (len(memory_note) > 0) call log_line(lg, memory_note)
         call log_line(lg, ' ranks '//itoa(env%nranks)//', threads per rank '//itoa(env%nthreads))
     end if
 
@@ -204,7 +213,7 @@ program xdyna
     if (ct%n > 0) then
         call log_line(lg, interface_summary(ct, model))
         if (model%ctl%contact%dump_nsid > 0 .and. env%rank == 0) then
-            open (newunit=ct%dump_unit, file=join_path(outdir, 'contact_debug'), status='replace', action='write')
+            open (newunit=ct%dump_unit, file=out_path(stem, 'contact_debug'), status='replace', action='write')
         end if
     end if
     opts%endtim = real(model%ctl%endtim, dp)
@@ -217,24 +226,24 @@ program xdyna
             call finish(exit_input)
         end if
         if (dom%on) call scatter_contact_state(ct, env%rank)
-        call open_histories(model, outdir, rg, hist, ok, resume=hmarks, writer=env%rank == 0)
+        call open_histories(model, stem, rg, hist, ok, resume=hmarks, writer=env%rank == 0)
     else
-        call open_histories(model, outdir, rg, hist, ok, writer=env%rank == 0)
+        call open_histories(model, stem, rg, hist, ok, writer=env%rank == 0)
     end if
     if (.not. ok) then
         call say('xdyna: cannot create the time-history files in '//outdir)
         call finish_alone(exit_run)
     end if
     if (len(restart) > 0) then
-        call open_states(model, outdir, opts%endtim, solids, sh, states, ok, resume=smarks, writer=env%rank == 0)
+        call open_states(model, stem, opts%endtim, solids, sh, states, ok, resume=smarks, writer=env%rank == 0)
     else
-        call open_states(model, outdir, opts%endtim, solids, sh, states, ok, writer=env%rank == 0)
+        call open_states(model, stem, opts%endtim, solids, sh, states, ok, writer=env%rank == 0)
     end if
     ! restart dumps: every N cycles and at the end if the deck asks, and
     ! always on a stop signal or the wall-clock limit
     opts%dump_every = model%db%d3dump
     opts%wallclock = wallclock
-    opts%dump_path = join_path(outdir, 'd3dump.h5')
+    opts%dump_path = out_path(stem, 'd3dump.h5')
     opts%meta%deck = deck
     opts%meta%digest = ctx%src%digest()
     opts%meta%outdir = outdir
@@ -306,9 +315,40 @@ contains
         select case (key)
         case ('i')
             deck = val
-        case ('outdir', 'o')
+        case ('outdir')
             outdir = val
             outdir_given = .true.
+        case ('o')
+            ! LS-DYNA's o=: the printed-output file (our d3hsp)
+            if (len(val) == 0) then
+                call say('xdyna: o= needs a file name (the printed output, d3hsp)')
+                call finish(exit_input)
+            end if
+            printed = val
+        case ('jobid')
+            if (len(val) == 0 .or. scan(val, '/ ') > 0) then
+                call say('xdyna: jobid='//val//' must be a name without / or blanks (the output files'' prefix)')
+                call finish(exit_input)
+            end if
+            jobid = val
+        case ('memory', 'memory2')
+            ! LS-DYNA's memory sizes (words, or with k/m/g): xdyna allocates
+            ! what the model needs; the value is checked and noted in d3hsp
+            if (.not. memory_size(val)) then
+                call say('xdyna: '//key//'='//val//' is not a memory size (a number of words, or with k, m or g)')
+                call finish(exit_input)
+            end if
+            memory_note = memory_note//' '//key//'='//val//' accepted and not needed: xdyna allocates what '// &
+                          'the model needs'
+        case ('ncpu')
+            ! ncpu=-N: LS-DYNA's consistent-results mode on N threads;
+            ! xdyna's results do not depend on the thread count anyway
+            call parse_int(val, ncpu, good)
+            if (.not. good .or. ncpu == 0) then
+                call say('xdyna: ncpu='//val//' is not a non-zero integer (N threads; -N: the same, consistent)')
+                call finish(exit_input)
+            end if
+            ncpu = abs(ncpu)
         case ('wallclock')
             call parse_real(val, wallclock, good)
             if (.not. good .or. wallclock <= 0.0_dp) then
@@ -321,12 +361,6 @@ contains
             call parse_real(val, endtim_cli, good)
             if (.not. good .or. endtim_cli <= 0.0_dp) then
                 call say('xdyna: endtim='//val//' is not a positive number')
-                call finish(exit_input)
-            end if
-        case ('ncpu')
-            call parse_int(val, ncpu, good)
-            if (.not. good .or. ncpu < 1) then
-                call say('xdyna: ncpu='//val//' is not a positive integer')
                 call finish(exit_input)
             end if
         case ('parts')
@@ -349,16 +383,43 @@ contains
         end select
     end subroutine keyword_arg
 
+    !> A memory size as LS-DYNA takes it: digits, optionally one of k m g.
+    logical function memory_size(v)
+        character(len=*), intent(in) :: v
+        integer :: n
+        n = len_trim(v)
+        memory_size = n > 0
+        if (.not. memory_size) return
+        if (scan(to_lower(v(n:n)), 'kmg') > 0) n = n - 1
+        memory_size = n > 0
+        if (memory_size) memory_size = verify(v(1:n), '0123456789') == 0
+    end function memory_size
+
     subroutine usage()
         write (output_unit, '(a)') &
-            'usage: xdyna i=deck.k [outdir=DIR] [endtim=T] [ncpu=N] [unsupported=error|warn]', &
-            '       xdyna --check i=deck.k    read and validate the deck, print the model summary, run nothing', &
-            '       xdyna --check i=deck.k parts=N   also the domain decomposition a run on N MPI ranks makes', &
+            'usage: xdyna i=deck.k [outdir=DIR] [o=FILE] [jobid=NAME] [endtim=T] [ncpu=N|-N]', &
+            '             [memory=SIZE] [memory2=SIZE] [wallclock=S] [r=DUMP] [unsupported=error|warn]', &
+            '       xdyna --check i=deck.k [parts=N]   read and validate the deck, print the model summary', &
+            '                                   (and the decomposition on N MPI ranks); run nothing', &
             '       xdyna --help | --version', &
             '       mpirun -np N xdyna i=deck.k', &
             '', &
-            'Writes d3hsp (log), glstat, matsum, nodout (LS-DYNA ASCII layout) and thist.h5', &
-            'into the current directory or outdir=DIR.', &
+            'Arguments (LS-DYNA''s names where LS-DYNA has them):', &
+            '  i=deck.k        the keyword deck', &
+            '  outdir=DIR      directory for every output file (default: the current one)', &
+            '  o=FILE          the printed output file (default: d3hsp in outdir)', &
+            '  jobid=NAME      prefix of the output files: NAME.d3hsp, NAME.glstat, ...', &
+            '  endtim=T        end time, overriding *CONTROL_TERMINATION', &
+            '  ncpu=N          OpenMP threads; ncpu=-N the same (results never depend on N)', &
+            '  memory=SIZE, memory2=SIZE   accepted for LS-DYNA scripts; xdyna allocates as needed', &
+            '  wallclock=S     stop with a restart dump after S seconds (also XDYNA_WALLCLOCK)', &
+            '  r=DUMP          restart from a d3dump.h5 (give jobid= again if the run had one)', &
+            '  unsupported=warn  skip keywords outside the subset with a warning (default: error)', &
+            '', &
+            'Output files: d3hsp (log and every warning), glstat, matsum, nodout, rwforc,', &
+            'rcforc (LS-DYNA ASCII layout, as the deck''s *DATABASE cards ask), thist.h5', &
+            '(all histories), d3plot.h5 + d3plot.xdmf (states, *DATABASE_BINARY_D3PLOT),', &
+            'd3dump.h5 (restart dump), contact_debug (*CONTROL_XDYNA_CONTACT debug set).', &
             'Exit status: 0 normal, 1 input error, 2 error termination during the run,', &
             '3 stopped by a signal or wall-clock limit.', &
             '', &

@@ -2,7 +2,7 @@
 !> energy ratio at intervals, the termination message and the timing table.
 module xd_output_d3hsp
     use xd_kinds, only: wp, dp
-    use xd_core_strings, only: itoa, join_path
+    use xd_core_strings, only: itoa, join_path, out_path
     use xd_core_timers, only: timers_t, nphase, phase_name, ph_elements, ph_assembly, ph_integrate, &
                               ph_contact, ph_output, ph_search, ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
     use xd_model, only: model_t
@@ -20,8 +20,9 @@ module xd_output_d3hsp
 contains
 
     !> Create the log, or (append: a restart) go on after the first run's.
-    subroutine log_open(outdir, lg, ok, append)
-        character(len=*), intent(in) :: outdir
+    !> Open the printed output at `path` (out_path(stem, 'd3hsp'), or o=).
+    subroutine log_open(path, lg, ok, append)
+        character(len=*), intent(in) :: path
         type(log_t), intent(out) :: lg
         logical, intent(out) :: ok
         logical, intent(in), optional :: append
@@ -30,10 +31,10 @@ contains
         more = .false.
         if (present(append)) more = append
         if (more) then
-            open (newunit=lg%unit, file=join_path(outdir, 'd3hsp'), status='unknown', position='append', &
+            open (newunit=lg%unit, file=path, status='unknown', position='append', &
                   action='write', iostat=st)
         else
-            open (newunit=lg%unit, file=join_path(outdir, 'd3hsp'), status='replace', action='write', iostat=st)
+            open (newunit=lg%unit, file=path, status='replace', action='write', iostat=st)
         end if
         ok = st == 0
         lg%open = ok

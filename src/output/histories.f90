@@ -3,7 +3,7 @@
 !> intervals (the first cycle at or past each output time) and at the end.
 module xd_output_histories
     use xd_kinds, only: wp, dp, i8
-    use xd_core_strings, only: itoa, join_path
+    use xd_core_strings, only: itoa, join_path, out_path
     use xd_core_files, only: truncate_file
     use xd_model, only: model_t, find_set, set_node
     use xd_elements_solid_groups, only: solids_t
@@ -118,9 +118,9 @@ contains
             return
         end if
         if (fresh) then
-            call h5_open(join_path(outdir, 'thist.h5'), h%h5, ok)
+            call h5_open(out_path(outdir, 'thist.h5'), h%h5, ok)
         else
-            call h5_reopen(join_path(outdir, 'thist.h5'), h%h5, ok)
+            call h5_reopen(out_path(outdir, 'thist.h5'), h%h5, ok)
             h%next = resume%next
             h%nwritten = resume%nwritten
         end if
@@ -220,10 +220,10 @@ contains
             integer, intent(in) :: k
             character(len=*), intent(in) :: name
             if (fresh) then
-                open (newunit=h%unit(k), file=join_path(outdir, name), status='replace', action='write')
+                open (newunit=h%unit(k), file=out_path(outdir, name), status='replace', action='write')
             else
-                call truncate_file(join_path(outdir, name), resume%bytes(k))
-                open (newunit=h%unit(k), file=join_path(outdir, name), status='old', action='write', &
+                call truncate_file(out_path(outdir, name), resume%bytes(k))
+                open (newunit=h%unit(k), file=out_path(outdir, name), status='old', action='write', &
                       position='append')
             end if
         end subroutine start_file

@@ -16,7 +16,7 @@
 module xd_output_states
     use hdf5
     use xd_kinds, only: wp, dp
-    use xd_core_strings, only: join_path
+    use xd_core_strings, only: join_path, out_path
     use xd_core_files, only: rename_file
     use xd_model, only: model_t, mat_rigid
     use xd_solver_state, only: state_t
@@ -107,7 +107,7 @@ contains
         end if
         call h5open_f(err)
         if (present(resume)) then
-            call h5fopen_f(join_path(outdir, 'd3plot.h5'), H5F_ACC_RDWR_F, s%file, err)
+            call h5fopen_f(out_path(outdir, 'd3plot.h5'), H5F_ACC_RDWR_F, s%file, err)
             ok = err == 0
             if (.not. ok) return
             s%n = resume%n
@@ -126,7 +126,7 @@ contains
             call write_xdmf(s)
             return
         end if
-        call h5fcreate_f(join_path(outdir, 'd3plot.h5'), H5F_ACC_TRUNC_F, s%file, err)
+        call h5fcreate_f(out_path(outdir, 'd3plot.h5'), H5F_ACC_TRUNC_F, s%file, err)
         ok = err == 0
         if (.not. ok) return
         call h5gcreate_f(s%file, 'mesh', g, err)
@@ -294,8 +294,9 @@ contains
         type(states_t), intent(in) :: s
         integer :: u, k
         character(len=:), allocatable :: tmp, st
-        character(len=32) :: nn, ns, nh, tv, buf
-        tmp = join_path(s%dir, 'd3plot.xdmf.tmp')
+        character(len=32) :: nn, ns, nh, tv
+        character(len=300) :: buf
+        tmp = out_path(s%dir, 'd3plot.xdmf.tmp')
         write (nn, '(i0)') s%nnode
         write (ns, '(i0)') s%nsolid
         write (nh, '(i0)') s%nshell
@@ -303,7 +304,7 @@ contains
         write (u, '(a)') '<?xml version="1.0" ?>', '<Xdmf Version="3.0">', ' <Domain>', &
             '  <Grid Name="states" GridType="Collection" CollectionType="Temporal">'
         do k = 1, s%n
-            write (buf, '(a,i6.6)') 'd3plot.h5:/states/', k
+            write (buf, '(a,i6.6)') h5name(s)//':/states/', k
             st = trim(buf)
             write (tv, '(es24.16)') s%times(k)
             write (u, '(a)') '   <Grid Name="state '//itoa0(k)//'" GridType="Collection" CollectionType="Spatial">', &
@@ -314,18 +315,18 @@ contains
         end do
         write (u, '(a)') '  </Grid>', ' </Domain>', '</Xdmf>'
         close (u)
-        call rename_file(tmp, join_path(s%dir, 'd3plot.xdmf'))
+        call rename_file(tmp, out_path(s%dir, 'd3plot.xdmf'))
     contains
         subroutine piece(gname, topo, ne, npe, pre)
             character(len=*), intent(in) :: gname, topo, ne, npe, pre
             write (u, '(a)') '    <Grid Name="'//gname//'" GridType="Uniform">', &
                 '     <Topology TopologyType="'//topo//'" NumberOfElements="'//trim(ne)//'">', &
                 '      <DataItem Dimensions="'//trim(ne)//' '//npe//'" NumberType="Int" Format="HDF">'// &
-                'd3plot.h5:/mesh/'//pre//'_connectivity</DataItem>', '     </Topology>', &
+                h5name(s)//':/mesh/'//pre//'_connectivity</DataItem>', '     </Topology>', &
                 '     <Geometry GeometryType="XYZ">', &
                 '      <DataItem Dimensions="'//trim(nn)//' 3" NumberType="Float" Precision="4" Format="HDF">'// &
                 st//'/coordinates</DataItem>', '     </Geometry>'
-            call attr('part', 'Scalar', 'Cell', trim(ne), 'Int', '4', 'd3plot.h5:/mesh/'//pre//'_part')
+            call attr('part', 'Scalar', 'Cell', trim(ne), 'Int', '4', h5name(s)//':/mesh/'//pre//'_part')
             call attr('displacement', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/displacement')
             call attr('velocity', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/velocity')
             if (s%contact) call attr('contact_force', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', &
@@ -437,5 +438,15 @@ contains
         b(1:size(a)) = real(a, kind(1.0e0))
         call put_dataset(g, name, [size(a)], H5T_NATIVE_REAL, c_loc(b))
     end subroutine put_real1
+
+    !> The name of the HDF5 file as the XDMF file beside it refers to it.
+    function h5name(s) result(n)
+        type(states_t), intent(in) :: s
+        character(len=:), allocatable :: n
+        integer :: k
+        n = out_path(s%dir, 'd3plot.h5')
+        k = index(n, '/', back=.true.)
+        n = n(k + 1:)
+    end function h5name
 
 end module xd_output_states

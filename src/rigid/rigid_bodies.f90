@@ -58,20 +58,56 @@ contains
     subroutine rigid_lumped_mass(model, st)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
-        integer :: e, p
+        integer :: e, p, nn
         real(dp) :: m, xi(3), x(8, 3)
+        real(dp), allocatable :: scale(:), mp(:)
+        logical, allocatable :: mark(:)
+        ! *PART_INERTIA: the parts' lumped masses scaled to TM (or TM shared
+        ! equally among the nodes of a part whose elements have no mass)
+        allocate (scale(model%npart), mp(model%npart))
+        scale = 1
+        mp = 0
         do e = 1, model%nhex
             p = model%hex_part(e)
             if (.not. is_rigid_part(model, p)) cycle
             x = transpose(real(model%x0(:, model%hex_conn(:, e)), dp))
             call hex_mass_moments(x, real(model%mat(model%part(p)%mat_ix)%ro, dp), m, xi)
-            st%mass(model%hex_conn(:, e)) = st%mass(model%hex_conn(:, e)) + real(m/8.0_dp, wp)
+            mp(p) = mp(p) + m
         end do
         do e = 1, model%nshell
             p = model%shell_part(e)
             if (.not. is_rigid_part(model, p)) cycle
             call shell_mass_moments(model, e, m, xi)
-            st%mass(model%shell_conn(:, e)) = st%mass(model%shell_conn(:, e)) + real(m/4.0_dp, wp)
+            mp(p) = mp(p) + m
+        end do
+        do p = 1, model%npart
+            if (model%part(p)%inertia .and. mp(p) > 0.0_dp) scale(p) = real(model%part(p)%tm, dp)/mp(p)
+        end do
+        do e = 1, model%nhex
+            p = model%hex_part(e)
+            if (.not. is_rigid_part(model, p)) cycle
+            x = transpose(real(model%x0(:, model%hex_conn(:, e)), dp))
+            call hex_mass_moments(x, real(model%mat(model%part(p)%mat_ix)%ro, dp), m, xi)
+            st%mass(model%hex_conn(:, e)) = st%mass(model%hex_conn(:, e)) + real(scale(p)*m/8.0_dp, wp)
+        end do
+        do e = 1, model%nshell
+            p = model%shell_part(e)
+            if (.not. is_rigid_part(model, p)) cycle
+            call shell_mass_moments(model, e, m, xi)
+            st%mass(model%shell_conn(:, e)) = st%mass(model%shell_conn(:, e)) + real(scale(p)*m/4.0_dp, wp)
+        end do
+        allocate (mark(st%nnode))
+        do p = 1, model%npart
+            if (.not. (model%part(p)%inertia .and. mp(p) <= 0.0_dp)) cycle
+            mark = .false.
+            do e = 1, model%nhex
+                if (model%hex_part(e) == p) mark(model%hex_conn(:, e)) = .true.
+            end do
+            do e = 1, model%nshell
+                if (model%shell_part(e) == p) mark(model%shell_conn(:, e)) = .true.
+            end do
+            nn = count(mark)
+            if (nn > 0) where (mark) st%mass = st%mass + real(model%part(p)%tm/nn, wp)
         end do
     end subroutine rigid_lumped_mass
 

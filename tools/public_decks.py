@@ -1,0 +1,85 @@
+#!/usr/bin/python3
+"""make public: the public LS-DYNA decks of ../shared/public-decks run
+unchanged to their end times; writes doc/public-decks.md with, per deck, the
+termination, energy ratio, wall time, the penetration checker's figures
+(nodes and segments of the deck's contact parts, overlaps beyond those the
+geometry starts with), and for car6 at 0.2 s the figures the issue asks for:
+the largest x-force on the post (rwforc wall 2), the final x-displacement of
+node 605, the final x rigid-body velocity of part 1 (matsum, momentum over
+mass) and the final internal energy (glstat).
+
+    public_decks.py [--no-penetration]
+"""
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PUBLIC = os.path.join(os.path.dirname(ROOT), "shared", "public-decks")
+OUT = os.path.join(ROOT, "build", "public")
+DECKS = [("car5_main.k", "1,2"), ("car6_main.k", "1,2,3,4,5"), ("ball_plate.k", "1,2")]
+
+
+def main(argv):
+    pen = "--no-penetration" not in argv
+    rows, car6 = [], {}
+    os.makedirs(OUT, exist_ok=True)
+    for deck, parts in DECKS:
+        out = os.path.join(OUT, deck[:-2])
+        t0 = time.time()
+        p = subprocess.run([os.path.join(ROOT, "bin", "xdyna"), "i=" + os.path.join(PUBLIC, deck), "outdir=" + out],
+                           capture_output=True, text=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
+        wall = time.time() - t0
+        ratios = [float(v) for v in re.findall(r"ratio\s+(\S+)", p.stdout)]
+        end = re.findall(r"t (\S+)\s+dt", p.stdout)
+        row = {"deck": deck, "exit": p.returncode, "normal": "normal termination" in p.stdout,
+               "end_time": float(end[-1]) if end else 0.0, "wall_s": wall,
+               "ratio_dev": max(abs(r - 1) for r in ratios) if ratios else float("nan")}
+        if pen and p.returncode == 0 and os.path.exists(os.path.join(out, "d3plot.h5")):
+            q = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "penetration.py"), out, "--json",
+                                "--parts=" + parts, "--growth"], capture_output=True, text=True)
+            row["penetration"] = json.loads(q.stdout) if q.returncode == 0 else None
+        rows.append(row)
+        print(json.dumps(row), flush=True)
+        if deck == "car6_main.k" and p.returncode == 0:
+            with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+                rw = f["rwforc"]
+                fx = rw["x_force"][:, list(rw["ids"][:]).index(2)]
+                n = f["nodout"]
+                ux = n["x_displacement"][-1, list(n["ids"][:]).index(605)]
+                m = f["matsum"]
+                k = list(m["ids"][:]).index(1)
+                vx = m["x_momentum"][-1, k] / m["mass"][-1, k]
+                ie = f["glstat/internal_energy"][-1]
+            car6 = {"post_max_x_force": float(abs(fx).max()), "node605_final_x_disp": float(ux),
+                    "part1_final_x_rbv": float(vx), "final_internal_energy": float(ie), "wall_s": wall}
+            print(json.dumps(car6), flush=True)
+    with open(os.path.join(ROOT, "doc", "public-decks.md"), "w") as f:
+        f.write("# Public decks (`make public`)\n\nThe decks of `../shared/public-decks`, unchanged, run to their "
+                "end times on one thread. Penetration: the checker `tools/penetration.py` on the states, nodes "
+                "and segments of the deck's contact parts only, an overlap counted beyond what the pair had in "
+                "the first state (the decks start with overlapping flanges). Written by `tools/public_decks.py`.\n\n")
+        f.write("| deck | exit | end time (s) | wall (s) | energy ratio dev. | largest overlap growth "
+                "(of thickness) | pass-throughs |\n|---|---|---|---|---|---|---|\n")
+        for r in rows:
+            pe = r.get("penetration") or {}
+            f.write(f"| {r['deck']} | {r['exit']} | {r['end_time']:.4g} | {r['wall_s']:.1f} | {r['ratio_dev']:.5f} "
+                    f"| {pe.get('largest_overlap', float('nan')):.3f} | {pe.get('pass_throughs', '-')} |\n")
+        if car6:
+            f.write("\ncar6 at 0.2 s: largest x-force on the post (rwforc wall 2) "
+                    f"{car6['post_max_x_force']:.4e} N; final x-displacement of node 605 "
+                    f"{car6['node605_final_x_disp']:.4e} mm; final x rigid-body velocity of part 1 "
+                    f"{car6['part1_final_x_rbv']:.4e} mm/s; final internal energy {car6['final_internal_energy']:.4e}; "
+                    f"wall time {car6['wall_s']:.0f} s.\n")
+    bad = [r for r in rows if not r["normal"] or not r["ratio_dev"] < 0.02]
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
