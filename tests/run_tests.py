@@ -1769,6 +1769,31 @@ def test_penetration_checker():
     record(f"penetration checker: shells 1.5 mm apart overlap {worst:.3f} of the thickness (expected 0.25); "
            f"crossing between two states is {crossings} pass-through(s) (expected 4: the four corners)",
            abs(worst - 0.25) < 1e-9 and crossings == 4)
+    # a triangle (N3 = N4) and a lone node (no thickness of its own) in its
+    # plane 2 mm beyond its long edge, then 0.5 mm above its inside: 0 (the
+    # projection is outside), then (0 + 2)/2 - 0.5 = 0.5 mm, 0.25 of its
+    # 2 mm (the degenerate bilinear patch once read a full overlap beside a
+    # triangle)
+    tri = [[0, 0, 0], [h, 0, 0], [0, h, 0]]
+    for label, p, want in (("beside a triangle, in its plane", [0.007, 0.007, 0.0], 0.0),
+                           ("0.5 mm above a triangle", [0.002, 0.002, 0.0005], 0.25)):
+        X = np.array([tri + [p]], float)
+        surf = pen.Surfaces(4, [[0, 1, 2, 2]], [1])
+        worst, _ = pen.check_states(surf, X, np.full((1, 1), 0.002), np.arange(1, 5))
+        record(f"penetration checker: a node {label} reads {worst:.3f} of the thickness (expected {want})",
+               abs(worst - want) < 1e-9)
+    # --growth: a node that starts in a shell's plane (a part meeting another
+    # in its plane, as public decks have) and jitters about it is no
+    # pass-through, and its overlap (0.5 of the thickness from the start)
+    # does not grow; without --growth the same states read 0.5 and 2
+    X = np.array([tri + [[0.002, 0.002, z]] for z in (0.0, 1e-4, -1e-4, 1e-4)], float)
+    surf = pen.Surfaces(4, [[0, 1, 2, 2]], [1])
+    T = np.full((4, 1), 0.002)
+    worst, crossings = pen.check_states(surf, X, T, np.arange(1, 5), growth=True)
+    worst0, crossings0 = pen.check_states(surf, X, T, np.arange(1, 5))
+    record(f"penetration checker --growth: a node jittering in a shell's plane from the start: overlap growth "
+           f"{worst:.3f}, pass-throughs {crossings} (expected 0, 0; plain: {worst0:.3f}, {crossings0}, expected "
+           f"0.5, 2)", abs(worst) < 1e-9 and crossings == 0 and abs(worst0 - 0.5) < 1e-9 and crossings0 == 2)
 
 
 def test_wall_of_blocks():
@@ -1892,11 +1917,14 @@ PUBLIC = os.path.join(os.path.dirname(ROOT), "shared", "public-decks")
 
 
 def public_figures(out, stdout):
-    """Energy ratios of the progress lines (the decks ask for no glstat), the
+    """Energy ratios of glstat, or of the progress lines where the deck asks
+    for no glstat (car5: then only every 5 s of wall time), the
     post's x-force history (rwforc wall 2) and the mean x velocity of the
     deck's history nodes (nodout) from a run of a public car deck."""
     ratio = np.array([float(v) for v in re.findall(r"ratio\s+(\S+)", stdout)])
     with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        if "glstat" in f:
+            ratio = f["glstat/energy_ratio"][:]
         rw = f["rwforc"]
         ids = list(rw["ids"][:])
         fx = rw["x_force"][:, ids.index(2)]
@@ -1914,6 +1942,7 @@ def test_public_decks():
     if not os.path.isdir(PUBLIC):
         print("SKIP public decks: ../shared/public-decks is not here")
         return
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
     for deck, end in (("car5_main.k", "0.010"), ("car6_main.k", "0.010")):
         out = os.path.join(TMP, "public_" + deck[:-2])
         shutil.rmtree(out, ignore_errors=True)
@@ -1930,6 +1959,15 @@ def test_public_decks():
         record(f"public {deck}: the post is struck (largest x-force on it {fx.min():.3e} N)", fx.min() < -1e3)
         record(f"public {deck}: the car slows down (mean x velocity of its history nodes {px[0]:.4e} -> "
                f"{px[-1]:.4e})", px[0] < 0 and px[-1] > 0.95 * px[0])
+        # the penetration checker on the states, nodes and segments of the
+        # deck's contact parts, overlaps beyond those the deck starts with:
+        # no pass-through, and no overlap growing to a whole thickness (a
+        # node through a shell); penalty contact leaves partial overlaps
+        import penetration
+        parts = [1, 2] if deck.startswith("car5") else [1, 2, 3, 4, 5]
+        worst, crossings, nst, _ = penetration.check_run(out, parts, growth=True)
+        record(f"public {deck}: no node through a shell of the contact parts ({nst} states: overlap growth "
+               f"{worst:.3f} of the thickness, pass-throughs {crossings})", worst < 1.0 and crossings == 0)
     out = os.path.join(TMP, "public_ball_plate")
     shutil.rmtree(out, ignore_errors=True)
     p = run([XDYNA, "i=" + os.path.join(PUBLIC, "ball_plate.k"), "outdir=" + out])

@@ -176,7 +176,23 @@ def bilinear_distance(P, Q, iters=8):
     nrm /= np.maximum(np.linalg.norm(nrm, axis=1), 1e-30)[:, None]
     d = np.linalg.norm(P - x, axis=1) * np.sign(np.einsum("ij,ij->i", P - x, nrm))
     tol = 1e-9
-    return d, (np.abs(xi) <= 1 + tol) & (np.abs(eta) <= 1 + tol)
+    ins = (np.abs(xi) <= 1 + tol) & (np.abs(eta) <= 1 + tol)
+    # triangles (fourth corner = third): the patch's normal vanishes on the
+    # collapsed edge, where Newton may stop; the flat triangle is exact:
+    # signed distance to its plane, inside by barycentric coordinates
+    tri = np.all(Q[:, 2] == Q[:, 3], axis=1)
+    if tri.any():
+        q0, q1, q2 = Q[tri, 0], Q[tri, 1], Q[tri, 2]
+        nt = np.cross(q1 - q0, q2 - q0)
+        nt /= np.maximum(np.linalg.norm(nt, axis=1), 1e-30)[:, None]
+        dt = np.einsum("ij,ij->i", P[tri] - q0, nt)
+        pp = P[tri] - dt[:, None] * nt
+        okt = np.ones(int(tri.sum()), dtype=bool)
+        for u, v in ((q0, q1), (q1, q2), (q2, q0)):
+            okt &= np.einsum("ij,ij->i", np.cross(v - u, pp - u), nt) >= -1e-12 * np.einsum("ij,ij->i", v - u, v - u)
+        d[tri] = dt
+        ins[tri] = okt
+    return d, ins
 
 
 def solid_depth(surf, X, A, S, dist, tnode):
@@ -204,17 +220,22 @@ def solid_depth(surf, X, A, S, dist, tnode):
     return out
 
 
+crossed = []          # the first pass-throughs: (node, state, segment)
+
+
 def check_states(surf, states, tshell_states, node_ids, parts=None, growth=False, seg_part=None):
     """Largest overlap fraction and pass-throughs over the states; sets
     `where`. states: (nstate, nn, 3) coordinates; tshell_states: (nstate,
     nshell) thicknesses."""
     global where
     where = None
+    crossed.clear()
     conn = surf.conn
     nn = states.shape[1]
     worst, crossings, prev = 0.0, 0, None
     skip_cache = {}
     base = {}
+    coplanar = set()
     seg_ok = node_ok = None
     if parts is not None:
         seg_ok = np.isin(np.asarray(seg_part), parts)
@@ -265,6 +286,11 @@ def check_states(surf, states, tshell_states, node_ids, parts=None, growth=False
             pairs = list(zip(A.tolist(), S.tolist()))
             if state == 0:
                 base = {k: max(o, 0.0) for k, o in zip(pairs, over.tolist())}
+                # pairs that start within each other's thickness band (coplanar
+                # flanges, a part meeting another in its plane): their side is
+                # not defined, so their sign changes are no pass-throughs
+                band = 0.5 * (tnode[A] + tseg[S]) - np.abs(dist)
+                coplanar = {k for k, b in zip(pairs, band.tolist()) if b > 0.0}
             over = over - np.array([base.get(k, 0.0) for k in pairs])
         frac = np.maximum(over, 0.0) / np.maximum(tseg[S], 1e-30)
         if frac.size and float(frac.max()) > worst:
@@ -276,8 +302,12 @@ def check_states(surf, states, tshell_states, node_ids, parts=None, growth=False
         if prev is not None:
             for key, dv in cur.items():
                 pv = prev.get(key)
+                if growth and (base.get(key, 0.0) > 0.0 or key in coplanar):
+                    continue          # the pair overlapped from the start: no crossing to speak of
                 if pv is not None and pv != 0.0 and (pv > 0.0) != (dv > 0.0):
                     crossings += 1
+                    if len(crossed) < 20:
+                        crossed.append((int(node_ids[key[0]]), state, [int(node_ids[v]) for v in conn[key[1]]]))
         prev = cur
     return worst, crossings
 
@@ -359,7 +389,8 @@ def main(argv):
     if len(args) == 1:
         worst, crossings, nstate, t_worst = check_run(args[0], parts, growth)
         res = {"largest_overlap": worst, "pass_throughs": crossings, "states": nstate, "time": t_worst,
-               "node": where[0] if where else None, "segment": where[2] if where else None}
+               "node": where[0] if where else None, "segment": where[2] if where else None,
+               "first_pass_throughs": crossed[:20]}
     elif len(args) == 2:
         worst, crossings = check(args[0], args[1])
         res = {"largest_overlap": worst, "pass_throughs": crossings,
