@@ -9,7 +9,7 @@ module xd_input_context
     use xd_model, only: model_t
     implicit none
     private
-    public :: read_ctx_t, get_card, first_card, add_warning, extra_card_error, no_more_cards
+    public :: read_ctx_t, get_card, first_card, add_warning, extra_card_error, no_more_cards, ignored_fields
 
     type :: read_ctx_t
         type(deck_source_t) :: src
@@ -67,6 +67,35 @@ contains
         if (.not. allocated(model%warnings)) model%warnings = ''
         model%warnings = model%warnings//' *** Warning: '//text//new_line('a')
     end subroutine add_warning
+
+    !> Fields xdyna reads past: each one given a value other than blank, 0
+    !> or one of `keep` (texts the field may hold to no effect, such as
+    !> 'MECH') is named in d3hsp with its value and `why`.
+    subroutine ignored_fields(model, card, idx, why, keep)
+        type(model_t), intent(inout) :: model
+        type(card_t), intent(in) :: card
+        integer, intent(in) :: idx(:)
+        character(len=*), intent(in) :: why
+        character(len=*), intent(in), optional :: keep
+        integer :: k, i, st
+        real :: v
+        character(len=80) :: t
+        do k = 1, size(idx)
+            i = idx(k)
+            if (i > card%nf) cycle
+            t = adjustl(card%f(i))
+            if (len_trim(t) == 0) cycle
+            read (t, *, iostat=st) v
+            if (st == 0) then
+                if (v == 0.0) cycle
+            end if
+            if (present(keep)) then
+                if (index(' '//keep//' ', ' '//trim(t)//' ') > 0) cycle
+            end if
+            call add_warning(model, trim(card%file)//':'//itoa(card%line)//': '//trim(card%keyword)// &
+                             ' field '//trim(card%name(i))//' = '//trim(t)//': '//why)
+        end do
+    end subroutine ignored_fields
 
     !> A non-blank card where the keyword has no more cards.
     subroutine extra_card_error(ctx, kw, icard, error)

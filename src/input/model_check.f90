@@ -408,6 +408,11 @@ contains
                                         itoa(v%exempt)//' is not defined')
                         return
                     end if
+                    if (v%boxid /= 0 .and. find_box(model, v%boxid) == 0) then
+                        call make_error(error, ctx%src%where(v%src)//': *INITIAL_VELOCITY field BOXID: box '// &
+                                        itoa(v%boxid)//' is not defined (*DEFINE_BOX)')
+                        return
+                    end if
                 case (iv_generation)
                     select case (v%styp)
                     case (1); k = find_set(model, set_part, v%id)

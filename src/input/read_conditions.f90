@@ -5,7 +5,7 @@ module xd_input_read_conditions
     use xd_core_errors, only: error_t, make_error
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
-    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
+    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
     use xd_model, only: model_t, spc_t, init_vel_t, init_stress_t, prescribed_t, nodal_rigid_t, iv_node_set, &
                         iv_node, iv_generation
     implicit none
@@ -98,13 +98,13 @@ contains
         call get_int(card, 1, iv%id, 0, error); if (allocated(error)) return
         call get_int(card, 2, iv%exempt, 0, error); if (allocated(error)) return
         call get_int(card, 3, boxid, 0, error); if (allocated(error)) return
-        ! IRIGID only says whether *PART_INERTIA velocities are overridden; with
-        ! no *PART_INERTIA, rigid bodies always take their nodes' velocities
+        ! IRIGID >= 1: the nodes' velocities override *PART_INERTIA's (for
+        ! every rigid body: xdyna keeps one flag); rigid bodies without
+        ! *PART_INERTIA always take their nodes' velocities (a momentum fit)
         call get_int(card, 4, irigid, 0, error); if (allocated(error)) return
         call get_int(card, 5, icid, 0, error); if (allocated(error)) return
-        if (boxid /= 0) then
-            call card_error(card, 3, 'boxes are not supported (BOXID must be 0)', error); return
-        end if
+        if (irigid >= 1) model%irigid = .true.
+        iv%boxid = boxid
         if (icid /= 0) then
             call card_error(card, 5, 'local coordinate systems are not supported (ICID must be 0)', error)
             return
@@ -218,6 +218,7 @@ contains
             end do
             call get_int(card2, 7, phase, 0, error); if (allocated(error)) return
             call get_int(card2, 8, irigid, 0, error); if (allocated(error)) return
+            if (irigid >= 1) model%irigid = .true.
             if (iv%omega /= 0.0_wp .and. norm2(iv%axis) == 0.0_wp) then
                 call card_error(card2, 4, 'OMEGA is given but the axis NX NY NZ is zero', error)
                 return
@@ -368,6 +369,8 @@ contains
             if (kw%name == 'CONSTRAINED_NODAL_RIGID_BODY') then
                 call get_card(ctx, kw, ic, 'PID CID NSID PNODE IPRT DRFLAG RRFLAG', 1, card, error)
                 if (allocated(error)) return
+                call ignored_fields(model, card, [4, 5, 6, 7], 'PNODE, printing and release flags are not used; ignored'// &
+                    'PNODE, printing and release flags are not used; ignored')
                 if (card_blank(card)) then
                     ic = ic + 1
                     cycle
@@ -380,6 +383,8 @@ contains
                 r%weld = .true.
                 call get_card(ctx, kw, ic, 'NSID CID FILTER WINDOW NPR NPRT', 1, card, error)
                 if (allocated(error)) return
+                call ignored_fields(model, card, [3, 4, 5, 6], 'force filtering and printing options are not used; ignored'// &
+                    'force filtering and printing options are not used; ignored')
                 call get_int(card, 1, r%nsid, 0, error); if (allocated(error)) return
                 call get_int(card, 2, cid, 0, error); if (allocated(error)) return
                 if (ic + 1 <= kw%ncard) then

@@ -8,7 +8,7 @@ module xd_input_read_contacts
     use xd_core_strings, only: itoa
     use xd_input_field_reader, only: card_t, get_int, get_real, get_text, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
-    use xd_input_context, only: read_ctx_t, get_card, first_card, add_warning
+    use xd_input_context, only: read_ctx_t, get_card, first_card, add_warning, ignored_fields
     use xd_model, only: model_t, contact_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface, &
                         styp_segment_set, styp_node_set, styp_all, styp_all_but, search_fixed, search_adaptive, &
                         mnl_minimal, mnl_closest1, mnl_closest3
@@ -186,13 +186,22 @@ contains
             end if
         end if
         if (ic + 4 <= kw%ncard) then
+            ! cards B-G: each field set to other than 0 is named (xdyna's
+            ! thickness, penetration and initial-overlap rules are its own)
             do k = ic + 4, kw%ncard
-                call get_card(ctx, kw, k, 'X', k, card, error, raw=.true.)
+                select case (k - ic - 3)
+                case (1)
+                    call get_card(ctx, kw, k, 'PENMAX THKOPT SHLTHK SNLOG ISYM I2D3D SLDTHK SLDSTF', 5, card, error)
+                case (2)
+                    call get_card(ctx, kw, k, 'IGAP IGNORE DPRFAC DTSTIF EDC EDGEK UNUSED FLANGL', 6, card, error)
+                case (3)
+                    call get_card(ctx, kw, k, 'Q2TRI DTPCHK SFNBR FNLSCL DNLSCL TCSO TIEDID SHLEDG', 7, card, error)
+                case default
+                    call get_card(ctx, kw, k, 'F1 F2 F3 F4 F5 F6 F7 F8', k - ic + 1, card, error)
+                end select
                 if (allocated(error)) return
-                if (.not. card_blank(card)) then
-                    call add_warning(model, at//': optional cards B-G are not used by xdyna; ignored')
-                    exit
-                end if
+                call ignored_fields(model, card, [1, 2, 3, 4, 5, 6, 7, 8], 'optional cards B-G are not used by '// &
+                                    'xdyna (its own thickness, penetration and initial-overlap rules); ignored')
             end do
         end if
 

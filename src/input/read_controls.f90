@@ -4,7 +4,7 @@ module xd_input_read_controls
     use xd_core_errors, only: error_t
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
-    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
+    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
     use xd_model, only: model_t, history_request_t
     implicit none
     private
@@ -143,6 +143,8 @@ contains
         case ('DATABASE_GLSTAT', 'DATABASE_MATSUM', 'DATABASE_NODOUT', 'DATABASE_RCFORC', 'DATABASE_RWFORC')
             call get_card(ctx, kw, ic, 'DT BINARY LCUR IOOPT', 1, card, error)
             if (allocated(error)) return
+            call ignored_fields(model, card, [2, 3, 4], 'xdyna writes the ASCII file and thist.h5 at DT whatever BINARY says '// &
+                '(no binout), with no output curve; ignored', keep='1 2 3')
             call get_real(card, 1, h%dt, 0.0_wp, error); if (allocated(error)) return
             call get_int(card, 2, h%binary, 0, error); if (allocated(error)) return
             if (h%dt < 0.0_wp) then
@@ -177,6 +179,8 @@ contains
         case ('DATABASE_BINARY_D3PLOT')
             call get_card(ctx, kw, ic, 'DT LCDT BEAM NPLTC PSETID', 1, card, error)
             if (allocated(error)) return
+            call ignored_fields(model, card, [2, 3, 5], 'an output-interval curve, beam output and a part subset of the states '// &
+                'are not in xdyna; every part is written at DT; ignored')
             call get_real(card, 1, model%db%d3plot_dt, 0.0_wp, error); if (allocated(error)) return
             call get_real(card, 2, lcdt, 0.0_wp, error); if (allocated(error)) return
             call get_int(card, 4, model%db%d3plot_npltc, 0, error); if (allocated(error)) return

@@ -7,7 +7,7 @@ module xd_input_read_geometry
     use xd_input_field_reader, only: card_t, card_format_t, card_format, get_real, get_int, get_text, field_blank, card_blank, &
                                      card_error
     use xd_input_keyword_table, only: keyword_t
-    use xd_input_context, only: read_ctx_t, get_card, add_warning
+    use xd_input_context, only: read_ctx_t, get_card, add_warning, ignored_fields
     use xd_model, only: model_t, part_t
     implicit none
     private
@@ -229,6 +229,8 @@ contains
             end if
             call get_card(ctx, kw, ic + 1, 'PID SECID MID EOSID HGID GRAV ADPOPT TMID', 2, card, error)
             if (allocated(error)) return
+            call ignored_fields(model, card, [6, 7], 'gravity preload (GRAV) and adaptivity (ADPOPT) are not in xdyna; '// &
+                'ignored')
             p = part_t()
             p%heading = get_text(head, 1)
             call get_int(card, 1, p%id, 0, error); if (allocated(error)) return

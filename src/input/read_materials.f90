@@ -4,7 +4,7 @@ module xd_input_read_materials
     use xd_core_errors, only: error_t, make_error
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
-    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
+    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
     use xd_model, only: model_t, material_t, hourglass_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, &
                         mat_rigid
     implicit none
@@ -48,6 +48,7 @@ contains
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'MID RO E PR N COUPLE M ALIAS', 1, card, error)
         if (allocated(error)) return
+        call ignored_fields(model, card, [5, 6, 7, 8], 'MADYMO/CAL3D coupling fields are not used; ignored')
         call read_elastic_constants(card, m, error); if (allocated(error)) return
         m%src = kw%card_line(ic)
         if (ic + 1 <= kw%ncard) then
@@ -255,6 +256,8 @@ contains
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'MID RO E PR DA DB K', 1, card, error)
         if (allocated(error)) return
+        call ignored_fields(model, card, [5, 6], 'axial and bending damping are for beams (not in xdyna); ignored'// &
+            'axial and bending damping are for beams (not in xdyna); ignored')
         call read_elastic_constants(card, m, error); if (allocated(error)) return
         call get_real(card, 5, da, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 6, db, 0.0_wp, error); if (allocated(error)) return
@@ -284,6 +287,8 @@ contains
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'HGID IHQ QM IBQ Q1 Q2 QB QW', 1, card, error)
         if (allocated(error)) return
+        call ignored_fields(model, card, [4, 7, 8], 'IBQ is not used by LS-DYNA either; QB/QW are for other shell '// &
+            'formulations; ignored')
         call get_int(card, 1, h%id, 0, error); if (allocated(error)) return
         call get_int(card, 2, h%ihq, 0, error); if (allocated(error)) return
         call get_real(card, 3, h%qm, 0.1_wp, error, zero_default=.true.); if (allocated(error)) return

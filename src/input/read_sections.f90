@@ -4,7 +4,7 @@ module xd_input_read_sections
     use xd_core_errors, only: error_t, make_error
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error
     use xd_input_keyword_table, only: keyword_t
-    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards
+    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, ignored_fields
     use xd_model, only: model_t, section_solid_t, section_shell_t
     implicit none
     private
@@ -28,6 +28,7 @@ contains
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'SECID ELFORM AET', 1, card, error)
         if (allocated(error)) return
+        call ignored_fields(model, card, [3], 'ambient element types are not in xdyna; ignored')
         call get_int(card, 1, s%id, 0, error); if (allocated(error)) return
         call get_int(card, 2, s%elform, 1, error, zero_default=.true.); if (allocated(error)) return
         if (s%id <= 0) then
@@ -63,6 +64,8 @@ contains
         end if
         call get_card(ctx, kw, ic, 'SECID ELFORM SHRF NIP PROPT QR ICOMP SETYP', 1, card, error)
         if (allocated(error)) return
+        call ignored_fields(model, card, [5, 6, 8], 'printout, quadrature rule and 2D-solid type are not used (Gauss '// &
+            'through the thickness); ignored', keep='1 1.0 1. 1.00')
         call get_int(card, 1, s%id, 0, error); if (allocated(error)) return
         call get_int(card, 2, s%elform, 2, error, zero_default=.true.); if (allocated(error)) return
         call get_real(card, 3, s%shrf, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
@@ -83,6 +86,8 @@ contains
         end if
         call get_card(ctx, kw, ic + 1, 'T1 T2 T3 T4 NLOC MAREA IDOF EDGSET', 2, card, error)
         if (allocated(error)) return
+        call ignored_fields(model, card, [5, 6, 7, 8], 'reference surface, added mass, thickness field and edge set are not in '// &
+            'xdyna; ignored')
         do k = 1, 4
             call get_real(card, k, s%t(k), 0.0_wp, error); if (allocated(error)) return
         end do

@@ -5,7 +5,7 @@ module xd_input_read_sets
     use xd_input_field_reader, only: card_t, card_format_t, card_format, get_int, card_error, card_blank, get_text
     use xd_core_strings, only: to_upper
     use xd_input_keyword_table, only: keyword_t
-    use xd_input_context, only: read_ctx_t, get_card, first_card
+    use xd_input_context, only: read_ctx_t, get_card, first_card, ignored_fields
     use xd_model, only: model_t, set_t, set_node, set_part, set_shell
     implicit none
     private
@@ -29,6 +29,8 @@ contains
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'SID DA1 DA2 DA3 DA4 SOLVER', 1, card, error)
         if (allocated(error)) return
+        call ignored_fields(model, card, [2, 3, 4, 5, 6], 'set attributes (DA1-DA4) and solver names are not used; ignored'// &
+            'set attributes (DA1-DA4) and solver names are not used; ignored', keep='MECH')
         call get_int(card, 1, s%id, 0, error); if (allocated(error)) return
         if (s%id <= 0) then
             call card_error(card, 1, 'set id must be a positive integer', error); return

@@ -104,6 +104,7 @@ module xd_model
         integer :: id = 0                   !< node set, node, or part/part set/node set
         integer :: ix = 0                   !< node index once checked (iv_node)
         integer :: exempt = 0               !< NSIDEX: node set left out
+        integer :: boxid = 0                !< BOXID: only the nodes in this box
         integer :: styp = 0                 !< generation: 1 part set, 2 part, 3 node set
         real(wp) :: v(3) = 0, vr(3) = 0
         real(wp) :: omega = 0
@@ -331,6 +332,8 @@ module xd_model
         type(init_stress_t), allocatable :: istress(:)
         type(controls_t) :: ctl
         type(database_t) :: db
+        logical :: irigid = .false.     !< an *INITIAL_VELOCITY card with IRIGID >= 1: nodal velocities
+                                        !< override *PART_INERTIA's
         integer :: nwarn = 0
         character(len=:), allocatable :: warnings   !< newline-separated, for d3hsp
     end type model_t

@@ -403,8 +403,9 @@ contains
                 b%omega = 0
             end if
             if (b%part > 0) then
-                ! *PART_INERTIA gives the body's initial motion itself
-                if (model%part(b%part)%inertia) then
+                ! *PART_INERTIA gives the body's initial motion itself, unless
+                ! an *INITIAL_VELOCITY card's IRIGID says the nodes' win
+                if (model%part(b%part)%inertia .and. .not. model%irigid) then
                     b%vc = real(model%part(b%part)%vt, dp)
                     b%omega = real(model%part(b%part)%vr, dp)
                 end if
