@@ -1875,6 +1875,9 @@ def test_public_forms():
            names == ["job.glstat", "job.matsum", "job.nodout", "job.rwforc", "job.thist.h5", "printed.txt"])
     log = open(printed).read()
     record("forms: memory= is accepted and named in d3hsp", "memory=200m accepted" in log)
+    legend = open(os.path.join(out, "job.rwforc")).read()
+    record("forms: _ID headings keep their commas (rwforc legend)", "floor under the plate, nodes of box 10 only"
+           in legend and "post far away, infinite" in legend)
     with h5py.File(os.path.join(out, "job.thist.h5"), "r") as f:
         ids = list(f["matsum/ids"][:])
         mass = f["matsum/mass"][0]
@@ -1978,10 +1981,77 @@ def test_public_decks():
         record(f"public ball_plate.k: energy ratio within 2% of 1 (largest deviation {dev:.4f})", dev < 0.02)
 
 
+def test_wall_semantics():
+    """Rigid walls read as LS-DYNA documents them, each on a deck whose
+    answer is known:
+    - *RIGIDWALL_GEOMETRIC_CYLINDER with LENCYL 0 is infinite both ways: the
+      pole deck with the tail moved 1 m above the bar (the bar lies below
+      it) still stops the bar (it bounces off, y velocity > 0); with
+      LENCYL 0.1 the same finite cylinder misses it (the bar keeps its
+      -20 m/s within 1e-6);
+    - OFFSET selects nodes, it does not move the wall: the bar 1 um from the
+      wall, OFFSET 0.1 um: no node is within it, the bar passes the wall
+      plane; OFFSET 10 um: the end face is held, no node ends behind x = 0;
+    - a wall moved 2 mm into the bar (x = 2 mm): the end face's nodes lie
+      behind it at t = 0 and are not held (each named in d3hsp); the next
+      layer, 3 mm in front, is stopped on the wall (ends at x >= 2 mm less
+      1e-9 of the bar's length)."""
+    pole = open(os.path.join(ROOT, "input_decks/verify/bar_on_pole.k")).read()
+    old = "         0        -0     -0.05         0         0      0.05         0\n      0.01       0.1         0\n"
+    assert old in pole
+    for label, card, hit in (("LENCYL 0 (infinite), tail 1 m above", "         0        -0       1.0         0         0       1.1         0\n      0.01       0.0         0\n", True),
+                             ("LENCYL 0.1, tail 1 m above", "         0        -0       1.0         0         0       1.1         0\n      0.01       0.1         0\n", False)):
+        deck = os.path.join(TMP, "pole_var.k")
+        with open(deck, "w") as fh:
+            fh.write(pole.replace(old, card))
+        p, out = run_deck(deck, "pole_var")
+        if p.returncode != 0:
+            record(f"cylinder {label}: runs", False, p.stderr[-300:])
+            continue
+        vy = glstat(out)["y_velocity"][-1]
+        if hit:
+            record(f"cylinder {label}: the bar below the tail is stopped and bounces (final vy {vy:+.3f} m/s)", vy > 0)
+        else:
+            record(f"cylinder {label}: the finite cylinder misses the bar (final vy {vy:+.6f} m/s)",
+                   abs(vy + 20) < 20e-6)
+    wall = open(os.path.join(ROOT, "input_decks/verify/bar_wall.k")).read()
+    old_w = "*RIGIDWALL_PLANAR_ID\n         7wall at x = 0\n         0\n         0         0         0         1         0         0\n"
+    assert old_w in wall
+    cases = (("OFFSET 0.1 um", "         0         0         0     1e-07\n         0         0         0         1         0         0\n", "pass"),
+             ("OFFSET 10 um", "         0         0         0     1e-05\n         0         0         0         1         0         0\n", "held"),
+             ("wall 2 mm into the bar", "         0\n     0.002         0         0     0.003         0         0\n", "behind"))
+    for label, card, want in cases:
+        deck = os.path.join(TMP, "wall_var.k")
+        with open(deck, "w") as fh:
+            fh.write(wall.replace(old_w, "*RIGIDWALL_PLANAR_ID\n         7wall\n" + card).replace(
+                "*KEYWORD\n", "*KEYWORD\n*SET_NODE_GENERAL\n        99\nALL\n*DATABASE_HISTORY_NODE_SET\n        99\n"
+                "*DATABASE_NODOUT\n   1.0e-06\n", 1))
+        p, out = run_deck(deck, "wall_var")
+        if p.returncode != 0:
+            record(f"planar wall {label}: runs", False, p.stderr[-300:])
+            continue
+        with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+            x = f["nodout/x_coordinate"][:]
+        x0 = x[0]
+        log = open(os.path.join(out, "d3hsp")).read()
+        if want == "pass":
+            record(f"planar wall {label}: no node selected, the bar passes the wall plane (min x {x.min():.3e} m)",
+                   x.min() < 0)
+        elif want == "held":
+            record(f"planar wall {label}: the end face is held (min x {x.min():.3e} m >= 0)", x.min() >= -1e-12)
+        else:
+            face = x0 < 0.002
+            named = len(re.findall(r"rigid wall 7: node \d+ lies .* behind the wall at t = 0", log))
+            nxt = (x0 > 0.004) & (x0 < 0.006)
+            record(f"planar wall {label}: the {int(face.sum())} end-face history nodes behind it are named "
+                   f"({named} named) and the next layer is stopped on it (min x {x[:, nxt].min():.6e} m)",
+                   named >= int(face.sum()) > 0 and x[:, nxt].min() >= 0.002 - 1e-9 * 0.5)
+
+
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -4,12 +4,14 @@ module xd_input_context
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
     use xd_input_deck_source, only: deck_source_t
-    use xd_input_field_reader, only: card_format_t, card_t, param_table_t, split_card, card_format, card_blank
+    use xd_input_field_reader, only: card_format_t, card_t, param_table_t, split_card, card_format, card_blank, &
+                                     width_long
     use xd_input_keyword_table, only: keyword_t
     use xd_model, only: model_t
     implicit none
     private
-    public :: read_ctx_t, get_card, first_card, add_warning, extra_card_error, no_more_cards, ignored_fields
+    public :: read_ctx_t, get_card, first_card, add_warning, extra_card_error, no_more_cards, ignored_fields, &
+              get_id_card
 
     type :: read_ctx_t
         type(deck_source_t) :: src
@@ -67,6 +69,36 @@ contains
         if (.not. allocated(model%warnings)) model%warnings = ''
         model%warnings = model%warnings//' *** Warning: '//text//new_line('a')
     end subroutine add_warning
+
+    !> The ID/heading card of an _ID option: ID (I10, I20 in long format),
+    !> then the heading as text; a comma within the ID field makes the card
+    !> free format (ID, heading). The heading may hold commas and blanks.
+    subroutine get_id_card(ctx, kw, id, heading, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        integer, intent(out) :: id
+        character(len=*), intent(out) :: heading
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: line, idt
+        integer :: w, k, st
+        id = 0
+        heading = ''
+        line = ctx%src%line(kw%card_line(1))
+        w = 10
+        if (kw%width_mode == width_long) w = 20
+        k = index(line(1:min(len(line), w + 1)), ',')
+        if (k > 0) then
+            idt = line(1:k - 1)
+            heading = adjustl(line(k + 1:))
+        else
+            idt = line(1:min(len(line), w))
+            if (len(line) > w) heading = adjustl(line(w + 1:))
+        end if
+        if (len_trim(idt) == 0) return
+        read (idt, *, iostat=st) id
+        if (st /= 0) call make_error(error, ctx%src%where(kw%card_line(1))//': '//trim(kw%written)// &
+                                     ' card 0 field ID: '''//trim(adjustl(idt))//''' is not an integer')
+    end subroutine get_id_card
 
     !> Fields xdyna reads past: each one given a value other than blank, 0
     !> or one of `keep` (texts the field may hold to no effect, such as

@@ -5,7 +5,7 @@ module xd_input_read_conditions
     use xd_core_errors, only: error_t, make_error
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
-    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
+    use xd_input_context, only: get_id_card, read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
     use xd_model, only: model_t, spc_t, init_vel_t, init_stress_t, prescribed_t, nodal_rigid_t, iv_node_set, &
                         iv_node, iv_generation
     implicit none
@@ -246,6 +246,7 @@ contains
         do while (ic <= kw%ncard)
             call get_card(ctx, kw, ic, 'EID NINT NHISV LARGE IVEFLG IALEGP NTHINT NTHHSV', 1, card, error)
             if (allocated(error)) return
+            call ignored_fields(model, card, [5, 6, 7, 8], 'not used; ignored')
             if (card_blank(card)) then
                 ic = ic + 1
                 cycle
@@ -267,6 +268,8 @@ contains
             do ip = 1, nint
                 call get_card(ctx, kw, ic + ip, 'SIGXX SIGYY SIGZZ SIGXY SIGYZ SIGZX EPS', 2, card, error)
                 if (allocated(error)) return
+                call ignored_fields(model, card, [7], 'initial plastic strain is not used (elastic materials take '// &
+                    'initial stress); ignored')
                 do k = 1, 6
                     call get_real(card, k, s, 0.0_wp, error); if (allocated(error)) return
                     is%sig(k) = is%sig(k) + s/nint
@@ -358,19 +361,18 @@ contains
         type(nodal_rigid_t) :: r
         integer :: ic, cid, k
         real(wp) :: v
+        character(len=80) :: heading
         ic = first_card(kw)
         if (kw%has_id) then
-            call get_card(ctx, kw, 1, 'ID HEADING:70', 0, card, error)
+            call get_id_card(ctx, kw, r%id, heading, error)
             if (allocated(error)) return
-            call get_int(card, 1, r%id, 0, error); if (allocated(error)) return
         end if
         do while (ic <= kw%ncard)
             r = nodal_rigid_t(id=r%id, src=kw%card_line(ic))
             if (kw%name == 'CONSTRAINED_NODAL_RIGID_BODY') then
                 call get_card(ctx, kw, ic, 'PID CID NSID PNODE IPRT DRFLAG RRFLAG', 1, card, error)
                 if (allocated(error)) return
-                call ignored_fields(model, card, [4, 5, 6, 7], 'PNODE, printing and release flags are not used; ignored'// &
-                    'PNODE, printing and release flags are not used; ignored')
+                call ignored_fields(model, card, [4, 5, 6, 7], 'PNODE, printing and release flags are not used; ignored')
                 if (card_blank(card)) then
                     ic = ic + 1
                     cycle
@@ -383,8 +385,7 @@ contains
                 r%weld = .true.
                 call get_card(ctx, kw, ic, 'NSID CID FILTER WINDOW NPR NPRT', 1, card, error)
                 if (allocated(error)) return
-                call ignored_fields(model, card, [3, 4, 5, 6], 'force filtering and printing options are not used; ignored'// &
-                    'force filtering and printing options are not used; ignored')
+                call ignored_fields(model, card, [3, 4, 5, 6], 'force filtering and printing options are not used; ignored')
                 call get_int(card, 1, r%nsid, 0, error); if (allocated(error)) return
                 call get_int(card, 2, cid, 0, error); if (allocated(error)) return
                 if (ic + 1 <= kw%ncard) then

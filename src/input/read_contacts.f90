@@ -8,7 +8,7 @@ module xd_input_read_contacts
     use xd_core_strings, only: itoa
     use xd_input_field_reader, only: card_t, get_int, get_real, get_text, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
-    use xd_input_context, only: read_ctx_t, get_card, first_card, add_warning, ignored_fields
+    use xd_input_context, only: get_id_card, read_ctx_t, get_card, first_card, add_warning, ignored_fields
     use xd_model, only: model_t, contact_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface, &
                         styp_segment_set, styp_node_set, styp_all, styp_all_but, search_fixed, search_adaptive, &
                         mnl_minimal, mnl_closest1, mnl_closest3
@@ -56,10 +56,8 @@ contains
         case ('CONTACT_AUTOMATIC_NODES_TO_SURFACE'); c%kind = ct_nodes_to_surface
         end select
         if (kw%has_id) then
-            call get_card(ctx, kw, 1, 'CID HEADING:70', 0, card, error)
+            call get_id_card(ctx, kw, c%id, c%heading, error)
             if (allocated(error)) return
-            call get_int(card, 1, c%id, 0, error); if (allocated(error)) return
-            c%heading = get_text(card, 2)
         end if
         ic = first_card(kw)
         c%src = kw%kw_line
@@ -173,6 +171,7 @@ contains
         if (ic + 3 <= kw%ncard) then
             call get_card(ctx, kw, ic + 3, 'SOFT SOFSCL LCIDAB MAXPAR SBOPT DEPTH BSORT FRCFRQ', 4, card, error)
             if (allocated(error)) return
+            call ignored_fields(model, card, [2, 4, 5, 6, 8], 'segment-based contact options are not in xdyna; ignored')
             call get_int(card, 1, ival, 0, error); if (allocated(error)) return
             if (ival /= 0) call add_warning(model, at//' card A field SOFT: the soft-constraint and segment-'// &
                 'based options are not implemented; the penalty stiffness comes from the bulk modulus (SOFT 0)')

@@ -43,6 +43,8 @@ contains
             case ('CONTROL_TIMESTEP')
                 call get_card(ctx, kw, ic, 'DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST', 1, card, error)
                 if (allocated(error)) return
+                call ignored_fields(model, card, [3, 4, 8], 'shell step options (ISDO, TSLIMT, MS1ST) are not in xdyna; '// &
+                    'ignored')
                 call get_real(card, 1, c%dtinit, 0.0_wp, error); if (allocated(error)) return
                 call get_real(card, 2, c%tssfac, 0.9_wp, error, zero_default=.true.); if (allocated(error)) return
                 call get_int(card, 3, isdo, 0, error); if (allocated(error)) return

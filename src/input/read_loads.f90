@@ -6,7 +6,7 @@ module xd_input_read_loads
     use xd_input_field_reader, only: card_t, card_format_t, card_format, get_int, get_real, get_text, &
                                      card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
-    use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning
+    use xd_input_context, only: get_id_card, read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
     use xd_model, only: model_t, curve_t, body_load_t, rigidwall_t, segment_set_t, pressure_t, box_t, find_box
     implicit none
     private
@@ -53,6 +53,7 @@ contains
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'SID DA1 DA2 DA3 DA4', 1, card, error)
         if (allocated(error)) return
+        call ignored_fields(model, card, [2, 3, 4, 5], 'segment attributes are not used; ignored')
         call get_int(card, 1, ss%id, 0, error); if (allocated(error)) return
         if (ss%id <= 0) then
             call card_error(card, 1, 'set id must be a positive integer', error); return
@@ -64,6 +65,7 @@ contains
             call get_card(ctx, kw, ic, fmt, 2, card, error)
             if (allocated(error)) return
             if (card_blank(card)) cycle
+            call ignored_fields(model, card, [5, 6, 7, 8], 'segment attributes are not used; ignored')
             do k = 1, 4
                 call get_int(card, k, nd(k), 0, error); if (allocated(error)) return
             end do
@@ -199,12 +201,8 @@ contains
         type(keyword_t), intent(in) :: kw
         type(rigidwall_t), intent(inout) :: w
         type(error_t), allocatable, intent(out) :: error
-        type(card_t) :: card
         if (.not. kw%has_id) return
-        call get_card(ctx, kw, 1, 'ID HEADING:70', 0, card, error)
-        if (allocated(error)) return
-        call get_int(card, 1, w%id, 0, error); if (allocated(error)) return
-        w%heading = get_text(card, 2)
+        call get_id_card(ctx, kw, w%id, w%heading, error)
     end subroutine read_wall_id
 
     !> Card 2 of the rigid walls: tail, head (the unit normal or axis from
@@ -351,6 +349,7 @@ contains
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'LCID SF LCIDDR XC YC ZC CID', 1, card, error)
         if (allocated(error)) return
+        call ignored_fields(model, card, [4, 5, 6], 'the centre of a rotational body load is not used; ignored')
         call get_int(card, 1, b%lcid, 0, error); if (allocated(error)) return
         call get_real(card, 2, b%sf, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
         call get_int(card, 3, lciddr, 0, error); if (allocated(error)) return

@@ -49,7 +49,9 @@ contains
         call get_card(ctx, kw, ic, 'MID RO E PR N COUPLE M ALIAS', 1, card, error)
         if (allocated(error)) return
         call ignored_fields(model, card, [5, 6, 7, 8], 'MADYMO/CAL3D coupling fields are not used; ignored')
-        call read_elastic_constants(card, m, error); if (allocated(error)) return
+        ! a rigid part may have no density: its mass then comes from
+        ! *PART_INERTIA, or it is fixed (checked with the parts)
+        call read_elastic_constants(card, m, error, rigid=.true.); if (allocated(error)) return
         m%src = kw%card_line(ic)
         if (ic + 1 <= kw%ncard) then
             call get_card(ctx, kw, ic + 1, 'CMO CON1 CON2', 2, card, error)
@@ -79,10 +81,14 @@ contains
     end subroutine read_mat_rigid
 
     !> MID RO E PR, common to the isotropic materials; checks them.
-    subroutine read_elastic_constants(card, m, error)
+    subroutine read_elastic_constants(card, m, error, rigid)
         type(card_t), intent(in) :: card
         type(material_t), intent(inout) :: m
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(in), optional :: rigid
+        logical :: zero_ok
+        zero_ok = .false.
+        if (present(rigid)) zero_ok = rigid
         call get_int(card, 1, m%id, 0, error); if (allocated(error)) return
         call get_real(card, 2, m%ro, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 3, m%e, 0.0_wp, error); if (allocated(error)) return
@@ -90,7 +96,11 @@ contains
         if (m%id <= 0) then
             call card_error(card, 1, 'material id must be a positive integer', error); return
         end if
-        if (.not. (m%ro > 0.0_wp)) then
+        if (zero_ok) then
+            if (.not. (m%ro >= 0.0_wp)) then
+                call card_error(card, 2, 'density must not be negative', error); return
+            end if
+        else if (.not. (m%ro > 0.0_wp)) then
             call card_error(card, 2, 'density must be positive', error); return
         end if
         if (.not. (m%e > 0.0_wp)) then
@@ -256,8 +266,7 @@ contains
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'MID RO E PR DA DB K', 1, card, error)
         if (allocated(error)) return
-        call ignored_fields(model, card, [5, 6], 'axial and bending damping are for beams (not in xdyna); ignored'// &
-            'axial and bending damping are for beams (not in xdyna); ignored')
+        call ignored_fields(model, card, [5, 6], 'axial and bending damping are for beams (not in xdyna); ignored')
         call read_elastic_constants(card, m, error); if (allocated(error)) return
         call get_real(card, 5, da, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 6, db, 0.0_wp, error); if (allocated(error)) return

@@ -29,8 +29,8 @@ contains
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'SID DA1 DA2 DA3 DA4 SOLVER', 1, card, error)
         if (allocated(error)) return
-        call ignored_fields(model, card, [2, 3, 4, 5, 6], 'set attributes (DA1-DA4) and solver names are not used; ignored'// &
-            'set attributes (DA1-DA4) and solver names are not used; ignored', keep='MECH')
+        call ignored_fields(model, card, [2, 3, 4, 5, 6], 'set attributes (DA1-DA4) and solver names '// &
+                            'are not used; ignored', keep='MECH')
         call get_int(card, 1, s%id, 0, error); if (allocated(error)) return
         if (s%id <= 0) then
             call card_error(card, 1, 'set id must be a positive integer', error); return
