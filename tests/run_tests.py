@@ -1902,6 +1902,11 @@ def test_public_forms():
          ["undef_expr.k:5", "parameter 'UNDEFINED_NAME' is not defined"]),
         ("*INCLUDE\nthere.k\nnot_there.k\n", "missing_include", ["missing_include.k:6", "not_there.k"]),
         ("*SET_NODE_GENERAL\n         7\nBOX             99\n", "missing_box", ["missing_box.k:6", "box 99"]),
+        ("*DEFINE_COORDINATE_SYSTEM\n         5       0.0       0.0       0.0       1.0       1.0       0.0\n"
+         "       0.0       1.0       0.0\n*BOUNDARY_SPC_NODE\n         1         5         1\n", "skewed_spc",
+         ["skewed_spc.k:8", "*BOUNDARY_SPC field CID", "not along a global axis"]),
+        ("*DEFINE_COORDINATE_NODES\n         5         1         1         1\n", "degenerate_axes",
+         ["degenerate_axes.k:5", "coordinate system 5", "on one line"]),
     ]
     for text, name, expect in cases:
         d = os.path.join(out, "err")
@@ -1981,6 +1986,36 @@ def test_public_decks():
         record(f"public ball_plate.k: energy ratio within 2% of 1 (largest deviation {dev:.4f})", dev < 0.02)
 
 
+def test_coordinate_systems():
+    """*DEFINE_COORDINATE_SYSTEM and _NODES where a CID is taken: the bar on
+    the wall (input_decks/verify/bar_wall.k, -10 m/s along x) given its
+    velocity as +10 m/s along the local y axis of a system whose y axis is
+    global -x (O at 0, L on global y, P on global -x), by *INITIAL_VELOCITY
+    ICID, and the same system from three nodes: the time histories must be
+    bitwise the run's own (the axes are exact 0 and 1 here)."""
+    base = open(os.path.join(ROOT, "input_decks/verify/bar_wall.k")).read()
+    old = "*INITIAL_VELOCITY\n         0\n       -10         0         0\n"
+    assert old in base
+    p, ref = run_deck("input_decks/verify/bar_wall.k", "coord_ref")
+    for label, defn in (("_SYSTEM", "*DEFINE_COORDINATE_SYSTEM\n         3       0.0       0.0       0.0       0.0"
+                         "       1.0       0.0\n      -1.0       0.0       0.0\n"),
+                        ("_NODES", "*NODE\n  900001             0.0             0.0             0.0\n"
+                         "  900002             0.0             1.0             0.0\n"
+                         "  900003            -1.0             0.0             0.0\n"
+                         "*DEFINE_COORDINATE_NODES\n         3    900001    900002    900003\n")):
+        deck = os.path.join(TMP, "coord.k")
+        with open(deck, "w") as fh:
+            fh.write(base.replace(old, defn + "*INITIAL_VELOCITY\n         0         0         0         0         3\n"
+                                  "         0        10         0\n"))
+        q, out = run_deck(deck, "coord" + label)
+        ok = q.returncode == 0 and p.returncode == 0
+        if ok:
+            a, b = glstat(ref), glstat(out)
+            ok = all(np.array_equal(a[k], b[k]) for k in ("kinetic_energy", "x_velocity", "total_energy"))
+        record(f"coordinate systems: *INITIAL_VELOCITY ICID in *DEFINE_COORDINATE{label} gives the bar's own run "
+               f"bitwise", ok, q.stderr[-300:])
+
+
 def test_wall_semantics():
     """Rigid walls read as LS-DYNA documents them, each on a deck whose
     answer is known:
@@ -2051,7 +2086,7 @@ def test_wall_semantics():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -103,6 +103,8 @@ module xd_input_keyword_table
         entry_t('LOAD_BODY_Y', fam_load, '', .false.), &
         entry_t('LOAD_BODY_Z', fam_load, '', .false.), &
         entry_t('DEFINE_BOX', fam_load, '', .false.), &
+        entry_t('DEFINE_COORDINATE_SYSTEM', fam_load, '', .false.), &
+        entry_t('DEFINE_COORDINATE_NODES', fam_load, '', .false.), &
         entry_t('RIGIDWALL_PLANAR', fam_load, '', .true.), &
         entry_t('RIGIDWALL_PLANAR_FORCES', fam_load, '', .true.), &
         entry_t('RIGIDWALL_PLANAR_FINITE_FORCES', fam_load, '', .true.), &

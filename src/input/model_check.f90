@@ -12,7 +12,7 @@ module xd_input_model_check
     use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
                                 hex_regular, hex_wedge, hex_tet, hex_bad
     use xd_model, only: model_t, find_set, mat_rigid, set_node, set_shell, pressure_t, set_part, iv_node_set, iv_node, &
-        iv_generation, find_box
+        iv_generation, find_box, find_coord
     implicit none
     private
     public :: check_model, id_maps_t
@@ -241,6 +241,106 @@ contains
         end do
     end subroutine check_shells
 
+    !> *DEFINE_COORDINATE_...: the axes (from the nodes' positions at t = 0
+    !> for _NODES), then what is given in them turned global: initial
+    !> velocities (ICID: velocities, angular velocities and the generation
+    !> axis), body loads (CID: the load acts along the local axis), and
+    !> constraints (CID: a local axis along a global one fixes that global
+    !> direction; a skewed local axis is refused).
+    subroutine apply_coordinate_systems(ctx, model, nodes, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_map_t), intent(in) :: nodes
+        type(error_t), allocatable, intent(out) :: error
+        integer :: i, k, j, c, dof(6)
+        real(wp) :: ex(3), ez(3)
+        do i = 1, model%ncoord
+            associate (cs => model%coord(i))
+                if (cs%by_nodes) then
+                    do k = 1, 3
+                        j = nodes%find(cs%n(k))
+                        if (j == 0) then
+                            call make_error(error, ctx%src%where(cs%src)//': *DEFINE_COORDINATE_NODES field N'// &
+                                            itoa(k)//': node '//itoa(cs%n(k))//' is not defined')
+                            return
+                        end if
+                        cs%n(k) = j
+                    end do
+                    cs%o = model%x0(:, cs%n(1))
+                    cs%l = model%x0(:, cs%n(2))
+                    cs%p = model%x0(:, cs%n(3))
+                end if
+                ex = cs%l - cs%o
+                ez = [ex(2)*(cs%p(3) - cs%o(3)) - ex(3)*(cs%p(2) - cs%o(2)), &
+                      ex(3)*(cs%p(1) - cs%o(1)) - ex(1)*(cs%p(3) - cs%o(3)), &
+                      ex(1)*(cs%p(2) - cs%o(2)) - ex(2)*(cs%p(1) - cs%o(1))]
+                if (.not. (norm2(ex) > 0.0_wp .and. norm2(ez) > 1.0e-9_wp*norm2(ex)*norm2(cs%p - cs%o))) then
+                    call make_error(error, ctx%src%where(cs%src)//': coordinate system '//itoa(cs%id)// &
+                                    ': its three points are on one line (no axes)')
+                    return
+                end if
+                cs%r(:, 1) = ex/norm2(ex)
+                cs%r(:, 3) = ez/norm2(ez)
+                cs%r(:, 2) = [cs%r(2, 3)*cs%r(3, 1) - cs%r(3, 3)*cs%r(2, 1), cs%r(3, 3)*cs%r(1, 1) - cs%r(1, 3)*cs%r(3, 1), &
+                              cs%r(1, 3)*cs%r(2, 1) - cs%r(2, 3)*cs%r(1, 1)]
+            end associate
+        end do
+        do i = 1, model%nivel
+            associate (v => model%ivel(i))
+                if (v%icid == 0) cycle
+                c = find_coord(model, v%icid)
+                if (c == 0) then
+                    call make_error(error, ctx%src%where(v%src)//': field ICID: coordinate system '//itoa(v%icid)// &
+                                    ' is not defined')
+                    return
+                end if
+                v%v = matmul(model%coord(c)%r, v%v)
+                v%vr = matmul(model%coord(c)%r, v%vr)
+                v%axis = matmul(model%coord(c)%r, v%axis)
+            end associate
+        end do
+        do i = 1, model%nbody
+            associate (b => model%body(i))
+                b%d = 0
+                b%d(b%dir) = 1
+                if (b%cid == 0) cycle
+                c = find_coord(model, b%cid)
+                if (c == 0) then
+                    call make_error(error, ctx%src%where(b%src)//': *LOAD_BODY field CID: coordinate system '// &
+                                    itoa(b%cid)//' is not defined')
+                    return
+                end if
+                b%d = model%coord(c)%r(:, b%dir)
+            end associate
+        end do
+        do i = 1, model%nspc
+            associate (sp => model%spc(i))
+                if (sp%cid == 0) cycle
+                c = find_coord(model, sp%cid)
+                if (c == 0) then
+                    call make_error(error, ctx%src%where(sp%src)//': *BOUNDARY_SPC field CID: coordinate system '// &
+                                    itoa(sp%cid)//' is not defined')
+                    return
+                end if
+                dof = 0
+                do k = 1, 3
+                    j = maxloc(abs(model%coord(c)%r(:, k)), 1)
+                    if (sp%dof(k) == 0 .and. sp%dof(k + 3) == 0) cycle
+                    if (abs(model%coord(c)%r(j, k)) < 1.0_wp - 1.0e-9_wp) then
+                        call make_error(error, ctx%src%where(sp%src)//': *BOUNDARY_SPC field CID: local axis '// &
+                                        itoa(k)//' of system '//itoa(sp%cid)//' is not along a global axis; '// &
+                                        'constraints along skewed axes are not implemented')
+                        return
+                    end if
+                    dof(j) = max(dof(j), sp%dof(k))
+                    dof(j + 3) = max(dof(j + 3), sp%dof(k + 3))
+                end do
+                sp%dof = dof
+                sp%cid = 0
+            end associate
+        end do
+    end subroutine apply_coordinate_systems
+
     !> A rigid part whose elements have no mass (zero density, or shells of
     !> zero thickness: mass is density x volume, as LS-DYNA computes it)
     !> needs *PART_INERTIA, unless it is fixed in every direction (CMO 1,
@@ -320,6 +420,8 @@ contains
             end do
         end do
         call resolve_set_rules(ctx, model, maps%node, maps%part, error)
+        if (allocated(error)) return
+        call apply_coordinate_systems(ctx, model, maps%node, error)
         if (allocated(error)) return
         do i = 1, model%nset
             associate (s => model%set(i))

@@ -3,6 +3,7 @@
 module xd_input_read_conditions
     use xd_kinds, only: wp
     use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: itoa
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: get_id_card, read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
@@ -62,10 +63,7 @@ contains
             if (c%id <= 0) then
                 call card_error(card, 1, 'id must be a positive integer', error); return
             end if
-            if (cid /= 0) then
-                call card_error(card, 2, 'local coordinate systems are not supported (CID must be 0)', error)
-                return
-            end if
+            c%cid = cid
             do k = 1, 6
                 call get_int(card, 2 + k, c%dof(k), 0, error); if (allocated(error)) return
                 if (c%dof(k) /= 0 .and. c%dof(k) /= 1) then
@@ -105,10 +103,7 @@ contains
         call get_int(card, 5, icid, 0, error); if (allocated(error)) return
         if (irigid >= 1) model%irigid = .true.
         iv%boxid = boxid
-        if (icid /= 0) then
-            call card_error(card, 5, 'local coordinate systems are not supported (ICID must be 0)', error)
-            return
-        end if
+        iv%icid = icid
         iv%src = kw%card_line(ic)
         if (ic + 1 > kw%ncard) then
             call make_error(error, ctx%src%where(kw%kw_line)//': '//trim(kw%written)// &
@@ -118,7 +113,7 @@ contains
         call read_velocity_card(ctx, kw, ic + 1, 2, iv, error); if (allocated(error)) return
         call push_ivel(model, iv)
         if (iv%exempt /= 0 .and. ic + 2 <= kw%ncard) then
-            ex = init_vel_t(kind=iv_node_set, id=iv%exempt, src=kw%card_line(ic + 2))
+            ex = init_vel_t(kind=iv_node_set, id=iv%exempt, src=kw%card_line(ic + 2), icid=iv%icid)
             call read_velocity_card(ctx, kw, ic + 2, 3, ex, error); if (allocated(error)) return
             call push_ivel(model, ex)
             call no_more_cards(ctx, kw, ic + 3, error)
@@ -161,11 +156,7 @@ contains
                 call get_real(card, 1 + k, iv%v(k), 0.0_wp, error); if (allocated(error)) return
                 call get_real(card, 4 + k, iv%vr(k), 0.0_wp, error); if (allocated(error)) return
             end do
-            call get_int(card, 8, icid, 0, error); if (allocated(error)) return
-            if (icid /= 0) then
-                call card_error(card, 8, 'local coordinate systems are not supported (ICID must be 0)', error)
-                return
-            end if
+            call get_int(card, 8, iv%icid, 0, error); if (allocated(error)) return
             call push_ivel(model, iv)
         end do
     end subroutine read_initial_velocity_node
@@ -201,10 +192,7 @@ contains
                 call card_error(card, 2, 'STYP must be 1 (part set), 2 (part) or 3 (node set)', error)
                 return
             end if
-            if (icid /= 0) then
-                call card_error(card, 8, 'local coordinate systems are not supported (ICID must be 0)', error)
-                return
-            end if
+            iv%icid = icid
             if (ic + 1 > kw%ncard) then
                 call make_error(error, ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)// &
                                 ' card 2 (XC YC ZC NX NY NZ PHASE IRIGID) is missing')
@@ -404,10 +392,9 @@ contains
                 end if
                 ic = ic + 2
             end if
-            if (cid /= 0) then
-                call card_error(card, 2, 'local coordinate systems are not supported (CID must be 0)', error)
-                return
-            end if
+            ! CID: the system LS-DYNA writes the body's (weld's) output in
+            if (cid /= 0) call add_warning(model, ctx%src%where(r%src)//': '//trim(kw%written)//' field CID = '// &
+                                           itoa(cid)//': output in local axes is not written; ignored')
             if (r%nsid <= 0) then
                 call make_error(error, ctx%src%where(r%src)//': '//trim(kw%written)//' field NSID: a node set is required')
                 return

@@ -3,11 +3,13 @@
 module xd_input_read_loads
     use xd_kinds, only: wp
     use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: itoa
     use xd_input_field_reader, only: card_t, card_format_t, card_format, get_int, get_real, get_text, &
                                      card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: get_id_card, read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
-    use xd_model, only: model_t, curve_t, body_load_t, rigidwall_t, segment_set_t, pressure_t, box_t, find_box
+    use xd_model, only: model_t, curve_t, body_load_t, rigidwall_t, segment_set_t, pressure_t, box_t, find_box, &
+                        coord_t, find_coord
     implicit none
     private
     public :: read_load
@@ -30,6 +32,8 @@ contains
             call read_wall(ctx, kw, model, error)
         case ('DEFINE_BOX')
             call read_box(ctx, kw, model, error)
+        case ('DEFINE_COORDINATE_SYSTEM', 'DEFINE_COORDINATE_NODES')
+            call read_coord(ctx, kw, model, error)
         case ('RIGIDWALL_GEOMETRIC_CYLINDER')
             call read_cylinder(ctx, kw, model, error)
         case ('SET_SEGMENT')
@@ -234,6 +238,89 @@ contains
         end if
     end subroutine read_wall_axis
 
+    !> *DEFINE_COORDINATE_SYSTEM: CID XO YO ZO XL YL ZL CIDL; XP YP ZP (local
+    !> x from O to L, the x-y plane through P). *DEFINE_COORDINATE_NODES:
+    !> CID N1 N2 N3 FLAG DIR (x from N1 to N2, the x-y plane through N3, at
+    !> t = 0). Refused: CIDL (nested systems), FLAG 1 (axes moving with the
+    !> nodes) and DIR other than X.
+    subroutine read_coord(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(coord_t) :: c
+        integer :: ic, k, cidl, flag
+        character(len=:), allocatable :: dir
+        ic = first_card(kw)
+        if (ic > kw%ncard) then
+            call make_error(error, ctx%src%where(kw%kw_line)//': '//trim(kw%written)//' needs its cards')
+            return
+        end if
+        c%src = kw%card_line(ic)
+        if (kw%name == 'DEFINE_COORDINATE_NODES') then
+            call get_card(ctx, kw, ic, 'CID N1 N2 N3 FLAG DIR', 1, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, c%id, 0, error); if (allocated(error)) return
+            do k = 1, 3
+                call get_int(card, 1 + k, c%n(k), 0, error); if (allocated(error)) return
+                if (c%n(k) <= 0) then
+                    call card_error(card, 1 + k, 'node ids must be positive', error); return
+                end if
+            end do
+            call get_int(card, 5, flag, 0, error); if (allocated(error)) return
+            if (flag /= 0) then
+                call card_error(card, 5, 'FLAG 1 (axes that follow the nodes) is not supported: the axes '// &
+                                'are taken at t = 0 (FLAG 0)', error)
+                return
+            end if
+            dir = get_text(card, 6)
+            if (len(dir) > 0 .and. dir /= 'X' .and. dir /= 'x') then
+                call card_error(card, 6, 'DIR '//dir//' is not supported (X: N1 to N2 is the local x axis)', error)
+                return
+            end if
+            c%by_nodes = .true.
+            ic = ic + 1
+        else
+            call get_card(ctx, kw, ic, 'CID XO YO ZO XL YL ZL CIDL', 1, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, c%id, 0, error); if (allocated(error)) return
+            do k = 1, 3
+                call get_real(card, 1 + k, c%o(k), 0.0_wp, error); if (allocated(error)) return
+                call get_real(card, 4 + k, c%l(k), 0.0_wp, error); if (allocated(error)) return
+            end do
+            call get_int(card, 8, cidl, 0, error); if (allocated(error)) return
+            if (cidl /= 0) then
+                call card_error(card, 8, 'a system defined in another local system (CIDL) is not supported', error)
+                return
+            end if
+            if (ic + 1 > kw%ncard) then
+                call make_error(error, ctx%src%where(kw%kw_line)//': '//trim(kw%written)//' card 2 (XP YP ZP) is missing')
+                return
+            end if
+            call get_card(ctx, kw, ic + 1, 'XP YP ZP', 2, card, error)
+            if (allocated(error)) return
+            do k = 1, 3
+                call get_real(card, k, c%p(k), 0.0_wp, error); if (allocated(error)) return
+            end do
+            ic = ic + 2
+        end if
+        if (c%id <= 0) then
+            call make_error(error, ctx%src%where(c%src)//': '//trim(kw%written)//' field CID: a positive id is needed')
+            return
+        end if
+        if (find_coord(model, c%id) > 0) then
+            call make_error(error, ctx%src%where(c%src)//': '//trim(kw%written)//' field CID: system '// &
+                            itoa(c%id)//' is defined twice')
+            return
+        end if
+        if (.not. allocated(model%coord)) allocate (model%coord(4))
+        if (model%ncoord == size(model%coord)) model%coord = [model%coord, model%coord]
+        model%ncoord = model%ncoord + 1
+        model%coord(model%ncoord) = c
+        call no_more_cards(ctx, kw, ic, error)
+    end subroutine read_coord
+
     !> *DEFINE_BOX: BOXID XMN XMX YMN YMX ZMN ZMX.
     subroutine read_box(ctx, kw, model, error)
         type(read_ctx_t), intent(in) :: ctx
@@ -357,9 +444,7 @@ contains
         if (b%lcid <= 0) then
             call card_error(card, 1, 'a load curve id is required', error); return
         end if
-        if (cid /= 0) then
-            call card_error(card, 7, 'local coordinate systems are not supported (CID must be 0)', error); return
-        end if
+        b%cid = cid
         if (lciddr /= 0) call add_warning(model, ctx%src%where(kw%card_line(ic))//': '//trim(kw%written)// &
             ' field LCIDDR: dynamic relaxation is not implemented; ignored')
         b%dir = index('XYZ', kw%name(11:11))

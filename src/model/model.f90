@@ -8,7 +8,7 @@ module xd_model
     public :: model_t, part_t, section_solid_t, section_shell_t, material_t, hourglass_t, set_t
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
     public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, segment_set_t, pressure_t, curve_value
-    public :: box_t, find_box
+    public :: box_t, find_box, coord_t, find_coord
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
@@ -96,6 +96,7 @@ module xd_model
         logical :: is_set = .false.
         integer :: ix = 0                   !< node index once checked
         integer :: dof(6) = 0               !< 1: that degree of freedom is fixed
+        integer :: cid = 0                  !< local axes (mapped onto global ones when checked)
         integer :: src = 0
     end type spc_t
 
@@ -105,6 +106,7 @@ module xd_model
         integer :: ix = 0                   !< node index once checked (iv_node)
         integer :: exempt = 0               !< NSIDEX: node set left out
         integer :: boxid = 0                !< BOXID: only the nodes in this box
+        integer :: icid = 0                 !< velocities given in these local axes (turned global when checked)
         integer :: styp = 0                 !< generation: 1 part set, 2 part, 3 node set
         real(wp) :: v(3) = 0, vr(3) = 0
         real(wp) :: omega = 0
@@ -130,6 +132,8 @@ module xd_model
     !> loading in the negative axis direction (LS-DYNA's sign).
     type :: body_load_t
         integer :: dir = 0
+        integer :: cid = 0                  !< local axes: the load acts along their axis `dir`
+        real(wp) :: d(3) = 0                !< the direction, global (set when checked)
         integer :: lcid = 0, curve_ix = 0
         real(wp) :: sf = 1.0_wp
         integer :: src = 0
@@ -200,6 +204,17 @@ module xd_model
         logical :: forces = .false.          !< _FORCES: the optional force-segment card was given
         integer :: src = 0
     end type rigidwall_t
+
+    !> *DEFINE_COORDINATE_SYSTEM (three points) or _NODES (three nodes at
+    !> t = 0): r(:, k) is local axis k in global components.
+    type :: coord_t
+        integer :: id = 0
+        logical :: by_nodes = .false.
+        real(wp) :: o(3) = 0, l(3) = 0, p(3) = 0   !< origin, a point on local x, a point in the x-y plane
+        integer :: n(3) = 0                        !< _NODES: N1 N2 N3 (ids, then indices)
+        real(wp) :: r(3, 3) = 0
+        integer :: src = 0
+    end type coord_t
 
     !> *DEFINE_BOX: an axis-aligned box.
     type :: box_t
@@ -324,6 +339,8 @@ module xd_model
         type(rigidwall_t), allocatable :: wall(:)
         integer :: nbox = 0
         type(box_t), allocatable :: box(:)
+        integer :: ncoord = 0
+        type(coord_t), allocatable :: coord(:)
         integer :: ncontact = 0
         type(contact_t), allocatable :: contact(:)
         integer :: nspc = 0, nivel = 0, nistress = 0
@@ -366,6 +383,16 @@ contains
         end do
         ix = 0
     end function find_set
+
+    !> Index of *DEFINE_COORDINATE_... `id` (0: none).
+    pure integer function find_coord(model, id) result(ix)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: id
+        do ix = 1, model%ncoord
+            if (model%coord(ix)%id == id) return
+        end do
+        ix = 0
+    end function find_coord
 
     !> Index of *DEFINE_BOX `id` (0: none).
     pure integer function find_box(model, id) result(ix)

@@ -30,7 +30,7 @@ contains
         g = 0
         do i = 1, model%nbody
             associate (b => model%body(i))
-                g(b%dir) = g(b%dir) - b%sf*curve_value(model%curve(b%curve_ix), t)
+                g = g - b%sf*curve_value(model%curve(b%curve_ix), t)*b%d
             end associate
         end do
     end function body_acceleration
