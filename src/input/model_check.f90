@@ -7,7 +7,7 @@ module xd_input_model_check
     use xd_core_strings, only: itoa
     use xd_core_sorting, only: id_map_t
     use xd_input_context, only: read_ctx_t, add_warning
-    use xd_input_set_rules, only: resolve_set_rules
+    use xd_input_set_rules, only: resolve_set_rules, resolve_segment_rules
     use xd_input_check_contacts, only: check_contacts
     use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
                                 hex_regular, hex_wedge, hex_tet, hex_bad
@@ -633,6 +633,8 @@ contains
                 end if
             end associate
         end do
+        call resolve_segment_rules(ctx, model, parts, error)
+        if (allocated(error)) return
         do i = 1, model%nsegset
             associate (ss => model%segset(i))
                 do k = 1, ss%n

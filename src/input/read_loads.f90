@@ -3,7 +3,7 @@
 module xd_input_read_loads
     use xd_kinds, only: wp
     use xd_core_errors, only: error_t, make_error
-    use xd_core_strings, only: itoa
+    use xd_core_strings, only: itoa, to_upper
     use xd_input_field_reader, only: card_t, card_format_t, card_format, get_int, get_real, get_text, &
                                      card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
@@ -36,7 +36,7 @@ contains
             call read_coord(ctx, kw, model, error)
         case ('RIGIDWALL_GEOMETRIC_CYLINDER')
             call read_cylinder(ctx, kw, model, error)
-        case ('SET_SEGMENT')
+        case ('SET_SEGMENT', 'SET_SEGMENT_GENERAL')
             call read_segment_set(ctx, kw, model, error)
         case ('LOAD_SEGMENT', 'LOAD_SEGMENT_SET', 'LOAD_SHELL_ELEMENT', 'LOAD_SHELL_SET')
             call read_pressure(ctx, kw, model, error)
@@ -64,6 +64,29 @@ contains
         end if
         ss%src = kw%card_line(ic)
         allocate (ss%seg(4, max(kw%ncard - ic, 1)))
+        if (kw%name == 'SET_SEGMENT_GENERAL') then
+            ! OPTION E1..E7 cards, resolved once elements and parts are known
+            allocate (ss%rule_op(max(kw%ncard - ic, 1)), ss%rule_val(8, max(kw%ncard - ic, 1)), &
+                      ss%rule_line(max(kw%ncard - ic, 1)))
+            ss%rule_val = 0
+            do ic = ic + 1, kw%ncard
+                call get_card(ctx, kw, ic, 'OPTION E1 E2 E3 E4 E5 E6 E7', 2, card, error)
+                if (allocated(error)) return
+                if (card_blank(card)) cycle
+                ss%nrule = ss%nrule + 1
+                ss%rule_op(ss%nrule) = to_upper(get_text(card, 1))
+                ss%rule_line(ss%nrule) = kw%card_line(ic)
+                do k = 1, 7
+                    call get_int(card, k + 1, ss%rule_val(k, ss%nrule), 0, error); if (allocated(error)) return
+                end do
+            end do
+            ss%n = 0
+            if (.not. allocated(model%segset)) allocate (model%segset(4))
+            if (model%nsegset == size(model%segset)) model%segset = [model%segset, model%segset]
+            model%nsegset = model%nsegset + 1
+            model%segset(model%nsegset) = ss
+            return
+        end if
         fmt = card_format('N1 N2 N3 N4 A1 A2 A3 A4', kw%width_mode)
         do ic = ic + 1, kw%ncard
             call get_card(ctx, kw, ic, fmt, 2, card, error)

@@ -8,12 +8,12 @@ module xd_input_set_rules
     use xd_kinds, only: wp
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
-    use xd_core_sorting, only: id_map_t
+    use xd_core_sorting, only: id_map_t, sort_index
     use xd_input_context, only: read_ctx_t
     use xd_model, only: model_t, set_node, set_part, set_shell, find_set, find_box
     implicit none
     private
-    public :: resolve_set_rules
+    public :: resolve_set_rules, resolve_segment_rules
 
 contains
 
@@ -286,5 +286,187 @@ contains
             call make_error(error, at//': this option does not apply to a set of this kind')
         end subroutine wrong
     end subroutine resolve_general
+
+    !> *SET_SEGMENT_GENERAL: segments of shells (N1..N4 as the element) and
+    !> exterior faces of hexahedra (outward; a face of a part's hexahedra is
+    !> exterior when no other hexahedron of that part shares it), by the
+    !> options ALL, PART, BOX (segments whose centre is inside), SHELL and
+    !> SET_SHELL, each with a D form taking away what earlier cards gave.
+    !> The members are written as node ids, as *SET_SEGMENT cards give them.
+    subroutine resolve_segment_rules(ctx, model, parts, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_map_t), intent(in) :: parts
+        type(error_t), allocatable, intent(out) :: error
+        integer, allocatable :: cand(:, :), cpart(:), cshell(:)
+        logical, allocatable :: on(:), pick(:)
+        integer :: i, r, k, v, p, b, j, nc
+        logical :: del
+        character(len=10) :: op
+        character(len=:), allocatable :: at
+        if (.not. any([(model%segset(i)%nrule > 0, i=1, model%nsegset)])) return
+        call candidates(cand, cpart, cshell, nc)
+        cand = cand(:, 1:nc)
+        cpart = cpart(1:nc)
+        cshell = cshell(1:nc)
+        allocate (on(nc), pick(nc))
+        do i = 1, model%nsegset
+            associate (ss => model%segset(i))
+                if (ss%nrule == 0) cycle
+                on = .false.
+                do r = 1, ss%nrule
+                    op = ss%rule_op(r)
+                    at = ctx%src%where(ss%rule_line(r))//': *SET_SEGMENT_GENERAL '//itoa(ss%id)//' option '//trim(op)
+                    del = op(1:1) == 'D'
+                    if (del) op = op(2:)
+                    pick = .false.
+                    select case (trim(op))
+                    case ('ALL')
+                        pick = .true.
+                    case ('PART', 'BOX', 'SHELL', 'SET_SHELL')
+                        do k = 1, 7
+                            v = ss%rule_val(k, r)
+                            if (v == 0) cycle
+                            select case (trim(op))
+                            case ('PART')
+                                p = parts%find(v)
+                                if (p == 0) then
+                                    call make_error(error, at//': part '//itoa(v)//' is not defined'); return
+                                end if
+                                where (cpart == p) pick = .true.
+                            case ('BOX')
+                                b = find_box(model, v)
+                                if (b == 0) then
+                                    call make_error(error, at//': box '//itoa(v)//' is not defined'); return
+                                end if
+                                do j = 1, nc
+                                    if (all(centre(j) >= model%box(b)%lo) .and. all(centre(j) <= model%box(b)%hi)) &
+                                        pick(j) = .true.
+                                end do
+                            case ('SHELL')
+                                j = findloc(model%shell_id(1:model%nshell), v, 1)
+                                if (j == 0) then
+                                    call make_error(error, at//': shell '//itoa(v)//' is not defined'); return
+                                end if
+                                where (cshell == j) pick = .true.
+                            case default
+                                b = find_set(model, set_shell, v)
+                                if (b == 0) then
+                                    call make_error(error, at//': shell set '//itoa(v)//' is not defined'); return
+                                end if
+                                do j = 1, model%set(b)%n
+                                    p = findloc(model%shell_id(1:model%nshell), model%set(b)%member(j), 1)
+                                    if (p > 0) where (cshell == p) pick = .true.
+                                end do
+                            end select
+                        end do
+                    case default
+                        call make_error(error, at//': not supported (ALL, PART, BOX, SHELL, SET_SHELL and their '// &
+                                        'D forms are)')
+                        return
+                    end select
+                    if (del) then
+                        on = on .and. .not. pick
+                    else
+                        on = on .or. pick
+                    end if
+                end do
+                ss%n = count(on)
+                ss%seg = reshape(model%node_id(pack(cand, spread(on, 1, 4))), [4, ss%n])
+            end associate
+        end do
+    contains
+        !> Every shell, then every exterior hexahedron face (per part).
+        subroutine candidates(c, cp, cs, n)
+            integer, allocatable, intent(out) :: c(:, :), cp(:), cs(:)
+            integer, intent(out) :: n
+            integer, parameter :: face(4, 6) = reshape([1, 4, 3, 2, 5, 6, 7, 8, 1, 2, 6, 5, 2, 3, 7, 6, &
+                                                        3, 4, 8, 7, 4, 1, 5, 8], [4, 6])
+            integer, allocatable :: keys(:, :), perm(:)
+            logical, allocatable :: inner(:)
+            integer :: e, f, q, m, d(4), u(4), nu, g, i1, i2
+            allocate (c(4, model%nshell + 6*model%nhex), cp(model%nshell + 6*model%nhex), &
+                      cs(model%nshell + 6*model%nhex), keys(4, 6*model%nhex))
+            n = 0
+            do e = 1, model%nshell
+                n = n + 1
+                c(:, n) = model%shell_conn(:, e)
+                cp(n) = model%shell_part(e)
+                cs(n) = e
+            end do
+            ! faces shared by two hexahedra of one part: sorted by their
+            ! smallest node, compared within the runs of equal smallest node
+            m = 0
+            do e = 1, model%nhex
+                do f = 1, 6
+                    m = m + 1
+                    keys(:, m) = sorted(model%hex_conn(face(:, f), e))
+                end do
+            end do
+            allocate (inner(m))
+            inner = .false.
+            if (m > 0) call sort_index(keys(1, :), perm)
+            q = 1
+            do while (q <= m)
+                g = q
+                do while (g < m)
+                    if (keys(1, perm(g + 1)) /= keys(1, perm(q))) exit
+                    g = g + 1
+                end do
+                do i1 = q, g
+                    do i2 = i1 + 1, g
+                        if (model%hex_part((perm(i1) - 1)/6 + 1) /= model%hex_part((perm(i2) - 1)/6 + 1)) cycle
+                        if (all(keys(:, perm(i1)) == keys(:, perm(i2)))) then
+                            inner(perm(i1)) = .true.
+                            inner(perm(i2)) = .true.
+                        end if
+                    end do
+                end do
+                q = g + 1
+            end do
+            do e = 1, model%nhex
+                do f = 1, 6
+                    if (inner(6*(e - 1) + f)) cycle
+                    d = model%hex_conn(face(:, f), e)
+                    ! a face collapsed by a degenerate element: a triangle, or none
+                    nu = 0
+                    do q = 1, 4
+                        if (.not. any(u(1:nu) == d(q))) then
+                            nu = nu + 1
+                            u(nu) = d(q)
+                        end if
+                    end do
+                    if (nu < 3) cycle
+                    if (nu == 3) d = [u(1), u(2), u(3), u(3)]
+                    n = n + 1
+                    c(:, n) = d
+                    cp(n) = model%hex_part(e)
+                    cs(n) = 0
+                end do
+            end do
+        end subroutine candidates
+
+        pure function sorted(a) result(o)
+            integer, intent(in) :: a(4)
+            integer :: o(4), i2, j2, t
+            o = a
+            do i2 = 2, 4
+                t = o(i2)
+                j2 = i2 - 1
+                do while (j2 >= 1)
+                    if (o(j2) <= t) exit
+                    o(j2 + 1) = o(j2)
+                    j2 = j2 - 1
+                end do
+                o(j2 + 1) = t
+            end do
+        end function sorted
+
+        function centre(j) result(x)
+            integer, intent(in) :: j
+            real(wp) :: x(3)
+            x = sum(model%x0(:, cand(:, j)), dim=2)/4
+        end function centre
+    end subroutine resolve_segment_rules
 
 end module xd_input_set_rules

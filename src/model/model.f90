@@ -160,6 +160,11 @@ module xd_model
         integer :: n = 0
         integer, allocatable :: seg(:, :)   !< (4, n)
         integer :: src = 0
+        !> *SET_SEGMENT_GENERAL: OPTION E1..E7 cards, resolved with the model
+        integer :: nrule = 0
+        character(len=10), allocatable :: rule_op(:)
+        integer, allocatable :: rule_val(:, :)
+        integer, allocatable :: rule_line(:)
     end type segment_set_t
 
     !> *LOAD_SEGMENT (one segment) or *LOAD_SEGMENT_SET: pressure sf * curve(t - at)
