@@ -1942,7 +1942,7 @@ def test_public_forms():
                q.returncode == 1 and all(e in q.stderr for e in expect), q.stderr[-300:])
 
 
-PUBLIC = os.path.join(os.path.dirname(ROOT), "shared", "public-decks")
+PUBLIC = os.environ.get("XDYNA_PUBLIC_DECKS", os.path.join(os.path.dirname(ROOT), "shared", "public-decks"))
 
 
 def public_figures(out, stdout):
