@@ -1387,6 +1387,23 @@ def test_contact_surface_log():
             ok = got == want and "contact ................... on" in log
         record(f"contact {name}: runs, log counts segments/shell/solid/nodes/slaves {want}", ok,
                f"got {got} {p.stderr[-200:]}")
+    # MBOXID: only the plate's shells whose centre lies in a box over x <= 0.5
+    # (5 columns of 10) are master segments: 24 + 50 segments, 26 + 66 nodes
+    text = open(os.path.join(ROOT, "input_decks/contact/variant_surface_to_surface.k")).read()
+    old = "         7cube on plate\n         1         2         3         3\n"
+    assert old in text
+    deck = os.path.join(TMP, "contact_mboxid.k")
+    with open(deck, "w") as fh:
+        fh.write(text.replace(old, "         7cube on plate\n         1         2         3         3         0         9\n")
+                 .replace("*KEYWORD\n", "*KEYWORD\n*DEFINE_BOX\n         9      -1.0       0.5      -1.0       2.0      -1.0       0.1\n", 1))
+    p, out = run_deck(deck, "contact_mboxid")
+    got = None
+    if p.returncode == 0:
+        m = re.search(r"segments (\d+) \(shell (\d+), solid (\d+)\)\s+surface nodes (\d+)\s+slave nodes (\d+)",
+                      open(os.path.join(out, "d3hsp")).read())
+        got = tuple(int(v) for v in m.groups()) if m else None
+    record(f"contact MBOXID: only the master segments centred in the box (log counts {got}, expected "
+           f"(74, 50, 24, 92, 92))", got == (74, 50, 24, 92, 92), p.stderr[-200:])
     log = open(os.path.join(TMP, "contact_variant_single_all_but", "d3hsp")).read()
     record("contact: card A BSORT 5 sets the search interval of its interface",
            "global search every 5 cycles" in log)

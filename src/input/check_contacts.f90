@@ -7,7 +7,8 @@ module xd_input_check_contacts
     use xd_core_sorting, only: id_map_t
     use xd_input_context, only: read_ctx_t
     use xd_model, only: model_t, find_set, set_node, set_part, set_shell, styp_segment_set, styp_shell_set, &
-                        styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but, ct_single, ct_general
+                        styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but, ct_single, ct_general, &
+                        find_box
     implicit none
     private
     public :: check_contacts
@@ -32,6 +33,17 @@ contains
                 if (allocated(error)) return
                 call resolve(c%msid, c%mstyp, 'MSID', c%mref, c%src)
                 if (allocated(error)) return
+                if (c%kind == ct_single .or. c%kind == ct_general) c%mboxid = c%sboxid
+                if (c%sboxid > 0 .and. find_box(model, c%sboxid) == 0) then
+                    call make_error(error, ctx%src%where(c%src)//': *'//trim(c%keyword)//' field SBOXID: box '// &
+                                    itoa(c%sboxid)//' is not defined (*DEFINE_BOX)')
+                    return
+                end if
+                if (c%mboxid > 0 .and. find_box(model, c%mboxid) == 0) then
+                    call make_error(error, ctx%src%where(c%src)//': *'//trim(c%keyword)//' field MBOXID: box '// &
+                                    itoa(c%mboxid)//' is not defined (*DEFINE_BOX)')
+                    return
+                end if
             end associate
         end do
         if (model%ctl%contact%dump_nsid > 0) then

@@ -74,13 +74,18 @@ contains
             call get_int(card, 2, c%msid, 0, error); if (allocated(error)) return
             call get_int(card, 3, c%sstyp, 0, error); if (allocated(error)) return
             call get_int(card, 4, c%mstyp, 0, error); if (allocated(error)) return
+            c%sboxid = 0
+            c%mboxid = 0
             do k = 1, 2
                 call get_int(card, 4 + k, ibox(k), 0, error); if (allocated(error)) return
-                if (ibox(k) /= 0) then
-                    call card_error(card, 4 + k, 'boxes are not supported (SBOXID and MBOXID must be 0)', error)
+                if (ibox(k) < 0) then
+                    call card_error(card, 4 + k, 'a box id must not be negative (contact-box-following boxes '// &
+                                    'are not supported)', error)
                     return
                 end if
             end do
+            c%sboxid = ibox(1)
+            c%mboxid = ibox(2)
             if (c%sstyp < styp_segment_set .or. c%sstyp > styp_all_but) then
                 call card_error(card, 3, 'SSTYP '//itoa(c%sstyp)//' is not 0-6 (segment set, shell set, part set, part, '// &
                                 'node set, all, all but a part set)', error)

@@ -244,6 +244,7 @@ module xd_model
         character(len=48) :: keyword = ''
         integer :: kind = ct_single
         integer :: ssid = 0, msid = 0, sstyp = 0, mstyp = 0
+        integer :: sboxid = 0, mboxid = 0        !< only slave (master) nodes and segments inside these boxes at t = 0
         integer :: sref = 0, mref = 0            !< index of the set, segment set or part once checked
         real(wp) :: fs = 0, fd = 0, dc = 0, vc = 0, vdc = 0
         real(wp) :: bt = 0, dt = 1.0e20_wp      !< birth and death times
