@@ -37,6 +37,11 @@ def main(argv):
                            capture_output=True, text=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
         wall = time.time() - t0
         ratios = [float(v) for v in re.findall(r"ratio\s+(\S+)", p.stdout)]
+        th = os.path.join(out, "thist.h5")
+        if p.returncode == 0 and os.path.exists(th):
+            with h5py.File(th, "r") as f:
+                if "glstat" in f:
+                    ratios = list(f["glstat/energy_ratio"][:])     # every output step, not every 5 s
         end = re.findall(r"t (\S+)\s+dt", p.stdout)
         row = {"deck": deck, "exit": p.returncode, "normal": "normal termination" in p.stdout,
                "end_time": float(end[-1]) if end else 0.0, "wall_s": wall,
@@ -64,8 +69,9 @@ def main(argv):
         f.write("# Public decks (`make public`)\n\nThe decks of `../shared/public-decks`, unchanged, run to their "
                 "end times on one thread. Penetration: the checker `tools/penetration.py` on the states, nodes "
                 "and segments of the deck's contact parts only, an overlap counted beyond what the pair had in "
-                "the first state (the decks start with overlapping flanges). Written by `tools/public_decks.py`.\n\n")
-        f.write("| deck | exit | end time (s) | wall (s) | energy ratio dev. | largest overlap growth "
+                "the first state (the decks start with overlapping flanges and parts meeting others in their plane). "
+                "Units of the car decks: mm, tonne, s (forces in N). Written by `tools/public_decks.py`.\n\n")
+        f.write("| deck | exit | end time (s) | wall (s) | energy ratio dev. (glstat, else the progress lines) | largest overlap growth "
                 "(of thickness) | pass-throughs |\n|---|---|---|---|---|---|---|\n")
         for r in rows:
             pe = r.get("penetration") or {}
@@ -75,7 +81,8 @@ def main(argv):
             f.write("\ncar6 at 0.2 s: largest x-force on the post (rwforc wall 2) "
                     f"{car6['post_max_x_force']:.4e} N; final x-displacement of node 605 "
                     f"{car6['node605_final_x_disp']:.4e} mm; final x rigid-body velocity of part 1 "
-                    f"{car6['part1_final_x_rbv']:.4e} mm/s; final internal energy {car6['final_internal_energy']:.4e}; "
+                    f"{car6['part1_final_x_rbv']:.4e} mm/s (from -8,333); final internal energy "
+                    f"{car6['final_internal_energy']:.4e} N mm ({car6['final_internal_energy'] * 1e-6:.1f} kJ); "
                     f"wall time {car6['wall_s']:.0f} s.\n")
     bad = [r for r in rows if not r["normal"] or not r["ratio_dev"] < 0.02]
     return 1 if bad else 0
