@@ -1999,7 +1999,8 @@ def test_public_decks():
             continue
         ratio, fx, px = public_figures(out, p.stdout)
         dev = float(np.max(abs(ratio - 1)))
-        record(f"public {deck}: energy ratio within 2% of 1 (largest deviation {dev:.4f})", dev < 0.02)
+        record(f"public {deck}: energy ratio within 2% of 1 (largest deviation {dev:.4f} over {len(ratio)} values: "
+               f"glstat, or the progress lines where the deck asks for none)", dev < 0.02 and len(ratio) >= 2)
         # the post stops the car: the wall's x-force (force of the nodes on
         # the wall) points along the car's motion, -x
         record(f"public {deck}: the post is struck (largest x-force on it {fx.min():.3e} N)", fx.min() < -1e3)

@@ -379,6 +379,8 @@ contains
                 if (ic + 1 <= kw%ncard) then
                     call get_card(ctx, kw, ic + 1, 'TFAIL EPSF SN SS N M', 2, card, error)
                     if (allocated(error)) return
+                    call ignored_fields(model, card, [5, 6], 'the exponents of the force criterion (refused) are not '// &
+                        'used; ignored')
                     call get_real(card, 1, r%tfail, 1.0e20_wp, error, zero_default=.true.)
                     if (allocated(error)) return
                     do k = 2, 4

@@ -70,6 +70,7 @@ contains
             c%at = ctx%src%where(c%src)
             call get_card(ctx, kw, ic, 'SSID MSID SSTYP MSTYP SBOXID MBOXID SPR MPR', 1, card, error)
             if (allocated(error)) return
+            call ignored_fields(model, card, [7, 8], 'interface force file output (SPR, MPR) is not written; ignored')
             call get_int(card, 1, c%ssid, 0, error); if (allocated(error)) return
             call get_int(card, 2, c%msid, 0, error); if (allocated(error)) return
             call get_int(card, 3, c%sstyp, 0, error); if (allocated(error)) return
@@ -234,6 +235,8 @@ contains
             if (kw%ncard >= 1) then
                 call get_card(ctx, kw, 1, 'SLSFAC RWPNAL ISLCHK SHLTHK PENOPT THKCHG ORIEN ENMASS', 1, card, error)
                 if (allocated(error)) return
+                call ignored_fields(model, card, [3, 4], 'the automatic contact always checks initial '// &
+                    'penetrations and counts shell thickness; ignored', keep='1')
                 call get_real(card, 1, cc%slsfac, 0.1_wp, error, zero_default=.true.); if (allocated(error)) return
                 if (cc%slsfac < 0.0_wp) then
                     call card_error(card, 1, 'SLSFAC must not be negative', error); return
@@ -243,14 +246,17 @@ contains
                                                      '(kinematic) in xdyna; ignored')
                 do k = 5, 8
                     call get_int(card, k, ival, 0, error); if (allocated(error)) return
-                    ! PENOPT 1 is the default stiffness rule (the one xdyna uses)
-                    if (ival /= 0 .and. .not. (k == 5 .and. ival == 1)) &
+                    ! PENOPT 1 is the default stiffness rule (the one xdyna uses);
+                    ! ORIEN 1 (LS-DYNA's default) orients segments, as the
+                    ! automatic contact does anyway
+                    if (ival /= 0 .and. .not. (k == 5 .and. ival == 1) .and. .not. (k == 7 .and. ival == 1)) &
                         call add_warning(model, at//' field '//trim(ignored1(k - 4))//': not implemented; ignored')
                 end do
             end if
             if (kw%ncard >= 2) then
                 call get_card(ctx, kw, 2, 'USRSTR USRFRC NSBCS INTERM XPENE SSTHK ECDT TIEDPRJ', 2, card, error)
                 if (allocated(error)) return
+                call ignored_fields(model, card, [1, 2, 4, 5, 6, 7, 8], 'not used by xdyna; ignored', keep='4 4.0 4.')
                 call get_int(card, 3, cc%nsbcs, 0, error); if (allocated(error)) return
                 if (cc%nsbcs < 0) then
                     call card_error(card, 3, 'NSBCS '//itoa(cc%nsbcs)//' (cycles between global searches) '// &
@@ -258,12 +264,30 @@ contains
                     return
                 end if
             end if
+            ! cards 3-7: every field set is named, but IGNORE 1 (initial
+            ! penetrations kept and released as the nodes move out), which is
+            ! what xdyna does
             do k = 3, kw%ncard
-                call get_card(ctx, kw, k, 'X', k, card, error, raw=.true.)
+                select case (k)
+                case (3)
+                    call get_card(ctx, kw, k, 'SFRIC DFRIC EDC VFC TH TH_SF PEN_SF PTSCL', k, card, error)
+                case (4)
+                    call get_card(ctx, kw, k, 'IGNORE FRCENG SKIPRWG OUTSEG SPOTSTP SPOTDEL SPOTHIN DIR_TIE', k, &
+                                  card, error)
+                case (5)
+                    call get_card(ctx, kw, k, 'ISYM NSEROD RWGAPS RWGDTH RWKSF ICOV SWRADF ITHOFF', k, card, error)
+                case (6)
+                    call get_card(ctx, kw, k, 'SHLEDG PSTIFF ITHCNT TDCNOF FTALL UNUSED SHLTRW IGACTC', k, card, error)
+                case default
+                    call get_card(ctx, kw, k, 'F1 F2 F3 F4 F5 F6 F7 F8', k, card, error)
+                end select
                 if (allocated(error)) return
-                if (.not. card_blank(card)) then
-                    call add_warning(model, at//': cards 3-7 are not used by xdyna; ignored')
-                    exit
+                if (k == 4) then
+                    call ignored_fields(model, card, [1], 'xdyna keeps initial penetrations and releases them as '// &
+                                        'the nodes move out (IGNORE 1); other values are not implemented', keep='1')
+                    call ignored_fields(model, card, [2, 3, 4, 5, 6, 7, 8], 'not used by xdyna; ignored')
+                else
+                    call ignored_fields(model, card, [1, 2, 3, 4, 5, 6, 7, 8], 'not used by xdyna; ignored')
                 end if
             end do
         end associate

@@ -37,8 +37,8 @@ contains
                 if (c%endtim < 0.0_wp) then
                     call card_error(card, 1, 'termination time must not be negative', error); return
                 end if
-                if (endmas /= 0.0_wp) call add_warning(model, at//' field ENDMAS: mass scaling '// &
-                                                       'is not implemented; ignored')
+                ! ENDMAS stops a run whose mass scaling added too much mass:
+                ! xdyna adds none, so the limit is always met
                 c%termination_given = .true.
             case ('CONTROL_TIMESTEP')
                 call get_card(ctx, kw, ic, 'DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST', 1, card, error)

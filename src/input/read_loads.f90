@@ -212,7 +212,12 @@ contains
         if (nsegs /= 0) then
             call card_error(card, 3, 'a cylinder of varying radius (NSEGS > 0) is not supported', error); return
         end if
-        if (index(kw%written, '_DISPLAY') > 0 .and. ic + 3 <= kw%ncard) ic = ic + 1
+        if (index(kw%written, '_DISPLAY') > 0 .and. ic + 3 <= kw%ncard) then
+            call get_card(ctx, kw, ic + 3, 'PID RO E PR', 4, card, error)
+            if (allocated(error)) return
+            call ignored_fields(model, card, [1, 2, 3, 4], 'the wall''s picture (display part) is not drawn; ignored')
+            ic = ic + 1
+        end if
         w%cylinder = .true.
         if (.not. allocated(model%wall)) allocate (model%wall(4))
         if (model%nwall == size(model%wall)) model%wall = [model%wall, model%wall]
