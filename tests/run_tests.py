@@ -1998,9 +1998,18 @@ def test_public_decks():
         if p.returncode != 0:
             continue
         ratio, fx, px = public_figures(out, p.stdout)
+        if len(ratio) < 10:
+            # the deck asks for no glstat: the same deck included from a
+            # wrapper that adds *DATABASE_GLSTAT, for the energy ratio
+            wrap = os.path.join(TMP, "glstat_" + deck)
+            with open(wrap, "w") as fh:
+                fh.write("*KEYWORD\n*DATABASE_GLSTAT\n   1.0e-04\n*INCLUDE\n" + os.path.join(PUBLIC, deck) + "\n*END\n")
+            q = run([XDYNA, "i=" + wrap, "outdir=" + out + "_glstat", "endtim=" + end])
+            if q.returncode == 0:
+                ratio = glstat(out + "_glstat")["energy_ratio"]
         dev = float(np.max(abs(ratio - 1)))
-        record(f"public {deck}: energy ratio within 2% of 1 (largest deviation {dev:.4f} over {len(ratio)} values: "
-               f"glstat, or the progress lines where the deck asks for none)", dev < 0.02 and len(ratio) >= 2)
+        record(f"public {deck}: energy ratio within 2% of 1 (largest deviation {dev:.1e} over {len(ratio)} glstat "
+               f"values; car5 asks for no glstat: a wrapper deck including it adds one)", dev < 0.02 and len(ratio) >= 10)
         # the post stops the car: the wall's x-force (force of the nodes on
         # the wall) points along the car's motion, -x
         record(f"public {deck}: the post is struck (largest x-force on it {fx.min():.3e} N)", fx.min() < -1e3)
