@@ -145,7 +145,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         type(init_vel_t) :: iv
-        integer :: ic, k, icid
+        integer :: ic, k
         do ic = first_card(kw), kw%ncard
             call get_card(ctx, kw, ic, 'NID VX VY VZ VXR VYR VZR ICID', 1, card, error)
             if (allocated(error)) return

@@ -8,9 +8,9 @@ module xd_input_set_rules
     use xd_kinds, only: wp
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
-    use xd_core_sorting, only: id_map_t, sort_index
+    use xd_core_sorting, only: id_map_t, sort_index, small_sort
     use xd_input_context, only: read_ctx_t
-    use xd_model, only: model_t, set_node, set_part, set_shell, find_set, find_box
+    use xd_model, only: model_t, set_node, set_part, set_shell, find_set, find_box, mark_part_nodes
     implicit none
     private
     public :: resolve_set_rules, resolve_segment_rules
@@ -170,12 +170,7 @@ contains
                     case (set_part)
                         pick(p) = .true.
                     case (set_node)
-                        do e = 1, model%nshell
-                            if (model%shell_part(e) == p) pick(model%shell_conn(:, e)) = .true.
-                        end do
-                        do e = 1, model%nhex
-                            if (model%hex_part(e) == p) pick(model%hex_conn(:, e)) = .true.
-                        end do
+                        call mark_part_nodes(model, p, pick)
                     case default
                         where (model%shell_part(1:model%nshell) == p) pick = .true.
                     end select
@@ -260,12 +255,7 @@ contains
                         else if (s%kind == set_shell) then
                             where (model%shell_part(1:model%nshell) == p) pick = .true.
                         else
-                            do e = 1, model%nshell
-                                if (model%shell_part(e) == p) pick(model%shell_conn(:, e)) = .true.
-                            end do
-                            do e = 1, model%nhex
-                                if (model%hex_part(e) == p) pick(model%hex_conn(:, e)) = .true.
-                            end do
+                            call mark_part_nodes(model, p, pick)
                         end if
                     end select
                 end do
@@ -400,7 +390,8 @@ contains
             do e = 1, model%nhex
                 do f = 1, 6
                     m = m + 1
-                    keys(:, m) = sorted(model%hex_conn(face(:, f), e))
+                    keys(:, m) = model%hex_conn(face(:, f), e)
+                    call small_sort(keys(:, m))
                 end do
             end do
             allocate (inner(m))
@@ -446,21 +437,6 @@ contains
             end do
         end subroutine candidates
 
-        pure function sorted(a) result(o)
-            integer, intent(in) :: a(4)
-            integer :: o(4), i2, j2, t
-            o = a
-            do i2 = 2, 4
-                t = o(i2)
-                j2 = i2 - 1
-                do while (j2 >= 1)
-                    if (o(j2) <= t) exit
-                    o(j2 + 1) = o(j2)
-                    j2 = j2 - 1
-                end do
-                o(j2 + 1) = t
-            end do
-        end function sorted
 
         function centre(j) result(x)
             integer, intent(in) :: j

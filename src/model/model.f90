@@ -8,7 +8,7 @@ module xd_model
     public :: model_t, part_t, section_solid_t, section_shell_t, material_t, hourglass_t, set_t
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
     public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, segment_set_t, pressure_t, curve_value
-    public :: box_t, find_box, coord_t, find_coord
+    public :: box_t, find_box, coord_t, find_coord, mark_part_nodes
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
@@ -389,6 +389,21 @@ contains
         end do
         ix = 0
     end function find_set
+
+    !> Set mark(n) for every node of part index p's hexahedra and shells
+    !> (connectivity as node indices, after the input checks).
+    pure subroutine mark_part_nodes(model, p, mark)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: p
+        logical, intent(inout) :: mark(:)
+        integer :: e
+        do e = 1, model%nhex
+            if (model%hex_part(e) == p) mark(model%hex_conn(:, e)) = .true.
+        end do
+        do e = 1, model%nshell
+            if (model%shell_part(e) == p) mark(model%shell_conn(:, e)) = .true.
+        end do
+    end subroutine mark_part_nodes
 
     !> Index of *DEFINE_COORDINATE_... `id` (0: none).
     pure integer function find_coord(model, id) result(ix)

@@ -11,7 +11,7 @@ module xd_rigid_bodies
     use xd_kinds, only: wp, dp
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
-    use xd_model, only: model_t, mat_rigid, find_set, set_node, curve_value, constraint_dirs
+    use xd_model, only: model_t, mat_rigid, find_set, set_node, curve_value, constraint_dirs, mark_part_nodes
     use xd_solver_state, only: state_t
     use xd_core_vectors, only: cross
     use xd_contact_rigidwall, only: walls_t, wall_distance
@@ -100,12 +100,7 @@ contains
         do p = 1, model%npart
             if (.not. (model%part(p)%inertia .and. mp(p) <= 0.0_dp)) cycle
             mark = .false.
-            do e = 1, model%nhex
-                if (model%hex_part(e) == p) mark(model%hex_conn(:, e)) = .true.
-            end do
-            do e = 1, model%nshell
-                if (model%shell_part(e) == p) mark(model%shell_conn(:, e)) = .true.
-            end do
+            call mark_part_nodes(model, p, mark)
             nn = count(mark)
             if (nn > 0) where (mark) st%mass = st%mass + real(model%part(p)%tm/nn, wp)
         end do

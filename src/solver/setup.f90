@@ -4,7 +4,7 @@ module xd_solver_setup
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc
     use xd_model, only: model_t, find_set, constraint_dirs, set_node, set_part, iv_node_set, iv_node, iv_generation, &
-                        mat_elastic, find_box
+                        mat_elastic, find_box, mark_part_nodes
     use xd_core_sorting, only: id_map_t
     use xd_elements_hex8, only: hex_b_matrix
     use xd_elements_solid_groups, only: solids_t, build_solids, material_plastic_law
@@ -199,13 +199,7 @@ contains
     contains
         subroutine mark_part(p)
             integer, intent(in) :: p
-            integer :: e
-            do e = 1, model%nhex
-                if (model%hex_part(e) == p) mark(model%hex_conn(:, e)) = .true.
-            end do
-            do e = 1, model%nshell
-                if (model%shell_part(e) == p) mark(model%shell_conn(:, e)) = .true.
-            end do
+            call mark_part_nodes(model, p, mark)
         end subroutine mark_part
     end subroutine initial_velocities
 
