@@ -76,7 +76,7 @@ debug: deps
 	@$(MAKE) --no-print-directory bin/xdyna_debug$(SUFFIX)
 
 check: deps
-	@$(MAKE) --no-print-directory all tests
+	@$(MAKE) --no-print-directory all tests bin/xdyna_debug$(SUFFIX)
 	@$(PY) tests/run_tests.py
 
 demo: deps

@@ -1116,6 +1116,15 @@ def test_thdiff():
              "--rtol", "1e-4", "--atol", "1e-12"])
     record("thdiff: ASCII nodout and thist.h5 of one run agree (ASCII has 5 digits)", q.returncode == 0,
            q.stdout[-300:])
+    # a run stopped halfway is not the same run (issue 18, finding 4): the
+    # bar to 75 us against the bar to 150 us at zero tolerance fails and
+    # names the ends; --overlap compares the common times and passes
+    p, half = run_deck("input_decks/verify/bar_impact.k", "bar_half", extra=("endtim=7.5e-5",))
+    q = run([THDIFF, half, base, "--rtol", "0"])
+    record("thdiff: a run that ends at half time fails against the full run, naming the last common time",
+           p.returncode == 0 and q.returncode == 1 and "last common time" in q.stdout, q.stdout[-400:])
+    q = run([THDIFF, half, base, "--rtol", "0", "--overlap"])
+    record("thdiff --overlap: the same pair passes over the common times", q.returncode == 0, q.stdout[-400:])
     ref = "/dev/null"
     q = run([THDIFF, base, ref])
     record("thdiff: unreadable input exits 2", q.returncode == 2, q.stdout[-200:] + q.stderr[-200:])
@@ -2131,10 +2140,60 @@ def test_wall_semantics():
                    named >= int(face.sum()) > 0 and x[:, nxt].min() >= 0.002 - 1e-9 * 0.5)
 
 
+def test_hardening():
+    """Issue 18's findings that are mended, each on the input that showed it:
+    - no deck or argument text reaches a shell: outdir='x$(touch F)' makes a
+      directory of that very name and no file F (finding 3);
+    - a *SET_NODE_LIST_GENERATE range of 3,000,000 ids gives an input error,
+      not a crash (a stack temporary as large as the set; finding 5);
+    - *INCLUDE of a FIFO or of /dev/zero is refused at once as not a regular
+      file (it blocked for ever, or read as empty; finding 6);
+    - RO = 1e999 is 'out of range' in the debug build too (the conversion
+      trapped), and RO = 1e-320 is refused (a subnormal density ran with a
+      'massless nodes' warning; findings 7 and 10)."""
+    base = os.path.join(TMP, "hard")
+    shutil.rmtree(base, ignore_errors=True)
+    os.makedirs(base)
+    deck = os.path.join(ROOT, "input_decks/verify/bar_wall.k")
+    odd = os.path.join(base, "x$(touch F)")
+    p = run([XDYNA, "i=" + deck, "outdir=" + odd, "endtim=1e-6"], cwd=base)
+    record("hardening: outdir with $(...) makes that directory and runs no shell", p.returncode == 0
+           and os.path.isdir(odd) and not os.path.exists(os.path.join(base, "F")), p.stderr[-300:])
+    text = open(deck).read()
+    cases = [("*SET_NODE_LIST_GENERATE\n        77\n         1   3000000\n", "bigset", 1, ["bigset.k", "*SET_NODE_LIST 77"]),
+             ("*INCLUDE\n/dev/zero\n", "devzero", 1, ["devzero.k", "not a regular file"]),
+             ("*INCLUDE\n" + os.path.join(base, "fifo") + "\n", "fifo", 1, ["fifo.k", "not a regular file"])]
+    os.mkfifo(os.path.join(base, "fifo"))
+    for add, name, code, expect in cases:
+        path = os.path.join(base, name + ".k")
+        with open(path, "w") as fh:
+            fh.write(text.replace("*KEYWORD\n", "*KEYWORD\n" + add, 1))
+        try:
+            q = subprocess.run([XDYNA, "i=" + path, "outdir=" + os.path.join(base, name + "_out")], capture_output=True,
+                               text=True, timeout=60)
+            ok = q.returncode == code and all(e in q.stderr for e in expect)
+            detail = q.stderr[-300:]
+        except subprocess.TimeoutExpired:
+            ok, detail = False, "no answer within 60 s"
+        record(f"hardening: {name} exits {code} naming " + ", ".join(expect), ok, detail)
+    ro = "         1      7850 2.000e+11         0"
+    assert ro in text
+    for value, exe in (("1e999", XDYNA + "_debug"), ("1e999", XDYNA), ("1e-320", XDYNA)):
+        path = os.path.join(base, "ro.k")
+        with open(path, "w") as fh:
+            fh.write(text.replace(ro, f"         1{value:>10s} 2.000e+11         0"))
+        if not os.path.exists(exe):
+            record(f"hardening: {os.path.basename(exe)} is built", False)
+            continue
+        q = run([exe, "i=" + path, "outdir=" + os.path.join(base, "ro")])
+        record(f"hardening: RO = {value} is refused as out of range by {os.path.basename(exe)} (exit 1, no trap)",
+               q.returncode == 1 and "field RO" in q.stderr and "out of range" in q.stderr, q.stderr[-300:])
+
+
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

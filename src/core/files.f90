@@ -1,12 +1,15 @@
 !> File operations Fortran lacks, from the C library: rename (atomic on one
 !> file system: a reader sees the old file or the new one, never half of
-!> one) and truncate.
+!> one), truncate, mkdir (no shell ever sees a path) and the kind of a file.
 module xd_core_files
     use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_long
     use xd_kinds, only: i8
     implicit none
     private
-    public :: rename_file, truncate_file
+    public :: rename_file, truncate_file, make_dirs, file_kind
+    public :: fk_missing, fk_regular, fk_directory, fk_other
+
+    integer, parameter :: fk_missing = 0, fk_regular = 1, fk_directory = 2, fk_other = 3
 
     interface
         integer(c_int) function c_rename(a, b) bind(c, name='rename')
@@ -18,6 +21,11 @@ module xd_core_files
             character(kind=c_char), intent(in) :: p(*)
             integer(c_long), value :: n
         end function c_truncate
+        integer(c_int) function c_mkdir(p, mode) bind(c, name='mkdir')
+            import :: c_int, c_char
+            character(kind=c_char), intent(in) :: p(*)
+            integer(c_int), value :: mode
+        end function c_mkdir
     end interface
 
 contains
@@ -40,5 +48,43 @@ contains
         rc = c_truncate(path//c_null_char, int(bytes, c_long))
         if (present(ok)) ok = rc == 0
     end subroutine truncate_file
+
+    !> Create directory `path` and its missing parents (mode 0777 less the
+    !> umask), as `mkdir -p` would, with no shell; ok false if it is not a
+    !> directory at the end.
+    subroutine make_dirs(path, ok)
+        character(len=*), intent(in) :: path
+        logical, intent(out) :: ok
+        integer :: k
+        integer(c_int) :: rc
+        do k = 2, len(path)
+            if (path(k:k) == '/' .and. path(k - 1:k - 1) /= '/') then
+                if (file_kind(path(1:k - 1)) == fk_missing) rc = c_mkdir(path(1:k - 1)//c_null_char, int(o'777', c_int))
+            end if
+        end do
+        if (len(path) > 0) then
+            if (file_kind(path) == fk_missing) rc = c_mkdir(path//c_null_char, int(o'777', c_int))
+        end if
+        ok = file_kind(path) == fk_directory
+    end subroutine make_dirs
+
+    !> What `path` is: missing, a regular file, a directory, or something
+    !> else (a FIFO, a device, a socket), from stat(2) (the file itself, a
+    !> link followed).
+    integer function file_kind(path) result(k)
+        character(len=*), intent(in) :: path
+        integer :: values(13), st, mode
+        call stat(path, values, st)
+        k = fk_missing
+        if (st /= 0) return
+        mode = iand(values(3), int(o'170000'))
+        if (mode == int(o'100000')) then
+            k = fk_regular
+        else if (mode == int(o'040000')) then
+            k = fk_directory
+        else
+            k = fk_other
+        end if
+    end function file_kind
 
 end module xd_core_files

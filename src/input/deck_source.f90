@@ -5,6 +5,7 @@ module xd_input_deck_source
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: to_upper, dirname, join_path, itoa
     use xd_core_memory, only: grow
+    use xd_core_files, only: file_kind, fk_directory, fk_other
     implicit none
     private
     public :: deck_source_t, load_deck, max_include_depth
@@ -52,7 +53,7 @@ contains
         integer, intent(in) :: depth, from_file, from_line
         type(error_t), allocatable, intent(out) :: error
         integer :: ifile, pos, n, lineno, eol, k, j, nincl
-        character(len=:), allocatable :: word, fname, cont
+        character(len=:), allocatable :: word, fname, cont, why
         logical :: more
 
         if (depth > max_include_depth) then
@@ -63,11 +64,12 @@ contains
         call add_file(src, path, ifile)
         call read_whole(src%files(ifile)%text, path, n, error)
         if (allocated(error)) then
+            why = error%message
             if (from_file > 0) then
-                call make_error(error, '*INCLUDE: cannot open '''//path//'''', &
+                call make_error(error, '*INCLUDE: cannot open '''//path//''' ('//why//')', &
                                 src%files(from_file)%name, from_line)
             else
-                call make_error(error, 'cannot open deck '''//path//'''')
+                call make_error(error, 'cannot open deck '''//path//''' ('//why//')')
             end if
             return
         end if
@@ -233,6 +235,16 @@ contains
             call make_error(error, 'no such file')
             return
         end if
+        ! a FIFO would block the reader for ever, a device (/dev/zero) has
+        ! no size to read: only regular files are decks
+        select case (file_kind(path))
+        case (fk_directory)
+            call make_error(error, 'it is a directory, not a file')
+            return
+        case (fk_other)
+            call make_error(error, 'it is not a regular file (a FIFO, a device or a socket)')
+            return
+        end select
         open (newunit=u, file=path, access='stream', form='unformatted', status='old', &
               action='read', iostat=st)
         if (st /= 0) then

@@ -235,15 +235,21 @@ contains
         type(error_t), allocatable, intent(out) :: error
         logical, intent(in), optional :: zero_default
         real(dp) :: v
-        logical :: ok
+        logical :: ok, outside
         x = default
         if (field_blank(card, i)) return
-        call parse_real(card%f(i), v, ok)
+        call parse_real(card%f(i), v, ok, outside)
+        if (outside) then
+            call card_error(card, i, ''''//trim(card%f(i))//''' is out of range', error)
+            return
+        end if
         if (.not. ok) then
             call card_error(card, i, ''''//trim(card%f(i))//''' is not a number', error)
             return
         end if
-        if (abs(v) > real(huge(x), dp)) then
+        ! beyond the working precision's range, or below its smallest normal
+        ! number (a subnormal density or modulus is no physical value)
+        if (abs(v) > real(huge(x), dp) .or. (v /= 0.0_dp .and. abs(v) < real(tiny(x), dp))) then
             call card_error(card, i, ''''//trim(card%f(i))//''' is out of range', error)
             return
         end if
@@ -285,23 +291,35 @@ contains
 
     !> Fortran-style real: [sign] digits [. digits] [exponent], the exponent
     !> being [EeDd][sign]digits or sign digits (E-less, as in 2.00000-3).
-    pure subroutine parse_real(s, x, ok)
+    !> A value whose decimal exponent lies beyond double precision's normal
+    !> range (above 1e307 or below 1e-307 in size, not zero) is not
+    !> converted (the conversion would overflow, a trap in a debug build):
+    !> ok is false and `out_of_range` true.
+    pure subroutine parse_real(s, x, ok, out_of_range)
         character(len=*), intent(in) :: s
         real(dp), intent(out) :: x
         logical, intent(out) :: ok
-        integer :: i, n, ndig, m
+        logical, intent(out), optional :: out_of_range
+        integer :: i, n, ndig, m, nint_sig, nlead, ex, exsign
+        logical :: nonzero, seen_nonzero
         character(kind=c_char) :: buf(64)
         x = 0.0_dp
         ok = .false.
+        if (present(out_of_range)) out_of_range = .false.
         n = len_trim(s)
         if (n == 0 .or. n > 60) return
         m = 0
         i = 1
         if (s(i:i) == '+' .or. s(i:i) == '-') call put(buf, m, i, s(i:i))
         ndig = 0
+        nint_sig = 0          ! significant digits before the point
+        nlead = 0             ! zeros after the point before the first nonzero digit
+        seen_nonzero = .false.
         do while (i <= n)
             if (.not. is_digit(s(i:i))) exit
             ndig = ndig + 1
+            if (s(i:i) /= '0') seen_nonzero = .true.
+            if (seen_nonzero) nint_sig = nint_sig + 1
             call put(buf, m, i, s(i:i))
         end do
         if (i <= n) then
@@ -310,11 +328,15 @@ contains
                 do while (i <= n)
                     if (.not. is_digit(s(i:i))) exit
                     ndig = ndig + 1
+                    if (.not. seen_nonzero .and. s(i:i) == '0') nlead = nlead + 1
+                    if (s(i:i) /= '0') seen_nonzero = .true.
                     call put(buf, m, i, s(i:i))
                 end do
             end if
         end if
         if (ndig == 0) return
+        nonzero = seen_nonzero
+        ex = 0
         if (i <= n) then
             select case (s(i:i))
             case ('e', 'E', 'd', 'D')
@@ -326,12 +348,28 @@ contains
             if (i > n) return
             m = m + 1
             buf(m) = 'e'
+            exsign = 1
+            if (s(i:i) == '-') exsign = -1
             if (s(i:i) == '+' .or. s(i:i) == '-') call put(buf, m, i, s(i:i))
             if (i > n) return
             do while (i <= n)
                 if (.not. is_digit(s(i:i))) return
+                if (ex < 100000) ex = 10*ex + (ichar(s(i:i)) - ichar('0'))
                 call put(buf, m, i, s(i:i))
             end do
+            ex = exsign*ex
+        end if
+        ! the decimal exponent of the leading significant digit
+        if (nonzero) then
+            if (nint_sig > 0) then
+                ex = ex + nint_sig - 1
+            else
+                ex = ex - nlead - 1
+            end if
+            if (ex > 307 .or. ex < -307) then
+                if (present(out_of_range)) out_of_range = .true.
+                return
+            end if
         end if
         buf(m + 1) = c_null_char
         x = real(c_strtod(buf, c_null_ptr), dp)

@@ -81,7 +81,7 @@ contains
                 end do
             end if
         end do
-        s%member = s%member(1:s%n)
+        call shrink(s%member, s%n)
         call store(model, s)
     end subroutine read_set
 
@@ -136,6 +136,17 @@ contains
             end if
         end do
     end subroutine read_rules
+
+    !> Cut a to its first n entries through the heap (an array section
+    !> assigned to itself would take a stack temporary as large as the set).
+    subroutine shrink(a, n)
+        integer, allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: n
+        integer, allocatable :: tmp(:)
+        allocate (tmp(n))
+        tmp(1:n) = a(1:n)
+        call move_alloc(tmp, a)
+    end subroutine shrink
 
     subroutine push(s, v)
         type(set_t), intent(inout) :: s

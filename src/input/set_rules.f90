@@ -62,10 +62,12 @@ contains
         integer, intent(in) :: i
         logical, intent(inout) :: done(:), progress
         type(error_t), allocatable, intent(out) :: error
-        integer :: r, k, j, m
-        integer, allocatable :: mem(:)
-        allocate (mem(0))
+        integer :: r, k, j, m, total
+        integer, allocatable :: mem(:), perm(:)
+        logical, allocatable :: dup(:)
         associate (s => model%set(i))
+            ! the member sets must exist and be resolved; then their union
+            total = 0
             do r = 1, s%nrule
                 do k = 1, 8
                     if (s%rule_val(k, r) == 0) cycle
@@ -77,17 +79,38 @@ contains
                         return
                     end if
                     if (.not. done(j)) return
-                    mem = [mem, model%set(j)%member(1:model%set(j)%n)]
+                    total = total + model%set(j)%n
                 end do
             end do
-            ! the union, duplicates dropped, first occurrence kept
+            ! heap arrays only (a set may hold millions of ids); duplicates
+            ! dropped, first occurrence kept
+            allocate (mem(total))
             m = 0
-            do k = 1, size(mem)
-                if (any(mem(1:m) == mem(k))) cycle
+            do r = 1, s%nrule
+                do k = 1, 8
+                    if (s%rule_val(k, r) == 0) cycle
+                    j = find_set(model, s%kind, s%rule_val(k, r))
+                    mem(m + 1:m + model%set(j)%n) = model%set(j)%member(1:model%set(j)%n)
+                    m = m + model%set(j)%n
+                end do
+            end do
+            allocate (dup(total))
+            dup = .false.
+            if (total > 0) then
+                call sort_index(mem, perm)
+                do k = 2, total
+                    ! equal ids sit together in perm; the stable sort keeps
+                    ! the first occurrence first
+                    if (mem(perm(k)) == mem(perm(k - 1))) dup(perm(k)) = .true.
+                end do
+            end if
+            m = 0
+            do k = 1, total
+                if (dup(k)) cycle
                 m = m + 1
                 mem(m) = mem(k)
             end do
-            s%member = mem(1:m)
+            call move_alloc(mem, s%member)
             s%n = m
         end associate
         done(i) = .true.

@@ -22,6 +22,7 @@ program xdyna
     use xd_contact_rigidwall, only: walls_t, build_walls
     use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses
     use xd_core_strings, only: join_path, out_path
+    use xd_core_files, only: make_dirs
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
     use xd_rigid_bodies, only: rigid_t
     use xd_solver_loads, only: pressures_t, build_pressures
@@ -128,7 +129,12 @@ program xdyna
     if (len(jobid) > 0) stem = join_path(outdir, jobid//'.')
 
     if (.not. check_only .and. env%rank == 0) then
-        call execute_command_line('mkdir -p "'//outdir//'"')
+        ! created by the C library: no shell ever sees the name
+        call make_dirs(outdir, ok)
+        if (.not. ok) then
+            call say('xdyna: cannot create the output directory '''//outdir//'''')
+            call finish_alone(exit_input)
+        end if
         if (len(printed) == 0) printed = out_path(stem, 'd3hsp')
         call log_open(printed, lg, ok, append=len(restart) > 0)
         if (.not. ok) then

@@ -80,6 +80,7 @@ contains
         real(wp) :: dtc, g_new(3)
         real(dp) :: dt_avg, wpm
         real(dp) :: t_last_progress, ratio_limit, t0_wall, t_dump, t_gather
+        real(wp) :: dt_ref
         logical :: done, due, energy_now, dumped_end, near_limit, status_now
         integer :: nd, cycle0, stop_sig
         integer :: nreverse   !< cycles in a row whose kinetic energy says velocities reverse
@@ -131,6 +132,20 @@ contains
                 end if
             end if
             st%dt = real(model%ctl%tssfac, wp)*dtc
+            ! the step of an intact mesh changes slowly: one that is not a
+            ! finite positive number, or grew a hundredfold over this run's
+            ! first, comes from elements turned inside out or a state gone
+            ! bad (a curve of 1e30), not from physics
+            if (st%cycle == cycle0) dt_ref = st%dt
+            if (.not. (st%dt > 0.0_wp .and. st%dt <= huge(1.0_wp))) then
+                call fail('time step '//rtoa(real(st%dt, dp))//' is not a finite positive number; controlling '// &
+                          controlling())
+                exit
+            else if (st%dt > 100.0_wp*dt_ref) then
+                call fail('time step '//rtoa(real(st%dt, dp))//' grew beyond 100 times the run''s first ('// &
+                          rtoa(real(dt_ref, dp))//'): the state has gone bad; controlling '//controlling())
+                exit
+            end if
             if (st%cycle == 0) then
                 if (model%ctl%dtinit > 0.0_wp) st%dt = min(st%dt, model%ctl%dtinit)
                 st%dt_first = st%dt
@@ -283,6 +298,11 @@ contains
 
         res%ncycle = st%cycle
         res%loop_wall = tm%elapsed() - t0_wall
+        ! the end reached in one step at most past ENDTIM
+        if (res%status == exit_normal .and. opts%endtim < huge(1.0_dp)) then
+            if (.not. (st%time <= opts%endtim + 1.000001_dp*real(st%dt_old, dp))) &
+                call fail('time '//rtoa(st%time)//' is past the end time '//rtoa(opts%endtim)//' by more than a step')
+        end if
         if (res%status == exit_normal) then
             call log_line(lg, '')
             call log_line(lg, ' N o r m a l    t e r m i n a t i o n   at time '//rtoa(st%time)// &
@@ -497,6 +517,17 @@ contains
                 end do
                 if (i > st%nnode) i = 1
                 call fail('energy is NaN or infinite; first bad node '//node_where(i))
+            else if (en%ratio < 0.0_dp .and. abs(st%e_initial + en%ext) > 0.0_dp) then
+                ! a negative total against a positive input is no physical
+                ! state (walls, contact and hourglass work are all in the
+                ! total). The bound is 0, not 1/limit: the prescribed motion
+                ! of rigid bodies is not booked exactly yet (rigid_prescribed
+                ! reads 0.61 at 9.6 ms) and the ratio of the first cycles of a
+                ! run loaded from rest is noise
+                i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
+                call fail('energy ratio '//ftoa(en%ratio)//' is negative (total '// &
+                          ftoa(en%total)//' against initial energy plus external work '// &
+                          ftoa(st%e_initial + en%ext)//'); fastest node '//node_where(i))
             else if (en%ratio > ratio_limit) then
                 i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
                 sv = stiff_volume_parts(solids)

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """thdiff: compare the time histories of two runs.
 
-usage: thdiff A B [--rtol R] [--atol A] [--only NAMES] [--common] [--pointwise] [--top N]
+usage: thdiff A B [--rtol R] [--atol A] [--only NAMES] [--common] [--pointwise] [--overlap] [--top N]
 
 A and B are run directories (thist.h5 if both have one, else the ASCII
 files glstat, matsum, nodout, rcforc, rwforc found in both), thist.h5
@@ -11,6 +11,10 @@ A point fails when |a - b| > atol + rtol * peak, where peak is the largest
 |b| of that series (so values crossing zero are judged against the size of
 the signal); with --pointwise, peak is |b| at that point. B's series are
 interpolated linearly onto A's times when the time lists differ.
+
+The two runs must span the same times: one that ends earlier than the other
+(a run killed halfway) fails, with the last common time and each run's end,
+unless --overlap asks for the common times only.
 
 Exit status: 0 all within tolerance, 1 some series differ (or are missing
 from one run without --common), 2 unreadable input.
@@ -247,6 +251,8 @@ def main(argv=None):
     ap.add_argument("--only", default="", help="comma-separated prefixes of series names (glstat,matsum/...)")
     ap.add_argument("--common", action="store_true", help="compare only the series both runs have")
     ap.add_argument("--pointwise", action="store_true", help="tolerance relative to each point, not the peak")
+    ap.add_argument("--overlap", action="store_true",
+                    help="compare only the times both runs reached (a shorter run is no failure)")
     ap.add_argument("--top", type=int, default=10, help="how many of the worst series to print")
     args = ap.parse_args(argv)
     try:
@@ -265,6 +271,15 @@ def main(argv=None):
         print("thdiff: no series in common", file=sys.stderr)
         return 1
     bad = {k: r for k, r in rows.items() if r[0] > 1.0}
+    # the time spans: a run that stops early is not the same run
+    short = []
+    for name in sorted(set(sa) & set(sb)):
+        ta, tb = sa[name][0], sb[name][0]
+        if len(ta) == 0 or len(tb) == 0:
+            continue
+        span = max(abs(ta[-1]), abs(tb[-1]), 1e-300)
+        if abs(ta[-1] - tb[-1]) > 1e-6 * span or abs(ta[0] - tb[0]) > 1e-6 * span:
+            short.append((name, ta[0], ta[-1], tb[0], tb[-1]))
     worst = sorted(rows.items(), key=lambda kv: -kv[1][0])[: args.top]
     print(f"thdiff: {len(rows)} series compared (rtol {args.rtol:g}, atol {args.atol:g}"
           f"{', pointwise' if args.pointwise else ', relative to each series peak'})")
@@ -274,7 +289,16 @@ def main(argv=None):
         print(f"  {name:44s} {t:12.5e} {va:13.5e} {vb:13.5e} {abs(va - vb):11.3e} {allowed:11.3e} {flag}")
     if missing:
         print(f"thdiff: {len(missing)} series in only one run, e.g. {', '.join(missing[:5])}")
-    if bad or (missing and not args.common):
+    if short:
+        name, a0, a1, b0, b1 = short[0]
+        common = min(a1, b1)
+        print(f"thdiff: {len(short)} series span different times, e.g. {name}: A {a0:.6e} to {a1:.6e}, "
+              f"B {b0:.6e} to {b1:.6e}; last common time {common:.6e}"
+              + (" (--overlap: compared over the common times)" if args.overlap else ""))
+    if bad or (missing and not args.common) or (short and not args.overlap):
+        if short and not args.overlap and not bad:
+            print("thdiff: the runs end at different times (use --overlap to compare the common times only)")
+            return 1
         print(f"thdiff: {len(bad)} series over tolerance" + ("" if args.common or not missing else
                                                               f", {len(missing)} missing"))
         return 1
