@@ -2150,7 +2150,8 @@ def test_hardening():
       file (it blocked for ever, or read as empty; finding 6);
     - RO = 1e999 is 'out of range' in the debug build too (the conversion
       trapped), and RO = 1e-320 is refused (a subnormal density ran with a
-      'massless nodes' warning; findings 7 and 10)."""
+      'massless nodes' warning; findings 7 and 10), and a pressure on nodes
+      that belong to no element stops with the node named (finding 10)."""
     base = os.path.join(TMP, "hard")
     shutil.rmtree(base, ignore_errors=True)
     os.makedirs(base)
@@ -2176,6 +2177,18 @@ def test_hardening():
         except subprocess.TimeoutExpired:
             ok, detail = False, "no answer within 60 s"
         record(f"hardening: {name} exits {code} naming " + ", ".join(expect), ok, detail)
+    # a pressure on nodes that belong to no element (finding 10): exit 1
+    # naming the node, not a silent run
+    col = open(os.path.join(ROOT, "input_decks/verify/pressure_column.k")).read()
+    add = ("*NODE\n  900001             5.0             0.0             0.0\n  900002             6.0             0.0             0.0\n"
+           "  900003             6.0             1.0             0.0\n*LOAD_SEGMENT\n        40       1.0       0.0"
+           "    900001    900002    900003    900003\n")
+    path = os.path.join(base, "massless_pressure.k")
+    with open(path, "w") as fh:
+        fh.write(col.replace("*KEYWORD\n", "*KEYWORD\n" + add, 1))
+    q = run([XDYNA, "i=" + path, "outdir=" + os.path.join(base, "mp")])
+    record("hardening: a pressure on nodes without mass exits 1 naming the node", q.returncode == 1
+           and "node 900001" in q.stderr and "no mass" in q.stderr, q.stderr[-300:])
     ro = "         1      7850 2.000e+11         0"
     assert ro in text
     for value, exe in (("1e999", XDYNA + "_debug"), ("1e999", XDYNA), ("1e-320", XDYNA)):

@@ -70,7 +70,7 @@ program xdyna
     logical :: check_only, ok
     character(len=:), allocatable :: memory_note
     real(dp) :: endtim_cli
-    integer :: i, ncpu, nfree, nparts
+    integer :: i, k, ncpu, nfree, nparts
 
     call tm%begin()
     call parallel_start(env)
@@ -191,6 +191,17 @@ program xdyna
     if (ct%n > 0) call contact_masses(ct, st%mass)
     call build_prescribed(model, pn)
     call build_pressures(model, pl)
+    ! a pressure on a node without mass would push nothing (it is held
+    ! fixed): a deck error, not a run
+    do i = 1, pl%n
+        if (any(st%mass(pl%seg(:, i)) <= 0.0_wp)) then
+            k = pl%seg(minloc(st%mass(pl%seg(:, i)), 1), i)
+            call say('xdyna: '//model%deck_path//': a pressure load (*LOAD_SEGMENT or *LOAD_SHELL) acts on node '// &
+                     itoa(model%node_id(k))//', which belongs to no element (no mass)')
+            call log_line(lg, ' *** Error: a pressure load acts on node '//itoa(model%node_id(k))//' without mass')
+            call finish(exit_input)
+        end if
+    end do
     if (nfree > 0) call add_warning(model, itoa(nfree)//' nodes belong to no element (massless; held fixed)')
     do i = 1, size(stiff_volume_parts(solids))
         associate (p => model%part(stiff_volume_parts(solids)))
