@@ -2189,6 +2189,25 @@ def test_hardening():
     q = run([XDYNA, "i=" + path, "outdir=" + os.path.join(base, "mp")])
     record("hardening: a pressure on nodes without mass exits 1 naming the node", q.returncode == 1
            and "node 900001" in q.stderr and "no mass" in q.stderr, q.stderr[-300:])
+    # a truncated dump: one line naming it, exit 1, no HDF5 diagnostics
+    # (finding 8: "written by another build (, format 0)" after 50 lines)
+    path = os.path.join(base, "dumped.k")
+    with open(path, "w") as fh:
+        fh.write(text.replace("*KEYWORD\n", "*KEYWORD\n*DATABASE_BINARY_D3DUMP\n         0\n", 1))
+    out = os.path.join(base, "dumped")
+    q = run([XDYNA, "i=" + path, "outdir=" + out, "endtim=2e-5"])
+    dump = os.path.join(out, "d3dump.h5")
+    if q.returncode == 0 and os.path.exists(dump):
+        half = os.path.join(out, "half.h5")
+        shutil.copy(dump, half)
+        os.truncate(half, os.path.getsize(dump) // 2)
+        q = run([XDYNA, "r=" + half])
+        lines = [l for l in q.stderr.splitlines() if l.strip()]
+        record(f"hardening: a truncated dump exits 1 in one line naming it ({len(lines)} line(s))",
+               q.returncode == 1 and len(lines) == 1 and half in lines[0] and "HDF5-DIAG" not in q.stderr,
+               q.stderr[-300:])
+    else:
+        record("hardening: the run that writes a dump", False, q.stderr[-300:])
     ro = "         1      7850 2.000e+11         0"
     assert ro in text
     for value, exe in (("1e999", XDYNA + "_debug"), ("1e999", XDYNA), ("1e-320", XDYNA)):

@@ -108,7 +108,12 @@ program xdyna
         ! come from this build
         call read_dump_meta(restart, meta, ok)
         if (.not. ok) then
-            call say('xdyna: r='//restart//': not a readable restart dump')
+            call say('xdyna: r='//restart//': not a readable restart dump (not an HDF5 file, or damaged)')
+            call finish(exit_input)
+        end if
+        if (meta%format == 0 .or. len(meta%build) == 0) then
+            call say('xdyna: r='//restart//': the dump is damaged or is not an xdyna dump (its format '// &
+                     'and build records cannot be read)')
             call finish(exit_input)
         end if
         if (meta%format /= dump_format .or. meta%build /= build_tag()) then

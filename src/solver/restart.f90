@@ -182,10 +182,11 @@ contains
         inquire (file=path, exist=there)
         ok = there
         if (.not. ok) return
+        ! HDF5's own diagnostics stay quiet: a damaged dump is said in one line
+        ! by the caller
         call h5open_f(err)
         call h5eset_auto_f(0, err)
         call h5fopen_f(path, H5F_ACC_RDONLY_F, f, err)
-        call h5eset_auto_f(1, err)
         ok = err == 0
         if (.not. ok) return
         fmt = get_text(f, 'format')
@@ -223,6 +224,7 @@ contains
         integer(i8), allocatable :: bl(:)
         logical :: there
         call h5open_f(err)
+        call h5eset_auto_f(0, err)
         call h5fopen_f(path, H5F_ACC_RDONLY_F, f, err)
         if (err /= 0) then
             error = 'cannot open the dump'
