@@ -31,7 +31,7 @@ TEST_SRC := $(sort $(wildcard tests/unit/test_*.f90))
 
 flat = $(subst /,_,$(patsubst src/%,%,$(patsubst tests/%,tests_%,$(basename $(1))))).o
 
-.PHONY: all deps check demo bench debug clean verify tests examples stability sweeps contact-suite public
+.PHONY: all deps check demo bench debug clean verify tests examples stability sweeps contact-suite public fuzz
 all: bin/xdyna$(SUFFIX) bin/thdiff
 
 deps:
@@ -115,6 +115,10 @@ stability: deps
 public: deps
 	@$(MAKE) --no-print-directory all
 	@$(PY) tools/public_decks.py
+
+fuzz: deps
+	@$(MAKE) --no-print-directory all
+	@$(PY) tools/fuzz.py --seconds $${FUZZ_SECONDS:-600}
 
 bench: deps
 	@$(MAKE) --no-print-directory all bin/search_bench$(SUFFIX)
