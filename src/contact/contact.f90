@@ -19,7 +19,7 @@ module xd_contact_contact
     use xd_core_strings, only: itoa
     use xd_model, only: model_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, &
                         ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
-                        styp_node_set, styp_all, styp_all_but, search_adaptive, find_box
+                        styp_node_set, styp_all, styp_all_but, search_adaptive, find_box, in_box, box_t
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell
     use xd_core_vectors, only: cross
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t
@@ -169,10 +169,11 @@ contains
                 ! SBOXID, MBOXID: only segments whose centre, and slave nodes
                 ! that, lie in the box at t = 0
                 if (c%sboxid > 0) then
-                    call box_faces(c%sboxid, in_a)
-                    slaves = pack(slaves, [(in_box(c%sboxid, x0(:, slaves(k))), k=1, size(slaves))])
+                    call box_faces(model%box(find_box(model, c%sboxid)), in_a)
+                    slaves = pack(slaves, [(in_box(model%box(find_box(model, c%sboxid)), x0(:, slaves(k))), &
+                                            k=1, size(slaves))])
                 end if
-                if (c%mboxid > 0) call box_faces(c%mboxid, in_b)
+                if (c%mboxid > 0) call box_faces(model%box(find_box(model, c%mboxid)), in_b)
                 call build_surface(ct%faces, model%nnode, in_a, in_b, slaves, c%kind == ct_surface_to_surface, &
                                    [c%sst, c%mst, c%sfst, c%sfmt], [model%ctl%contact%slsfac, c%sfs, c%sfm], it%surf, &
                                    model%hex_conn(:, 1:model%nhex))
@@ -204,22 +205,14 @@ contains
             end associate
         end do
     contains
-        subroutine box_faces(boxid, on)
-            integer, intent(in) :: boxid
+        subroutine box_faces(bx, on)
+            type(box_t), intent(in) :: bx
             logical, intent(inout) :: on(:)
             integer :: f
             do f = 1, ct%faces%n
-                if (on(f)) on(f) = in_box(boxid, sum(x0(:, ct%faces%node(:, f)), dim=2)/4)
+                if (on(f)) on(f) = in_box(bx, sum(x0(:, ct%faces%node(:, f)), dim=2)/4)
             end do
         end subroutine box_faces
-
-        logical function in_box(boxid, x)
-            integer, intent(in) :: boxid
-            real(wp), intent(in) :: x(3)
-            integer :: b
-            b = find_box(model, boxid)
-            in_box = all(x >= model%box(b)%lo) .and. all(x <= model%box(b)%hi)
-        end function in_box
 
         !> Faces of the parts, sets or segments that (sid, styp) names.
         subroutine select_faces(sid, styp, ref, field, sel)

@@ -7,7 +7,7 @@
 module xd_contact_rigidwall
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc
-    use xd_model, only: model_t, rigidwall_t, find_set, set_node, find_box
+    use xd_model, only: model_t, rigidwall_t, find_set, set_node, find_box, in_box
     use xd_core_strings, only: itoa
     use xd_solver_state, only: state_t
     use xd_core_sorting, only: where_true
@@ -64,7 +64,7 @@ contains
                 if (w%boxid /= 0) then
                     b = find_box(model, w%boxid)
                     do nd = 1, model%nnode
-                        if (any(x0(:, nd) < model%box(b)%lo) .or. any(x0(:, nd) > model%box(b)%hi)) on(nd) = .false.
+                        if (.not. in_box(model%box(b), x0(:, nd))) on(nd) = .false.
                     end do
                 end if
                 if (w%nsidex /= 0) then

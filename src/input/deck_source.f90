@@ -52,9 +52,8 @@ contains
         character(len=*), intent(in) :: path
         integer, intent(in) :: depth, from_file, from_line
         type(error_t), allocatable, intent(out) :: error
-        integer :: ifile, pos, n, lineno, eol, k, j, nincl
-        character(len=:), allocatable :: word, fname, cont, why
-        logical :: more
+        integer :: ifile, pos, n, lineno, eol, k, nincl
+        character(len=:), allocatable :: word, fname, why
 
         if (depth > max_include_depth) then
             call make_error(error, '*INCLUDE nested more than '//itoa(max_include_depth)// &
@@ -76,7 +75,6 @@ contains
 
         pos = 1
         lineno = 0
-        nincl = 0
         do while (pos <= n)
             call line_bounds(src%files(ifile)%text, pos, k, eol)
             lineno = lineno + 1
@@ -94,29 +92,10 @@ contains
             ! next card. *INCLUDE_PATH(_RELATIVE): each card a directory where
             ! included files are looked for (relative: to the main deck's).
             src%nline = src%nline - 1
+            nincl = 0
             do while (pos <= n)
                 if (src%files(ifile)%text(pos:pos) == '*') exit
-                fname = ''
-                more = .true.
-                do while (more .and. pos <= n)
-                    if (src%files(ifile)%text(pos:pos) == '*') exit
-                    call line_bounds(src%files(ifile)%text, pos, k, eol)
-                    lineno = lineno + 1
-                    cont = src%files(ifile)%text(pos:k)
-                    pos = eol + 1
-                    if (len(cont) > 0) then
-                        if (cont(1:1) == '$') cycle
-                    end if
-                    j = len_trim(cont)
-                    more = .false.
-                    if (j >= 2) then
-                        if (cont(j - 1:j) == ' +') then
-                            more = .true.
-                            j = j - 2
-                        end if
-                    end if
-                    fname = fname//trim(adjustl(cont(1:j)))
-                end do
+                call next_name(src%files(ifile)%text, pos, lineno, fname)
                 if (len(fname) == 0) cycle
                 if (word == '*INCLUDE_PATH') then
                     call add_search_dir(src, join_path(dirname(path), fname))
@@ -133,9 +112,41 @@ contains
                                 src%files(ifile)%name, lineno)
                 return
             end if
-            nincl = 0
         end do
     end subroutine load_file
+
+    !> The file or directory name that starts at `pos` in `text`: comment
+    !> cards skipped, ' +' at a card's end continuing it on the next, up to
+    !> the next keyword; pos and lineno move past it ('' if none).
+    subroutine next_name(text, pos, lineno, fname)
+        character(len=*), intent(in) :: text
+        integer, intent(inout) :: pos, lineno
+        character(len=:), allocatable, intent(out) :: fname
+        character(len=:), allocatable :: cont
+        integer :: k, eol, j
+        logical :: more
+        fname = ''
+        more = .true.
+        do while (more .and. pos <= len(text))
+            if (text(pos:pos) == '*') exit
+            call line_bounds(text, pos, k, eol)
+            lineno = lineno + 1
+            cont = text(pos:k)
+            pos = eol + 1
+            if (len(cont) > 0) then
+                if (cont(1:1) == '$') cycle
+            end if
+            j = len_trim(cont)
+            more = .false.
+            if (j >= 2) then
+                if (cont(j - 1:j) == ' +') then
+                    more = .true.
+                    j = j - 2
+                end if
+            end if
+            fname = fname//trim(adjustl(cont(1:j)))
+        end do
+    end subroutine next_name
 
     subroutine add_search_dir(src, dir)
         type(deck_source_t), intent(inout) :: src

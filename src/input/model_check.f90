@@ -34,6 +34,7 @@ contains
         call check_shells(ctx, model, maps, error); if (allocated(error)) return
         call check_rigid_mass(ctx, model, maps, error); if (allocated(error)) return
         call check_sets(ctx, model, maps, error); if (allocated(error)) return
+        call apply_coordinate_systems(ctx, model, maps%node, error); if (allocated(error)) return
         call check_conditions(ctx, model, maps, error); if (allocated(error)) return
         call check_loads(ctx, model, maps%node, maps%part, error); if (allocated(error)) return
         call check_contacts(ctx, model, maps%part, error); if (allocated(error)) return
@@ -421,17 +422,8 @@ contains
         end do
         call resolve_set_rules(ctx, model, maps%node, maps%part, error)
         if (allocated(error)) return
-        call apply_coordinate_systems(ctx, model, maps%node, error)
-        if (allocated(error)) return
         do i = 1, model%nset
             associate (s => model%set(i))
-                do j = 1, i - 1
-                    if (model%set(j)%id == s%id .and. model%set(j)%kind == s%kind) then
-                        call make_error(error, ctx%src%where(s%src)//': '//set_word(s%kind)//' '// &
-                                        itoa(s%id)//' is defined twice')
-                        return
-                    end if
-                end do
                 allocate (s%member_ix(s%n))
                 if (s%kind == set_shell) cycle
                 do k = 1, s%n

@@ -10,7 +10,7 @@ module xd_input_set_rules
     use xd_core_strings, only: itoa
     use xd_core_sorting, only: id_map_t, sort_index, small_sort
     use xd_input_context, only: read_ctx_t
-    use xd_model, only: model_t, set_node, set_part, set_shell, find_set, find_box, mark_part_nodes
+    use xd_model, only: model_t, set_node, set_part, set_shell, find_set, find_box, in_box, mark_part_nodes
     implicit none
     private
     public :: resolve_set_rules, resolve_segment_rules
@@ -137,10 +137,8 @@ contains
             allocate (on(n), pick(n))
             on = .false.
             do r = 1, s%nrule
-                op = s%rule_op(r)
-                at = ctx%src%where(s%rule_line(r))//': set '//itoa(s%id)//' (_GENERAL) option '//trim(op)
-                del = op(1:1) == 'D'
-                if (del) op = op(2:)
+                call split_option(s%rule_op(r), op, del)
+                at = ctx%src%where(s%rule_line(r))//': set '//itoa(s%id)//' (_GENERAL) option '//trim(s%rule_op(r))
                 pick = .false.
                 select case (trim(op))
                 case ('ALL')
@@ -157,11 +155,7 @@ contains
                                     'PART, BOX, SET_SHELL, SET_NODE, SET_PART and their D forms are)')
                     return
                 end select
-                if (del) then
-                    on = on .and. .not. pick
-                else
-                    on = on .or. pick
-                end if
+                call apply_rule(on, pick, del)
             end do
             n = count(on)
             s%n = n
@@ -223,12 +217,12 @@ contains
                     select case (s%kind)
                     case (set_node)
                         do j2 = 1, model%nnode
-                            if (inside(model%x0(:, j2))) pick(j2) = .true.
+                            if (in_box(model%box(b), model%x0(:, j2))) pick(j2) = .true.
                         end do
                     case (set_shell)
                         ! a shell is in the box when its centre is
                         do e = 1, model%nshell
-                            if (inside(sum(model%x0(:, model%shell_conn(:, e)), dim=2)/4)) pick(e) = .true.
+                            if (in_box(model%box(b), sum(model%x0(:, model%shell_conn(:, e)), dim=2)/4)) pick(e) = .true.
                         end do
                     case default
                         call wrong()
@@ -285,11 +279,6 @@ contains
             end associate
         end subroutine pick_from_set
 
-        logical function inside(x)
-            real(wp), intent(in) :: x(3)
-            inside = all(x >= model%box(b)%lo) .and. all(x <= model%box(b)%hi)
-        end function inside
-
         subroutine missing(what)
             character(len=*), intent(in) :: what
             call make_error(error, at//': '//what//' '//itoa(v)//' is not defined')
@@ -328,10 +317,9 @@ contains
                 if (ss%nrule == 0) cycle
                 on = .false.
                 do r = 1, ss%nrule
-                    op = ss%rule_op(r)
-                    at = ctx%src%where(ss%rule_line(r))//': *SET_SEGMENT_GENERAL '//itoa(ss%id)//' option '//trim(op)
-                    del = op(1:1) == 'D'
-                    if (del) op = op(2:)
+                    call split_option(ss%rule_op(r), op, del)
+                    at = ctx%src%where(ss%rule_line(r))//': *SET_SEGMENT_GENERAL '//itoa(ss%id)//' option '// &
+                         trim(ss%rule_op(r))
                     pick = .false.
                     select case (trim(op))
                     case ('ALL')
@@ -353,8 +341,7 @@ contains
                                     call make_error(error, at//': box '//itoa(v)//' is not defined'); return
                                 end if
                                 do j = 1, nc
-                                    if (all(centre(j) >= model%box(b)%lo) .and. all(centre(j) <= model%box(b)%hi)) &
-                                        pick(j) = .true.
+                                    if (in_box(model%box(b), centre(j))) pick(j) = .true.
                                 end do
                             case ('SHELL')
                                 j = findloc(model%shell_id(1:model%nshell), v, 1)
@@ -378,11 +365,7 @@ contains
                                         'D forms are)')
                         return
                     end select
-                    if (del) then
-                        on = on .and. .not. pick
-                    else
-                        on = on .or. pick
-                    end if
+                    call apply_rule(on, pick, del)
                 end do
                 ss%n = count(on)
                 ss%seg = reshape(model%node_id(pack(cand, spread(on, 1, 4))), [4, ss%n])
@@ -467,5 +450,29 @@ contains
             x = sum(model%x0(:, cand(:, j)), dim=2)/4
         end function centre
     end subroutine resolve_segment_rules
+
+    !> An OPTION of a _GENERAL card: the option, and whether it is a D form
+    !> (DPART, DBOX, ...: taking away what earlier cards gave).
+    pure subroutine split_option(text, op, del)
+        character(len=*), intent(in) :: text
+        character(len=10), intent(out) :: op
+        logical, intent(out) :: del
+        op = text
+        del = op(1:1) == 'D'
+        if (del) op = op(2:)
+    end subroutine split_option
+
+    !> The cards of a _GENERAL set act in order: a card adds what it picks,
+    !> a D card takes it away.
+    pure subroutine apply_rule(on, pick, del)
+        logical, intent(inout) :: on(:)
+        logical, intent(in) :: pick(:)
+        logical, intent(in) :: del
+        if (del) then
+            on = on .and. .not. pick
+        else
+            on = on .or. pick
+        end if
+    end subroutine apply_rule
 
 end module xd_input_set_rules

@@ -8,7 +8,7 @@ module xd_model
     public :: model_t, part_t, section_solid_t, section_shell_t, material_t, hourglass_t, set_t
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
     public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, segment_set_t, pressure_t, curve_value
-    public :: box_t, find_box, coord_t, find_coord, mark_part_nodes
+    public :: box_t, find_box, in_box, coord_t, find_coord, mark_part_nodes
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
@@ -414,6 +414,13 @@ contains
         end do
         ix = 0
     end function find_coord
+
+    !> Is point x inside box b (faces included)?
+    pure logical function in_box(b, x)
+        type(box_t), intent(in) :: b
+        real(wp), intent(in) :: x(3)
+        in_box = all(x >= b%lo) .and. all(x <= b%hi)
+    end function in_box
 
     !> Index of *DEFINE_BOX `id` (0: none).
     pure integer function find_box(model, id) result(ix)

@@ -59,42 +59,40 @@ contains
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         integer :: e, p, nn
-        real(dp) :: m, xi(3), x(8, 3)
-        real(dp), allocatable :: scale(:), mp(:)
+        real(dp) :: xi(3), x(8, 3)
+        real(dp), allocatable :: scale(:), mp(:), mh(:), ms(:)
         logical, allocatable :: mark(:)
-        ! *PART_INERTIA: the parts' lumped masses scaled to TM (or TM shared
-        ! equally among the nodes of a part whose elements have no mass)
-        allocate (scale(model%npart), mp(model%npart))
+        ! the rigid elements' masses once; *PART_INERTIA scales a part's to
+        ! TM (or shares TM equally among the nodes of a part whose elements
+        ! have no mass)
+        allocate (scale(model%npart), mp(model%npart), mh(model%nhex), ms(model%nshell))
         scale = 1
         mp = 0
+        mh = 0
+        ms = 0
         do e = 1, model%nhex
             p = model%hex_part(e)
             if (.not. is_rigid_part(model, p)) cycle
             x = transpose(real(model%x0(:, model%hex_conn(:, e)), dp))
-            call hex_mass_moments(x, real(model%mat(model%part(p)%mat_ix)%ro, dp), m, xi)
-            mp(p) = mp(p) + m
+            call hex_mass_moments(x, real(model%mat(model%part(p)%mat_ix)%ro, dp), mh(e), xi)
+            mp(p) = mp(p) + mh(e)
         end do
         do e = 1, model%nshell
             p = model%shell_part(e)
             if (.not. is_rigid_part(model, p)) cycle
-            call shell_mass_moments(model, e, m, xi)
-            mp(p) = mp(p) + m
+            call shell_mass_moments(model, e, ms(e), xi)
+            mp(p) = mp(p) + ms(e)
         end do
         do p = 1, model%npart
             if (model%part(p)%inertia .and. mp(p) > 0.0_dp) scale(p) = real(model%part(p)%tm, dp)/mp(p)
         end do
         do e = 1, model%nhex
             p = model%hex_part(e)
-            if (.not. is_rigid_part(model, p)) cycle
-            x = transpose(real(model%x0(:, model%hex_conn(:, e)), dp))
-            call hex_mass_moments(x, real(model%mat(model%part(p)%mat_ix)%ro, dp), m, xi)
-            st%mass(model%hex_conn(:, e)) = st%mass(model%hex_conn(:, e)) + real(scale(p)*m/8.0_dp, wp)
+            st%mass(model%hex_conn(:, e)) = st%mass(model%hex_conn(:, e)) + real(scale(p)*mh(e)/8.0_dp, wp)
         end do
         do e = 1, model%nshell
             p = model%shell_part(e)
-            if (.not. is_rigid_part(model, p)) cycle
-            call shell_mass_moments(model, e, m, xi)
-            st%mass(model%shell_conn(:, e)) = st%mass(model%shell_conn(:, e)) + real(scale(p)*m/4.0_dp, wp)
+            st%mass(model%shell_conn(:, e)) = st%mass(model%shell_conn(:, e)) + real(scale(p)*ms(e)/4.0_dp, wp)
         end do
         allocate (mark(st%nnode))
         do p = 1, model%npart
@@ -347,7 +345,7 @@ contains
             type(rigid_body_t), intent(inout) :: b
             real(dp), intent(in) :: jc(3, 3)
             logical, intent(in) :: nodes(:)
-            real(dp) :: a(3, 3), w(3), work(64), il(3, 3), lm(3), r(3)
+            real(dp) :: a(3, 3), w(3), work(64), il(3, 3), lm(3), r(3), mnodes
             integer :: kk, n, lapack_info
             if (any(nodes .and. taken)) then
                 n = findloc(nodes .and. taken, .true., 1)
@@ -391,8 +389,9 @@ contains
                 lm = lm + st%mass(n)*cross(r, real(st%v(:, n), dp))
                 il = il + st%mass(n)*(dot_product(r, r)*identity() - spread(r, 2, 3)*spread(r, 1, 3))
             end do
-            if (sum(real(st%mass(b%node), dp)) > 0.0_dp) b%vc = b%vc/sum(real(st%mass(b%node), dp))
-            if (size(b%node) >= 3 .and. sum(real(st%mass(b%node), dp)) > 0.0_dp) then
+            mnodes = sum(real(st%mass(b%node), dp))
+            if (mnodes > 0.0_dp) b%vc = b%vc/mnodes
+            if (size(b%node) >= 3 .and. mnodes > 0.0_dp) then
                 b%omega = solve3(il, lm)
             else
                 b%omega = 0

@@ -4,7 +4,7 @@ module xd_solver_setup
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc
     use xd_model, only: model_t, find_set, constraint_dirs, set_node, set_part, iv_node_set, iv_node, iv_generation, &
-                        mat_elastic, find_box, mark_part_nodes
+                        mat_elastic, find_box, in_box, mark_part_nodes
     use xd_core_sorting, only: id_map_t
     use xd_elements_hex8, only: hex_b_matrix
     use xd_elements_solid_groups, only: solids_t, build_solids, material_plastic_law
@@ -160,8 +160,7 @@ contains
                         if (iv%boxid /= 0) then
                             s = find_box(model, iv%boxid)
                             do k = 1, st%nnode
-                                if (any(st%x0(:, k) < model%box(s)%lo) .or. any(st%x0(:, k) > model%box(s)%hi)) &
-                                    mark(k) = .false.
+                                if (.not. in_box(model%box(s), st%x0(:, k))) mark(k) = .false.
                             end do
                         end if
                         do k = 1, st%nnode
