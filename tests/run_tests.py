@@ -925,27 +925,29 @@ def test_batch_signals():
     shutil.rmtree(out, ignore_errors=True)
     e = dict(os.environ)
     e.setdefault("OMP_NUM_THREADS", "1")
+    # the run holds at cycle 200 (XDYNA_HOLD_AT, a hook for tests) and says
+    # so; the signals come after that line, so they hit the run mid-way on
+    # any machine (a fixed sleep raced the run on a fast one: it finished
+    # before SIGTERM came)
+    e["XDYNA_HOLD_AT"] = "200"
     proc = subprocess.Popen([XDYNA, "i=" + os.path.join(ROOT, deck), "outdir=" + out, "endtim=1.0e-3"],
                             cwd=ROOT, env=e, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    # signal once the time loop has started (its first progress line is
-    # out and flushed), not after a fixed sleep: a fixed sleep raced the
-    # run on a fast machine (it finished before SIGTERM came). The run
-    # takes several seconds after that line; 0.3 s later it is mid-run.
     first = proc.stdout.readline()
-    while first and not first.startswith(" cycle"):
+    head = first
+    while first and not first.startswith(" held at cycle"):
         first = proc.stdout.readline()
-    time.sleep(0.3)
+        head += first
     proc.send_signal(signal.SIGUSR2)
-    time.sleep(0.2)
+    time.sleep(0.1)
     proc.send_signal(signal.SIGTERM)
     so, se = proc.communicate(timeout=120)
-    so = first + so
+    so = head + so
     status = sum(1 for line in so.splitlines() if line.startswith(" cycle"))
     record(f"batch: SIGUSR2 prints a status line ({status} progress lines, the first one and the status)",
            status >= 2, so[-300:])
     dumped = os.path.exists(os.path.join(out, "d3dump.h5"))
-    record("batch: SIGTERM mid-run stops with exit 3 and a restart dump", proc.returncode == 3 and dumped,
-           f"rc={proc.returncode} {se[-200:]}")
+    record("batch: SIGTERM mid-run stops with exit 3 and a restart dump at the cycle held",
+           proc.returncode == 3 and dumped and "cycle 200:" in se, f"rc={proc.returncode} {se[-200:]}")
     q = run([XDYNA, "r=" + os.path.join(out, "d3dump.h5"), "endtim=1.0e-3"])
     ok, msg = same_histories(full, out)
     record("batch: the restart after SIGTERM completes identically (thdiff at zero tolerance)",
@@ -2208,6 +2210,42 @@ def test_hardening():
                q.stderr[-300:])
     else:
         record("hardening: the run that writes a dump", False, q.stderr[-300:])
+    # a changed byte inside a dump's array (finding 8: accepted, no
+    # checksum): every dataset carries HDF5's Fletcher-32 checksum, so the
+    # restart refuses it in one line naming the array
+    if os.path.exists(dump):
+        import h5py
+        with h5py.File(dump, "r") as f:
+            off = f["state/x"].id.get_chunk_info(0).byte_offset
+            nbytes = f["state/x"].id.get_chunk_info(0).size
+        bad = os.path.join(out, "flipped.h5")
+        shutil.copy(dump, bad)
+        with open(bad, "r+b") as fh:
+            fh.seek(off + nbytes // 2)
+            b = fh.read(1)
+            fh.seek(off + nbytes // 2)
+            fh.write(bytes([b[0] ^ 1]))
+        q = run([XDYNA, "r=" + bad])
+        lines = [l for l in q.stderr.splitlines() if l.strip()]
+        record(f"hardening: one flipped bit in a dump's coordinates exits 1 naming the checksum ({len(lines)} line(s))",
+               q.returncode == 1 and len(lines) == 1 and "checksum" in q.stderr and bad in q.stderr, q.stderr[-300:])
+        q = run([XDYNA, "r=" + dump, "endtim=3e-5"])
+        record("hardening: the undamaged dump restarts (the checksum passes)", q.returncode == 0, q.stderr[-300:])
+    # SIGTERM before the parallel start-up (finding 8: exit 143, the
+    # handlers came late): the run holds at its first instruction after
+    # installing them (XDYNA_HOLD_AT=start), the signal comes, and it stops
+    # with exit 3, no dump, since there is no state yet
+    import signal
+    e = dict(os.environ, XDYNA_HOLD_AT="start")
+    out = os.path.join(base, "early")
+    proc = subprocess.Popen([XDYNA, "i=" + deck, "outdir=" + out], cwd=base, env=e, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    line = proc.stdout.readline()
+    proc.send_signal(signal.SIGTERM)
+    so, se = proc.communicate(timeout=60)
+    record("hardening: SIGTERM before the parallel start-up exits 3 cleanly, no dump",
+           "held at start" in line and proc.returncode == 3 and "no restart dump" in se
+           and not os.path.exists(os.path.join(out, "d3dump.h5")), f"rc={proc.returncode} {se[-300:]}")
     ro = "         1      7850 2.000e+11         0"
     assert ro in text
     for value, exe in (("1e999", XDYNA + "_debug"), ("1e999", XDYNA), ("1e-320", XDYNA)):

@@ -6,7 +6,7 @@ module xd_core_files
     use xd_kinds, only: i8
     implicit none
     private
-    public :: rename_file, truncate_file, make_dirs, file_kind
+    public :: rename_file, delete_file, truncate_file, make_dirs, file_kind
     public :: fk_missing, fk_regular, fk_directory, fk_other
 
     integer, parameter :: fk_missing = 0, fk_regular = 1, fk_directory = 2, fk_other = 3
@@ -21,6 +21,10 @@ module xd_core_files
             character(kind=c_char), intent(in) :: p(*)
             integer(c_long), value :: n
         end function c_truncate
+        integer(c_int) function c_unlink(p) bind(c, name='unlink')
+            import :: c_int, c_char
+            character(kind=c_char), intent(in) :: p(*)
+        end function c_unlink
         integer(c_int) function c_mkdir(p, mode) bind(c, name='mkdir')
             import :: c_int, c_char
             character(kind=c_char), intent(in) :: p(*)
@@ -38,6 +42,13 @@ contains
         rc = c_rename(from//c_null_char, to//c_null_char)
         if (present(ok)) ok = rc == 0
     end subroutine rename_file
+
+    !> Remove a file if it is there (a temporary left by a failed write).
+    subroutine delete_file(path)
+        character(len=*), intent(in) :: path
+        integer(c_int) :: rc
+        rc = c_unlink(path//c_null_char)
+    end subroutine delete_file
 
     !> Cut file `path` to `bytes` bytes.
     subroutine truncate_file(path, bytes, ok)

@@ -8,7 +8,7 @@ module xd_core_signals
     use, intrinsic :: iso_c_binding, only: c_int, c_funptr, c_funloc
     implicit none
     private
-    public :: signals_install, stop_signal, status_signal
+    public :: signals_install, stop_signal, status_signal, hold_for_signal
 
     integer(c_int), parameter :: sigusr1 = 10, sigusr2 = 12, sigterm = 15   ! Linux numbers
 
@@ -16,6 +16,10 @@ module xd_core_signals
     integer(c_int), volatile, save :: pending_status = 0
 
     interface
+        integer(c_int) function c_usleep(us) bind(c, name='usleep')
+            import :: c_int
+            integer(c_int), value :: us
+        end function c_usleep
         function c_signal(signum, handler) bind(c, name='signal') result(old)
             import :: c_int, c_funptr
             integer(c_int), value :: signum
@@ -53,5 +57,25 @@ contains
         status_signal = pending_status /= 0
         pending_status = 0
     end function status_signal
+
+    !> For tests of the batch signals (XDYNA_HOLD_AT): say `text` on
+    !> standard output and wait, polling every 10 ms, until a stop signal
+    !> comes (at most `limit` seconds). A test that signals after this line
+    !> hits the run where it means to on any machine, however fast.
+    subroutine hold_for_signal(text, limit, loud)
+        use, intrinsic :: iso_fortran_env, only: output_unit
+        character(len=*), intent(in) :: text
+        real, intent(in) :: limit
+        logical, intent(in) :: loud
+        integer :: k, rc
+        if (loud) then
+            write (output_unit, '(a)') text
+            flush (output_unit)
+        end if
+        do k = 1, nint(limit*100.0)
+            if (pending_stop /= 0) exit
+            rc = c_usleep(10000_c_int)
+        end do
+    end subroutine hold_for_signal
 
 end module xd_core_signals

@@ -30,7 +30,8 @@ program xdyna
     use xd_output_histories, only: histories_t, open_histories, close_histories, history_marks_t
     use xd_output_states, only: states_t, open_states, close_states, states_marks_t
     use xd_solver_restart, only: dump_meta_t, read_dump_meta, read_dump, build_tag, dump_format
-    use xd_core_signals, only: signals_install
+    use xd_core_signals, only: signals_install, stop_signal, hold_for_signal
+    use xd_core_comm, only: comm_max
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     use xd_solver_domain, only: domain_t, build_domain, domain_summary
     use xd_contact_contact, only: gather_contact_state, scatter_contact_state
@@ -68,10 +69,16 @@ program xdyna
     type(error_t), allocatable :: error
     character(len=:), allocatable :: deck, outdir, arg, restart, printed, jobid, stem
     logical :: check_only, ok
-    character(len=:), allocatable :: memory_note
+    character(len=:), allocatable :: memory_note, hold
     real(dp) :: endtim_cli
     integer :: i, k, ncpu, nfree, nparts
 
+    ! the batch signals count from the first instruction, before the
+    ! parallel start-up: a SIGTERM during set-up stops the run cleanly
+    ! (exit 3, no dump: there is no state yet)
+    call signals_install()
+    hold = get_env('XDYNA_HOLD_AT')
+    if (hold == 'start') call hold_for_signal(' held at start (XDYNA_HOLD_AT): waiting for a signal', 120.0, .true.)
     call tm%begin()
     call parallel_start(env)
     call tm%start(ph_input)
@@ -165,6 +172,7 @@ program xdyna
         call finish(exit_input)
     end if
     call tm%stop(ph_input)
+    call stop_before_run('reading the input')
     if (len(restart) > 0) then
         if (ctx%src%digest() /= meta%digest) then
             call say('xdyna: r='//restart//': the deck '//deck//' has changed since the dump '// &
@@ -229,6 +237,7 @@ program xdyna
         end if
         call finish(exit_normal)
     end if
+    call stop_before_run('setting up the model')
     call build_domain(model, st%x0, solids, sh, asm, asm_sh, ct, env%rank, env%nranks, dom)
     if (dom%on) call log_line(lg, domain_summary(dom))
     call log_line(lg, model_summary(model, solids, rg%n))
@@ -244,7 +253,7 @@ program xdyna
     if (len(restart) > 0) then
         call read_dump(restart, st, solids, sh, walls, rg, ct, hmarks, smarks, dump_error)
         if (allocated(dump_error)) then
-            call say('xdyna: r='//restart//': the dump does not fit this model: '//dump_error)
+            call say('xdyna: r='//restart//': cannot restart from this dump: '//dump_error)
             call finish(exit_input)
         end if
         if (dom%on) call scatter_contact_state(ct, env%rank)
@@ -263,13 +272,16 @@ program xdyna
     end if
     ! restart dumps: every N cycles and at the end if the deck asks, and
     ! always on a stop signal or the wall-clock limit
+    if (len(hold) > 0 .and. hold /= 'start') then
+        call parse_int(hold, opts%hold_cycle, ok)
+        if (.not. ok) opts%hold_cycle = -1
+    end if
     opts%dump_every = model%db%d3dump
     opts%wallclock = wallclock
     opts%dump_path = out_path(stem, 'd3dump.h5')
     opts%meta%deck = deck
     opts%meta%digest = ctx%src%digest()
     opts%meta%outdir = outdir
-    call signals_install()
     if (.not. ok) then
         call say('xdyna: cannot create d3plot.h5 in '//outdir)
         call finish_alone(exit_run)
@@ -306,6 +318,20 @@ contains
         allocate (character(len=n) :: a)
         call get_command_argument(k, a)
     end function get_arg
+
+    !> An environment variable's value ('' if unset).
+    function get_env(name) result(v)
+        character(len=*), intent(in) :: name
+        character(len=:), allocatable :: v
+        integer :: n, st
+        call get_environment_variable(name, length=n, status=st)
+        if (st /= 0 .or. n == 0) then
+            v = ''
+            return
+        end if
+        allocate (character(len=n) :: v)
+        call get_environment_variable(name, v, status=st)
+    end function get_env
 
     !> name=value arguments, LS-DYNA style.
     !> XDYNA_WALLCLOCK (seconds), as wallclock= (the command line wins).
@@ -464,6 +490,20 @@ contains
         call log_close(lg)
         call terminate(code)
     end subroutine finish_alone
+
+    !> A stop signal that came before the time loop: exit 3 on every rank
+    !> (the ranks agree first), no dump, since no state exists yet.
+    subroutine stop_before_run(stage)
+        character(len=*), intent(in) :: stage
+        real(dp) :: fl(1)
+        fl = real(stop_signal(), dp)
+        if (env%nranks > 1) call comm_max(fl)
+        if (fl(1) <= 0.0_dp) return
+        call say('xdyna: stopped by signal '//itoa(nint(fl(1)))//' while '//stage// &
+                 ', before the first cycle: no state yet, so no restart dump')
+        call log_line(lg, ' S t o p p e d   by signal '//itoa(nint(fl(1)))//' while '//stage//', before the first cycle')
+        call finish(exit_signal)
+    end subroutine stop_before_run
 
     !> A message for standard error, from rank 0 alone.
     subroutine say(text)

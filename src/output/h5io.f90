@@ -1,7 +1,11 @@
 !> Whole datasets in and out of an HDF5 group, for the restart dump: one
 !> rank-1 dataset per array (arrays are passed flattened, [a], and put
 !> back with reshape), in the array's own kind, so a dump holds the bits
-!> of the run. Strings as attributes of the group.
+!> of the run. Strings as attributes of the group. Every dataset carries
+!> HDF5's Fletcher-32 checksum (chunked layout, the filter HDF5 checks on
+!> each read), so a changed byte in a dump is found, not restarted from.
+!> Writes count their failures in `nfail` (a full disk, a quota); reads
+!> tell a missing dataset from one that fails its checksum.
 module xd_output_h5io
     use hdf5
     use, intrinsic :: iso_fortran_env, only: real32, real64, int32, int64
@@ -18,21 +22,41 @@ module xd_output_h5io
 
 contains
 
-    subroutine put_any(g, name, t, n, buf_loc)
+    subroutine put_any(g, name, t, n, buf_loc, nfail)
         use, intrinsic :: iso_c_binding, only: c_ptr
         integer(hid_t), intent(in) :: g, t
         character(len=*), intent(in) :: name
         integer, intent(in) :: n
         type(c_ptr), intent(in) :: buf_loc
-        integer(hid_t) :: sp, ds
-        integer(hsize_t) :: d(1)
-        integer :: err
+        integer, intent(inout) :: nfail
+        integer(hid_t) :: sp, ds, pl
+        integer(hsize_t) :: d(1), c(1)
+        integer :: err, e
+        ! chunks of at most 2**24 values (a chunk is limited to 4 GiB)
+        integer(hsize_t), parameter :: chunk_max = 16777216_hsize_t
         d = n
+        e = 0
         call h5screate_simple_f(1, d, sp, err)
-        call h5dcreate_f(g, name, t, sp, ds, err)
-        if (n > 0) call h5dwrite_f(ds, t, buf_loc, err)
+        e = e + min(err, 0)
+        call h5pcreate_f(H5P_DATASET_CREATE_F, pl, err)
+        if (n > 0) then
+            c = min(d, chunk_max)
+            call h5pset_chunk_f(pl, 1, c, err)
+            e = e + min(err, 0)
+            call h5pset_fletcher32_f(pl, err)
+            e = e + min(err, 0)
+        end if
+        call h5dcreate_f(g, name, t, sp, ds, err, dcpl_id=pl)
+        e = e + min(err, 0)
+        if (n > 0 .and. err == 0) then
+            call h5dwrite_f(ds, t, buf_loc, err)
+            e = e + min(err, 0)
+        end if
         call h5dclose_f(ds, err)
+        e = e + min(err, 0)
+        call h5pclose_f(pl, err)
         call h5sclose_f(sp, err)
+        if (e /= 0) nfail = nfail + 1
     end subroutine put_any
 
     !> Size of dataset `name` (-1: absent) and, if present, its handle.
@@ -56,10 +80,11 @@ contains
         n = int(d(1))
     end subroutine open_any
 
-    subroutine put_r4(g, name, a)
+    subroutine put_r4(g, name, a, nfail)
         use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
+        integer, intent(inout) :: nfail
         real(real32), intent(in), target :: a(:)
         real(real32), allocatable, target :: b(:)
         if (size(a) == 0) then
@@ -67,13 +92,14 @@ contains
         else
             b = a
         end if
-        call put_any(g, name, h5kind_to_type(real32, H5_REAL_KIND), size(a), c_loc(b))
+        call put_any(g, name, h5kind_to_type(real32, H5_REAL_KIND), size(a), c_loc(b), nfail)
     end subroutine put_r4
 
-    subroutine put_r8(g, name, a)
+    subroutine put_r8(g, name, a, nfail)
         use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
+        integer, intent(inout) :: nfail
         real(real64), intent(in) :: a(:)
         real(real64), allocatable, target :: b(:)
         if (size(a) == 0) then
@@ -81,13 +107,14 @@ contains
         else
             b = a
         end if
-        call put_any(g, name, h5kind_to_type(real64, H5_REAL_KIND), size(a), c_loc(b))
+        call put_any(g, name, h5kind_to_type(real64, H5_REAL_KIND), size(a), c_loc(b), nfail)
     end subroutine put_r8
 
-    subroutine put_i4(g, name, a)
+    subroutine put_i4(g, name, a, nfail)
         use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
+        integer, intent(inout) :: nfail
         integer(int32), intent(in) :: a(:)
         integer(int32), allocatable, target :: b(:)
         if (size(a) == 0) then
@@ -95,13 +122,14 @@ contains
         else
             b = a
         end if
-        call put_any(g, name, h5kind_to_type(int32, H5_INTEGER_KIND), size(a), c_loc(b))
+        call put_any(g, name, h5kind_to_type(int32, H5_INTEGER_KIND), size(a), c_loc(b), nfail)
     end subroutine put_i4
 
-    subroutine put_i8(g, name, a)
+    subroutine put_i8(g, name, a, nfail)
         use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
+        integer, intent(inout) :: nfail
         integer(int64), intent(in) :: a(:)
         integer(int64), allocatable, target :: b(:)
         if (size(a) == 0) then
@@ -109,89 +137,132 @@ contains
         else
             b = a
         end if
-        call put_any(g, name, h5kind_to_type(int64, H5_INTEGER_KIND), size(a), c_loc(b))
+        call put_any(g, name, h5kind_to_type(int64, H5_INTEGER_KIND), size(a), c_loc(b), nfail)
     end subroutine put_i8
 
     !> Read the n values of open dataset ds into the buffer at buf (type t,
     !> room for max(n, 1)) and close it.
-    subroutine read_close(ds, t, n, buf)
+    subroutine read_close(ds, t, n, buf, good)
         use, intrinsic :: iso_c_binding, only: c_ptr
         integer(hid_t), intent(in) :: ds, t
         integer, intent(in) :: n
         type(c_ptr), intent(in) :: buf
+        logical, intent(out) :: good
         type(c_ptr) :: cp
         integer :: err
+        good = .true.
         if (n > 0) then
             cp = buf
             call h5dread_f(ds, t, cp, err)
+            good = err == 0
         end if
         call h5dclose_f(ds, err)
     end subroutine read_close
 
     !> Read dataset `name` whole into b (allocated to its size); ok false if
-    !> it is absent.
-    subroutine get_r4(g, name, b, ok)
+    !> it is absent (b empty) or fails its checksum; `why` says which.
+    subroutine get_r4(g, name, b, ok, why)
         use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         real(real32), allocatable, target, intent(out) :: b(:)
         logical, intent(out) :: ok
+        character(len=:), allocatable, intent(out), optional :: why
+        logical :: good
         integer(hid_t) :: ds
         integer :: n
         call open_any(g, name, n, ds)
         ok = n >= 0
-        if (.not. ok) return
+        if (.not. ok) then
+            allocate (b(0))
+            if (present(why)) why = 'is missing'
+            return
+        end if
         allocate (b(max(n, 1)))
-        call read_close(ds, h5kind_to_type(real32, H5_REAL_KIND), n, c_loc(b))
+        call read_close(ds, h5kind_to_type(real32, H5_REAL_KIND), n, c_loc(b), good)
         b = b(1:n)
+        if (.not. good) then
+            ok = .false.
+            if (present(why)) why = 'cannot be read: it fails its checksum (the dump is damaged)'
+        end if
     end subroutine get_r4
 
-    subroutine get_r8(g, name, b, ok)
+    subroutine get_r8(g, name, b, ok, why)
         use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         real(real64), allocatable, target, intent(out) :: b(:)
         logical, intent(out) :: ok
+        character(len=:), allocatable, intent(out), optional :: why
+        logical :: good
         integer(hid_t) :: ds
         integer :: n
         call open_any(g, name, n, ds)
         ok = n >= 0
-        if (.not. ok) return
+        if (.not. ok) then
+            allocate (b(0))
+            if (present(why)) why = 'is missing'
+            return
+        end if
         allocate (b(max(n, 1)))
-        call read_close(ds, h5kind_to_type(real64, H5_REAL_KIND), n, c_loc(b))
+        call read_close(ds, h5kind_to_type(real64, H5_REAL_KIND), n, c_loc(b), good)
         b = b(1:n)
+        if (.not. good) then
+            ok = .false.
+            if (present(why)) why = 'cannot be read: it fails its checksum (the dump is damaged)'
+        end if
     end subroutine get_r8
 
-    subroutine get_i4(g, name, b, ok)
+    subroutine get_i4(g, name, b, ok, why)
         use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         integer(int32), allocatable, target, intent(out) :: b(:)
         logical, intent(out) :: ok
+        character(len=:), allocatable, intent(out), optional :: why
+        logical :: good
         integer(hid_t) :: ds
         integer :: n
         call open_any(g, name, n, ds)
         ok = n >= 0
-        if (.not. ok) return
+        if (.not. ok) then
+            allocate (b(0))
+            if (present(why)) why = 'is missing'
+            return
+        end if
         allocate (b(max(n, 1)))
-        call read_close(ds, h5kind_to_type(int32, H5_INTEGER_KIND), n, c_loc(b))
+        call read_close(ds, h5kind_to_type(int32, H5_INTEGER_KIND), n, c_loc(b), good)
         b = b(1:n)
+        if (.not. good) then
+            ok = .false.
+            if (present(why)) why = 'cannot be read: it fails its checksum (the dump is damaged)'
+        end if
     end subroutine get_i4
 
-    subroutine get_i8(g, name, b, ok)
+    subroutine get_i8(g, name, b, ok, why)
         use, intrinsic :: iso_c_binding, only: c_loc
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name
         integer(int64), allocatable, target, intent(out) :: b(:)
         logical, intent(out) :: ok
+        character(len=:), allocatable, intent(out), optional :: why
+        logical :: good
         integer(hid_t) :: ds
         integer :: n
         call open_any(g, name, n, ds)
         ok = n >= 0
-        if (.not. ok) return
+        if (.not. ok) then
+            allocate (b(0))
+            if (present(why)) why = 'is missing'
+            return
+        end if
         allocate (b(max(n, 1)))
-        call read_close(ds, h5kind_to_type(int64, H5_INTEGER_KIND), n, c_loc(b))
+        call read_close(ds, h5kind_to_type(int64, H5_INTEGER_KIND), n, c_loc(b), good)
         b = b(1:n)
+        if (.not. good) then
+            ok = .false.
+            if (present(why)) why = 'cannot be read: it fails its checksum (the dump is damaged)'
+        end if
     end subroutine get_i8
 
     !> A string attribute of object g.

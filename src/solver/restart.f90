@@ -13,7 +13,7 @@ module xd_solver_restart
     use hdf5
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa
-    use xd_core_files, only: rename_file
+    use xd_core_files, only: rename_file, delete_file
     use xd_output_h5io, only: dput, dget, put_text, get_text
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
@@ -58,67 +58,76 @@ contains
         type(history_marks_t), intent(in) :: hm
         type(states_marks_t), intent(in) :: sm
         logical, intent(out) :: ok
-        integer(hid_t) :: f, g, r
-        integer :: err, k
+        integer(hid_t) :: f, g, r, fapl
+        integer :: err, k, nf
+        nf = 0
         call h5open_f(err)
-        call h5fcreate_f(path//'.tmp', H5F_ACC_TRUNC_F, f, err)
+        call h5eset_auto_f(0, err)
+        ! the newest file format: HDF5 then checksums its own metadata too
+        call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
+        call h5pset_libver_bounds_f(fapl, H5F_LIBVER_LATEST_F, H5F_LIBVER_LATEST_F, err)
+        call h5fcreate_f(path//'.tmp', H5F_ACC_TRUNC_F, f, err, access_prp=fapl)
+        call h5pclose_f(fapl, err)
         ok = err == 0
-        if (.not. ok) return
+        if (.not. ok) then
+            call delete_file(path//'.tmp')
+            return
+        end if
         call put_text(f, 'format', itoa(dump_format))
         call put_text(f, 'build', build_tag())
         call put_text(f, 'deck', meta%deck)
         call put_text(f, 'deck_digest', meta%digest)
         call put_text(f, 'outdir', meta%outdir)
-        call dput(f, 'time', [st%time])
-        call dput(f, 'cycle', [st%cycle])
+        call dput(f, 'time', [st%time], nf)
+        call dput(f, 'cycle', [st%cycle], nf)
 
         call h5gcreate_f(f, 'state', g, err)
-        call dput(g, 'x', [st%x])
-        call dput(g, 'v', [st%v])
-        if (st%rot) call dput(g, 'vr', [st%vr])
-        call dput(g, 'dt', [st%dt, st%dt_old, st%dt_first])
-        call dput(g, 'sums', [st%dt_avg_prev, st%ext_work, st%e_initial])
-        call dput(g, 'crit_elem', [st%crit_elem])
+        call dput(g, 'x', [st%x], nf)
+        call dput(g, 'v', [st%v], nf)
+        if (st%rot) call dput(g, 'vr', [st%vr], nf)
+        call dput(g, 'dt', [st%dt, st%dt_old, st%dt_first], nf)
+        call dput(g, 'sums', [st%dt_avg_prev, st%ext_work, st%e_initial], nf)
+        call dput(g, 'crit_elem', [st%crit_elem], nf)
         call h5gclose_f(g, err)
 
         call h5gcreate_f(f, 'solids', g, err)
-        call dput(g, 'sig', solids%sig)
-        call dput(g, 'vol', solids%vol)
-        call dput(g, 'qhg', solids%qhg)
-        call dput(g, 'qbv', solids%qbv)
-        call dput(g, 'epsp', solids%epsp)
-        call dput(g, 'alpha', solids%alpha)
-        call dput(g, 'eint', solids%eint)
-        call dput(g, 'ehg', solids%ehg)
-        call dput(g, 'pend_int', solids%pend_int)
-        call dput(g, 'pend_hg', solids%pend_hg)
+        call dput(g, 'sig', solids%sig, nf)
+        call dput(g, 'vol', solids%vol, nf)
+        call dput(g, 'qhg', solids%qhg, nf)
+        call dput(g, 'qbv', solids%qbv, nf)
+        call dput(g, 'epsp', solids%epsp, nf)
+        call dput(g, 'alpha', solids%alpha, nf)
+        call dput(g, 'eint', solids%eint, nf)
+        call dput(g, 'ehg', solids%ehg, nf)
+        call dput(g, 'pend_int', solids%pend_int, nf)
+        call dput(g, 'pend_hg', solids%pend_hg, nf)
         call h5gclose_f(g, err)
 
         call h5gcreate_f(f, 'shells', g, err)
         if (sh%n > 0) then
-            call dput(g, 'sig', [sh%sig])
-            call dput(g, 'qhg', [sh%qhg])
-            call dput(g, 'epsp', [sh%epsp])
-            call dput(g, 'alpha', [sh%alpha])
-            call dput(g, 'eint', sh%eint)
-            call dput(g, 'ehg', sh%ehg)
-            call dput(g, 'pend_int', sh%pend_int)
-            call dput(g, 'pend_hg', sh%pend_hg)
-            call dput(g, 'h', sh%h)
+            call dput(g, 'sig', [sh%sig], nf)
+            call dput(g, 'qhg', [sh%qhg], nf)
+            call dput(g, 'epsp', [sh%epsp], nf)
+            call dput(g, 'alpha', [sh%alpha], nf)
+            call dput(g, 'eint', sh%eint, nf)
+            call dput(g, 'ehg', sh%ehg, nf)
+            call dput(g, 'pend_int', sh%pend_int, nf)
+            call dput(g, 'pend_hg', sh%pend_hg, nf)
+            call dput(g, 'h', sh%h, nf)
         end if
         call h5gclose_f(g, err)
 
         call h5gcreate_f(f, 'walls', g, err)
         do k = 1, walls%n
-            call dput(g, 'w'//itoa(k), [walls%w(k)%shift, walls%w(k)%vel, walls%w(k)%vel_old, walls%w(k)%energy])
+            call dput(g, 'w'//itoa(k), [walls%w(k)%shift, walls%w(k)%vel, walls%w(k)%vel_old, walls%w(k)%energy], nf)
         end do
         call h5gclose_f(g, err)
 
         call h5gcreate_f(f, 'rigid', g, err)
         do k = 1, rg%n
             associate (b => rg%b(k))
-                call dput(g, 'b'//itoa(k), [b%xc, b%vc, b%vc_old, b%q, b%pi, b%omega, b%omega_old, b%tfail])
-                call dput(g, 'b'//itoa(k)//'_active', [merge(1, 0, b%active)])
+                call dput(g, 'b'//itoa(k), [b%xc, b%vc, b%vc_old, b%q, b%pi, b%omega, b%omega_old, b%tfail], nf)
+                call dput(g, 'b'//itoa(k)//'_active', [merge(1, 0, b%active)], nf)
             end associate
         end do
         call h5gclose_f(g, err)
@@ -128,44 +137,47 @@ contains
             associate (it => ct%ifc(k))
                 call h5gcreate_f(g, 'i'//itoa(k), r, err)
                 if (allocated(it%lists%ptr)) then
-                    call dput(r, 'list_ptr', it%lists%ptr)
-                    call dput(r, 'list_node', it%lists%node)
-                    call dput(r, 'list_trackable', merge(1, 0, it%lists%trackable))
-                    call dput(r, 'xl', [it%xl])
-                    call dput(r, 'lc', it%lc)
+                    call dput(r, 'list_ptr', it%lists%ptr, nf)
+                    call dput(r, 'list_node', it%lists%node, nf)
+                    call dput(r, 'list_trackable', merge(1, 0, it%lists%trackable), nf)
+                    call dput(r, 'xl', [it%xl], nf)
+                    call dput(r, 'lc', it%lc, nf)
                 end if
-                call dput(r, 'ls_lc', it%ls%lc)
-                call dput(r, 'reals', [it%margin, it%reach, it%drift, it%worst, it%pinit])
-                call dput(r, 'ints', [it%last_cycle, it%nsearch, it%ninit, merge(1, 0, it%started)])
-                call dput(r, 'counts', [it%total%pool, it%total%reduced, it%total%masters, it%ncontact_total])
-                call dput(r, 'energy', [it%energy])
-                call dput(r, 'cseg', it%cseg)
-                call dput(r, 'fprev', [it%fprev])
-                call dput(r, 'ft', [it%ft])
-                call dput(r, 'p0', it%p0)
-                call dput(r, 'kp', it%kp)
-                call dput(r, 'aeff', it%aeff)
-                call dput(r, 'late', [it%plate])
-                call dput(r, 'nlate', [it%nlate])
-                call dput(r, 'nrel', [it%nrel])
-                call dput(r, 'rel', [it%prel])
+                call dput(r, 'ls_lc', it%ls%lc, nf)
+                call dput(r, 'reals', [it%margin, it%reach, it%drift, it%worst, it%pinit], nf)
+                call dput(r, 'ints', [it%last_cycle, it%nsearch, it%ninit, merge(1, 0, it%started)], nf)
+                call dput(r, 'counts', [it%total%pool, it%total%reduced, it%total%masters, it%ncontact_total], nf)
+                call dput(r, 'energy', [it%energy], nf)
+                call dput(r, 'cseg', it%cseg, nf)
+                call dput(r, 'fprev', [it%fprev], nf)
+                call dput(r, 'ft', [it%ft], nf)
+                call dput(r, 'p0', it%p0, nf)
+                call dput(r, 'kp', it%kp, nf)
+                call dput(r, 'aeff', it%aeff, nf)
+                call dput(r, 'late', [it%plate], nf)
+                call dput(r, 'nlate', [it%nlate], nf)
+                call dput(r, 'nrel', [it%nrel], nf)
+                call dput(r, 'rel', [it%prel], nf)
                 call h5gclose_f(r, err)
             end associate
         end do
         call h5gclose_f(g, err)
 
         call h5gcreate_f(f, 'output', g, err)
-        call dput(g, 'hist_next', hm%next)
-        call dput(g, 'hist_nt', hm%nt)
-        call dput(g, 'hist_bytes', hm%bytes)
-        call dput(g, 'hist_nwritten', [hm%nwritten])
-        call dput(g, 'states_n', [sm%n])
-        call dput(g, 'states_next', [sm%next])
-        call dput(g, 'states_times', sm%times)
+        call dput(g, 'hist_next', hm%next, nf)
+        call dput(g, 'hist_nt', hm%nt, nf)
+        call dput(g, 'hist_bytes', hm%bytes, nf)
+        call dput(g, 'hist_nwritten', [hm%nwritten], nf)
+        call dput(g, 'states_n', [sm%n], nf)
+        call dput(g, 'states_next', [sm%next], nf)
+        call dput(g, 'states_times', sm%times, nf)
         call h5gclose_f(g, err)
         call h5fclose_f(f, err)
-        ok = err == 0
-        if (ok) call rename_file(path//'.tmp', path)
+        ! a failed write (a full disk, a quota) keeps the last good dump and
+        ! leaves no temporary behind
+        ok = err == 0 .and. nf == 0
+        if (ok) call rename_file(path//'.tmp', path, ok)
+        if (.not. ok) call delete_file(path//'.tmp')
     end subroutine write_dump
 
     !> The dump's own description; ok false if it is not a readable dump.
@@ -230,10 +242,8 @@ contains
             error = 'cannot open the dump'
             return
         end if
-        call dget(f, 'cycle', bi, there)
-        if (ok_size(size(bi), 1, 'cycle')) st%cycle = bi(1)
-        call dget(f, 'time', bd, there)
-        if (ok_size(size(bd), 1, 'time')) st%time = bd(1)
+        call geti(f, 'cycle', 1); if (ok()) st%cycle = bi(1)
+        call getd(f, 'time', 1); if (ok()) st%time = bd(1)
 
         call h5gopen_f(f, 'state', g, err)
         call getw(g, 'x', size(st%x))
@@ -327,13 +337,11 @@ contains
                     call fail('contact interface '//itoa(k)//' is missing')
                     exit
                 end if
-                call dget(r, 'list_ptr', bi, there)
+                call h5lexists_f(r, 'list_ptr', there, err)
                 if (there) then
-                    it%lists%ptr = bi
-                    call dget(r, 'list_node', bi, there)
-                    it%lists%node = bi
-                    call dget(r, 'list_trackable', bi, there)
-                    it%lists%trackable = bi /= 0
+                    call geti(r, 'list_ptr', -1); if (ok()) it%lists%ptr = bi
+                    call geti(r, 'list_node', -1); if (ok()) it%lists%node = bi
+                    call geti(r, 'list_trackable', -1); if (ok()) it%lists%trackable = bi /= 0
                     if (.not. allocated(it%xl)) allocate (it%xl(3, s%nnode), it%lc(s%nnode))
                     call getw(r, 'xl', size(it%xl)); if (ok()) it%xl = reshape(bw, shape(it%xl))
                     call getw(r, 'lc', size(it%lc)); if (ok()) it%lc = bw
@@ -357,8 +365,8 @@ contains
                     it%ninit = bi(3)
                     it%started = bi(4) /= 0
                 end if
-                call dget(r, 'counts', bl, there)
-                if (ok_size(size(bl), 4, 'counts')) then
+                call getl(r, 'counts', 4)
+                if (ok()) then
                     it%total%pool = bl(1)
                     it%total%reduced = bl(2)
                     it%total%masters = bl(3)
@@ -383,8 +391,7 @@ contains
         call h5gopen_f(f, 'output', g, err)
         call getd(g, 'hist_next', size(hm%next)); if (ok()) hm%next = bd
         call geti(g, 'hist_nt', size(hm%nt)); if (ok()) hm%nt = bi
-        call dget(g, 'hist_bytes', bl, there)
-        if (ok_size(size(bl), size(hm%bytes), 'hist_bytes')) hm%bytes = bl
+        call getl(g, 'hist_bytes', size(hm%bytes)); if (ok()) hm%bytes = bl
         call geti(g, 'hist_nwritten', 1); if (ok()) hm%nwritten = bi(1)
         call geti(g, 'states_n', 1); if (ok()) sm%n = bi(1)
         call getd(g, 'states_next', 1); if (ok()) sm%next = bd(1)
@@ -418,9 +425,10 @@ contains
             character(len=*), intent(in) :: name
             integer, intent(in) :: n
             logical :: there
+            character(len=:), allocatable :: why
             if (.not. ok()) return
-            call dget(loc, name, bw, there)
-            call expect(there, size(bw), n, name)
+            call dget(loc, name, bw, there, why)
+            call expect(there, size(bw), n, name, why)
         end subroutine getw
 
         subroutine getd(loc, name, n)
@@ -428,9 +436,10 @@ contains
             character(len=*), intent(in) :: name
             integer, intent(in) :: n
             logical :: there
+            character(len=:), allocatable :: why
             if (.not. ok()) return
-            call dget(loc, name, bd, there)
-            call expect(there, size(bd), n, name)
+            call dget(loc, name, bd, there, why)
+            call expect(there, size(bd), n, name, why)
         end subroutine getd
 
         subroutine geti(loc, name, n)
@@ -438,18 +447,30 @@ contains
             character(len=*), intent(in) :: name
             integer, intent(in) :: n
             logical :: there
+            character(len=:), allocatable :: why
             if (.not. ok()) return
-            call dget(loc, name, bi, there)
-            call expect(there, size(bi), n, name)
+            call dget(loc, name, bi, there, why)
+            call expect(there, size(bi), n, name, why)
         end subroutine geti
 
-        !> A dataset read must be there with the model's number of values.
-        subroutine expect(there, got, n, name)
+        subroutine getl(loc, name, n)
+            integer(hid_t), intent(in) :: loc
+            character(len=*), intent(in) :: name
+            integer, intent(in) :: n
+            logical :: there
+            character(len=:), allocatable :: why
+            if (.not. ok()) return
+            call dget(loc, name, bl, there, why)
+            call expect(there, size(bl), n, name, why)
+        end subroutine getl
+
+        !> A dataset read must be there, whole, with the model's number of values.
+        subroutine expect(there, got, n, name, why)
             logical, intent(in) :: there
             integer, intent(in) :: got, n
-            character(len=*), intent(in) :: name
+            character(len=*), intent(in) :: name, why
             if (.not. there) then
-                call fail(name//' is missing')
+                call fail(name//' '//why)
             else if (.not. ok_size(got, n, name)) then
                 continue
             end if

@@ -17,7 +17,7 @@ module xd_solver_time_loop
     use xd_output_states, only: states_t, states_due, write_state, states_marks
     use xd_output_histories, only: history_marks
     use xd_solver_restart, only: dump_meta_t, write_dump
-    use xd_core_signals, only: stop_signal, status_signal
+    use xd_core_signals, only: stop_signal, status_signal, hold_for_signal
     use xd_output_d3hsp, only: log_t, log_line
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
@@ -43,6 +43,7 @@ module xd_solver_time_loop
         real(dp) :: wallclock = 0.0_dp       !< wall seconds allowed (0: no limit): stop with a dump before
         character(len=:), allocatable :: dump_path
         type(dump_meta_t) :: meta            !< what a dump says about the run
+        integer :: hold_cycle = -1           !< tests only (XDYNA_HOLD_AT): wait here for a signal
     end type run_options_t
 
     type :: run_result_t
@@ -278,6 +279,8 @@ contains
             call tm%stop(ph_integrate)
             ! batch: a status line on SIGUSR2; a dump every N cycles; on SIGTERM
             ! or SIGUSR1, or near the wall-clock limit, a dump and exit 3
+            if (st%cycle == opts%hold_cycle) call hold_for_signal(' held at cycle '//itoa(st%cycle)// &
+                                                                  ' (XDYNA_HOLD_AT): waiting for a signal', 120.0, opts%progress)
             call stop_flags(stop_sig, near_limit, status_now)
             if (status_now) call progress()
             if (opts%dump_every > 0) then
