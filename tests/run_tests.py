@@ -971,14 +971,14 @@ def test_batch_signals():
                         open(os.path.join(ROOT, deck)).read()))
     out = os.path.join(TMP, "batch_killed")
     shutil.rmtree(out, ignore_errors=True)
+    # killed while held at cycle 400 (t = 0.28 ms: states at 0, 50, ..., 250 us
+    # are out), so the kill lands mid-run on any machine
+    e["XDYNA_HOLD_AT"] = "400"
     proc = subprocess.Popen([XDYNA, "i=" + kdeck, "outdir=" + out, "endtim=1.0e-3"], cwd=ROOT, env=e,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    # kill it once a few states are out (it writes one every 50 us of model time)
-    for _ in range(200):
-        time.sleep(0.05)
-        xdmf = os.path.join(out, "d3plot.xdmf")
-        if os.path.exists(xdmf) and open(xdmf).read().count('CollectionType="Spatial"') >= 3:
-            break
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    line = proc.stdout.readline()
+    while line and not line.startswith(" held at cycle"):
+        line = proc.stdout.readline()
     proc.kill()
     proc.wait()
     try:
