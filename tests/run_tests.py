@@ -929,17 +929,19 @@ def test_batch_signals():
     # so; the signals come after that line, so they hit the run mid-way on
     # any machine (a fixed sleep raced the run on a fast one: it finished
     # before SIGTERM came)
-    e["XDYNA_HOLD_AT"] = "200"
+    # SIGUSR2 at the first hold lets it go on (with a status line), SIGTERM
+    # at the second stops it
+    e["XDYNA_HOLD_AT"] = "200,201"
     proc = subprocess.Popen([XDYNA, "i=" + os.path.join(ROOT, deck), "outdir=" + out, "endtim=1.0e-3"],
                             cwd=ROOT, env=e, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    first = proc.stdout.readline()
-    head = first
-    while first and not first.startswith(" held at cycle"):
+    head = ""
+    for sig in (signal.SIGUSR2, signal.SIGTERM):
         first = proc.stdout.readline()
         head += first
-    proc.send_signal(signal.SIGUSR2)
-    time.sleep(0.1)
-    proc.send_signal(signal.SIGTERM)
+        while first and not first.startswith(" held at cycle"):
+            first = proc.stdout.readline()
+            head += first
+        proc.send_signal(sig)
     so, se = proc.communicate(timeout=120)
     so = head + so
     status = sum(1 for line in so.splitlines() if line.startswith(" cycle"))
@@ -947,7 +949,7 @@ def test_batch_signals():
            status >= 2, so[-300:])
     dumped = os.path.exists(os.path.join(out, "d3dump.h5"))
     record("batch: SIGTERM mid-run stops with exit 3 and a restart dump at the cycle held",
-           proc.returncode == 3 and dumped and "cycle 200:" in se, f"rc={proc.returncode} {se[-200:]}")
+           proc.returncode == 3 and dumped and "cycle 201:" in se, f"rc={proc.returncode} {se[-200:]}")
     q = run([XDYNA, "r=" + os.path.join(out, "d3dump.h5"), "endtim=1.0e-3"])
     ok, msg = same_histories(full, out)
     record("batch: the restart after SIGTERM completes identically (thdiff at zero tolerance)",
@@ -2260,10 +2262,85 @@ def test_hardening():
                q.returncode == 1 and "field RO" in q.stderr and "out of range" in q.stderr, q.stderr[-300:])
 
 
+def test_write_failures():
+    """Write failures (issue 18, finding 2: a full disk gave 430 HDF5 errors,
+    "normal termination", SIGSEGV, ASCII files cut mid-line and a 0-byte
+    dump temporary). A full disk is made without root or a small file
+    system: the run holds at a cycle (XDYNA_HOLD_AT), the test lowers its
+    file-size limit (prlimit, RLIMIT_FSIZE; writes past it fail with EFBIG
+    as on a full disk), and lets it go on. Asserted: exit 2 naming the file;
+    every ASCII file ends with a complete line; d3plot.h5, thist.h5 and the
+    XDMF read back; a failed dump leaves no temporary and keeps the last
+    good dump, which restarts."""
+    import resource
+    import signal
+    import xml.etree.ElementTree as ET
+
+    def held_run(deck, out, hold, limit_of, before=None):
+        shutil.rmtree(out, ignore_errors=True)
+        e = dict(os.environ, XDYNA_HOLD_AT=str(hold), OMP_NUM_THREADS="1")
+        proc = subprocess.Popen([XDYNA, "i=" + deck, "outdir=" + out, "endtim=1.0e-3"], cwd=ROOT, env=e,
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        line = proc.stdout.readline()
+        while line and not line.startswith(" held at cycle"):
+            line = proc.stdout.readline()
+        sizes = {f: os.path.getsize(os.path.join(out, f)) for f in os.listdir(out)}
+        lim = limit_of(sizes)
+        resource.prlimit(proc.pid, resource.RLIMIT_FSIZE, (lim, lim))
+        if before:
+            before()
+        proc.send_signal(signal.SIGUSR2)   # go on
+        so, se = proc.communicate(timeout=120)
+        return proc.returncode, se, sizes
+
+    deck = os.path.join(ROOT, "input_decks/contact/tube_crush.k")
+    out = os.path.join(TMP, "wf_hist")
+    # the limit 20 kB past nodout's size at cycle 1: nodout (or thist.h5,
+    # which HDF5 has laid out further) fails at the next history output
+    rc, se, sizes = held_run(deck, out, 1, lambda z: z["nodout"] + 20000)
+    named = re.search(r"cannot write (\S+)", se)
+    record("write failures: a file-size limit reached mid-run stops with exit 2 naming the file",
+           rc == 2 and named is not None and os.path.basename(named.group(1)) in sizes, se[-300:])
+    ends = {}
+    for f in ("glstat", "matsum", "nodout", "rcforc"):
+        data = open(os.path.join(out, f), "rb").read()
+        ends[f] = data.endswith(b"\n")
+    record(f"write failures: every ASCII file ends with a complete line ({ends})", all(ends.values()))
+    try:
+        with h5py.File(os.path.join(out, "d3plot.h5"), "r") as fh:
+            nst = len(fh["states/time"])
+        with h5py.File(os.path.join(out, "thist.h5"), "r") as fh:
+            nrow = len(fh["glstat/time"])
+        nx = sum(1 for g in ET.parse(os.path.join(out, "d3plot.xdmf")).getroot().iter("Grid")
+                 if g.get("CollectionType") == "Spatial")
+        good = nst >= 1 and nrow >= 1 and nx == nst
+        detail = f"{nst} states, {nx} in the XDMF, {nrow} glstat rows"
+    except (OSError, KeyError, ET.ParseError) as err:
+        good, detail = False, str(err)
+    record(f"write failures: d3plot.h5, thist.h5 and the XDMF read back ({detail})", good)
+    # the dump: one every cycle; held at cycle 5 (cycle 4's dump is there),
+    # the limit below the dump's size fails cycle 5's dump
+    ddeck = with_cards("input_decks/contact/tube_crush.k", "wf_dump", "*DATABASE_BINARY_D3DUMP\n         1\n")
+    out = os.path.join(TMP, "wf_dump")
+    rc, se, sizes = held_run(ddeck, out, 5, lambda z: z["d3dump.h5"] // 2)
+    tmp_left = [f for f in os.listdir(out) if f.endswith(".tmp")]
+    record("write failures: a failed dump stops with exit 2 naming it and leaves no temporary",
+           rc == 2 and "d3dump.h5" in se and not tmp_left, f"rc={rc} left={tmp_left} {se[-300:]}")
+    q = run([XDYNA, "r=" + os.path.join(out, "d3dump.h5"), "endtim=1.2e-5"])
+    record("write failures: the last good dump is kept and restarts", q.returncode == 0
+           and os.path.getsize(os.path.join(out, "d3dump.h5")) > 0, q.stderr[-300:])
+    # the output directory removed under a held run: the next state's XDMF
+    # cannot be written, and the run says so (exit 2) instead of going on
+    out = os.path.join(TMP, "wf_gone")
+    rc, se, sizes = held_run(deck, out, 1, lambda z: resource.RLIM_INFINITY, before=lambda: shutil.rmtree(out))
+    record("write failures: the output directory removed mid-run stops with exit 2 naming the file",
+           rc == 2 and "cannot write " + out in se, f"rc={rc} {se[-300:]}")
+
+
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

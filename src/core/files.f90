@@ -6,7 +6,7 @@ module xd_core_files
     use xd_kinds, only: i8
     implicit none
     private
-    public :: rename_file, delete_file, truncate_file, make_dirs, file_kind
+    public :: rename_file, delete_file, written_bytes, truncate_file, make_dirs, file_kind
     public :: fk_missing, fk_regular, fk_directory, fk_other
 
     integer, parameter :: fk_missing = 0, fk_regular = 1, fk_directory = 2, fk_other = 3
@@ -21,6 +21,12 @@ module xd_core_files
             character(kind=c_char), intent(in) :: p(*)
             integer(c_long), value :: n
         end function c_truncate
+        integer(c_long) function c_lseek(fd, off, whence) bind(c, name='lseek')
+            import :: c_int, c_long
+            integer(c_int), value :: fd
+            integer(c_long), value :: off
+            integer(c_int), value :: whence
+        end function c_lseek
         integer(c_int) function c_unlink(p) bind(c, name='unlink')
             import :: c_int, c_char
             character(kind=c_char), intent(in) :: p(*)
@@ -42,6 +48,16 @@ contains
         rc = c_rename(from//c_null_char, to//c_null_char)
         if (present(ok)) ok = rc == 0
     end subroutine rename_file
+
+    !> The bytes the system holds of the file open on Fortran unit u (its
+    !> offset, at the end of a sequential file): after a flush, fewer than
+    !> the unit's own size means a write failed. gfortran's flush does not
+    !> report a write the system refused (a full disk, EFBIG past a size
+    !> limit), so this is how a failed write is seen.
+    integer(i8) function written_bytes(u)
+        integer, intent(in) :: u
+        written_bytes = int(c_lseek(int(fnum(u), c_int), 0_c_long, 1_c_int), i8)
+    end function written_bytes
 
     !> Remove a file if it is there (a temporary left by a failed write).
     subroutine delete_file(path)

@@ -5,12 +5,12 @@
 !> handler. The flags are the one piece of state that changes behind the
 !> run's back, which is what a signal is.
 module xd_core_signals
-    use, intrinsic :: iso_c_binding, only: c_int, c_funptr, c_funloc
+    use, intrinsic :: iso_c_binding, only: c_int, c_funptr, c_funloc, c_intptr_t
     implicit none
     private
     public :: signals_install, stop_signal, status_signal, hold_for_signal
 
-    integer(c_int), parameter :: sigusr1 = 10, sigusr2 = 12, sigterm = 15   ! Linux numbers
+    integer(c_int), parameter :: sigusr1 = 10, sigusr2 = 12, sigterm = 15, sigxfsz = 25   ! Linux numbers
 
     integer(c_int), volatile, save :: pending_stop = 0     !< the signal that asked to stop (0: none)
     integer(c_int), volatile, save :: pending_status = 0
@@ -35,6 +35,10 @@ contains
         old = c_signal(sigterm, c_funloc(on_stop))
         old = c_signal(sigusr1, c_funloc(on_stop))
         old = c_signal(sigusr2, c_funloc(on_status))
+        ! a file grown past the size limit (ulimit -f) fails its write with
+        ! EFBIG, which the run reports naming the file, instead of the
+        ! signal killing the run with nothing said
+        old = c_signal(sigxfsz, transfer(1_c_intptr_t, old))
     end subroutine signals_install
 
     subroutine on_stop(signum) bind(c)
@@ -59,8 +63,8 @@ contains
     end function status_signal
 
     !> For tests of the batch signals (XDYNA_HOLD_AT): say `text` on
-    !> standard output and wait, polling every 10 ms, until a stop signal
-    !> comes (at most `limit` seconds). A test that signals after this line
+    !> standard output and wait, polling every 10 ms, until a signal comes
+    !> (a stop, or SIGUSR2 to go on; at most `limit` seconds). A test that signals after this line
     !> hits the run where it means to on any machine, however fast.
     subroutine hold_for_signal(text, limit, loud)
         use, intrinsic :: iso_fortran_env, only: output_unit
@@ -73,7 +77,7 @@ contains
             flush (output_unit)
         end if
         do k = 1, nint(limit*100.0)
-            if (pending_stop /= 0) exit
+            if (pending_stop /= 0 .or. pending_status /= 0) exit
             rc = c_usleep(10000_c_int)
         end do
     end subroutine hold_for_signal

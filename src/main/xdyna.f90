@@ -273,8 +273,14 @@ program xdyna
     ! restart dumps: every N cycles and at the end if the deck asks, and
     ! always on a stop signal or the wall-clock limit
     if (len(hold) > 0 .and. hold /= 'start') then
-        call parse_int(hold, opts%hold_cycle, ok)
-        if (.not. ok) opts%hold_cycle = -1
+        ! cycles, comma-separated
+        allocate (opts%hold_cycles(0))
+        do while (len(hold) > 0)
+            i = index(hold//',', ',')
+            call parse_int(hold(1:i - 1), k, ok)
+            if (ok) opts%hold_cycles = [opts%hold_cycles, k]
+            hold = hold(min(i + 1, len(hold) + 1):)
+        end do
     end if
     opts%dump_every = model%db%d3dump
     opts%wallclock = wallclock

@@ -45,9 +45,12 @@ contains
     subroutine log_line(lg, text)
         type(log_t), intent(in) :: lg
         character(len=*), intent(in) :: text
+        integer :: ios
         if (.not. lg%open) return
-        write (lg%unit, '(a)') text
-        flush (lg%unit)
+        ! the log is the one file a failed write does not stop the run for:
+        ! the run's own outputs name the failure (and a full disk fails them)
+        write (lg%unit, '(a)', iostat=ios) text
+        flush (lg%unit, iostat=ios)
     end subroutine log_line
 
     subroutine log_close(lg)

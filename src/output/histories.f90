@@ -4,7 +4,7 @@
 module xd_output_histories
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa, join_path, out_path
-    use xd_core_files, only: truncate_file
+    use xd_core_files, only: truncate_file, written_bytes
     use xd_model, only: model_t, find_set, set_node
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
@@ -16,7 +16,7 @@ module xd_output_histories
     implicit none
     private
     public :: histories_t, open_histories, histories_due, write_histories, close_histories, version_line, &
-              history_marks_t, history_marks
+              history_marks_t, history_marks, history_failure
 
     character(len=*), parameter :: xdyna_version = '0.1.0'
     integer, parameter :: s_glstat = 1, s_matsum = 2, s_nodout = 3, s_rwforc = 4, s_rbdout = 5, s_rcforc = 6, &
@@ -35,6 +35,10 @@ module xd_output_histories
         character(len=72) :: title = ''
         integer :: nwritten = 0
         logical :: writer = .true.           !< this process writes the files (MPI: rank 0)
+        character(len=1024) :: path(ndb) = ''   !< each ASCII file
+        character(len=1024) :: h5path = ''      !< thist.h5
+        integer(i8) :: good(ndb) = 0         !< bytes of each ASCII file at its last complete record
+        integer :: failed = 0                !< the file a write failed on (0 none, ndb + 1 thist.h5)
     end type histories_t
 
     !> Where the histories stand: enough to go on from a restart dump.
@@ -51,16 +55,20 @@ contains
     function history_marks(h) result(m)
         type(histories_t), intent(in) :: h
         type(history_marks_t) :: m
-        integer :: k
+        integer :: k, ios
         integer(i8) :: sz
         m%next = h%next
         m%nwritten = h%nwritten
         do k = 1, ndb
             m%nt(k) = h%ser(k)%nt
             if (h%on(k) .and. h%unit(k) /= 0) then
-                flush (h%unit(k))
-                inquire (unit=h%unit(k), size=sz)
-                m%bytes(k) = sz
+                ! after a failed write, the last complete record
+                m%bytes(k) = h%good(k)
+                if (h%failed == 0) then
+                    flush (h%unit(k), iostat=ios)
+                    inquire (unit=h%unit(k), size=sz)
+                    if (ios == 0) m%bytes(k) = sz
+                end if
             end if
         end do
     end function history_marks
@@ -117,6 +125,7 @@ contains
             ok = .true.
             return
         end if
+        h%h5path = out_path(outdir, 'thist.h5')
         if (fresh) then
             call h5_open(out_path(outdir, 'thist.h5'), h%h5, ok)
         else
@@ -213,12 +222,23 @@ contains
                      '1/time', 'mass*length^2/time', 'mass*length^2/time', 'mass*length^2/time']
             call make_series('rbdout', cols, units, rg%n, ids, s_rbdout)
         end if
+        ! what the files hold now is complete (a restart's truncated files, or
+        ! the headers)
+        ! (gfortran places an appended file's offset at its first write, so
+        ! the size is the unit's own here)
+        do k = 1, ndb
+            if (h%on(k) .and. h%unit(k) /= 0) then
+                flush (h%unit(k))
+                inquire (unit=h%unit(k), size=h%good(k))
+            end if
+        end do
     contains
         !> Create file `name` for database k, or (resuming) cut it back to
         !> the size it had at the dump and append.
         subroutine start_file(k, name)
             integer, intent(in) :: k
             character(len=*), intent(in) :: name
+            h%path(k) = out_path(outdir, name)
             if (fresh) then
                 open (newunit=h%unit(k), file=out_path(outdir, name), status='replace', action='write')
             else
@@ -288,6 +308,9 @@ contains
             if (due(s_matsum)) call write_matsum(h, model, st, en)
             if (due(s_nodout)) call write_nodout(h, st, vn, fc)
         end if
+        if (h%writer .and. h%failed == 0) then
+            if (any(h%ser%bad)) h%failed = ndb + 1
+        end if
         where (due)
             h%next = h%next + h%dt
         end where
@@ -308,11 +331,16 @@ contains
         integer :: u, k
         character(len=8) :: wl
         real(dp), allocatable :: vals(:)
+        integer :: ios, nbad
+        nbad = 0
         u = h%unit(s_glstat)
-        write (u, '(a)') '', ''
-        write (u, '(a,i8,a,a,i10,a,i10)') ' dt of cycle', st%cycle, ' is controlled by ', &
+        write (u, '(a)', iostat=ios) '', ''
+        if (ios /= 0) nbad = nbad + 1
+        write (u, '(a,i8,a,a,i10,a,i10)', iostat=ios) ' dt of cycle', st%cycle, ' is controlled by ', &
             merge('shell     ', 'solid     ', crit(1) == 2), crit(2), ' of part', crit(3)
-        write (u, '(a)') ''
+        if (ios /= 0) nbad = nbad + 1
+        write (u, '(a)', iostat=ios) ''
+        if (ios /= 0) nbad = nbad + 1
         call row('time', st%time)
         call row('time step', real(st%dt, dp))
         call row('kinetic energy', en%ke)
@@ -335,8 +363,9 @@ contains
         call row('global x velocity', en%vel(1))
         call row('global y velocity', en%vel(2))
         call row('global z velocity', en%vel(3))
-        write (u, '(a,i14)') ' '//dots('time per zone cycle.(nanosec)'), nint(zone_ns)
-        flush (u)
+        write (u, '(a,i14)', iostat=ios) ' '//dots('time per zone cycle.(nanosec)'), nint(zone_ns)
+        if (ios /= 0) nbad = nbad + 1
+        call settle(h, s_glstat, nbad)
         vals = [real(st%dt, dp), en%ke, en%ie, en%hg, en%ext, en%total, en%ratio, en%vel]
         if (walls%n > 0) vals = [vals, en%wall]
         if (h%contact) vals = [vals, en%slide]
@@ -345,7 +374,8 @@ contains
         subroutine row(label, x)
             character(len=*), intent(in) :: label
             real(dp), intent(in) :: x
-            write (u, '(a,es14.5)') ' '//dots(label), x
+            write (u, '(a,es14.5)', iostat=ios) ' '//dots(label), x
+            if (ios /= 0) nbad = nbad + 1
         end subroutine row
     end subroutine write_glstat
 
@@ -365,20 +395,28 @@ contains
         integer :: u, p
         real(dp) :: rbv(3)
         real(dp), allocatable :: vals(:, :)
+        integer :: ios, nbad
+        nbad = 0
         u = h%unit(s_matsum)
-        write (u, '(a,es13.4)') ' time =', st%time
+        write (u, '(a,es13.4)', iostat=ios) ' time =', st%time
+        if (ios /= 0) nbad = nbad + 1
         do p = 1, model%npart
             rbv = 0
             if (en%part_mass(p) > 0) rbv = en%part_mom(:, p)/en%part_mass(p)
-            write (u, '(a,i5,3x,a,es13.4,a,es13.4)') ' mat.#=', model%part(p)%id, '          inten=', &
+            write (u, '(a,i5,3x,a,es13.4,a,es13.4)', iostat=ios) ' mat.#=', model%part(p)%id, '          inten=', &
                 en%part_ie(p), '     kinen=', en%part_ke(p)
-            write (u, '(a,es13.4,a,es13.4,a,es13.4)') ' x-mom=', en%part_mom(1, p), '     y-mom=', &
+            if (ios /= 0) nbad = nbad + 1
+            write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' x-mom=', en%part_mom(1, p), '     y-mom=', &
                 en%part_mom(2, p), '     z-mom=', en%part_mom(3, p)
-            write (u, '(a,es13.4,a,es13.4,a,es13.4)') ' x-rbv=', rbv(1), '     y-rbv=', rbv(2), '     z-rbv=', rbv(3)
-            write (u, '(a,es13.4,a,es13.4)') '                         hgeng=', en%part_hg(p), '     +mass=', 0.0_dp
-            write (u, '(a)') '', ''
+            if (ios /= 0) nbad = nbad + 1
+            write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' x-rbv=', rbv(1), '     y-rbv=', rbv(2), '     z-rbv=', rbv(3)
+            if (ios /= 0) nbad = nbad + 1
+            write (u, '(a,es13.4,a,es13.4)', iostat=ios) '                         hgeng=', en%part_hg(p), '     +mass=', 0.0_dp
+            if (ios /= 0) nbad = nbad + 1
+            write (u, '(a)', iostat=ios) '', ''
+            if (ios /= 0) nbad = nbad + 1
         end do
-        flush (u)
+        call settle(h, s_matsum, nbad)
         allocate (vals(model%npart, 7))
         vals(:, 1) = en%part_ie
         vals(:, 2) = en%part_ke
@@ -397,11 +435,15 @@ contains
         real(wp), intent(in), optional :: fc(:, :)
         integer :: u, k, nd
         real(dp), allocatable :: vals(:, :)
+        integer :: ios, nbad
+        nbad = 0
         u = h%unit(s_nodout)
-        write (u, '(a,i8,a,es14.7,a)') ' n o d a l   p r i n t   o u t   f o r   t i m e  s t e p', st%cycle, &
+        write (u, '(a,i8,a,es14.7,a)', iostat=ios) ' n o d a l   p r i n t   o u t   f o r   t i m e  s t e p', st%cycle, &
             '                              ( at time', st%time, ' )'
-        write (u, '(a)') '', ' nodal point  x-disp     y-disp      z-disp      x-vel       y-vel       z-vel  '// &
+        if (ios /= 0) nbad = nbad + 1
+        write (u, '(a)', iostat=ios) '', ' nodal point  x-disp     y-disp      z-disp      x-vel       y-vel       z-vel  '// &
             '    x-accl      y-accl      z-accl      x-coor      y-coor      z-coor'
+        if (ios /= 0) nbad = nbad + 1
         allocate (vals(size(h%nodes), 12))
         do k = 1, size(h%nodes)
             nd = h%nodes(k)
@@ -409,10 +451,12 @@ contains
             vals(k, 4:6) = vn(:, nd)
             vals(k, 7:9) = st%a(:, nd)
             vals(k, 10:12) = st%x(:, nd)
-            write (u, '(i9,es13.4,11es12.4)') h%node_ids(k), vals(k, :)
+            write (u, '(i9,es13.4,11es12.4)', iostat=ios) h%node_ids(k), vals(k, :)
+            if (ios /= 0) nbad = nbad + 1
         end do
-        write (u, '(a)') ''
-        flush (u)
+        write (u, '(a)', iostat=ios) ''
+        if (ios /= 0) nbad = nbad + 1
+        call settle(h, s_nodout, nbad)
         vals = reshape([vals, [(0.0_dp, k=1, 3*size(h%nodes))]], [size(h%nodes), 15])
         do k = 1, size(h%nodes)
             vals(k, 13:15) = -st%f(:, h%nodes(k))*(1.0_wp - st%free(:, h%nodes(k)))
@@ -437,15 +481,19 @@ contains
         type(state_t), intent(in) :: st
         real(dp), intent(in) :: rc(:, :)
         integer :: k
+        integer :: ios, nbad
+        nbad = 0
         do k = 1, model%ncontact
-            write (h%unit(s_rcforc), '(a,i11,a,es12.5,a,es12.5,a,es12.5,a,es12.5,a,es12.5)') '  slave ', &
+            write (h%unit(s_rcforc), '(a,i11,a,es12.5,a,es12.5,a,es12.5,a,es12.5,a,es12.5)', iostat=ios) '  slave ', &
                 model%contact(k)%id, ' time ', st%time, '  x ', rc(1, k), '  y ', rc(2, k), '  z ', rc(3, k), &
                 ' mass ', rc(4, k)
-            write (h%unit(s_rcforc), '(a,i11,a,es12.5,a,es12.5,a,es12.5,a,es12.5,a,es12.5)') '  master', &
+            if (ios /= 0) nbad = nbad + 1
+            write (h%unit(s_rcforc), '(a,i11,a,es12.5,a,es12.5,a,es12.5,a,es12.5,a,es12.5)', iostat=ios) '  master', &
                 model%contact(k)%id, ' time ', st%time, '  x ', rc(5, k), '  y ', rc(6, k), '  z ', rc(7, k), &
                 ' mass ', rc(8, k)
+            if (ios /= 0) nbad = nbad + 1
         end do
-        flush (h%unit(s_rcforc))
+        call settle(h, s_rcforc, nbad)
         call series_append(h%ser(s_rcforc), st%time, transpose(rc))
     end subroutine write_rcforc
 
@@ -456,12 +504,15 @@ contains
         type(walls_t), intent(in) :: walls
         real(dp) :: vals(walls%n, 4)
         integer :: k
+        integer :: ios, nbad
+        nbad = 0
         do k = 1, walls%n
             vals(k, 1) = walls%w(k)%normal_force
             vals(k, 2:4) = walls%w(k)%force
-            write (h%unit(s_rwforc), '(es12.5,i8,4es15.6)') st%time, model%wall(k)%id, vals(k, :)
+            write (h%unit(s_rwforc), '(es12.5,i8,4es15.6)', iostat=ios) st%time, model%wall(k)%id, vals(k, :)
+            if (ios /= 0) nbad = nbad + 1
         end do
-        flush (h%unit(s_rwforc))
+        call settle(h, s_rwforc, nbad)
         call series_append(h%ser(s_rwforc), st%time, vals)
     end subroutine write_rwforc
 
@@ -481,14 +532,48 @@ contains
         call series_append(h%ser(s_rbdout), st%time, vals)
     end subroutine write_rbdout
 
+    !> After a write `nbad` failed writes of database k: flush it, and keep
+    !> its size as the last complete record, or note the failure (the file
+    !> is cut back to that record when it is closed).
+    subroutine settle(h, k, nbad)
+        type(histories_t), intent(inout) :: h
+        integer, intent(in) :: k, nbad
+        integer :: ios
+        integer(i8) :: sz
+        if (h%failed /= 0) return
+        flush (h%unit(k), iostat=ios)
+        inquire (unit=h%unit(k), size=sz)
+        if (nbad > 0 .or. ios /= 0 .or. written_bytes(h%unit(k)) /= sz) then
+            h%failed = k
+        else
+            h%good(k) = sz
+        end if
+    end subroutine settle
+
+    !> The file a write failed on ('' if none).
+    function history_failure(h) result(name)
+        type(histories_t), intent(in) :: h
+        character(len=:), allocatable :: name
+        name = ''
+        if (h%failed >= 1 .and. h%failed <= ndb) name = trim(h%path(h%failed))
+        if (h%failed == ndb + 1) name = trim(h%h5path)
+    end function history_failure
+
     subroutine close_histories(h)
         type(histories_t), intent(inout) :: h
-        integer :: k
+        integer :: k, ios
         if (.not. h%writer) return
         do k = 1, ndb
-            if (h%on(k) .and. h%unit(k) /= 0) close (h%unit(k))
+            if (h%on(k) .and. h%unit(k) /= 0) close (h%unit(k), iostat=ios)
             h%unit(k) = 0
         end do
+        ! after a failed write every ASCII file ends at its last complete
+        ! record (those written after the failure are not kept either)
+        if (h%failed /= 0) then
+            do k = 1, ndb
+                if (h%on(k) .and. len_trim(h%path(k)) > 0) call truncate_file(trim(h%path(k)), h%good(k))
+            end do
+        end if
         call h5_close(h%h5, h%ser)
     end subroutine close_histories
 

@@ -15,16 +15,16 @@
 !> finished state readable.
 module xd_output_states
     use hdf5
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: join_path, out_path
-    use xd_core_files, only: rename_file
+    use xd_core_files, only: rename_file, delete_file, written_bytes
     use xd_model, only: model_t, mat_rigid
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_shell_bt, only: shells_t, shell_frame, point_weight
     implicit none
     private
-    public :: states_t, open_states, states_due, write_state, close_states, states_marks_t, states_marks
+    public :: states_t, open_states, states_due, write_state, close_states, states_marks_t, states_marks, states_failure
 
     type :: states_t
         logical :: on = .false.
@@ -38,6 +38,8 @@ module xd_output_states
         logical :: contact = .false.          !< the model has contact: states carry the contact force
         character(len=:), allocatable :: dir
         real(dp), allocatable :: times(:)
+        logical :: failed = .false.           !< a write failed (a full disk, a quota): no more states
+        character(len=:), allocatable :: failed_file
     end type states_t
 
     !> Where the states stand: enough to go on from a restart dump.
@@ -174,7 +176,7 @@ contains
         s%times = [s%times, st%time]
         s%next = s%next + s%dt
         if (st%time >= s%next) s%next = st%time + s%dt
-        if (.not. s%writer) return
+        if (.not. s%writer .or. s%failed) return
         write (name, '(a,i6.6)') 'states/', s%n
         call h5gcreate_f(s%file, trim(name), g, err)
         d1 = 1
@@ -249,8 +251,22 @@ contains
         ! the list of times, rewritten whole (small)
         call set_times(s)
         call h5fflush_f(s%file, H5F_SCOPE_GLOBAL_F, err)
+        if (err /= 0) then
+            ! the XDMF keeps naming the states written before
+            s%failed = .true.
+            s%failed_file = out_path(s%dir, 'd3plot.h5')
+            return
+        end if
         call write_xdmf(s)
     end subroutine write_state
+
+    !> The file a state's write failed on ('' if none).
+    function states_failure(s) result(name)
+        type(states_t), intent(in) :: s
+        character(len=:), allocatable :: name
+        name = ''
+        if (s%failed) name = s%failed_file
+    end function states_failure
 
     !> states/time: an extendible dataset set to s%times (grown in place, so
     !> that a run killed at any moment leaves it readable).
@@ -291,8 +307,9 @@ contains
     !> The XDMF 3 description: a temporal collection of states, each a
     !> spatial collection of the solid and the shell grids on the same nodes.
     subroutine write_xdmf(s)
-        type(states_t), intent(in) :: s
-        integer :: u, k
+        type(states_t), intent(inout) :: s
+        integer :: u, k, ios, nbad
+        integer(i8) :: sz
         character(len=:), allocatable :: tmp, st
         character(len=32) :: nn, ns, nh, tv
         character(len=300) :: buf
@@ -300,32 +317,54 @@ contains
         write (nn, '(i0)') s%nnode
         write (ns, '(i0)') s%nsolid
         write (nh, '(i0)') s%nshell
-        open (newunit=u, file=tmp, status='replace', action='write')
-        write (u, '(a)') '<?xml version="1.0" ?>', '<Xdmf Version="3.0">', ' <Domain>', &
+        nbad = 0
+        open (newunit=u, file=tmp, status='replace', action='write', iostat=ios)
+        if (ios /= 0) then
+            s%failed = .true.
+            s%failed_file = tmp
+            return
+        end if
+        write (u, '(a)', iostat=ios) '<?xml version="1.0" ?>', '<Xdmf Version="3.0">', ' <Domain>', &
             '  <Grid Name="states" GridType="Collection" CollectionType="Temporal">'
+        if (ios /= 0) nbad = nbad + 1
         do k = 1, s%n
             write (buf, '(a,i6.6)') h5name(s)//':/states/', k
             st = trim(buf)
             write (tv, '(es24.16)') s%times(k)
-            write (u, '(a)') '   <Grid Name="state '//itoa0(k)//'" GridType="Collection" CollectionType="Spatial">', &
+            write (u, '(a)', iostat=ios) '   <Grid Name="state '//itoa0(k)//'" GridType="Collection" CollectionType="Spatial">', &
                 '    <Time Value="'//trim(adjustl(tv))//'"/>'
+            if (ios /= 0) nbad = nbad + 1
             if (s%nsolid > 0) call piece('solids', 'Hexahedron', ns, '8', 'solid')
             if (s%nshell > 0) call piece('shells', 'Quadrilateral', nh, '4', 'shell')
-            write (u, '(a)') '   </Grid>'
+            write (u, '(a)', iostat=ios) '   </Grid>'
+            if (ios /= 0) nbad = nbad + 1
         end do
-        write (u, '(a)') '  </Grid>', ' </Domain>', '</Xdmf>'
-        close (u)
-        call rename_file(tmp, out_path(s%dir, 'd3plot.xdmf'))
+        write (u, '(a)', iostat=ios) '  </Grid>', ' </Domain>', '</Xdmf>'
+        if (ios /= 0) nbad = nbad + 1
+        flush (u, iostat=ios)
+        inquire (unit=u, size=sz)
+        if (ios /= 0 .or. written_bytes(u) /= sz) nbad = nbad + 1
+        close (u, iostat=ios)
+        if (ios /= 0) nbad = nbad + 1
+        ! a failed write leaves the last complete description, no temporary
+        if (nbad == 0) then
+            call rename_file(tmp, out_path(s%dir, 'd3plot.xdmf'))
+        else
+            call delete_file(tmp)
+            s%failed = .true.
+            s%failed_file = out_path(s%dir, 'd3plot.xdmf')
+        end if
     contains
         subroutine piece(gname, topo, ne, npe, pre)
             character(len=*), intent(in) :: gname, topo, ne, npe, pre
-            write (u, '(a)') '    <Grid Name="'//gname//'" GridType="Uniform">', &
+            write (u, '(a)', iostat=ios) '    <Grid Name="'//gname//'" GridType="Uniform">', &
                 '     <Topology TopologyType="'//topo//'" NumberOfElements="'//trim(ne)//'">', &
                 '      <DataItem Dimensions="'//trim(ne)//' '//npe//'" NumberType="Int" Format="HDF">'// &
                 h5name(s)//':/mesh/'//pre//'_connectivity</DataItem>', '     </Topology>', &
                 '     <Geometry GeometryType="XYZ">', &
                 '      <DataItem Dimensions="'//trim(nn)//' 3" NumberType="Float" Precision="4" Format="HDF">'// &
                 st//'/coordinates</DataItem>', '     </Geometry>'
+            if (ios /= 0) nbad = nbad + 1
             call attr('part', 'Scalar', 'Cell', trim(ne), 'Int', '4', h5name(s)//':/mesh/'//pre//'_part')
             call attr('displacement', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/displacement')
             call attr('velocity', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/velocity')
@@ -335,13 +374,15 @@ contains
             call attr('von_mises', 'Scalar', 'Cell', trim(ne), 'Float', '4', st//'/'//pre//'_von_mises')
             call attr('plastic_strain', 'Scalar', 'Cell', trim(ne), 'Float', '4', st//'/'//pre//'_plastic_strain')
             if (pre == 'shell') call attr('thickness', 'Scalar', 'Cell', trim(ne), 'Float', '4', st//'/shell_thickness')
-            write (u, '(a)') '    </Grid>'
+            write (u, '(a)', iostat=ios) '    </Grid>'
+            if (ios /= 0) nbad = nbad + 1
         end subroutine piece
         subroutine attr(aname, atype, centre, dims, ntype, prec, path)
             character(len=*), intent(in) :: aname, atype, centre, dims, ntype, prec, path
-            write (u, '(a)') '     <Attribute Name="'//aname//'" AttributeType="'//atype//'" Center="'//centre//'">', &
+            write (u, '(a)', iostat=ios) '     <Attribute Name="'//aname//'" AttributeType="'//atype//'" Center="'//centre//'">', &
                 '      <DataItem Dimensions="'//dims//'" NumberType="'//ntype//'" Precision="'//prec// &
                 '" Format="HDF">'//path//'</DataItem>', '     </Attribute>'
+            if (ios /= 0) nbad = nbad + 1
         end subroutine attr
     end subroutine write_xdmf
 

@@ -22,6 +22,7 @@ module xd_output_thist_h5
         integer(hid_t), allocatable :: dset(:)
         integer(hid_t) :: tset = -1
         integer(hid_t) :: file = -1
+        logical :: bad = .false.          !< a write failed (a full disk, a quota)
     end type h5series_t
 
 contains
@@ -32,6 +33,8 @@ contains
         logical, intent(out) :: ok
         integer :: err
         call h5open_f(err)
+        ! a failed write is said once, by the run, naming the file
+        call h5eset_auto_f(0, err)
         call h5fcreate_f(path, H5F_ACC_TRUNC_F, f%id, err)
         ok = err == 0
         f%open = ok
@@ -44,6 +47,7 @@ contains
         logical, intent(out) :: ok
         integer :: err
         call h5open_f(err)
+        call h5eset_auto_f(0, err)
         call h5fopen_f(path, H5F_ACC_RDWR_F, f%id, err)
         ok = err == 0
         f%open = ok
@@ -182,12 +186,14 @@ contains
         real(dp), intent(in) :: time
         real(dp), intent(in) :: values(:, :)
         integer :: k, err
+        if (s%bad) return
         s%nt = s%nt + 1
         call append_row(s%tset, 0, [time])
         do k = 1, s%ncol
             call append_row(s%dset(k), s%nent, values(:, k))
         end do
         call h5fflush_f(s%file, H5F_SCOPE_GLOBAL_F, err)
+        if (err /= 0) s%bad = .true.
     contains
         subroutine append_row(ds, nent, row)
             integer(hid_t), intent(in) :: ds
@@ -208,10 +214,12 @@ contains
                 cnt = [1_hsize_t, 0_hsize_t]
             end if
             call h5dset_extent_f(ds, newd(1:rank), e)
+            if (e /= 0) s%bad = .true.
             call h5dget_space_f(ds, fs, e)
             call h5sselect_hyperslab_f(fs, H5S_SELECT_SET_F, off(1:rank), cnt(1:rank), e)
             call h5screate_simple_f(rank, cnt(1:rank), ms, e)
             call h5dwrite_f(ds, H5T_NATIVE_DOUBLE, row, cnt(1:rank), e, ms, fs)
+            if (e /= 0) s%bad = .true.
             call h5sclose_f(ms, e)
             call h5sclose_f(fs, e)
         end subroutine append_row

@@ -13,7 +13,7 @@ module xd_solver_restart
     use hdf5
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa
-    use xd_core_files, only: rename_file, delete_file
+    use xd_core_files, only: rename_file, delete_file, written_bytes
     use xd_output_h5io, only: dput, dget, put_text, get_text
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
@@ -63,16 +63,19 @@ contains
         nf = 0
         call h5open_f(err)
         call h5eset_auto_f(0, err)
-        ! the newest file format: HDF5 then checksums its own metadata too
+        ! the dump is built in memory (HDF5's core driver, no file behind
+        ! it) and then written by us: a full disk or a quota fails our write,
+        ! which we see and clean up, never an HDF5 file half flushed (such a
+        ! file crashed HDF5's own clean-up at exit). (The newest file format,
+        ! whose metadata HDF5 checksums, is not used: the image of a file
+        ! still open carries its open-for-writing mark and reads back
+        ! refused.)
         call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
-        call h5pset_libver_bounds_f(fapl, H5F_LIBVER_LATEST_F, H5F_LIBVER_LATEST_F, err)
-        call h5fcreate_f(path//'.tmp', H5F_ACC_TRUNC_F, f, err, access_prp=fapl)
+        call h5pset_fapl_core_f(fapl, 4194304_size_t, .false., err)
+        call h5fcreate_f(path//'.mem', H5F_ACC_TRUNC_F, f, err, access_prp=fapl)
         call h5pclose_f(fapl, err)
         ok = err == 0
-        if (.not. ok) then
-            call delete_file(path//'.tmp')
-            return
-        end if
+        if (.not. ok) return
         call put_text(f, 'format', itoa(dump_format))
         call put_text(f, 'build', build_tag())
         call put_text(f, 'deck', meta%deck)
@@ -172,13 +175,48 @@ contains
         call dput(g, 'states_next', [sm%next], nf)
         call dput(g, 'states_times', sm%times, nf)
         call h5gclose_f(g, err)
+        call h5fflush_f(f, H5F_SCOPE_GLOBAL_F, err)
+        ok = err == 0 .and. nf == 0
+        if (ok) call save_image(f, path//'.tmp', ok)
         call h5fclose_f(f, err)
         ! a failed write (a full disk, a quota) keeps the last good dump and
         ! leaves no temporary behind
-        ok = err == 0 .and. nf == 0
         if (ok) call rename_file(path//'.tmp', path, ok)
         if (.not. ok) call delete_file(path//'.tmp')
     end subroutine write_dump
+
+    !> Write the in-memory HDF5 file f to `path`; ok false if the system
+    !> did not take every byte.
+    subroutine save_image(f, path, ok)
+        use, intrinsic :: iso_c_binding, only: c_loc, c_null_ptr, c_int8_t, c_ptr
+        integer(hid_t), intent(in) :: f
+        character(len=*), intent(in) :: path
+        logical, intent(out) :: ok
+        integer(size_t) :: n
+        integer(c_int8_t), allocatable, target :: img(:)
+        type(c_ptr) :: at
+        integer :: err, u, ios
+        integer(i8) :: sz
+        at = c_null_ptr
+        call h5fget_file_image_f(f, at, 0_size_t, err, n)
+        ok = err == 0 .and. n > 0
+        if (.not. ok) return
+        allocate (img(n))
+        at = c_loc(img)
+        call h5fget_file_image_f(f, at, n, err)
+        ok = err == 0
+        if (.not. ok) return
+        open (newunit=u, file=path, access='stream', form='unformatted', status='replace', action='write', iostat=ios)
+        ok = ios == 0
+        if (.not. ok) return
+        write (u, iostat=ios) img
+        ok = ios == 0
+        flush (u, iostat=ios)
+        inquire (unit=u, size=sz)
+        ok = ok .and. ios == 0 .and. sz == int(n, i8) .and. written_bytes(u) == sz
+        close (u, iostat=ios)
+        ok = ok .and. ios == 0
+    end subroutine save_image
 
     !> The dump's own description; ok false if it is not a readable dump.
     subroutine read_dump_meta(path, meta, ok)

@@ -13,8 +13,8 @@ module xd_solver_time_loop
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
     use xd_solver_energies, only: energies_t, compute_energies
-    use xd_output_histories, only: histories_t, histories_due, write_histories
-    use xd_output_states, only: states_t, states_due, write_state, states_marks
+    use xd_output_histories, only: histories_t, histories_due, write_histories, history_failure
+    use xd_output_states, only: states_t, states_due, write_state, states_marks, states_failure
     use xd_output_histories, only: history_marks
     use xd_solver_restart, only: dump_meta_t, write_dump
     use xd_core_signals, only: stop_signal, status_signal, hold_for_signal
@@ -43,7 +43,7 @@ module xd_solver_time_loop
         real(dp) :: wallclock = 0.0_dp       !< wall seconds allowed (0: no limit): stop with a dump before
         character(len=:), allocatable :: dump_path
         type(dump_meta_t) :: meta            !< what a dump says about the run
-        integer :: hold_cycle = -1           !< tests only (XDYNA_HOLD_AT): wait here for a signal
+        integer, allocatable :: hold_cycles(:) !< tests only (XDYNA_HOLD_AT): wait at these cycles for a signal
     end type run_options_t
 
     type :: run_result_t
@@ -109,6 +109,7 @@ contains
                     (model%ctl%endcyc > 0 .and. st%cycle >= model%ctl%endcyc)) then
                     call dump()
                     dumped_end = .true.
+                    if (res%status /= exit_normal) exit
                 end if
             end if
             if (ct%n > 0) then
@@ -232,6 +233,7 @@ contains
             if (due .and. .not. energy_now) then
                 vn = 0.5_wp*(vminus + st%v)
                 call output(force=.false.)
+                if (res%status /= exit_normal) exit
             else if (energy_now) then
                 call tm%start(ph_output)
                 call gather_energy_state(dom, solids, sh)
@@ -255,6 +257,7 @@ contains
                 if (res%status /= exit_normal) exit
                 if (histories_due(hist, st%time) .or. states_due(states, st%time) .or. done .or. st%cycle == 0) &
                     call output(force=done .or. st%cycle == 0)
+                if (res%status /= exit_normal) exit
             end if
             ! the contact forces' work with v(n+1/2), after the energies at t(n)
             if (ct%n > 0) call contact_work_end(ct, st%v, dt_avg)
@@ -279,22 +282,26 @@ contains
             call tm%stop(ph_integrate)
             ! batch: a status line on SIGUSR2; a dump every N cycles; on SIGTERM
             ! or SIGUSR1, or near the wall-clock limit, a dump and exit 3
-            if (st%cycle == opts%hold_cycle) call hold_for_signal(' held at cycle '//itoa(st%cycle)// &
-                                                                  ' (XDYNA_HOLD_AT): waiting for a signal', 120.0, opts%progress)
+            if (allocated(opts%hold_cycles)) then
+                if (any(opts%hold_cycles == st%cycle)) call hold_for_signal(' held at cycle '//itoa(st%cycle)// &
+                                                                   ' (XDYNA_HOLD_AT): waiting for a signal', 120.0, opts%progress)
+            end if
             call stop_flags(stop_sig, near_limit, status_now)
             if (status_now) call progress()
             if (opts%dump_every > 0) then
                 if (mod(st%cycle, opts%dump_every) == 0) call dump()
+                if (res%status /= exit_normal) exit
             end if
             if (stop_sig /= 0) then
                 call dump()
-                call stop_run('stopped by signal '//itoa(stop_sig)//'; restart dump '//opts%dump_path)
+                if (res%status == exit_normal) &
+                    call stop_run('stopped by signal '//itoa(stop_sig)//'; restart dump '//opts%dump_path)
                 exit
             end if
             if (near_limit) then
                 call dump()
-                call stop_run('wall-clock limit of '//ftoa(opts%wallclock)//' s near; restart dump '// &
-                              opts%dump_path)
+                if (res%status == exit_normal) call stop_run('wall-clock limit of '//ftoa(opts%wallclock)// &
+                                                             ' s near; restart dump '//opts%dump_path)
                 exit
             end if
         end do
@@ -572,7 +579,7 @@ contains
         !> The restart dump of the state at the end of this cycle.
         subroutine dump()
             logical :: ok
-            real(dp) :: t1
+            real(dp) :: t1, fl(1)
             t1 = tm%elapsed()
             call tm%start(ph_output)
             call gather_element_state(dom, solids, sh, energies=.true.)
@@ -581,13 +588,22 @@ contains
             if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, walls, rg, ct, &
                                                history_marks(hist), states_marks(states), ok)
             if (dom%on) call scatter_contact_state(ct, dom%rank)
+            if (dom%on) then
+                ! rank 0 wrote it: every rank learns whether it could
+                fl = merge(1.0_dp, 0.0_dp, .not. ok)
+                call comm_max(fl)
+                ok = fl(1) == 0.0_dp
+            end if
             call tm%stop(ph_output)
             t_dump = tm%elapsed() - t1
             if (ok) then
                 call log_line(lg, ' restart dump at cycle '//itoa(st%cycle)//', time '//rtoa(st%time)//': '// &
                               opts%dump_path)
             else
-                call log_line(lg, ' *** Warning: could not write the restart dump '//opts%dump_path)
+                ! a full disk or a quota: the last good dump stays, and the run
+                ! stops rather than go on without a way back
+                call fail('cannot write the restart dump '//opts%dump_path//' (the disk is full, a quota is '// &
+                          'reached, or the directory is gone); the last good dump, if any, is kept')
             end if
         end subroutine dump
 
@@ -635,7 +651,8 @@ contains
         subroutine output(force)
             logical, intent(in) :: force
             integer :: crit(3)
-            real(dp) :: ns
+            real(dp) :: ns, fl(1)
+            character(len=:), allocatable :: failed_file
             call tm%start(ph_output)
             crit = 0
             if (st%crit_elem > 0) then
@@ -662,6 +679,18 @@ contains
                 end if
             end if
             call tm%stop(ph_output)
+            ! a failed write (a full disk, a quota, the directory gone) stops
+            ! the run; every file keeps its complete records
+            failed_file = history_failure(hist)
+            if (len(failed_file) == 0) failed_file = states_failure(states)
+            if (dom%on) then
+                ! rank 0 writes the files: every rank stops with it
+                fl = merge(1.0_dp, 0.0_dp, len(failed_file) > 0)
+                call comm_max(fl)
+                if (fl(1) > 0.0_dp .and. len(failed_file) == 0) failed_file = 'an output file (on rank 0)'
+            end if
+            if (len(failed_file) > 0) call fail('cannot write '//failed_file//' (the disk is full, a quota '// &
+                'is reached, or the directory is gone); the output files keep every complete record written before')
         end subroutine output
 
         subroutine progress()
