@@ -1085,6 +1085,32 @@ def test_runtime_error():
     except OSError:
         ok = False
     record("negative volume: thist.h5 readable after the error termination", ok)
+    # issue 18, finding 1: runs that went bad and ended "normal termination"
+    for name in ("velocity_curve_1e30", "velocity_ramp_1e7", "rigid_curve_12"):
+        p, out = run_deck(f"tests/decks/runtime/{name}.k", name)
+        last = p.stderr.strip().splitlines()[-1] if p.stderr.strip() else ""
+        record(f"{name}: exit 2, 'error termination' with the cause, node and time ({last[:150]})",
+               p.returncode == 2 and "error termination at time" in last and "node" in last, p.stderr[-300:])
+
+
+def test_fuzz():
+    """make fuzz for 60 s with a fixed seed (issue 18): mutated decks (fields
+    set to NaN, Inf, huge, tiny or garbage values, bytes flipped, cards
+    dropped or doubled, files cut short, keywords renamed, includes split
+    off, missing, a directory, /dev/null or the deck itself) through the
+    reader and 30 cycles; every outcome must be a valid run with a possible
+    state, an input error naming the file, or an error termination with a
+    cause: no crash, no hang, no silent acceptance. The seed is fixed so the
+    same decks come each time; how many fit in 60 s depends on the machine."""
+    keep = os.path.join(TMP, "fuzz_failures")
+    summary = os.path.join(TMP, "fuzz_summary.txt")
+    q = run([sys.executable, os.path.join(ROOT, "tools", "fuzz.py"), "--seconds", "60", "--seed", "1",
+             "--keep", keep, "--summary", summary])
+    line = open(summary).read().strip() if os.path.exists(summary) else q.stdout[-300:]
+    counts = dict((k, int(v)) for k, v in re.findall(r"(\w+) (\d+)(?:,|$)", line.rsplit(":", 1)[-1]))
+    record(f"fuzz 60 s, seed 1: no crash, hang or silent acceptance ({line})",
+           q.returncode == 0 and counts.get("FAIL", 0) == 0 and sum(counts.values()) >= 50,
+           q.stdout[-600:])
 
 
 def test_thdiff():
@@ -2340,7 +2366,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -6,11 +6,20 @@
 Takes the decks of tests/ and input_decks/ (single files, no includes),
 mutates each at random (a byte flipped, a field replaced by NaN, Inf, a
 huge or tiny number, a negative id, garbage, a card dropped or doubled, the
-file cut short, a keyword renamed) and runs bin/xdyna on it through the
-reader, the checks and the first cycle (endtim 1e-9). Each outcome
-falls in one class:
+file cut short, a keyword renamed, or the deck split into a main file and
+an *INCLUDE, itself mutated, or an include of a missing file, a directory,
+/dev/null or the deck itself) and runs bin/xdyna on it through the reader,
+the checks and its first 30 cycles (endcyc=30). Each outcome falls in one
+class:
 
-    valid     exit 0, normal termination
+    valid     exit 0, normal termination, and every glstat row possible:
+              finite, the energy ratio in [0, 1.5] (the default ENDENG
+              band's top; its bottom 1/1.5 holds from the tenth cycle, which
+              a row's time does not tell) and the kinetic energy, the product
+              1/2 m v(n-1/2).v(n+1/2), not below minus half the initial
+              energy plus external work (it dips below zero where nodes turn
+              round; the run itself stops on three such cycles in a row). A
+              run that accepted an impossible state silently is a FAIL.
     input     exit 1 naming the file (and the line, where there is one)
     run       exit 2 with a named cause ('error termination')
     signal    exit 3 (not expected here)
@@ -48,9 +57,27 @@ def decks():
     return found
 
 
-def mutate(text, rng):
+def mutate(text, rng, work=None):
+    """A mutated deck (its text) and the mutation's name; with `work`, it may
+    come as a main file that includes a second one written there."""
     lines = text.split("\n")
-    kind = rng.choice(["field", "field", "field", "byte", "drop", "double", "cut", "keyword"])
+    kinds = ["field", "field", "field", "byte", "drop", "double", "cut", "keyword"]
+    kind = rng.choice(kinds + (["include", "include_odd"] if work else []))
+    kws = [i for i, l in enumerate(lines) if l.startswith("*") and not l.upper().startswith(("*KEYWORD", "*END"))]
+    if kind == "include" and kws:
+        # the deck's tail, mutated, in an include file
+        i = rng.choice(kws)
+        tail, sub = mutate("\n".join(lines[i:]), rng)
+        part = os.path.join(work, "part.k")
+        with open(part, "w") as fh:
+            fh.write(tail)
+        return "\n".join(lines[:i] + ["*INCLUDE", rng.choice(["part.k", part])] + ["*END"]), "include+" + sub
+    if kind == "include_odd" and kws:
+        i = rng.choice(kws)
+        target = rng.choice(["missing.k", work, "/dev/null", "case.k", "", "part.k " * 40])
+        return "\n".join(lines[:i] + ["*INCLUDE", target] + lines[i:]), "include_odd"
+    if kind.startswith("include"):
+        kind = "field"
     data = [i for i, l in enumerate(lines) if l.strip() and not l.startswith(("$", "*"))]
     if kind == "field" and data:
         i = rng.choice(data)
@@ -80,12 +107,46 @@ def mutate(text, rng):
     return "\n".join(lines), kind
 
 
-def classify(p, timeout):
+def impossible_state(outdir):
+    """What is impossible in a finished run's glstat rows ('' if nothing):
+    a value not finite, or a negative kinetic energy."""
+    path = os.path.join(outdir, "thist.h5")
+    if not os.path.exists(path):
+        return ""
+    try:
+        import h5py
+        import numpy as np
+    except ImportError:
+        return ""
+    try:
+        with h5py.File(path, "r") as f:
+            if "glstat" not in f:
+                return ""
+            g = f["glstat"]
+            for name in g:
+                if isinstance(g[name], h5py.Dataset) and not np.all(np.isfinite(g[name][()])):
+                    return f"glstat {name} not finite"
+            ratio = g["energy_ratio"][()]
+            if np.any(ratio < 0.0) or np.any(ratio > 1.5 * (1 + 1e-9)):
+                return f"energy ratio {ratio.min():.4g} .. {ratio.max():.4g} outside [0, 1.5]"
+            ke = g["kinetic_energy"][()]
+            scale = abs(g["total_energy"][0]) + abs(g["external_work"][()])
+            if np.any(ke < -0.5 * scale):
+                return "kinetic energy below minus half the initial energy plus external work"
+    except (OSError, KeyError) as err:
+        return f"thist.h5 unreadable: {err}"
+    return ""
+
+
+def classify(p, timeout, outdir=None):
     if p is None:
         return "FAIL", "hang (timeout)"
     out = p.stdout + p.stderr
     if p.returncode == 0:
-        return ("valid", "") if "normal termination" in out else ("FAIL", "exit 0 without normal termination")
+        if "normal termination" not in out:
+            return "FAIL", "exit 0 without normal termination"
+        bad = impossible_state(outdir) if outdir else ""
+        return ("FAIL", "normal termination of an impossible state: " + bad) if bad else ("valid", "")
     if p.returncode == 1:
         # file:line, or the deck's file for what concerns the whole deck
         # (no nodes, no *CONTROL_TERMINATION)
@@ -104,6 +165,7 @@ def main(argv):
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--keep", default=os.path.join(ROOT, "build", "fuzz", "failures"))
     ap.add_argument("--timeout", type=float, default=30)
+    ap.add_argument("--summary", help="also write the counts to this file")
     args = ap.parse_args(argv)
     rng = random.Random(args.seed)
     pool = decks()
@@ -115,31 +177,37 @@ def main(argv):
     t0 = time.time()
     while time.time() - t0 < args.seconds:
         src, text = rng.choice(pool)
-        mutated, kind = mutate(text, rng)
+        mutated, kind = mutate(text, rng, work)
         n += 1
         deck = os.path.join(work, "case.k")
         with open(deck, "w") as fh:
             fh.write(mutated)
         out = os.path.join(work, "out")
         shutil.rmtree(out, ignore_errors=True)
-        cmd = [XDYNA, "i=" + deck, "outdir=" + out, "endtim=1e-9", "ncpu=1"]
+        cmd = [XDYNA, "i=" + deck, "outdir=" + out, "endcyc=30", "ncpu=1"]
         try:
             p = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout,
                                env=dict(os.environ, OMP_NUM_THREADS="1"), errors="replace")
         except subprocess.TimeoutExpired:
             p = None
-        cls, why = classify(p, args.timeout)
+        cls, why = classify(p, args.timeout, out)
         counts[cls] = counts.get(cls, 0) + 1
         if cls == "FAIL":
             keep = os.path.join(args.keep, f"case{n:05d}.k")
             shutil.copy(deck, keep)
+            if kind.startswith("include") and os.path.exists(os.path.join(work, "part.k")):
+                shutil.copy(os.path.join(work, "part.k"), keep[:-2] + "_part.k")
             with open(keep + ".txt", "w") as fh:
                 fh.write(f"from {os.path.relpath(src, ROOT)}, mutation {kind}: {why}\n")
                 if p is not None:
                     fh.write(p.stdout[-2000:] + "\n" + p.stderr[-2000:])
             print(f"FAIL case {n} ({os.path.relpath(src, ROOT)}, {kind}): {why}", flush=True)
-    print(f"fuzz: {n} mutated decks in {time.time() - t0:.0f} s (seed {args.seed}): " +
-          ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    line = (f"fuzz: {n} mutated decks in {time.time() - t0:.0f} s (seed {args.seed}): " +
+            ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    print(line)
+    if args.summary:
+        with open(args.summary, "w") as fh:
+            fh.write(line + "\n")
     return 1 if counts.get("FAIL") else 0
 
 

@@ -28,6 +28,7 @@ module xd_elements_solid_groups
         integer :: hg_form = hg_viscous
         real(wp) :: qm = 0.1_wp
         real(wp) :: q1 = 1.5_wp, q2 = 0.06_wp
+        real(wp) :: dt_scale = 1.0_wp       !< element steps scaled down (free corners of nearly incompressible parts)
         type(plastic_params_t) :: pp        !< plastic materials
     end type solid_group_t
 
@@ -361,7 +362,7 @@ contains
         s%qbv(a:b) = q
         ! element time step, reduced by the bulk viscosity in compression
         qd = merge(gr%q1*le*abs(tr) + gr%q2*c, 0.0_wp, tr < 0.0_wp)
-        dte = le/(qd + sqrt(qd*qd + c*c))
+        dte = gr%dt_scale*le/(qd + sqrt(qd*qd + c*c))
         call hex_stress_forces(n, sig, q, bx, by, bz, fx, fy, fz)
 
         ! Flanagan-Belytschko hourglass control

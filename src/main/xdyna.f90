@@ -69,9 +69,9 @@ program xdyna
     type(error_t), allocatable :: error
     character(len=:), allocatable :: deck, outdir, arg, restart, printed, jobid, stem
     logical :: check_only, ok
-    character(len=:), allocatable :: memory_note, hold
+    character(len=:), allocatable :: memory_note, hold, step_note
     real(dp) :: endtim_cli
-    integer :: i, k, ncpu, nfree, nparts
+    integer :: i, k, ncpu, nfree, nparts, endcyc_cli
 
     ! the batch signals count from the first instruction, before the
     ! parallel start-up: a SIGTERM during set-up stops the run cleanly
@@ -92,6 +92,7 @@ program xdyna
     endtim_cli = -1.0_dp
     ncpu = 0
     nparts = 0
+    endcyc_cli = 0
     outdir_given = .false.
     wallclock = 0
     call wallclock_env()
@@ -183,12 +184,13 @@ program xdyna
     end if
 
     call tm%start(ph_init)
-    call setup_run(model, maps%hex, st, solids, asm, rg, sh, asm_sh, nfree, error)
+    call setup_run(model, maps%hex, st, solids, asm, rg, sh, asm_sh, nfree, error, step_note)
     if (allocated(error)) then
         call say(model%deck_path//': '//error%message)
         call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
         call finish(exit_input)
     end if
+    if (len(step_note) > 0) call add_warning(model, step_note)
     call build_walls(model, st%x0, walls, wall_notes)
     do while (len(wall_notes) > 0)
         i = index(wall_notes, new_line('a'))
@@ -247,6 +249,7 @@ program xdyna
             open (newunit=ct%dump_unit, file=out_path(stem, 'contact_debug'), status='replace', action='write')
         end if
     end if
+    if (endcyc_cli > 0) model%ctl%endcyc = endcyc_cli
     opts%endtim = real(model%ctl%endtim, dp)
     if (endtim_cli > 0.0_dp) opts%endtim = endtim_cli
     if (opts%endtim <= 0.0_dp) opts%endtim = huge(1.0_dp)
@@ -417,6 +420,14 @@ contains
                 call say('xdyna: endtim='//val//' is not a positive number')
                 call finish(exit_input)
             end if
+        case ('endcyc')
+            ! *CONTROL_TERMINATION's ENDCYC from the command line (the deck's
+            ! is replaced): stop after this many cycles
+            call parse_int(val, endcyc_cli, good)
+            if (.not. good .or. endcyc_cli <= 0) then
+                call say('xdyna: endcyc='//val//' is not a positive integer')
+                call finish(exit_input)
+            end if
         case ('parts')
             call parse_int(val, nparts, good)
             if (.not. good .or. nparts < 1) then
@@ -451,7 +462,7 @@ contains
 
     subroutine usage()
         write (output_unit, '(a)') &
-            'usage: xdyna i=deck.k [outdir=DIR] [o=FILE] [jobid=NAME] [endtim=T] [ncpu=N|-N]', &
+            'usage: xdyna i=deck.k [outdir=DIR] [o=FILE] [jobid=NAME] [endtim=T] [endcyc=N] [ncpu=N|-N]', &
             '             [memory=SIZE] [memory2=SIZE] [wallclock=S] [r=DUMP] [unsupported=error|warn]', &
             '       xdyna --check i=deck.k [parts=N]   read and validate the deck, print the model summary', &
             '                                   (and the decomposition on N MPI ranks); run nothing', &
@@ -464,6 +475,7 @@ contains
             '  o=FILE          the printed output file (default: d3hsp in outdir)', &
             '  jobid=NAME      prefix of the output files: NAME.d3hsp, NAME.glstat, ...', &
             '  endtim=T        end time, overriding *CONTROL_TERMINATION', &
+            '  endcyc=N        end cycle, overriding *CONTROL_TERMINATION''s ENDCYC', &
             '  ncpu=N          OpenMP threads; ncpu=-N the same (results never depend on N)', &
             '  memory=SIZE, memory2=SIZE   accepted for LS-DYNA scripts; xdyna allocates as needed', &
             '  wallclock=S     stop with a restart dump after S seconds (also XDYNA_WALLCLOCK)', &

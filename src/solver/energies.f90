@@ -100,7 +100,7 @@ contains
         ! rigid bodies: their own inertia, not the lumped nodal masses
         do e = 1, rg%n
             if (.not. rg%b(e)%from_part) cycle
-            call rigid_energy(rg%b(e), ke_b, mom_b)
+            call rigid_energy(rg%b(e), ke_b, mom_b, dt_avg == 0.0_dp)
             p = rg%b(e)%part
             en%part_ke(p) = en%part_ke(p) + ke_b
             en%part_mom(:, p) = en%part_mom(:, p) + mom_b

@@ -27,7 +27,7 @@ module xd_solver_restart
     private
     public :: dump_meta_t, write_dump, read_dump_meta, read_dump, build_tag, dump_format
 
-    integer, parameter :: dump_format = 1
+    integer, parameter :: dump_format = 2
 
     !> What a dump says about itself.
     type :: dump_meta_t
@@ -88,6 +88,7 @@ contains
         call dput(g, 'x', [st%x], nf)
         call dput(g, 'v', [st%v], nf)
         if (st%rot) call dput(g, 'vr', [st%vr], nf)
+        if (allocated(st%jprev)) call dput(g, 'jprev', [st%jprev], nf)
         call dput(g, 'dt', [st%dt, st%dt_old, st%dt_first], nf)
         call dput(g, 'sums', [st%dt_avg_prev, st%ext_work, st%e_initial], nf)
         call dput(g, 'crit_elem', [st%crit_elem], nf)
@@ -129,7 +130,7 @@ contains
         call h5gcreate_f(f, 'rigid', g, err)
         do k = 1, rg%n
             associate (b => rg%b(k))
-                call dput(g, 'b'//itoa(k), [b%xc, b%vc, b%vc_old, b%q, b%pi, b%omega, b%omega_old, b%tfail], nf)
+                call dput(g, 'b'//itoa(k), [b%xc, b%vc, b%vc_old, b%q, b%pi, b%omega, b%omega_old, b%tfail, b%jprev], nf)
                 call dput(g, 'b'//itoa(k)//'_active', [merge(1, 0, b%active)], nf)
             end associate
         end do
@@ -292,6 +293,12 @@ contains
             call getw(g, 'vr', size(st%vr))
             if (ok()) st%vr = reshape(bw, shape(st%vr))
         end if
+        call h5lexists_f(g, 'jprev', there, err)
+        if (there) then
+            if (.not. allocated(st%jprev)) allocate (st%jprev(3, st%nnode))
+            call getw(g, 'jprev', size(st%jprev))
+            if (ok()) st%jprev = reshape(bw, shape(st%jprev))
+        end if
         call getw(g, 'dt', 3)
         if (ok()) then
             st%dt = bw(1)
@@ -350,7 +357,7 @@ contains
         call h5gopen_f(f, 'rigid', g, err)
         do k = 1, rg%n
             associate (b => rg%b(k))
-                call getd(g, 'b'//itoa(k), 28)
+                call getd(g, 'b'//itoa(k), 31)
                 if (ok()) then
                     b%xc = bd(1:3)
                     b%vc = bd(4:6)
@@ -360,6 +367,7 @@ contains
                     b%omega = bd(22:24)
                     b%omega_old = bd(25:27)
                     b%tfail = bd(28)
+                    b%jprev = bd(29:31)
                 end if
                 call geti(g, 'b'//itoa(k)//'_active', 1)
                 if (ok()) b%active = bi(1) /= 0

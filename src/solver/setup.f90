@@ -8,6 +8,7 @@ module xd_solver_setup
     use xd_core_sorting, only: id_map_t
     use xd_elements_hex8, only: hex_b_matrix
     use xd_elements_solid_groups, only: solids_t, build_solids, material_plastic_law
+    use xd_elements_solid_step_check, only: check_solid_steps
     use xd_solver_state, only: state_t
     use xd_core_vectors, only: cross
     use xd_solver_assembly, only: assembly_t, build_assembly
@@ -20,7 +21,7 @@ module xd_solver_setup
 
 contains
 
-    subroutine setup_run(model, hex_map, st, solids, asm, rg, sh, asm_sh, nfree_nodes, error)
+    subroutine setup_run(model, hex_map, st, solids, asm, rg, sh, asm_sh, nfree_nodes, error, step_note)
         type(model_t), intent(in) :: model
         type(id_map_t), intent(in) :: hex_map
         type(state_t), intent(out) :: st
@@ -31,6 +32,7 @@ contains
         type(assembly_t), intent(out) :: asm_sh
         integer, intent(out) :: nfree_nodes
         type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable, intent(out) :: step_note   !< a scaled solid step, for d3hsp ('' if none)
         st%nnode = model%nnode
         call alloc(st%x, 3, st%nnode, 'coordinates')
         call alloc(st%x0, 3, st%nnode, 'initial coordinates')
@@ -63,6 +65,7 @@ contains
         call build_rigid(model, st, rg, error)
         if (allocated(error)) return
         call initial_stresses(model, hex_map, solids, st)
+        call check_solid_steps(solids, st%x0, st%mass, model%part(1:model%npart)%id, step_note)
     end subroutine setup_run
 
     subroutine initial_volumes_and_mass(s, st)

@@ -21,6 +21,9 @@ module xd_solver_state
         real(wp), allocatable :: mom(:, :)    !< (3, nnode) nodal moments
         real(wp), allocatable :: irot(:)      !< rotational inertia
         real(wp), allocatable :: free_r(:, :) !< (3, nnode) 1 free, 0 fixed
+        ! prescribed nodal motion: last cycle's imposed velocity change per
+        ! component (only when the deck prescribes nodal motion)
+        real(wp), allocatable :: jprev(:, :)  !< (3, nnode)
         real(dp) :: time = 0.0_dp
         real(wp) :: dt = 0.0_wp               !< step about to be taken (t -> t + dt)
         real(wp) :: dt_old = 0.0_wp           !< step just taken

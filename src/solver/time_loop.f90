@@ -527,17 +527,20 @@ contains
                 end do
                 if (i > st%nnode) i = 1
                 call fail('energy is NaN or infinite; first bad node '//node_where(i))
-            else if (en%ratio < 0.0_dp .and. abs(st%e_initial + en%ext) > 0.0_dp) then
-                ! a negative total against a positive input is no physical
-                ! state (walls, contact and hourglass work are all in the
-                ! total). The bound is 0, not 1/limit: the prescribed motion
-                ! of rigid bodies is not booked exactly yet (rigid_prescribed
-                ! reads 0.61 at 9.6 ms) and the ratio of the first cycles of a
-                ! run loaded from rest is noise
+            else if ((en%ratio < 0.0_dp .or. (en%ratio < 1.0_dp/ratio_limit .and. st%cycle - cycle0 >= 10)) &
+                     .and. abs(st%e_initial + en%ext) > 0.0_dp) then
+                ! energy lost beyond the margin, or a negative total against a
+                ! positive input: no physical state, since walls, contact,
+                ! hourglass and damping work are all in the total. The lower
+                ! margin holds from the tenth cycle: before, a run loaded from
+                ! rest has energies of a few steps' work, whose ratio the
+                ! first-order start (v(1/2) = v(0) + a(0) dt/2) sets to
+                ! anything (0.50 at cycle 2 of a velocity ramp, 0 at cycle 1
+                ! of the contact patch test)
                 i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
-                call fail('energy ratio '//ftoa(en%ratio)//' is negative (total '// &
-                          ftoa(en%total)//' against initial energy plus external work '// &
-                          ftoa(st%e_initial + en%ext)//'); fastest node '//node_where(i))
+                call fail('energy lost: total energy ratio '//ftoa(en%ratio)//' is below '// &
+                          ftoa(1.0_dp/ratio_limit)//' (total '//ftoa(en%total)//' against initial energy plus '// &
+                          'external work '//ftoa(st%e_initial + en%ext)//'); fastest node '//node_where(i))
             else if (en%ratio > ratio_limit) then
                 i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
                 sv = stiff_volume_parts(solids)
