@@ -52,7 +52,7 @@ contains
         allocate (touched(size(mass)), w(size(mass)))
         touched = .false.
         do g = 1, s%ngroup
-            if (on(g)) touched(s%conn(:, s%group(g)%first:s%group(g)%last)) = .true.
+            if (on(g)) touched(pack(s%conn(:, s%group(g)%first:s%group(g)%last), .true.)) = .true.
         end do
         w = 0
         where (touched .and. mass > 0.0_wp) w = 1.0_dp/sqrt(real(mass, dp))

@@ -9,7 +9,7 @@ module xd_solver_time_loop
     use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid, &
                                   ph_search, ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
     use xd_model, only: model_t
-    use xd_elements_solid_groups, only: solids_t, solid_forces, stiff_volume_parts
+    use xd_elements_solid_groups, only: solids_t, solid_forces
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
     use xd_solver_energies, only: energies_t, compute_energies
@@ -520,7 +520,6 @@ contains
 
         subroutine check_energy()
             integer :: i
-            integer, allocatable :: sv(:)
             if (en%total /= en%total .or. abs(en%total) > huge(1.0_wp)) then
                 do i = 1, st%nnode
                     if (any(st%v(:, i) /= st%v(:, i)) .or. any(abs(st%v(:, i)) > huge(1.0_wp))) exit
@@ -543,16 +542,8 @@ contains
                           'external work '//ftoa(st%e_initial + en%ext)//'); fastest node '//node_where(i))
             else if (en%ratio > ratio_limit) then
                 i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
-                sv = stiff_volume_parts(solids)
-                if (size(sv) > 0) then
-                    call fail('energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
-                              ftoa(ratio_limit)//'; fastest node '//node_where(i)//'; part '// &
-                              itoa(model%part(sv(1))%id)//' is nearly incompressible under '// &
-                              'viscous hourglass control (see the d3hsp warning)')
-                else
-                    call fail('energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
-                              ftoa(ratio_limit)//'; fastest node '//node_where(i))
-                end if
+                call fail('energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
+                          ftoa(ratio_limit)//'; fastest node '//node_where(i))
             else if (en%ke < -(ratio_limit - 1.0_dp)*abs(st%e_initial + en%ext)) then
                 ! 1/2 m v(n-1/2).v(n+1/2) strongly negative: velocities reverse.
                 ! Once, it is a stiff body bouncing (a nearly incompressible
