@@ -51,7 +51,13 @@ contains
         real(dp), intent(in) :: x
         character(len=:), allocatable :: s
         character(len=32) :: buf
-        write (buf, '(f14.4)') x
+        ! beyond what nine digits before the point hold: exponent notation
+        ! (a blown-up energy printed as asterisks said nothing)
+        if (abs(x) >= 1.0e8_dp) then
+            write (buf, '(es12.5)') x
+        else
+            write (buf, '(f14.4)') x
+        end if
         s = trim(adjustl(buf))
     end function ftoa
 

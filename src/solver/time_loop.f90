@@ -84,7 +84,6 @@ contains
         real(wp) :: dt_ref
         logical :: done, due, energy_now, dumped_end, near_limit, status_now
         integer :: nd, cycle0, stop_sig
-        integer :: nreverse   !< cycles in a row whose kinetic energy says velocities reverse
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode))
         no_body = .false.
@@ -94,7 +93,6 @@ contains
         t0_wall = tm%elapsed()
         cycle0 = st%cycle
         dumped_end = .false.
-        nreverse = 0
         t_dump = 0
         t_last_progress = t0_wall
 
@@ -190,7 +188,7 @@ contains
             ! energies where histories are due (or every energy_check_every
             ! cycles); a state alone needs only the velocities at t(n)
             energy_now = histories_due(hist, st%time) .or. done .or. st%cycle == 0 .or. &
-                         mod(st%cycle, opts%energy_check_every) == 0 .or. nreverse > 0
+                         mod(st%cycle, opts%energy_check_every) == 0
             due = energy_now .or. states_due(states, st%time)
             if (due) vminus = st%v
             ! central differences: v(n+1/2) = v(n-1/2) + a(n) (dt(n-1/2) + dt(n+1/2))/2
@@ -519,7 +517,21 @@ contains
         end subroutine accelerations
 
         subroutine check_energy()
-            integer :: i
+            integer :: i, k
+            ! a rigid body turning a radian or more in one step: no motion the
+            ! step resolves (the rotation of a step is the Cayley transform of
+            ! omega dt, good for small angles); a prescribed spin of 1e30 rad/s
+            ! ran to "normal termination" with nodes at 1e28 m/s
+            do k = 1, rg%n
+                if (.not. rg%b(k)%active) cycle
+                if (norm2(rg%b(k)%omega)*real(st%dt_old, dp) >= 1.0_dp) then
+                    call fail('impossible state: rigid body '//rigid_name(k)//' turns '// &
+                              rtoa(norm2(rg%b(k)%omega)*real(st%dt_old, dp))//' rad in one step (angular '// &
+                              'velocity '//rtoa(norm2(rg%b(k)%omega))//'); node '// &
+                              node_where(rg%b(k)%node(1))//'; a prescribed rotation far beyond its curve''s intent?')
+                    return
+                end if
+            end do
             if (en%total /= en%total .or. abs(en%total) > huge(1.0_wp)) then
                 do i = 1, st%nnode
                     if (any(st%v(:, i) /= st%v(:, i)) .or. any(abs(st%v(:, i)) > huge(1.0_wp))) exit
@@ -545,30 +557,40 @@ contains
                 call fail('energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
                           ftoa(ratio_limit)//'; fastest node '//node_where(i))
             else if (en%ke < -(ratio_limit - 1.0_dp)*abs(st%e_initial + en%ext)) then
-                ! 1/2 m v(n-1/2).v(n+1/2) strongly negative: velocities reverse.
-                ! Once, it is a stiff body bouncing (a nearly incompressible
-                ! block on a wall turns round within a step); every step, it is
-                ! the signature of a step beyond the stable limit (a stiff
-                ! spring). So the energies are checked at each following cycle,
-                ! and the run stops at the third cycle in a row. Slightly
-                ! negative values are normal where nodes turn round; the
-                ! threshold is the energy ratio's margin.
-                nreverse = nreverse + 1
-                if (nreverse < 3) return
+                ! 1/2 m v(n-1/2).v(n+1/2) strongly negative: velocities turn
+                ! round within a step, by more than the energy ratio's margin
+                ! (slightly negative values are normal where nodes turn round).
+                ! No physical state: a step beyond the stable limit, a contact
+                ! spring too stiff for the step, or a prescribed motion that
+                ! reverses within a step at a speed beyond reason. (This was
+                ! let pass twice in a row for a stiff block bouncing off a
+                ! wall; that block was running beyond its stable step.)
                 i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
-                if (ct%n > 0) then
-                    call fail('numerical instability: kinetic energy 1/2 m v(n-1/2).v(n+1/2) is '//ftoa(en%ke)// &
-                              ' (velocities reverse every step); fastest node '//node_where(i)// &
-                              '; a contact penalty scale (SLSFAC, SFS, SFM) too high for the time step?')
-                else
-                    call fail('numerical instability: kinetic energy 1/2 m v(n-1/2).v(n+1/2) is '//ftoa(en%ke)// &
-                              ' (velocities reverse every step); fastest node '//node_where(i)// &
-                              '; a time step beyond the stable limit (TSSFAC too high?)')
-                end if
-            else
-                nreverse = 0
+                call fail('impossible state: kinetic energy 1/2 m v(n-1/2).v(n+1/2) is '//ftoa(en%ke)// &
+                          ', below minus '//ftoa(ratio_limit - 1.0_dp)//' times the initial energy plus '// &
+                          'external work ('//ftoa(st%e_initial + en%ext)//'): velocities reverse within a '// &
+                          'step; fastest node '//node_where(i)//'; '//cause_hint())
             end if
         end subroutine check_energy
+
+        !> A rigid body as the deck names it: its part, or its node set's body.
+        function rigid_name(k) result(t)
+            integer, intent(in) :: k
+            character(len=:), allocatable :: t
+            if (rg%b(k)%part > 0) then
+                t = 'of part '//itoa(model%part(rg%b(k)%part)%id)
+            else
+                t = itoa(k)//' (a node set)'
+            end if
+        end function rigid_name
+
+        !> What makes velocities reverse within a step, for the message.
+        function cause_hint() result(t)
+            character(len=:), allocatable :: t
+            t = 'a time step beyond the stable limit (TSSFAC too high?)'
+            if (ct%n > 0) t = 'a contact penalty scale (SLSFAC, SFS, SFM) too high for the time step, or '//t
+            if (pn%n > 0 .or. rg%n > 0) t = t//', or a prescribed motion reversing within a step'
+        end function cause_hint
 
         !> The restart dump of the state at the end of this cycle.
         subroutine dump()
