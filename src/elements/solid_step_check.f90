@@ -110,20 +110,13 @@ contains
         real(dp), intent(out) :: f(:, :)
         real(wp), allocatable :: xl(:, :), yl(:, :), zl(:, :), bx(:, :), by(:, :), bz(:, :), vol(:)
         real(dp) :: e(6), sg(6), tr
-        integer :: g, a, b, n, i, k, nd
+        integer :: g, a, n, i, k, nd
         f = 0
         do g = 1, s%ngroup
             if (.not. on(g)) cycle
             a = s%group(g)%first
-            b = s%group(g)%last
-            n = b - a + 1
-            allocate (xl(n, 8), yl(n, 8), zl(n, 8), bx(n, 8), by(n, 8), bz(n, 8), vol(n))
-            do k = 1, 8
-                xl(:, k) = x(1, s%conn(k, a:b))
-                yl(:, k) = x(2, s%conn(k, a:b))
-                zl(:, k) = x(3, s%conn(k, a:b))
-            end do
-            call hex_b_matrix(n, xl, yl, zl, bx, by, bz, vol)
+            n = s%group(g)%last - a + 1
+            call group_geometry(s, g, x, xl, yl, zl, bx, by, bz, vol)
             do i = 1, n
                 if (vol(i) <= 0.0_wp) cycle
                 e = 0
@@ -147,7 +140,6 @@ contains
                     f(3, nd) = f(3, nd) + sg(6)*bx(i, k) + sg(5)*by(i, k) + sg(3)*bz(i, k)
                 end do
             end do
-            deallocate (xl, yl, zl, bx, by, bz, vol)
         end do
     end subroutine stiffness_times
 
@@ -157,26 +149,38 @@ contains
         logical, intent(in) :: on(:)
         real(wp), intent(in) :: x(:, :)
         real(wp), allocatable :: xl(:, :), yl(:, :), zl(:, :), bx(:, :), by(:, :), bz(:, :), vol(:), le(:)
-        integer :: g, a, b, n, k
+        integer :: g, n
         real(wp) :: c
         dtm = huge(1.0_dp)
         do g = 1, s%ngroup
             if (.not. on(g)) cycle
-            a = s%group(g)%first
-            b = s%group(g)%last
-            n = b - a + 1
-            allocate (xl(n, 8), yl(n, 8), zl(n, 8), bx(n, 8), by(n, 8), bz(n, 8), vol(n), le(n))
-            do k = 1, 8
-                xl(:, k) = x(1, s%conn(k, a:b))
-                yl(:, k) = x(2, s%conn(k, a:b))
-                zl(:, k) = x(3, s%conn(k, a:b))
-            end do
-            call hex_b_matrix(n, xl, yl, zl, bx, by, bz, vol)
+            n = s%group(g)%last - s%group(g)%first + 1
+            call group_geometry(s, g, x, xl, yl, zl, bx, by, bz, vol)
+            allocate (le(n))
             call hex_char_length(n, xl, yl, zl, vol, le)
             c = sqrt((s%group(g)%lam + 2.0_wp*s%group(g)%mu)/s%group(g)%ro)
             dtm = min(dtm, real(minval(le/c), dp))
-            deallocate (xl, yl, zl, bx, by, bz, vol, le)
+            deallocate (le)
         end do
     end function smallest_element_step
+
+    !> Group g's corner coordinates at x, its B vectors and volumes.
+    subroutine group_geometry(s, g, x, xl, yl, zl, bx, by, bz, vol)
+        type(solids_t), intent(in) :: s
+        integer, intent(in) :: g
+        real(wp), intent(in) :: x(:, :)
+        real(wp), allocatable, intent(out) :: xl(:, :), yl(:, :), zl(:, :), bx(:, :), by(:, :), bz(:, :), vol(:)
+        integer :: a, b, n, k
+        a = s%group(g)%first
+        b = s%group(g)%last
+        n = b - a + 1
+        allocate (xl(n, 8), yl(n, 8), zl(n, 8), bx(n, 8), by(n, 8), bz(n, 8), vol(n))
+        do k = 1, 8
+            xl(:, k) = x(1, s%conn(k, a:b))
+            yl(:, k) = x(2, s%conn(k, a:b))
+            zl(:, k) = x(3, s%conn(k, a:b))
+        end do
+        call hex_b_matrix(n, xl, yl, zl, bx, by, bz, vol)
+    end subroutine group_geometry
 
 end module xd_elements_solid_step_check
