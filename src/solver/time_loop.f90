@@ -46,6 +46,9 @@ module xd_solver_time_loop
         integer, allocatable :: hold_cycles(:) !< tests only (XDYNA_HOLD_AT): wait at these cycles for a signal
     end type run_options_t
 
+    !> Why a write fails, as the messages say it.
+    character(len=*), parameter :: write_failed = ' (the disk is full, a quota is reached, or the directory is gone)'
+
     type :: run_result_t
         integer :: status = exit_normal
         character(len=:), allocatable :: message
@@ -573,6 +576,15 @@ contains
             end if
         end subroutine check_energy
 
+        !> Whether `flag` holds on any rank (the rank itself when not parallel).
+        logical function any_rank(flag)
+            logical, intent(in) :: flag
+            real(dp) :: fl(1)
+            fl = merge(1.0_dp, 0.0_dp, flag)
+            if (dom%on) call comm_max(fl)
+            any_rank = fl(1) > 0.0_dp
+        end function any_rank
+
         !> A rigid body as the deck names it: its part, or its node set's body.
         function rigid_name(k) result(t)
             integer, intent(in) :: k
@@ -595,7 +607,7 @@ contains
         !> The restart dump of the state at the end of this cycle.
         subroutine dump()
             logical :: ok
-            real(dp) :: t1, fl(1)
+            real(dp) :: t1
             t1 = tm%elapsed()
             call tm%start(ph_output)
             call gather_element_state(dom, solids, sh, energies=.true.)
@@ -604,12 +616,8 @@ contains
             if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, walls, rg, ct, &
                                                history_marks(hist), states_marks(states), ok)
             if (dom%on) call scatter_contact_state(ct, dom%rank)
-            if (dom%on) then
-                ! rank 0 wrote it: every rank learns whether it could
-                fl = merge(1.0_dp, 0.0_dp, .not. ok)
-                call comm_max(fl)
-                ok = fl(1) == 0.0_dp
-            end if
+            ! rank 0 wrote it: every rank learns whether it could
+            ok = .not. any_rank(.not. ok)
             call tm%stop(ph_output)
             t_dump = tm%elapsed() - t1
             if (ok) then
@@ -618,8 +626,8 @@ contains
             else
                 ! a full disk or a quota: the last good dump stays, and the run
                 ! stops rather than go on without a way back
-                call fail('cannot write the restart dump '//opts%dump_path//' (the disk is full, a quota is '// &
-                          'reached, or the directory is gone); the last good dump, if any, is kept')
+                call fail('cannot write the restart dump '//opts%dump_path//write_failed// &
+                          '; the last good dump, if any, is kept')
             end if
         end subroutine dump
 
@@ -667,7 +675,7 @@ contains
         subroutine output(force)
             logical, intent(in) :: force
             integer :: crit(3)
-            real(dp) :: ns, fl(1)
+            real(dp) :: ns
             character(len=:), allocatable :: failed_file
             call tm%start(ph_output)
             crit = 0
@@ -699,14 +707,10 @@ contains
             ! the run; every file keeps its complete records
             failed_file = history_failure(hist)
             if (len(failed_file) == 0) failed_file = states_failure(states)
-            if (dom%on) then
-                ! rank 0 writes the files: every rank stops with it
-                fl = merge(1.0_dp, 0.0_dp, len(failed_file) > 0)
-                call comm_max(fl)
-                if (fl(1) > 0.0_dp .and. len(failed_file) == 0) failed_file = 'an output file (on rank 0)'
-            end if
-            if (len(failed_file) > 0) call fail('cannot write '//failed_file//' (the disk is full, a quota '// &
-                'is reached, or the directory is gone); the output files keep every complete record written before')
+            ! rank 0 writes the files: every rank stops with it
+            if (any_rank(len(failed_file) > 0) .and. len(failed_file) == 0) failed_file = 'an output file (on rank 0)'
+            if (len(failed_file) > 0) call fail('cannot write '//failed_file//write_failed// &
+                '; the output files keep every complete record written before')
         end subroutine output
 
         subroutine progress()
