@@ -22,9 +22,10 @@ module xd_contact_contact
                         styp_node_set, styp_all, styp_all_but, search_adaptive, find_box, in_box, box_t
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell
     use xd_core_vectors, only: cross
-    use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t
+    use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t, &
+                                        typical_length
     use xd_contact_segment_check, only: hit_t, contact_interior
-    use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t
+    use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t, segment_boxes
     use xd_contact_enforcement, only: friction_t, penalty_force, lagrange_projection, slave_stiffness, pdir
     !$ use omp_lib, only: omp_get_wtime
     use xd_core_sorting, only: where_true
@@ -96,6 +97,7 @@ module xd_contact_contact
     !> contact released while deep.
     integer, parameter :: ev_none = 0, ev_initial = 1, ev_late = 2, ev_released = 3
     integer, parameter :: max_named = 200   !< late and released events named per interface (all counted)
+    integer, parameter :: default_interval = 100   !< longest cycles between global searches when none is given
     real(wp), parameter :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
 
     type :: contact_event_t
@@ -178,14 +180,19 @@ contains
                                    [c%sst, c%mst, c%sfst, c%sfmt], [model%ctl%contact%slsfac, c%sfs, c%sfm], it%surf, &
                                    model%hex_conn(:, 1:model%nhex))
                 deallocate (slaves)
-                ! pool margin from the mean characteristic length at t = 0
+                ! pool margin from the median characteristic length at t = 0 (a
+                ! typical length: a few large segments must not widen every pool)
                 allocate (xl(3, it%surf%nnode), lc(it%surf%nnode))
                 xl = x0(:, it%surf%node)
                 call characteristic_lengths(it%surf, xl, lc)
-                it%margin = model%ctl%contact%pmarg*sum(lc)/max(1, count(lc > 0.0_wp))
+                it%margin = model%ctl%contact%pmarg*typical_length(pack(lc, lc > 0.0_wp), 0.5_wp)
                 it%reach = it%surf%max_thick
                 deallocate (xl, lc)
-                interval = 10
+                ! no interval given (BSORT, NSRCH, NSBCS all 0): LS-DYNA then
+                ! chooses the interval itself; here the search runs when the
+                ! motion could have used up the pool margin (4u > delta), which
+                ! keeps the search's bound, and at least every 100 cycles
+                interval = default_interval
                 if (model%ctl%contact%nsbcs > 0) interval = model%ctl%contact%nsbcs
                 if (model%ctl%contact%nsrch > 0) interval = model%ctl%contact%nsrch
                 if (c%bsort > 0) interval = c%bsort
@@ -454,13 +461,18 @@ contains
                 ! surface lies up to t_c off its segment
                 it%ls%grow = 2.0_wp*it%drift + it%reach + it%ls%lead
                 it%ls%dt = dt
+                it%ls%drift = it%drift
+                call segment_boxes(s, it%ls)
                 call find_contacts(s, it%lists, it%ls, it%cseg, it%fprev, it%aeff + it%p0, ct%sw, it%mine, it%hit)
             end associate
         end do
     end subroutine contact_local_search
 
     !> The local search of every slave, threaded: a slave's search reads the
-    !> surface and writes only its own hit.
+    !> surface and writes only its own hit. A slave not in contact last cycle
+    !> whose clearance at the search (master_lists_t%gap) exceeds what the
+    !> motion since (2u) and the lead can have closed has no contact: its
+    !> search is skipped (the screens' switch turns this off too).
     subroutine find_contacts(s, lists, ls, cseg, fprev, aprev, sw, mine, hit)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
@@ -471,9 +483,20 @@ contains
         integer, intent(in) :: mine(:)
         type(hit_t), intent(inout) :: hit(:)
         integer :: i, k
+        logical :: clear_skip
+        real(wp) :: closable
+        clear_skip = sw%screens .and. allocated(lists%gap)
+        closable = 2.0_wp*ls%drift + 2.0_wp*ls%lead
         !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k)
         do i = 1, size(mine)
             k = mine(i)
+            if (clear_skip .and. cseg(k) == 0) then
+                if (lists%gap(k) > closable) then
+                    hit(k)%found = .false.
+                    hit(k)%level = 4
+                    cycle
+                end if
+            end if
             call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k))
         end do
         !$omp end parallel do
@@ -811,6 +834,10 @@ contains
                     it%lists%node = ib
                     it%lists%trackable = tb /= 0
                     deallocate (ptr, ib, tb)
+                    if (allocated(it%lists%gap)) then
+                        where (.not. it%owned) it%lists%gap = 0
+                        call comm_sum_wp(it%lists%gap, ns)
+                    end if
                 end if
                 call sum_i8(it%total%pool)
                 call sum_i8(it%total%reduced)
@@ -919,7 +946,8 @@ contains
                         it%margin, ' (reach t_c ', it%reach, ')'
                 else
                     write (buf, '(a,i0,a,es11.3,a,es11.3,a)') '     global search every ', it%interval, &
-                        ' cycles; pool margin delta ', it%margin, ' (reach t_c ', it%reach, ')'
+                        ' cycles at the longest, sooner when 4u > delta; pool margin delta ', it%margin, &
+                        ' (reach t_c ', it%reach, ')'
                 end if
                 txt = txt//trim(buf)//nl
             end associate

@@ -11,18 +11,29 @@
 !> segment) and delta the pool margin that lets the list stay valid while
 !> nodes move between searches (see xd_contact_contact for the bound).
 !>
+!> Mixed sizes (a coarse barrier or ground next to a fine crush zone): the
+!> master nodes are bucketed in levels by their radius. A level takes the
+!> nodes up to 1.5 times the median radius of the nodes not yet placed and
+!> gets its own grid of buckets half its largest radius wide; what is left
+!> goes to the next level; a level of at most 32 nodes is one bucket
+!> (checked node by node). Each level holds at least half of what is left,
+!> so there are at most log2(n) of them, and a slave scans 125 buckets of
+!> each: the search stays linear whatever the sizes (one large segment no
+!> longer widens every bucket). A uniform mesh is one level, as before.
+!>
 !> Slave nodes are independent: the lists are built in blocks of slaves,
 !> each block with its own work arrays, and concatenated in slave order, so
 !> the result does not depend on the number of threads.
 module xd_contact_global_search
     use, intrinsic :: iso_fortran_env, only: int8
     use xd_kinds, only: wp, i8
-    use xd_contact_surface, only: surface_t, segment_diagonals, side_a, side_b, wanted_side
+    use xd_contact_surface, only: surface_t, segment_diagonals, side_a, side_b, wanted_side, seg_shell
     use xd_model, only: mnl_minimal, mnl_closest1, mnl_closest3
     use xd_core_sorting, only: where_true
     implicit none
     private
-    public :: buckets_t, bucket_sort, bucket_radii, node_pool, characteristic_lengths, master_lists_t, build_master_lists
+    public :: buckets_t, bucket_sort, bucket_radii, node_pool, levels_t, sort_levels, level_pool, typical_length
+    public :: characteristic_lengths, master_lists_t, build_master_lists
     public :: search_work_t, new_search_work, mark_none, mark_trackable, mark_nontrackable, search_counts_t
 
     integer(int8), parameter :: mark_none = 0, mark_trackable = 1, mark_nontrackable = 2
@@ -37,11 +48,31 @@ module xd_contact_global_search
         real(wp), allocatable :: xr(:, :)   !< (4, n) x, y, z and squared radius of item(q), for a streaming scan
     end type buckets_t
 
+    !> Bucket grids of the master nodes by size (see the module's notes).
+    type :: levels_t
+        integer :: n = 0
+        type(buckets_t), allocatable :: lv(:)
+    end type levels_t
+
+    integer, parameter :: few_nodes = 32     !< a level this small is one bucket
+    real(wp), parameter :: level_ratio = 1.5_wp
+
     !> Master node lists of all slaves (CSR in slave order), closest first.
     type :: master_lists_t
         integer, allocatable :: ptr(:)      !< (nslave + 1)
         integer, allocatable :: node(:)     !< local node numbers
         logical, allocatable :: trackable(:)
+        !> (nslave) the slave's clearance at the search: the least distance
+        !> from it to the bounding box of any segment at a node of its pool
+        !> (its own segments and sides it does not look at left out), less
+        !> the distance at which that segment's check can find a contact
+        !> (the two half thicknesses for a shell; twice the slave's half
+        !> thickness and the window for a solid face: a node beside a face's
+        !> border is found up to twice its depth away). Every point of a
+        !> segment moves at most u and so does the slave: while 2u plus the
+        !> lead stays below it, the local search finds nothing for a slave
+        !> that had no contact last cycle (see contact_local_search)
+        real(wp), allocatable :: gap(:)
     end type master_lists_t
 
     !> Sizes summed over the slaves of one search.
@@ -64,6 +95,7 @@ module xd_contact_global_search
     !> Growable output of one block of slaves.
     type :: block_out_t
         integer :: n = 0
+        real(wp), allocatable :: gap(:)
         integer, allocatable :: cnt(:), node(:)
         logical, allocatable :: trk(:)
     end type block_out_t
@@ -105,11 +137,12 @@ contains
     !> seen (half-width buckets scan 5^3 = 125 small buckets, 58% of the
     !> volume of 27 buckets rmax wide). Their number is kept below about
     !> twice the number of nodes so memory stays linear.
-    subroutine bucket_sort(xl, active, rmax, bk)
+    subroutine bucket_sort(xl, active, rmax, bk, single)
         real(wp), intent(in) :: xl(:, :)
         logical, intent(in) :: active(:)
         real(wp), intent(in) :: rmax
         type(buckets_t), intent(out) :: bk
+        logical, intent(in), optional :: single   !< one bucket: every node checked
         integer :: n, nact, i, d, a, b, ncell, cap
         integer, allocatable :: key(:, :), xs(:), ys(:), zs(:)
         real(wp) :: hi(3), ext(3), f
@@ -130,6 +163,9 @@ contains
         do d = 1, 3
             bk%nb(d) = max(1, int(min(ext(d)/max(0.5_wp*rmax, tiny(1.0_wp)), 1.0e6_wp)))
         end do
+        if (present(single)) then
+            if (single) bk%nb = 1
+        end if
         cap = max(8, 2*nact)
         do while (product(real(bk%nb, wp)) > real(cap, wp))
             f = (product(real(bk%nb, wp))/cap)**(1.0_wp/3.0_wp)
@@ -214,15 +250,38 @@ contains
 
     !> Node pool of a point p: the nodes of its bucket and the neighbouring
     !> ones that lie within their own radius of p (bucket_radii sets them;
-    !> they must not exceed the bucket width). The three cells along z of a
-    !> column are contiguous, so each column is one streaming scan.
+    !> they must not exceed reach times the bucket width).
     subroutine node_pool(bk, p, w)
+        type(buckets_t), intent(in) :: bk
+        real(wp), intent(in) :: p(3)
+        type(search_work_t), intent(inout) :: w
+        w%npool = 0
+        call scan_buckets(bk, p, w)
+        w%dist(1:w%npool) = sqrt(w%dist(1:w%npool))
+    end subroutine node_pool
+
+    !> Node pool of a point p over every level of bucket grids.
+    subroutine level_pool(lev, p, w)
+        type(levels_t), intent(in) :: lev
+        real(wp), intent(in) :: p(3)
+        type(search_work_t), intent(inout) :: w
+        integer :: k
+        w%npool = 0
+        do k = 1, lev%n
+            call scan_buckets(lev%lv(k), p, w)
+        end do
+        w%dist(1:w%npool) = sqrt(w%dist(1:w%npool))
+    end subroutine level_pool
+
+    !> Append to the pool the nodes of bk within their radius of p (squared
+    !> distances). The cells along z of a column are contiguous, so each
+    !> column is one streaming scan.
+    subroutine scan_buckets(bk, p, w)
         type(buckets_t), intent(in) :: bk
         real(wp), intent(in) :: p(3)
         type(search_work_t), intent(inout) :: w
         integer :: c(3), i, j, cell, q, q0, q1, n
         real(wp) :: d2
-        w%npool = 0
         c = cell_of(bk, p)
         do i = max(1, c(1) - bk%reach(1)), min(bk%nb(1), c(1) + bk%reach(1))
             do j = max(1, c(2) - bk%reach(2)), min(bk%nb(2), c(2) + bk%reach(2))
@@ -241,8 +300,89 @@ contains
                 w%npool = n
             end do
         end do
-        w%dist(1:w%npool) = sqrt(w%dist(1:w%npool))
-    end subroutine node_pool
+    end subroutine scan_buckets
+
+    !> The levels of bucket grids of the nodes with active(i), radius r(i).
+    subroutine sort_levels(xl, active, r, lev)
+        real(wp), intent(in) :: xl(:, :), r(:)
+        logical, intent(in) :: active(:)
+        type(levels_t), intent(inout) :: lev
+        logical, allocatable :: left(:), sel(:)
+        type(buckets_t), allocatable :: tmp(:)
+        integer :: nleft
+        real(wp) :: cut
+        if (allocated(lev%lv)) deallocate (lev%lv)
+        allocate (lev%lv(4))
+        lev%n = 0
+        left = active
+        allocate (sel(size(active)))
+        do
+            nleft = count(left)
+            if (nleft == 0) exit
+            if (lev%n == size(lev%lv)) then
+                allocate (tmp(2*lev%n))
+                tmp(1:lev%n) = lev%lv
+                call move_alloc(tmp, lev%lv)
+            end if
+            lev%n = lev%n + 1
+            if (nleft <= few_nodes) then
+                sel = left
+                call bucket_sort(xl, sel, maxval(r, mask=sel), lev%lv(lev%n), single=.true.)
+            else
+                cut = level_ratio*typical_length(pack(r, left), 0.5_wp)
+                sel = left .and. r <= cut
+                call bucket_sort(xl, sel, maxval(r, mask=sel), lev%lv(lev%n))
+            end if
+            call bucket_radii(lev%lv(lev%n), r)
+            left = left .and. .not. sel
+        end do
+    end subroutine sort_levels
+
+    !> The value below which a fraction frac of a lies (the median for 0.5):
+    !> a selection in O(n) on a copy.
+    function typical_length(a, frac) result(v)
+        real(wp), intent(in) :: a(:), frac
+        real(wp) :: v
+        real(wp), allocatable :: b(:)
+        real(wp) :: piv, t
+        integer :: k, lo, hi, i, j
+        if (size(a) == 0) then
+            v = 0
+            return
+        end if
+        b = a
+        k = min(size(b), max(1, 1 + int(frac*(size(b) - 1))))
+        lo = 1
+        hi = size(b)
+        do while (lo < hi)
+            piv = b((lo + hi)/2)
+            i = lo
+            j = hi
+            do while (i <= j)
+                do while (b(i) < piv)
+                    i = i + 1
+                end do
+                do while (b(j) > piv)
+                    j = j - 1
+                end do
+                if (i <= j) then
+                    t = b(i)
+                    b(i) = b(j)
+                    b(j) = t
+                    i = i + 1
+                    j = j - 1
+                end if
+            end do
+            if (k <= j) then
+                hi = j
+            else if (k >= i) then
+                lo = i
+            else
+                exit
+            end if
+        end do
+        v = b(k)
+    end function typical_length
 
     subroutine grow_pool(w, need)
         type(search_work_t), intent(inout) :: w
@@ -268,10 +408,10 @@ contains
         type(master_lists_t), intent(inout) :: lists
         type(search_counts_t), intent(out) :: counts
         logical, intent(in), optional :: owned(:)   !< the slaves to search for (others get empty lists)
-        type(buckets_t) :: bk
+        type(levels_t) :: lev
         type(search_work_t) :: w
         type(block_out_t), allocatable :: blk(:)
-        real(wp), allocatable :: r(:)
+        real(wp), allocatable :: r(:), box(:, :)
         logical, allocatable :: master(:)
         integer :: nblk, ib, i, first, last, pos
         integer(i8) :: npool, nred
@@ -279,8 +419,13 @@ contains
         allocate (r(s%nnode), master(s%nnode))
         master = iand(s%node_side, ior(side_a, side_b)) /= 0
         r = lc + reach + margin
-        call bucket_sort(xl, master, maxval(r, mask=master, dim=1), bk)
-        call bucket_radii(bk, r)
+        call sort_levels(xl, master, r, lev)
+        ! every segment's bounding box (for the slaves' clearances)
+        allocate (box(6, s%nseg))
+        do i = 1, s%nseg
+            box(1:3, i) = min(xl(:, s%seg(1, i)), xl(:, s%seg(2, i)), xl(:, s%seg(3, i)), xl(:, s%seg(4, i)))
+            box(4:6, i) = max(xl(:, s%seg(1, i)), xl(:, s%seg(2, i)), xl(:, s%seg(3, i)), xl(:, s%seg(4, i)))
+        end do
         nblk = (s%nslave + block_size - 1)/block_size
         allocate (blk(nblk))
         npool = 0
@@ -292,7 +437,8 @@ contains
             first = (ib - 1)*block_size + 1
             last = min(s%nslave, ib*block_size)
             allocate (blk(ib)%cnt(last - first + 1), blk(ib)%node(8*(last - first + 1)), &
-                      blk(ib)%trk(8*(last - first + 1)))
+                      blk(ib)%trk(8*(last - first + 1)), blk(ib)%gap(last - first + 1))
+            blk(ib)%gap = -huge(1.0_wp)
             do i = first, last
                 if (present(owned)) then
                     if (.not. owned(i)) then
@@ -300,7 +446,7 @@ contains
                         cycle
                     end if
                 end if
-                call one_slave(s, bk, xl, lc, reach + margin, mnl, s%slave(i), w, blk(ib), i - first + 1, &
+                call one_slave(s, lev, xl, lc, box, reach + margin, mnl, s%slave(i), w, blk(ib), i - first + 1, &
                                npool, nred)
             end do
         end do
@@ -308,12 +454,14 @@ contains
         !$omp end parallel
 
         if (allocated(lists%ptr)) deallocate (lists%ptr, lists%node, lists%trackable)
-        allocate (lists%ptr(s%nslave + 1))
+        if (allocated(lists%gap)) deallocate (lists%gap)
+        allocate (lists%ptr(s%nslave + 1), lists%gap(s%nslave))
         lists%ptr(1) = 1
         do ib = 1, nblk
             first = (ib - 1)*block_size + 1
             do i = 1, size(blk(ib)%cnt)
                 lists%ptr(first + i) = lists%ptr(first + i - 1) + blk(ib)%cnt(i)
+                lists%gap(first + i - 1) = blk(ib)%gap(i)
             end do
         end do
         allocate (lists%node(lists%ptr(s%nslave + 1) - 1), lists%trackable(lists%ptr(s%nslave + 1) - 1))
@@ -328,23 +476,46 @@ contains
     end subroutine build_master_lists
 
     !> One slave node: node pool, reduced pool, master node list.
-    subroutine one_slave(s, bk, xl, lc, extra, mnl, sn, w, out, iloc, npool, nred)
+    subroutine one_slave(s, lev, xl, lc, box, extra, mnl, sn, w, out, iloc, npool, nred)
         type(surface_t), intent(in) :: s
-        type(buckets_t), intent(in) :: bk
-        real(wp), intent(in) :: xl(:, :), lc(:), extra
+        type(levels_t), intent(in) :: lev
+        real(wp), intent(in) :: xl(:, :), lc(:), box(:, :), extra
         integer, intent(in) :: mnl, sn, iloc
         type(search_work_t), intent(inout) :: w
         type(block_out_t), intent(inout) :: out
         integer(i8), intent(inout) :: npool, nred
-        integer :: want, i, m, n0, nkeep
+        integer :: want, i, m, n0, nkeep, q, sg
         logical :: keep
+        real(wp) :: ts, g, d2, e(3), c
 
         ! which sides the slave looks at: single surface A against A; two
         ! surfaces each side against the other; nodes-to-surface against B
         want = wanted_side(s, sn)
 
-        call node_pool(bk, xl(:, sn), w)
+        call level_pool(lev, xl(:, sn), w)
         npool = npool + w%npool
+
+        ! the clearance (master_lists_t%gap) over the segments at the pool's nodes
+        ts = 0.5_wp*s%node_t(sn)
+        g = huge(1.0_wp)
+        do i = 1, w%npool
+            m = w%pool(i)
+            if (m == sn) cycle
+            do q = s%seg_ptr(m), s%seg_ptr(m + 1) - 1
+                sg = s%seg_list(q)
+                if (iand(s%seg_side(sg), want) == 0) cycle
+                if (any(s%seg(:, sg) == sn)) cycle
+                e = max(box(1:3, sg) - xl(:, sn), xl(:, sn) - box(4:6, sg), 0.0_wp)
+                d2 = e(1)**2 + e(2)**2 + e(3)**2
+                if (s%seg_kind(sg) == seg_shell) then
+                    c = ts + 0.5_wp*maxval(s%seg_tn(:, sg))
+                else
+                    c = 2.0_wp*(ts + maxval(s%seg_tn(:, sg)))
+                end if
+                g = min(g, sqrt(d2) - c)
+            end do
+        end do
+        out%gap(iloc) = g
 
         ! step A: nodes of the segments around the slave's neighbours are
         ! nontrackable (tracking from them could find the slave itself)
@@ -446,25 +617,69 @@ contains
         end subroutine emit
     end subroutine one_slave
 
-    !> Sort the pool by distance, ties by node number (a deterministic order).
-    pure subroutine sort_pool(p, d)
+    !> Sort the pool by distance, ties by node number (a total order, so the
+    !> result is deterministic): insertion for short pools, heapsort (O(k log k))
+    !> beyond 32.
+    subroutine sort_pool(p, d)
         integer, intent(inout) :: p(:)
         real(wp), intent(inout) :: d(:)
-        integer :: i, j, tp
+        integer :: i, j, tp, n
         real(wp) :: td
-        do i = 2, size(p)
-            tp = p(i)
-            td = d(i)
-            j = i - 1
-            do while (j >= 1)
-                if (d(j) < td .or. (d(j) == td .and. p(j) < tp)) exit
-                p(j + 1) = p(j)
-                d(j + 1) = d(j)
-                j = j - 1
+        n = size(p)
+        if (n <= 32) then
+            do i = 2, n
+                tp = p(i)
+                td = d(i)
+                j = i - 1
+                do while (j >= 1)
+                    if (d(j) < td .or. (d(j) == td .and. p(j) < tp)) exit
+                    p(j + 1) = p(j)
+                    d(j + 1) = d(j)
+                    j = j - 1
+                end do
+                p(j + 1) = tp
+                d(j + 1) = td
             end do
-            p(j + 1) = tp
-            d(j + 1) = td
+            return
+        end if
+        do i = n/2, 1, -1
+            call sift(i, n)
         end do
+        do i = n, 2, -1
+            tp = p(1)
+            p(1) = p(i)
+            p(i) = tp
+            td = d(1)
+            d(1) = d(i)
+            d(i) = td
+            call sift(1, i - 1)
+        end do
+    contains
+        logical function before(a, b)
+            integer, intent(in) :: a, b
+            before = d(a) < d(b) .or. (d(a) == d(b) .and. p(a) < p(b))
+        end function before
+
+        subroutine sift(first, last)
+            integer, intent(in) :: first, last
+            integer :: root, child, t
+            real(wp) :: u
+            root = first
+            do while (2*root <= last)
+                child = 2*root
+                if (child < last) then
+                    if (before(child, child + 1)) child = child + 1
+                end if
+                if (.not. before(root, child)) return
+                t = p(root)
+                p(root) = p(child)
+                p(child) = t
+                u = d(root)
+                d(root) = d(child)
+                d(child) = u
+                root = child
+            end do
+        end subroutine sift
     end subroutine sort_pool
 
 end module xd_contact_global_search

@@ -16,7 +16,7 @@ module xd_contact_local_search
     use xd_contact_global_search, only: master_lists_t
     implicit none
     private
-    public :: local_search_t, find_contact, search_switches_t
+    public :: local_search_t, find_contact, search_switches_t, segment_boxes
 
     !> Switches for the accuracy and cost study.
     type :: search_switches_t
@@ -32,7 +32,14 @@ module xd_contact_local_search
         real(wp) :: grow = 0                 !< how far segments may have stretched since: 2u, plus the reach
         real(wp) :: lead = 0                 !< Lagrangian projection: contacts found this far before they touch
         real(wp) :: dt = 0                   !< this cycle's step (how deep a new contact can be)
+        real(wp) :: drift = 0                !< u: how far any surface node may have moved since the search
+        !> (6, nseg) each segment's bounding box this cycle (low corner, high
+        !> corner), grown by its own reach: half the thickness of a shell,
+        !> the thickness of a solid's window, and the lead
+        real(wp), allocatable :: box(:, :)
     end type local_search_t
+
+    integer, parameter :: max_tried = 64   !< segments remembered per slave (each checked once)
 
     integer, parameter :: max_track_steps = 64
 
@@ -51,7 +58,8 @@ contains
         type(search_switches_t), intent(in) :: sw
         type(hit_t), intent(out) :: best
         type(hit_t) :: hit
-        integer :: sn, want, j, k, m, mn, cnode, nsolid_miss
+        integer :: sn, want, j, k, m, mn, cnode, nsolid_miss, ntried
+        integer :: tried(max_tried)
         real(wp) :: ts, cv(3)
         logical :: have_v
 
@@ -61,6 +69,7 @@ contains
         best%found = .false.
         best%level = 4
         nsolid_miss = 0
+        ntried = 0
 
         if (oldseg > 0) then
             ! the old segment: done if the contact point is inside it (and, on
@@ -90,6 +99,7 @@ contains
             best%found = .false.
             best%level = 4
             nsolid_miss = 0
+            ntried = 0
         end if
 
         ! the general search: master nodes closest first
@@ -138,8 +148,23 @@ contains
             integer, intent(in) :: m
             logical, intent(in) :: general
             type(hit_t) :: h
+            ! a segment at several master nodes is checked once
+            if (any(tried(1:ntried) == m)) return
+            if (ntried < max_tried) then
+                ntried = ntried + 1
+                tried(ntried) = m
+            end if
             if (any(s%seg(:, m) == sn) .or. any(s%seg_elem(:, m) == sn)) return
             if (iand(s%seg_side(m), want) == 0) return
+            ! a shell segment finds contact only within the two half
+            ! thicknesses (and the lead) of its surface: a slave outside its
+            ! box grown by them has none. (Solid faces are checked even so:
+            ! a miss there counts for acceptable().)
+            if (s%seg_kind(m) == seg_shell) then
+                if (ls%xl(1, sn) < ls%box(1, m) - ts .or. ls%xl(1, sn) > ls%box(4, m) + ts .or. &
+                    ls%xl(2, sn) < ls%box(2, m) - ts .or. ls%xl(2, sn) > ls%box(5, m) + ts .or. &
+                    ls%xl(3, sn) < ls%box(3, m) - ts .or. ls%xl(3, sn) > ls%box(6, m) + ts) return
+            end if
             call check(m, h)
             if (h%found) then
                 if (in_plane_own(m, h)) return
@@ -358,33 +383,36 @@ contains
         !> segments at master node mn: true if one of them admits contact.
         logical function screened_in(mn)
             integer, intent(in) :: mn
-            integer :: q, m, a, p1, p2, nnd
-            real(wp) :: h, area2, reach, tm, lo(3), hi(3), c(3), warp
+            integer :: q, m, a, p1, p2, p3, nnd
+            real(wp) :: h, area2, tm, c(3), warp
             real(wp) :: xa(3), x1(3), x2(3), x3(3), xs(3)
             screened_in = .false.
             xs = ls%xl(:, sn)
             xa = ls%xl(:, mn)
             do q = s%seg_ptr(mn), s%seg_ptr(mn + 1) - 1
                 m = s%seg_list(q)
-                nnd = seg_nodes(s%seg(:, m))
-                a = findloc(s%seg(1:nnd, m), mn, 1)
-                p1 = s%seg(mod(a, nnd) + 1, m)
-                p2 = s%seg(mod(a + nnd - 2, nnd) + 1, m)
-                x1 = ls%xl(:, p1)
-                x2 = ls%xl(:, p2)
-                ! the segment's fourth node (a triangle: its third again)
-                x3 = ls%xl(:, s%seg(mod(a + 1, nnd) + 1, m))
-                tm = s%seg_t(m)
-                if (s%seg_kind(m) == seg_shell) tm = 0.5_wp*tm
                 ! both tests must pass; the bounding box of the segment, grown
                 ! by the thicknesses, is the cheaper one: first (the box of the
                 ! three nodes at mn alone left out the part of the segment near
                 ! its far corner, where a slave whose list holds mn alone went
-                ! unseen until it was deep in a crushed tube's band)
-                reach = ts + tm + ls%lead
-                lo = min(xa, x1, x2, x3) - reach
-                hi = max(xa, x1, x2, x3) + reach
-                if (.not. all(xs >= lo .and. xs <= hi)) cycle
+                ! unseen until it was deep in a crushed tube's band). The
+                ! boxes are this cycle's (segment_boxes), grown here by ts
+                if (xs(1) < ls%box(1, m) - ts .or. xs(1) > ls%box(4, m) + ts .or. &
+                    xs(2) < ls%box(2, m) - ts .or. xs(2) > ls%box(5, m) + ts .or. &
+                    xs(3) < ls%box(3, m) - ts .or. xs(3) > ls%box(6, m) + ts) cycle
+                nnd = seg_nodes(s%seg(:, m))
+                a = findloc(s%seg(1:nnd, m), mn, 1)
+                ! the nodes after and before mn, and the one after that (a
+                ! triangle: its third node again)
+                p1 = s%seg(merge(1, a + 1, a == nnd), m)
+                p2 = s%seg(merge(nnd, a - 1, a == 1), m)
+                p3 = a + 2
+                if (p3 > nnd) p3 = p3 - nnd
+                x1 = ls%xl(:, p1)
+                x2 = ls%xl(:, p2)
+                x3 = ls%xl(:, s%seg(p3, m))
+                tm = s%seg_t(m)
+                if (s%seg_kind(m) == seg_shell) tm = 0.5_wp*tm
                 ! characteristic height h = 3 V / A of the tetrahedron slave,
                 ! master node and its two neighbours on the segment (Eq. 1):
                 ! the slave's distance along the normal c / |c| of the base
@@ -405,5 +433,35 @@ contains
             end do
         end function screened_in
     end subroutine find_contact
+
+    !> Each segment's bounding box this cycle, grown by the segment's reach
+    !> (half a shell's thickness, a solid's window) and the lead: the cheap
+    !> first screen of the local search, computed once per cycle.
+    subroutine segment_boxes(s, ls)
+        type(surface_t), intent(in) :: s
+        type(local_search_t), intent(inout) :: ls
+        integer :: m, k
+        real(wp) :: tm, x(3)
+        if (.not. allocated(ls%box)) allocate (ls%box(6, s%nseg))
+        !$omp parallel do schedule(static) private(m, k, tm, x)
+        do m = 1, s%nseg
+            ! the segment's largest thickness (a shell's nodal thicknesses may
+            ! exceed its own): half of it for a shell
+            tm = max(s%seg_t(m), maxval(s%seg_tn(:, m)))
+            if (s%seg_kind(m) == seg_shell) tm = 0.5_wp*tm
+            tm = tm + ls%lead
+            x = ls%xl(:, s%seg(1, m))
+            ls%box(1:3, m) = x
+            ls%box(4:6, m) = x
+            do k = 2, 4
+                x = ls%xl(:, s%seg(k, m))
+                ls%box(1:3, m) = min(ls%box(1:3, m), x)
+                ls%box(4:6, m) = max(ls%box(4:6, m), x)
+            end do
+            ls%box(1:3, m) = ls%box(1:3, m) - tm
+            ls%box(4:6, m) = ls%box(4:6, m) + tm
+        end do
+        !$omp end parallel do
+    end subroutine segment_boxes
 
 end module xd_contact_local_search

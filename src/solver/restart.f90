@@ -144,6 +144,7 @@ contains
                     call dput(r, 'list_ptr', it%lists%ptr, nf)
                     call dput(r, 'list_node', it%lists%node, nf)
                     call dput(r, 'list_trackable', merge(1, 0, it%lists%trackable), nf)
+                    call dput(r, 'list_gap', it%lists%gap, nf)
                     call dput(r, 'xl', [it%xl], nf)
                     call dput(r, 'lc', it%lc, nf)
                 end if
@@ -388,6 +389,7 @@ contains
                     call geti(r, 'list_ptr', -1); if (ok()) it%lists%ptr = bi
                     call geti(r, 'list_node', -1); if (ok()) it%lists%node = bi
                     call geti(r, 'list_trackable', -1); if (ok()) it%lists%trackable = bi /= 0
+                    call getw(r, 'list_gap', s%nslave); if (ok()) it%lists%gap = bw
                     if (.not. allocated(it%xl)) allocate (it%xl(3, s%nnode), it%lc(s%nnode))
                     call getw(r, 'xl', size(it%xl)); if (ok()) it%xl = reshape(bw, shape(it%xl))
                     call getw(r, 'lc', size(it%lc)); if (ok()) it%lc = bw
