@@ -463,7 +463,8 @@ contains
                 it%ls%dt = dt
                 it%ls%drift = it%drift
                 call segment_boxes(s, it%ls)
-                call find_contacts(s, it%lists, it%ls, it%cseg, it%fprev, it%aeff + it%p0, ct%sw, it%mine, it%hit)
+                call find_contacts(s, it%lists, it%ls, it%xl, it%cseg, it%fprev, it%aeff + it%p0, ct%sw, it%mine, &
+                                  it%hit)
             end associate
         end do
     end subroutine contact_local_search
@@ -471,26 +472,30 @@ contains
     !> The local search of every slave, threaded: a slave's search reads the
     !> surface and writes only its own hit. A slave not in contact last cycle
     !> whose clearance at the search (master_lists_t%gap) exceeds what the
-    !> motion since (2u) and the lead can have closed has no contact: its
-    !> search is skipped (the screens' switch turns this off too).
-    subroutine find_contacts(s, lists, ls, cseg, fprev, aprev, sw, mine, hit)
+    !> motion since can have closed has no contact: its search is skipped
+    !> (the screens' switch turns this off too). The closure is at most the
+    !> slave's own displacement since the search (xs: the positions then)
+    !> plus u (any point of a segment) plus twice the lead.
+    subroutine find_contacts(s, lists, ls, xs, cseg, fprev, aprev, sw, mine, hit)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
+        real(wp), intent(in) :: xs(:, :)
         integer, intent(in) :: cseg(:)
         real(wp), intent(in) :: fprev(:, :), aprev(:)
         type(search_switches_t), intent(in) :: sw
         integer, intent(in) :: mine(:)
         type(hit_t), intent(inout) :: hit(:)
-        integer :: i, k
+        integer :: i, k, sn
         logical :: clear_skip
         real(wp) :: closable
         clear_skip = sw%screens .and. allocated(lists%gap)
-        closable = 2.0_wp*ls%drift + 2.0_wp*ls%lead
-        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k)
+        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k, sn, closable)
         do i = 1, size(mine)
             k = mine(i)
             if (clear_skip .and. cseg(k) == 0) then
+                sn = s%slave(k)
+                closable = norm2(ls%xl(:, sn) - xs(:, sn)) + ls%drift + 2.0_wp*ls%lead
                 if (lists%gap(k) > closable) then
                     hit(k)%found = .false.
                     hit(k)%level = 4

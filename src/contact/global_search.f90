@@ -87,6 +87,7 @@ module xd_contact_global_search
         integer(int8), allocatable :: mark(:)
         integer, allocatable :: stamp(:)     !< slave whose search set mark(i)
         integer, allocatable :: excluded(:)  !< slave that node i shares a segment with
+        integer, allocatable :: seen(:)      !< slave whose clearance took segment m in already
         integer, allocatable :: pool(:)
         real(wp), allocatable :: dist(:)
         integer :: npool = 0
@@ -104,10 +105,15 @@ module xd_contact_global_search
 
 contains
 
-    subroutine new_search_work(nnode, w)
+    subroutine new_search_work(nnode, w, nseg)
         integer, intent(in) :: nnode
         type(search_work_t), intent(out) :: w
+        integer, intent(in), optional :: nseg
         allocate (w%mark(nnode), w%stamp(nnode), w%excluded(nnode), w%pool(64), w%dist(64))
+        if (present(nseg)) then
+            allocate (w%seen(nseg))
+            w%seen = 0
+        end if
         w%mark = mark_none
         w%stamp = 0
         w%excluded = 0
@@ -411,7 +417,7 @@ contains
         type(levels_t) :: lev
         type(search_work_t) :: w
         type(block_out_t), allocatable :: blk(:)
-        real(wp), allocatable :: r(:), box(:, :)
+        real(wp), allocatable :: r(:), box(:, :), axes(:, :, :)
         logical, allocatable :: master(:)
         integer :: nblk, ib, i, first, last, pos
         integer(i8) :: npool, nred
@@ -420,18 +426,20 @@ contains
         master = iand(s%node_side, ior(side_a, side_b)) /= 0
         r = lc + reach + margin
         call sort_levels(xl, master, r, lev)
-        ! every segment's bounding box (for the slaves' clearances)
-        allocate (box(6, s%nseg))
+        ! every segment's bounding box and separating axes (for the slaves'
+        ! clearances)
+        allocate (box(6, s%nseg), axes(4, 6, s%nseg))
         do i = 1, s%nseg
             box(1:3, i) = min(xl(:, s%seg(1, i)), xl(:, s%seg(2, i)), xl(:, s%seg(3, i)), xl(:, s%seg(4, i)))
             box(4:6, i) = max(xl(:, s%seg(1, i)), xl(:, s%seg(2, i)), xl(:, s%seg(3, i)), xl(:, s%seg(4, i)))
+            call separating_axes(xl(:, s%seg(:, i)), axes(:, :, i))
         end do
         nblk = (s%nslave + block_size - 1)/block_size
         allocate (blk(nblk))
         npool = 0
         nred = 0
         !$omp parallel private(w, i, first, last) reduction(+:npool, nred)
-        call new_search_work(s%nnode, w)
+        call new_search_work(s%nnode, w, s%nseg)
         !$omp do schedule(dynamic)
         do ib = 1, nblk
             first = (ib - 1)*block_size + 1
@@ -446,7 +454,7 @@ contains
                         cycle
                     end if
                 end if
-                call one_slave(s, lev, xl, lc, box, reach + margin, mnl, s%slave(i), w, blk(ib), i - first + 1, &
+                call one_slave(s, lev, xl, lc, box, axes, reach + margin, mnl, s%slave(i), w, blk(ib), i - first + 1, &
                                npool, nred)
             end do
         end do
@@ -476,17 +484,17 @@ contains
     end subroutine build_master_lists
 
     !> One slave node: node pool, reduced pool, master node list.
-    subroutine one_slave(s, lev, xl, lc, box, extra, mnl, sn, w, out, iloc, npool, nred)
+    subroutine one_slave(s, lev, xl, lc, box, axes, extra, mnl, sn, w, out, iloc, npool, nred)
         type(surface_t), intent(in) :: s
         type(levels_t), intent(in) :: lev
-        real(wp), intent(in) :: xl(:, :), lc(:), box(:, :), extra
+        real(wp), intent(in) :: xl(:, :), lc(:), box(:, :), axes(:, :, :), extra
         integer, intent(in) :: mnl, sn, iloc
         type(search_work_t), intent(inout) :: w
         type(block_out_t), intent(inout) :: out
         integer(i8), intent(inout) :: npool, nred
-        integer :: want, i, m, n0, nkeep, q, sg
+        integer :: want, i, m, n0, nkeep, q, sg, k
         logical :: keep
-        real(wp) :: ts, g, d2, e(3), c
+        real(wp) :: ts, g, d2, e(3), c, sep, xs(3)
 
         ! which sides the slave looks at: single surface A against A; two
         ! surfaces each side against the other; nodes-to-surface against B
@@ -497,22 +505,31 @@ contains
 
         ! the clearance (master_lists_t%gap) over the segments at the pool's nodes
         ts = 0.5_wp*s%node_t(sn)
+        xs = xl(:, sn)
         g = huge(1.0_wp)
         do i = 1, w%npool
             m = w%pool(i)
             if (m == sn) cycle
             do q = s%seg_ptr(m), s%seg_ptr(m + 1) - 1
                 sg = s%seg_list(q)
+                if (w%seen(sg) == sn) cycle
+                w%seen(sg) = sn
                 if (iand(s%seg_side(sg), want) == 0) cycle
                 if (any(s%seg(:, sg) == sn)) cycle
-                e = max(box(1:3, sg) - xl(:, sn), xl(:, sn) - box(4:6, sg), 0.0_wp)
+                ! the distance to the segment is at least that to its box and
+                ! its separation along each of its axes
+                e = max(box(1:3, sg) - xs, xs - box(4:6, sg), 0.0_wp)
                 d2 = e(1)**2 + e(2)**2 + e(3)**2
+                sep = 0
+                do k = 1, 6
+                    sep = max(sep, axes(1, k, sg)*xs(1) + axes(2, k, sg)*xs(2) + axes(3, k, sg)*xs(3) - axes(4, k, sg))
+                end do
                 if (s%seg_kind(sg) == seg_shell) then
                     c = ts + 0.5_wp*maxval(s%seg_tn(:, sg))
                 else
                     c = 2.0_wp*(ts + maxval(s%seg_tn(:, sg)))
                 end if
-                g = min(g, sqrt(d2) - c)
+                g = min(g, max(sqrt(d2), sep) - c)
             end do
         end do
         out%gap(iloc) = g
@@ -616,6 +633,49 @@ contains
             out%trk(out%n) = trk
         end subroutine emit
     end subroutine one_slave
+
+    !> Six unit axes of a segment (nodes x(3, 4); a triangle repeats its
+    !> third node) with its support along each, max_j a . x_j: the normal
+    !> both ways and the outward normal in its plane of each edge. A bilinear
+    !> segment lies in the convex hull of its nodes, so a point's distance to
+    !> it is at least a . p - support on every axis (zero axes: no bound).
+    pure subroutine separating_axes(x, ax)
+        real(wp), intent(in) :: x(3, 4)
+        real(wp), intent(out) :: ax(4, 6)
+        real(wp) :: n(3), e(3), a(3), len, ctr(3)
+        integer :: k, j
+        n = cross3(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2))
+        if (all(x(:, 3) == x(:, 4))) n = cross3(x(:, 2) - x(:, 1), x(:, 3) - x(:, 1))
+        len = norm2(n)
+        ax = 0
+        if (len <= 0.0_wp) return
+        n = n/len
+        ctr = 0.25_wp*(x(:, 1) + x(:, 2) + x(:, 3) + x(:, 4))
+        ax(1:3, 1) = n
+        ax(1:3, 2) = -n
+        do k = 1, 4
+            e = x(:, mod(k, 4) + 1) - x(:, k)
+            a = cross3(e, n)
+            len = norm2(a)
+            if (len <= 1.0e-12_wp*norm2(e) .or. len <= 0.0_wp) cycle
+            a = a/len
+            ! outward: away from the centre
+            if (dot_product(a, ctr - x(:, k)) > 0.0_wp) a = -a
+            ax(1:3, 2 + k) = a
+        end do
+        do k = 1, 6
+            ax(4, k) = -huge(1.0_wp)
+            do j = 1, 4
+                ax(4, k) = max(ax(4, k), dot_product(ax(1:3, k), x(:, j)))
+            end do
+        end do
+    end subroutine separating_axes
+
+    pure function cross3(a, b) result(c)
+        real(wp), intent(in) :: a(3), b(3)
+        real(wp) :: c(3)
+        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+    end function cross3
 
     !> Sort the pool by distance, ties by node number (a total order, so the
     !> result is deterministic): insertion for short pools, heapsort (O(k log k))

@@ -260,9 +260,10 @@ contains
             ! reaches that far in its plane); a fold that closes from farther
             ! along the sheet is no neighbour: left out, it would be found
             ! late and deep
-            if (.not. within_rings(m, 3)) return
+            ! (the angle first: it is cheaper than the walk over the rings)
             nv = seg_normal(s, ls%xl, m)
-            in_plane_own = abs(dot_product(nv, h%nhat)) < 0.5_wp*norm2(nv)
+            if (abs(dot_product(nv, h%nhat)) >= 0.5_wp*norm2(nv)) return
+            in_plane_own = within_rings(m, 3)
         end function in_plane_own
 
         !> Segment m has a node within `rings` steps of the slave along the

@@ -9,7 +9,7 @@ module xd_elements_shell_bt
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc, alloc_dp
     use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid
-    use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor, equivalent_stress
+    use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
     implicit none
     private
     public :: shells_t, build_shells, shell_forces, shell_masses, shell_frame, point_weight
@@ -379,7 +379,7 @@ contains
         real(wp), intent(inout) :: s(5)
         real(wp), intent(out) :: dzz               !< the thickness strain rate found
         real(wp) :: lam, mu, d(1, 6), sg(1, 6), ep(1), al(1, 6), z0, z1, f0, f1, z2
-        real(wp) :: qe, st(6), xi(6), xeq, sy, h
+        real(wp) :: qe, st(6), xeq, sy, h, t1, t2, t4, t5, t6, pm
         integer :: it
         dzz = -sh%nu(e)/(1 - sh%nu(e))*(dd(1) + dd(2))
         if (dt <= 0.0_wp) return
@@ -390,9 +390,18 @@ contains
         ! the yield surface, the 3-D return below would change nothing, so
         ! the point is done (most points of a crash model, most of the time)
         qe = sh%e(e)/(1 - sh%nu(e)**2)
-        st = [s(1) + dt*qe*(dd(1) + sh%nu(e)*dd(2)), s(2) + dt*qe*(dd(2) + sh%nu(e)*dd(1)), 0.0_wp, &
-              s(3) + dt*mu*dd(3), s(4) + dt*mu*dd(4), s(5) + dt*mu*dd(5)]
-        call equivalent_stress(st, sh%alpha(:, ip, e), xi, xeq)
+        t1 = s(1) + dt*qe*(dd(1) + sh%nu(e)*dd(2))
+        t2 = s(2) + dt*qe*(dd(2) + sh%nu(e)*dd(1))
+        t4 = s(3) + dt*mu*dd(3)
+        t5 = s(4) + dt*mu*dd(4)
+        t6 = s(5) + dt*mu*dd(5)
+        ! the von Mises value of dev(trial) - alpha, from scalars (an array
+        ! built here and read back as a vector stalled the store forwarding)
+        pm = (t1 + t2)/3.0_wp
+        xeq = sqrt(1.5_wp*((t1 - pm - sh%alpha(1, ip, e))**2 + (t2 - pm - sh%alpha(2, ip, e))**2 + &
+                           (pm + sh%alpha(3, ip, e))**2 + 2.0_wp*((t4 - sh%alpha(4, ip, e))**2 + &
+                           (t5 - sh%alpha(5, ip, e))**2 + (t6 - sh%alpha(6, ip, e))**2)))
+        st = [t1, t2, 0.0_wp, t4, t5, t6]
         call yield_stress(sh%pp(sh%pmat(e)), sh%epsp(ip, e), sy, h)
         if (xeq <= rate_factor(sh%pp(sh%pmat(e)), [dd(1), dd(2), z0, 0.5_wp*dd(3), 0.5_wp*dd(4), 0.5_wp*dd(5)])*sy) then
             s = [st(1), st(2), st(4), st(5), st(6)]
