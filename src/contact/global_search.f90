@@ -519,17 +519,18 @@ contains
                 ! the distance to the segment is at least that to its box and
                 ! its separation along each of its axes
                 e = max(box(1:3, sg) - xs, xs - box(4:6, sg), 0.0_wp)
-                d2 = e(1)**2 + e(2)**2 + e(3)**2
-                sep = 0
-                do k = 1, 6
-                    sep = max(sep, axes(1, k, sg)*xs(1) + axes(2, k, sg)*xs(2) + axes(3, k, sg)*xs(3) - axes(4, k, sg))
-                end do
+                d2 = sqrt(e(1)**2 + e(2)**2 + e(3)**2)
                 if (s%seg_kind(sg) == seg_shell) then
                     c = ts + 0.5_wp*maxval(s%seg_tn(:, sg))
                 else
                     c = 2.0_wp*(ts + maxval(s%seg_tn(:, sg)))
                 end if
-                g = min(g, max(sqrt(d2), sep) - c)
+                if (d2 - c >= g) cycle      ! the box alone keeps it farther
+                sep = d2
+                do k = 1, 6
+                    sep = max(sep, axes(1, k, sg)*xs(1) + axes(2, k, sg)*xs(2) + axes(3, k, sg)*xs(3) - axes(4, k, sg))
+                end do
+                g = min(g, sep - c)
             end do
         end do
         out%gap(iloc) = g
@@ -642,32 +643,39 @@ contains
     pure subroutine separating_axes(x, ax)
         real(wp), intent(in) :: x(3, 4)
         real(wp), intent(out) :: ax(4, 6)
-        real(wp) :: n(3), e(3), a(3), len, ctr(3)
+        real(wp) :: n(3), e(3), a(3), len, ctr(3), sup, p
         integer :: k, j
-        n = cross3(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2))
-        if (all(x(:, 3) == x(:, 4))) n = cross3(x(:, 2) - x(:, 1), x(:, 3) - x(:, 1))
-        len = norm2(n)
+        if (x(1, 3) == x(1, 4) .and. x(2, 3) == x(2, 4) .and. x(3, 3) == x(3, 4)) then
+            n = cross3(x(:, 2) - x(:, 1), x(:, 3) - x(:, 1))
+        else
+            n = cross3(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2))
+        end if
+        len = sqrt(n(1)**2 + n(2)**2 + n(3)**2)
         ax = 0
         if (len <= 0.0_wp) return
         n = n/len
         ctr = 0.25_wp*(x(:, 1) + x(:, 2) + x(:, 3) + x(:, 4))
-        ax(1:3, 1) = n
-        ax(1:3, 2) = -n
-        do k = 1, 4
-            e = x(:, mod(k, 4) + 1) - x(:, k)
-            a = cross3(e, n)
-            len = norm2(a)
-            if (len <= 1.0e-12_wp*norm2(e) .or. len <= 0.0_wp) cycle
-            a = a/len
-            ! outward: away from the centre
-            if (dot_product(a, ctr - x(:, k)) > 0.0_wp) a = -a
-            ax(1:3, 2 + k) = a
-        end do
         do k = 1, 6
-            ax(4, k) = -huge(1.0_wp)
-            do j = 1, 4
-                ax(4, k) = max(ax(4, k), dot_product(ax(1:3, k), x(:, j)))
+            if (k <= 2) then
+                a = n
+                if (k == 2) a = -n
+            else
+                j = k - 2
+                e = x(:, mod(j, 4) + 1) - x(:, j)
+                a = cross3(e, n)
+                len = sqrt(a(1)**2 + a(2)**2 + a(3)**2)
+                if (len <= 1.0e-12_wp*sqrt(e(1)**2 + e(2)**2 + e(3)**2) .or. len <= 0.0_wp) cycle
+                a = a/len
+                ! outward: away from the centre
+                if (a(1)*(ctr(1) - x(1, j)) + a(2)*(ctr(2) - x(2, j)) + a(3)*(ctr(3) - x(3, j)) > 0.0_wp) a = -a
+            end if
+            sup = a(1)*x(1, 1) + a(2)*x(2, 1) + a(3)*x(3, 1)
+            do j = 2, 4
+                p = a(1)*x(1, j) + a(2)*x(2, j) + a(3)*x(3, j)
+                sup = max(sup, p)
             end do
+            ax(1:3, k) = a
+            ax(4, k) = sup
         end do
     end subroutine separating_axes
 

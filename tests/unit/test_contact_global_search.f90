@@ -2,14 +2,22 @@
 !> is exactly the brute-force set on random clouds and on a crumpled sheet
 !> of 1e4 nodes; the master node list of a configuration built like the
 !> paper's Fig. 4 is the one the paper's walk-through gives; the closest-1
-!> and closest-3 lists; the lists do not depend on the thread count.
+!> and closest-3 lists; the lists do not depend on the thread count. Mixed
+!> sizes: the levels of bucket grids give the brute-force pools when radii
+!> span four orders of magnitude, and one huge node does not widen the
+!> fine level. The slaves' clearances are lower bounds of the distance to
+!> every segment they can reach (a finely sampled distance, on the
+!> crumpled sheet) and are not all trivial.
 program test_contact_global_search
     use xd_kinds, only: wp
     use xd_testing, only: check, test_summary
     use xd_model, only: model_t, mnl_minimal, mnl_closest1, mnl_closest3
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface
     use xd_contact_global_search, only: buckets_t, bucket_sort, bucket_radii, node_pool, search_work_t, new_search_work, &
-                                        characteristic_lengths, master_lists_t, build_master_lists, search_counts_t
+                                        characteristic_lengths, master_lists_t, build_master_lists, search_counts_t, &
+                                        levels_t, sort_levels, level_pool, typical_length
+    use xd_contact_surface, only: wanted_side
+    use xd_core_strings, only: ftoa
     use xd_test_fixtures, only: empty_model, add_shell, node_at, set_sheet
     !$ use omp_lib, only: omp_set_num_threads
     implicit none
@@ -17,6 +25,7 @@ program test_contact_global_search
     call random_cloud(2000, 0.01_wp, 0.08_wp, 'random cloud, 2000 points, radii 0.01-0.08')
     call random_cloud(10000, 0.001_wp, 0.03_wp, 'random cloud, 1e4 points, radii 0.001-0.03')
     call random_cloud(3000, 0.2_wp, 0.2_wp, 'random cloud, 3000 points, one bucket per axis')
+    call mixed_cloud()
     call crumpled_sheet()
     call figure4()
     call figure4_paper()
@@ -69,6 +78,93 @@ contains
         call check(nbad == 0 .and. npairs > 0, name, 'mismatches '//itoa(nbad)//' pairs '//itoa(npairs))
     end subroutine compare_pools
 
+    !> Radii from 1e-3 to 1 (a few huge ones, like the nodes of a ground
+    !> shell under a fine mesh): the pools of the levels equal brute force,
+    !> and the finest level's buckets stay as narrow as its own radii.
+    subroutine mixed_cloud()
+        integer, parameter :: n = 4000
+        real(wp), allocatable :: x(:, :), r(:), q(:, :)
+        type(levels_t) :: lev
+        type(search_work_t) :: w
+        logical, allocatable :: active(:), hit(:), want(:)
+        integer :: i, k, nbad, npairs
+        allocate (x(3, n), r(n), q(3, 300), active(n), hit(n), want(n))
+        call random_seed(put=[(311 + k, k=1, 64)])
+        call random_number(x)
+        call random_number(r)
+        r = 0.001_wp + 0.01_wp*r          ! a fine mesh ...
+        r(1:4) = [0.9_wp, 1.0_wp, 0.7_wp, 0.95_wp]    ! ... a ground shell's corners
+        r(5:200) = 0.05_wp + 0.05_wp*r(5:200)         ! ... and a coarse part
+        call random_number(q)
+        q = 1.4_wp*q - 0.2_wp
+        active = .true.
+        call sort_levels(x, active, r, lev)
+        call new_search_work(n, w)
+        nbad = 0
+        npairs = 0
+        do i = 1, size(q, 2)
+            call level_pool(lev, q(:, i), w)
+            hit = .false.
+            hit(w%pool(1:w%npool)) = .true.
+            want = (x(1, :) - q(1, i))**2 + (x(2, :) - q(2, i))**2 + (x(3, :) - q(3, i))**2 <= r**2
+            nbad = nbad + count(hit .neqv. want)
+            if (count(hit) /= w%npool) nbad = nbad + 1
+            npairs = npairs + w%npool
+        end do
+        call check(nbad == 0 .and. npairs > 0, 'levels of buckets = brute force: radii 1e-3 to 1 in one cloud', &
+                   'mismatches '//itoa(nbad)//' pairs '//itoa(npairs)//' levels '//itoa(lev%n))
+        ! one grid for all would scan 1.0 (the largest radius) around every
+        ! point; the fine level scans what its own nodes and the cell cap need
+        call check(lev%n >= 2 .and. maxval(lev%lv(1)%w*lev%lv(1)%reach) < 0.2_wp, &
+                   'levels: the fine level''s scan is not widened by the huge radii', &
+                   'levels '//itoa(lev%n)//' fine scan reach '//ftoa(maxval(lev%lv(1)%w*lev%lv(1)%reach)))
+        call check(abs(typical_length([5.0_wp, 1.0_wp, 4.0_wp, 2.0_wp, 3.0_wp], 0.5_wp) - 3.0_wp) < 1.0e-12_wp, &
+                   'typical_length: the median of 5 values')
+    end subroutine mixed_cloud
+
+    !> The clearance of each slave of the surface s (coordinates xl) against a
+    !> sampled distance to every segment it can reach before the next
+    !> search: gap <= distance - reach of the segment's check, for every
+    !> segment within half the margin of touching. True on a sampled
+    !> distance (an upper bound of the true one) if true at all.
+    subroutine check_clearances(s, xl, l, margin, name)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: xl(:, :), margin
+        type(master_lists_t), intent(in) :: l
+        character(len=*), intent(in) :: name
+        integer :: i, sn, m, a, b, nbad, npos, want
+        real(wp) :: ts, c, dmin, p(3), xm(3, 4), u, v
+        nbad = 0
+        npos = 0
+        do i = 1, s%nslave
+            sn = s%slave(i)
+            want = wanted_side(s, sn)
+            ts = 0.5_wp*s%node_t(sn)
+            if (l%gap(i) > 0.0_wp) npos = npos + 1
+            do m = 1, s%nseg
+                if (any(s%seg(:, m) == sn) .or. iand(s%seg_side(m), want) == 0) cycle
+                xm = xl(:, s%seg(:, m))
+                if (minval(norm2(xm - spread(xl(:, sn), 2, 4), 1)) > 0.05_wp) cycle    ! far: no need to sample
+                c = ts + 0.5_wp*maxval(s%seg_tn(:, m))
+                dmin = huge(1.0_wp)
+                do a = 0, 20
+                    do b = 0, 20
+                        u = a/20.0_wp
+                        v = b/20.0_wp
+                        p = (1 - u)*(1 - v)*xm(:, 1) + u*(1 - v)*xm(:, 2) + u*v*xm(:, 3) + (1 - u)*v*xm(:, 4)
+                        dmin = min(dmin, norm2(p - xl(:, sn)))
+                    end do
+                end do
+                if (dmin - c > 0.5_wp*margin) cycle
+                if (l%gap(i) > dmin - c + 1.0e-9_wp) nbad = nbad + 1
+            end do
+        end do
+        call check(nbad == 0, 'clearance: a lower bound of the distance to every reachable segment: '//name, &
+                   'violations '//itoa(nbad))
+        call check(npos > s%nslave/4, 'clearance: positive for more than a quarter of the slaves: '//name, &
+                   itoa(npos)//' of '//itoa(s%nslave))
+    end subroutine check_clearances
+
     !> A 100 x 100 sheet of shells (1e4 nodes) crumpled by folds in two
     !> directions, pool radius L_m + margin as the global search uses it.
     subroutine crumpled_sheet()
@@ -113,6 +209,7 @@ contains
                    'master node lists: identical with 1 and 2 threads')
         call check(cnt%masters > 0 .and. cnt%masters <= cnt%reduced .and. cnt%reduced <= cnt%pool, &
                    'master node lists: masters <= reduced pool <= pool')
+        call check_clearances(s, xl, l1, 0.002_wp, 'crumpled sheet of 1e4 nodes')
     end subroutine crumpled_sheet
 
     !> A sheet folded over itself twice across its length, so that layers
