@@ -541,6 +541,11 @@ contains
                 !$omp parallel do schedule(dynamic, 64) default(shared) private(i2, k)
                 do i2 = 1, size(it%mine)
                     k = it%mine(i2)
+                    if (it%cseg(k) == 0 .and. .not. it%hit(k)%found) then
+                        ! no contact then or now: its state is already clear
+                        it%evk(k) = ev_none
+                        cycle
+                    end if
                     call slave_force(it, s, k, dt)
                 end do
                 !$omp end parallel do
