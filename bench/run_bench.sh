@@ -69,11 +69,55 @@ nst=$(/usr/bin/python3 -c "import h5py; print(len(h5py.File('$dir/states1/d3plot
 smed=$(sort -n $dir/ns_states.txt | awk '{a[NR]=$1} END {print a[int((NR + 1) / 2)]}')
 echo "bench: shells with $nst states: median $smed ns per element-cycle, states cost $(awk -v a=$smed -v b=$med 'BEGIN {printf "%.1f", 100 * (a - b) / b}')% of the run ($(du -m $dir/states1/d3plot.h5 | cut -f1) MB of states)"
 
+# one row per run: ns per element-cycle over all elements (rigid ones
+# included, as the peer counts them), from the time loop's wall time in
+# d3hsp, split by phase; contact share; peak memory per element
+phase_row() {  # label d3hsp nelem memkB
+    awk -v label="$1" -v n=$3 -v mem=$4 '
+        /element processing/ {el = $3}
+        /force assembly/ {as = $3}
+        /time integration/ {ti = $3}
+        /rigid bodies/ {rb = $3}
+        /contact global search/ {gs = $4}
+        /contact local search/ {ls = $4}
+        /contact enforcement/ {en = $3}
+        /output  / {ou = $2}
+        /contact share/ {share = $(NF-1)}
+        /cycles \.\.\./ {c = $NF}
+        END {f = 1e9 / (n * c); loop = el + as + ti + rb + gs + ls + en + ou
+             printf "  %s: %.0f ns per element-cycle (elements %.0f, assembly %.0f, integration %.0f, rigid %.0f, global search %.0f, local search %.0f, enforcement %.0f); contact %s%%; %d cycles; %.1f kB per element\n", label, loop * f, el * f, as * f, ti * f, rb * f, gs * f, ls * f, en * f, share, c, mem / n}' $2
+}
+
+# the tube crushed by a coarse rigid plate (1,200 tube shells of 5 mm, a
+# rigid plate of 484 shells of 10 mm, whole-model single-surface contact,
+# 10 m/s, 12 ms: 120 of the 150 mm crushed), one thread, three runs
+tpdeck=$dir/tube_plate.k
+/usr/bin/python3 tools/gen_decks.py --bench-tube-plate $tpdeck
+echo "bench: square tube crushed by a coarse rigid plate, 1684 shells, whole crush (12 ms), 1 thread, $runs runs"
+: > $dir/ns_tp.txt
+i=1
+while [ $i -le $runs ]; do
+    out=$dir/tube_plate$i
+    rm -rf $out
+    OMP_NUM_THREADS=1 /usr/bin/time -f "%M" -o $dir/mem_tp$i.txt ./bin/xdyna i=$tpdeck outdir=$out > /dev/null
+    phase_row "run $i" $out/d3hsp 1684 $(cat $dir/mem_tp$i.txt) | tee -a $dir/ns_tp.txt
+    i=$((i + 1))
+done
+awk '{for (k = 1; k <= NF; k++) if ($k == "ns") {print $(k - 1)}}' $dir/ns_tp.txt | sort -n | \
+    awk '{a[NR]=$1} END {print "bench: tube under a coarse plate: median " a[int((NR + 1) / 2)] " ns per element-cycle"}'
+
+# the paper's front frame (section 7.3, 2,354 shells, 30 ms), one run
+out=$dir/front_frame
+rm -rf $out
+OMP_NUM_THREADS=1 /usr/bin/time -f "%M" -o $dir/mem_ff.txt ./bin/xdyna i=input_decks/paper/front_frame.k outdir=$out > /dev/null
+phase_row "bench: the paper's front frame (2354 shells, 30 ms, 1 thread)" $out/d3hsp 2354 $(cat $dir/mem_ff.txt)
+
 # global search alone (contact step 2) on crumpled sheets of 1e4, 1e5, 1e6
 # surface nodes: the cost per slave node must stay flat (a linear search)
 echo "bench: contact global search alone, crumpled sheet, 1 thread (median of repeats per size)"
-OMP_NUM_THREADS=1 ./bin/search_bench 10000 100000 1000000 | tee $dir/search.txt
-awk 'NR == 2 {a = $3} END {printf "bench: global search cost per slave grows %.2fx from 1e4 to 1e6 nodes\n", $3 / a}' $dir/search.txt
+# and the mixed-size cases against their uniform twins
+OMP_NUM_THREADS=1 ./bin/search_bench | tee $dir/search.txt
+awk '$1 == "crumpled" {n++; c[n] = $6} END {printf "bench: global search cost per slave grows %.2fx from 1e4 to 1e6 nodes\n", c[n] / c[1]}' $dir/search.txt
 
 # whole-model single-surface contact: an array of crushing square tubes
 # (1200 shells each), 3 x 3 = 10,800 shells (BENCH_TUBES="10 10" for

@@ -17,7 +17,8 @@ import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-XDYNA = os.path.join(ROOT, "bin", "xdyna")
+# XDYNA_BIN: another build to run the deck tests with (make PRECISION=single verify)
+XDYNA = os.environ.get("XDYNA_BIN") or os.path.join(ROOT, "bin", "xdyna")
 THDIFF = os.path.join(ROOT, "bin", "thdiff")
 TMP = tempfile.mkdtemp(prefix="xdyna-tests-")
 results = []

@@ -3,7 +3,7 @@
 !> (local search and enforcement) work from the master node lists kept here.
 !>
 !> Search interval. Fixed: at most N cycles apart (BSORT, else NSRCH of
-!> *CONTROL_XDYNA_CONTACT, else NSBCS, else 10), and also whenever 4u > delta
+!> *CONTROL_XDYNA_CONTACT, else NSBCS, else 100), and also whenever 4u > delta
 !> as below, so the bound holds for every policy. Adaptive: the interface
 !> keeps u, a bound on how far any of its nodes has moved since the last
 !> search (the sum over cycles of dt x the largest nodal speed), and

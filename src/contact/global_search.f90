@@ -418,6 +418,7 @@ contains
         type(search_work_t) :: w
         type(block_out_t), allocatable :: blk(:)
         real(wp), allocatable :: r(:), box(:, :), axes(:, :, :)
+        real(wp) :: cmax
         logical, allocatable :: master(:)
         integer :: nblk, ib, i, first, last, pos
         integer(i8) :: npool, nred
@@ -433,6 +434,14 @@ contains
             box(1:3, i) = min(xl(:, s%seg(1, i)), xl(:, s%seg(2, i)), xl(:, s%seg(3, i)), xl(:, s%seg(4, i)))
             box(4:6, i) = max(xl(:, s%seg(1, i)), xl(:, s%seg(2, i)), xl(:, s%seg(3, i)), xl(:, s%seg(4, i)))
             call separating_axes(xl(:, s%seg(:, i)), axes(:, :, i))
+        end do
+        cmax = 0
+        do i = 1, s%nseg
+            if (s%seg_kind(i) == seg_shell) then
+                cmax = max(cmax, 0.5_wp*maxval(s%seg_tn(:, i)))
+            else
+                cmax = max(cmax, 2.0_wp*maxval(s%seg_tn(:, i)))
+            end if
         end do
         nblk = (s%nslave + block_size - 1)/block_size
         allocate (blk(nblk))
@@ -454,7 +463,7 @@ contains
                         cycle
                     end if
                 end if
-                call one_slave(s, lev, xl, lc, box, axes, reach + margin, mnl, s%slave(i), w, blk(ib), i - first + 1, &
+                call one_slave(s, lev, xl, lc, box, axes, cmax, reach + margin, mnl, s%slave(i), w, blk(ib), i - first + 1, &
                                npool, nred)
             end do
         end do
@@ -484,10 +493,11 @@ contains
     end subroutine build_master_lists
 
     !> One slave node: node pool, reduced pool, master node list.
-    subroutine one_slave(s, lev, xl, lc, box, axes, extra, mnl, sn, w, out, iloc, npool, nred)
+    subroutine one_slave(s, lev, xl, lc, box, axes, cmax, extra, mnl, sn, w, out, iloc, npool, nred)
         type(surface_t), intent(in) :: s
         type(levels_t), intent(in) :: lev
         real(wp), intent(in) :: xl(:, :), lc(:), box(:, :), axes(:, :, :), extra
+        real(wp), intent(in) :: cmax     !< the largest segment part of a clearance's c (below)
         integer, intent(in) :: mnl, sn, iloc
         type(search_work_t), intent(inout) :: w
         type(block_out_t), intent(inout) :: out
@@ -510,6 +520,9 @@ contains
         do i = 1, w%npool
             m = w%pool(i)
             if (m == sn) cycle
+            ! every point of a segment at m lies within L_m of m (the paper's
+            ! bound): a node that far cannot lower the clearance
+            if (w%dist(i) - lc(m) - (2.0_wp*ts + cmax) >= g) cycle
             do q = s%seg_ptr(m), s%seg_ptr(m + 1) - 1
                 sg = s%seg_list(q)
                 if (w%seen(sg) == sn) cycle
