@@ -494,6 +494,13 @@ contains
         do i = 1, size(mine)
             k = mine(i)
             if (clear_skip .and. cseg(k) == 0) then
+                ! the slave's own displacement is at most u: most slaves are
+                ! clear on that alone, without reading their positions
+                if (lists%gap(k) > 2.0_wp*ls%drift + 2.0_wp*ls%lead) then
+                    hit(k)%found = .false.
+                    hit(k)%level = 4
+                    cycle
+                end if
                 sn = s%slave(k)
                 closable = norm2(ls%xl(:, sn) - xs(:, sn)) + ls%drift + 2.0_wp*ls%lead
                 if (lists%gap(k) > closable) then
