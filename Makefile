@@ -97,7 +97,7 @@ examples: deps
 
 verify: deps
 	@$(MAKE) --no-print-directory all
-	@$(PY) tools/verify.py
+	@XDYNA_BIN=$(CURDIR)/bin/xdyna$(SUFFIX) $(PY) tools/verify.py
 
 sweeps: deps
 	@$(MAKE) --no-print-directory all

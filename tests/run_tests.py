@@ -19,6 +19,18 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # XDYNA_BIN: another build to run the deck tests with (make PRECISION=single verify)
 XDYNA = os.environ.get("XDYNA_BIN") or os.path.join(ROOT, "bin", "xdyna")
+# A 32-bit build (make PRECISION=single: field data in 32 bits, energies and
+# time in 64) rounds each operation to 2^-24 = 6e-8 relative; over the
+# thousands of cycles of a test that grows to 1e-7..1e-6. A check whose
+# tolerance bounds round-off (stated for 64 bits: 1e-9 and below) takes
+# roundoff(tol, scale) = max(tol, 1e-5 x scale) there (scale: the size of
+# the quantity, 1 for a ratio); checks of physics keep their tolerances.
+SINGLE = os.path.basename(XDYNA).endswith("_single")
+
+
+def roundoff(tol, scale=1.0):
+    return max(tol, 1e-5 * scale) if SINGLE else tol
+
 THDIFF = os.path.join(ROOT, "bin", "thdiff")
 TMP = tempfile.mkdtemp(prefix="xdyna-tests-")
 results = []
@@ -111,9 +123,14 @@ def test_bar_impact():
     # no dissipation but bulk viscosity and hourglass work, both booked: 0.5%
     record(f"bar: energy ratio within 0.5% throughout ({dev:.2e})", dev < 0.005)
     # regression against the reviewed reference run (see tests/reference/README.md)
-    q = run([THDIFF, out, os.path.join(ROOT, "tests", "reference", "bar_impact"), "--rtol", "1e-4", "--atol", "1e-9",
-             "--only", "glstat,nodout", "--common"])
-    record("bar: time histories match the reference run (thdiff rtol 1e-4 of peak)", q.returncode == 0,
+    # (the reference is the 64-bit build's; a 32-bit run is held to 1e-2 of
+    # the peak, its stress front differs by 0.17% of the peak, measured, and
+    # the zero sideways velocities to its round-off; its 32-bit steps end the
+    # run 4 ns earlier, so the common times are compared)
+    rtol = "1e-2" if SINGLE else "1e-4"
+    q = run([THDIFF, out, os.path.join(ROOT, "tests", "reference", "bar_impact"), "--rtol", rtol,
+             "--atol", str(roundoff(1e-9)), "--only", "glstat,nodout", "--common", *(["--overlap"] if SINGLE else [])])
+    record(f"bar: time histories match the reference run (thdiff rtol {rtol} of peak)", q.returncode == 0,
            q.stdout[-600:])
 
 
@@ -134,7 +151,7 @@ def test_free_block():
     # momentum is conserved exactly by the assembly (internal forces sum to zero)
     v = np.stack([g["x_velocity"], g["y_velocity"], g["z_velocity"]])
     dv = np.max(abs(v - v[:, :1]))
-    record(f"free block: centre-of-mass velocity constant to 1e-9 m/s ({dv:.1e})", dv < 1e-9)
+    record(f"free block: centre-of-mass velocity constant to {roundoff(1e-9):.0e} m/s ({dv:.1e})", dv < roundoff(1e-9))
 
 
 def test_prestressed():
@@ -150,7 +167,7 @@ def test_prestressed():
     zc = (np.arange(8) + 0.5) / 8
     e0 = (1e8 ** 2) / (2 * 200e9) * 0.05 * 0.05 * 0.2 * np.mean(np.cos(np.pi * zc / 2) ** 2)
     record(f"prestressed: initial internal energy = sigma^2 V / 2E ({g['internal_energy'][0]:.6g} vs {e0:.6g})",
-           abs(g["internal_energy"][0] / e0 - 1) < 1e-12)
+           abs(g["internal_energy"][0] / e0 - 1) < roundoff(1e-12))
     dev = np.max(abs(g["energy_ratio"] - 1))
     record(f"prestressed: energy ratio within 0.5% throughout ({dev:.2e})", dev < 0.005)
     record("prestressed: the column moves (kinetic energy reaches 50% of the stored energy)",
@@ -234,7 +251,7 @@ def test_moving_walls():
         with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
             dist = np.hypot(f["nodout/x_coordinate"][:], f["nodout/y_coordinate"][:])
         record(f"pole: no node ends inside the cylinder (closest {dist.min():.9f} m, radius 0.01 m)",
-               dist.min() > 0.01 * (1 - 1e-9))
+               dist.min() > 0.01 * (1 - roundoff(1e-9)))
         g = glstat(out)
         record("pole: the bar bounces off", g["y_velocity"][-1] > 0)
         dev = np.max(abs(g["energy_ratio"] - 1))
@@ -413,11 +430,11 @@ def test_rigid_bodies():
         e0 = 0.5 * M * 1.0 ** 2 + 0.5 * np.sum(inertia * w ** 2)
         te = g["total_energy"]
         record(f"rigid spin: initial energy = 1/2 M v^2 + 1/2 w.I.w of the box ({te[0]:.9g} vs {e0:.9g})",
-               abs(te[0] / e0 - 1) < 1e-9)
+               abs(te[0] / e0 - 1) < roundoff(1e-9))
         dev = np.max(abs(te / te[0] - 1))
         record(f"rigid spin: energy constant to 1e-6 over 5e4 torque-free cycles ({dev:.1e})", dev < 1e-6)
         record("rigid spin: the centre keeps its velocity (1, 0, 0)",
-               abs(g["x_velocity"][-1] - 1) < 1e-12 and abs(g["y_velocity"][-1]) < 1e-12)
+               abs(g["x_velocity"][-1] - 1) < roundoff(1e-12) and abs(g["y_velocity"][-1]) < roundoff(1e-12))
         with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
             L = np.stack([f["rbdout/x_angular_momentum"][:, 0], f["rbdout/y_angular_momentum"][:, 0],
                           f["rbdout/z_angular_momentum"][:, 0]])
@@ -437,7 +454,7 @@ def test_rigid_bodies():
         e0 = 0.5 * M + 0.5 * np.sum(inertia * w ** 2)
         te = glstat(out)["total_energy"]
         record(f"rigid shell plate: initial energy from the shells' inertia ({te[0] / e0 - 1:+.1e})",
-               abs(te[0] / e0 - 1) < 1e-9)
+               abs(te[0] / e0 - 1) < roundoff(1e-9))
         dev = np.max(abs(te / te[0] - 1))
         record(f"rigid shell plate: energy kept to 1e-6 ({dev:.1e})", dev < 1e-6)
     p, out = run_deck("input_decks/verify/rod_rigid_mass.k", "rod_rigid_mass")
@@ -512,12 +529,14 @@ def test_rigid_constraints():
         target = np.interp(t, ts, 0.01 * np.sin(np.pi * ts / 0.02))
         ux = (x[:, 0] + x[:, 1]) / 2 - (x[0, 0] + x[0, 1]) / 2
         err = np.max(abs(ux - target))
-        record(f"prescribed rigid translation follows its curve ({err:.1e} m)", err < 1e-9)
+        # (scale 0.1 m: the coordinates' size)
+        record(f"prescribed rigid translation follows its curve ({err:.1e} m)", err < roundoff(1e-9, 0.1))
         ang = np.unwrap(np.arctan2(y[:, 1] - y[:, 0], x[:, 1] - x[:, 0]))
         err = np.max(abs(ang - ang[0] - 2.0 * t))
-        record(f"prescribed rigid spin follows its angular velocity ({err:.1e} rad)", err < 1e-9)
+        record(f"prescribed rigid spin follows its angular velocity ({err:.1e} rad)", err < roundoff(1e-9))
         d = np.hypot(x[:, 1] - x[:, 0], y[:, 1] - y[:, 0])
-        record("prescribed rigid block stays rigid (corner distance to 1e-12 m)", np.ptp(d) < 1e-12)
+        record(f"prescribed rigid block stays rigid (corner distance to {roundoff(1e-12, 0.1):.0e} m, {np.ptp(d):.1e})",
+               np.ptp(d) < roundoff(1e-12, 0.1))
     gaps = {}
     for d in ("spot_weld", "spot_weld_fail"):
         p, out = run_deck(f"input_decks/verify/{d}.k", d)
@@ -530,7 +549,7 @@ def test_rigid_constraints():
             mom = f["matsum/x_momentum"][:].sum(1)
         rel = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:, 0] - v[1:, 1] + v[:-1, 0] - v[:-1, 1]) * np.diff(t))])
         gaps[d] = np.max(abs(rel))
-        record(f"{d}: momentum conserved ({abs(mom[-1] / mom[0] - 1):.1e})", abs(mom[-1] / mom[0] - 1) < 1e-9)
+        record(f"{d}: momentum conserved ({abs(mom[-1] / mom[0] - 1):.1e})", abs(mom[-1] / mom[0] - 1) < roundoff(1e-9))
         dev = np.max(abs(glstat(out)["energy_ratio"] - 1))
         record(f"{d}: energy ratio within 1e-3 ({dev:.1e})", dev < 1e-3)
     record(f"spot welds hold the plates together (relative slide {gaps['spot_weld'] * 1e3:.2f} mm, under a "
@@ -601,7 +620,7 @@ def test_shells():
     record(f"shell cantilever: first frequency within 3% of beam theory ({(got / f1 - 1) * 100:+.2f}%)",
            abs(got / f1 - 1) < 0.03)
     dev = np.max(abs(glstat(out)["energy_ratio"] - 1))
-    record(f"shell cantilever: energy ratio within 1e-6 ({dev:.1e})", dev < 1e-6)
+    record(f"shell cantilever: energy ratio within {roundoff(1e-6):.0e} ({dev:.1e})", dev < roundoff(1e-6))
     # one shell in uniaxial plane stress, *MAT_003 isotropic: the closed-form
     # bilinear path to 0.5% (the issue's figure); the thickness is held, so
     # the stress is the edge force over width x t0
@@ -1533,7 +1552,7 @@ def test_contact_bars():
     record(f"contact bars: bars leave with reversed velocities within 2% ({v[0]:.3f}, {v[1]:.3f} m/s)",
            abs(v[0] + 5) < 0.1 and abs(v[1] - 5) < 0.1)
     drift = np.max(abs(mom.sum(axis=1))) / (mass[0, 0] * 5)
-    record(f"contact bars: momentum conserved to 1e-10 ({drift:.1e})", drift < 1e-10)
+    record(f"contact bars: momentum conserved to {roundoff(1e-10):.0e} ({drift:.1e})", drift < roundoff(1e-10))
     dev = np.max(abs(ratio - 1))
     record(f"contact bars: energy ratio within 1e-4 ({dev:.1e})", dev < 1e-4)
 
@@ -1564,7 +1583,7 @@ def test_contact_bars_lagrange():
     drift = np.max(abs(mom.sum(axis=1))) / (mass[0, 0] * 5)
     dev = np.max(abs(ratio - 1))
     record(f"contact bars, Lagrange: momentum to 1e-10 ({drift:.1e}), energy ratio within 1e-4 ({dev:.1e})",
-           drift < 1e-10 and dev < 1e-4)
+           drift < roundoff(1e-10) and dev < 1e-4)
     va, vb = mom[-1, 0] / mass[0, 0], mom[-1, 1] / mass[0, 1]
     record(f"contact bars, Lagrange: bars leave with reversed velocities within 2% ({va:+.3f}, {vb:+.3f} m/s)",
            abs(va + 5) < 0.1 and abs(vb - 5) < 0.1)
@@ -1709,8 +1728,9 @@ def test_contact_block_on_block():
     with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
         z = f["nodout/z_coordinate"][:]
     pen = -np.min(z)
-    record(f"contact block on block, Lagrange: penetration {pen * 1e9:.2f} nm under 25 nm (1e-6 of the thickness)",
-           pen < 2.5e-8)
+    # (1e-6 of the 25 mm thickness: round-off; 1e-5 of it in 32 bits)
+    record(f"contact block on block, Lagrange: penetration {pen * 1e9:.2f} nm under {roundoff(2.5e-8, 0.025) * 1e9:.0f} nm",
+           pen < roundoff(2.5e-8, 0.025))
 
 
 def test_contact_patch():
