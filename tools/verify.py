@@ -67,7 +67,7 @@ def columns(name):
 
 
 def main():
-    name = "verification-single.md" if rt.SINGLE else "verification.md"
+    docname = "verification-single.md" if rt.SINGLE else "verification.md"
     build = (" with the 32-bit build (`make PRECISION=single verify`: field data in 32 bits, energies and time "
              "in 64; round-off tolerances scaled as `roundoff()` in tests/run_tests.py states)") if rt.SINGLE else ""
     lines = ["# Verification" + (" (32-bit build)" if rt.SINGLE else ""), "",
@@ -94,14 +94,14 @@ def main():
                          f"{tol} | {'yes' if ok else '**no**'} | {f'{wall:.1f}' if k == 0 else ''} |")
     lines += ["", f"{len(rt.results) - nfail} checks passed, {nfail} failed."]
     # the stability summary (make stability) stays below its marker
-    doc = os.path.join(ROOT, "doc", name)
+    doc = os.path.join(ROOT, "doc", docname)
     tail = ""
     if os.path.exists(doc) and "<!-- stability -->" in open(doc).read():
         tail = "\n<!-- stability -->" + open(doc).read().split("<!-- stability -->", 1)[1]
     with open(doc, "w") as f:
         f.write("\n".join(lines) + "\n" + tail)
     shutil.rmtree(rt.TMP, ignore_errors=True)
-    print(f"verify: wrote doc/{name} ({len(rt.results) - nfail} passed, {nfail} failed)")
+    print(f"verify: wrote doc/{docname} ({len(rt.results) - nfail} passed, {nfail} failed)")
     return 1 if nfail else 0
 
 
