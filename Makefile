@@ -122,6 +122,7 @@ fuzz: deps
 
 bench: deps
 	@$(MAKE) --no-print-directory all bin/search_bench$(SUFFIX)
+	@$(MAKE) --no-print-directory PRECISION=single bin/xdyna_single
 	@sh bench/run_bench.sh
 
 clean:

@@ -106,6 +106,12 @@ done
 awk '{for (k = 1; k <= NF; k++) if ($k == "ns") {print $(k - 1)}}' $dir/ns_tp.txt | sort -n | \
     awk '{a[NR]=$1} END {print "bench: tube under a coarse plate: median " a[int((NR + 1) / 2)] " ns per element-cycle"}'
 
+# the same deck with the 32-bit build (make PRECISION=single), one run
+out=$dir/tube_plate_single
+rm -rf $out
+OMP_NUM_THREADS=1 /usr/bin/time -f "%M" -o $dir/mem_tps.txt ./bin/xdyna_single i=$tpdeck outdir=$out > /dev/null
+phase_row "32-bit build" $out/d3hsp 1684 $(cat $dir/mem_tps.txt)
+
 # the paper's front frame (section 7.3, 2,354 shells, 30 ms), one run
 out=$dir/front_frame
 rm -rf $out
