@@ -71,7 +71,9 @@ module xd_contact_global_search
         !> border is found up to twice its depth away). Every point of a
         !> segment moves at most u and so does the slave: while 2u plus the
         !> lead stays below it, the local search finds nothing for a slave
-        !> that had no contact last cycle (see contact_local_search)
+        !> that had no contact last cycle (see contact_local_search). A value
+        !> not above zero only says there is no clearance (the search of it
+        !> stops there)
         real(wp), allocatable :: gap(:)
     end type master_lists_t
 
@@ -545,6 +547,8 @@ contains
                 end do
                 g = min(g, sep - c)
             end do
+            ! no clearance at all: the slave is searched every cycle anyway
+            if (g <= 0.0_wp) exit
         end do
         out%gap(iloc) = g
 

@@ -156,7 +156,7 @@ contains
                     end do
                 end do
                 if (dmin - c > 0.5_wp*margin) cycle
-                if (l%gap(i) > dmin - c + 1.0e-9_wp) nbad = nbad + 1
+                if (l%gap(i) > max(dmin - c, 0.0_wp) + 1.0e-9_wp) nbad = nbad + 1   ! (not positive: no clearance)
             end do
         end do
         call check(nbad == 0, 'clearance: a lower bound of the distance to every reachable segment: '//name, &
