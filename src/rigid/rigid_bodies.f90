@@ -16,6 +16,7 @@ module xd_rigid_bodies
     use xd_core_vectors, only: cross
     use xd_contact_rigidwall, only: walls_t, wall_distance
     implicit none
+    logical, parameter :: coords_64 = precision(1.0_wp) >= 15   !< 64-bit field data (the default build)
     private
     public :: rigid_t, rigid_body_t, rigid_lumped_mass, build_rigid, rigid_step, rigid_energy, is_rigid_part
 
@@ -502,11 +503,14 @@ contains
                        + dot_product(b%pi - pipred, 0.5_dp*(b%omega_old + b%omega))
                 b%jprev = b%vc - vpred
                 if (walls%n > 0) call wall_impulses(b, qm, fixr, wfix)
-                ! a node's velocity: its move on the body over the step, from
-                ! the body's own (64-bit) positions of it before and after.
-                ! (From the stored coordinate instead, a 32-bit build put its
-                ! rounding, a hair of 1 m over a step of microseconds, into
-                ! the velocity: 2-3% noise on a rod's rigid end mass.)
+                ! a node's velocity: the move over the step that ends it on the
+                ! body. With 64-bit coordinates, from its stored coordinate
+                ! (which keeps it on the body: any drift is taken back at
+                ! once). With 32-bit coordinates that coordinate's rounding, a
+                ! hair of 1 m over a step of microseconds, is percent-level
+                ! noise in the velocity (a rod's rigid end mass rang with a
+                ! period 25% off): there, from the body's own 64-bit positions
+                ! of the node before and after the step
                 qold = b%q
                 xcold = b%xc
                 b%q = matmul(cayley(h*b%omega), b%q)
@@ -514,7 +518,11 @@ contains
                 do k = 1, size(b%node)
                     i = b%node(k)
                     xn = b%xc + matmul(b%q, b%r(:, k))
-                    st%v(:, i) = real((xn - (xcold + matmul(qold, b%r(:, k))))/h, wp)
+                    if (coords_64) then
+                        st%v(:, i) = real((xn - real(st%x(:, i), dp))/h, wp)
+                    else
+                        st%v(:, i) = real((xn - (xcold + matmul(qold, b%r(:, k))))/h, wp)
+                    end if
                     if (st%rot) st%vr(:, i) = real(b%omega, wp)
                 end do
             end associate
