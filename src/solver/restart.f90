@@ -27,7 +27,7 @@ module xd_solver_restart
     private
     public :: dump_meta_t, write_dump, read_dump_meta, read_dump, build_tag, dump_format
 
-    integer, parameter :: dump_format = 2
+    integer, parameter :: dump_format = 3   !< 3: the slaves' clearances (list_gap) are kept
 
     !> What a dump says about itself.
     type :: dump_meta_t
