@@ -931,14 +931,14 @@ def test_restart():
 
 
 def test_batch_signals():
-    """Batch operation on the tube crush (2 ms, about 12 s here): SIGUSR2
+    """Batch operation on the tube crush (2 ms): SIGUSR2
     prints a status line; SIGTERM writes a restart dump and stops with exit
     3, and the restart completes identically to the uninterrupted run
     (thdiff at zero tolerance); wallclock=W stops with a dump (exit 3)
     before W seconds, and its restart is identical too. The signals come
     while the run is held at a cycle (XDYNA_HOLD_AT), never after a sleep;
-    the wall-clock case needs a run longer than W on any machine: 2 ms is
-    six times 2 s here (1 ms was three times)."""
+    the wall-clock case is held at cycle 100 for 1.5 s of its 2 s, so it
+    cannot end before the guard stops it however fast the machine."""
     import signal
     import time
     deck = "input_decks/contact/tube_crush.k"
@@ -979,11 +979,23 @@ def test_batch_signals():
            q.returncode == 0 and ok, msg + q.stderr[-200:])
     out = os.path.join(TMP, "batch_wall")
     shutil.rmtree(out, ignore_errors=True)
+    # held at cycle 100 for 1.5 s of its 2 (then 1.5 s plus the guard's
+    # margin, 0.1 s and 0.5 s, reach the limit: it stops at the next cycle),
+    # so the run cannot end first however fast the machine (the 2 ms took
+    # 2.3 s here once the contact got faster; a slow machine's guard stops
+    # it before the hold)
+    e = dict(os.environ)
+    e.setdefault("OMP_NUM_THREADS", "1")
+    e["XDYNA_HOLD_AT"] = "100"
     t0 = time.time()
-    p = run([XDYNA, "i=" + os.path.join(ROOT, deck), "outdir=" + out, "endtim=2.0e-3", "wallclock=2"])
+    proc = subprocess.Popen([XDYNA, "i=" + os.path.join(ROOT, deck), "outdir=" + out, "endtim=2.0e-3", "wallclock=2"],
+                            cwd=ROOT, env=e, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(1.5)
+    proc.send_signal(signal.SIGUSR2)
+    so, se = proc.communicate(timeout=120)
     took = time.time() - t0
     record(f"batch: wallclock=2 stops with exit 3 and a dump before the limit ({took:.2f} s)",
-           p.returncode == 3 and took < 2.0 and os.path.exists(os.path.join(out, "d3dump.h5")), p.stderr[-200:])
+           proc.returncode == 3 and took < 2.0 and os.path.exists(os.path.join(out, "d3dump.h5")), se[-200:])
     q = run([XDYNA, "r=" + os.path.join(out, "d3dump.h5"), "endtim=2.0e-3"])
     ok, msg = same_histories(full, out)
     record("batch: the restart after the wall-clock stop completes identically", q.returncode == 0 and ok, msg)
@@ -1026,14 +1038,21 @@ def test_batch_signals():
 def test_slurm_example():
     """doc/slurm/xdyna.sbatch run outside SLURM with stand-ins for squeue
     (62 s left: XDYNA_WALLCLOCK 2 s), srun (runs the command) and scontrol
-    (records the requeue): the tube crush to 1 ms (3-6 s) stops with a dump
-    (exit 3) and asks for a requeue; each next start finds the dump and
-    restarts from it, until the run ends normally, with the histories of
-    an uninterrupted run (thdiff at zero tolerance)."""
+    (records the requeue): the tube crush to 1 ms stops with a dump (exit 3)
+    and asks for a requeue; each next start finds the dump and restarts
+    from it, until the run ends normally, with the histories of an
+    uninterrupted run (thdiff at zero tolerance). The first start does not
+    race the clock: srun's stand-in holds it at cycle 100 (XDYNA_HOLD_AT)
+    and lets it go after 3 s, past its 2 s, so it stops on the limit however
+    fast the machine (it ran the whole 1 ms in 1.1 s here, within the
+    limit, once the contact got faster)."""
     stub = os.path.join(TMP, "slurm_stubs")
     os.makedirs(stub, exist_ok=True)
     log = os.path.join(TMP, "slurm_requeue.log")
-    for name, body in (("squeue", "echo 1:02"), ("srun", 'shift; exec "$@"'),
+    mark = os.path.join(TMP, "slurm_first_start")
+    srun = (f'shift\nif [ ! -f {mark} ]; then\n    touch {mark}\n    XDYNA_HOLD_AT=100 "$@" &\n'
+            '    pid=$!\n    sleep 3\n    kill -USR2 $pid 2> /dev/null\n    wait $pid\n    exit $?\nfi\nexec "$@"')
+    for name, body in (("squeue", "echo 1:02"), ("srun", srun),
                        ("scontrol", f'echo "$@" >> {log}')):
         path = os.path.join(stub, name)
         with open(path, "w") as fh:
