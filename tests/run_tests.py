@@ -1601,7 +1601,7 @@ def test_contact_bars_lagrange():
            f"({-gap.min() * 1e6:.2f} um)", abs(dur) < 0.02 and -gap.min() < 1e-6)
     drift = np.max(abs(mom.sum(axis=1))) / (mass[0, 0] * 5)
     dev = np.max(abs(ratio - 1))
-    record(f"contact bars, Lagrange: momentum to 1e-10 ({drift:.1e}), energy ratio within 1e-4 ({dev:.1e})",
+    record(f"contact bars, Lagrange: momentum to {roundoff(1e-10):.0e} ({drift:.1e}), energy ratio within 1e-4 ({dev:.1e})",
            drift < roundoff(1e-10) and dev < 1e-4)
     va, vb = mom[-1, 0] / mass[0, 0], mom[-1, 1] / mass[0, 1]
     record(f"contact bars, Lagrange: bars leave with reversed velocities within 2% ({va:+.3f}, {vb:+.3f} m/s)",

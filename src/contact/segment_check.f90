@@ -13,6 +13,10 @@ module xd_contact_segment_check
     public :: hit_t, segment_check, shape4, contact_interior, contact_line, contact_point, project_segment
 
     integer, parameter :: contact_interior = 0, contact_line = 1, contact_point = 2
+    !> Newton's step in (xi, eta) that counts as converged: 1e-10, or what a
+    !> 32-bit build can resolve (there 1e-10 was never met, and every
+    !> projection went on as not converged)
+    real(wp), parameter :: newton_tol = max(1.0e-10_wp, 64*epsilon(1.0_wp))
 
     !> Result of one segment contact check.
     type :: hit_t
@@ -68,7 +72,7 @@ contains
         real(wp), intent(out) :: xi, eta, nsh(4)
         integer, intent(out) :: kind
         logical, intent(out) :: converged
-        real(wp) :: lx(3), le(3), lxe(3), r(3), j11, j12, j22, g1, g2, det, dxi, deta, xb, eb, db, dn
+        real(wp) :: lx(3), le(3), lxe(3), r(3), j11, j12, j22, g1, g2, det, dxi, deta, xb, eb, db, dn, edge
         integer :: it
         logical :: out_xi, out_eta
         xi = 0
@@ -92,15 +96,20 @@ contains
             ! far outside the patch the bilinear map is meaningless: stay near it
             xi = max(-2.0_wp, min(2.0_wp, xi + dxi))
             eta = max(-2.0_wp, min(2.0_wp, eta + deta))
-            if (abs(dxi) + abs(deta) < 1.0e-10_wp) then
+            if (abs(dxi) + abs(deta) < newton_tol) then
                 converged = .true.
                 exit
             end if
         end do
         ! a slave right above an edge or corner (aligned meshes) is inside:
         ! round-off must not turn it into a tube or pinball contact
-        out_xi = abs(xi) > 1.0_wp + 1.0e-8_wp
-        out_eta = abs(eta) > 1.0_wp + 1.0e-8_wp
+        ! (the round-off of the coordinates themselves, relative to the
+        ! segment's size, counts: in a 32-bit build a node on a corner of
+        ! bars 0.1 m from the origin sits 1e-5 of a 2.5 mm segment off it)
+        edge = max(1.0e-8_wp, 16*epsilon(1.0_wp)*maxval(abs(xm))/ &
+                   max(sqrt(min(dot_product(lx, lx), dot_product(le, le))), tiny(1.0_wp)))
+        out_xi = abs(xi) > 1.0_wp + edge
+        out_eta = abs(eta) > 1.0_wp + edge
         if (.not. out_xi) xi = max(-1.0_wp, min(1.0_wp, xi))
         if (.not. out_eta) eta = max(-1.0_wp, min(1.0_wp, eta))
         kind = contact_interior
