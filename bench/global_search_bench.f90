@@ -78,12 +78,7 @@ contains
                                            4*h*cos(a) + 0.5_wp*h*sin(2*acos(-1.0_wp)*j/17.0_wp)]
             end do
         end do
-        do j = 0, n - 1
-            do i = 0, n - 1
-                conn(:, 1 + i + n*j) = [1 + i + (n + 1)*j, 2 + i + (n + 1)*j, 2 + i + (n + 1)*(j + 1), &
-                                        1 + i + (n + 1)*(j + 1)]
-            end do
-        end do
+        call grid_shells(n, conn)
         call time_search('crumpled sheet', x, conn, 0.05_wp, t, mm)
     end subroutine coiled_sheet
 
@@ -108,12 +103,7 @@ contains
                 x(:, 1 + i + (n + 1)*j) = [0.01_wp*i, 0.01_wp*j, 0.0_wp]
             end do
         end do
-        do j = 0, n - 1
-            do i = 0, n - 1
-                conn(:, 1 + i + n*j) = [1 + i + (n + 1)*j, 2 + i + (n + 1)*j, 2 + i + (n + 1)*(j + 1), &
-                                        1 + i + (n + 1)*(j + 1)]
-            end do
-        end do
+        call grid_shells(n, conn)
         if (ground) then
             x(:, nn + 1:nn + 4) = reshape([-10.0_wp, -10.0_wp, -0.005_wp, 10.0_wp, -10.0_wp, -0.005_wp, &
                                            10.0_wp, 10.0_wp, -0.005_wp, -10.0_wp, 10.0_wp, -0.005_wp], [3, 4])
@@ -185,6 +175,19 @@ contains
             call time_search('tube under a 5 mm plate', x, conn, 0.0015_wp, t, mm)
         end if
     end subroutine tube_case
+
+    !> The quadrilaterals of an n x n grid of (n + 1)^2 nodes numbered row by row.
+    pure subroutine grid_shells(n, conn)
+        integer, intent(in) :: n
+        integer, intent(out) :: conn(:, :)
+        integer :: i, j
+        do j = 0, n - 1
+            do i = 0, n - 1
+                conn(:, 1 + i + n*j) = [1 + i + (n + 1)*j, 2 + i + (n + 1)*j, 2 + i + (n + 1)*(j + 1), &
+                                        1 + i + (n + 1)*(j + 1)]
+            end do
+        end do
+    end subroutine grid_shells
 
     !> One whole-model single surface of the shells conn on the nodes x,
     !> thickness th; the search as the run makes it (reach = thickness,

@@ -30,6 +30,7 @@ module xd_contact_global_search
     use xd_contact_surface, only: surface_t, segment_diagonals, side_a, side_b, wanted_side, seg_shell
     use xd_model, only: mnl_minimal, mnl_closest1, mnl_closest3
     use xd_core_sorting, only: where_true
+    use xd_core_vectors, only: cross
     implicit none
     private
     public :: buckets_t, bucket_sort, bucket_radii, node_pool, levels_t, sort_levels, level_pool, typical_length
@@ -663,9 +664,9 @@ contains
         real(wp) :: n(3), e(3), a(3), len, ctr(3), sup, p
         integer :: k, j
         if (x(1, 3) == x(1, 4) .and. x(2, 3) == x(2, 4) .and. x(3, 3) == x(3, 4)) then
-            n = cross3(x(:, 2) - x(:, 1), x(:, 3) - x(:, 1))
+            n = cross(x(:, 2) - x(:, 1), x(:, 3) - x(:, 1))
         else
-            n = cross3(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2))
+            n = cross(x(:, 3) - x(:, 1), x(:, 4) - x(:, 2))
         end if
         len = sqrt(n(1)**2 + n(2)**2 + n(3)**2)
         ax = 0
@@ -679,7 +680,7 @@ contains
             else
                 j = k - 2
                 e = x(:, mod(j, 4) + 1) - x(:, j)
-                a = cross3(e, n)
+                a = cross(e, n)
                 len = sqrt(a(1)**2 + a(2)**2 + a(3)**2)
                 if (len <= 1.0e-12_wp*sqrt(e(1)**2 + e(2)**2 + e(3)**2) .or. len <= 0.0_wp) cycle
                 a = a/len
@@ -695,12 +696,6 @@ contains
             ax(4, k) = sup
         end do
     end subroutine separating_axes
-
-    pure function cross3(a, b) result(c)
-        real(wp), intent(in) :: a(3), b(3)
-        real(wp) :: c(3)
-        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-    end function cross3
 
     !> Sort the pool by distance, ties by node number (a total order, so the
     !> result is deterministic): insertion for short pools, heapsort (O(k log k))
