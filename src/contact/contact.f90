@@ -486,24 +486,14 @@ contains
         type(search_switches_t), intent(in) :: sw
         integer, intent(in) :: mine(:)
         type(hit_t), intent(inout) :: hit(:)
-        integer :: i, k, sn
+        integer :: i, k
         logical :: clear_skip
-        real(wp) :: closable
         clear_skip = sw%screens .and. allocated(lists%gap)
-        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k, sn, closable)
+        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k)
         do i = 1, size(mine)
             k = mine(i)
             if (clear_skip .and. cseg(k) == 0) then
-                ! the slave's own displacement is at most u: most slaves are
-                ! clear on that alone, without reading their positions
-                if (lists%gap(k) > 2.0_wp*ls%drift + 2.0_wp*ls%lead) then
-                    hit(k)%found = .false.
-                    hit(k)%level = 4
-                    cycle
-                end if
-                sn = s%slave(k)
-                closable = norm2(ls%xl(:, sn) - xs(:, sn)) + ls%drift + 2.0_wp*ls%lead
-                if (lists%gap(k) > closable) then
+                if (clear(k)) then
                     hit(k)%found = .false.
                     hit(k)%level = 4
                     cycle
@@ -512,6 +502,18 @@ contains
             call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k))
         end do
         !$omp end parallel do
+    contains
+        !> Slave k's clearance exceeds what the motion can have closed. Its
+        !> own displacement is at most u: most slaves are clear on that
+        !> alone, without reading their positions.
+        logical function clear(k)
+            integer, intent(in) :: k
+            integer :: sn
+            clear = lists%gap(k) > 2.0_wp*ls%drift + 2.0_wp*ls%lead
+            if (clear) return
+            sn = s%slave(k)
+            clear = lists%gap(k) > norm2(ls%xl(:, sn) - xs(:, sn)) + ls%drift + 2.0_wp*ls%lead
+        end function clear
     end subroutine find_contacts
 
     !> Step 4: penalty forces of the contacts found, added to f on the slave

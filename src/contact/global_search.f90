@@ -440,11 +440,7 @@ contains
         end do
         cmax = 0
         do i = 1, s%nseg
-            if (s%seg_kind(i) == seg_shell) then
-                cmax = max(cmax, 0.5_wp*maxval(s%seg_tn(:, i)))
-            else
-                cmax = max(cmax, 2.0_wp*maxval(s%seg_tn(:, i)))
-            end if
+            cmax = max(cmax, reach_factor(s, i)*s%seg_r(i))
         end do
         nblk = (s%nslave + block_size - 1)/block_size
         allocate (blk(nblk))
@@ -536,11 +532,7 @@ contains
                 ! its separation along each of its axes
                 e = max(box(1:3, sg) - xs, xs - box(4:6, sg), 0.0_wp)
                 d2 = sqrt(e(1)**2 + e(2)**2 + e(3)**2)
-                if (s%seg_kind(sg) == seg_shell) then
-                    c = ts + 0.5_wp*maxval(s%seg_tn(:, sg))
-                else
-                    c = 2.0_wp*(ts + maxval(s%seg_tn(:, sg)))
-                end if
+                c = reach_factor(s, sg)*(ts + s%seg_r(sg))
                 if (d2 - c >= g) cycle      ! the box alone keeps it farther
                 sep = d2
                 do k = 1, 6
@@ -652,6 +644,15 @@ contains
             out%trk(out%n) = trk
         end subroutine emit
     end subroutine one_slave
+
+    !> How far beyond the two thicknesses (slave's half and the segment's
+    !> reach) its check can find a contact: 1 for a shell; 2 for a solid
+    !> face, whose node beside the border is found up to twice its depth away.
+    pure real(wp) function reach_factor(s, m)
+        type(surface_t), intent(in) :: s
+        integer, intent(in) :: m
+        reach_factor = merge(1.0_wp, 2.0_wp, s%seg_kind(m) == seg_shell)
+    end function reach_factor
 
     !> Six unit axes of a segment (nodes x(3, 4); a triangle repeats its
     !> third node) with its support along each, max_j a . x_j: the normal

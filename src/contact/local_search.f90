@@ -161,9 +161,7 @@ contains
             ! box grown by them has none. (Solid faces are checked even so:
             ! a miss there counts for acceptable().)
             if (s%seg_kind(m) == seg_shell) then
-                if (ls%xl(1, sn) < ls%box(1, m) - ts .or. ls%xl(1, sn) > ls%box(4, m) + ts .or. &
-                    ls%xl(2, sn) < ls%box(2, m) - ts .or. ls%xl(2, sn) > ls%box(5, m) + ts .or. &
-                    ls%xl(3, sn) < ls%box(3, m) - ts .or. ls%xl(3, sn) > ls%box(6, m) + ts) return
+                if (outside_box(m)) return
             end if
             call check(m, h)
             if (h%found) then
@@ -178,6 +176,17 @@ contains
             end if
             if (better(h, best, general)) best = h
         end subroutine try
+
+        !> The slave lies outside segment m's box of this cycle grown by its
+        !> own half thickness ts.
+        logical function outside_box(m)
+            integer, intent(in) :: m
+            associate (p => ls%xl(:, sn))
+                outside_box = p(1) < ls%box(1, m) - ts .or. p(1) > ls%box(4, m) + ts .or. &
+                              p(2) < ls%box(2, m) - ts .or. p(2) > ls%box(5, m) + ts .or. &
+                              p(3) < ls%box(3, m) - ts .or. p(3) > ls%box(6, m) + ts
+            end associate
+        end function outside_box
 
         logical function better(h, b, general)
             type(hit_t), intent(in) :: h, b
@@ -398,9 +407,7 @@ contains
                 ! its far corner, where a slave whose list holds mn alone went
                 ! unseen until it was deep in a crushed tube's band). The
                 ! boxes are this cycle's (segment_boxes), grown here by ts
-                if (xs(1) < ls%box(1, m) - ts .or. xs(1) > ls%box(4, m) + ts .or. &
-                    xs(2) < ls%box(2, m) - ts .or. xs(2) > ls%box(5, m) + ts .or. &
-                    xs(3) < ls%box(3, m) - ts .or. xs(3) > ls%box(6, m) + ts) cycle
+                if (outside_box(m)) cycle
                 nnd = seg_nodes(s%seg(:, m))
                 a = findloc(s%seg(1:nnd, m), mn, 1)
                 ! the nodes after and before mn, and the one after that (a
@@ -446,11 +453,7 @@ contains
         if (.not. allocated(ls%box)) allocate (ls%box(6, s%nseg))
         !$omp parallel do schedule(static) private(m, k, tm, x)
         do m = 1, s%nseg
-            ! the segment's largest thickness (a shell's nodal thicknesses may
-            ! exceed its own): half of it for a shell
-            tm = max(s%seg_t(m), maxval(s%seg_tn(:, m)))
-            if (s%seg_kind(m) == seg_shell) tm = 0.5_wp*tm
-            tm = tm + ls%lead
+            tm = s%seg_r(m) + ls%lead
             x = ls%xl(:, s%seg(1, m))
             ls%box(1:3, m) = x
             ls%box(4:6, m) = x

@@ -59,6 +59,10 @@ module xd_contact_surface
                                                !< (0: not on this surface, or a shell segment)
         real(wp), allocatable :: seg_t(:)      !< segment thickness after SST/MST overrides
         real(wp), allocatable :: seg_tn(:, :)  !< (4, nseg) nodal thicknesses for the shape functions (5.2)
+        !> (nseg) the segment's own share of the contact reach: half its
+        !> largest thickness for a shell (its contact surface lies that far
+        !> off the segment, on either side), its window for a solid face
+        real(wp), allocatable :: seg_r(:)
         real(wp), allocatable :: seg_k(:)      !< master-side penalty stiffness (force/length)
         real(wp), allocatable :: seg_area(:)   !< initial segment area
         integer, allocatable :: node(:)        !< model node of each local node
@@ -515,6 +519,11 @@ contains
             end do
         end do
         if (size(slave_nodes) > 0) call lone_slave_areas()
+        allocate (s%seg_r(s%nseg))
+        do m = 1, s%nseg
+            s%seg_r(m) = max(s%seg_t(m), maxval(s%seg_tn(:, m)))
+            if (s%seg_kind(m) == seg_shell) s%seg_r(m) = 0.5_wp*s%seg_r(m)
+        end do
         do nd = 1, s%nnode
             s%node_t(nd) = thick(3)*f%node_thick(s%node(nd))
             if (thick(1) > 0.0_wp .and. f%node_thick(s%node(nd)) > 0.0_wp) s%node_t(nd) = thick(1)
