@@ -25,7 +25,8 @@ module xd_contact_contact
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t, &
                                         typical_length
     use xd_contact_segment_check, only: hit_t, contact_interior
-    use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t, segment_boxes
+    use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t, clearance_t, &
+                                       reset_clearance, fresh_clearance
     use xd_contact_enforcement, only: friction_t, penalty_force, lagrange_projection, slave_stiffness, pdir
     !$ use omp_lib, only: omp_get_wtime
     use xd_core_sorting, only: where_true
@@ -57,6 +58,7 @@ module xd_contact_contact
         integer, allocatable :: dump(:)       !< slave positions whose lists are dumped
         ! steps 3-4
         type(local_search_t) :: ls
+        type(clearance_t) :: cl               !< per slave: clearance bounds (what the local search may skip)
         type(friction_t) :: fr
         real(wp), allocatable :: ms(:)        !< nodal masses of the surface nodes
         integer, allocatable :: cseg(:)       !< per slave: segment in contact last cycle (0: none)
@@ -439,16 +441,13 @@ contains
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: x(:, :), v(:, :), dt
         real(dp), intent(in) :: time
-        integer :: i, k
+        integer :: i
         real(wp) :: v2
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%active = time >= it%bt .and. time <= it%dt
                 if (.not. it%active) cycle
-                do k = 1, s%nnode
-                    it%ls%xl(:, k) = x(:, s%node(k))
-                    it%ls%vl(:, k) = v(:, s%node(k))
-                end do
+                call gather_nodes(x, v, s%node, it%ls%xl, it%ls%vl)
                 ! Lagrangian projection: pairs that one step's approach (two
                 ! nodes at the largest speed) could close are found before
                 ! they touch, so that none penetrates (section 6)
@@ -462,58 +461,104 @@ contains
                 it%ls%grow = 2.0_wp*it%drift + it%reach + it%ls%lead
                 it%ls%dt = dt
                 it%ls%drift = it%drift
-                call segment_boxes(s, it%ls)
-                call find_contacts(s, it%lists, it%ls, it%xl, it%cseg, it%fprev, it%aeff + it%p0, ct%sw, it%mine, &
+                if (it%cl%search /= it%nsearch .and. allocated(it%lists%gap)) &
+                    call reset_clearance(s, it%lists, it%xl, it%nsearch, it%cl)
+                call find_contacts(s, it%lists, it%ls, it%cl, it%cseg, it%fprev, it%aeff + it%p0, ct%sw, it%mine, &
                                   it%hit)
             end associate
         end do
     end subroutine contact_local_search
 
+    !> The surface's coordinates and velocities (nodes `node` of x and v).
+    pure subroutine gather_nodes(x, v, node, xl, vl)
+        real(wp), intent(in) :: x(:, :), v(:, :)
+        integer, intent(in) :: node(:)
+        real(wp), intent(out) :: xl(:, :), vl(:, :)
+        integer :: k, n
+        do k = 1, size(node)
+            n = node(k)
+            xl(1, k) = x(1, n)
+            xl(2, k) = x(2, n)
+            xl(3, k) = x(3, n)
+            vl(1, k) = v(1, n)
+            vl(2, k) = v(2, n)
+            vl(3, k) = v(3, n)
+        end do
+    end subroutine gather_nodes
+
     !> The local search of every slave, threaded: a slave's search reads the
-    !> surface and writes only its own hit. A slave not in contact last cycle
-    !> whose clearance at the search (master_lists_t%gap) exceeds what the
-    !> motion since can have closed has no contact: its search is skipped
-    !> (the screens' switch turns this off too). The closure is at most the
-    !> slave's own displacement since the search (xs: the positions then)
-    !> plus u (any point of a segment) plus twice the lead.
-    subroutine find_contacts(s, lists, ls, xs, cseg, fprev, aprev, sw, mine, hit)
+    !> surface and writes only its own hit and clearance. A slave not in
+    !> contact last cycle whose clearance bound (clearance_t) exceeds what
+    !> the motion since can have closed has no contact: its search is
+    !> skipped (the screens' switch turns this off too). The closure is at
+    !> most the slave's own displacement since the bound was taken plus the
+    !> growth of u since (any point of a segment) plus twice the lead. Where
+    !> the bound does not suffice, it is taken afresh at this cycle's
+    !> positions (fresh_clearance); only if that leaves no clearance does the
+    !> slave's search run. A slave so found close is searched without a
+    !> fresh bound for the next `back_off` cycles (its clearance would rarely
+    !> have grown).
+    subroutine find_contacts(s, lists, ls, cl, cseg, fprev, aprev, sw, mine, hit)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
-        real(wp), intent(in) :: xs(:, :)
+        type(clearance_t), intent(inout) :: cl
         integer, intent(in) :: cseg(:)
         real(wp), intent(in) :: fprev(:, :), aprev(:)
         type(search_switches_t), intent(in) :: sw
         integer, intent(in) :: mine(:)
         type(hit_t), intent(inout) :: hit(:)
+        integer, parameter :: back_off = 8
         integer :: i, k
-        logical :: clear_skip
-        clear_skip = sw%screens .and. allocated(lists%gap)
+        logical :: clear_skip, refresh
+        clear_skip = sw%screens .and. cl%search >= 0
+        refresh = clear_skip .and. allocated(lists%pool_ptr)
+        if (refresh) refresh = size(lists%pool_ptr) == s%nslave + 1
         !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k)
         do i = 1, size(mine)
             k = mine(i)
             if (clear_skip .and. cseg(k) == 0) then
                 if (clear(k)) then
-                    hit(k)%found = .false.
-                    hit(k)%level = 4
+                    call no_contact(k)
                     cycle
+                end if
+                if (refresh) then
+                    if (cl%wait(k) == 0) then
+                        cl%g(k) = fresh_clearance(s, lists, ls, k)
+                        cl%x(:, k) = ls%xl(:, s%slave(k))
+                        cl%u(k) = ls%drift
+                        if (cl%g(k) > 2.0_wp*ls%lead) then
+                            call no_contact(k)
+                            cycle
+                        end if
+                        cl%wait(k) = back_off
+                    else
+                        cl%wait(k) = cl%wait(k) - 1
+                    end if
                 end if
             end if
             call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k))
         end do
         !$omp end parallel do
     contains
-        !> Slave k's clearance exceeds what the motion can have closed. Its
-        !> own displacement is at most u: most slaves are clear on that
-        !> alone, without reading their positions.
+        !> Slave k's clearance bound exceeds what the motion can have closed
+        !> since it was taken. Its own displacement is at most the growth of
+        !> u: most slaves are clear on that alone, without reading their
+        !> positions.
         logical function clear(k)
             integer, intent(in) :: k
-            integer :: sn
-            clear = lists%gap(k) > 2.0_wp*ls%drift + 2.0_wp*ls%lead
+            real(wp) :: du
+            du = ls%drift - cl%u(k)
+            clear = cl%g(k) > 2.0_wp*du + 2.0_wp*ls%lead
             if (clear) return
-            sn = s%slave(k)
-            clear = lists%gap(k) > norm2(ls%xl(:, sn) - xs(:, sn)) + ls%drift + 2.0_wp*ls%lead
+            clear = cl%g(k) > norm2(ls%xl(:, s%slave(k)) - cl%x(:, k)) + du + 2.0_wp*ls%lead
         end function clear
+
+        subroutine no_contact(k)
+            integer, intent(in) :: k
+            hit(k)%found = .false.
+            hit(k)%level = 4
+        end subroutine no_contact
     end subroutine find_contacts
 
     !> Step 4: penalty forces of the contacts found, added to f on the slave

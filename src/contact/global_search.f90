@@ -36,6 +36,7 @@ module xd_contact_global_search
     public :: buckets_t, bucket_sort, bucket_radii, node_pool, levels_t, sort_levels, level_pool, typical_length
     public :: characteristic_lengths, master_lists_t, build_master_lists
     public :: search_work_t, new_search_work, mark_none, mark_trackable, mark_nontrackable, search_counts_t
+    public :: separating_axes, reach_factor
 
     integer(int8), parameter :: mark_none = 0, mark_trackable = 1, mark_nontrackable = 2
 
@@ -76,6 +77,13 @@ module xd_contact_global_search
         !> not above zero only says there is no clearance (the search of it
         !> stops there)
         real(wp), allocatable :: gap(:)
+        !> (CSR in slave order) the slave's node pool less itself: by the
+        !> search's bound, the segments at these nodes are the only ones it
+        !> can reach before the next search (the local search refreshes its
+        !> clearance over them)
+        integer, allocatable :: pool_ptr(:), pool_node(:)
+        !> the largest segment part of a clearance's reach (see one_slave)
+        real(wp) :: cmax = 0
     end type master_lists_t
 
     !> Sizes summed over the slaves of one search.
@@ -102,6 +110,8 @@ module xd_contact_global_search
         real(wp), allocatable :: gap(:)
         integer, allocatable :: cnt(:), node(:)
         logical, allocatable :: trk(:)
+        integer :: npool = 0
+        integer, allocatable :: pcnt(:), pool(:)   !< pool sizes and nodes (the slave itself left out)
     end type block_out_t
 
     integer, parameter :: block_size = 256
@@ -453,8 +463,10 @@ contains
             first = (ib - 1)*block_size + 1
             last = min(s%nslave, ib*block_size)
             allocate (blk(ib)%cnt(last - first + 1), blk(ib)%node(8*(last - first + 1)), &
-                      blk(ib)%trk(8*(last - first + 1)), blk(ib)%gap(last - first + 1))
+                      blk(ib)%trk(8*(last - first + 1)), blk(ib)%gap(last - first + 1), &
+                      blk(ib)%pcnt(last - first + 1), blk(ib)%pool(32*(last - first + 1)))
             blk(ib)%gap = -huge(1.0_wp)
+            blk(ib)%pcnt = 0
             do i = first, last
                 if (present(owned)) then
                     if (.not. owned(i)) then
@@ -471,15 +483,24 @@ contains
 
         if (allocated(lists%ptr)) deallocate (lists%ptr, lists%node, lists%trackable)
         if (allocated(lists%gap)) deallocate (lists%gap)
-        allocate (lists%ptr(s%nslave + 1), lists%gap(s%nslave))
+        if (allocated(lists%pool_ptr)) deallocate (lists%pool_ptr, lists%pool_node)
+        allocate (lists%ptr(s%nslave + 1), lists%gap(s%nslave), lists%pool_ptr(s%nslave + 1))
         lists%ptr(1) = 1
+        lists%pool_ptr(1) = 1
         do ib = 1, nblk
             first = (ib - 1)*block_size + 1
             do i = 1, size(blk(ib)%cnt)
                 lists%ptr(first + i) = lists%ptr(first + i - 1) + blk(ib)%cnt(i)
+                lists%pool_ptr(first + i) = lists%pool_ptr(first + i - 1) + blk(ib)%pcnt(i)
                 lists%gap(first + i - 1) = blk(ib)%gap(i)
             end do
         end do
+        allocate (lists%pool_node(lists%pool_ptr(s%nslave + 1) - 1))
+        do ib = 1, nblk
+            pos = lists%pool_ptr((ib - 1)*block_size + 1)
+            lists%pool_node(pos:pos + blk(ib)%npool - 1) = blk(ib)%pool(1:blk(ib)%npool)
+        end do
+        lists%cmax = cmax
         allocate (lists%node(lists%ptr(s%nslave + 1) - 1), lists%trackable(lists%ptr(s%nslave + 1) - 1))
         do ib = 1, nblk
             pos = lists%ptr((ib - 1)*block_size + 1)
@@ -511,6 +532,17 @@ contains
 
         call level_pool(lev, xl(:, sn), w)
         npool = npool + w%npool
+        ! closest first (the reduced pool below keeps this order); the pool
+        ! is kept so for the local search's clearance, which then meets the
+        ! near segments first
+        call sort_pool(w%pool(1:w%npool), w%dist(1:w%npool))
+        do i = 1, w%npool
+            if (w%pool(i) == sn) cycle
+            if (out%npool == size(out%pool)) out%pool = [out%pool, out%pool]
+            out%npool = out%npool + 1
+            out%pool(out%npool) = w%pool(i)
+            out%pcnt(iloc) = out%pcnt(iloc) + 1
+        end do
 
         ! the clearance (master_lists_t%gap) over the segments at the pool's nodes
         ts = 0.5_wp*s%node_t(sn)
@@ -569,7 +601,6 @@ contains
         end do
         w%npool = nkeep
         nred = nred + nkeep
-        call sort_pool(w%pool(1:nkeep), w%dist(1:nkeep))
 
         n0 = out%n
         select case (mnl)

@@ -35,6 +35,7 @@ module xd_contact_segment_check
                                           !< 3 solid tube/pinball (4: no contact)
         integer :: near_node = 1          !< segment node (1-4) closest to the contact point
         logical :: near_border = .false.  !< contact point within tm of the segment border
+        real(wp) :: border = 0            !< distance of the contact point to the segment border
         real(wp) :: gap = 0               !< found ahead of touching (Lagrangian lead): the open gap, a = 0
         logical :: converged = .true.     !< the Newton iteration of Eqs. (5)-(6) converged
     end type hit_t
@@ -353,6 +354,7 @@ contains
             db = min(db, norm2(hit%xc - q))
         end do
         hit%near_border = db <= hit%tm
+        hit%border = db
     contains
         pure logical function touching_ok()
             touching_ok = .false.

@@ -4,7 +4,7 @@ module xd_output_d3hsp
     use xd_kinds, only: wp, dp
     use xd_core_strings, only: itoa, join_path, out_path
     use xd_core_timers, only: timers_t, nphase, phase_name, ph_elements, ph_assembly, ph_integrate, &
-                              ph_contact, ph_output, ph_search, ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
+                              ph_contact, ph_rigid, ph_output, ph_search, ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, hg_stiffness
     use xd_output_histories, only: version_line
@@ -176,7 +176,7 @@ contains
         end do
         write (buf, '(3x,a24,f13.3)') 'total', total_wall
         call log_line(lg, trim(buf))
-        loop_wall = tm%wall(ph_elements) + tm%wall(ph_assembly) + tm%wall(ph_integrate) + &
+        loop_wall = tm%wall(ph_elements) + tm%wall(ph_assembly) + tm%wall(ph_integrate) + tm%wall(ph_rigid) + &
                     tm%wall(ph_contact) + tm%wall(ph_search) + tm%wall(ph_local) + tm%wall(ph_enforce) + &
                     tm%wall(ph_output) + tm%wall(ph_comm) + tm%wall(ph_ghost) + tm%wall(ph_wait)
         ns = 0

@@ -11,7 +11,7 @@ program test_contact_local_search
     use xd_model, only: model_t, mnl_minimal
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, seg_shell
     use xd_contact_global_search, only: characteristic_lengths, master_lists_t, build_master_lists, search_counts_t
-    use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t, segment_boxes
+    use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t
     use xd_contact_segment_check, only: hit_t, contact_interior
     use xd_test_fixtures, only: empty_model, add_block, add_shell, node_at
     implicit none
@@ -44,7 +44,6 @@ contains
         ls%grow = s%max_thick
         ls%dt = 1.0e-6_wp
         call build_master_lists(s, ls%xl, ls%lc, s%max_thick, 0.05_wp, mnl_minimal, l, cnt)
-        call segment_boxes(s, ls)
     end subroutine prepare
 
     !> Position in s%slave of model node nd.
