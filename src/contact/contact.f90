@@ -81,6 +81,9 @@ module xd_contact_contact
         type(contact_event_t), allocatable :: ev(:)
         integer :: npair = 0                  !< slaves in contact this cycle
         type(hit_t), allocatable :: hit(:)    !< their contacts, in slave order
+        !> per slave: hit(k)%found, kept alongside in a compact array (the
+        !> loops over every slave each cycle read this, not the records)
+        logical, allocatable :: found(:)
         integer, allocatable :: pair(:)       !< their slave positions
         real(wp), allocatable :: fpair(:, :)  !< forces on those slaves
         real(dp) :: pminus = 0                !< power of this cycle's forces with v(n-1/2)
@@ -410,7 +413,8 @@ contains
                 it%ms = mass(s%node)
                 n = s%nslave
                 allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n), it%p0(n))
-                allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n), it%evk(n), it%evd(n), it%ev(16))
+                allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n), it%evk(n), it%evd(n), it%ev(16), it%found(n))
+                it%found = .false.
                 it%evk = ev_none
                 it%evd = 0
                 it%owned = .true.
@@ -464,7 +468,7 @@ contains
                 if (it%cl%search /= it%nsearch .and. allocated(it%lists%gap)) &
                     call reset_clearance(s, it%lists, it%xl, it%nsearch, it%cl)
                 call find_contacts(s, it%lists, it%ls, it%cl, it%cseg, it%fprev, it%aeff + it%p0, ct%sw, it%mine, &
-                                  it%hit)
+                                  it%hit, it%found)
             end associate
         end do
     end subroutine contact_local_search
@@ -498,7 +502,7 @@ contains
     !> slave's search run. A slave so found close is searched without a
     !> fresh bound for the next `back_off` cycles (its clearance would rarely
     !> have grown).
-    subroutine find_contacts(s, lists, ls, cl, cseg, fprev, aprev, sw, mine, hit)
+    subroutine find_contacts(s, lists, ls, cl, cseg, fprev, aprev, sw, mine, hit, found)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
@@ -508,6 +512,7 @@ contains
         type(search_switches_t), intent(in) :: sw
         integer, intent(in) :: mine(:)
         type(hit_t), intent(inout) :: hit(:)
+        logical, intent(inout) :: found(:)
         integer, parameter :: back_off = 8
         integer :: i, k
         logical :: clear_skip, refresh
@@ -538,6 +543,7 @@ contains
                 end if
             end if
             call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k))
+            found(k) = hit(k)%found
         end do
         !$omp end parallel do
     contains
@@ -554,10 +560,13 @@ contains
             clear = cl%g(k) > norm2(ls%xl(:, s%slave(k)) - cl%x(:, k)) + du + 2.0_wp*ls%lead
         end function clear
 
+        !> (A slave already without contact keeps its record untouched.)
         subroutine no_contact(k)
             integer, intent(in) :: k
+            if (.not. found(k)) return
             hit(k)%found = .false.
             hit(k)%level = 4
+            found(k) = .false.
         end subroutine no_contact
     end subroutine find_contacts
 
@@ -595,9 +604,9 @@ contains
                 !$omp parallel do schedule(dynamic, 64) default(shared) private(i2, k)
                 do i2 = 1, size(it%mine)
                     k = it%mine(i2)
-                    if (it%cseg(k) == 0 .and. .not. it%hit(k)%found) then
+                    if (it%cseg(k) == 0 .and. .not. it%found(k)) then
                         ! no contact then or now: its state is already clear
-                        it%evk(k) = ev_none
+                        if (it%evk(k) /= ev_none) it%evk(k) = ev_none
                         cycle
                     end if
                     call slave_force(it, s, k, dt)
@@ -612,7 +621,7 @@ contains
                 end if
                 do k = 1, s%nslave
                     if (it%evk(k) /= ev_none) call add_event(it, k, time)
-                    if (.not. it%hit(k)%found) cycle
+                    if (.not. it%found(k)) cycle
                     it%npair = it%npair + 1
                     it%pair(it%npair) = k
                     it%fpair(:, it%npair) = it%fk(:, k)
@@ -835,6 +844,7 @@ contains
         do k = 1, size(it%owned)
             if (.not. it%owned(k)) then
                 it%hit(k)%found = .false.
+                it%found(k) = .false.
                 it%evk(k) = ev_none
             end if
         end do
@@ -845,6 +855,7 @@ contains
             it%evd(k) = real(all(17, i), wp)
             associate (h => it%hit(k))
                 h%found = all(15, i) > 0.5_dp
+                it%found(k) = h%found
                 h%seg = nint(all(2, i))
                 h%kind = nint(all(3, i))
                 h%a = real(all(4, i), wp)
