@@ -7,7 +7,8 @@
 !> span four orders of magnitude, and one huge node does not widen the
 !> fine level. The slaves' clearances are lower bounds of the distance to
 !> every segment they can reach (a finely sampled distance, on the
-!> crumpled sheet) and are not all trivial.
+!> crumpled sheet) and are not all trivial; so are the clearances the local
+!> search takes afresh over the search's pools after the sheet has moved.
 program test_contact_global_search
     use xd_kinds, only: wp
     use xd_testing, only: check, test_summary
@@ -17,6 +18,7 @@ program test_contact_global_search
                                         characteristic_lengths, master_lists_t, build_master_lists, search_counts_t, &
                                         levels_t, sort_levels, level_pool, typical_length
     use xd_contact_surface, only: wanted_side
+    use xd_contact_local_search, only: local_search_t, fresh_clearance
     use xd_core_strings, only: ftoa
     use xd_test_fixtures, only: empty_model, add_shell, node_at, set_sheet
     !$ use omp_lib, only: omp_set_num_threads
@@ -211,7 +213,62 @@ contains
         call check(cnt%masters > 0 .and. cnt%masters <= cnt%reduced .and. cnt%reduced <= cnt%pool, &
                    'master node lists: masters <= reduced pool <= pool')
         call check_clearances(s, xl, l1, 0.002_wp, 'crumpled sheet of 1e4 nodes')
+        call check_fresh_clearances(s, xl, lc, l1, 0.002_wp)
     end subroutine crumpled_sheet
+
+    !> The local search's fresh clearance (fresh_clearance, over the pools of
+    !> the search lists l taken at xl) after the sheet has moved by a smooth
+    !> field of up to u = 0.2 mm: a lower bound of the sampled distance, less
+    !> the reach, to every segment that the search's bound still covers
+    !> (within half the margin less 2u of touching), at the new positions;
+    !> positive for many slaves. (Loosened by 1 mm, the bound fails here.)
+    subroutine check_fresh_clearances(s, xl, lc, l, margin)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: xl(:, :), lc(:), margin
+        type(master_lists_t), intent(in) :: l
+        type(local_search_t) :: ls
+        real(wp), parameter :: u = 2.0e-4_wp
+        integer :: i, sn, m, a, b, nbad, npos, want
+        real(wp) :: ts, c, dmin, p(3), xm(3, 4), uu, vv, g
+        ls%xl = xl
+        do i = 1, size(xl, 2)
+            ! a smooth motion of at most u (each component u / sqrt(3))
+            ls%xl(:, i) = xl(:, i) + u/sqrt(3.0_wp)*[sin(40*xl(2, i)), cos(30*xl(1, i)), sin(50*xl(3, i) + 1)]
+        end do
+        ls%lc = lc
+        ls%drift = u
+        ls%lead = 0
+        nbad = 0
+        npos = 0
+        do i = 1, s%nslave
+            sn = s%slave(i)
+            want = wanted_side(s, sn)
+            ts = 0.5_wp*s%node_t(sn)
+            g = fresh_clearance(s, l, ls, i)
+            if (g > 0.0_wp) npos = npos + 1
+            do m = 1, s%nseg
+                if (any(s%seg(:, m) == sn) .or. iand(s%seg_side(m), want) == 0) cycle
+                xm = ls%xl(:, s%seg(:, m))
+                if (minval(norm2(xm - spread(ls%xl(:, sn), 2, 4), 1)) > 0.05_wp) cycle    ! far: no need to sample
+                c = ts + 0.5_wp*maxval(s%seg_tn(:, m))
+                dmin = huge(1.0_wp)
+                do a = 0, 20
+                    do b = 0, 20
+                        uu = a/20.0_wp
+                        vv = b/20.0_wp
+                        p = (1 - uu)*(1 - vv)*xm(:, 1) + uu*(1 - vv)*xm(:, 2) + uu*vv*xm(:, 3) + (1 - uu)*vv*xm(:, 4)
+                        dmin = min(dmin, norm2(p - ls%xl(:, sn)))
+                    end do
+                end do
+                if (dmin - c > 0.5_wp*margin - 2*u) cycle
+                if (g > max(dmin - c, 0.0_wp) + 1.0e-9_wp) nbad = nbad + 1   ! (not positive: no clearance)
+            end do
+        end do
+        call check(nbad == 0, 'fresh clearance after a motion of 0.2 mm: a lower bound of the distance to every '// &
+                   'segment the search covers', 'violations '//itoa(nbad))
+        call check(npos > s%nslave/4, 'fresh clearance: positive for more than a quarter of the slaves', &
+                   itoa(npos)//' of '//itoa(s%nslave))
+    end subroutine check_fresh_clearances
 
     !> A sheet folded over itself twice across its length, so that layers
     !> lie close above each other: the pool meets the sheet's own far parts.
