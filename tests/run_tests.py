@@ -821,6 +821,32 @@ def test_states():
             dims = tuple(int(d) for d in item.get("Dimensions").split())
             paths.append(fn == "d3plot.h5" and path in f and f[path].shape == dims)
         nxdmf = sum(1 for g in root.iter("Grid") if g.get("CollectionType") == "Spatial")
+        # the deck's ids as attributes of every block: node ids on the nodes,
+        # element ids on the cells, the same sets as the deck's
+        deck_shell = set()
+        for line in src.split("*ELEMENT_SHELL", 1)[1].split("*", 1)[0].splitlines()[1:]:
+            if line.strip() and not line.startswith("$"):
+                deck_shell.add(int(line[:8]))
+        deck_solid = set()
+        for line in src.split("*ELEMENT_SOLID", 1)[1].split("*", 1)[0].splitlines()[1:]:
+            if line.strip() and not line.startswith("$"):
+                deck_solid.add(int(line[:8]))
+        id_ok, nid = True, 0
+        for g in root.iter("Grid"):
+            if g.get("GridType") != "Uniform":
+                continue
+            at = {a.get("Name"): a for a in g.iter("Attribute")}
+            if "node_id" not in at or "element_id" not in at:
+                id_ok = False
+                continue
+            nid += 1
+            nv = f[at["node_id"].find("DataItem").text.strip().split(":", 1)[1]][:]
+            ev = f[at["element_id"].find("DataItem").text.strip().split(":", 1)[1]][:]
+            want = deck_solid if g.get("Name") == "solids" else deck_shell
+            id_ok = (id_ok and at["node_id"].get("Center") == "Node" and at["element_id"].get("Center") == "Cell"
+                     and set(nv.tolist()) == set(deck_x) and set(ev.tolist()) == want)
+    record(f"states: every block of d3plot.xdmf carries the deck's node ids on its nodes and element ids on "
+           f"its cells ({nid} blocks)", id_ok and nid == 2 * len(t))
     record(f"states: {len(t)} states at 0.1 ms over 0.5 ms (6 expected), increasing times", len(t) == 6
            and np.all(np.diff(t) > 0) and abs(t[-1] - 5e-4) < 1e-5)
     record("states: every dataset of every state has the right shape; element stresses finite; connectivity "

@@ -366,6 +366,9 @@ contains
                 st//'/coordinates</DataItem>', '     </Geometry>'
             if (ios /= 0) nbad = nbad + 1
             call attr('part', 'Scalar', 'Cell', trim(ne), 'Int', '4', h5name(s)//':/mesh/'//pre//'_part')
+            ! the deck's ids, so that an entity can be picked or found by them
+            call attr('node_id', 'Scalar', 'Node', trim(nn), 'Int', '4', h5name(s)//':/mesh/node_ids')
+            call attr('element_id', 'Scalar', 'Cell', trim(ne), 'Int', '4', h5name(s)//':/mesh/'//pre//'_ids')
             call attr('displacement', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/displacement')
             call attr('velocity', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/velocity')
             if (s%contact) call attr('contact_force', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', &
