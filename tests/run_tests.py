@@ -2016,6 +2016,88 @@ def test_wall_of_blocks():
            q.stdout[-600:])
 
 
+REFERENCE_OUTPUT = os.environ.get("XDYNA_REFERENCE_OUTPUT",
+                                  os.path.join(os.path.dirname(ROOT), "shared", "reference-output"))
+
+
+def layout(line):
+    """A line's layout: its text with every number (sign included) replaced
+    by blanks ending in one '#' at its last column: fixed-column readers
+    slice right-aligned fields, so a field's end column is what counts
+    (a sign or a longer id may reach further left)."""
+    return re.sub(r"[-+]?\d+\.\d+E[-+]\d+|[-+]?\d+\.\d+|\d+",
+                  lambda m: " " * (len(m.group(0)) - 1) + "#", line.rstrip("\n")).rstrip()
+
+
+def test_ascii_layout():
+    """glstat, matsum and rcforc in LS-DYNA R14's layout (issue 20): the
+    files LS-DYNA R14 wrote in ../shared/reference-output are the model.
+    A run of a deck with contact (a shell plate edge-on onto a block) is
+    held to them line by line, every field in the same columns (a number
+    by the column it ends in): the second header line
+    (`date` and the date where readers look for them), the legend's frame,
+    glstat's first block from the first `dt of cycle` line to the added
+    mass (the line naming what controls the step names an element here,
+    a load curve there: its first 20 columns), matsum's time line and one
+    part's block, rcforc's SURFA and SURFB lines. thdiff reads the new
+    rcforc's sides as the old slave and master (the reviewed references
+    keep their names). SKIP where ../shared/reference-output is absent."""
+    if not os.path.isdir(REFERENCE_OUTPUT):
+        print("SKIP ASCII layout: ../shared/reference-output is not here")
+        return
+    p, out = run_deck("input_decks/contact/shell_edge_on_solid.k", "ascii_layout", extra=("endtim=2.0e-4",))
+    record("ASCII layout: the deck runs (exit 0)", p.returncode == 0, p.stderr[-300:])
+    if p.returncode != 0:
+        return
+
+    def lines(d, name):
+        return open(os.path.join(d, name)).read().splitlines()
+
+    def same(name, ours, ref, what):
+        la, lb = [layout(x) for x in ours], [layout(x) for x in ref]
+        bad = [(i, a, b) for i, (a, b) in enumerate(zip(la, lb)) if a != b]
+        record(f"ASCII layout: {name} {what}: {len(lb)} lines as R14's, every field in its columns",
+               len(la) == len(lb) and not bad, f"ours {len(la)} lines, R14 {len(lb)}; first difference "
+               f"{bad[0] if bad else None}")
+
+    for name in ("glstat", "matsum", "rcforc"):
+        ours, ref = lines(out, name), lines(REFERENCE_OUTPUT, name)
+        # the second header line: `date` at column 57, the date after it
+        ok = ours[1].find(" date ") == ref[1].find(" date ") and len(ours[1].rstrip()) == len(ref[1].rstrip())
+        record(f"ASCII layout: {name} header: the date in R14's columns", ok, f"{ours[1]!r} / {ref[1]!r}")
+    # glstat: the first block, from its `dt of cycle` line to `percentage increase`
+    ours, ref = lines(out, "glstat"), lines(REFERENCE_OUTPUT, "glstat")
+
+    def block(ls):
+        i = next((k for k, x in enumerate(ls) if x.startswith(" dt of cycle")), None)
+        j = next((k for k, x in enumerate(ls) if x.startswith(" percentage increase")), None)
+        if i is None or j is None:
+            return ls[2:]          # not R14's block: compared whole, it differs
+        return ls[2:i] + [ls[i][:20]] + ls[i + 1:j + 1]
+    same("glstat", block(ours), block(ref), "first block")
+    # matsum: legend frame, the first time line and the first part's block
+    ours, ref = lines(out, "matsum"), lines(REFERENCE_OUTPUT, "matsum")
+
+    def part_block(ls):
+        i = next((k for k, x in enumerate(ls) if x.startswith(" time =")), 0)
+        return [ls[i]] + ls[i + 1:i + 6]
+    same("matsum", part_block(ours), part_block(ref), "time line and a part's block")
+    frame = [x for x in ours if x.startswith(("{", " Entity #"))]
+    record("ASCII layout: matsum legend frame as R14's", frame == [x for x in ref if x.startswith(("{", " Entity #"))],
+           str(frame))
+    # rcforc: the first SURFA and SURFB lines
+    ours, ref = lines(out, "rcforc"), lines(REFERENCE_OUTPUT, "rcforc")
+    pick = lambda ls: [next((x for x in ls if x.startswith("  SURFA")), ""),
+                       next((x for x in ls if x.startswith("  SURFB")), "")]
+    same("rcforc", pick(ours), pick(ref), "SURFA and SURFB lines")
+    sys.path.insert(0, os.path.join(ROOT, "src", "tools"))
+    import thdiff as thd
+    names = set(thd.load(os.path.join(out, "rcforc"), None))
+    record("ASCII layout: thdiff reads R14's SURFA and SURFB as the slave and master sides",
+           any(n.startswith("rcforc/slave-x") for n in names) and any(n.startswith("rcforc/master-x") for n in names),
+           str(sorted(names)[:6]))
+
+
 def test_public_forms():
     """Input forms of decks written by others (tests/decks/forms): *INCLUDE
     with several file cards and a name continued with ' +', *INCLUDE_PATH,
@@ -2454,7 +2536,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -73,11 +73,17 @@ contains
         end do
     end function history_marks
 
+    !> The second header line in LS-DYNA R14's columns: the code, its build
+    !> (smp, d for 64-bit reals, s for 32-bit) and version in a field of 35
+    !> characters from column 21, then `date` at column 57 and mm/dd/yyyy
+    !> (readers find the date there).
     function version_line() result(s)
         character(len=:), allocatable :: s
         character(len=8) :: d
+        character(len=35) :: code
         call date_and_time(date=d)
-        s = repeat(' ', 20)//'xdyna '//xdyna_version//'  date '//d(5:6)//'/'//d(7:8)//'/'//d(1:4)
+        code = 'xdyna smp '//merge('d', 's', wp == dp)//' '//xdyna_version
+        s = repeat(' ', 20)//code//' date '//d(5:6)//'/'//d(7:8)//'/'//d(1:4)
     end function version_line
 
     !> Create the history files; with `resume` (a restart), open the ones
@@ -336,7 +342,8 @@ contains
         u = h%unit(s_glstat)
         write (u, '(a)', iostat=ios) '', ''
         if (ios /= 0) nbad = nbad + 1
-        write (u, '(a,i8,a,a,i10,a,i10)', iostat=ios) ' dt of cycle', st%cycle, ' is controlled by ', &
+        ! (LS-DYNA counts the cycle about to be taken from 1)
+        write (u, '(a,i8,a,a,i10,a,i10)', iostat=ios) ' dt of cycle', st%cycle + 1, ' is controlled by ', &
             merge('shell     ', 'solid     ', crit(1) == 2), crit(2), ' of part', crit(3)
         if (ios /= 0) nbad = nbad + 1
         write (u, '(a)', iostat=ios) ''
@@ -357,14 +364,27 @@ contains
         call row('system damping energy', 0.0_dp)
         call row('sliding interface energy', en%slide)
         call row('external work', en%ext)
+        ! no erosion, damping, drilling stiffness or mass scaling here: their
+        ! lines read zero, as LS-DYNA's do for a model without them
+        call row('eroded kinetic energy', 0.0_dp)
+        call row('eroded internal energy', 0.0_dp)
+        call row('eroded hourglass energy', 0.0_dp)
         call row('total energy', en%total)
         call row('total energy / initial energy', en%ratio)
         call row('energy ratio w/o eroded energy', en%ratio)
         call row('global x velocity', en%vel(1))
         call row('global y velocity', en%vel(2))
         call row('global z velocity', en%vel(3))
+        call row('dissipated kinetic energy', 0.0_dp)
+        call row('dissipated internal energy', 0.0_dp)
+        call row('drilling energy', 0.0_dp)
         write (u, '(a,i14)', iostat=ios) ' '//dots('time per zone cycle.(nanosec)'), nint(zone_ns)
         if (ios /= 0) nbad = nbad + 1
+        write (u, '(a)', iostat=ios) '', '', ' number of shell elements that  ', &
+            ' '//dots('reached the minimum time step')//'    0', '', ''
+        if (ios /= 0) nbad = nbad + 1
+        call row('added mass', 0.0_dp)
+        call row('percentage increase', 0.0_dp)
         call settle(h, s_glstat, nbad)
         vals = [real(st%dt, dp), en%ke, en%ie, en%hg, en%ext, en%total, en%ratio, en%vel]
         if (walls%n > 0) vals = [vals, en%wall]
@@ -403,15 +423,17 @@ contains
         do p = 1, model%npart
             rbv = 0
             if (en%part_mass(p) > 0) rbv = en%part_mom(:, p)/en%part_mass(p)
-            write (u, '(a,i5,3x,a,es13.4,a,es13.4)', iostat=ios) ' mat.#=', model%part(p)%id, '          inten=', &
-                en%part_ie(p), '     kinen=', en%part_ke(p)
+            write (u, '(a,i5,3x,a,es13.4,a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' mat.#=', model%part(p)%id, &
+                '          inten=', en%part_ie(p), '     kinen=', en%part_ke(p), '     eroded_ie=', 0.0_dp, &
+                '     eroded_ke=', 0.0_dp
             if (ios /= 0) nbad = nbad + 1
             write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' x-mom=', en%part_mom(1, p), '     y-mom=', &
                 en%part_mom(2, p), '     z-mom=', en%part_mom(3, p)
             if (ios /= 0) nbad = nbad + 1
             write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' x-rbv=', rbv(1), '     y-rbv=', rbv(2), '     z-rbv=', rbv(3)
             if (ios /= 0) nbad = nbad + 1
-            write (u, '(a,es13.4,a,es13.4)', iostat=ios) '                         hgeng=', en%part_hg(p), '     +mass=', 0.0_dp
+            write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) '                         hgeng=', en%part_hg(p), &
+                '     +mass=', 0.0_dp, '     eroded_he=', 0.0_dp
             if (ios /= 0) nbad = nbad + 1
             write (u, '(a)', iostat=ios) '', ''
             if (ios /= 0) nbad = nbad + 1
@@ -480,17 +502,20 @@ contains
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         real(dp), intent(in) :: rc(:, :)
+        character(len=*), parameter :: fmt = '(a,i12,a,es12.5,7(a,es12.5))'
         integer :: k
         integer :: ios, nbad
         nbad = 0
+        ! R14's columns: SURFA the slave side, SURFB the master side; the
+        ! moments mx, my, mz are not computed here and read zero
         do k = 1, model%ncontact
-            write (h%unit(s_rcforc), '(a,i11,a,es12.5,a,es12.5,a,es12.5,a,es12.5,a,es12.5)', iostat=ios) '  slave ', &
-                model%contact(k)%id, ' time ', st%time, '  x ', rc(1, k), '  y ', rc(2, k), '  z ', rc(3, k), &
-                ' mass ', rc(4, k)
+            write (h%unit(s_rcforc), fmt, iostat=ios) '  SURFA', model%contact(k)%id, ' time', st%time, &
+                '  x ', rc(1, k), '  y ', rc(2, k), '  z ', rc(3, k), ' mass ', rc(4, k), '  mx ', 0.0_dp, &
+                '  my ', 0.0_dp, '  mz ', 0.0_dp
             if (ios /= 0) nbad = nbad + 1
-            write (h%unit(s_rcforc), '(a,i11,a,es12.5,a,es12.5,a,es12.5,a,es12.5,a,es12.5)', iostat=ios) '  master', &
-                model%contact(k)%id, ' time ', st%time, '  x ', rc(5, k), '  y ', rc(6, k), '  z ', rc(7, k), &
-                ' mass ', rc(8, k)
+            write (h%unit(s_rcforc), fmt, iostat=ios) '  SURFB', model%contact(k)%id, ' time', st%time, &
+                '  x ', rc(5, k), '  y ', rc(6, k), '  z ', rc(7, k), ' mass ', rc(8, k), '  mx ', 0.0_dp, &
+                '  my ', 0.0_dp, '  mz ', 0.0_dp
             if (ios /= 0) nbad = nbad + 1
         end do
         call settle(h, s_rcforc, nbad)

@@ -117,6 +117,9 @@ def read_rcforc(path, out):
             if not m:
                 continue
             side, ident, t = m.group(1), m.group(2), to_float(m.group(3))
+            # LS-DYNA R14 names the sides SURFA (slave) and SURFB (master);
+            # older files (and xdyna's before it) slave and master
+            side = {"SURFA": "slave", "SURFB": "master"}.get(side, side)
             rest = m.group(4).split()
             for k in range(0, len(rest) - 1, 2):
                 out.add(f"rcforc/{side}-{rest[k]}[{ident}]", t, to_float(rest[k + 1]))
