@@ -248,6 +248,10 @@ contains
                                           contact_energy(ct, 0.0_dp))
                     st%e_initial = en%total
                     en%ratio = 1.0_dp
+                    ! no work is done by t = 0 (st%ext_work already holds the
+                    ! first half step's, the leapfrog's share of cycle 0, which
+                    ! the energies of t(1) count)
+                    en%ext = 0
                 else
                     vn = 0.5_wp*(vminus + st%v)
                     call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
