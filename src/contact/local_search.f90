@@ -54,7 +54,6 @@ module xd_contact_local_search
     integer, parameter :: max_tried = 64   !< segments remembered per slave (each checked once)
 
     integer, parameter :: max_track_steps = 64
-    integer(8), public :: cnt(8) = 0
 
 contains
 
@@ -113,12 +112,6 @@ contains
                 end if
                 call try(m, .true.)
             end do
-            if (hit%found .and. hit%kind == contact_interior .and. .not. grazing(hit)) then
-                cnt(3)=cnt(3)+1
-                if (best%seg /= hit%seg) cnt(4)=cnt(4)+1
-                if (best%seg /= hit%seg .and. s%seg_body(best%seg) /= s%seg_body(hit%seg)) cnt(5)=cnt(5)+1
-                if (s%seg_body(hit%seg) /= s%node_body(sn)) cnt(6)=cnt(6)+1
-            end if
             if (acceptable()) return
             best%found = .false.
             best%level = 4

@@ -319,10 +319,6 @@ contains
                 call fail('time '//rtoa(st%time)//' is past the end time '//rtoa(opts%endtim)//' by more than a step')
         end if
         if (res%status == exit_normal) then
-            block
-            use xd_contact_local_search, only: cnt
-            print *, 'CNT', cnt
-            end block
             call log_line(lg, '')
             call log_line(lg, ' N o r m a l    t e r m i n a t i o n   at time '//rtoa(st%time)// &
                           ', cycle '//itoa(st%cycle))
