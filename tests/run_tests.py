@@ -31,6 +31,11 @@ SINGLE = os.path.basename(XDYNA).endswith("_single")
 def roundoff(tol, scale=1.0):
     return max(tol, 1e-5 * scale) if SINGLE else tol
 
+# The deck tests read the states from d3plot.h5 (h5py): every run here writes
+# it beside the d3plot family (xdyna's default writes the family alone;
+# test_d3plot checks that default with XDYNA_H5PLOT=0)
+os.environ.setdefault("XDYNA_H5PLOT", "1")
+
 THDIFF = os.path.join(ROOT, "bin", "thdiff")
 TMP = tempfile.mkdtemp(prefix="xdyna-tests-")
 results = []
@@ -903,6 +908,148 @@ def same_histories(a, b):
     return q.returncode == 0 and rows and ascii_same, q.stdout[-300:]
 
 
+def vtk_blocks(reader):
+    """The blocks of a vtkLSDynaReader's output: (name, grid) for each part."""
+    out = reader.GetOutput()
+    blocks = []
+    for i in range(out.GetNumberOfBlocks()):
+        b = out.GetBlock(i)
+        if b is not None:
+            blocks.append((out.GetMetaData(i).Get(out.NAME()), b))
+    return blocks
+
+
+def test_d3plot():
+    """The d3plot family in LS-DYNA's binary layout, opened by an independent
+    reader: VTK's vtkLSDynaReader (Debian's python3-vtk9; SKIP where it is
+    absent). Two runs, each also writing d3plot.h5, whose values are the
+    run's own: the square tube crushed with self-contact to 2.5 ms (six
+    states, x=1 so that the family splits into members), and a solid block
+    with a shell plate and a rigid block (three parts, ids in another order
+    than the d3plot's materials). Held exactly (both files store float32 of
+    the same numbers): the number of states, every time, the solid
+    stress and plastic strain, the shell thickness and largest plastic
+    strain; every element's corners at the coordinates of its nodes in every state
+    (VTK's cells against the deck's connectivity: every node is a corner);
+    the shell stress through the thickness (VTK's five layers,
+    weighted by the Gauss weights) against d3plot.h5's mean stress to 2e-6
+    of the largest stress (float32 round-off of a sum of five rotated
+    tensors); every part block holds exactly the deck part's elements. The
+    default run (no h5plot) writes the family alone, the same bytes."""
+    try:
+        import vtk
+        from vtk.util.numpy_support import vtk_to_numpy as v2n
+    except ImportError:
+        print("SKIP d3plot: VTK's LS-DYNA reader (Debian's python3-vtk9) is not installed")
+        return
+    gw5 = np.array([0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
+                    0.2369268850561891]) / 2
+    cases = [("tube", "input_decks/contact/tube_crush.k", ("endtim=2.5e-3", "x=1"), ""),
+             ("mixed", "input_decks/verify/mixed_solid_shell_rigid.k", (),
+              "*DATABASE_BINARY_D3PLOT\n    2.0e-4\n")]
+    for name, src, extra, cards in cases:
+        deck = with_cards(src, "d3plot_" + name, cards) if cards else os.path.join(ROOT, src)
+        out = os.path.join(TMP, "d3plot_" + name)
+        shutil.rmtree(out, ignore_errors=True)
+        p = run([XDYNA, "i=" + deck, "outdir=" + out, "h5plot=1", *extra])
+        if p.returncode != 0:
+            record(f"d3plot {name}: run", False, p.stderr[-300:])
+            continue
+        members = sorted(x for x in os.listdir(out) if re.fullmatch(r"d3plot(\d\d+)?", x))
+        r = vtk.vtkLSDynaReader()
+        r.SetDatabaseDirectory(out)
+        r.UpdateInformation()
+        with h5py.File(os.path.join(out, "d3plot.h5"), "r") as f:
+            t = f["states/time"][:]
+            ids = f["mesh/node_ids"][:]
+            row = {int(n): i for i, n in enumerate(ids)}
+            nstate = r.GetNumberOfTimeSteps()
+            times = [r.GetTimeValue(k) for k in range(nstate)]
+            same_t = nstate == len(t) and np.array_equal(np.array(times), t.astype(np.float32).astype(float))
+            # per quantity: the largest difference and the largest value met
+            # (a check that met only zeros would measure nothing)
+            worst = {q: [0.0, 0.0] for q in ("coordinates", "solid stress", "solid plastic strain", "shell thickness",
+                                             "shell plastic strain", "shell stress")}
+
+            def held(q, ours, ref):
+                worst[q][0] = max(worst[q][0], float(np.abs(ours - ref).max()))
+                worst[q][1] = max(worst[q][1], float(np.abs(ref).max()))
+            parts_ok, nseen, ncells = True, 0, 0
+            covered = set()
+            eparts = {}
+            for kind in ("solid", "shell"):
+                if f"mesh/{kind}_ids" in f:
+                    for e, q in zip(f[f"mesh/{kind}_ids"][:], f[f"mesh/{kind}_part"][:]):
+                        eparts.setdefault(int(q), set()).add((kind, int(e)))
+            for k in range(min(nstate, len(t))):
+                g = f[f"states/{k + 1:06d}"]
+                x = g["coordinates"][:]
+                r.SetTimeStep(k)
+                r.Update()
+                for bname, b in vtk_blocks(r):
+                    # VTK 9.1 reads the node ids of 32-bit files two to a
+                    # 64-bit value: the nodes are matched through the
+                    # elements (their ids read right), whose corners must be
+                    # the deck connectivity's nodes at d3plot.h5's positions
+                    cd = b.GetCellData()
+                    eid = v2n(cd.GetArray("UserIds"))
+                    kind = "solid" if b.GetCellType(0) == vtk.VTK_HEXAHEDRON else "shell"
+                    npe = 8 if kind == "solid" else 4
+                    erow = {int(e): i for i, e in enumerate(f[f"mesh/{kind}_ids"][:])}
+                    rows = [erow[int(e)] for e in eid]
+                    pts = v2n(b.GetPoints().GetData())
+                    corner = pts[v2n(b.GetCells().GetConnectivityArray()).reshape(-1, npe)]
+                    conn = f[f"mesh/{kind}_connectivity"][:][rows]
+                    held("coordinates", corner, x[conn])
+                    if k == 0:
+                        covered.update(int(n) for n in conn.ravel())
+                    if k == 0:
+                        nseen += 1
+                        ncells += len(eid)
+                        mine = {(kind, int(e)) for e in eid}
+                        owner = [q for q, es in eparts.items() if es == mine]
+                        parts_ok = parts_ok and len(owner) == 1
+                    if kind == "solid":
+                        held("solid stress", v2n(cd.GetArray("Stress")), g["solid_stress"][:][rows])
+                        held("solid plastic strain", v2n(cd.GetArray("EffPlastStrn")),
+                             g["solid_plastic_strain"][:][rows])
+                    else:
+                        held("shell thickness", v2n(cd.GetArray("Thickness")), g["shell_thickness"][:][rows])
+                        # five points: written in their order from the bottom;
+                        # three: mid-surface, inner, outer (LS-DYNA's MAXINT 3)
+                        if cd.GetArray("StressIntPt5") is not None:
+                            names, w = ["", "InnerSurf", "OuterSurf", "IntPt4", "IntPt5"], gw5
+                        else:
+                            names, w = ["", "InnerSurf", "OuterSurf"], np.array([8.0, 5.0, 5.0]) / 18
+                        lay = [v2n(cd.GetArray("Stress" + s)).astype(float) for s in names]
+                        held("shell stress", sum(wi * si for wi, si in zip(w, lay)), g["shell_stress"][:][rows])
+                        eps = np.max([v2n(cd.GetArray("EffPlastStrn" + s)) for s in names], axis=0)
+                        held("shell plastic strain", eps, g["shell_plastic_strain"][:][rows])
+        nel = sum(len(v) for v in eparts.values())
+        exact = all(v[0] == 0.0 for key, v in worst.items() if key != "shell stress")
+        stress_ok = worst["shell stress"][0] <= 2e-6 * max(worst["shell stress"][1], 1.0)
+        # what each deck must exercise: the tube yields, the mixed deck has
+        # solids; both have shells under stress
+        met = worst["shell stress"][1] > 0 and worst["coordinates"][1] > 0 and (
+            worst["shell plastic strain"][1] > 0 if name == "tube" else worst["solid stress"][1] > 0)
+        record(f"d3plot {name}: vtkLSDynaReader reads {nstate} states in {len(members)} member(s) ({' '.join(members)}), "
+               f"the times, the coordinates of every element corner ({len(covered)} of {len(ids)} nodes) in every "
+               f"state, solid stress and plastic strain, shell "
+               f"thickness and plastic strain equal to the run's own (d3plot.h5) "
+               f"(difference / largest value: {', '.join(f'{k2} {v[0]:.1e} / {v[1]:.3g}' for k2, v in worst.items())}); "
+               f"{nseen} part blocks of {ncells} cells, "
+               f"each exactly one deck part's elements ({nel} elements)",
+               same_t and exact and stress_ok and met and parts_ok and ncells == nel and nstate == len(t)
+               and len(covered) == len(ids)
+               and (name != "tube" or len(members) > 1))
+        if name == "mixed":
+            # the default: the family alone, the same bytes
+            q = run([XDYNA, "i=" + deck, "outdir=" + out + "_default"], env={"XDYNA_H5PLOT": "0"})
+            same = q.returncode == 0 and not os.path.exists(os.path.join(out + "_default", "d3plot.h5")) and \
+                open(os.path.join(out, "d3plot"), "rb").read() == open(os.path.join(out + "_default", "d3plot"), "rb").read()
+            record("d3plot: the default run writes the d3plot family alone (no d3plot.h5), byte for byte the same", same)
+
+
 def test_restart():
     """Restart dumps (*DATABASE_BINARY_D3DUMP) and r=: for a contact deck
     with solids and shells, a deck with a rigid part under gravity, a bar
@@ -936,8 +1083,16 @@ def test_restart():
             states = np.array_equal(ta, tb) and all(
                 np.array_equal(fa[f"states/{k:06d}/coordinates"][:], fb[f"states/{k:06d}/coordinates"][:])
                 for k in range(1, len(ta) + 1))
+        # the d3plot family: the restart cuts it back to the dump's states and
+        # goes on, so that every member reads the same bytes
+        fam = lambda d: sorted(os.path.basename(x) for x in glob.glob(os.path.join(d, "d3plot*"))
+                               if not x.endswith((".h5", ".xdmf")))
+        binary = fam(full) == fam(part) and len(fam(full)) > 0 and all(
+            open(os.path.join(full, m), "rb").read() == open(os.path.join(part, m), "rb").read() for m in fam(full))
+        states = states and binary
         record(f"restart {name}: run to T/2 and restarted gives the run to T bitwise (thdiff at zero "
-               f"tolerance, same rows, same ASCII files, same {len(ta)} states)", ok and states, msg)
+               f"tolerance, same rows, same ASCII files, same {len(ta)} states, the same {len(fam(full))} d3plot "
+               f"member(s) byte for byte)", ok and states, msg)
     # refusals, on the last case's dump
     dump = os.path.join(part, "d3dump.h5")
     changed = os.path.join(TMP, "rs_changed.k")
@@ -1322,6 +1477,10 @@ def test_mpi():
         fa.visititems(lambda k, v: names.append(k) if isinstance(v, h5py.Dataset) else None)
         same = all(k in fb and np.array_equal(fa[k][()], fb[k][()]) for k in names)
     record(f"MPI front frame: d3plot.h5 of 4 ranks equals the serial one ({len(names)} datasets, bitwise)", same)
+    fa, fb = (os.path.join(TMP, d, "d3plot") for d in ("mpi_serial_front_frame", "mpi4_front_frame"))
+    same = os.path.exists(fa) and os.path.exists(fb) and open(fa, "rb").read() == open(fb, "rb").read()
+    record(f"MPI front frame: the d3plot of 4 ranks equals the serial one byte for byte "
+           f"({os.path.getsize(fa) if os.path.exists(fa) else 0} bytes)", same)
 
     # contact found across the partition boundary: the two bars of
     # two_bars_penalty.k lie on different ranks (each rank's elements are one
@@ -2543,7 +2702,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_states, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_states, test_d3plot, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -43,6 +43,9 @@ import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the runs' states also in d3plot.h5, which this tool reads (the d3plot
+# family in LS-DYNA's layout is written as well)
+os.environ.setdefault("XDYNA_H5PLOT", "1")
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import gen_decks as g  # noqa: E402
 import penetration  # noqa: E402

@@ -21,6 +21,9 @@ import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# the runs' states also in d3plot.h5, which this tool reads (the d3plot
+# family in LS-DYNA's layout is written as well)
+os.environ.setdefault("XDYNA_H5PLOT", "1")
 PUBLIC = os.environ.get("XDYNA_PUBLIC_DECKS", os.path.join(os.path.dirname(ROOT), "shared", "public-decks"))
 OUT = os.path.join(ROOT, "build", "public")
 DECKS = [("car5_main.k", "1,2"), ("car6_main.k", "1,2,3,4,5"), ("ball_plate.k", "1,2")]

@@ -12,7 +12,7 @@ module xd_elements_shell_bt
     use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
     implicit none
     private
-    public :: shells_t, build_shells, shell_forces, shell_masses, shell_frame, point_weight
+    public :: shells_t, build_shells, shell_forces, shell_masses, shell_frame, point_weight, point_z
 
     ! iteration tolerances: 1e-10 and 1e-12 relative in double precision,
     ! ten round-offs in single (where 1e-12 cannot be reached and every
@@ -544,6 +544,13 @@ contains
         integer, intent(in) :: ip, nip
         w = real(gw(ip, nip), wp)/2
     end function point_weight
+
+    !> Position of integration point ip of nip through the thickness, from -1
+    !> (the bottom surface) to 1 (the top).
+    pure real(wp) function point_z(ip, nip) result(z)
+        integer, intent(in) :: ip, nip
+        z = real(gz(ip, nip), wp)
+    end function point_z
 
     pure function cross(a, b) result(c)
         real(wp), intent(in) :: a(3), b(3)

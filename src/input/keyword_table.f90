@@ -125,6 +125,7 @@ module xd_input_keyword_table
         entry_t('DATABASE_HISTORY_NODE_SET', fam_database, '', .false.), &
         entry_t('DATABASE_BINARY_D3PLOT', fam_database, '', .false.), &
         entry_t('DATABASE_BINARY_D3DUMP', fam_database, '', .false.), &
+        entry_t('CONTROL_XDYNA_OUTPUT', fam_database, '', .false.), &
         ! output-only or tuning keywords xdyna does not need: one warning each
         entry_t('DATABASE_BINARY_RUNRSF', fam_skip, '', .false.), &
         entry_t('DATABASE_BINARY_D3THDT', fam_skip, '', .false.), &

@@ -137,7 +137,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         type(history_request_t) :: h
-        integer :: ic, k, id, dump
+        integer :: ic, k, id, dump, flag
         real(wp) :: lcdt
         ic = first_card(kw)
         if (ic > kw%ncard) return
@@ -186,6 +186,25 @@ contains
             call get_real(card, 1, model%db%d3plot_dt, 0.0_wp, error); if (allocated(error)) return
             call get_real(card, 2, lcdt, 0.0_wp, error); if (allocated(error)) return
             call get_int(card, 4, model%db%d3plot_npltc, 0, error); if (allocated(error)) return
+        case ('CONTROL_XDYNA_OUTPUT')
+            call get_card(ctx, kw, ic, 'BINARY HDF5 X', 1, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, flag, 1, error); if (allocated(error)) return
+            if (flag /= 0 .and. flag /= 1) then
+                call card_error(card, 1, 'BINARY must be 0 (no d3plot family) or 1 (the d3plot family)', error); return
+            end if
+            model%db%d3plot_binary = flag == 1
+            call get_int(card, 2, flag, 0, error); if (allocated(error)) return
+            if (flag /= 0 .and. flag /= 1) then
+                call card_error(card, 2, 'HDF5 must be 0 (none) or 1 (d3plot.h5 and d3plot.xdmf)', error); return
+            end if
+            model%db%d3plot_h5 = flag == 1
+            call get_int(card, 3, flag, 7, error); if (allocated(error)) return
+            if (flag < 1 .or. flag > 8191) then
+                call card_error(card, 3, 'X (d3plot member size in units of 262,144 words) must be 1 to 8191', error)
+                return
+            end if
+            model%db%d3plot_x = flag
         case ('DATABASE_BINARY_D3DUMP')
             call get_card(ctx, kw, ic, 'CYCL', 1, card, error)
             if (allocated(error)) return

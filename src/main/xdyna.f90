@@ -28,7 +28,7 @@ program xdyna
     use xd_solver_loads, only: pressures_t, build_pressures
     use xd_elements_shell_bt, only: shells_t
     use xd_output_histories, only: histories_t, open_histories, close_histories, history_marks_t
-    use xd_output_states, only: states_t, open_states, close_states, states_marks_t
+    use xd_output_states, only: states_t, open_states, close_states, states_marks_t, states_summary
     use xd_solver_restart, only: dump_meta_t, read_dump_meta, read_dump, build_tag, dump_format
     use xd_core_signals, only: signals_install, stop_signal, hold_for_signal
     use xd_core_comm, only: comm_max
@@ -72,6 +72,8 @@ program xdyna
     character(len=:), allocatable :: memory_note, hold, step_note
     real(dp) :: endtim_cli
     integer :: i, k, ncpu, nfree, nparts, endcyc_cli
+    integer :: h5plot                !< h5plot= (or XDYNA_H5PLOT): 1 also d3plot.h5, 0 not, -1 the deck's
+    integer :: xfactor               !< x=: d3plot member size in 262,144 words (0: the deck's)
 
     ! the batch signals count from the first instruction, before the
     ! parallel start-up: a SIGTERM during set-up stops the run cleanly
@@ -95,7 +97,10 @@ program xdyna
     endcyc_cli = 0
     outdir_given = .false.
     wallclock = 0
+    h5plot = -1
+    xfactor = 0
     call wallclock_env()
+    call h5plot_env()
     do i = 1, command_argument_count()
         arg = get_arg(i)
         select case (to_lower(arg))
@@ -166,6 +171,9 @@ program xdyna
 
     call read_deck(deck, ropts, model, ctx, error)
     if (.not. allocated(error)) call check_model(ctx, model, maps, error)
+    ! the command line's choices of state files over the deck's
+    if (h5plot >= 0) model%db%d3plot_h5 = h5plot == 1
+    if (xfactor > 0) model%db%d3plot_x = xfactor
     if (allocated(error)) then
         call say(error%message)
         call log_line(lg, ' *** Error: '//error%message)
@@ -292,13 +300,15 @@ program xdyna
     opts%meta%digest = ctx%src%digest()
     opts%meta%outdir = outdir
     if (.not. ok) then
-        call say('xdyna: cannot create d3plot.h5 in '//outdir)
+        call say('xdyna: cannot create the states (d3plot'//trim(merge(', d3plot.h5', '           ', &
+                 model%db%d3plot_h5))//') in '//outdir)
         call finish_alone(exit_run)
     end if
     call tm%stop(ph_init)
 
     opts%progress = env%rank == 0
     call run_time_loop(model, dom, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, states, lg, tm, opts, res)
+    if (env%rank == 0 .and. states%on) call log_line(lg, states_summary(states))
     call close_states(states)
     call close_histories(hist)
     if (dom%on .and. ct%n > 0) call gather_contact_state(ct)
@@ -357,6 +367,21 @@ contains
         end if
     end subroutine wallclock_env
 
+    !> XDYNA_H5PLOT (0 or 1), as h5plot= (the command line wins).
+    subroutine h5plot_env()
+        character(len=64) :: v
+        integer :: n, st
+        call get_environment_variable('XDYNA_H5PLOT', v, length=n, status=st)
+        if (st /= 0 .or. n == 0) return
+        select case (trim(v))
+        case ('0'); h5plot = 0
+        case ('1'); h5plot = 1
+        case default
+            call say('xdyna: XDYNA_H5PLOT='//trim(v)//' must be 0 or 1')
+            call finish(exit_input)
+        end select
+    end subroutine h5plot_env
+
     subroutine keyword_arg(a)
         character(len=*), intent(in) :: a
         integer :: k
@@ -414,6 +439,22 @@ contains
             end if
         case ('r')
             restart = val
+        case ('h5plot')
+            ! the states also (1) or not (0) in d3plot.h5 + d3plot.xdmf
+            select case (val)
+            case ('0'); h5plot = 0
+            case ('1'); h5plot = 1
+            case default
+                call say('xdyna: h5plot='//val//' must be 0 or 1')
+                call finish(exit_input)
+            end select
+        case ('x')
+            ! LS-DYNA's x=: the d3plot family's member size, in 262,144 words
+            call parse_int(val, xfactor, good)
+            if (.not. good .or. xfactor < 1 .or. xfactor > 8191) then
+                call say('xdyna: x='//val//' is not an integer from 1 to 8191 (d3plot member size in 262,144 words)')
+                call finish(exit_input)
+            end if
         case ('endtim')
             call parse_real(val, endtim_cli, good)
             if (.not. good .or. endtim_cli <= 0.0_dp) then
@@ -479,12 +520,16 @@ contains
             '  ncpu=N          OpenMP threads; ncpu=-N the same (results never depend on N)', &
             '  memory=SIZE, memory2=SIZE   accepted for LS-DYNA scripts; xdyna allocates as needed', &
             '  wallclock=S     stop with a restart dump after S seconds (also XDYNA_WALLCLOCK)', &
+            '  x=N             d3plot family member size, N x 262,144 words (default 7, as LS-DYNA)', &
+            '  h5plot=1|0      the states also in d3plot.h5 + d3plot.xdmf, or not (also XDYNA_H5PLOT;', &
+            '                  default: *CONTROL_XDYNA_OUTPUT''s HDF5, else 0)', &
             '  r=DUMP          restart from a d3dump.h5 (give jobid= again if the run had one)', &
             '  unsupported=warn  skip keywords outside the subset with a warning (default: error)', &
             '', &
             'Output files: d3hsp (log and every warning), glstat, matsum, nodout, rwforc,', &
             'rcforc (LS-DYNA ASCII layout, as the deck''s *DATABASE cards ask), thist.h5', &
-            '(all histories), d3plot.h5 + d3plot.xdmf (states, *DATABASE_BINARY_D3PLOT),', &
+            '(all histories), d3plot, d3plot01, ... (states, *DATABASE_BINARY_D3PLOT, in LS-DYNA''s', &
+            'binary layout), d3plot.h5 + d3plot.xdmf (the states for ParaView, h5plot=1),', &
             'd3dump.h5 (restart dump), contact_debug (*CONTROL_XDYNA_CONTACT debug set).', &
             'Exit status: 0 normal, 1 input error, 2 error termination during the run,', &
             '3 stopped by a signal or wall-clock limit.', &

@@ -2,7 +2,7 @@
 !> materials, sets, conditions, controls and output requests. Ids are the
 !> user's until the model check resolves them to indices (`*_ix` fields).
 module xd_model
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
     implicit none
     private
     public :: model_t, part_t, section_solid_t, section_shell_t, material_t, hourglass_t, set_t
@@ -297,6 +297,9 @@ module xd_model
         type(history_request_t) :: glstat, matsum, nodout, rwforc, rcforc
         real(wp) :: d3plot_dt = 0
         integer :: d3plot_npltc = 0
+        logical :: d3plot_binary = .true.        !< the LS-DYNA d3plot family (*CONTROL_XDYNA_OUTPUT BINARY)
+        logical :: d3plot_h5 = .false.           !< d3plot.h5 + d3plot.xdmf (*CONTROL_XDYNA_OUTPUT HDF5)
+        integer(i8) :: d3plot_x = 7              !< d3plot member size in 262,144 words (*CONTROL_XDYNA_OUTPUT X)
         integer :: d3dump = -1                   !< *DATABASE_BINARY_D3DUMP cycles between dumps (0: only at
                                                  !< the end; -1: not asked for)
         integer, allocatable :: hist_node(:)     !< node ids for nodout

@@ -1,6 +1,7 @@
-!> States (*DATABASE_BINARY_D3PLOT): `d3plot.h5` through HDF5's Fortran API
-!> and `d3plot.xdmf` beside it, which ParaView and VisIt open as a time
-!> series. The mesh is written once (group `mesh`: node ids, hexahedra and
+!> States (*DATABASE_BINARY_D3PLOT): LS-DYNA's binary d3plot family (module
+!> xd_output_d3plot), and where *CONTROL_XDYNA_OUTPUT asks for it
+!> `d3plot.h5` through HDF5's Fortran API with `d3plot.xdmf` beside it,
+!> which ParaView and VisIt open as a time series. The HDF5 mesh is written once (group `mesh`: node ids, hexahedra and
 !> shells as 0-based indices into the node arrays, element ids and part
 !> ids); each state is a group `states/NNNNNN` (attribute `time`) with the
 !> coordinates, displacement, velocity and contact force per node, and per
@@ -21,10 +22,14 @@ module xd_output_states
     use xd_model, only: model_t, mat_rigid
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
-    use xd_elements_shell_bt, only: shells_t, shell_frame, point_weight
+    use xd_elements_shell_bt, only: shells_t, shell_frame, point_weight, point_z
+    use xd_solver_energies, only: energies_t
+    use xd_output_d3plot, only: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_write, d3plot_close, &
+                                d3plot_failure, member_words_default
     implicit none
     private
-    public :: states_t, open_states, states_due, write_state, close_states, states_marks_t, states_marks, states_failure
+    public :: states_t, open_states, states_due, write_state, close_states, states_marks_t, states_marks, states_failure, &
+              states_summary
 
     type :: states_t
         logical :: on = .false.
@@ -40,6 +45,10 @@ module xd_output_states
         real(dp), allocatable :: times(:)
         logical :: failed = .false.           !< a write failed (a full disk, a quota): no more states
         character(len=:), allocatable :: failed_file
+        logical :: h5 = .false.               !< d3plot.h5 + d3plot.xdmf (*CONTROL_XDYNA_OUTPUT)
+        type(d3plot_t) :: bin                 !< the binary d3plot family
+        integer, allocatable :: dmat_part(:)  !< the part of each d3plot material
+        integer :: maxint = 3                 !< shell layers in the d3plot
     end type states_t
 
     !> Where the states stand: enough to go on from a restart dump.
@@ -99,22 +108,23 @@ contains
         s%contact = model%ncontact > 0
         allocate (s%times(0))
         if (present(writer)) s%writer = writer
-        if (.not. s%writer) then
-            if (present(resume)) then
-                s%n = resume%n
-                s%next = resume%next
-                s%times = resume%times
-            end if
-            return
+        s%h5 = model%db%d3plot_h5
+        if (present(resume)) then
+            s%n = resume%n
+            s%next = resume%next
+            s%times = resume%times
         end if
+        if (.not. s%writer) return
+        if (model%db%d3plot_binary) then
+            call open_binary(model, outdir, solids, sh, rhex, rshell, s, ok, resume)
+            if (.not. ok) return
+        end if
+        if (.not. s%h5) return
         call h5open_f(err)
         if (present(resume)) then
             call h5fopen_f(out_path(outdir, 'd3plot.h5'), H5F_ACC_RDWR_F, s%file, err)
             ok = err == 0
             if (.not. ok) return
-            s%n = resume%n
-            s%next = resume%next
-            s%times = resume%times
             k = s%n
             do
                 k = k + 1
@@ -149,6 +159,78 @@ contains
         call h5fflush_f(s%file, H5F_SCOPE_GLOBAL_F, err)
     end subroutine open_states
 
+    !> The binary d3plot family's first member (or, on a restart, the family
+    !> cut back to the dump's states).
+    subroutine open_binary(model, outdir, solids, sh, rhex, rshell, s, ok, resume)
+        type(model_t), intent(in) :: model
+        character(len=*), intent(in) :: outdir
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: rhex(:), rshell(:)
+        type(states_t), intent(inout) :: s
+        logical, intent(out) :: ok
+        type(states_marks_t), intent(in), optional :: resume
+        type(d3plot_mesh_t) :: m
+        integer, allocatable :: spart(:), hpart(:), dmat(:)
+        logical, allocatable :: with_solid(:), with_shell(:)
+        integer :: p, k
+        integer, allocatable :: hconn(:, :), hid(:)
+        ! the deformable elements (a model without shells has none allocated),
+        ! then the rigid ones
+        allocate (hpart(0), hconn(4, 0), hid(0))
+        if (sh%n > 0) then
+            hpart = sh%part(1:sh%n)
+            hconn = sh%conn(:, 1:sh%n)
+            hid = sh%eid(1:sh%n)
+        end if
+        hpart = [hpart, model%shell_part(rshell)]
+        spart = [solids%part, model%hex_part(rhex)]
+        ! the materials: parts with hexahedra, then parts with shells
+        allocate (with_solid(model%npart), with_shell(model%npart), dmat(model%npart))
+        with_solid = .false.
+        with_shell = .false.
+        with_solid(spart) = .true.
+        with_shell(hpart) = .true.
+        dmat = 0
+        k = 0
+        do p = 1, model%npart
+            if (.not. with_solid(p)) cycle
+            k = k + 1
+            dmat(p) = k
+        end do
+        m%nmat_solid = k
+        do p = 1, model%npart
+            if (.not. with_shell(p) .or. dmat(p) > 0) cycle
+            k = k + 1
+            dmat(p) = k
+        end do
+        m%nmat_shell = k - m%nmat_solid
+        allocate (s%dmat_part(k))
+        do p = 1, model%npart
+            if (dmat(p) > 0) s%dmat_part(dmat(p)) = p
+        end do
+        m%title = model%title
+        m%x0 = real(model%x0(:, 1:model%nnode), kind(1.0e0))
+        m%node_id = model%node_id(1:model%nnode)
+        m%solid_conn = reshape([solids%conn, model%hex_conn(:, rhex)], [8, s%nsolid])
+        m%solid_mat = dmat(spart)
+        m%solid_id = [solids%eid, model%hex_id(rhex)]
+        m%shell_conn = reshape([hconn, model%shell_conn(:, rshell)], [4, s%nshell])
+        m%shell_mat = dmat(hpart)
+        m%shell_id = [hid, model%shell_id(rshell)]
+        m%part_id = model%part(s%dmat_part)%id
+        m%nrigid = count(model%mat(model%part(1:model%npart)%mat_ix)%mtype == mat_rigid)
+        s%maxint = 3
+        if (sh%n > 0) s%maxint = max(3, maxval(sh%nip))
+        m%maxint = s%maxint
+        if (present(resume)) then
+            call d3plot_open(s%bin, out_path(outdir, 'd3plot'), m, model%db%d3plot_x*member_words_default/7, ok, &
+                             keep=resume%n)
+        else
+            call d3plot_open(s%bin, out_path(outdir, 'd3plot'), m, model%db%d3plot_x*member_words_default/7, ok)
+        end if
+    end subroutine open_binary
+
     logical function states_due(s, time)
         type(states_t), intent(in) :: s
         real(dp), intent(in) :: time
@@ -157,13 +239,14 @@ contains
 
     !> One state at st%time: v is the velocity at that time, fc the contact
     !> force per node (absent: zero).
-    subroutine write_state(s, st, solids, sh, v, fc)
+    subroutine write_state(s, st, solids, sh, v, fc, en)
         type(states_t), intent(inout) :: s
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
         real(wp), intent(in) :: v(:, :)
         real(wp), intent(in), optional :: fc(:, :)
+        type(energies_t), intent(in), optional :: en   !< the energies at st%time (absent: zero in the d3plot)
         character(len=16) :: name
         integer(hid_t) :: g, sp, at
         integer(hsize_t) :: d1(1)
@@ -177,6 +260,15 @@ contains
         s%next = s%next + s%dt
         if (st%time >= s%next) s%next = st%time + s%dt
         if (.not. s%writer .or. s%failed) return
+        if (s%bin%on) then
+            call write_binary(s, st, solids, sh, v, en)
+            if (s%bin%failed) then
+                s%failed = .true.
+                s%failed_file = d3plot_failure(s%bin)
+                return
+            end if
+        end if
+        if (.not. s%h5) return
         write (name, '(a,i6.6)') 'states/', s%n
         call h5gcreate_f(s%file, trim(name), g, err)
         d1 = 1
@@ -260,6 +352,128 @@ contains
         call write_xdmf(s)
     end subroutine write_state
 
+    !> One state of the binary d3plot family.
+    subroutine write_binary(s, st, solids, sh, v, en)
+        type(states_t), intent(inout) :: s
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        real(wp), intent(in) :: v(:, :)
+        type(energies_t), intent(in), optional :: en
+        integer, parameter :: sp = kind(1.0e0)
+        real(sp), allocatable :: glob(:), solid(:, :), shell(:, :), alive(:)
+        real(wp) :: r(3, 3), pt(5, 10), nr(5), mr(3), h, w, z
+        integer :: e, nm, k, j, l, ip, ipx(3), nip, mx
+        logical :: ok
+        nm = size(s%dmat_part)
+        mx = s%maxint
+        allocate (glob(s%bin%nglbv), solid(7, s%nsolid), shell(s%bin%nv2d, s%nshell), alive(s%nsolid + s%nshell))
+        glob = 0
+        if (present(en)) then
+            glob(1:6) = real([en%ke, en%ie, en%total, en%vel], sp)
+            if (allocated(en%part_ie)) then
+                k = 6
+                glob(k + 1:k + nm) = real(en%part_ie(s%dmat_part), sp)
+                k = k + nm
+                glob(k + 1:k + nm) = real(en%part_ke(s%dmat_part), sp)
+                k = k + nm
+                do j = 1, nm
+                    associate (p => s%dmat_part(j))
+                        if (en%part_mass(p) > 0) glob(k + 3*j - 2:k + 3*j) = real(en%part_mom(:, p)/en%part_mass(p), sp)
+                    end associate
+                end do
+                k = k + 3*nm
+                glob(k + 1:k + nm) = real(en%part_mass(s%dmat_part), sp)
+                k = k + nm
+                glob(k + 1:k + nm) = real(en%part_hg(s%dmat_part), sp)
+            end if
+        end if
+        solid = 0
+        !$omp parallel do schedule(static)
+        do e = 1, solids%n
+            solid(1:6, e) = real(solids%stress(e), sp)
+        end do
+        !$omp end parallel do
+        if (size(solids%epsp) > 0) solid(7, 1:solids%n) = real(solids%epsp, sp)
+        shell = 0
+        ! layers: per layer six global stresses and the plastic strain
+        !$omp parallel do schedule(static) private(r, ok, pt, nr, mr, h, w, z, ip, ipx, nip, l)
+        do e = 1, sh%n
+            nip = sh%nip(e)
+            call shell_frame(st%x(:, sh%conn(:, e)), sh%conn(3, e) == sh%conn(4, e), r(:, 1), r(:, 2), r(:, 3), ok)
+            pt = 0
+            pt(:, 1:nip) = sh%sig(:, 1:nip, e)
+            if (mx == 3) then
+                ! mid-surface, inner, outer
+                select case (nip)
+                case (1)
+                    ipx = [1, 1, 1]
+                case (2)
+                    ipx = [0, 1, 2]
+                case default
+                    ipx = [2, 1, 3]
+                end select
+                do l = 1, 3
+                    if (ipx(l) > 0) then
+                        shell(7*l - 6:7*l, e) = layer(pt(:, ipx(l)), sh%epsp(ipx(l), e), r, sh%plastic(e))
+                    else
+                        shell(7*l - 6:7*l, e) = layer(0.5_wp*(pt(:, 1) + pt(:, 2)), 0.5_wp*(sh%epsp(1, e) + sh%epsp(2, e)), &
+                                                      r, sh%plastic(e))
+                    end if
+                end do
+            else
+                do l = 1, nip
+                    shell(7*l - 6:7*l, e) = layer(pt(:, l), sh%epsp(l, e), r, sh%plastic(e))
+                end do
+            end if
+            ! resultants per unit width in the element's frame
+            h = sh%h(e)
+            nr = 0
+            mr = 0
+            do ip = 1, nip
+                w = point_weight(ip, nip)
+                z = point_z(ip, nip)
+                nr = nr + w*pt(:, ip)
+                mr = mr + w*z*pt(1:3, ip)
+            end do
+            shell(7*mx + 1:7*mx + 8, e) = real([0.5_wp*h*h*mr, h*nr(4), h*nr(5), h*nr(1:3)], sp)
+            shell(7*mx + 9, e) = real(h, sp)
+            if (sh%area0(e)*h > 0) shell(7*mx + 12, e) = real(sh%eint(e)/(sh%area0(e)*h), sp)
+        end do
+        !$omp end parallel do
+        do e = 1, s%nrshell
+            shell(7*mx + 9, sh%n + e) = real(s%rshell_t(e), sp)
+        end do
+        alive = 1
+        call d3plot_write(s%bin, st%time, glob, real(st%x(:, 1:s%nnode), sp), real(v(:, 1:s%nnode), sp), solid, shell, alive)
+    end subroutine write_binary
+
+    !> A shell layer's seven d3plot words: the local stress p (xx yy xy yz
+    !> zx, plane stress) in global axes from the frame r, the plastic strain.
+    pure function layer(p, eps, r, plastic) result(w)
+        real(wp), intent(in) :: p(5), eps, r(3, 3)
+        logical, intent(in) :: plastic
+        real(kind(1.0e0)) :: w(7)
+        w(1:6) = real(to_global([p(1), p(2), 0.0_wp, p(3), p(4), p(5)], r), kind(1.0e0))
+        w(7) = 0
+        if (plastic) w(7) = real(eps, kind(1.0e0))
+    end function layer
+
+    !> The d3hsp line naming the states written and where.
+    function states_summary(s) result(line)
+        type(states_t), intent(in) :: s
+        character(len=:), allocatable :: line
+        character(len=120) :: b
+        write (b, '(a,i0,a)') ' states: ', s%n, ' written'
+        line = trim(b)
+        if (s%bin%on) then
+            write (b, '(a,i0,a,i0,a)') ', the d3plot family in ', s%bin%member + 1, ' member(s) of ', &
+                s%bin%limit, ' words at most'
+            line = line//trim(b)
+        end if
+        if (s%h5) line = line//', d3plot.h5 + d3plot.xdmf'
+    end function states_summary
+
     !> The file a state's write failed on ('' if none).
     function states_failure(s) result(name)
         type(states_t), intent(in) :: s
@@ -299,6 +513,7 @@ contains
     subroutine close_states(s)
         type(states_t), intent(inout) :: s
         integer :: err
+        call d3plot_close(s%bin)
         if (.not. s%on .or. s%file < 0) return
         call h5fclose_f(s%file, err)
         s%file = -1

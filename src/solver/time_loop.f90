@@ -188,10 +188,10 @@ contains
             call accelerations()
             done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
             if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
-            ! energies where histories are due (or every energy_check_every
-            ! cycles); a state alone needs only the velocities at t(n)
+            ! energies where histories or states are due (the d3plot's global
+            ! variables carry them), or every energy_check_every cycles
             energy_now = histories_due(hist, st%time) .or. done .or. st%cycle == 0 .or. &
-                         mod(st%cycle, opts%energy_check_every) == 0
+                         mod(st%cycle, opts%energy_check_every) == 0 .or. states_due(states, st%time)
             due = energy_now .or. states_due(states, st%time)
             if (due) vminus = st%v
             ! central differences: v(n+1/2) = v(n-1/2) + a(n) (dt(n-1/2) + dt(n+1/2))/2
@@ -701,9 +701,9 @@ contains
                 ! where this cycle computed the energies
                 call gather_element_state(dom, solids, sh, energies=.not. energy_now)
                 if (ct%n > 0) then
-                    call write_state(states, st, solids, sh, vn, ct%fnode)
+                    call write_state(states, st, solids, sh, vn, ct%fnode, en=en)
                 else
-                    call write_state(states, st, solids, sh, vn)
+                    call write_state(states, st, solids, sh, vn, en=en)
                 end if
             end if
             call tm%stop(ph_output)

@@ -1,0 +1,346 @@
+!> The states as LS-DYNA's binary d3plot family, in the layout of LSTC's
+!> "LS-DYNA Database Binary Output Files": 32-bit words in the machine's
+!> byte order; the first member (`d3plot`) holds the 64 control words, the
+!> geometry (initial coordinates, hexahedra and shells with their material
+!> numbers) and the user ids (NARBS: the deck's node, element and part
+!> ids), then states; a state is the time, the global variables, current
+!> coordinates and velocities of every node, 7 words per hexahedron (stress
+!> xx yy zz xy yz zx, effective plastic strain), NV2D words per shell and
+!> one deletion flag per element (1: in the model). Members `d3plot01`,
+!> `d3plot02`, ... follow when a state would take a member past its size
+!> (a state is never split); a member followed by another ends with the
+!> end-of-file marker -999999.0, the last one after its last state (VTK's
+!> reader, 9.1, loses its file handle when the family's last word is the
+!> marker). Each state is flushed when written, so that a run stopped at
+!> any moment leaves every finished state readable.
+!>
+!> Choices where the description leaves one (the manual, "States"):
+!> - the materials of the geometry are the parts that have elements,
+!>   numbered hexahedron parts first and shell parts after, in the deck's
+!>   order (readers such as VTK's take the counts NUMMAT8, NUMMAT4 in that
+!>   order); NARBS maps them to the deck's part ids;
+!> - MAXINT is 3 when no shell has more than three points through the
+!>   thickness (then the three layers are mid-surface, inner, outer, as
+!>   LS-DYNA writes them), else the largest number of points, written in
+!>   their order from the bottom surface up (an element with fewer points
+!>   writes zeros in the layers it lacks);
+!> - shell stresses are in global axes (LS-DYNA's default, CMPFLG 0); the
+!>   resultants (Mxx Myy Mxy Qyz Qxz Nxx Nyy Nxy, per unit width) in the
+!>   element's local frame; the four words after them are the thickness,
+!>   two zeros and the internal energy per unit initial volume;
+!> - the global variables are NGLBV = 6 + 7 NMMAT: kinetic, internal and
+!>   total energy, the velocity of the centre of mass, then per material
+!>   the internal energy, kinetic energy, velocity (x y z of each), mass
+!>   and hourglass energy; no rigid-wall words;
+!> - the run-time word is 0, so that two equal runs write equal files.
+module xd_output_d3plot
+    use, intrinsic :: iso_fortran_env, only: int32, real32, int64
+    use xd_kinds, only: i8
+    use xd_core_files, only: delete_file, truncate_file
+    implicit none
+    private
+    public :: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_write, d3plot_close, d3plot_failure, &
+              d3plot_member_name, member_words_default
+
+    integer, parameter :: nhead = 64
+    real(real32), parameter :: eof_marker = -999999.0_real32
+    !> LS-DYNA's default member size: 7 x 512 x 512 words (its x=7)
+    integer(int64), parameter :: member_words_default = 7_int64*512*512
+
+    !> The mesh as the d3plot holds it.
+    type :: d3plot_mesh_t
+        character(len=80) :: title = ''
+        real(real32), allocatable :: x0(:, :)         !< (3, nnode) initial coordinates
+        integer, allocatable :: node_id(:)
+        integer, allocatable :: solid_conn(:, :)      !< (8, nsolid) node indices, 1-based
+        integer, allocatable :: solid_mat(:), solid_id(:)
+        integer, allocatable :: shell_conn(:, :)      !< (4, nshell)
+        integer, allocatable :: shell_mat(:), shell_id(:)
+        integer :: nmat_solid = 0, nmat_shell = 0     !< NUMMAT8, NUMMAT4
+        integer, allocatable :: part_id(:)            !< the deck's id of each material (NMMAT)
+        integer :: maxint = 3
+        integer :: nrigid = 0                         !< rigid bodies (NUMRBS)
+    end type d3plot_mesh_t
+
+    type :: d3plot_t
+        logical :: on = .false.
+        character(len=:), allocatable :: base         !< path of the first member
+        integer :: u = -1
+        integer :: member = 0                         !< the open member (0: d3plot)
+        integer(int64) :: words = 0                   !< words of the open member (before the marker)
+        integer :: in_member = 0                      !< states in the open member
+        integer(int64) :: limit = member_words_default
+        integer(int64) :: head_words = 0              !< control, geometry and ids
+        integer(int64) :: state_words = 0
+        integer :: nnode = 0, nsolid = 0, nshell = 0, nmmat = 0, maxint = 3, nv2d = 0, nglbv = 0
+        logical :: failed = .false.
+        character(len=:), allocatable :: failed_file
+    end type d3plot_t
+
+contains
+
+    !> The name of member k (0: the base name; then base01 .. base99, base100, ...).
+    function d3plot_member_name(base, k) result(name)
+        character(len=*), intent(in) :: base
+        integer, intent(in) :: k
+        character(len=:), allocatable :: name
+        character(len=16) :: b
+        if (k == 0) then
+            name = base
+            return
+        end if
+        write (b, '(i2.2)') k
+        if (k >= 100) write (b, '(i0)') k
+        name = base//trim(b)
+    end function d3plot_member_name
+
+    !> Create the family's first member with the control words, the geometry
+    !> and the user ids. With `keep` (a restart), the family is cut back to
+    !> its first `keep` states instead and opened for more.
+    subroutine d3plot_open(d, base, mesh, limit, ok, keep)
+        type(d3plot_t), intent(out) :: d
+        character(len=*), intent(in) :: base
+        type(d3plot_mesh_t), intent(in) :: mesh
+        integer(int64), intent(in) :: limit       !< member size in words
+        logical, intent(out) :: ok
+        integer, intent(in), optional :: keep
+        integer(int32), allocatable :: head(:)
+        integer :: ios
+        d%on = .true.
+        d%base = base
+        d%limit = max(limit, int(nhead, int64))
+        d%nnode = size(mesh%node_id)
+        d%nsolid = size(mesh%solid_id)
+        d%nshell = size(mesh%shell_id)
+        d%nmmat = size(mesh%part_id)
+        d%maxint = mesh%maxint
+        d%nv2d = 7*d%maxint + 12
+        d%nglbv = 6 + 7*d%nmmat
+        head = static_words(d, mesh)
+        d%head_words = size(head, kind=int64)
+        d%state_words = 1 + d%nglbv + 6_int64*d%nnode + 7_int64*d%nsolid + int(d%nv2d, int64)*d%nshell &
+                        + d%nsolid + d%nshell
+        if (present(keep)) then
+            call cut_back(d, keep, ok)
+            return
+        end if
+        call delete_members(d, 1)
+        open (newunit=d%u, file=base, access='stream', form='unformatted', status='replace', action='readwrite', &
+              iostat=ios)
+        ok = ios == 0
+        if (.not. ok) then
+            d%failed = .true.
+            d%failed_file = base
+            return
+        end if
+        write (d%u, iostat=ios) head
+        flush (d%u, iostat=ios)
+        ok = ios == 0
+        d%words = d%head_words
+        d%member = 0
+        d%in_member = 0
+        if (.not. ok) then
+            d%failed = .true.
+            d%failed_file = base
+        end if
+    end subroutine d3plot_open
+
+    !> Control words, geometry and user ids of the first member.
+    function static_words(d, mesh) result(w)
+        type(d3plot_t), intent(in) :: d
+        type(d3plot_mesh_t), intent(in) :: mesh
+        integer(int32), allocatable :: w(:)
+        integer(int32) :: c(nhead)
+        integer :: narbs, k, ngeo, p0, i
+        character(len=40) :: title
+        narbs = 16 + d%nnode + d%nsolid + d%nshell + 3*d%nmmat
+        c = 0
+        title = mesh%title(1:40)
+        do k = 1, 10
+            c(k) = transfer(title(4*k - 3:4*k), c(k))
+        end do
+        c(11) = 0                      ! run time: none (equal runs, equal files)
+        c(12) = 1                      ! file type: d3plot
+        c(13) = 0                      ! source version
+        c(14) = transfer('xdyn', c(14))   ! release
+        c(15) = transfer(971.0_real32, c(15))   ! version (readers look for 900 to 1000)
+        c(16) = 4                      ! NDIM: 3-D, connectivity unpacked
+        c(17) = d%nnode                ! NUMNP
+        c(18) = 6                      ! ICODE: LS-DYNA 3-D
+        c(19) = d%nglbv                ! NGLBV
+        c(20) = 0                      ! IT: no temperatures
+        c(21) = 1                      ! IU: coordinates
+        c(22) = 1                      ! IV: velocities
+        c(23) = 0                      ! IA: no accelerations
+        c(24) = d%nsolid               ! NEL8
+        c(25) = mesh%nmat_solid        ! NUMMAT8
+        c(28) = 7                      ! NV3D: six stresses and the plastic strain
+        c(29) = 0                      ! NEL2: no beams
+        c(31) = 6                      ! NV1D
+        c(32) = d%nshell               ! NEL4
+        c(33) = mesh%nmat_shell        ! NUMMAT4
+        c(34) = d%nv2d                 ! NV2D
+        c(35) = 0                      ! NEIPH
+        c(36) = 0                      ! NEIPS
+        c(37) = -(10000 + d%maxint)    ! MAXINT, with element deletion flags (MDLOPT 2)
+        c(40) = narbs                  ! NARBS
+        c(41) = 0                      ! NELT: no thick shells
+        c(44:47) = 1000                ! IOSHL: stresses, plastic strain, resultants, thickness
+        c(52) = d%nmmat                ! NMMAT
+        ! geometry: coordinates, hexahedra (8 nodes, material), shells (4, material)
+        ngeo = 3*d%nnode + 9*d%nsolid + 5*d%nshell
+        allocate (w(nhead + ngeo + narbs))
+        w(1:nhead) = c
+        k = nhead
+        w(k + 1:k + 3*d%nnode) = transfer(reshape(mesh%x0, [3*d%nnode]), w(1:1), 3*d%nnode)
+        k = k + 3*d%nnode
+        do i = 1, d%nsolid
+            w(k + 1:k + 8) = mesh%solid_conn(:, i)
+            w(k + 9) = mesh%solid_mat(i)
+            k = k + 9
+        end do
+        do i = 1, d%nshell
+            w(k + 1:k + 4) = mesh%shell_conn(:, i)
+            w(k + 5) = mesh%shell_mat(i)
+            k = k + 5
+        end do
+        ! user ids: ten words of pointers (1-based word addresses in the
+        ! member) and counts, six more for the materials, then the ids
+        p0 = k + 16 + 1
+        w(k + 1) = -p0                             ! NSORT (< 0: material ids follow)
+        w(k + 2) = p0 + d%nnode                    ! NSRH
+        w(k + 3) = p0 + d%nnode + d%nsolid         ! NSRB
+        w(k + 4) = w(k + 3)                        ! NSRS (no beams)
+        w(k + 5) = w(k + 4) + d%nshell             ! NSRT
+        w(k + 6) = d%nnode                         ! NSORTD
+        w(k + 7) = d%nsolid                        ! NSRHD
+        w(k + 8) = 0                               ! NSRBD
+        w(k + 9) = d%nshell                        ! NSRSD
+        w(k + 10) = 0                              ! NSRTD
+        w(k + 11) = w(k + 5)                       ! NSRMA
+        w(k + 12) = w(k + 11) + d%nmmat            ! NSRMU
+        w(k + 13) = w(k + 12) + d%nmmat            ! NSRMP
+        w(k + 14) = d%nmmat                        ! NSRTM
+        w(k + 15) = mesh%nrigid                    ! NUMRBS
+        w(k + 16) = d%nmmat                        ! NMMAT
+        k = k + 16
+        w(k + 1:k + d%nnode) = mesh%node_id
+        k = k + d%nnode
+        w(k + 1:k + d%nsolid) = mesh%solid_id
+        k = k + d%nsolid
+        w(k + 1:k + d%nshell) = mesh%shell_id
+        k = k + d%nshell
+        w(k + 1:k + d%nmmat) = mesh%part_id          ! sorted as numbered
+        k = k + d%nmmat
+        w(k + 1:k + d%nmmat) = mesh%part_id          ! in the deck's order (the same)
+        k = k + d%nmmat
+        w(k + 1:k + d%nmmat) = [(i, i=1, d%nmmat)]   ! the order: identity
+    end function static_words
+
+    !> One state. glob: the NGLBV global variables; x, v: coordinates and
+    !> velocities of every node; solid: (7, nsolid); shell: (nv2d, nshell);
+    !> alive: one flag per element, hexahedra first.
+    subroutine d3plot_write(d, time, glob, x, v, solid, shell, alive)
+        type(d3plot_t), intent(inout) :: d
+        real(kind(1.0d0)), intent(in) :: time
+        real(real32), intent(in) :: glob(:), x(:, :), v(:, :), solid(:, :), shell(:, :), alive(:)
+        integer :: ios
+        integer(int64) :: pos
+        if (.not. d%on .or. d%failed) return
+        if (d%in_member > 0 .and. d%words + d%state_words > d%limit) then
+            ! the next member; this one ends with the marker
+            write (d%u, pos=4*d%words + 1, iostat=ios) eof_marker
+            if (ios == 0) close (d%u, iostat=ios)
+            if (ios /= 0) then
+                d%failed = .true.
+                d%failed_file = d3plot_member_name(d%base, d%member)
+                return
+            end if
+            d%member = d%member + 1
+            open (newunit=d%u, file=d3plot_member_name(d%base, d%member), access='stream', form='unformatted', &
+                  status='replace', action='readwrite', iostat=ios)
+            if (ios /= 0) then
+                d%failed = .true.
+                d%failed_file = d3plot_member_name(d%base, d%member)
+                return
+            end if
+            d%words = 0
+            d%in_member = 0
+        end if
+        pos = 4*d%words + 1
+        write (d%u, pos=pos, iostat=ios) real(time, real32), glob, x, v, solid, shell, alive
+        if (ios == 0) flush (d%u, iostat=ios)
+        if (ios /= 0) then
+            d%failed = .true.
+            d%failed_file = d3plot_member_name(d%base, d%member)
+            return
+        end if
+        d%words = d%words + d%state_words
+        d%in_member = d%in_member + 1
+    end subroutine d3plot_write
+
+    subroutine d3plot_close(d)
+        type(d3plot_t), intent(inout) :: d
+        integer :: ios
+        if (d%u >= 0) close (d%u, iostat=ios)
+        d%u = -1
+    end subroutine d3plot_close
+
+    !> The file a write failed on ('' if none).
+    function d3plot_failure(d) result(name)
+        type(d3plot_t), intent(in) :: d
+        character(len=:), allocatable :: name
+        name = ''
+        if (d%failed) name = d%failed_file
+    end function d3plot_failure
+
+    !> A restart: the members as the first `keep` states left them (the
+    !> writer's rule replayed: a state opens a new member when it would take
+    !> a member holding states past the limit), the states after them
+    !> dropped, the last member reopened for more.
+    subroutine cut_back(d, keep, ok)
+        type(d3plot_t), intent(inout) :: d
+        integer, intent(in) :: keep
+        logical, intent(out) :: ok
+        integer :: k, ios
+        d%member = 0
+        d%words = d%head_words
+        d%in_member = 0
+        do k = 1, keep
+            if (d%in_member > 0 .and. d%words + d%state_words > d%limit) then
+                d%member = d%member + 1
+                d%words = 0
+                d%in_member = 0
+            end if
+            d%words = d%words + d%state_words
+            d%in_member = d%in_member + 1
+        end do
+        call delete_members(d, d%member + 1)
+        call truncate_file(d3plot_member_name(d%base, d%member), 4*int(d%words, i8), ok)
+        if (ok) then
+            open (newunit=d%u, file=d3plot_member_name(d%base, d%member), access='stream', form='unformatted', &
+                  status='old', action='readwrite', iostat=ios)
+            ok = ios == 0
+        end if
+        if (.not. ok) then
+            d%failed = .true.
+            d%failed_file = d3plot_member_name(d%base, d%member)
+        end if
+    end subroutine cut_back
+
+    !> Delete members from `first` on (those of an earlier run in the same place).
+    subroutine delete_members(d, first)
+        type(d3plot_t), intent(in) :: d
+        integer, intent(in) :: first
+        integer :: k
+        logical :: there
+        k = max(first, 1)
+        do
+            inquire (file=d3plot_member_name(d%base, k), exist=there)
+            if (.not. there) exit
+            call delete_file(d3plot_member_name(d%base, k))
+            k = k + 1
+        end do
+    end subroutine delete_members
+
+end module xd_output_d3plot
