@@ -6,6 +6,7 @@ Every check states its tolerance and why; see the comments at each test.
 Run from the repository root after `make all tests` (`make check` does both).
 """
 import glob
+import math
 import os
 import re
 import shutil
@@ -2188,6 +2189,97 @@ def layout(line):
                   lambda m: " " * (len(m.group(0)) - 1) + "#", line.rstrip("\n")).rstrip()
 
 
+def test_lstc_layouts():
+    """nodout and rwforc in the layout of LSTC's binout-to-ASCII translator
+    (no R14 nodout or rwforc is in ../shared/reference-output; its printf
+    formats are the model): every nodout block after three blank lines, its
+    header ' n o d a l ... s t e p%8d' + 30 blanks + '( at time%14.7E )',
+    the step counted from 1 as glstat's; each row '%9d%13.4E' then
+    '%12.4E' (12 values; with shells a second block of the same step with
+    the rotations, 9 values); rwforc's column line after two blank lines and
+    its rows '%12.5E%8d%15.6E%15.6E%15.6E%15.6E'. Every line is rebuilt from
+    the numbers read off it with those formats and must come out the same,
+    character for character. glstat's `dt of cycle` line: the cycle, element
+    and part in the columns fixed-column readers slice (14-20, 45-53, 63-71,
+    1-based). The rotation block holds physics: the warped shell patch
+    spinning at 100 rad/s about x for a quarter turn reads x-rot = 100 t
+    within 1e-3 of pi/2 and x-rot vel 100 within 1e-3 at every block."""
+    deck = with_cards("input_decks/verify/shell_warped_spin.k", "lstc_spin",
+                      "*DATABASE_NODOUT\n    0.0010\n*DATABASE_HISTORY_NODE\n         1         5\n")
+    out = os.path.join(TMP, "lstc_spin")
+    shutil.rmtree(out, ignore_errors=True)
+    p = run([XDYNA, "i=" + deck, "outdir=" + out])
+    record("LSTC layouts: the spinning shell runs (exit 0)", p.returncode == 0, p.stderr[-300:])
+    if p.returncode != 0:
+        return
+    ls = open(os.path.join(out, "nodout")).read().splitlines()
+    head = " n o d a l   p r i n t   o u t   f o r   t i m e  s t e p"
+    cols = (" nodal point  x-disp     y-disp      z-disp      x-vel       y-vel       z-vel  "
+            "    x-accl      y-accl      z-accl      x-coor      y-coor      z-coor")
+    rcols = (" nodal point  x-rot      y-rot       z-rot       x-rot vel   y-rot vel   "
+             "z-rot vel   x-rot acc   y-rot acc   z-rot acc")
+    bad, nrow, nblock, rot, steps = [], 0, 0, [], []
+    glines = [x for x in open(os.path.join(out, "glstat")).read().splitlines() if x.startswith(" dt of cycle")]
+    gsteps = [int(x[13:20]) for x in glines]
+    for i, x in enumerate(ls):
+        if not x.startswith(head):
+            continue
+        nblock += 1
+        step, t = int(x[len(head):len(head) + 8]), float(x.split("( at time")[1].split(")")[0])
+        want = "%s%8d%s%14.7E )" % (head, step, "                              ( at time", t)
+        if x != want or ls[i - 3:i] != ["", "", ""] or ls[i + 1] != "":
+            bad.append((i, x))
+        rotation = ls[i + 2] == rcols
+        if not rotation:
+            steps.append((step, t))
+        if ls[i + 2] not in (cols, rcols):
+            bad.append((i + 2, ls[i + 2]))
+        k = i + 3
+        while k < len(ls) and ls[k].strip():
+            row = ls[k]
+            v = [float(row[9:22])] + [float(row[22 + 12 * j:34 + 12 * j]) for j in range((8 if rotation else 11))]
+            rebuilt = "%9d" % int(row[:9]) + "%13.4E" % v[0] + "".join("%12.4E" % a for a in v[1:])
+            if rebuilt != row:
+                bad.append((k, row, rebuilt))
+            if rotation and int(row[:9]) == 5:
+                rot.append((t, v[0], v[3]))
+            nrow += 1
+            k += 1
+    # glstat counts the steps from 1; nodout's first block is step 1 at t = 0
+    first_ok = bool(steps) and steps[0] == (1, 0.0) and bool(gsteps) and gsteps[0] == 1
+    record(f"LSTC layouts: nodout, {nblock} blocks and {nrow} rows rebuilt character for character from LSTC's "
+           f"formats, three blank lines before each block, the first step 1 at t = 0 (glstat's first "
+           f"`dt of cycle` {gsteps[:1]})", not bad and nblock > 0 and first_ok and len(rot) > 0,
+           f"first difference {bad[:1]}")
+    err_a = max(abs(a - 100.0 * t) for t, a, w in rot) / (math.pi / 2) if rot else 1.0
+    err_w = max(abs(w - 100.0) for t, a, w in rot) / 100.0 if rot else 1.0
+    record(f"LSTC layouts: nodout rotation block, the spinning shell's node 5: x-rot = 100 t within 1e-3 of pi/2 "
+           f"({err_a:.1e}, last {rot[-1][1] if rot else None:.5f} at t {rot[-1][0] if rot else 0:.5f}), x-rot vel "
+           f"100 within 1e-3 ({err_w:.1e}), {len(rot)} blocks", err_a < 1e-3 and err_w < 1e-3 and len(rot) > 10)
+    # glstat's dt of cycle line: the columns fixed-column readers slice
+    ok = all(x[:12] == " dt of cycle" and x[13:20].strip().isdigit() and x[44:53].strip().isdigit()
+             and x[62:71].strip().isdigit() and x[53:61] == " of part" for x in glines)
+    record(f"LSTC layouts: glstat's {len(glines)} `dt of cycle` lines hold cycle, element and part in columns "
+           f"14-20, 45-53, 63-71", ok and len(glines) > 0, glines[0] if glines else "")
+    # rwforc
+    p, out2 = run_deck("input_decks/verify/bar_heavy_wall.k", "lstc_rwforc")
+    ls = open(os.path.join(out2, "rwforc")).read().splitlines() if p.returncode == 0 else []
+    i = next((k for k, x in enumerate(ls) if x.startswith("    time       wall#")), None)
+    bad, nrow = [], 0
+    if i is not None:
+        if ls[i - 3:i] != ["{END LEGEND}", "", ""] or \
+                ls[i] != "    time       wall#   normal-force    x-force        y-force        z-force":
+            bad.append((i, ls[i - 3:i + 1]))
+        for row in ls[i + 1:]:
+            v = [float(row[:12]), int(row[12:20])] + [float(row[20 + 15 * j:35 + 15 * j]) for j in range(4)]
+            rebuilt = "%12.5E%8d" % (v[0], v[1]) + "".join("%15.6E" % a for a in v[2:])
+            if rebuilt != row:
+                bad.append(row)
+            nrow += 1
+    record(f"LSTC layouts: rwforc, the column line after two blank lines and {nrow} rows rebuilt character for "
+           f"character from LSTC's format", i is not None and not bad and nrow > 10, f"first difference {bad[:1]}")
+
+
 def test_ascii_layout():
     """glstat, matsum and rcforc in LS-DYNA R14's layout (issue 20): the
     files LS-DYNA R14 wrote in ../shared/reference-output are the model.
@@ -2702,7 +2794,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_states, test_d3plot, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_states, test_d3plot, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -5,7 +5,7 @@ module xd_output_histories
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa, join_path, out_path
     use xd_core_files, only: truncate_file, written_bytes
-    use xd_model, only: model_t, find_set, set_node
+    use xd_model, only: model_t, find_set, set_node, mat_rigid
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
     use xd_solver_energies, only: energies_t
@@ -16,7 +16,7 @@ module xd_output_histories
     implicit none
     private
     public :: histories_t, open_histories, histories_due, write_histories, close_histories, version_line, &
-              history_marks_t, history_marks, history_failure
+              history_marks_t, history_marks, history_failure, track_rotations
 
     character(len=*), parameter :: xdyna_version = '0.1.0'
     integer, parameter :: s_glstat = 1, s_matsum = 2, s_nodout = 3, s_rwforc = 4, s_rbdout = 5, s_rcforc = 6, &
@@ -32,6 +32,7 @@ module xd_output_histories
         logical :: contact = .false.         !< glstat carries the sliding interface energy
         integer, allocatable :: nodes(:)     !< node indices for nodout
         integer, allocatable :: node_ids(:)  !< and their user ids
+        real(dp), allocatable :: rdisp(:, :) !< (3, nodout nodes) rotation so far (models with shells)
         character(len=72) :: title = ''
         integer :: nwritten = 0
         logical :: writer = .true.           !< this process writes the files (MPI: rank 0)
@@ -47,6 +48,7 @@ module xd_output_histories
         integer :: nt(ndb) = 0          !< rows written to thist.h5
         integer(i8) :: bytes(ndb) = 0   !< size of each ASCII file
         integer :: nwritten = 0
+        real(dp), allocatable :: rdisp(:)   !< the nodout nodes' rotations (3 per node; none without shells)
     end type history_marks_t
 
 contains
@@ -59,6 +61,8 @@ contains
         integer(i8) :: sz
         m%next = h%next
         m%nwritten = h%nwritten
+        allocate (m%rdisp(0))
+        if (allocated(h%rdisp)) m%rdisp = reshape(h%rdisp, [size(h%rdisp)])
         do k = 1, ndb
             m%nt(k) = h%ser(k)%nt
             if (h%on(k) .and. h%unit(k) /= 0) then
@@ -123,6 +127,17 @@ contains
 
         fresh = .not. present(resume)
         if (present(writer)) h%writer = writer
+        ! nodes that rotate (a model with deformable shells): their rotation
+        ! so far, for nodout's rotation block
+        if (h%on(s_nodout) .and. h%writer .and. model%nshell > 0) then
+            if (any(model%mat(model%part(model%shell_part(1:model%nshell))%mat_ix)%mtype /= mat_rigid)) then
+                allocate (h%rdisp(3, size(h%nodes)))
+                h%rdisp = 0
+                if (.not. fresh) then
+                    if (size(resume%rdisp) == size(h%rdisp)) h%rdisp = reshape(resume%rdisp, shape(h%rdisp))
+                end if
+            end if
+        end if
         if (.not. h%writer) then
             if (.not. fresh) then
                 h%next = resume%next
@@ -191,6 +206,14 @@ contains
                 cols = [cols, [character(len=32) :: 'x_contact_force', 'y_contact_force', 'z_contact_force']]
                 units = [units, [character(len=32) :: 'force', 'force', 'force']]
             end if
+            ! with shells, the rotations (LS-DYNA's second nodout block)
+            if (allocated(h%rdisp)) then
+                cols = [cols, [character(len=32) :: 'rx_displacement', 'ry_displacement', 'rz_displacement', &
+                               'rx_velocity', 'ry_velocity', 'rz_velocity', 'rx_acceleration', 'ry_acceleration', &
+                               'rz_acceleration']]
+                units = [units, [character(len=32) :: 'radian', 'radian', 'radian', 'radian/time', 'radian/time', &
+                                 'radian/time', 'radian/time^2', 'radian/time^2', 'radian/time^2']]
+            end if
             call make_series('nodout', cols, units, size(ids), ids, s_nodout)
         end if
         if (h%on(s_rwforc)) then
@@ -199,7 +222,8 @@ contains
             ids = model%wall(1:model%nwall)%id
             if (fresh) then
                 call legend(h%unit(s_rwforc), ids, model%wall(1:model%nwall)%heading)
-                write (h%unit(s_rwforc), '(a)') '', '    time       wall#   normal-force    x-force        y-force        z-force'
+                write (h%unit(s_rwforc), '(a)') '', '', &
+                    '    time       wall#   normal-force    x-force        y-force        z-force'
             end if
             cols = [character(len=32) :: 'normal_force', 'x_force', 'y_force', 'z_force']
             units = [character(len=32) :: 'force', 'force', 'force', 'force']
@@ -290,7 +314,7 @@ contains
 
     !> Write the databases that are due at the state's time (all of them if
     !> `force`). vn: full-step velocities; a: accelerations.
-    subroutine write_histories(h, model, st, solids, walls, rg, en, vn, crit, zone_ns, force, rc, fc)
+    subroutine write_histories(h, model, st, solids, walls, rg, en, vn, crit, zone_ns, force, rc, fc, vrn)
         type(histories_t), intent(inout) :: h
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
@@ -304,6 +328,7 @@ contains
         logical, intent(in) :: force
         real(dp), intent(in), optional :: rc(:, :)   !< (8, interfaces): slave force, mass, master force, mass
         real(wp), intent(in), optional :: fc(:, :)   !< (3, nodes) contact force per node
+        real(wp), intent(in), optional :: vrn(:, :)  !< (3, nodes) angular velocity at st%time (with shells)
         logical :: due(ndb)
         due = h%on .and. (force .or. st%time >= h%next*(1.0_dp - 1.0e-9_dp))
         if (h%writer) then
@@ -312,7 +337,7 @@ contains
             if (due(s_rbdout)) call write_rbdout(h, st, rg)
             if (due(s_rcforc) .and. present(rc)) call write_rcforc(h, model, st, rc)
             if (due(s_matsum)) call write_matsum(h, model, st, en)
-            if (due(s_nodout)) call write_nodout(h, st, vn, fc)
+            if (due(s_nodout)) call write_nodout(h, st, vn, fc, vrn)
         end if
         if (h%writer .and. h%failed == 0) then
             if (any(h%ser%bad)) h%failed = ndb + 1
@@ -342,9 +367,11 @@ contains
         u = h%unit(s_glstat)
         write (u, '(a)', iostat=ios) '', ''
         if (ios /= 0) nbad = nbad + 1
-        ! (LS-DYNA counts the cycle about to be taken from 1)
-        write (u, '(a,i8,a,a,i10,a,i10)', iostat=ios) ' dt of cycle', st%cycle + 1, ' is controlled by ', &
-            merge('shell     ', 'solid     ', crit(1) == 2), crit(2), ' of part', crit(3)
+        ! (LS-DYNA counts the cycle about to be taken from 1); the columns
+        ! that fixed-column readers slice: the cycle in 14-20, the element
+        ! in 45-53, the part in 63-71
+        write (u, '(a,i8,a,a6,i9,a,i10)', iostat=ios) ' dt of cycle', st%cycle + 1, ' is controlled by ', &
+            merge('shell ', 'solid ', crit(1) == 2), crit(2), ' of part', crit(3)
         if (ios /= 0) nbad = nbad + 1
         write (u, '(a)', iostat=ios) ''
         if (ios /= 0) nbad = nbad + 1
@@ -450,18 +477,27 @@ contains
         call series_append(h%ser(s_matsum), st%time, vals)
     end subroutine write_matsum
 
-    subroutine write_nodout(h, st, vn, fc)
+    !> nodout in LSTC's layout: each block after three blank lines, the step
+    !> counted from 1 (as glstat's), the row '(i9, es13.4, 11es12.4)'; with
+    !> shells a second block of the same step with the rotations, their
+    !> rates and accelerations (zero for nodes that do not rotate).
+    subroutine write_nodout(h, st, vn, fc, vrn)
         type(histories_t), intent(inout) :: h
         type(state_t), intent(in) :: st
         real(wp), intent(in) :: vn(:, :)
         real(wp), intent(in), optional :: fc(:, :)
-        integer :: u, k, nd
-        real(dp), allocatable :: vals(:, :)
+        real(wp), intent(in), optional :: vrn(:, :)
+        integer :: u, k, nd, nc
+        real(dp), allocatable :: vals(:, :), rot(:, :)
         integer :: ios, nbad
+        character(len=*), parameter :: step_fmt = '(a,i8,a,es14.7,a)', &
+            step_text = ' n o d a l   p r i n t   o u t   f o r   t i m e  s t e p', &
+            at_text = '                              ( at time'
         nbad = 0
         u = h%unit(s_nodout)
-        write (u, '(a,i8,a,es14.7,a)', iostat=ios) ' n o d a l   p r i n t   o u t   f o r   t i m e  s t e p', st%cycle, &
-            '                              ( at time', st%time, ' )'
+        write (u, '(a)', iostat=ios) '', '', ''
+        if (ios /= 0) nbad = nbad + 1
+        write (u, step_fmt, iostat=ios) step_text, st%cycle + 1, at_text, st%time, ' )'
         if (ios /= 0) nbad = nbad + 1
         write (u, '(a)', iostat=ios) '', ' nodal point  x-disp     y-disp      z-disp      x-vel       y-vel       z-vel  '// &
             '    x-accl      y-accl      z-accl      x-coor      y-coor      z-coor'
@@ -476,23 +512,58 @@ contains
             write (u, '(i9,es13.4,11es12.4)', iostat=ios) h%node_ids(k), vals(k, :)
             if (ios /= 0) nbad = nbad + 1
         end do
-        write (u, '(a)', iostat=ios) ''
-        if (ios /= 0) nbad = nbad + 1
+        if (allocated(h%rdisp)) then
+            ! rotation, angular velocity at st%time, angular acceleration
+            ! (the moment over the rotational inertia, where free)
+            allocate (rot(size(h%nodes), 9))
+            rot = 0
+            do k = 1, size(h%nodes)
+                nd = h%nodes(k)
+                rot(k, 1:3) = h%rdisp(:, k)
+                if (present(vrn)) rot(k, 4:6) = vrn(:, nd)
+                if (st%rot) then
+                    if (st%irot(nd) > 0.0_wp) rot(k, 7:9) = st%mom(:, nd)/st%irot(nd)*st%free_r(:, nd)
+                end if
+            end do
+            write (u, '(a)', iostat=ios) '', '', ''
+            if (ios /= 0) nbad = nbad + 1
+            write (u, step_fmt, iostat=ios) step_text, st%cycle + 1, at_text, st%time, ' )'
+            if (ios /= 0) nbad = nbad + 1
+            write (u, '(a)', iostat=ios) '', ' nodal point  x-rot      y-rot       z-rot       x-rot vel   y-rot vel   '// &
+                'z-rot vel   x-rot acc   y-rot acc   z-rot acc'
+            if (ios /= 0) nbad = nbad + 1
+            do k = 1, size(h%nodes)
+                write (u, '(i9,es13.4,8es12.4)', iostat=ios) h%node_ids(k), rot(k, :)
+                if (ios /= 0) nbad = nbad + 1
+            end do
+        end if
         call settle(h, s_nodout, nbad)
-        vals = reshape([vals, [(0.0_dp, k=1, 3*size(h%nodes))]], [size(h%nodes), 15])
+        nc = 15
+        if (h%contact) nc = 18
+        vals = reshape([vals, [(0.0_dp, k=1, (nc - 12)*size(h%nodes))]], [size(h%nodes), nc])
         do k = 1, size(h%nodes)
             vals(k, 13:15) = -st%f(:, h%nodes(k))*(1.0_wp - st%free(:, h%nodes(k)))
         end do
-        if (h%contact) then
-            vals = reshape([vals, [(0.0_dp, k=1, 3*size(h%nodes))]], [size(h%nodes), 18])
-            if (present(fc)) then
-                do k = 1, size(h%nodes)
-                    vals(k, 16:18) = fc(:, h%nodes(k))
-                end do
-            end if
+        if (h%contact .and. present(fc)) then
+            do k = 1, size(h%nodes)
+                vals(k, 16:18) = fc(:, h%nodes(k))
+            end do
         end if
+        if (allocated(rot)) vals = reshape([vals, rot], [size(h%nodes), nc + 9])
         call series_append(h%ser(s_nodout), st%time, vals)
     end subroutine write_nodout
+
+    !> The nodout nodes' rotations after a step: + dt w(n+1/2) (called as
+    !> the coordinates are moved).
+    subroutine track_rotations(h, st)
+        type(histories_t), intent(inout) :: h
+        type(state_t), intent(in) :: st
+        integer :: k
+        if (.not. allocated(h%rdisp) .or. .not. st%rot) return
+        do k = 1, size(h%nodes)
+            h%rdisp(:, k) = h%rdisp(:, k) + real(st%dt, dp)*st%vr(:, h%nodes(k))
+        end do
+    end subroutine track_rotations
 
     !> Per interface, LS-DYNA's rcforc lines: the resultant of the contact
     !> forces on the slave nodes and on the master nodes, and the mass of

@@ -173,6 +173,7 @@ contains
         call dput(g, 'hist_nt', hm%nt, nf)
         call dput(g, 'hist_bytes', hm%bytes, nf)
         call dput(g, 'hist_nwritten', [hm%nwritten], nf)
+        call dput(g, 'hist_rdisp', hm%rdisp, nf)
         call dput(g, 'states_n', [sm%n], nf)
         call dput(g, 'states_next', [sm%next], nf)
         call dput(g, 'states_times', sm%times, nf)
@@ -441,6 +442,7 @@ contains
         call geti(g, 'hist_nt', size(hm%nt)); if (ok()) hm%nt = bi
         call getl(g, 'hist_bytes', size(hm%bytes)); if (ok()) hm%bytes = bl
         call geti(g, 'hist_nwritten', 1); if (ok()) hm%nwritten = bi(1)
+        call getd(g, 'hist_rdisp', -1); if (ok()) hm%rdisp = bd
         call geti(g, 'states_n', 1); if (ok()) sm%n = bi(1)
         call getd(g, 'states_next', 1); if (ok()) sm%next = bd(1)
         call getd(g, 'states_times', -1); if (ok()) sm%times = bd

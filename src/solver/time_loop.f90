@@ -13,7 +13,7 @@ module xd_solver_time_loop
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
     use xd_solver_energies, only: energies_t, compute_energies
-    use xd_output_histories, only: histories_t, histories_due, write_histories, history_failure
+    use xd_output_histories, only: histories_t, histories_due, write_histories, history_failure, track_rotations
     use xd_output_states, only: states_t, states_due, write_state, states_marks, states_failure
     use xd_output_histories, only: history_marks
     use xd_solver_restart, only: dump_meta_t, write_dump
@@ -79,7 +79,7 @@ contains
         type(run_options_t), intent(in) :: opts
         type(run_result_t), intent(out) :: res
         type(energies_t) :: en
-        real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :)
+        real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :), vrn(:, :)
         logical, allocatable :: no_body(:)   !< no node is a rigid body's (models without rigid bodies)
         real(wp) :: dtc, g_new(3)
         real(dp) :: dt_avg, wpm
@@ -280,6 +280,7 @@ contains
             end do
             !$omp end parallel do
             if (ct%n > 0) call contact_drift(ct, st%v, st%dt)
+            call track_rotations(hist, st)
             st%time = st%time + real(st%dt, dp)
             st%cycle = st%cycle + 1
             st%dt_old = st%dt
@@ -690,11 +691,18 @@ contains
             end if
             ns = 0
             if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - t0_wall)/(real(st%cycle, dp)*max(solids%n + sh%n, 1))
+            if (st%rot) then
+                ! the angular velocity at t(n), for nodout's rotation block
+                if (.not. allocated(vrn)) allocate (vrn(3, st%nnode))
+                vrn = 0.5_wp*(vrminus + st%vr)
+            else if (.not. allocated(vrn)) then
+                allocate (vrn(3, 0))
+            end if
             if (ct%n > 0) then
                 call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, contact_resultants(ct), &
-                                     ct%fnode)
+                                     ct%fnode, vrn=vrn)
             else
-                call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force)
+                call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, vrn=vrn)
             end if
             if (states_due(states, st%time) .or. (force .and. states%on)) then
                 ! the energies (and shell thicknesses) are gathered already

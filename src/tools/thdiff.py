@@ -93,17 +93,23 @@ def read_matsum(path, out):
 
 def read_nodout(path, out):
     t = None
-    cols = ("x-disp", "y-disp", "z-disp", "x-vel", "y-vel", "z-vel", "x-accl", "y-accl", "z-accl",
-            "x-coor", "y-coor", "z-coor")
+    trans = ("x-disp", "y-disp", "z-disp", "x-vel", "y-vel", "z-vel", "x-accl", "y-accl", "z-accl",
+             "x-coor", "y-coor", "z-coor")
+    # with shells, a second block of each step: the rotations
+    rots = ("x-rot", "y-rot", "z-rot", "x-rot-vel", "y-rot-vel", "z-rot-vel", "x-rot-acc", "y-rot-acc", "z-rot-acc")
+    cols = trans
     with open(path) as f:
         for line in f:
             if "( at time" in line:
                 t = to_float(line.split("( at time")[1].split(")")[0])
                 continue
+            if line.startswith(" nodal point"):
+                cols = rots if "x-rot" in line else trans
+                continue
             if t is None or len(line) < 20:
                 continue
             parts = NUMBER.findall(line)
-            if len(parts) == 13 and parts[0].lstrip("+-").isdigit():
+            if len(parts) == len(cols) + 1 and parts[0].lstrip("+-").isdigit():
                 nid = int(parts[0])
                 for name, val in zip(cols, parts[1:]):
                     out.add(f"nodout/{canon(name)}[{nid}]", t, to_float(val))
