@@ -116,7 +116,7 @@ contains
         d%maxint = mesh%maxint
         d%nv2d = 7*d%maxint + 12
         d%nglbv = 6 + 7*d%nmmat
-        head = static_words(d, mesh)
+        call static_words(d, mesh, head)
         d%head_words = size(head, kind=int64)
         d%state_words = 1 + d%nglbv + 6_int64*d%nnode + 7_int64*d%nsolid + int(d%nv2d, int64)*d%nshell &
                         + d%nsolid + d%nshell
@@ -146,10 +146,10 @@ contains
     end subroutine d3plot_open
 
     !> Control words, geometry and user ids of the first member.
-    function static_words(d, mesh) result(w)
+    subroutine static_words(d, mesh, w)
         type(d3plot_t), intent(in) :: d
         type(d3plot_mesh_t), intent(in) :: mesh
-        integer(int32), allocatable :: w(:)
+        integer(int32), allocatable, intent(out) :: w(:)
         integer(int32) :: c(nhead)
         integer :: narbs, k, ngeo, p0, i
         character(len=40) :: title
@@ -235,7 +235,7 @@ contains
         w(k + 1:k + d%nmmat) = mesh%part_id          ! in the deck's order (the same)
         k = k + d%nmmat
         w(k + 1:k + d%nmmat) = [(i, i=1, d%nmmat)]   ! the order: identity
-    end function static_words
+    end subroutine static_words
 
     !> One state. glob: the NGLBV global variables; x, v: coordinates and
     !> velocities of every node; solid: (7, nsolid); shell: (nv2d, nshell);
