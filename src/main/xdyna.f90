@@ -268,9 +268,9 @@ program xdyna
             call finish(exit_input)
         end if
         if (dom%on) call scatter_contact_state(ct, env%rank)
-        call open_histories(model, stem, rg, hist, ok, resume=hmarks, writer=env%rank == 0)
+        call open_histories(model, stem, rg, hist, ok, resume=hmarks, writer=env%rank == 0, rotating=st%rot)
     else
-        call open_histories(model, stem, rg, hist, ok, writer=env%rank == 0)
+        call open_histories(model, stem, rg, hist, ok, writer=env%rank == 0, rotating=st%rot)
     end if
     if (.not. ok) then
         call say('xdyna: cannot create the time-history files in '//outdir)
@@ -373,14 +373,20 @@ contains
         integer :: n, st
         call get_environment_variable('XDYNA_H5PLOT', v, length=n, status=st)
         if (st /= 0 .or. n == 0) return
-        select case (trim(v))
+        call set_h5plot('XDYNA_H5PLOT', trim(v))
+    end subroutine h5plot_env
+
+    !> h5plot from a 0 or 1 (what: where it was given, for the message).
+    subroutine set_h5plot(what, val)
+        character(len=*), intent(in) :: what, val
+        select case (val)
         case ('0'); h5plot = 0
         case ('1'); h5plot = 1
         case default
-            call say('xdyna: XDYNA_H5PLOT='//trim(v)//' must be 0 or 1')
+            call say('xdyna: '//what//'='//val//' must be 0 or 1')
             call finish(exit_input)
         end select
-    end subroutine h5plot_env
+    end subroutine set_h5plot
 
     subroutine keyword_arg(a)
         character(len=*), intent(in) :: a
@@ -441,13 +447,7 @@ contains
             restart = val
         case ('h5plot')
             ! the states also (1) or not (0) in d3plot.h5 + d3plot.xdmf
-            select case (val)
-            case ('0'); h5plot = 0
-            case ('1'); h5plot = 1
-            case default
-                call say('xdyna: h5plot='//val//' must be 0 or 1')
-                call finish(exit_input)
-            end select
+            call set_h5plot('h5plot', val)
         case ('x')
             ! LS-DYNA's x=: the d3plot family's member size, in 262,144 words
             call parse_int(val, xfactor, good)

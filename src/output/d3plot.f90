@@ -39,13 +39,13 @@ module xd_output_d3plot
     use xd_core_files, only: delete_file, truncate_file
     implicit none
     private
-    public :: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_write, d3plot_close, d3plot_failure, &
-              d3plot_member_name, member_words_default
+    public :: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_write, d3plot_close, d3plot_member_name, member_unit
 
     integer, parameter :: nhead = 64
     real(real32), parameter :: eof_marker = -999999.0_real32
-    !> LS-DYNA's default member size: 7 x 512 x 512 words (its x=7)
-    integer(int64), parameter :: member_words_default = 7_int64*512*512
+    !> The unit of member sizes, 512 x 512 words: LS-DYNA's x=N gives N of
+    !> them (7 by default)
+    integer(int64), parameter :: member_unit = 512_int64*512
 
     !> The mesh as the d3plot holds it.
     type :: d3plot_mesh_t
@@ -69,7 +69,7 @@ module xd_output_d3plot
         integer :: member = 0                         !< the open member (0: d3plot)
         integer(int64) :: words = 0                   !< words of the open member (before the marker)
         integer :: in_member = 0                      !< states in the open member
-        integer(int64) :: limit = member_words_default
+        integer(int64) :: limit = 7*member_unit
         integer(int64) :: head_words = 0              !< control, geometry and ids
         integer(int64) :: state_words = 0
         integer :: nnode = 0, nsolid = 0, nshell = 0, nmmat = 0, maxint = 3, nv2d = 0, nglbv = 0
@@ -95,15 +95,15 @@ contains
     end function d3plot_member_name
 
     !> Create the family's first member with the control words, the geometry
-    !> and the user ids. With `keep` (a restart), the family is cut back to
-    !> its first `keep` states instead and opened for more.
-    subroutine d3plot_open(d, base, mesh, limit, ok, keep)
+    !> and the user ids. With keep >= 0 (a restart), the family is cut back
+    !> to its first `keep` states instead and opened for more.
+    subroutine d3plot_open(d, base, mesh, limit, keep, ok)
         type(d3plot_t), intent(out) :: d
         character(len=*), intent(in) :: base
         type(d3plot_mesh_t), intent(in) :: mesh
         integer(int64), intent(in) :: limit       !< member size in words
+        integer, intent(in) :: keep
         logical, intent(out) :: ok
-        integer, intent(in), optional :: keep
         integer(int32), allocatable :: head(:)
         integer :: ios
         d%on = .true.
@@ -120,29 +120,20 @@ contains
         d%head_words = size(head, kind=int64)
         d%state_words = 1 + d%nglbv + 6_int64*d%nnode + 7_int64*d%nsolid + int(d%nv2d, int64)*d%nshell &
                         + d%nsolid + d%nshell
-        if (present(keep)) then
+        if (keep >= 0) then
             call cut_back(d, keep, ok)
             return
         end if
         call delete_members(d, 1)
+        d%member = 0
+        d%words = d%head_words
+        d%in_member = 0
         open (newunit=d%u, file=base, access='stream', form='unformatted', status='replace', action='readwrite', &
               iostat=ios)
+        if (ios == 0) write (d%u, iostat=ios) head
+        if (ios == 0) flush (d%u, iostat=ios)
         ok = ios == 0
-        if (.not. ok) then
-            d%failed = .true.
-            d%failed_file = base
-            return
-        end if
-        write (d%u, iostat=ios) head
-        flush (d%u, iostat=ios)
-        ok = ios == 0
-        d%words = d%head_words
-        d%member = 0
-        d%in_member = 0
-        if (.not. ok) then
-            d%failed = .true.
-            d%failed_file = base
-        end if
+        if (.not. ok) call fail_member(d)
     end subroutine d3plot_open
 
     !> Control words, geometry and user ids of the first member.
@@ -247,32 +238,29 @@ contains
         integer :: ios
         integer(int64) :: pos
         if (.not. d%on .or. d%failed) return
-        if (d%in_member > 0 .and. d%words + d%state_words > d%limit) then
+        if (member_full(d)) then
             ! the next member; this one ends with the marker
             write (d%u, pos=4*d%words + 1, iostat=ios) eof_marker
             if (ios == 0) close (d%u, iostat=ios)
             if (ios /= 0) then
-                d%failed = .true.
-                d%failed_file = d3plot_member_name(d%base, d%member)
+                call fail_member(d)
                 return
             end if
             d%member = d%member + 1
+            d%words = 0
+            d%in_member = 0
             open (newunit=d%u, file=d3plot_member_name(d%base, d%member), access='stream', form='unformatted', &
                   status='replace', action='readwrite', iostat=ios)
             if (ios /= 0) then
-                d%failed = .true.
-                d%failed_file = d3plot_member_name(d%base, d%member)
+                call fail_member(d)
                 return
             end if
-            d%words = 0
-            d%in_member = 0
         end if
         pos = 4*d%words + 1
         write (d%u, pos=pos, iostat=ios) real(time, real32), glob, x, v, solid, shell, alive
         if (ios == 0) flush (d%u, iostat=ios)
         if (ios /= 0) then
-            d%failed = .true.
-            d%failed_file = d3plot_member_name(d%base, d%member)
+            call fail_member(d)
             return
         end if
         d%words = d%words + d%state_words
@@ -286,13 +274,19 @@ contains
         d%u = -1
     end subroutine d3plot_close
 
-    !> The file a write failed on ('' if none).
-    function d3plot_failure(d) result(name)
+    !> The next state opens a new member: it would take the open one, which
+    !> holds states already, past the limit (a member holds one state at least).
+    pure logical function member_full(d)
         type(d3plot_t), intent(in) :: d
-        character(len=:), allocatable :: name
-        name = ''
-        if (d%failed) name = d%failed_file
-    end function d3plot_failure
+        member_full = d%in_member > 0 .and. d%words + d%state_words > d%limit
+    end function member_full
+
+    !> A write to the open member failed: no more states, the member named.
+    subroutine fail_member(d)
+        type(d3plot_t), intent(inout) :: d
+        d%failed = .true.
+        d%failed_file = d3plot_member_name(d%base, d%member)
+    end subroutine fail_member
 
     !> A restart: the members as the first `keep` states left them (the
     !> writer's rule replayed: a state opens a new member when it would take
@@ -307,7 +301,7 @@ contains
         d%words = d%head_words
         d%in_member = 0
         do k = 1, keep
-            if (d%in_member > 0 .and. d%words + d%state_words > d%limit) then
+            if (member_full(d)) then
                 d%member = d%member + 1
                 d%words = 0
                 d%in_member = 0
@@ -322,10 +316,7 @@ contains
                   status='old', action='readwrite', iostat=ios)
             ok = ios == 0
         end if
-        if (.not. ok) then
-            d%failed = .true.
-            d%failed_file = d3plot_member_name(d%base, d%member)
-        end if
+        if (.not. ok) call fail_member(d)
     end subroutine cut_back
 
     !> Delete members from `first` on (those of an earlier run in the same place).

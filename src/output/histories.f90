@@ -5,7 +5,7 @@ module xd_output_histories
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa, join_path, out_path
     use xd_core_files, only: truncate_file, written_bytes
-    use xd_model, only: model_t, find_set, set_node, mat_rigid
+    use xd_model, only: model_t, find_set, set_node
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
     use xd_solver_energies, only: energies_t
@@ -92,7 +92,7 @@ contains
 
     !> Create the history files; with `resume` (a restart), open the ones
     !> the run wrote instead, cut back to the marks of the dump, and go on.
-    subroutine open_histories(model, outdir, rg, h, ok, resume, writer)
+    subroutine open_histories(model, outdir, rg, h, ok, resume, writer, rotating)
         type(model_t), intent(in) :: model
         type(rigid_t), intent(in) :: rg
         character(len=*), intent(in) :: outdir
@@ -100,6 +100,7 @@ contains
         logical, intent(out) :: ok
         type(history_marks_t), intent(in), optional :: resume
         logical, intent(in), optional :: writer   !< .false.: keep the schedule only (MPI ranks > 0)
+        logical, intent(in), optional :: rotating !< the nodes have rotations (deformable shells)
         logical :: fresh
         character(len=32), allocatable :: cols(:), units(:)
         integer :: k, s, j
@@ -127,10 +128,10 @@ contains
 
         fresh = .not. present(resume)
         if (present(writer)) h%writer = writer
-        ! nodes that rotate (a model with deformable shells): their rotation
-        ! so far, for nodout's rotation block
-        if (h%on(s_nodout) .and. h%writer .and. model%nshell > 0) then
-            if (any(model%mat(model%part(model%shell_part(1:model%nshell))%mat_ix)%mtype /= mat_rigid)) then
+        ! where nodes rotate: the nodout nodes' rotation so far, for nodout's
+        ! rotation block
+        if (present(rotating)) then
+            if (h%on(s_nodout) .and. h%writer .and. rotating) then
                 allocate (h%rdisp(3, size(h%nodes)))
                 h%rdisp = 0
                 if (.not. fresh) then
@@ -314,7 +315,7 @@ contains
 
     !> Write the databases that are due at the state's time (all of them if
     !> `force`). vn: full-step velocities; a: accelerations.
-    subroutine write_histories(h, model, st, solids, walls, rg, en, vn, crit, zone_ns, force, rc, fc, vrn)
+    subroutine write_histories(h, model, st, solids, walls, rg, en, vn, crit, zone_ns, force, rc, fc, wminus)
         type(histories_t), intent(inout) :: h
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
@@ -328,7 +329,7 @@ contains
         logical, intent(in) :: force
         real(dp), intent(in), optional :: rc(:, :)   !< (8, interfaces): slave force, mass, master force, mass
         real(wp), intent(in), optional :: fc(:, :)   !< (3, nodes) contact force per node
-        real(wp), intent(in), optional :: vrn(:, :)  !< (3, nodes) angular velocity at st%time (with shells)
+        real(wp), intent(in), optional :: wminus(:, :)  !< (3, nodes) angular velocity at t - dt/2 (with shells)
         logical :: due(ndb)
         due = h%on .and. (force .or. st%time >= h%next*(1.0_dp - 1.0e-9_dp))
         if (h%writer) then
@@ -337,7 +338,7 @@ contains
             if (due(s_rbdout)) call write_rbdout(h, st, rg)
             if (due(s_rcforc) .and. present(rc)) call write_rcforc(h, model, st, rc)
             if (due(s_matsum)) call write_matsum(h, model, st, en)
-            if (due(s_nodout)) call write_nodout(h, st, vn, fc, vrn)
+            if (due(s_nodout)) call write_nodout(h, st, vn, fc, wminus)
         end if
         if (h%writer .and. h%failed == 0) then
             if (any(h%ser%bad)) h%failed = ndb + 1
@@ -479,29 +480,22 @@ contains
 
     !> nodout in LSTC's layout: each block after three blank lines, the step
     !> counted from 1 (as glstat's), the row '(i9, es13.4, 11es12.4)'; with
-    !> shells a second block of the same step with the rotations, their
-    !> rates and accelerations (zero for nodes that do not rotate).
-    subroutine write_nodout(h, st, vn, fc, vrn)
+    !> shells a second block of the same step with the rotations, the
+    !> angular velocities at st%time (the mean of wminus and st%vr) and
+    !> accelerations (zero for nodes that do not rotate).
+    subroutine write_nodout(h, st, vn, fc, wminus)
         type(histories_t), intent(inout) :: h
         type(state_t), intent(in) :: st
         real(wp), intent(in) :: vn(:, :)
         real(wp), intent(in), optional :: fc(:, :)
-        real(wp), intent(in), optional :: vrn(:, :)
+        real(wp), intent(in), optional :: wminus(:, :)
         integer :: u, k, nd, nc
         real(dp), allocatable :: vals(:, :), rot(:, :)
         integer :: ios, nbad
-        character(len=*), parameter :: step_fmt = '(a,i8,a,es14.7,a)', &
-            step_text = ' n o d a l   p r i n t   o u t   f o r   t i m e  s t e p', &
-            at_text = '                              ( at time'
         nbad = 0
         u = h%unit(s_nodout)
-        write (u, '(a)', iostat=ios) '', '', ''
-        if (ios /= 0) nbad = nbad + 1
-        write (u, step_fmt, iostat=ios) step_text, st%cycle + 1, at_text, st%time, ' )'
-        if (ios /= 0) nbad = nbad + 1
-        write (u, '(a)', iostat=ios) '', ' nodal point  x-disp     y-disp      z-disp      x-vel       y-vel       z-vel  '// &
-            '    x-accl      y-accl      z-accl      x-coor      y-coor      z-coor'
-        if (ios /= 0) nbad = nbad + 1
+        call block_head(' nodal point  x-disp     y-disp      z-disp      x-vel       y-vel       z-vel  '// &
+                        '    x-accl      y-accl      z-accl      x-coor      y-coor      z-coor')
         allocate (vals(size(h%nodes), 12))
         do k = 1, size(h%nodes)
             nd = h%nodes(k)
@@ -512,7 +506,7 @@ contains
             write (u, '(i9,es13.4,11es12.4)', iostat=ios) h%node_ids(k), vals(k, :)
             if (ios /= 0) nbad = nbad + 1
         end do
-        if (allocated(h%rdisp)) then
+        if (allocated(h%rdisp) .and. st%rot) then
             ! rotation, angular velocity at st%time, angular acceleration
             ! (the moment over the rotational inertia, where free)
             allocate (rot(size(h%nodes), 9))
@@ -520,18 +514,11 @@ contains
             do k = 1, size(h%nodes)
                 nd = h%nodes(k)
                 rot(k, 1:3) = h%rdisp(:, k)
-                if (present(vrn)) rot(k, 4:6) = vrn(:, nd)
-                if (st%rot) then
-                    if (st%irot(nd) > 0.0_wp) rot(k, 7:9) = st%mom(:, nd)/st%irot(nd)*st%free_r(:, nd)
-                end if
+                if (present(wminus)) rot(k, 4:6) = 0.5_wp*(wminus(:, nd) + st%vr(:, nd))
+                if (st%irot(nd) > 0.0_wp) rot(k, 7:9) = st%mom(:, nd)/st%irot(nd)*st%free_r(:, nd)
             end do
-            write (u, '(a)', iostat=ios) '', '', ''
-            if (ios /= 0) nbad = nbad + 1
-            write (u, step_fmt, iostat=ios) step_text, st%cycle + 1, at_text, st%time, ' )'
-            if (ios /= 0) nbad = nbad + 1
-            write (u, '(a)', iostat=ios) '', ' nodal point  x-rot      y-rot       z-rot       x-rot vel   y-rot vel   '// &
-                'z-rot vel   x-rot acc   y-rot acc   z-rot acc'
-            if (ios /= 0) nbad = nbad + 1
+            call block_head(' nodal point  x-rot      y-rot       z-rot       x-rot vel   y-rot vel   '// &
+                            'z-rot vel   x-rot acc   y-rot acc   z-rot acc')
             do k = 1, size(h%nodes)
                 write (u, '(i9,es13.4,8es12.4)', iostat=ios) h%node_ids(k), rot(k, :)
                 if (ios /= 0) nbad = nbad + 1
@@ -551,6 +538,18 @@ contains
         end if
         if (allocated(rot)) vals = reshape([vals, rot], [size(h%nodes), nc + 9])
         call series_append(h%ser(s_nodout), st%time, vals)
+    contains
+        !> Three blank lines, the step line, a blank line and the column line.
+        subroutine block_head(columns)
+            character(len=*), intent(in) :: columns
+            write (u, '(a)', iostat=ios) '', '', ''
+            if (ios /= 0) nbad = nbad + 1
+            write (u, '(a,i8,a,es14.7,a)', iostat=ios) ' n o d a l   p r i n t   o u t   f o r   t i m e  s t e p', &
+                st%cycle + 1, '                              ( at time', st%time, ' )'
+            if (ios /= 0) nbad = nbad + 1
+            write (u, '(a)', iostat=ios) '', columns
+            if (ios /= 0) nbad = nbad + 1
+        end subroutine block_head
     end subroutine write_nodout
 
     !> The nodout nodes' rotations after a step: + dt w(n+1/2) (called as

@@ -24,8 +24,7 @@ module xd_output_states
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_shell_bt, only: shells_t, shell_frame, point_weight, point_z
     use xd_solver_energies, only: energies_t
-    use xd_output_d3plot, only: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_write, d3plot_close, &
-                                d3plot_failure, member_words_default
+    use xd_output_d3plot, only: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_write, d3plot_close, member_unit
     implicit none
     private
     public :: states_t, open_states, states_due, write_state, close_states, states_marks_t, states_marks, states_failure, &
@@ -48,7 +47,6 @@ module xd_output_states
         logical :: h5 = .false.               !< d3plot.h5 + d3plot.xdmf (*CONTROL_XDYNA_OUTPUT)
         type(d3plot_t) :: bin                 !< the binary d3plot family
         integer, allocatable :: dmat_part(:)  !< the part of each d3plot material
-        integer :: maxint = 3                 !< shell layers in the d3plot
     end type states_t
 
     !> Where the states stand: enough to go on from a restart dump.
@@ -173,7 +171,7 @@ contains
         type(d3plot_mesh_t) :: m
         integer, allocatable :: spart(:), hpart(:), dmat(:)
         logical, allocatable :: with_solid(:), with_shell(:)
-        integer :: p, k
+        integer :: p, k, keep
         integer, allocatable :: hconn(:, :), hid(:)
         ! the deformable elements (a model without shells has none allocated),
         ! then the rigid ones
@@ -220,15 +218,10 @@ contains
         m%shell_id = [hid, model%shell_id(rshell)]
         m%part_id = model%part(s%dmat_part)%id
         m%nrigid = count(model%mat(model%part(1:model%npart)%mat_ix)%mtype == mat_rigid)
-        s%maxint = 3
-        if (sh%n > 0) s%maxint = max(3, maxval(sh%nip))
-        m%maxint = s%maxint
-        if (present(resume)) then
-            call d3plot_open(s%bin, out_path(outdir, 'd3plot'), m, model%db%d3plot_x*member_words_default/7, ok, &
-                             keep=resume%n)
-        else
-            call d3plot_open(s%bin, out_path(outdir, 'd3plot'), m, model%db%d3plot_x*member_words_default/7, ok)
-        end if
+        if (sh%n > 0) m%maxint = max(3, maxval(sh%nip))
+        keep = -1
+        if (present(resume)) keep = resume%n
+        call d3plot_open(s%bin, out_path(outdir, 'd3plot'), m, model%db%d3plot_x*member_unit, keep, ok)
     end subroutine open_binary
 
     logical function states_due(s, time)
@@ -264,7 +257,7 @@ contains
             call write_binary(s, st, solids, sh, v, en)
             if (s%bin%failed) then
                 s%failed = .true.
-                s%failed_file = d3plot_failure(s%bin)
+                s%failed_file = s%bin%failed_file
                 return
             end if
         end if
@@ -366,7 +359,7 @@ contains
         integer :: e, nm, k, j, l, ip, ipx(3), nip, mx
         logical :: ok
         nm = size(s%dmat_part)
-        mx = s%maxint
+        mx = s%bin%maxint
         allocate (glob(s%bin%nglbv), solid(7, s%nsolid), shell(s%bin%nv2d, s%nshell), alive(s%nsolid + s%nshell))
         glob = 0
         if (present(en)) then

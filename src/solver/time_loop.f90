@@ -79,13 +79,13 @@ contains
         type(run_options_t), intent(in) :: opts
         type(run_result_t), intent(out) :: res
         type(energies_t) :: en
-        real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :), vrn(:, :)
+        real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :)
         logical, allocatable :: no_body(:)   !< no node is a rigid body's (models without rigid bodies)
         real(wp) :: dtc, g_new(3)
         real(dp) :: dt_avg, wpm
         real(dp) :: t_last_progress, ratio_limit, t0_wall, t_dump, t_gather
         real(wp) :: dt_ref
-        logical :: done, due, energy_now, dumped_end, near_limit, status_now
+        logical :: done, energy_now, dumped_end, near_limit, status_now
         integer :: nd, cycle0, stop_sig
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode))
@@ -192,8 +192,7 @@ contains
             ! variables carry them), or every energy_check_every cycles
             energy_now = histories_due(hist, st%time) .or. done .or. st%cycle == 0 .or. &
                          mod(st%cycle, opts%energy_check_every) == 0 .or. states_due(states, st%time)
-            due = energy_now .or. states_due(states, st%time)
-            if (due) vminus = st%v
+            if (energy_now) vminus = st%v
             ! central differences: v(n+1/2) = v(n-1/2) + a(n) (dt(n-1/2) + dt(n+1/2))/2
             !$omp parallel do schedule(static)
             do nd = 1, st%nnode
@@ -201,7 +200,7 @@ contains
             end do
             !$omp end parallel do
             if (st%rot) then
-                if (due) vrminus = st%vr
+                if (energy_now) vrminus = st%vr
                 do nd = 1, st%nnode
                     if (st%irot(nd) > 0.0_wp) st%vr(:, nd) = st%vr(:, nd) + &
                         real(dt_avg, wp)*st%mom(:, nd)/st%irot(nd)*st%free_r(:, nd)
@@ -231,11 +230,7 @@ contains
             if (model%nbody > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
             if (pl%n > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*pressure_power(pl, st)
 
-            if (due .and. .not. energy_now) then
-                vn = 0.5_wp*(vminus + st%v)
-                call output(force=.false.)
-                if (res%status /= exit_normal) exit
-            else if (energy_now) then
+            if (energy_now) then
                 call tm%start(ph_output)
                 call gather_energy_state(dom, solids, sh)
                 if (st%cycle == 0) then
@@ -691,18 +686,11 @@ contains
             end if
             ns = 0
             if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - t0_wall)/(real(st%cycle, dp)*max(solids%n + sh%n, 1))
-            if (st%rot) then
-                ! the angular velocity at t(n), for nodout's rotation block
-                if (.not. allocated(vrn)) allocate (vrn(3, st%nnode))
-                vrn = 0.5_wp*(vrminus + st%vr)
-            else if (.not. allocated(vrn)) then
-                allocate (vrn(3, 0))
-            end if
             if (ct%n > 0) then
                 call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, contact_resultants(ct), &
-                                     ct%fnode, vrn=vrn)
+                                     ct%fnode, wminus=vrminus)
             else
-                call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, vrn=vrn)
+                call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, wminus=vrminus)
             end if
             if (states_due(states, st%time) .or. (force .and. states%on)) then
                 ! the energies (and shell thicknesses) are gathered already
