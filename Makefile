@@ -21,7 +21,18 @@ endif
 
 COMMON := -cpp -fopenmp -ffree-line-length-132 -std=f2018 -fall-intrinsics -Wall -Wno-maybe-uninitialized \
           -Wno-unused-dummy-argument -Wno-surprising $(PFLAGS) $(H5INC)
-RELEASE_FLAGS := -O3 -g -march=native -funroll-loops -fstack-arrays $(COMMON)
+# one binary for every node of a cluster: x86-64-v3 (AVX2, FMA: every x86-64
+# server CPU since 2015, Intel and AMD); `make NATIVE=1` for the host's own
+# instruction set (results may then differ in round-off from one CPU to another)
+# (its objects in build/release*_native, so that switching rebuilds)
+ifeq ($(NATIVE),1)
+  ARCH := native
+  RTAG := $(SUFFIX)_native
+else
+  ARCH := x86-64-v3
+  RTAG := $(SUFFIX)
+endif
+RELEASE_FLAGS := -O3 -g -march=$(ARCH) -funroll-loops -fstack-arrays $(COMMON)
 DEBUG_FLAGS := -O0 -g -fcheck=all,no-array-temps -ffpe-trap=invalid,zero,overflow -finit-real=snan -finit-integer=-77777 \
                -fbacktrace $(COMMON)
 
@@ -39,16 +50,16 @@ deps:
 
 # compile rules and module dependencies, generated from the sources
 ALL_SRC := $(SRC) $(MAIN) $(TEST_SRC) tests/unit/testing.f90 tests/unit/fixtures.f90 bench/global_search_bench.f90
-build/rules$(SUFFIX).mk: $(ALL_SRC) tools/mkrules.sh
+build/rules$(RTAG).mk: $(ALL_SRC) tools/mkrules.sh
 	@mkdir -p build
-	@sh tools/mkrules.sh "build/release$(SUFFIX):RELEASE_FLAGS build/debug$(SUFFIX):DEBUG_FLAGS" $(ALL_SRC) > $@
+	@sh tools/mkrules.sh "build/release$(RTAG):RELEASE_FLAGS build/debug$(SUFFIX):DEBUG_FLAGS" $(ALL_SRC) > $@
 
--include build/rules$(SUFFIX).mk
+-include build/rules$(RTAG).mk
 
-R_OBJ := $(addprefix build/release$(SUFFIX)/,$(foreach f,$(SRC),$(call flat,$(f))))
+R_OBJ := $(addprefix build/release$(RTAG)/,$(foreach f,$(SRC),$(call flat,$(f))))
 D_OBJ := $(addprefix build/debug$(SUFFIX)/,$(foreach f,$(SRC),$(call flat,$(f))))
 
-bin/xdyna$(SUFFIX): $(R_OBJ) build/release$(SUFFIX)/$(call flat,$(MAIN))
+bin/xdyna$(SUFFIX): $(R_OBJ) build/release$(RTAG)/$(call flat,$(MAIN))
 	@mkdir -p bin
 	$(FC) -fopenmp -o $@ $^ $(LIBS)
 
@@ -56,7 +67,7 @@ bin/xdyna_debug$(SUFFIX): $(D_OBJ) build/debug$(SUFFIX)/$(call flat,$(MAIN))
 	@mkdir -p bin
 	$(FC) -fopenmp -g -o $@ $^ $(LIBS)
 
-bin/search_bench$(SUFFIX): $(R_OBJ) build/release$(SUFFIX)/bench_global_search_bench.o
+bin/search_bench$(SUFFIX): $(R_OBJ) build/release$(RTAG)/bench_global_search_bench.o
 	@mkdir -p bin
 	$(FC) -fopenmp -o $@ $^ $(LIBS)
 

@@ -644,7 +644,7 @@ def read_d3hsp(path):
             f = ln.split()
             if f and f[0].isdigit():
                 worst = max(worst, float(f[-1]))
-    late = sum(int(x) for x in re.findall(r": (\d+) contacts found \(or moved\) deeper", txt))
+    late = sum(int(x) for x in re.findall(r": (\d+) (?:missed )?contacts found \(or moved\) deeper", txt))
     rel = sum(int(x) for x in re.findall(r": (\d+) contacts released", txt))
     return worst, late, rel
 

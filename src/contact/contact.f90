@@ -75,6 +75,11 @@ module xd_contact_contact
         real(wp) :: pinit = 0                 !< the deepest initial penetration
         integer :: nrel = 0                   !< contacts lost while deeper than one step can undo
         real(wp) :: prel = 0                  !< the deepest of them
+        integer :: nref = 0                   !< deep contacts refused: zones the slave never entered
+        real(wp) :: pref = 0                  !< the deepest of them
+        integer, allocatable :: rseg(:)       !< per slave: this cycle's deepest refused segment (0: none)
+        real(wp), allocatable :: rdep(:)      !< per slave: its depth
+        integer, allocatable :: rlast(:)      !< per slave: the refused segment already named (0: none)
         integer, allocatable :: evk(:)        !< per slave: this cycle's event (ev_none, ev_initial, ...)
         real(wp), allocatable :: evd(:)       !< per slave: the depth of that event
         integer :: nev = 0                    !< events not yet written to the log
@@ -97,10 +102,13 @@ module xd_contact_contact
     end type interface_t
 
     !> Named in d3hsp as they happen: an initial penetration (allowed and
-    !> shrinking, as LS-DYNA's IGNORE = 1), a contact found or moved deeper
-    !> than one step's approach (the excess allowed the same way), a
-    !> contact released while deep.
-    integer, parameter :: ev_none = 0, ev_initial = 1, ev_late = 2, ev_released = 3
+    !> shrinking, as LS-DYNA's IGNORE = 1); a missed contact, found or
+    !> moved deeper than one step's approach in a zone the slave entered
+    !> since the last search (the excess allowed the same way); a contact
+    !> released while deep; a deep contact refused, in a zone the slave was
+    !> already in at the last search (a face it never crossed: no contact;
+    !> named once per slave and segment while it lasts).
+    integer, parameter :: ev_none = 0, ev_initial = 1, ev_late = 2, ev_released = 3, ev_refused = 4
     integer, parameter :: max_named = 200   !< late and released events named per interface (all counted)
     integer, parameter :: default_interval = 100   !< longest cycles between global searches when none is given
     real(wp), parameter :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
@@ -414,6 +422,10 @@ contains
                 n = s%nslave
                 allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n), it%p0(n))
                 allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n), it%evk(n), it%evd(n), it%ev(16), it%found(n))
+                allocate (it%rseg(n), it%rdep(n), it%rlast(n))
+                it%rseg = 0
+                it%rdep = 0
+                it%rlast = 0
                 it%found = .false.
                 it%evk = ev_none
                 it%evd = 0
@@ -427,6 +439,8 @@ contains
                 it%fprev = 0
                 it%ft = 0
                 allocate (it%ls%xl(3, s%nnode), it%ls%vl(3, s%nnode))
+                ! the Lagrangian projection has no springs: no contact step
+                if (ct%lagrange) cycle
                 do k = 1, s%nnode
                     if (s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp .or. s%node_rigid(k)) cycle
                     dtk = contact_step_scale*sqrt(it%ms(k)/s%node_k(k))
@@ -465,10 +479,11 @@ contains
                 it%ls%grow = 2.0_wp*it%drift + it%reach + it%ls%lead
                 it%ls%dt = dt
                 it%ls%drift = it%drift
+                it%ls%first = .not. it%started
                 if (it%cl%search /= it%nsearch .and. allocated(it%lists%gap)) &
                     call reset_clearance(s, it%lists, it%xl, it%nsearch, it%cl)
                 call find_contacts(s, it%lists, it%ls, it%cl, it%cseg, it%fprev, it%aeff + it%p0, ct%sw, it%mine, &
-                                  it%hit, it%found)
+                                  it%hit, it%found, it%xl, it%rseg, it%rdep)
             end associate
         end do
     end subroutine contact_local_search
@@ -502,7 +517,7 @@ contains
     !> slave's search run. A slave so found close is searched without a
     !> fresh bound for the next `back_off` cycles (its clearance would rarely
     !> have grown).
-    subroutine find_contacts(s, lists, ls, cl, cseg, fprev, aprev, sw, mine, hit, found)
+    subroutine find_contacts(s, lists, ls, cl, cseg, fprev, aprev, sw, mine, hit, found, xs, rseg, rdep)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
@@ -513,6 +528,9 @@ contains
         integer, intent(in) :: mine(:)
         type(hit_t), intent(inout) :: hit(:)
         logical, intent(inout) :: found(:)
+        real(wp), intent(in) :: xs(:, :)     !< surface coordinates at the last search
+        integer, intent(inout) :: rseg(:)    !< per slave: deepest refused segment (0: none)
+        real(wp), intent(inout) :: rdep(:)
         integer, parameter :: back_off = 8
         integer :: i, k
         logical :: clear_skip, refresh
@@ -542,7 +560,7 @@ contains
                     end if
                 end if
             end if
-            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k))
+            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k), xs, rseg(k), rdep(k))
             found(k) = hit(k)%found
         end do
         !$omp end parallel do
@@ -563,6 +581,7 @@ contains
         !> (A slave already without contact keeps its record untouched.)
         subroutine no_contact(k)
             integer, intent(in) :: k
+            if (rseg(k) /= 0) rseg(k) = 0
             if (.not. found(k)) return
             hit(k)%found = .false.
             hit(k)%level = 4
@@ -607,9 +626,11 @@ contains
                     if (it%cseg(k) == 0 .and. .not. it%found(k)) then
                         ! no contact then or now: its state is already clear
                         if (it%evk(k) /= ev_none) it%evk(k) = ev_none
+                        if (it%rseg(k) /= it%rlast(k)) call refusal(it, k)
                         cycle
                     end if
                     call slave_force(it, s, k, dt)
+                    if (it%evk(k) == ev_none .and. it%rseg(k) /= it%rlast(k)) call refusal(it, k)
                 end do
                 !$omp end parallel do
                 it%started = .true.
@@ -712,12 +733,18 @@ contains
             ! the node moves out) and named in d3hsp. Across a flat or
             ! convex surface the depth does not jump at a move, so a node
             ! handed between segments (aligned meshes) gets no allowance.
+            ! The local search let such a contact through only where the
+            ! slave came into the segment's zone since the last search (a
+            ! missed contact). The allowance keeps the spring's compression
+            ! where it was: the old allowance plus the excess (dropping the
+            ! old allowance would push the node out by it at once, the
+            ! spring energy k p0^2 / 2 created).
             reach = 2.0_wp*abs(dot_product(vrel, it%hit(k)%nhat))*dt + 1.0e-3_wp*it%hit(k)%tm
             if (it%cseg(k) /= 0) reach = reach + it%aeff(k) + it%p0(k)
             if (abs(it%hit(k)%a) > reach) then
                 it%evk(k) = ev_late
                 it%evd(k) = abs(it%hit(k)%a) - reach
-                it%p0(k) = abs(it%hit(k)%a) - reach
+                it%p0(k) = it%p0(k) + it%evd(k)
             end if
         end if
         if (it%cseg(k) /= m .or. it%kp(k) <= 0.0_wp) then
@@ -735,6 +762,17 @@ contains
         meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
         call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, k), it%fk(:, k))
     end subroutine slave_force
+
+    !> Slave k's deepest refused segment this cycle (rseg) differs from the
+    !> one last named: named now (none: the record cleared).
+    pure subroutine refusal(it, k)
+        type(interface_t), intent(inout) :: it
+        integer, intent(in) :: k
+        it%rlast(k) = it%rseg(k)
+        if (it%rseg(k) == 0) return
+        it%evk(k) = ev_refused
+        it%evd(k) = it%rdep(k)
+    end subroutine refusal
 
     !> Slave k out of contact: its contact state cleared.
     pure subroutine forget_slave(it, k)
@@ -766,6 +804,10 @@ contains
             it%nlate = it%nlate + 1
             it%plate = max(it%plate, it%evd(k))
             named = it%nlate <= max_named
+        case (ev_refused)
+            it%nref = it%nref + 1
+            it%pref = max(it%pref, it%evd(k))
+            named = it%nref <= max_named
         case default
             it%nrel = it%nrel + 1
             it%prel = max(it%prel, it%evd(k))
@@ -778,7 +820,8 @@ contains
             call move_alloc(tmp, it%ev)
         end if
         it%nev = it%nev + 1
-        it%ev(it%nev) = contact_event_t(kind=it%evk(k), slave=it%surf%slave(k), seg=it%hit(k)%seg, &
+        it%ev(it%nev) = contact_event_t(kind=it%evk(k), slave=it%surf%slave(k), &
+                                        seg=merge(it%rseg(k), it%hit(k)%seg, it%evk(k) == ev_refused), &
                                         time=time, depth=it%evd(k))
     end subroutine add_event
 
@@ -789,7 +832,7 @@ contains
         integer, intent(in) :: node_id(:)
         character(len=:), allocatable :: txt
         character(len=240) :: buf
-        character(len=64) :: what
+        character(len=80) :: what
         integer :: i, q, j, nd(4)
         txt = ''
         do i = 1, ct%n
@@ -798,7 +841,8 @@ contains
                     associate (e => it%ev(q))
                         select case (e%kind)
                         case (ev_initial); what = 'initial penetration (allowed)'
-                        case (ev_late); what = 'contact deeper than a step: excess allowed'
+                        case (ev_late); what = 'missed contact (entered since the search) deeper than a step: excess allowed'
+                        case (ev_refused); what = 'deep under a face it did not cross since the search: no contact'
                         case default; what = 'contact released deep'
                         end select
                         nd = 0
@@ -828,7 +872,7 @@ contains
             k = it%mine(i)
             if (it%hit(k)%found .or. it%evk(k) /= ev_none) n = n + 1
         end do
-        allocate (mine(17, n))
+        allocate (mine(18, n))
         n = 0
         do i = 1, size(it%mine)
             k = it%mine(i)
@@ -837,7 +881,7 @@ contains
             associate (h => it%hit(k))
                 mine(:, n) = [real(k, dp), real(h%seg, dp), real(h%kind, dp), real(h%a, dp), real(h%nshape, dp), &
                               real(h%nhat, dp), real(it%fk(:, k), dp), merge(1.0_dp, 0.0_dp, h%found), &
-                              real(it%evk(k), dp), real(it%evd(k), dp)]
+                              real(it%evk(k), dp), real(it%evd(k), dp), real(it%rseg(k), dp)]
             end associate
         end do
         call comm_gather_records(mine, nranks, all)
@@ -853,6 +897,7 @@ contains
             if (it%owned(k)) cycle
             it%evk(k) = nint(all(16, i))
             it%evd(k) = real(all(17, i), wp)
+            it%rseg(k) = nint(all(18, i))
             associate (h => it%hit(k))
                 h%found = all(15, i) > 0.5_dp
                 it%found(k) = h%found
@@ -1063,8 +1108,14 @@ contains
                 end if
                 if (it%nlate > 0) then
                     write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%nlate, &
-                        ' contacts found (or moved) deeper than one step''s approach (largest excess ', it%plate, &
+                        ' missed contacts found (or moved) deeper than one step''s approach (largest excess ', it%plate, &
                         ') allowed like initial penetrations; the first ', min(it%nlate, max_named), ' named above'
+                    txt = txt//trim(buf)//nl
+                end if
+                if (it%nref > 0) then
+                    write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%nref, &
+                        ' deep contacts refused, under faces the node did not cross since the search (deepest ', &
+                        it%pref, '); the first ', min(it%nref, max_named), ' named above'
                     txt = txt//trim(buf)//nl
                 end if
                 if (it%energy < -0.01_dp*abs(e_ref)) then

@@ -83,8 +83,8 @@ contains
     !> changes by J (w_s + sum N_i^2 w_i), w = 1/m along the return
     !> direction (0 where constrained). Pairs sharing nodes are solved by
     !> Gauss-Seidel sweeps in slave order; an isolated pair (node on node)
-    !> is exact in one. The tangential (friction) part stays as computed,
-    !> capped by mu times the new normal force.
+    !> is exact in one. Friction the same way: the tangential impulse that
+    !> stops the pair's sliding, capped at mu times the normal impulse.
     !>
     !> pair(1:npair): the slave positions in contact, in slave order; hit:
     !> every slave's contact; fpair: their penalty forces in, the projected
@@ -99,9 +99,9 @@ contains
         real(wp), intent(in) :: vl(:, :)
         type(friction_t), intent(in) :: fr
         real(wp), intent(in) :: f(:, :), mass(:), free(:, :), dt, dt_avg
-        real(wp), allocatable :: pv(:, :), w(:, :), jn(:)
+        real(wp), allocatable :: pv(:, :), w(:, :), jn(:), jt(:, :)
         integer :: q, k, sn, m, j, sweep, nd
-        real(wp) :: nh(3), g, den, dj, ftan(3), mu, cap, change, scale, vrel(3)
+        real(wp) :: nh(3), g, den, dj, mu, cap, change, scale, vrel(3), vt(3), tdir(3), jnew(3), dj3(3)
         allocate (pv(3, s%nnode), w(3, s%nnode), jn(npair))
         do nd = 1, s%nnode
             if (mass(s%node(nd)) > 0.0_wp) then
@@ -151,17 +151,57 @@ contains
             end do
             if (change <= 1.0e-10_wp*max(scale, tiny(1.0_wp))) exit
         end do
+        ! Coulomb friction on the projected velocities: the tangential
+        ! impulse that stops the pair's sliding over the step (stick), capped
+        ! at mu times the normal impulse (slip), mu = FD + (FS - FD)
+        ! exp(-DC |v_t|) with v_t the sliding speed before the projection;
+        ! Gauss-Seidel in slave order as the normal part
+        allocate (jt(3, npair))
+        jt = 0
+        if (fr%fs > 0.0_wp .or. fr%fd > 0.0_wp) then
+            do sweep = 1, 20
+                change = 0
+                do q = 1, npair
+                    if (jn(q) <= 0.0_wp) cycle
+                    k = pair(q)
+                    sn = s%slave(k)
+                    m = hit(k)%seg
+                    nh = hit(k)%nhat
+                    vrel = pv(:, sn) - matmul(pv(:, s%seg(:, m)), hit(k)%nshape)
+                    vrel = vrel - dot_product(vrel, nh)*nh
+                    vt = vl(:, sn) - matmul(vl(:, s%seg(:, m)), hit(k)%nshape)
+                    vt = vt - dot_product(vt, nh)*nh
+                    mu = fr%fd + (fr%fs - fr%fd)*exp(-fr%dc*norm2(vt))
+                    cap = max(mu, 0.0_wp)*jn(q)
+                    ! impulse to stop the remaining slip, along it
+                    if (norm2(vrel) > 0.0_wp) then
+                        tdir = vrel/norm2(vrel)
+                        den = dot_product(tdir*tdir, w(:, sn))
+                        do j = 1, seg_nodes(s%seg(:, m))
+                            den = den + hit(k)%nshape(j)**2*dot_product(tdir*tdir, w(:, s%seg(j, m)))
+                        end do
+                        if (den <= 0.0_wp) cycle
+                        jnew = jt(:, q) - norm2(vrel)/den*tdir
+                    else
+                        jnew = jt(:, q)
+                    end if
+                    if (norm2(jnew) > cap) jnew = jnew*(cap/norm2(jnew))
+                    dj3 = jnew - jt(:, q)
+                    if (all(dj3 == 0.0_wp)) cycle
+                    jt(:, q) = jnew
+                    change = max(change, norm2(dj3))
+                    pv(:, sn) = pv(:, sn) + dj3*w(:, sn)
+                    do j = 1, seg_nodes(s%seg(:, m))
+                        pv(:, s%seg(j, m)) = pv(:, s%seg(j, m)) - hit(k)%nshape(j)*dj3*w(:, s%seg(j, m))
+                    end do
+                end do
+                if (change <= 1.0e-10_wp*max(scale, tiny(1.0_wp))) exit
+            end do
+        end if
         do q = 1, npair
             k = pair(q)
             nh = hit(k)%nhat*pdir(hit(k)%a)
-            ftan = fpair(:, q) - dot_product(fpair(:, q), nh)*nh
-            ! mu = FD + (FS - FD) exp(-DC |v_t|), v_t the sliding velocity
-            vrel = vl(:, s%slave(k)) - matmul(vl(:, s%seg(:, hit(k)%seg)), hit(k)%nshape)
-            vrel = vrel - dot_product(vrel, nh)*nh
-            mu = fr%fd + (fr%fs - fr%fd)*exp(-fr%dc*norm2(vrel))
-            cap = max(mu, 0.0_wp)*jn(q)/dt_avg
-            if (norm2(ftan) > cap) ftan = ftan*(cap/max(norm2(ftan), tiny(1.0_wp)))
-            fpair(:, q) = jn(q)/dt_avg*nh + ftan
+            fpair(:, q) = (jn(q)*nh + jt(:, q))/dt_avg
         end do
     end subroutine lagrange_projection
 

@@ -34,6 +34,9 @@ module xd_contact_local_search
         real(wp) :: lead = 0                 !< Lagrangian projection: contacts found this far before they touch
         real(wp) :: dt = 0                   !< this cycle's step (how deep a new contact can be)
         real(wp) :: drift = 0                !< u: how far any surface node may have moved since the search
+        !> the first active cycle: every contact found is an initial
+        !> penetration (no depth is refused)
+        logical :: first = .false.
     end type local_search_t
 
     !> Per slave, a lower bound of its clearance (as master_lists_t%gap:
@@ -60,7 +63,19 @@ contains
     !> The contact of slave number i (position in s%slave) this cycle, in
     !> `best` (best%found false: none). `oldseg` is last cycle's segment (0:
     !> none), `fprev` the contact force it carried (the comparison vector).
-    subroutine find_contact(s, lists, ls, i, oldseg, fprev, aprev, sw, best)
+    !>
+    !> A segment other than the old one that holds the slave deeper than
+    !> it can have gone since last cycle (its depth then plus twice this
+    !> step's approach) is a contact only if the slave came into its
+    !> contact zone since the last global search: at the positions of that
+    !> search (`xs`, surface numbering) it lay outside the zone. Such a
+    !> missed contact (the slave was held by another segment, or came
+    !> through an edge) is kept; one that lay inside the zone already is a
+    !> face the slave never crossed (a node near a fold's hinge under the
+    !> other flank, a node inside a body's corner under the far face): no
+    !> contact. The deepest refused segment and its depth come back in
+    !> `refused` and `refused_depth` (0: none).
+    subroutine find_contact(s, lists, ls, i, oldseg, fprev, aprev, sw, best, xs, refused, refused_depth)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
@@ -69,10 +84,13 @@ contains
         real(wp), intent(in) :: aprev          !< the slave's depth last cycle (0: not in contact)
         type(search_switches_t), intent(in) :: sw
         type(hit_t), intent(out) :: best
+        real(wp), intent(in), optional :: xs(:, :)   !< surface coordinates at the last global search
+        integer, intent(out), optional :: refused
+        real(wp), intent(out), optional :: refused_depth
         type(hit_t) :: hit
-        integer :: sn, want, j, k, m, mn, cnode, nsolid_miss, ntried
+        integer :: sn, want, j, k, m, mn, cnode, nsolid_miss, ntried, rseg
         integer :: tried(max_tried)
-        real(wp) :: ts, cv(3)
+        real(wp) :: ts, cv(3), rdep
         logical :: have_v, interior
 
         sn = s%slave(i)
@@ -82,6 +100,10 @@ contains
         best%level = 4
         nsolid_miss = 0
         ntried = 0
+        rseg = 0
+        rdep = 0
+        if (present(refused)) refused = 0
+        if (present(refused_depth)) refused_depth = 0
 
         if (oldseg > 0) then
             ! the old segment: done if the contact point is inside it (and, on
@@ -93,6 +115,7 @@ contains
             interior = hit%found .and. hit%kind == contact_interior .and. .not. grazing(hit)
             if (interior .and. .not. (s%seg_kind(oldseg) == seg_shell .and. hit%near_border)) then
                 best = hit
+                call report_refused()
                 return
             end if
             if (hit%found) best = hit
@@ -112,7 +135,10 @@ contains
                 end if
                 call try(m, .true.)
             end do
-            if (acceptable()) return
+            if (acceptable()) then
+                call report_refused()
+                return
+            end if
             best%found = .false.
             best%level = 4
             nsolid_miss = 0
@@ -145,8 +171,31 @@ contains
             best%found = .false.
             best%level = 4
         end if
+        call report_refused()
 
     contains
+
+        subroutine report_refused()
+            if (present(refused)) refused = rseg
+            if (present(refused_depth)) refused_depth = rdep
+        end subroutine report_refused
+
+        !> At the last global search the slave lay outside segment m's
+        !> contact zone (beyond a shell's half thicknesses on either side,
+        !> or on the outer side of a solid face): it came in since.
+        logical function came_in(m)
+            integer, intent(in) :: m
+            type(hit_t) :: h0
+            came_in = .true.
+            if (.not. present(xs)) return
+            call segment_check(xs(:, s%seg(:, m)), s%seg_tn(:, m), s%seg_kind(m) == seg_shell, xs(:, sn), ts, h0, &
+                               touching=s%seg_body(m) /= s%node_body(sn))
+            if (s%seg_kind(m) == seg_shell) then
+                came_in = .not. h0%found
+            else
+                came_in = h0%d >= ts
+            end if
+        end function came_in
 
         subroutine check(m, h)
             integer, intent(in) :: m
@@ -183,6 +232,19 @@ contains
             call check(m, h)
             if (h%found) then
                 if (in_plane_own(m, h)) return
+                ! deeper than the slave can have gone since last cycle, in a
+                ! zone it did not enter since the search: not its contact
+                if (.not. ls%first .and. m /= oldseg .and. h%gap == 0.0_wp) then
+                    if (.not. reachable(h)) then
+                        if (.not. came_in(m)) then
+                            if (abs(h%a) > rdep) then
+                                rdep = abs(h%a)
+                                rseg = m
+                            end if
+                            return
+                        end if
+                    end if
+                end if
             end if
             if (.not. h%found) then
                 ! a solid face missed by a hair (the slave on its plane, outside)

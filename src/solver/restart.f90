@@ -27,7 +27,9 @@ module xd_solver_restart
     private
     public :: dump_meta_t, write_dump, read_dump_meta, read_dump, build_tag, dump_format
 
-    integer, parameter :: dump_format = 3   !< 3: the slaves' clearances (list_gap) are kept
+    !> 3: the slaves' clearances (list_gap) are kept; 4: the refused deep
+    !> contacts (count, deepest, the segment last named per slave)
+    integer, parameter :: dump_format = 4
 
     !> What a dump says about itself.
     type :: dump_meta_t
@@ -163,6 +165,9 @@ contains
                 call dput(r, 'nlate', [it%nlate], nf)
                 call dput(r, 'nrel', [it%nrel], nf)
                 call dput(r, 'rel', [it%prel], nf)
+                call dput(r, 'nref', [it%nref], nf)
+                call dput(r, 'ref', [it%pref], nf)
+                call dput(r, 'rlast', it%rlast, nf)
                 call h5gclose_f(r, err)
             end associate
         end do
@@ -432,6 +437,9 @@ contains
                 call geti(r, 'nlate', 1); if (ok()) it%nlate = bi(1)
                 call geti(r, 'nrel', 1); if (ok()) it%nrel = bi(1)
                 call getw(r, 'rel', 1); if (ok()) it%prel = bw(1)
+                call geti(r, 'nref', 1); if (ok()) it%nref = bi(1)
+                call getw(r, 'ref', 1); if (ok()) it%pref = bw(1)
+                call geti(r, 'rlast', size(it%rlast)); if (ok()) it%rlast = bi
                 call h5gclose_f(r, err)
             end associate
         end do

@@ -4,7 +4,8 @@
 !> tube/pinball rule (a node outside a block's convex edge is in no contact,
 !> unless it was pressed on that face last cycle), and tracking along an
 !> opposite region from a far trackable master node (found with tracking,
-!> missed without).
+!> missed without), and the refusal of a deep contact in a zone the slave
+!> did not enter since the last search.
 program test_contact_local_search
     use xd_kinds, only: wp
     use xd_testing, only: check, test_summary
@@ -20,6 +21,7 @@ program test_contact_local_search
     call comparison_vector()
     call lone_tube()
     call tracking()
+    call refused_deep()
     call test_summary()
 
 contains
@@ -45,6 +47,48 @@ contains
         ls%dt = 1.0e-6_wp
         call build_master_lists(s, ls%xl, ls%lc, s%max_thick, 0.05_wp, mnl_minimal, l, cnt)
     end subroutine prepare
+
+    !> A shell plate (t 0.2, mid-surface z = 0.05) and a small shell (t 0.1)
+    !> of another body whose node sits at z = 0.02: 0.12 deep in the
+    !> plate's contact zone (half thicknesses 0.05 + 0.1), at rest, in no
+    !> contact last cycle. Where the node lay there already at the last
+    !> search it never crossed into the zone: no contact, the plate named
+    !> as refused with depth 0.12. Where it lay outside at the search (z =
+    !> 0.5) it came in since (a missed contact): found. At the first cycle
+    !> every contact is an initial penetration: found.
+    subroutine refused_deep()
+        type(model_t) :: m
+        type(surface_t) :: s
+        type(master_lists_t) :: l
+        type(local_search_t) :: ls
+        type(hit_t) :: h
+        integer :: p(4), q(4), k, rseg
+        real(wp) :: rdep
+        real(wp), allocatable :: xs(:, :)
+        call empty_model(m, 2)
+        p = [node_at(m, [0.0_wp, 0.0_wp, 0.05_wp], .false.), node_at(m, [1.0_wp, 0.0_wp, 0.05_wp], .false.), &
+             node_at(m, [1.0_wp, 1.0_wp, 0.05_wp], .false.), node_at(m, [0.0_wp, 1.0_wp, 0.05_wp], .false.)]
+        call add_shell(m, p, 0.2_wp, 1)
+        q = [node_at(m, [0.4_wp, 0.4_wp, 0.02_wp], .false.), node_at(m, [0.3_wp, 0.4_wp, -0.2_wp], .false.), &
+             node_at(m, [0.3_wp, 0.3_wp, -0.2_wp], .false.), node_at(m, [0.4_wp, 0.3_wp, -0.2_wp], .false.)]
+        call add_shell(m, q, 0.1_wp, 2)
+        call prepare(m, s, l, ls)
+        k = slave_of(s, q(1))
+        xs = ls%xl
+        ls%first = .false.
+        call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep)
+        call check(.not. h%found .and. rseg > 0 .and. abs(rdep - 0.12_wp) < 1.0e-9_wp, &
+                   'local search: a node 0.12 deep in a shell''s zone it lay in at the last search is refused '// &
+                   '(no contact; the segment and depth named)')
+        xs(3, s%slave(k)) = 0.5_wp
+        call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep)
+        call check(h%found .and. rseg == 0 .and. abs(abs(h%a) - 0.12_wp) < 1.0e-9_wp, &
+                   'local search: the same node outside the zone at the last search came in since: a missed contact, found')
+        xs = ls%xl
+        ls%first = .true.
+        call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep)
+        call check(h%found .and. rseg == 0, 'local search: at the first cycle the same node is an initial penetration, found')
+    end subroutine refused_deep
 
     !> Position in s%slave of model node nd.
     integer function slave_of(s, nd)
