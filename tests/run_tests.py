@@ -1667,6 +1667,30 @@ def test_contact_surface_log():
             ok = got == want and "contact ................... on" in log
         record(f"contact {name}: runs, log counts segments/shell/solid/nodes/slaves {want}", ok,
                f"got {got} {p.stderr[-200:]}")
+    # SSTHK (*CONTROL_CONTACT card 2): a single-surface contact's shell
+    # thickness is limited to 40% of the element's shortest edge (LS-DYNA's
+    # default, SSTHK 0) unless SSTHK 1: the folding strip (5 mm elements)
+    # made 4 mm thick has segments 2 mm thick for the contact, every shell
+    # node named in the log; with SSTHK 1, 4 mm and no such line
+    text = open(os.path.join(ROOT, "input_decks/contact/shell_fold.k")).read()
+    assert "     0.001     0.001     0.001     0.001" in text
+    text = text.replace("     0.001     0.001     0.001     0.001", "     0.004     0.004     0.004     0.004")
+    for ssthk, tmax in ((0, 2.0e-3), (1, 4.0e-3)):
+        deck = os.path.join(TMP, f"contact_ssthk{ssthk}.k")
+        with open(deck, "w") as fh:
+            fh.write(text.replace("*END", "*CONTROL_CONTACT\n" + "%10d" * 8 % (0, 0, 0, 0, 0, 0, 0, 0) + "\n" +
+                                  "%10d" * 6 % (0, 0, 0, 0, 0, ssthk) + "\n*END"))
+        out = os.path.join(TMP, f"contact_ssthk{ssthk}")
+        p = run([XDYNA, "i=" + deck, "outdir=" + out, "endtim=1e-6"])
+        log = open(os.path.join(out, "d3hsp")).read() if p.returncode == 0 else ""
+        m = re.search(r"segment thickness min/max\s+(\S+)\s+(\S+)", log)
+        got = float(m.group(2)) if m else float("nan")
+        named = re.search(r"limited to 40% of the shortest edge at (\d+) nodes", log)
+        nshell_nodes = len(re.findall(r"^\s*\d+\s+\S+e[-+]\d+\s", text.split("*NODE")[1].split("*")[0], re.M))
+        want_named = (named is not None and int(named.group(1)) == nshell_nodes) if ssthk == 0 else named is None
+        record(f"contact SSTHK {ssthk}: a 4 mm strip of 5 mm shells has contact thickness {got * 1e3:.2f} mm "
+               f"(expected {tmax * 1e3:.1f}); the limit named for every node ({named.group(1) if named else 0} of "
+               f"{nshell_nodes}) only where it applies", abs(got - tmax) < 1e-12 and want_named, p.stderr[-300:])
     # MBOXID: only the plate's shells whose centre lies in a box over x <= 0.5
     # (5 columns of 10) are master segments: 24 + 50 segments, 26 + 66 nodes
     text = open(os.path.join(ROOT, "input_decks/contact/variant_surface_to_surface.k")).read()

@@ -184,7 +184,14 @@ def deck(case, bodies, parts, v0, endtim, contact, fixed_rigid=(), free_rigid=()
     # spring K A / diagonal does not fall with the thickness while its mass
     # does: at SLSFAC 1 a 1 mm shell's contact oscillates at omega dt = 1.3,
     # resolved in two steps, and its rebound is off by 50%)
-    lines += ["*CONTROL_CONTACT", g.f10(case.get("slsfac", 1.0 if all(p[1] == "solid" for p in parts) else 0.1))]
+    # SSTHK 1 (card 2): the shells' own thickness in single-surface
+    # contacts. Each case's answer (when the bodies meet, the closed-form
+    # rebound) is for the thickness in its name; LS-DYNA's default limit of
+    # 40% of the shortest edge (SSTHK 0) would make a 5 mm shell on 5 mm
+    # elements a 2 mm one and the bodies meet after the case's end. The limit
+    # has its own test (make check, test_contact_surface_log).
+    lines += ["*CONTROL_CONTACT", g.f10(case.get("slsfac", 1.0 if all(p[1] == "solid" for p in parts) else 0.1)),
+              g.f10(0, 0, 0, 0, 0, 1)]
     # xdyna's knobs (SEARCH NSRCH MNL TRACK; the accuracy study sets them)
     knobs = list(case.get("xc", (0, 0, 0, 0))) + [0, 2 if lagrange else 0]
     if any(knobs):

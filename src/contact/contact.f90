@@ -191,7 +191,8 @@ contains
                 if (c%mboxid > 0) call box_faces(model%box(find_box(model, c%mboxid)), in_b)
                 call build_surface(ct%faces, model%nnode, in_a, in_b, slaves, c%kind == ct_surface_to_surface, &
                                    [c%sst, c%mst, c%sfst, c%sfmt], [model%ctl%contact%slsfac, c%sfs, c%sfm], it%surf, &
-                                   model%hex_conn(:, 1:model%nhex))
+                                   model%hex_conn(:, 1:model%nhex), &
+                                   cap=(c%kind == ct_single .or. c%kind == ct_general) .and. model%ctl%contact%ssthk == 0)
                 deallocate (slaves)
                 ! pool margin from the median characteristic length at t = 0 (a
                 ! typical length: a few large segments must not widen every pool)
@@ -439,8 +440,6 @@ contains
                 it%fprev = 0
                 it%ft = 0
                 allocate (it%ls%xl(3, s%nnode), it%ls%vl(3, s%nnode))
-                ! the Lagrangian projection has no springs: no contact step
-                if (ct%lagrange) cycle
                 do k = 1, s%nnode
                     if (s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp .or. s%node_rigid(k)) cycle
                     dtk = contact_step_scale*sqrt(it%ms(k)/s%node_k(k))
@@ -1056,6 +1055,11 @@ contains
                 write (buf, '(a,i0,a,i0,a,i0,a,i0,a,i0)') '     segments ', s%nseg, ' (shell ', s%nshell_seg, &
                     ', solid ', s%nsolid_seg, ')   surface nodes ', s%nnode, '   slave nodes ', s%nslave
                 txt = txt//trim(buf)//nl
+                if (s%ncap > 0) then
+                    write (buf, '(a,i0,a)') '     shell contact thickness limited to 40% of the shortest edge at ', &
+                        s%ncap, ' nodes (single surface, *CONTROL_CONTACT SSTHK 0; SSTHK 1 or SST/MST lift it)'
+                    txt = txt//trim(buf)//nl
+                end if
                 if (s%nseg > 0) then
                     write (buf, '(a,2es11.3,a,2es11.3)') '     segment thickness min/max', minval(s%seg_t), &
                         maxval(s%seg_t), '   penalty stiffness min/max', minval(s%seg_k), maxval(s%seg_k)

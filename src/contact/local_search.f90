@@ -190,10 +190,12 @@ contains
             if (.not. present(xs)) return
             call segment_check(xs(:, s%seg(:, m)), s%seg_tn(:, m), s%seg_kind(m) == seg_shell, xs(:, sn), ts, h0, &
                                touching=s%seg_body(m) /= s%node_body(sn))
+            ! (a node on the surface then, within 1% of the thickness or window,
+            ! by round-off or a touch, counts as outside)
             if (s%seg_kind(m) == seg_shell) then
-                came_in = .not. h0%found
+                came_in = abs(h0%d) >= ts + h0%tm - 0.01_wp*h0%tm
             else
-                came_in = h0%d >= ts
+                came_in = h0%d >= ts - 0.01_wp*h0%tm
             end if
         end function came_in
 

@@ -47,6 +47,10 @@ module xd_contact_surface
         integer :: nbody = 0
         integer :: ninterior = 0               !< faces between two continuum elements (not segments)
         real(wp), allocatable :: node_thick(:) !< (model nodes) largest shell thickness at the node
+        !> (model nodes) largest 40% of the shortest edge of a shell at the
+        !> node (LS-DYNA's limit of a single-surface contact's shell
+        !> thickness, SSTHK 0); huge at a node on no shell
+        real(wp), allocatable :: node_cap(:)
     end type faces_t
 
     !> One interface's contact surface in local numbering.
@@ -76,6 +80,7 @@ module xd_contact_surface
         integer, allocatable :: seg_ptr(:), seg_list(:)   !< node -> segments (CSR)
         integer, allocatable :: nn_ptr(:), nn_list(:)     !< node -> nodes sharing a segment (CSR)
         integer :: nslave = 0
+        integer :: ncap = 0                    !< surface nodes whose shell thickness the 40% edge limit lowered
         integer, allocatable :: slave(:)       !< local numbers of the slave nodes
         integer :: nshell_seg = 0, nsolid_seg = 0
         logical :: single = .true.             !< one side: every slave against every segment
@@ -154,6 +159,7 @@ contains
         integer, allocatable :: cnode(:, :), ckey(:, :), chex(:), cshell(:), ptr(:), item(:), rep(:), ncont(:)
         integer, allocatable :: shell_on(:)
         real(wp), allocatable :: vol(:)
+        real(wp) :: emin
         logical :: same
         integer :: nd(4), key(4)
 
@@ -240,13 +246,17 @@ contains
         allocate (f%area(f%n))
         allocate (f%hex(f%n))
         f%hex = 0
-        allocate (f%node_thick(n))
+        allocate (f%node_thick(n), f%node_cap(n))
         f%node_thick = 0
+        f%node_cap = 0
         do e = 1, model%nshell
+            emin = shortest_edge(x(:, model%shell_conn(:, e)))
             do k = 1, 4
                 f%node_thick(model%shell_conn(k, e)) = max(f%node_thick(model%shell_conn(k, e)), model%shell_t(k, e))
+                f%node_cap(model%shell_conn(k, e)) = max(f%node_cap(model%shell_conn(k, e)), 0.4_wp*emin)
             end do
         end do
+        where (f%node_cap == 0.0_wp) f%node_cap = huge(1.0_wp)
         j = 0
         do c = 1, ncand
             if (rep(c) /= c .or. ncont(c) > 1) cycle
@@ -274,6 +284,19 @@ contains
         end do
         call find_bodies(n, f)
     contains
+        !> The shortest edge of a quadrilateral (a triangle's repeated node
+        !> gives no edge).
+        pure real(wp) function shortest_edge(xe) result(emin)
+            real(wp), intent(in) :: xe(3, 4)
+            integer :: q
+            real(wp) :: le
+            emin = huge(1.0_wp)
+            do q = 1, 4
+                le = norm2(xe(:, mod(q, 4) + 1) - xe(:, q))
+                if (le > 0.0_wp) emin = min(emin, le)
+            end do
+        end function shortest_edge
+
         !> N4 = N3 for a triangle, whatever node was repeated.
         pure function tidy(nd, nu) result(t)
             integer, intent(in) :: nd(4), nu
@@ -398,8 +421,11 @@ contains
     !> every node a slave. Two-surface: nodes of both sides are slaves
     !> (the symmetric treatment of LS-DYNA's automatic surface-to-surface);
     !> nodes-to-surface: only `slave_nodes`.
-    subroutine build_surface(f, nnode_model, in_a, in_b, slave_nodes, two_way, thick, stiff, s, hex_conn)
+    subroutine build_surface(f, nnode_model, in_a, in_b, slave_nodes, two_way, thick, stiff, s, hex_conn, cap)
         type(faces_t), intent(in) :: f
+        !> limit shell thicknesses to 40% of the shortest edge (a single-surface
+        !> contact with SSTHK 0), where SST / MST do not give them
+        logical, intent(in), optional :: cap
         integer, intent(in), optional :: hex_conn(:, :)   !< the model's hexahedra, for seg_elem
         integer, intent(in) :: nnode_model
         logical, intent(in) :: in_a(:), in_b(:)
@@ -411,8 +437,10 @@ contains
         integer, allocatable :: local(:), cnt(:)
         real(wp), allocatable :: kmin(:)
         integer :: j, k, m, nd, i, a, nnd
-        logical :: in_any
+        logical :: in_any, capped
 
+        capped = .false.
+        if (present(cap)) capped = cap
         allocate (local(nnode_model))
         local = 0
         s%nseg = count(in_a .or. in_b)
@@ -500,6 +528,10 @@ contains
                 s%nshell_seg = s%nshell_seg + 1
                 s%seg_t(m) = thick(4)*f%thick(j)
                 s%seg_tn(:, m) = thick(4)*f%node_thick(f%node(:, j))
+                if (capped) then
+                    s%seg_tn(:, m) = min(s%seg_tn(:, m), f%node_cap(f%node(:, j)))
+                    s%seg_t(m) = maxval(s%seg_tn(:, m))
+                end if
                 if (thick(2) > 0.0_wp) then
                     s%seg_t(m) = thick(2)
                     s%seg_tn(:, m) = thick(2)
@@ -526,6 +558,10 @@ contains
         end do
         do nd = 1, s%nnode
             s%node_t(nd) = thick(3)*f%node_thick(s%node(nd))
+            if (capped .and. s%node_t(nd) > f%node_cap(s%node(nd))) then
+                s%node_t(nd) = f%node_cap(s%node(nd))
+                s%ncap = s%ncap + 1
+            end if
             if (thick(1) > 0.0_wp .and. f%node_thick(s%node(nd)) > 0.0_wp) s%node_t(nd) = thick(1)
             s%max_thick = max(s%max_thick, s%node_t(nd))
             s%node_k(nd) = 0

@@ -256,8 +256,14 @@ contains
             if (kw%ncard >= 2) then
                 call get_card(ctx, kw, 2, 'USRSTR USRFRC NSBCS INTERM XPENE SSTHK ECDT TIEDPRJ', 2, card, error)
                 if (allocated(error)) return
-                call ignored_fields(model, card, [1, 2, 4, 5, 6, 7, 8], 'not used by xdyna; ignored', keep='4 4.0 4.')
+                call ignored_fields(model, card, [1, 2, 4, 5, 7, 8], 'not used by xdyna; ignored', keep='4 4.0 4.')
                 call get_int(card, 3, cc%nsbcs, 0, error); if (allocated(error)) return
+                call get_int(card, 6, cc%ssthk, 0, error); if (allocated(error)) return
+                if (cc%ssthk /= 0 .and. cc%ssthk /= 1) then
+                    call card_error(card, 6, 'SSTHK '//itoa(cc%ssthk)//' is not 0 (single-surface shell thickness '// &
+                                    'limited to 40% of the shortest edge) or 1 (the shell''s own)', error)
+                    return
+                end if
                 if (cc%nsbcs < 0) then
                     call card_error(card, 3, 'NSBCS '//itoa(cc%nsbcs)//' (cycles between global searches) '// &
                                     'must not be negative', error)

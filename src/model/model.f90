@@ -260,6 +260,10 @@ module xd_model
     type :: contact_controls_t
         real(wp) :: slsfac = 0.1_wp               !< penalty scale for every interface
         integer :: nsbcs = 0                      !< cycles between global searches (0: 10)
+        !> SSTHK of *CONTROL_CONTACT: 0, a single-surface contact's shell
+        !> thickness is limited to 40% of the element's shortest edge (unless
+        !> SST/MST give it); 1, the shell's own thickness
+        integer :: ssthk = 0
         integer :: search = search_fixed          !< interval policy
         integer :: nsrch = 0                      !< fixed interval from *CONTROL_XDYNA_CONTACT (0: NSBCS)
         integer :: mnl = mnl_minimal              !< master node list policy
