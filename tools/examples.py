@@ -93,7 +93,7 @@ def parse_d3hsp(path):
         res["searches"] = int(m.group(2))
         res["masters_per_slave"] = float(m.group(3))
         res["max_4u_delta"] = float(m.group(8))
-    m = re.search(r"interface 1: (\d+) contacts found .*?largest excess\s+([0-9.Ee+-]+)", txt, re.S)
+    m = re.search(r"interface 1: (\d+) (?:missed )?contacts found .*?largest excess\s+([0-9.Ee+-]+)", txt, re.S)
     res["late"] = int(m.group(1)) if m else 0
     res["late_excess"] = float(m.group(2)) if m else 0.0
     return res
