@@ -925,6 +925,8 @@ contains
                     if (.not. it%owned(k)) call forget_slave(it, k)
                 end do
                 call comm_sum_int(it%cseg, ns)
+                where (.not. it%owned) it%rlast = 0
+                call comm_sum_int(it%rlast, ns)
                 call comm_sum_wp(it%fprev, 3*ns)
                 call comm_sum_wp(it%ft, 3*ns)
                 call comm_sum_wp(it%p0, ns)

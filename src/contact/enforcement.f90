@@ -99,9 +99,9 @@ contains
         real(wp), intent(in) :: vl(:, :)
         type(friction_t), intent(in) :: fr
         real(wp), intent(in) :: f(:, :), mass(:), free(:, :), dt, dt_avg
-        real(wp), allocatable :: pv(:, :), w(:, :), jn(:), jt(:, :)
+        real(wp), allocatable :: pv(:, :), w(:, :), jn(:), jt(:, :), cap(:)
         integer :: q, k, sn, m, j, sweep, nd
-        real(wp) :: nh(3), g, den, dj, mu, cap, change, scale, vrel(3), vt(3), tdir(3), jnew(3), dj3(3)
+        real(wp) :: nh(3), g, den, dj, mu, change, scale, vrel(3), tdir(3), jnew(3), dj3(3)
         allocate (pv(3, s%nnode), w(3, s%nnode), jn(npair))
         do nd = 1, s%nnode
             if (mass(s%node(nd)) > 0.0_wp) then
@@ -159,6 +159,16 @@ contains
         allocate (jt(3, npair))
         jt = 0
         if (fr%fs > 0.0_wp .or. fr%fd > 0.0_wp) then
+            ! each pair's limit mu J_n, from its sliding speed before the projection
+            allocate (cap(npair))
+            do q = 1, npair
+                k = pair(q)
+                nh = hit(k)%nhat
+                vrel = vl(:, s%slave(k)) - matmul(vl(:, s%seg(:, hit(k)%seg)), hit(k)%nshape)
+                vrel = vrel - dot_product(vrel, nh)*nh
+                mu = fr%fd + (fr%fs - fr%fd)*exp(-fr%dc*norm2(vrel))
+                cap(q) = max(mu, 0.0_wp)*jn(q)
+            end do
             do sweep = 1, 20
                 change = 0
                 do q = 1, npair
@@ -169,10 +179,6 @@ contains
                     nh = hit(k)%nhat
                     vrel = pv(:, sn) - matmul(pv(:, s%seg(:, m)), hit(k)%nshape)
                     vrel = vrel - dot_product(vrel, nh)*nh
-                    vt = vl(:, sn) - matmul(vl(:, s%seg(:, m)), hit(k)%nshape)
-                    vt = vt - dot_product(vt, nh)*nh
-                    mu = fr%fd + (fr%fs - fr%fd)*exp(-fr%dc*norm2(vt))
-                    cap = max(mu, 0.0_wp)*jn(q)
                     ! impulse to stop the remaining slip, along it
                     if (norm2(vrel) > 0.0_wp) then
                         tdir = vrel/norm2(vrel)
@@ -185,7 +191,7 @@ contains
                     else
                         jnew = jt(:, q)
                     end if
-                    if (norm2(jnew) > cap) jnew = jnew*(cap/norm2(jnew))
+                    if (norm2(jnew) > cap(q)) jnew = jnew*(cap(q)/norm2(jnew))
                     dj3 = jnew - jt(:, q)
                     if (all(dj3 == 0.0_wp)) cycle
                     jt(:, q) = jnew

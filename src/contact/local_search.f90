@@ -102,8 +102,6 @@ contains
         ntried = 0
         rseg = 0
         rdep = 0
-        if (present(refused)) refused = 0
-        if (present(refused_depth)) refused_depth = 0
 
         if (oldseg > 0) then
             ! the old segment: done if the contact point is inside it (and, on
