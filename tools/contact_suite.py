@@ -49,6 +49,7 @@ os.environ.setdefault("XDYNA_H5PLOT", "1")
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import gen_decks as g  # noqa: E402
 import penetration  # noqa: E402
+import crush_family  # noqa: E402
 
 XDYNA = os.path.join(ROOT, "bin", "xdyna")
 OUT = os.path.join(ROOT, "build", "contact-suite")
@@ -847,12 +848,20 @@ def main(argv):
         print(f"{st} {r['name']:70s} err {r['err']:+.4f} {r['wall']:6.2f}s {'; '.join(r['fails'])}")
     print(f"contact suite: {len(results) - nfail} of {len(results)} cases pass, {nexc} listed exceptions, "
           f"{nfail - nexc} unexplained failures ({time.time() - t0:.0f} s)")
+    crush = None
+    if not fast and "--only" not in argv and "--report-only" not in argv:
+        # the crush family (tools/crush_family.py): tubes against
+        # Abramowicz and Jones, with the contact and without
+        crush = crush_family.run_family(jobs)
+        ncr = sum(1 for r in crush if r["ok"])
+        print(f"crush family: {ncr} of {len(crush)} tubes within {crush_family.BAND:.0%} of Abramowicz and Jones "
+              f"(table in {os.path.relpath(REPORT, ROOT)})")
     if not fast and "--no-report" not in argv and "--only" not in argv:
-        write_report(results)
-    return 1 if nfail > nexc else 0
+        write_report(results, crush)
+    return 1 if nfail > nexc or (crush and not all(r["ok"] for r in crush)) else 0
 
 
-def write_report(results):
+def write_report(results, crush=None):
     fams = {}
     for r in results:
         fams.setdefault(r["family"], []).append(r)
@@ -881,6 +890,8 @@ def write_report(results):
     for pat, why in EXCEPTIONS:
         n = sum(1 for r in results if r["exception"] == why)
         out.append(f"| `{pat}` | {n} | {why} |")
+    if crush is not None:
+        out += [""] + crush_family.markdown(crush)
     out += ["", "## Cases", "", "| case | answer | error | overlap | 4u/delta | wall (s) | result |",
             "|---|---|---|---|---|---|---|"]
     for r in results:

@@ -29,7 +29,7 @@ module xd_contact_contact
                                        reset_clearance, fresh_clearance
     use xd_contact_enforcement, only: friction_t, penalty_force, lagrange_projection, slave_stiffness, pdir
     !$ use omp_lib, only: omp_get_wtime
-    use xd_core_sorting, only: where_true
+    use xd_core_sorting, only: where_true, sort_index
     use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_dp
     implicit none
     private
@@ -95,6 +95,15 @@ module xd_contact_contact
         real(dp) :: energy = 0                !< sliding interface energy (minus the contact forces' work)
         real(dp) :: fslave(3) = 0, fmaster(3) = 0, mslave = 0, mmaster = 0   !< rcforc: resultants, masses in contact
         real(dp) :: wall_local = 0, wall_enforce = 0
+        ! where the contact acts, by part pair (the log's table at the end):
+        ! the interface's parts (deck ids; a slave node on no segment of the
+        ! surface counts under 0), each segment's and each slave's local part
+        integer, allocatable :: part_id(:)
+        integer, allocatable :: seg_lp(:), slave_lp(:)
+        !> (slave part, master part, 1 without / 2 with an allowance): the
+        !> normal impulse |f| dt and the work f . v_rel dt of the forces on
+        !> the slaves (negative: the contact resisted the approach)
+        real(dp), allocatable :: pair_imp(:, :, :), pair_work(:, :, :)
         integer(i8) :: ncontact_total = 0     !< slave-cycles in contact
         logical :: active = .false.           !< between birth and death this cycle
         logical, allocatable :: owned(:)      !< per slave: searched and enforced here (MPI: this rank's)
@@ -194,6 +203,7 @@ contains
                                    model%hex_conn(:, 1:model%nhex), &
                                    cap=(c%kind == ct_single .or. c%kind == ct_general) .and. model%ctl%contact%ssthk == 0)
                 deallocate (slaves)
+                call pair_parts(it)
                 ! pool margin from the median characteristic length at t = 0 (a
                 ! typical length: a few large segments must not widen every pool)
                 allocate (xl(3, it%surf%nnode), lc(it%surf%nnode))
@@ -286,6 +296,41 @@ contains
                 end select
             end associate
         end subroutine select_faces
+
+        !> The interface's parts and each segment's and slave's local part.
+        subroutine pair_parts(it)
+            type(interface_t), intent(inout) :: it
+            logical, allocatable :: used(:)
+            integer, allocatable :: loc(:)
+            integer :: m, k, sn, p
+            associate (s => it%surf)
+                allocate (used(model%npart), loc(model%npart))
+                used = .false.
+                do m = 1, s%nseg
+                    used(ct%faces%part(s%seg_face(m))) = .true.
+                end do
+                loc = 0
+                it%part_id = [0]
+                do p = 1, model%npart
+                    if (.not. used(p)) cycle
+                    it%part_id = [it%part_id, model%part(p)%id]
+                    loc(p) = size(it%part_id)
+                end do
+                allocate (it%seg_lp(s%nseg), it%slave_lp(s%nslave))
+                do m = 1, s%nseg
+                    it%seg_lp(m) = loc(ct%faces%part(s%seg_face(m)))
+                end do
+                do k = 1, s%nslave
+                    sn = s%slave(k)
+                    it%slave_lp(k) = 1
+                    if (s%seg_ptr(sn + 1) > s%seg_ptr(sn)) it%slave_lp(k) = it%seg_lp(s%seg_list(s%seg_ptr(sn)))
+                end do
+                allocate (it%pair_imp(size(it%part_id), size(it%part_id), 2), &
+                          it%pair_work(size(it%part_id), size(it%part_id), 2))
+                it%pair_imp = 0
+                it%pair_work = 0
+            end associate
+        end subroutine pair_parts
 
         function node_ids(nd) result(t)
             integer, intent(in) :: nd(4)
@@ -997,9 +1042,9 @@ contains
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: v(:, :)
         real(dp), intent(in) :: dt_avg
-        integer :: i, q, k, m
-        real(wp) :: vrel(3)
-        real(dp) :: pplus
+        integer :: i, q, k, m, a, b, al
+        real(wp) :: vrel(3), vrel0(3)
+        real(dp) :: pplus, fv
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 pplus = 0
@@ -1007,7 +1052,17 @@ contains
                     k = it%pair(q)
                     m = it%hit(k)%seg
                     vrel = v(:, s%node(s%slave(k))) - matmul(v(:, s%node(s%seg(:, m))), it%hit(k)%nshape)
-                    pplus = pplus + dot_product(real(it%fpair(:, q), dp), real(vrel, dp))
+                    fv = dot_product(real(it%fpair(:, q), dp), real(vrel, dp))
+                    pplus = pplus + fv
+                    ! by part pair: the same rule, with the first half from
+                    ! v(n-1/2) (the surface velocities the search gathered)
+                    vrel0 = it%ls%vl(:, s%slave(k)) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
+                    a = it%slave_lp(k)
+                    b = it%seg_lp(m)
+                    al = merge(2, 1, it%p0(k) > 0.0_wp)
+                    it%pair_imp(a, b, al) = it%pair_imp(a, b, al) + dt_avg*norm2(real(it%fpair(:, q), dp))
+                    it%pair_work(a, b, al) = it%pair_work(a, b, al) + &
+                        0.5_dp*dt_avg*(fv + dot_product(real(it%fpair(:, q), dp), real(vrel0, dp)))
                 end do
                 it%energy = it%energy - 0.5_dp*dt_avg*(it%pminus + pplus)
             end associate
@@ -1139,9 +1194,57 @@ contains
                         '); the first ', min(it%nrel, max_named), ' named above'
                     txt = txt//trim(buf)//nl
                 end if
+                txt = txt//pair_table(it)
             end associate
         end do
     end function contact_report
+
+    !> The interface's force and work by part pair (slave part, master
+    !> part), largest impulse first: normal impulse, the work of the forces
+    !> on the slaves relative to the master (negative: resisting), and the
+    !> share of both under an allowance (initial or missed penetration).
+    function pair_table(it) result(txt)
+        type(interface_t), intent(in) :: it
+        character(len=:), allocatable :: txt
+        character(len=200) :: buf
+        character(len=1), parameter :: nl = new_line('a')
+        real(dp), allocatable :: imp(:)
+        integer, allocatable :: a(:), b(:), order(:)
+        integer :: i, j, n, q
+        txt = ''
+        if (.not. allocated(it%pair_imp)) return
+        n = size(it%part_id)
+        allocate (imp(0), a(0), b(0))
+        do j = 1, n
+            do i = 1, n
+                if (sum(it%pair_imp(i, j, :)) <= 0.0_dp) cycle
+                imp = [imp, sum(it%pair_imp(i, j, :))]
+                a = [a, i]
+                b = [b, j]
+            end do
+        end do
+        if (size(imp) == 0) return
+        call sort_index(-imp, order)   ! largest impulse first
+        write (buf, '(a,i0,a)') '   interface ', it%id, ': contact by part pair (slave part, master part; impulse '// &
+            'of the normal force, work of the forces on the slaves, negative where they resisted; under allowances)'
+        txt = txt//trim(buf)//nl
+        txt = txt//'        slave  master        impulse           work   impulse (allow.)   work (allow.)'//nl
+        do q = 1, min(size(order), 20)
+            i = a(order(q))
+            j = b(order(q))
+            write (buf, '(2i8,4es16.6)') it%part_id(i), it%part_id(j), sum(it%pair_imp(i, j, :)), &
+                sum(it%pair_work(i, j, :)), it%pair_imp(i, j, 2), it%pair_work(i, j, 2)
+            txt = txt//trim(buf)//nl
+        end do
+        if (size(order) > 20) then
+            write (buf, '(a,i0,a)') '        (', size(order) - 20, ' more pairs with less impulse)'
+            txt = txt//trim(buf)//nl
+        end if
+        ! the work of all pairs is minus the interface's sliding energy
+        write (buf, '(a,4es16.6)') '           all pairs', sum(it%pair_imp), sum(it%pair_work), &
+            sum(it%pair_imp(:, :, 2)), sum(it%pair_work(:, :, 2))
+        txt = txt//trim(buf)//nl
+    end function pair_table
 
     real(dp) function wtime()
         integer(i8) :: c, r

@@ -28,7 +28,8 @@ module xd_solver_restart
     public :: dump_meta_t, write_dump, read_dump_meta, read_dump, build_tag, dump_format
 
     !> 3: the slaves' clearances (list_gap) are kept; 4: the refused deep
-    !> contacts (count, deepest, the segment last named per slave)
+    !> contacts (count, deepest, the segment last named per slave) and the
+    !> contact's impulse and work by part pair
     integer, parameter :: dump_format = 4
 
     !> What a dump says about itself.
@@ -168,6 +169,8 @@ contains
                 call dput(r, 'nref', [it%nref], nf)
                 call dput(r, 'ref', [it%pref], nf)
                 call dput(r, 'rlast', it%rlast, nf)
+                call dput(r, 'pair_imp', [it%pair_imp], nf)
+                call dput(r, 'pair_work', [it%pair_work], nf)
                 call h5gclose_f(r, err)
             end associate
         end do
@@ -440,6 +443,8 @@ contains
                 call geti(r, 'nref', 1); if (ok()) it%nref = bi(1)
                 call getw(r, 'ref', 1); if (ok()) it%pref = bw(1)
                 call geti(r, 'rlast', size(it%rlast)); if (ok()) it%rlast = bi
+                call getd(r, 'pair_imp', size(it%pair_imp)); if (ok()) it%pair_imp = reshape(bd, shape(it%pair_imp))
+                call getd(r, 'pair_work', size(it%pair_work)); if (ok()) it%pair_work = reshape(bd, shape(it%pair_work))
                 call h5gclose_f(r, err)
             end associate
         end do
