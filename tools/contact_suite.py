@@ -2,6 +2,7 @@
 """make contact-suite: the contact torture suite (issue 16).
 
     contact_suite.py [--fast] [--only SUBSTRING] [--jobs N] [--no-report] [--list] [--report-only]
+                     [--penmax X]
 
 Generates, as a product of what a user varies, small decks whose contact
 has an answer, runs each one and holds it to that answer:
@@ -27,7 +28,9 @@ within its bound; and, where a closed form exists, the rebound velocities
 fixed wall, a plate on a free rigid block), else a bounce (the bodies
 separate). Writes doc/contact-suite.md (every case: its answer, its
 error, pass/fail, wall time) unless --fast or --no-report; exit 1 if a
-case fails. --fast runs the subset that `make check` runs.
+case fails. --fast runs the subset that `make check` runs. --penmax X
+writes PENMAX X on each contact's optional card B (a study: LS-DYNA's
+default is 0.4; with it the report is not written).
 """
 import json
 import math
@@ -179,6 +182,9 @@ def deck(case, bodies, parts, v0, endtim, contact, fixed_rigid=(), free_rigid=()
         lines += ["*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE", g.f10(1, 2, 3, 3), "", ""]
     else:
         lines += ["*CONTACT_AUTOMATIC_NODES_TO_SURFACE", g.f10(1, 2, 4, 3), "", ""]
+    if PENMAX is not None:
+        # (optional card A blank, card B PENMAX)
+        lines += ["", g.f10(PENMAX)]
     # SLSFAC: 1 for solid pairs (the interface spring about as stiff as the
     # elements: a stiff, short contact, as the aligned-bar acceptance asks);
     # LS-DYNA's default 0.1 where a shell is in contact (a shell segment's
@@ -810,8 +816,16 @@ def edges_check(d, ans):
     return out
 
 
+PENMAX = None
+
+
 def main(argv):
+    global PENMAX, OUT
     fast = "--fast" in argv
+    if "--penmax" in argv:
+        PENMAX = float(argv[argv.index("--penmax") + 1])
+        argv = argv + ["--no-report"]
+        OUT = OUT + "-penmax"
     jobs = 2
     if "--jobs" in argv:
         jobs = int(argv[argv.index("--jobs") + 1])

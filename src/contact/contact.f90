@@ -79,6 +79,7 @@ module xd_contact_contact
         real(wp) :: pref = 0                  !< the deepest of them
         integer, allocatable :: rseg(:)       !< per slave: this cycle's deepest refused segment (0: none)
         real(wp), allocatable :: rdep(:)      !< per slave: its depth
+        real(wp), allocatable :: deep(:)      !< per slave: the depth of a contact dropped beyond PENMAX (0: none)
         integer, allocatable :: rlast(:)      !< per slave: the refused segment already named (0: none)
         integer, allocatable :: evk(:)        !< per slave: this cycle's event (ev_none, ev_initial, ...)
         real(wp), allocatable :: evd(:)       !< per slave: the depth of that event
@@ -116,8 +117,10 @@ module xd_contact_contact
     !> since the last search (the excess allowed the same way); a contact
     !> released while deep; a deep contact refused, in a zone the slave was
     !> already in at the last search (a face it never crossed: no contact;
-    !> named once per slave and segment while it lasts).
-    integer, parameter :: ev_none = 0, ev_initial = 1, ev_late = 2, ev_released = 3, ev_refused = 4
+    !> named once per slave and segment while it lasts); a contact released
+    !> beyond PENMAX times the segment's thickness (counted with the deep
+    !> releases).
+    integer, parameter :: ev_none = 0, ev_initial = 1, ev_late = 2, ev_released = 3, ev_refused = 4, ev_penmax = 5
     integer, parameter :: max_named = 200   !< late and released events named per interface (all counted)
     integer, parameter :: default_interval = 100   !< longest cycles between global searches when none is given
     real(wp), parameter :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
@@ -172,6 +175,7 @@ contains
                 it%bt = c%bt
                 it%dt = c%dt
                 it%fr = friction_t(fs=c%fs, fd=c%fd, dc=c%dc, vdc=c%vdc)
+                it%ls%penmax = c%penmax
                 in_b = .false.
                 allocate (slaves(0))
                 select case (c%kind)
@@ -468,7 +472,8 @@ contains
                 n = s%nslave
                 allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n), it%p0(n))
                 allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n), it%evk(n), it%evd(n), it%ev(16), it%found(n))
-                allocate (it%rseg(n), it%rdep(n), it%rlast(n))
+                allocate (it%rseg(n), it%rdep(n), it%rlast(n), it%deep(n))
+                it%deep = 0
                 it%rseg = 0
                 it%rdep = 0
                 it%rlast = 0
@@ -527,7 +532,7 @@ contains
                 if (it%cl%search /= it%nsearch .and. allocated(it%lists%gap)) &
                     call reset_clearance(s, it%lists, it%xl, it%nsearch, it%cl)
                 call find_contacts(s, it%lists, it%ls, it%cl, it%cseg, it%fprev, it%aeff + it%p0, ct%sw, it%mine, &
-                                  it%hit, it%found, it%xl, it%rseg, it%rdep)
+                                  it%hit, it%found, it%xl, it%rseg, it%rdep, it%p0, it%deep)
             end associate
         end do
     end subroutine contact_local_search
@@ -561,7 +566,7 @@ contains
     !> slave's search run. A slave so found close is searched without a
     !> fresh bound for the next `back_off` cycles (its clearance would rarely
     !> have grown).
-    subroutine find_contacts(s, lists, ls, cl, cseg, fprev, aprev, sw, mine, hit, found, xs, rseg, rdep)
+    subroutine find_contacts(s, lists, ls, cl, cseg, fprev, aprev, sw, mine, hit, found, xs, rseg, rdep, allow, deep)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
@@ -575,6 +580,8 @@ contains
         real(wp), intent(in) :: xs(:, :)     !< surface coordinates at the last search
         integer, intent(inout) :: rseg(:)    !< per slave: deepest refused segment (0: none)
         real(wp), intent(inout) :: rdep(:)
+        real(wp), intent(in) :: allow(:)     !< per slave: its allowance (initial or missed penetration)
+        real(wp), intent(inout) :: deep(:)   !< per slave: the depth of a contact dropped beyond PENMAX (0: none)
         integer, parameter :: back_off = 8
         integer :: i, k
         logical :: clear_skip, refresh
@@ -604,7 +611,8 @@ contains
                     end if
                 end if
             end if
-            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k), xs, rseg(k), rdep(k))
+            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k), xs, rseg(k), rdep(k), &
+                              allow(k), deep(k))
             found(k) = hit(k)%found
         end do
         !$omp end parallel do
@@ -626,6 +634,7 @@ contains
         subroutine no_contact(k)
             integer, intent(in) :: k
             if (rseg(k) /= 0) rseg(k) = 0
+            if (deep(k) /= 0.0_wp) deep(k) = 0
             if (.not. found(k)) return
             hit(k)%found = .false.
             hit(k)%level = 4
@@ -747,7 +756,12 @@ contains
                 ! node's relative motion could undo in one step
                 m = it%cseg(k)
                 vrel = it%ls%vl(:, sn) - sum(it%ls%vl(:, s%seg(:, m)), 2)/4.0_wp
-                if (it%aeff(k) > 2.0_wp*dt*norm2(vrel) + 1.0e-3_wp*s%seg_t(m)) then
+                if (it%deep(k) > 0.0_wp) then
+                    ! beyond PENMAX times the thickness: released, passes
+                    it%evk(k) = ev_penmax
+                    it%evd(k) = it%deep(k)
+                    it%hit(k)%seg = m
+                else if (it%aeff(k) > 2.0_wp*dt*norm2(vrel) + 1.0e-3_wp*s%seg_t(m)) then
                     it%evk(k) = ev_released
                     it%evd(k) = it%aeff(k)
                     it%hit(k)%seg = m
@@ -887,6 +901,7 @@ contains
                         case (ev_initial); what = 'initial penetration (allowed)'
                         case (ev_late); what = 'missed contact (entered since the search) deeper than a step: excess allowed'
                         case (ev_refused); what = 'deep under a face it did not cross since the search: no contact'
+                        case (ev_penmax); what = 'contact released beyond PENMAX times the thickness'
                         case default; what = 'contact released deep'
                         end select
                         nd = 0
@@ -1122,6 +1137,11 @@ contains
                         maxval(s%seg_t), '   penalty stiffness min/max', minval(s%seg_k), maxval(s%seg_k)
                     txt = txt//trim(buf)//nl
                 end if
+                if (it%ls%penmax > 0.0_wp) then
+                    write (buf, '(a,es10.3,a)') '     PENMAX ', it%ls%penmax, ': a contact deeper than this times its '// &
+                        'segment''s thickness (beyond any allowance) is released'
+                    txt = txt//trim(buf)//nl
+                end if
                 if (it%adaptive) then
                     write (buf, '(a,es11.3,a,es11.3,a)') '     global search adaptive: again when 4u > delta = ', &
                         it%margin, ' (reach t_c ', it%reach, ')'
@@ -1190,7 +1210,7 @@ contains
                 end if
                 if (it%nrel > 0) then
                     write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%nrel, &
-                        ' contacts released while deeper than one step can undo (deepest ', it%prel, &
+                        ' contacts released deep (deeper than one step can undo, or beyond PENMAX; deepest ', it%prel, &
                         '); the first ', min(it%nrel, max_named), ' named above'
                     txt = txt//trim(buf)//nl
                 end if

@@ -37,6 +37,9 @@ module xd_contact_local_search
         !> the first active cycle: every contact found is an initial
         !> penetration (no depth is refused)
         logical :: first = .false.
+        !> PENMAX: a contact deeper than penmax times its segment's thickness
+        !> (beyond the allowance it holds) is none (0: the zone's own limit)
+        real(wp) :: penmax = 0
     end type local_search_t
 
     !> Per slave, a lower bound of its clearance (as master_lists_t%gap:
@@ -75,7 +78,12 @@ contains
     !> other flank, a node inside a body's corner under the far face): no
     !> contact. The deepest refused segment and its depth come back in
     !> `refused` and `refused_depth` (0: none).
-    subroutine find_contact(s, lists, ls, i, oldseg, fprev, aprev, sw, best, xs, refused, refused_depth)
+    !>
+    !> With PENMAX (ls%penmax > 0), a segment that holds the slave deeper than
+    !> penmax times its thickness (less `allow`, the slave's allowance, on
+    !> the old segment) holds no contact: the node is released and passes.
+    subroutine find_contact(s, lists, ls, i, oldseg, fprev, aprev, sw, best, xs, refused, refused_depth, allow, &
+                            beyond)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
@@ -87,11 +95,14 @@ contains
         real(wp), intent(in), optional :: xs(:, :)   !< surface coordinates at the last global search
         integer, intent(out), optional :: refused
         real(wp), intent(out), optional :: refused_depth
+        real(wp), intent(in), optional :: allow      !< the slave's allowance on oldseg
+        real(wp), intent(out), optional :: beyond    !< the depth of a contact dropped beyond PENMAX (0: none)
         type(hit_t) :: hit
         integer :: sn, want, j, k, m, mn, cnode, nsolid_miss, ntried, rseg
         integer :: tried(max_tried)
         real(wp) :: ts, cv(3), rdep
         logical :: have_v, interior
+        real(wp) :: deep
 
         sn = s%slave(i)
         ts = 0.5_wp*s%node_t(sn)
@@ -102,13 +113,14 @@ contains
         ntried = 0
         rseg = 0
         rdep = 0
+        deep = 0
 
         if (oldseg > 0) then
             ! the old segment: done if the contact point is inside it (and, on
             ! a shell, not within a half-thickness of its border)
             call check(oldseg, hit)
             if (hit%found) then
-                if (in_plane_own(oldseg, hit)) hit%found = .false.
+                if (in_plane_own(oldseg, hit) .or. too_deep(hit)) hit%found = .false.
             end if
             interior = hit%found .and. hit%kind == contact_interior .and. .not. grazing(hit)
             if (interior .and. .not. (s%seg_kind(oldseg) == seg_shell .and. hit%near_border)) then
@@ -176,6 +188,10 @@ contains
         subroutine report_refused()
             if (present(refused)) refused = rseg
             if (present(refused_depth)) refused_depth = rdep
+            if (present(beyond)) then
+                beyond = 0
+                if (.not. best%found) beyond = deep
+            end if
         end subroutine report_refused
 
         !> At the last global search the slave lay outside segment m's
@@ -231,7 +247,7 @@ contains
             end if
             call check(m, h)
             if (h%found) then
-                if (in_plane_own(m, h)) return
+                if (in_plane_own(m, h) .or. too_deep(h)) return
                 ! deeper than the slave can have gone since last cycle, in a
                 ! zone it did not enter since the search: not its contact
                 if (.not. ls%first .and. m /= oldseg .and. h%gap == 0.0_wp) then
@@ -429,6 +445,19 @@ contains
             type(hit_t), intent(in) :: h
             grazing = abs(h%a) <= 1.0e-5_wp*h%tm
         end function grazing
+
+        !> Deeper than PENMAX times the segment's thickness, beyond the
+        !> allowance the slave holds on its old segment.
+        logical function too_deep(h)
+            type(hit_t), intent(in) :: h
+            real(wp) :: p0
+            too_deep = .false.
+            if (ls%penmax <= 0.0_wp) return
+            p0 = 0
+            if (h%seg == oldseg .and. present(allow)) p0 = allow
+            too_deep = abs(h%a) - p0 > ls%penmax*s%seg_t(h%seg)
+            if (too_deep) deep = max(deep, abs(h%a))
+        end function too_deep
 
         !> A solid contact deeper than half its window.
         logical function beyond_half(h)

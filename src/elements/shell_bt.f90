@@ -231,38 +231,33 @@ contains
         real(wp) :: xe(3, 4), e1(3), e2(3), e3(3), xc(3), xl(4), yl(4), zl(4), a, b1(4), b2(4), vl(3, 4), wl(3, 4)
         real(wp) :: dx, dy, dxy, kx, ky, kxy, gxz, gyz, qe, ge, z, dd(5), s(5), sold(5)
         real(wp) :: nres(3), mres(3), qres(2), f(3, 4), m(3, 4), gam(4), hx, hy, qd(5), bb, c, ls, hh, wx, wy, gamz
-        real(wp) :: dzz, dzz_mean
+        real(wp) :: dzz, dzz_mean, am, b1m(4), b2m(4)
         real(dp) :: pold, pnew
         integer :: k, ip, nip, nn
         logical :: ok
         real(wp), parameter :: quarter = 0.25_wp
-        do k = 1, 4
-            xe(:, k) = x(:, sh%conn(k, e))
-        end do
         nn = 4
         if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
-        call shell_frame(xe, nn == 3, e1, e2, e3, ok)
+        ! The rates v(n-1/2) are taken on the mid-step geometry x(n-1/2) =
+        ! x(n) - dt/2 v(n-1/2), the forces on x(n). (Rates on x(n) see a
+        ! rigid turn of theta per step as a membrane strain of order
+        ! theta^2, always of one sign: a clamped elastic plate vibrating at a
+        ! few degrees gained 22% energy in 200 us and one at ten degrees blew
+        ! up; on the mid-step geometry 0.1%.)
+        do k = 1, 4
+            xe(:, k) = x(:, sh%conn(k, e)) - 0.5_wp*dt*v(:, sh%conn(k, e))
+        end do
+        call local_geometry(ok)
         if (.not. ok) then
             dte = -1
             return
         end if
-        xc = sum(xe, 2)/4
         do k = 1, 4
-            xl(k) = dot_product(xe(:, k) - xc, e1)
-            yl(k) = dot_product(xe(:, k) - xc, e2)
-            zl(k) = dot_product(xe(:, k) - xc, e3)
             vl(:, k) = [dot_product(v(:, sh%conn(k, e)), e1), dot_product(v(:, sh%conn(k, e)), e2), &
                         dot_product(v(:, sh%conn(k, e)), e3)]
             wl(:, k) = [dot_product(w(:, sh%conn(k, e)), e1), dot_product(w(:, sh%conn(k, e)), e2), &
                         dot_product(w(:, sh%conn(k, e)), e3)]
         end do
-        a = 0.5_wp*((xl(3) - xl(1))*(yl(4) - yl(2)) + (xl(2) - xl(4))*(yl(3) - yl(1)))
-        if (.not. (a > 0.0_wp)) then
-            dte = -1
-            return
-        end if
-        b1 = [yl(2) - yl(4), yl(3) - yl(1), yl(4) - yl(2), yl(1) - yl(3)]/(2*a)
-        b2 = [xl(4) - xl(2), xl(1) - xl(3), xl(2) - xl(4), xl(3) - xl(1)]/(2*a)
         ! membrane, bending and transverse shear rates (BT 1984)
         dx = sum(b1*vl(1, :))
         dy = sum(b2*vl(2, :))
@@ -309,6 +304,26 @@ contains
         ! internal energy: the rule of the solids (work f(n).(v- + v+)/2 dt_avg)
         sh%eint(e) = sh%eint(e) + dt_avg_prev*(sh%pend_int(e) + 0.5_dp*pold*a)
         sh%pend_int(e) = 0.5_dp*pnew*a
+        ! the hourglass rates on the mid-step geometry too
+        hx = dot_product(hv, xl)
+        hy = dot_product(hv, yl)
+        gam = hv - hx*b1 - hy*b2
+        wx = sum(b2*vl(3, :))
+        wy = -sum(b1*vl(3, :))
+        qd = [dot_product(gam, wl(1, :)), dot_product(gam, wl(2, :)), dot_product(gam, vl(3, :)), &
+              dot_product(gam, vl(1, :) - wy*zl), dot_product(gam, vl(2, :) + wx*zl)]
+        am = a
+        b1m = b1
+        b2m = b2
+        ! the forces: on x(n)
+        do k = 1, 4
+            xe(:, k) = x(:, sh%conn(k, e))
+        end do
+        call local_geometry(ok)
+        if (.not. ok) then
+            dte = -1
+            return
+        end if
         ! nodal forces and moments (local): minus the derivatives of the power
         do k = 1, 4
             f(1, k) = -a*(b1(k)*nres(1) + b2(k)*nres(3))
@@ -327,23 +342,19 @@ contains
         ! turning as a rigid body strained its membrane hourglass springs (a
         ! warped patch spinning free stored 1.4% of its kinetic energy in
         ! them; the tube crush's mean force was 49.1 kN, now 41.5 kN)
-        hx = dot_product(hv, xl)
-        hy = dot_product(hv, yl)
-        gam = hv - hx*b1 - hy*b2
-        bb = sum(b1**2 + b2**2)
-        wx = sum(b2*vl(3, :))
-        wy = -sum(b1*vl(3, :))
-        gamz = dot_product(gam, zl)
-        qd = [dot_product(gam, wl(1, :)), dot_product(gam, wl(2, :)), dot_product(gam, vl(3, :)), &
-              dot_product(gam, vl(1, :) - wy*zl), dot_product(gam, vl(2, :) + wx*zl)]
+        bb = sum(b1m**2 + b2m**2)
         c = sh%qm(e)
         pold = dot_product(real(sh%qhg(:, e), dp), real(qd, dp))
-        sh%qhg(1:2, e) = sh%qhg(1:2, e) + dt*c*sh%e(e)*hh**3*a/192*bb*qd(1:2)
+        sh%qhg(1:2, e) = sh%qhg(1:2, e) + dt*c*sh%e(e)*hh**3*am/192*bb*qd(1:2)
         sh%qhg(3, e) = sh%qhg(3, e) + dt*c*sh%shrf(e)*ge*hh**3/12*bb*qd(3)
-        sh%qhg(4:5, e) = sh%qhg(4:5, e) + dt*c*sh%e(e)*hh*a/8*bb*qd(4:5)
+        sh%qhg(4:5, e) = sh%qhg(4:5, e) + dt*c*sh%e(e)*hh*am/8*bb*qd(4:5)
         pnew = dot_product(real(sh%qhg(:, e), dp), real(qd, dp))
         sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold)
         sh%pend_hg(e) = 0.5_dp*pnew
+        hx = dot_product(hv, xl)
+        hy = dot_product(hv, yl)
+        gam = hv - hx*b1 - hy*b2
+        gamz = dot_product(gam, zl)
         do k = 1, 4
             m(1, k) = m(1, k) - gam(k)*sh%qhg(1, e)
             m(2, k) = m(2, k) - gam(k)*sh%qhg(2, e)
@@ -366,6 +377,24 @@ contains
             ls = max(ls, norm2(xe(:, mod(k, 4) + 1) - xe(:, k)))
         end do
         dte = a/ls/sqrt(sh%e(e)/(sh%ro(e)*(1 - sh%nu(e)**2)))
+    contains
+        !> The element's frame, local coordinates, area and derivatives on xe.
+        subroutine local_geometry(good)
+            logical, intent(out) :: good
+            call shell_frame(xe, nn == 3, e1, e2, e3, good)
+            if (.not. good) return
+            xc = sum(xe, 2)/4
+            do k = 1, 4
+                xl(k) = dot_product(xe(:, k) - xc, e1)
+                yl(k) = dot_product(xe(:, k) - xc, e2)
+                zl(k) = dot_product(xe(:, k) - xc, e3)
+            end do
+            a = 0.5_wp*((xl(3) - xl(1))*(yl(4) - yl(2)) + (xl(2) - xl(4))*(yl(3) - yl(1)))
+            good = a > 0.0_wp
+            if (.not. good) return
+            b1 = [yl(2) - yl(4), yl(3) - yl(1), yl(4) - yl(2), yl(1) - yl(3)]/(2*a)
+            b2 = [xl(4) - xl(2), xl(1) - xl(3), xl(2) - xl(4), xl(3) - xl(1)]/(2*a)
+        end subroutine local_geometry
     end subroutine shell_element
 
     !> Plane stress plasticity at one point: the 3-D radial return with the

@@ -1,5 +1,6 @@
 !> Readers for the contact keywords: *CONTACT_... (cards 1-3, optional card
-!> A; cards B-G are read and ignored), *CONTROL_CONTACT and xdyna's own
+!> A; PENMAX of card B and IGNORE of card C; the other fields of cards B-G
+!> are read and named as ignored), *CONTROL_CONTACT and xdyna's own
 !> *CONTROL_XDYNA_CONTACT (the search and enforcement policies the paper
 !> discusses).
 module xd_input_read_contacts
@@ -205,8 +206,33 @@ contains
                     call get_card(ctx, kw, k, 'F1 F2 F3 F4 F5 F6 F7 F8', k - ic + 1, card, error)
                 end select
                 if (allocated(error)) return
-                call ignored_fields(model, card, [1, 2, 3, 4, 5, 6, 7, 8], 'optional cards B-G are not used by '// &
-                                    'xdyna (its own thickness, penetration and initial-overlap rules); ignored')
+                select case (k - ic - 3)
+                case (1)
+                    ! PENMAX: the release depth as a multiple of the segment's
+                    ! thickness
+                    call get_real(card, 1, c%penmax, 0.0_wp, error); if (allocated(error)) return
+                    if (c%penmax < 0.0_wp) then
+                        call card_error(card, 1, 'PENMAX (release depth over the segment thickness) must not be '// &
+                                        'negative', error)
+                        return
+                    end if
+                    call ignored_fields(model, card, [2, 3, 4, 5, 6, 7, 8], 'not used by xdyna''s automatic '// &
+                                        'contact (its thickness and stiffness rules are SSTHK, SST/MST and SOFT 0); '// &
+                                        'ignored')
+                case (2)
+                    call get_int(card, 2, c%ignore, 0, error); if (allocated(error)) return
+                    if (c%ignore < 0 .or. c%ignore > 2) then
+                        call card_error(card, 2, 'IGNORE '//itoa(c%ignore)//' is not 0 (*CONTROL_CONTACT''s), 1 '// &
+                                        '(track initial penetrations) or 2 (track and name the coordinates that '// &
+                                        'remove them); 3, 4 and negative values are for mortar contact', error)
+                        return
+                    end if
+                    call ignored_fields(model, card, [1, 3, 4, 5, 6, 7, 8], 'not used by xdyna''s automatic '// &
+                                        'contact; ignored')
+                case default
+                    call ignored_fields(model, card, [1, 2, 3, 4, 5, 6, 7, 8], 'optional cards D-G are not used by '// &
+                                        'xdyna''s automatic contact; ignored')
+                end select
             end do
         end if
 
@@ -270,9 +296,7 @@ contains
                     return
                 end if
             end if
-            ! cards 3-7: every field set is named, but IGNORE 1 (initial
-            ! penetrations kept and released as the nodes move out), which is
-            ! what xdyna does
+            ! cards 3-7: every field set is named, but IGNORE (card 4)
             do k = 3, kw%ncard
                 select case (k)
                 case (3)
@@ -289,8 +313,13 @@ contains
                 end select
                 if (allocated(error)) return
                 if (k == 4) then
-                    call ignored_fields(model, card, [1], 'xdyna keeps initial penetrations and releases them as '// &
-                                        'the nodes move out (IGNORE 1); other values are not implemented', keep='1')
+                    call get_int(card, 1, cc%ignore, 0, error); if (allocated(error)) return
+                    if (cc%ignore < 0 .or. cc%ignore > 2) then
+                        call card_error(card, 1, 'IGNORE '//itoa(cc%ignore)//' is not 0 (move slave nodes out of '// &
+                                        'initial penetrations), 1 (track them) or 2 (track them and name the '// &
+                                        'coordinates that remove them)', error)
+                        return
+                    end if
                     call ignored_fields(model, card, [2, 3, 4, 5, 6, 7, 8], 'not used by xdyna; ignored')
                 else
                     call ignored_fields(model, card, [1, 2, 3, 4, 5, 6, 7, 8], 'not used by xdyna; ignored')

@@ -21,6 +21,7 @@ program xdyna
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
     use xd_contact_rigidwall, only: walls_t, build_walls
     use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses
+    use xd_contact_initial_penetration, only: initial_penetrations
     use xd_core_strings, only: join_path, out_path
     use xd_core_files, only: make_dirs
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
@@ -62,7 +63,7 @@ program xdyna
     type(dump_meta_t) :: meta
     type(history_marks_t) :: hmarks
     type(states_marks_t) :: smarks
-    character(len=:), allocatable :: dump_error, wall_notes
+    character(len=:), allocatable :: dump_error, wall_notes, moved_note
     logical :: outdir_given
     real(dp) :: wallclock
     type(run_result_t) :: res
@@ -71,7 +72,7 @@ program xdyna
     logical :: check_only, ok
     character(len=:), allocatable :: memory_note, hold, step_note
     real(dp) :: endtim_cli
-    integer :: i, k, ncpu, nfree, nparts, endcyc_cli
+    integer :: i, k, ncpu, nfree, nparts, endcyc_cli, nmoved
     integer :: h5plot                !< h5plot= (or XDYNA_H5PLOT): 1 also d3plot.h5, 0 not, -1 the deck's
     integer :: xfactor               !< x=: d3plot member size in 262,144 words (0: the deck's)
 
@@ -197,6 +198,23 @@ program xdyna
         call say(model%deck_path//': '//error%message)
         call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
         call finish(exit_input)
+    end if
+    ! IGNORE 0: slave nodes moved out of initial penetrations (the moves
+    ! named in d3hsp); the mesh is then set up again from the moved nodes
+    call initial_penetrations(model, st%v, st%mass, moved_note, nmoved, error)
+    if (allocated(error)) then
+        call say(error%message)
+        call log_line(lg, ' *** Error: '//error%message)
+        call finish(exit_input)
+    end if
+    if (len(moved_note) > 0) call log_line(lg, moved_note)
+    if (nmoved > 0) then
+        call setup_run(model, maps%hex, st, solids, asm, rg, sh, asm_sh, nfree, error, step_note)
+        if (allocated(error)) then
+            call say(model%deck_path//': '//error%message)
+            call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
+            call finish(exit_input)
+        end if
     end if
     if (len(step_note) > 0) call add_warning(model, step_note)
     call build_walls(model, st%x0, walls, wall_notes)

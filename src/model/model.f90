@@ -252,6 +252,13 @@ module xd_model
         real(wp) :: sst = 0, mst = 0             !< shell thickness overrides (0: true thickness)
         real(wp) :: sfst = 1, sfmt = 1           !< shell thickness scale factors
         integer :: bsort = 0                     !< cycles between global searches (0: control value)
+        !> optional card B PENMAX: a contact deeper than PENMAX times the
+        !> segment's thickness is released (0: xdyna's own window, below)
+        real(wp) :: penmax = 0
+        !> optional card C IGNORE: 0 takes *CONTROL_CONTACT's; 1 tracks
+        !> initial penetrations, 2 tracks them and names the coordinates
+        !> that would remove them
+        integer :: ignore = 0
         integer :: src = 0
         character(len=200) :: at = ''            !< 'file:line' of card 1, for set-up errors
     end type contact_t
@@ -264,6 +271,11 @@ module xd_model
         !> thickness is limited to 40% of the element's shortest edge (unless
         !> SST/MST give it); 1, the shell's own thickness
         integer :: ssthk = 0
+        !> IGNORE of card 4: 0 moves slave nodes out of initial penetrations
+        !> at t = 0 (LS-DYNA's default); 1 tracks them (allowed, shrinking
+        !> as the nodes move out); 2 tracks them and names the coordinates
+        !> that would remove them
+        integer :: ignore = 0
         integer :: search = search_fixed          !< interval policy
         integer :: nsrch = 0                      !< fixed interval from *CONTROL_XDYNA_CONTACT (0: NSBCS)
         integer :: mnl = mnl_minimal              !< master node list policy

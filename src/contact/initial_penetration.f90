@@ -1,0 +1,193 @@
+!> Initial penetrations, before the run is set up (LS-DYNA's IGNORE, of
+!> *CONTROL_CONTACT card 4 and, per interface, of *CONTACT optional card
+!> C, which wins where it is not 0):
+!>
+!> - IGNORE 0 (the default): slave nodes found inside a segment's contact
+!>   zone at t = 0 are moved out along the contact's return direction, by
+!>   their depth, so that the run starts with no penetration and no
+!>   allowance. The four steps run on the initial coordinates as they will
+!>   at cycle 0; the moves are made, and the search repeated, until none is
+!>   left (at most max_pass passes; what is left then is tracked as under
+!>   IGNORE 1, and named). Where a node of the segment moves the other way
+!>   in the same pass (two sheets that overlap, each the other's master in
+!>   a single-surface contact), each side moves half its depth. A node of a rigid body is not
+!>   moved (the body's shape is its own): its penetration is tracked.
+!> - IGNORE 1: nothing is moved; the first cycle allows each penetration
+!>   found and the allowance shrinks as the node moves out.
+!> - IGNORE 2: as 1, and each penetrating node is named with its
+!>   coordinates and the coordinates that would remove the penetration.
+!>
+!> Every node moved or named is written to d3hsp with its interface, the
+!> segment, the depth and both coordinates. The coordinates changed are
+!> the model's initial ones: the mesh, the states and the masses all start
+!> from them (a stress-free start, as LS-DYNA's).
+module xd_contact_initial_penetration
+    use xd_kinds, only: wp, dp
+    use xd_core_errors, only: error_t
+    use xd_core_strings, only: itoa
+    use xd_model, only: model_t
+    use xd_contact_contact, only: contacts_t, build_contacts, contact_masses, contact_search, contact_local_search
+    use xd_contact_enforcement, only: pdir
+    implicit none
+    private
+    public :: initial_penetrations
+
+    integer, parameter :: max_pass = 30   !< searches and moves at most
+    integer, parameter :: max_named = 2000   !< nodes named per interface (all counted)
+
+contains
+
+    !> The IGNORE rule of each interface applied to model%x0; `txt` is what
+    !> d3hsp takes (empty when no interface has a penetration to move or
+    !> name).
+    subroutine initial_penetrations(model, v, mass, txt, nmoved_all, error)
+        type(model_t), intent(inout) :: model
+        !> the initial velocities and nodal masses (the local search picks a
+        !> node's segment as cycle 0 will, by the velocity where several
+        !> hold it)
+        real(wp), intent(in) :: v(:, :), mass(:)
+        character(len=:), allocatable, intent(out) :: txt
+        integer, intent(out) :: nmoved_all   !< nodes moved (their coordinates changed)
+        type(error_t), allocatable, intent(out) :: error
+        type(contacts_t) :: ct
+        real(wp), allocatable :: x(:, :), dx(:, :), depth(:), depth1(:)
+        integer, allocatable :: rule(:), by(:), by1(:), seg_of(:, :), nmoved(:), nnamed(:), nlisted(:)
+        real(wp), allocatable :: deepest(:)
+        logical, allocatable :: moving(:), first_seen(:)
+        integer :: i, k, pass, n, nd, m, j, sn
+        real(wp) :: f, a
+        character(len=300) :: buf
+        txt = ''
+        nmoved_all = 0
+        if (model%ncontact == 0) return
+        allocate (rule(model%ncontact))
+        do i = 1, model%ncontact
+            rule(i) = model%contact(i)%ignore
+            if (rule(i) == 0) rule(i) = model%ctl%contact%ignore
+        end do
+        if (all(rule == 1)) return
+        n = model%nnode
+        x = model%x0(:, 1:n)
+        allocate (dx(3, n), depth(n), depth1(n), by(n), by1(n), seg_of(4, n), moving(n), first_seen(n))
+        allocate (nmoved(model%ncontact), nnamed(model%ncontact), nlisted(model%ncontact), deepest(model%ncontact))
+        first_seen = .false.
+        nmoved = 0
+        nnamed = 0
+        deepest = 0
+        do pass = 1, max_pass + 1
+            call build_contacts(model, x, ct, error)
+            if (allocated(error)) return
+            call contact_masses(ct, mass)
+            call contact_search(ct, x, model%node_id, 0, 0.0_dp)
+            call contact_local_search(ct, x, v, 0.0_dp, 0.0_wp)
+            ! this pass's moves: each penetrating slave's depth and return
+            ! direction (a node that is a slave of several interfaces: its
+            ! deepest penetration)
+            depth = 0
+            by = 0
+            do i = 1, ct%n
+                associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                    if (.not. it%active .or. rule(i) == 1) cycle
+                    do k = 1, s%nslave
+                        if (.not. it%hit(k)%found) cycle
+                        ! the depth |a|; the slave goes out along nhat pdir(a)
+                        a = -abs(it%hit(k)%a)
+                        if (a >= 0.0_wp) cycle
+                        sn = s%slave(k)
+                        nd = s%node(sn)
+                        m = it%hit(k)%seg
+                        if (pass == 1) then
+                            deepest(i) = max(deepest(i), -a)
+                            if (rule(i) == 2 .or. s%node_rigid(sn)) then
+                                ! named, not moved
+                                nnamed(i) = nnamed(i) + 1
+                                if (nnamed(i) <= max_named) then
+                                    write (buf, '(a,i0,a,i0,a,4(1x,i0),a,es11.4,a,3es14.6,a,a,3es14.6)') &
+                                        '   interface ', it%id, ': node ', model%node_id(nd), ' initially inside segment', &
+                                        model%node_id(s%node(s%seg(:, m))), ' by ', -a, ': at', x(:, nd), &
+                                        trim(merge(' (a rigid body''s node, not moved)', &
+                                                   ' (IGNORE 2, tracked)             ', s%node_rigid(sn))), &
+                                        '; out at', x(:, nd) - a*pdir(it%hit(k)%a)*it%hit(k)%nhat
+                                    call add_line(trim(buf))
+                                end if
+                                cycle
+                            end if
+                        end if
+                        if (rule(i) == 2 .or. s%node_rigid(sn)) cycle
+                        if (-a > depth(nd)) then
+                            depth(nd) = -a
+                            dx(:, nd) = pdir(it%hit(k)%a)*it%hit(k)%nhat
+                            by(nd) = i
+                            if (.not. first_seen(nd)) seg_of(:, nd) = model%node_id(s%node(s%seg(:, m)))
+                        end if
+                    end do
+                end associate
+            end do
+            moving = depth > 0.0_wp
+            if (.not. any(moving)) exit
+            if (pass > max_pass) then
+                ! (the last search only counts what is left)
+                write (buf, '(a,i0,a,i0,a,es11.4,a)') '   initial penetrations: ', count(moving), ' nodes still '// &
+                    'inside a segment after ', max_pass, ' passes of moves (deepest ', maxval(depth), '): tracked from '// &
+                    'the first cycle as under IGNORE 1 (each named there)'
+                call add_line(trim(buf))
+                exit
+            end if
+            ! the moves: half the depth where the segment moves too
+            do i = 1, ct%n
+                associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                    do k = 1, s%nslave
+                        nd = s%node(s%slave(k))
+                        if (by(nd) /= i .or. .not. moving(nd)) cycle
+                        if (.not. it%hit(k)%found) cycle
+                        m = it%hit(k)%seg
+                        f = 1.0_wp
+                        do j = 1, 4
+                            if (.not. moving(s%node(s%seg(j, m)))) cycle
+                            if (dot_product(dx(:, s%node(s%seg(j, m))), dx(:, nd)) < 0.0_wp) f = 0.5_wp
+                        end do
+                        ! (a hair beyond the surface: round-off leaves none)
+                        x(:, nd) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(k)%tm)*dx(:, nd)
+                        if (.not. first_seen(nd)) then
+                            first_seen(nd) = .true.
+                            nmoved(i) = nmoved(i) + 1
+                            depth1(nd) = depth(nd)
+                            by1(nd) = i
+                        end if
+                    end do
+                end associate
+            end do
+        end do
+        ! each node moved: named with its first penetration and the total move
+        nlisted = 0
+        do nd = 1, n
+            if (.not. first_seen(nd)) cycle
+            i = by1(nd)
+            nlisted(i) = nlisted(i) + 1
+            if (nlisted(i) > max_named) cycle
+            write (buf, '(a,i0,a,i0,a,4(1x,i0),a,es11.4,a,es11.4,a,3es14.6,a,3es14.6)') '   interface ', &
+                model%contact(i)%id, ': node ', model%node_id(nd), ' initially inside segment', seg_of(:, nd), ' by ', &
+                depth1(nd), ', moved out (IGNORE 0) by ', norm2(x(:, nd) - model%x0(:, nd)), ': from', &
+                model%x0(:, nd), ' to', x(:, nd)
+            call add_line(trim(buf))
+        end do
+        do i = 1, model%ncontact
+            if (nmoved(i) + nnamed(i) == 0) cycle
+            write (buf, '(a,i0,a,i0,a,i0,a,es11.4,a)') '   interface ', model%contact(i)%id, ': ', nmoved(i), &
+                ' slave nodes moved out of initial penetrations (IGNORE 0), ', nnamed(i), &
+                ' named and tracked (IGNORE 2 or rigid); deepest ', deepest(i), ' (every node is listed above up to '// &
+                itoa(max_named)//')'
+            call add_line(trim(buf))
+        end do
+        if (len(txt) > 0) txt = ' I n i t i a l   p e n e t r a t i o n s'//new_line('a')//txt
+        model%x0(:, 1:n) = x
+        nmoved_all = count(first_seen)
+    contains
+        subroutine add_line(line)
+            character(len=*), intent(in) :: line
+            if (len(txt) > 0) txt = txt//new_line('a')
+            txt = txt//line
+        end subroutine add_line
+    end subroutine initial_penetrations
+
+end module xd_contact_initial_penetration
