@@ -607,16 +607,17 @@ EXCEPTIONS = [
     (r"^(plates|shell_on_block)_.*_(1to3|3to1)_", "non-matching meshes: node-to-segment forces are not uniform "
                                                    "(the patch test's corner excess), so the plates bend and keep "
                                                    "vibration energy"),
-    (r"^edge_on_face_.*_lag_.*_t(0.5|1)mm", "Lagrangian projection on a shell edge: the constraint absorbs 7-16% of "
-                                             "the rebound, more with thickness; not understood yet (open)"),
     (r"^plates_(s2s_pen_rand_1to1_k4_v10_t0.1mm|single_pen_node_1to1_k4_v10_t1mm_rotz15)$",
      "the contact creates 2.3-2.8% of the impact energy at overhanging corners and tube contacts (open)"),
     (r"^bars_single_lag_rand_1to1_k2_v10_n40$", "5.5% against 5%: the Lagrangian bar's own error at 40 elements is "
                                                  "3.4%, the random mesh adds 2 points"),
     (r"^shell_on_block_single_lag_node_1to1_k4_v(100|1000)_t1mm$", "Lagrangian projection against a free rigid "
-                                                                   "body at 100 and 1000 m/s: the total momentum drifts "
-                                                                   "by 9-13% (open: not understood; at 1 and 10 m/s it "
-                                                                   "holds to round-off)"),
+                                                                   "body at 100 and 1000 m/s: the bodies end at the "
+                                                                   "common velocity (-50 and -50, -500 and -500 m/s, "
+                                                                   "exact), but the parts' total momentum in matsum "
+                                                                   "departs from its initial value by 14-17% during "
+                                                                   "the one or two steps of the impact (open: not "
+                                                                   "understood; at 1 and 10 m/s it holds to round-off)"),
 ]
 
 
@@ -898,10 +899,17 @@ def main(argv):
     print(f"contact suite: {len(results) - nfail} of {len(results)} cases pass, {nexc} listed exceptions, "
           f"{nfail - nexc} unexplained failures ({time.time() - t0:.0f} s)")
     crush = None
+    crush_saved = os.path.join(OUT, "crush.json")
+    if "--report-only" in argv and os.path.exists(crush_saved):
+        # (the crush family's rows of the last full run)
+        with open(crush_saved) as f:
+            crush = json.load(f)
     if not fast and "--only" not in argv and "--report-only" not in argv:
         # the crush family (tools/crush_family.py): tubes against
         # Abramowicz and Jones, with the contact and without
         crush = crush_family.run_family(jobs)
+        with open(crush_saved, "w") as f:
+            json.dump(crush, f, default=float)
         ncr = sum(1 for r in crush if r["ok"])
         print(f"crush family: {ncr} of {len(crush)} tubes within {crush_family.BAND:.0%} of Abramowicz and Jones "
               f"(table in {os.path.relpath(REPORT, ROOT)})")

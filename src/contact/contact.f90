@@ -27,7 +27,8 @@ module xd_contact_contact
     use xd_contact_segment_check, only: hit_t, contact_interior
     use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t, clearance_t, &
                                        reset_clearance, fresh_clearance
-    use xd_contact_enforcement, only: friction_t, penalty_force, lagrange_projection, slave_stiffness, pdir
+    use xd_contact_enforcement, only: friction_t, penalty_force, lagrange_projection, slave_stiffness, pdir, &
+                                      body_response_t
     !$ use omp_lib, only: omp_get_wtime
     use xd_core_sorting, only: where_true, sort_index
     use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_dp
@@ -645,12 +646,15 @@ contains
     !> Step 4: penalty forces of the contacts found, added to f on the slave
     !> and (by the shape functions) the master nodes in slave order, so the
     !> sums do not depend on threads; the first half of their work.
-    subroutine contact_enforce(ct, f, dt, dt_avg, mass, free, time)
+    subroutine contact_enforce(ct, f, dt, dt_avg, mass, free, time, br)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(inout) :: f(:, :)
         real(wp), intent(in) :: dt, dt_avg
         real(wp), intent(in) :: mass(:), free(:, :)
         real(dp), intent(in) :: time
+        !> Lagrangian projection: how the rigid bodies answer an impulse
+        !> (where the model has any)
+        type(body_response_t), intent(in), optional :: br
         integer :: i, k, j, sn, m, q, i2
         real(wp) :: vrel(3), fs(3)
         real(dp) :: t0
@@ -701,7 +705,8 @@ contains
                     it%fpair(:, it%npair) = it%fk(:, k)
                 end do
                 if (ct%lagrange .and. it%npair > 0) call lagrange_projection(s, it%npair, it%pair, it%hit, it%fpair, &
-                                                                      it%ls%vl, it%fr, f, mass, free, dt, dt_avg)
+                                                                      it%ls%xl, it%ls%vl, it%fr, f, mass, free, dt, &
+                                                                      dt_avg, br)
                 ! both sides, in slave order (a deterministic sum)
                 do q = 1, it%npair
                     k = it%pair(q)

@@ -12,13 +12,23 @@ module xd_contact_enforcement
     use xd_contact_surface, only: surface_t, seg_shell, seg_nodes, seg_normal
     implicit none
     private
-    public :: friction_t, penalty_force, lagrange_projection, slave_stiffness, facing_area, pdir
+    public :: friction_t, penalty_force, lagrange_projection, slave_stiffness, facing_area, pdir, body_response_t
 
     !> Card 2 of the contact keyword.
     type :: friction_t
         real(wp) :: fs = 0, fd = 0, dc = 0   !< static, dynamic coefficients; decay (time/length)
         real(wp) :: vdc = 0                  !< viscous damping, % of critical
     end type friction_t
+
+    !> How the rigid bodies answer an impulse (for the Lagrangian projection):
+    !> each model node's body (0: none); per body the translational inverse
+    !> mass P_t / M and the world inverse inertia (constrained directions
+    !> and axes without inertia zero; a body under prescribed motion all
+    !> zero), and its centre.
+    type :: body_response_t
+        integer, allocatable :: of(:)
+        real(wp), allocatable :: wt(:, :, :), iinv(:, :, :), xc(:, :)
+    end type body_response_t
 
 contains
 
@@ -80,36 +90,61 @@ contains
     !> Carpenter, Taylor and Katona 1991): normal impulses J >= 0 such that
     !> no pair's gap closes further over the step to x(n+1) = x(n) + dt
     !> (v(n-1/2) + dt_avg (f + contact) / m). For pair q, the gap's rate
-    !> changes by J (w_s + sum N_i^2 w_i), w = 1/m along the return
-    !> direction (0 where constrained). Pairs sharing nodes are solved by
+    !> changes by J n.(W_s + sum N_i^2 W_i) n, W the node's inverse mass
+    !> matrix along the return direction: diag(free / m) for a node of its
+    !> own; for a node of a rigid body (br given) the body's response, P_t /
+    !> M + [r]^T I^-1 [r] (a fixed body's nodes do not move), and an impulse
+    !> there moves the whole body, so every node of that body in another
+    !> pair sees it. Pairs sharing nodes or bodies are solved by
     !> Gauss-Seidel sweeps in slave order; an isolated pair (node on node)
     !> is exact in one. Friction the same way: the tangential impulse that
     !> stops the pair's sliding, capped at mu times the normal impulse.
     !>
     !> pair(1:npair): the slave positions in contact, in slave order; hit:
     !> every slave's contact; fpair: their penalty forces in, the projected
-    !> forces out; vl: the surface nodes' velocities v(n-1/2); f: the model's
-    !> nodal forces without contact; mass, free: nodal masses and the
-    !> unconstrained directions (1 or 0).
-    subroutine lagrange_projection(s, npair, pair, hit, fpair, vl, fr, f, mass, free, dt, dt_avg)
+    !> forces out; xl, vl: the surface nodes' positions x(n) and velocities
+    !> v(n-1/2); f: the model's nodal forces without contact; mass, free:
+    !> nodal masses and the unconstrained directions (1 or 0).
+    subroutine lagrange_projection(s, npair, pair, hit, fpair, xl, vl, fr, f, mass, free, dt, dt_avg, br)
         type(surface_t), intent(in) :: s
         integer, intent(in) :: npair, pair(:)
         type(hit_t), intent(in) :: hit(:)
         real(wp), intent(inout) :: fpair(:, :)
-        real(wp), intent(in) :: vl(:, :)
+        real(wp), intent(in) :: xl(:, :), vl(:, :)
         type(friction_t), intent(in) :: fr
         real(wp), intent(in) :: f(:, :), mass(:), free(:, :), dt, dt_avg
-        real(wp), allocatable :: pv(:, :), w(:, :), jn(:), jt(:, :), cap(:)
-        integer :: q, k, sn, m, j, sweep, nd
-        real(wp) :: nh(3), g, den, dj, mu, change, scale, vrel(3), tdir(3), jnew(3), dj3(3)
-        allocate (pv(3, s%nnode), w(3, s%nnode), jn(npair))
+        type(body_response_t), intent(in), optional :: br
+        real(wp), allocatable :: pv(:, :), w(:, :, :), jn(:), jt(:, :), cap(:), r(:, :), dvb(:, :), dwb(:, :)
+        integer, allocatable :: bod(:)
+        integer :: q, k, sn, m, j, sweep, nd, a, b, nb
+        real(wp) :: nh(3), g, den, dj, mu, change, scale, vrel(3), tdir(3), jnew(3), dj3(3), sk(3, 3)
+        allocate (pv(3, s%nnode), w(3, 3, s%nnode), jn(npair), bod(s%nnode), r(3, s%nnode))
+        nb = 0
+        if (present(br)) nb = size(br%xc, 2)
+        allocate (dvb(3, nb), dwb(3, nb))
+        dvb = 0
+        dwb = 0
         do nd = 1, s%nnode
-            if (mass(s%node(nd)) > 0.0_wp) then
-                w(:, nd) = free(:, s%node(nd))/mass(s%node(nd))
-            else
-                w(:, nd) = 0
+            w(:, :, nd) = 0
+            bod(nd) = 0
+            if (nb > 0) bod(nd) = br%of(s%node(nd))
+            b = bod(nd)
+            if (b > 0) then
+                ! a rigid body's node: its velocity is the body's (corrected
+                ! through dvb, dwb as the sweeps go)
+                r(:, nd) = xl(:, nd) - br%xc(:, b)
+                sk = reshape([0.0_wp, r(3, nd), -r(2, nd), -r(3, nd), 0.0_wp, r(1, nd), r(2, nd), -r(1, nd), &
+                              0.0_wp], [3, 3])
+                w(:, :, nd) = br%wt(:, :, b) + matmul(transpose(sk), matmul(br%iinv(:, :, b), sk))
+                pv(:, nd) = vl(:, nd)
+                cycle
             end if
-            pv(:, nd) = vl(:, nd) + dt_avg*f(:, s%node(nd))*w(:, nd)
+            if (mass(s%node(nd)) > 0.0_wp) then
+                do a = 1, 3
+                    w(a, a, nd) = free(a, s%node(nd))/mass(s%node(nd))
+                end do
+            end if
+            pv(:, nd) = vl(:, nd) + dt_avg*matmul(w(:, :, nd), f(:, s%node(nd)))
         end do
         jn = 0
         scale = 0
@@ -129,12 +164,11 @@ contains
                 ! penetration already there is kept, not pushed out: pushing it
                 ! out in one step would add the energy of that jump each time
                 ! round-off leaves a trace of penetration (a resting contact)
-                g = dt*dot_product(nh, pv(:, sn) - matmul(pv(:, s%seg(:, m)), hit(k)%nshape))*pdir(hit(k)%a) + &
-                    hit(k)%gap
+                g = dt*dot_product(nh, rel_velocity(k, m))*pdir(hit(k)%a) + hit(k)%gap
                 if (g >= 0.0_wp .and. jn(q) == 0.0_wp) cycle
-                den = dot_product(nh*nh, w(:, sn))
+                den = dot_product(nh, matmul(w(:, :, sn), nh))
                 do j = 1, seg_nodes(s%seg(:, m))
-                    den = den + hit(k)%nshape(j)**2*dot_product(nh*nh, w(:, s%seg(j, m)))
+                    den = den + hit(k)%nshape(j)**2*dot_product(nh, matmul(w(:, :, s%seg(j, m)), nh))
                 end do
                 if (den <= 0.0_wp) cycle
                 dj = max(-jn(q), -g/(dt*den))
@@ -143,10 +177,9 @@ contains
                 change = max(change, abs(dj))
                 scale = max(scale, jn(q))
                 ! the impulse along +-n: the side -K a n would push the slave
-                pv(:, sn) = pv(:, sn) + dj*pdir(hit(k)%a)*nh*w(:, sn)
+                call push(sn, dj*pdir(hit(k)%a)*nh)
                 do j = 1, seg_nodes(s%seg(:, m))
-                    pv(:, s%seg(j, m)) = pv(:, s%seg(j, m)) - dj*pdir(hit(k)%a)*hit(k)%nshape(j)*nh* &
-                                         w(:, s%seg(j, m))
+                    call push(s%seg(j, m), -dj*pdir(hit(k)%a)*hit(k)%nshape(j)*nh)
                 end do
             end do
             if (change <= 1.0e-10_wp*max(scale, tiny(1.0_wp))) exit
@@ -177,14 +210,14 @@ contains
                     sn = s%slave(k)
                     m = hit(k)%seg
                     nh = hit(k)%nhat
-                    vrel = pv(:, sn) - matmul(pv(:, s%seg(:, m)), hit(k)%nshape)
+                    vrel = rel_velocity(k, m)
                     vrel = vrel - dot_product(vrel, nh)*nh
                     ! impulse to stop the remaining slip, along it
                     if (norm2(vrel) > 0.0_wp) then
                         tdir = vrel/norm2(vrel)
-                        den = dot_product(tdir*tdir, w(:, sn))
+                        den = dot_product(tdir, matmul(w(:, :, sn), tdir))
                         do j = 1, seg_nodes(s%seg(:, m))
-                            den = den + hit(k)%nshape(j)**2*dot_product(tdir*tdir, w(:, s%seg(j, m)))
+                            den = den + hit(k)%nshape(j)**2*dot_product(tdir, matmul(w(:, :, s%seg(j, m)), tdir))
                         end do
                         if (den <= 0.0_wp) cycle
                         jnew = jt(:, q) - norm2(vrel)/den*tdir
@@ -196,9 +229,9 @@ contains
                     if (all(dj3 == 0.0_wp)) cycle
                     jt(:, q) = jnew
                     change = max(change, norm2(dj3))
-                    pv(:, sn) = pv(:, sn) + dj3*w(:, sn)
+                    call push(sn, dj3)
                     do j = 1, seg_nodes(s%seg(:, m))
-                        pv(:, s%seg(j, m)) = pv(:, s%seg(j, m)) - hit(k)%nshape(j)*dj3*w(:, s%seg(j, m))
+                        call push(s%seg(j, m), -hit(k)%nshape(j)*dj3)
                     end do
                 end do
                 if (change <= 1.0e-10_wp*max(scale, tiny(1.0_wp))) exit
@@ -209,6 +242,46 @@ contains
             nh = hit(k)%nhat*pdir(hit(k)%a)
             fpair(:, q) = (jn(q)*nh + jt(:, q))/dt_avg
         end do
+    contains
+        !> Predicted velocity of surface node nd (a rigid body's node: the
+        !> body's, with the impulses so far).
+        function vel(nd) result(v)
+            integer, intent(in) :: nd
+            real(wp) :: v(3)
+            v = pv(:, nd)
+            if (bod(nd) > 0) v = v + dvb(:, bod(nd)) + cross3(dwb(:, bod(nd)), r(:, nd))
+        end function vel
+
+        !> The slave's predicted velocity less the contact point's.
+        function rel_velocity(k, m) result(v)
+            integer, intent(in) :: k, m
+            real(wp) :: v(3)
+            integer :: i
+            v = vel(s%slave(k))
+            do i = 1, seg_nodes(s%seg(:, m))
+                v = v - hit(k)%nshape(i)*vel(s%seg(i, m))
+            end do
+        end function rel_velocity
+
+        !> Impulse imp at surface node nd.
+        subroutine push(nd, imp)
+            integer, intent(in) :: nd
+            real(wp), intent(in) :: imp(3)
+            integer :: bb
+            bb = bod(nd)
+            if (bb > 0) then
+                dvb(:, bb) = dvb(:, bb) + matmul(br%wt(:, :, bb), imp)
+                dwb(:, bb) = dwb(:, bb) + matmul(br%iinv(:, :, bb), cross3(r(:, nd), imp))
+            else
+                pv(:, nd) = pv(:, nd) + matmul(w(:, :, nd), imp)
+            end if
+        end subroutine push
+
+        pure function cross3(a, c) result(d)
+            real(wp), intent(in) :: a(3), c(3)
+            real(wp) :: d(3)
+            d = [a(2)*c(3) - a(3)*c(2), a(3)*c(1) - a(1)*c(3), a(1)*c(2) - a(2)*c(1)]
+        end function cross3
     end subroutine lagrange_projection
 
     !> The area slave node sn covers against a master that pushes it along

@@ -15,10 +15,12 @@ module xd_rigid_bodies
     use xd_solver_state, only: state_t
     use xd_core_vectors, only: cross
     use xd_contact_rigidwall, only: walls_t, wall_distance
+    use xd_contact_enforcement, only: body_response_t
     implicit none
     logical, parameter :: coords_64 = precision(1.0_wp) >= 15   !< 64-bit field data (the default build)
     private
-    public :: rigid_t, rigid_body_t, rigid_lumped_mass, build_rigid, rigid_step, rigid_energy, is_rigid_part
+    public :: rigid_t, rigid_body_t, rigid_lumped_mass, build_rigid, rigid_step, rigid_energy, is_rigid_part, &
+              rigid_response
 
     type :: rigid_body_t
         integer :: part = 0                 !< *MAT_RIGID part, 0 for a node-set body
@@ -687,6 +689,46 @@ contains
         a = 0
         a(1, 1) = 1; a(2, 2) = 1; a(3, 3) = 1
     end function identity
+
+    !> How each active rigid body answers an impulse, for the Lagrangian
+    !> contact (a master on a rigid body is the body, not a point of its
+    !> nodal mass): the body of each node, P_t / M, the world inverse
+    !> inertia P_r Q diag(1/I) Q^T P_r (principal axes without inertia left
+    !> out; P_t, P_r zero the constrained global directions) and the
+    !> centre; a body under prescribed motion does not answer (zeros).
+    subroutine rigid_response(rg, nnode, br)
+        type(rigid_t), intent(in) :: rg
+        integer, intent(in) :: nnode
+        type(body_response_t), intent(inout) :: br
+        integer :: ib, a
+        real(dp) :: dinv(3), iinv(3, 3)
+        if (.not. allocated(br%of)) allocate (br%of(nnode), br%wt(3, 3, rg%n), br%iinv(3, 3, rg%n), br%xc(3, rg%n))
+        br%of = 0
+        br%wt = 0
+        br%iinv = 0
+        do ib = 1, rg%n
+            associate (b => rg%b(ib))
+                br%xc(:, ib) = real(b%xc, wp)
+                if (.not. b%active) cycle
+                br%of(b%node) = ib
+                if (size(b%pres) > 0) cycle
+                do a = 1, 3
+                    if (.not. b%fix_t(a) .and. b%mass > 0.0_dp) br%wt(a, a, ib) = real(1.0_dp/b%mass, wp)
+                    dinv(a) = 0
+                    if (.not. b%line(a) .and. b%ib(a) > 0.0_dp) dinv(a) = 1.0_dp/b%ib(a)
+                end do
+                iinv = matmul(b%q, matmul(reshape([dinv(1), 0.0_dp, 0.0_dp, 0.0_dp, dinv(2), 0.0_dp, 0.0_dp, 0.0_dp, &
+                                                   dinv(3)], [3, 3]), transpose(b%q)))
+                do a = 1, 3
+                    if (b%fix_r(a)) then
+                        iinv(a, :) = 0
+                        iinv(:, a) = 0
+                    end if
+                end do
+                br%iinv(:, :, ib) = real(iinv, wp)
+            end associate
+        end do
+    end subroutine rigid_response
 
     !> x with a x = b for a 3x3 matrix (Cramer; a is symmetric positive here).
     pure function solve3(a, b) result(x)

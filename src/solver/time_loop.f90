@@ -22,11 +22,12 @@ module xd_solver_time_loop
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
+    use xd_contact_enforcement, only: body_response_t
     use xd_contact_contact, only: contacts_t, contact_search, contact_drift, contact_local_search, contact_enforce, &
                                   contact_work_end, contact_energy, contact_resultants, gather_contact_state, &
                                   scatter_contact_state, contact_events
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
-    use xd_rigid_bodies, only: rigid_t, rigid_step
+    use xd_rigid_bodies, only: rigid_t, rigid_step, rigid_response
     use xd_elements_shell_bt, only: shells_t, shell_forces
     use xd_solver_domain, only: domain_t, share_slots, share_nodes, gather_energy_state, gather_element_state
     use xd_core_comm, only: comm_gather_small, comm_max
@@ -80,6 +81,7 @@ contains
         type(run_result_t), intent(out) :: res
         type(energies_t) :: en
         real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :)
+        type(body_response_t) :: br            !< Lagrangian contact: how the rigid bodies answer an impulse
         logical, allocatable :: no_body(:)   !< no node is a rigid body's (models without rigid bodies)
         real(wp) :: dtc, g_new(3)
         real(dp) :: dt_avg, wpm
@@ -179,7 +181,13 @@ contains
                 call tm%stop(ph_local)
                 call tm%start(ph_enforce)
                 t_gather = ct%wall_gather
-                call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%free, st%time)
+                if (ct%lagrange .and. rg%n > 0) then
+                    ! a master on a rigid body answers as the body
+                    call rigid_response(rg, st%nnode, br)
+                    call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%free, st%time, br)
+                else
+                    call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%free, st%time)
+                end if
                 call tm%stop(ph_enforce)
                 if (dom%on) call tm%move(ph_enforce, ph_ghost, ct%wall_gather - t_gather)
                 if (any(ct%ifc(:)%nev > 0)) call log_line(lg, contact_events(ct, model%node_id))
