@@ -4,7 +4,9 @@
 !> size: the cost per slave must stay flat. (2) Mixed sizes against their
 !> uniform twins: a flat plate of 10 mm shells alone and 5 mm above one
 !> 20 m ground shell; a square tube of 5 mm shells under a plate of 5 mm
-!> shells and under one of 10 mm. Prints nanoseconds per slave node per
+!> shells and under one of 10 mm; a 1 mm patch in an 8 mm plate against
+!> the patch alone (what the patch adds per patch node and search). Prints
+!> nanoseconds per slave node per
 !> search (median of the repeats), master nodes and pool per slave.
 !> Usage: search_bench [N ...]  (sizes of the crumpled sheet; "mixed" alone
 !> runs the mixed cases only)
@@ -20,7 +22,7 @@ program global_search_bench
     character(len=32) :: arg
     integer, allocatable :: sizes(:)
     logical :: mixed_only
-    real(dp) :: ns(4), ms(4)
+    real(dp) :: ns(4), ms(4), nsp(3), msp(3), nnp(3)
 
     nargs = command_argument_count()
     mixed_only = .false.
@@ -56,6 +58,14 @@ program global_search_bench
         'x the cost per slave; masters per slave ', ms(2), ' (plate alone ', ms(1), ')'
     write (*, '(a,f6.2,a,f6.2,a)') '  mixed sizes: tube under a coarse plate ', ns(4)/ns(3), 'x the cost per slave, ', &
         ms(4)/ms(3), 'x the masters per slave of the tube under a plate of its own size'
+    ! a fine patch in a coarse plate: what the patch adds to a search, per
+    ! patch node, against the patch searched alone
+    call patch_case(0, nsp(1), msp(1), nnp(1))
+    call patch_case(1, nsp(2), msp(2), nnp(2))
+    call patch_case(2, nsp(3), msp(3), nnp(3))
+    write (*, '(a,f8.1,a,f8.1,a,f6.1,a)') '  mixed sizes: 1 mm patch in an 8 mm plate adds ', &
+        (nsp(2)*nnp(2) - nsp(1)*nnp(1))/nnp(3), ' ns per patch node and search, alone ', nsp(3), ' (', &
+        (nsp(2)*nnp(2) - nsp(1)*nnp(1))/nnp(3)/nsp(3), 'x)'
 
 contains
 
@@ -113,6 +123,65 @@ contains
             call time_search('plate of 10 mm shells', x, conn, 0.001_wp, t, mm)
         end if
     end subroutine plate_case
+
+    !> kind 0: a 2.08 m square plate of 8 mm shells (260 x 260, 68,121
+    !> nodes); 1: the same with its central 64 mm (8 x 8 shells) replaced by
+    !> 64 x 64 shells of 1 mm (4,225 nodes; the patch's border nodes apart
+    !> from the coarse ones, as a non-conforming refinement); 2: that patch
+    !> alone. 1 mm thick. t: ns per slave per search, mm: masters per slave,
+    !> nn: nodes.
+    subroutine patch_case(kind, t, mm, nn)
+        integer, intent(in) :: kind
+        real(dp), intent(out) :: t, mm, nn
+        real(wp), allocatable :: x(:, :)
+        integer, allocatable :: conn(:, :)
+        integer, parameter :: nc = 260, nf = 64, i0 = 126
+        integer :: i, j, k, e, nnc, nnf
+        logical :: hole
+        nnc = 0
+        if (kind /= 2) nnc = (nc + 1)**2
+        nnf = 0
+        if (kind /= 0) nnf = (nf + 1)**2
+        allocate (x(3, nnc + nnf), conn(4, nc*nc + nf*nf))
+        e = 0
+        if (kind /= 2) then
+            do j = 0, nc
+                do i = 0, nc
+                    x(:, 1 + i + (nc + 1)*j) = [0.008_wp*i, 0.008_wp*j, 0.0_wp]
+                end do
+            end do
+            do j = 0, nc - 1
+                do i = 0, nc - 1
+                    hole = kind == 1 .and. i >= i0 .and. i < i0 + 8 .and. j >= i0 .and. j < i0 + 8
+                    if (hole) cycle
+                    e = e + 1
+                    conn(:, e) = [1 + i + (nc + 1)*j, 2 + i + (nc + 1)*j, 2 + i + (nc + 1)*(j + 1), 1 + i + (nc + 1)*(j + 1)]
+                end do
+            end do
+        end if
+        if (kind /= 0) then
+            do j = 0, nf
+                do i = 0, nf
+                    k = nnc + 1 + i + (nf + 1)*j
+                    ! (a hair inside the hole's border, so no node coincides)
+                    x(:, k) = [0.008_wp*i0 + 1.0e-5_wp + (0.064_wp - 2.0e-5_wp)*i/nf, &
+                               0.008_wp*i0 + 1.0e-5_wp + (0.064_wp - 2.0e-5_wp)*j/nf, 0.0_wp]
+                end do
+            end do
+            do j = 0, nf - 1
+                do i = 0, nf - 1
+                    e = e + 1
+                    conn(:, e) = nnc + [1 + i + (nf + 1)*j, 2 + i + (nf + 1)*j, 2 + i + (nf + 1)*(j + 1), &
+                                        1 + i + (nf + 1)*(j + 1)]
+                end do
+            end do
+        end if
+        select case (kind)
+        case (0); call time_search('8 mm plate (260 x 260)', x, conn(:, 1:e), 0.001_wp, t, mm, nn)
+        case (1); call time_search('the same, a 1 mm patch in it', x, conn(:, 1:e), 0.001_wp, t, mm, nn)
+        case default; call time_search('the 1 mm patch alone', x, conn(:, 1:e), 0.001_wp, t, mm, nn)
+        end select
+    end subroutine patch_case
 
     !> A square tube (50 mm side, 150 mm long, 5 mm shells, 1,200 shells)
     !> with a 220 mm square plate of shells of size hp 2 mm above its top.
@@ -193,11 +262,12 @@ contains
     !> thickness th; the search as the run makes it (reach = thickness,
     !> margin 0.25 x the median characteristic length), timed. Prints the
     !> row; t: ns per slave per search, mm: master nodes per slave.
-    subroutine time_search(label, x, conn, th, t, mm)
+    subroutine time_search(label, x, conn, th, t, mm, nsl)
         character(len=*), intent(in) :: label
         real(wp), intent(in) :: x(:, :), th
         integer, intent(in) :: conn(:, :)
         real(dp), intent(out) :: t, mm
+        real(dp), intent(out), optional :: nsl   !< slave nodes
         type(model_t) :: m
         type(faces_t) :: f
         type(surface_t) :: s
@@ -258,6 +328,7 @@ contains
         call small_sort(tr)
         t = 1.0e9_dp*tr((nrep + 1)/2)/s%nslave
         mm = real(cnt%masters, dp)/s%nslave
+        if (present(nsl)) nsl = real(s%nslave, dp)
         write (*, '(2x,a28,i15,i11,f18.1,f16.2,f13.2)') label, s%nnode, nrep, t, mm, real(cnt%pool, dp)/s%nslave
     end subroutine time_search
 
