@@ -681,6 +681,31 @@ def test_shell_warped_spin():
            f"kinetic energy kept within 1e-3 ({dke:.1e})", hg < 1e-5 and ie < 1e-5 and dke < 1e-3)
 
 
+def shell_grid(n, first, part, e0, shift=0.0, z=0.0):
+    """*NODE and *ELEMENT_SHELL lines of an n x n node grid of 2 mm shells
+    centred on the origin (moved by `shift` in x and y, at height z), node
+    ids from `first` row by row, elements of `part` numbered from e0 + 1."""
+    nodes = [f"{first + n * j + i:8d}{(i - (n - 1) / 2) * 2e-3 + shift:16.8e}{(j - (n - 1) / 2) * 2e-3 + shift:16.8e}"
+             f"{z:16.8e}" for j in range(n) for i in range(n)]
+    elems = []
+    for j in range(n - 1):
+        for i in range(n - 1):
+            b = first + n * j + i
+            elems.append(f"{e0 + len(elems) + 1:8d}{part:8d}{b:8d}{b + 1:8d}{b + n + 1:8d}{b + n:8d}")
+    return nodes, elems
+
+
+def node_set(sid, ids):
+    """*SET_NODE_LIST sid with `ids`, eight a card."""
+    return ["*SET_NODE_LIST", f"{sid:10d}"] + ["".join(f"{a:10d}" for a in ids[k:k + 8]) for k in range(0, len(ids), 8)]
+
+
+def write_lines(path, lines):
+    with open(path, "w") as fh:
+        fh.write("\n".join(lines) + "\n")
+    return path
+
+
 def clamped_plate_deck(path, v, nip=2, tssfac=0.9):
     """A 10 mm steel plate of 5 x 5 shells (1 mm), clamped along its edge
     (every dof), its 16 inner nodes given v m/s downwards: it vibrates
@@ -692,27 +717,16 @@ def clamped_plate_deck(path, v, nip=2, tssfac=0.9):
              "*SECTION_SHELL", f"         1         2         1{nip:10d}", "     0.001     0.001     0.001     0.001",
              "*MAT_ELASTIC", "         1      7850 2.000e+11       0.3", "*PART", "plate", "         1         1         1",
              "*NODE"]
-    for j in range(n):
-        for i in range(n):
-            lines.append(f"{1 + n * j + i:8d}{(i - 2.5) * 2e-3:16.8e}{(j - 2.5) * 2e-3:16.8e}{0.0:16.8e}")
-    lines.append("*ELEMENT_SHELL")
-    e = 0
-    for j in range(n - 1):
-        for i in range(n - 1):
-            e += 1
-            b = 1 + n * j + i
-            lines.append(f"{e:8d}{1:8d}{b:8d}{b + 1:8d}{b + n + 1:8d}{b + n:8d}")
+    nodes, elems = shell_grid(n, 1, 1, 0)
+    lines += nodes + ["*ELEMENT_SHELL"] + elems
     edge = [1 + n * j + i for j in range(n) for i in range(n) if i in (0, n - 1) or j in (0, n - 1)]
     inner = [1 + n * j + i for j in range(n) for i in range(n) if not (i in (0, n - 1) or j in (0, n - 1))]
-    lines += ["*SET_NODE_LIST", "         1"] + ["".join(f"{a:10d}" for a in edge[k:k + 8])
-                                                 for k in range(0, len(edge), 8)]
+    lines += node_set(1, edge)
     lines += ["*BOUNDARY_SPC_SET", "         1         0         1         1         1         1         1         1"]
     for a in inner:
         lines += ["*INITIAL_VELOCITY_NODE", f"{a:10d}{0.0:10.3g}{0.0:10.3g}{-v:10.4g}"]
     lines.append("*END")
-    with open(path, "w") as fh:
-        fh.write("\n".join(lines) + "\n")
-    return path
+    return write_lines(path, lines)
 
 
 def test_shell_large_vibration():
@@ -2008,23 +2022,10 @@ def plates_deck(path, v, penmax=None):
              "*MAT_ELASTIC", "         1      7850 2.000e+11       0.3",
              "*PART", "held", "         1         1         1", "*PART", "thrown", "         2         1         1",
              "*NODE"]
-    for p, z in ((0, 0.0), (1, 1.05e-3)):
-        for j in range(n):
-            for i in range(n):
-                lines.append(f"{1 + 100 * p + n * j + i:8d}{(i - 2.5) * 2e-3 + 0.3e-3 * p:16.8e}"
-                             f"{(j - 2.5) * 2e-3 + 0.3e-3 * p:16.8e}{z:16.8e}")
-    lines.append("*ELEMENT_SHELL")
-    e = 0
-    for p in (0, 1):
-        for j in range(n - 1):
-            for i in range(n - 1):
-                e += 1
-                b = 1 + 100 * p + n * j + i
-                lines.append(f"{e:8d}{p + 1:8d}{b:8d}{b + 1:8d}{b + n + 1:8d}{b + n:8d}")
-    for sid, first in ((1, 1), (2, 101)):
-        ids = list(range(first, first + n * n))
-        lines += ["*SET_NODE_LIST", f"{sid:10d}"] + ["".join(f"{a:10d}" for a in ids[k:k + 8])
-                                                      for k in range(0, len(ids), 8)]
+    held, held_e = shell_grid(n, 1, 1, 0)
+    thrown, thrown_e = shell_grid(n, 101, 2, len(held_e), shift=0.3e-3, z=1.05e-3)
+    lines += held + thrown + ["*ELEMENT_SHELL"] + held_e + thrown_e
+    lines += node_set(1, list(range(1, 1 + n * n))) + node_set(2, list(range(101, 101 + n * n)))
     lines += ["*BOUNDARY_SPC_SET", "         1         0         1         1         1         1         1         1",
               "*INITIAL_VELOCITY", "         2", f"         0         0{-v:10.4g}",
               "*DATABASE_HISTORY_NODE", "       115       122",
@@ -2032,9 +2033,7 @@ def plates_deck(path, v, penmax=None):
     if penmax is not None:
         lines += ["         0", f"{penmax:10.4g}"]
     lines.append("*END")
-    with open(path, "w") as fh:
-        fh.write("\n".join(lines) + "\n")
-    return path
+    return write_lines(path, lines)
 
 
 def test_penmax():

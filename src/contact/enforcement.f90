@@ -10,6 +10,7 @@ module xd_contact_enforcement
     use xd_kinds, only: wp
     use xd_contact_segment_check, only: hit_t, contact_interior
     use xd_contact_surface, only: surface_t, seg_shell, seg_nodes, seg_normal
+    use xd_core_vectors, only: cross
     implicit none
     private
     public :: friction_t, penalty_force, lagrange_projection, slave_stiffness, facing_area, pdir, body_response_t
@@ -249,7 +250,7 @@ contains
             integer, intent(in) :: nd
             real(wp) :: v(3)
             v = pv(:, nd)
-            if (bod(nd) > 0) v = v + dvb(:, bod(nd)) + cross3(dwb(:, bod(nd)), r(:, nd))
+            if (bod(nd) > 0) v = v + dvb(:, bod(nd)) + cross(dwb(:, bod(nd)), r(:, nd))
         end function vel
 
         !> The slave's predicted velocity less the contact point's.
@@ -271,17 +272,11 @@ contains
             bb = bod(nd)
             if (bb > 0) then
                 dvb(:, bb) = dvb(:, bb) + matmul(br%wt(:, :, bb), imp)
-                dwb(:, bb) = dwb(:, bb) + matmul(br%iinv(:, :, bb), cross3(r(:, nd), imp))
+                dwb(:, bb) = dwb(:, bb) + matmul(br%iinv(:, :, bb), cross(r(:, nd), imp))
             else
                 pv(:, nd) = pv(:, nd) + matmul(w(:, :, nd), imp)
             end if
         end subroutine push
-
-        pure function cross3(a, c) result(d)
-            real(wp), intent(in) :: a(3), c(3)
-            real(wp) :: d(3)
-            d = [a(2)*c(3) - a(3)*c(2), a(3)*c(1) - a(1)*c(3), a(1)*c(2) - a(2)*c(1)]
-        end function cross3
     end subroutine lagrange_projection
 
     !> The area slave node sn covers against a master that pushes it along

@@ -51,9 +51,9 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(contacts_t) :: ct
         real(wp), allocatable :: x(:, :), dx(:, :), depth(:), depth1(:)
-        integer, allocatable :: rule(:), by(:), by1(:), seg_of(:, :), nmoved(:), nnamed(:), nlisted(:)
+        integer, allocatable :: rule(:), by(:), by1(:), seg_of(:, :), nnamed(:), nlisted(:)
         real(wp), allocatable :: deepest(:)
-        logical, allocatable :: moving(:), first_seen(:)
+        logical, allocatable :: moving(:)
         integer :: i, k, pass, n, nd, m, j, sn
         real(wp) :: f, a
         character(len=300) :: buf
@@ -68,10 +68,10 @@ contains
         if (all(rule == 1)) return
         n = model%nnode
         x = model%x0(:, 1:n)
-        allocate (dx(3, n), depth(n), depth1(n), by(n), by1(n), seg_of(4, n), moving(n), first_seen(n))
-        allocate (nmoved(model%ncontact), nnamed(model%ncontact), nlisted(model%ncontact), deepest(model%ncontact))
-        first_seen = .false.
-        nmoved = 0
+        allocate (dx(3, n), depth(n), depth1(n), by(n), by1(n), seg_of(4, n), moving(n))
+        allocate (nnamed(model%ncontact), nlisted(model%ncontact), deepest(model%ncontact))
+        ! by1: the interface that first moved a node (0: never moved)
+        by1 = 0
         nnamed = 0
         deepest = 0
         do pass = 1, max_pass + 1
@@ -118,7 +118,7 @@ contains
                             depth(nd) = -a
                             dx(:, nd) = pdir(it%hit(k)%a)*it%hit(k)%nhat
                             by(nd) = i
-                            if (.not. first_seen(nd)) seg_of(:, nd) = model%node_id(s%node(s%seg(:, m)))
+                            if (by1(nd) == 0) seg_of(:, nd) = model%node_id(s%node(s%seg(:, m)))
                         end if
                     end do
                 end associate
@@ -148,9 +148,7 @@ contains
                         end do
                         ! (a hair beyond the surface: round-off leaves none)
                         x(:, nd) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(k)%tm)*dx(:, nd)
-                        if (.not. first_seen(nd)) then
-                            first_seen(nd) = .true.
-                            nmoved(i) = nmoved(i) + 1
+                        if (by1(nd) == 0) then
                             depth1(nd) = depth(nd)
                             by1(nd) = i
                         end if
@@ -161,8 +159,8 @@ contains
         ! each node moved: named with its first penetration and the total move
         nlisted = 0
         do nd = 1, n
-            if (.not. first_seen(nd)) cycle
             i = by1(nd)
+            if (i == 0) cycle
             nlisted(i) = nlisted(i) + 1
             if (nlisted(i) > max_named) cycle
             write (buf, '(a,i0,a,i0,a,4(1x,i0),a,es11.4,a,es11.4,a,3es14.6,a,3es14.6)') '   interface ', &
@@ -172,8 +170,8 @@ contains
             call add_line(trim(buf))
         end do
         do i = 1, model%ncontact
-            if (nmoved(i) + nnamed(i) == 0) cycle
-            write (buf, '(a,i0,a,i0,a,i0,a,es11.4,a)') '   interface ', model%contact(i)%id, ': ', nmoved(i), &
+            if (count(by1 == i) + nnamed(i) == 0) cycle
+            write (buf, '(a,i0,a,i0,a,i0,a,es11.4,a)') '   interface ', model%contact(i)%id, ': ', count(by1 == i), &
                 ' slave nodes moved out of initial penetrations (IGNORE 0), ', nnamed(i), &
                 ' named and tracked (IGNORE 2 or rigid); deepest ', deepest(i), ' (every node is listed above up to '// &
                 itoa(max_named)//')'
@@ -181,7 +179,7 @@ contains
         end do
         if (len(txt) > 0) txt = ' I n i t i a l   p e n e t r a t i o n s'//new_line('a')//txt
         model%x0(:, 1:n) = x
-        nmoved_all = count(first_seen)
+        nmoved_all = count(by1 > 0)
     contains
         subroutine add_line(line)
             character(len=*), intent(in) :: line

@@ -8,6 +8,7 @@
 module xd_elements_shell_bt
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc, alloc_dp
+    use xd_core_vectors, only: cross
     use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid
     use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
     implicit none
@@ -230,7 +231,7 @@ contains
         real(wp), parameter :: hv(4) = [1.0_wp, -1.0_wp, 1.0_wp, -1.0_wp]
         real(wp) :: xe(3, 4), e1(3), e2(3), e3(3), xc(3), xl(4), yl(4), zl(4), a, b1(4), b2(4), vl(3, 4), wl(3, 4)
         real(wp) :: dx, dy, dxy, kx, ky, kxy, gxz, gyz, qe, ge, z, dd(5), s(5), sold(5)
-        real(wp) :: nres(3), mres(3), qres(2), f(3, 4), m(3, 4), gam(4), hx, hy, qd(5), bb, c, ls, hh, wx, wy, gamz
+        real(wp) :: nres(3), mres(3), qres(2), f(3, 4), m(3, 4), gam(4), qd(5), bb, c, ls, hh, wx, wy, gamz
         real(wp) :: dzz, dzz_mean, am, b1m(4), b2m(4)
         real(dp) :: pold, pnew
         integer :: k, ip, nip, nn
@@ -305,9 +306,7 @@ contains
         sh%eint(e) = sh%eint(e) + dt_avg_prev*(sh%pend_int(e) + 0.5_dp*pold*a)
         sh%pend_int(e) = 0.5_dp*pnew*a
         ! the hourglass rates on the mid-step geometry too
-        hx = dot_product(hv, xl)
-        hy = dot_product(hv, yl)
-        gam = hv - hx*b1 - hy*b2
+        gam = hourglass_gamma()
         wx = sum(b2*vl(3, :))
         wy = -sum(b1*vl(3, :))
         qd = [dot_product(gam, wl(1, :)), dot_product(gam, wl(2, :)), dot_product(gam, vl(3, :)), &
@@ -351,9 +350,7 @@ contains
         pnew = dot_product(real(sh%qhg(:, e), dp), real(qd, dp))
         sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold)
         sh%pend_hg(e) = 0.5_dp*pnew
-        hx = dot_product(hv, xl)
-        hy = dot_product(hv, yl)
-        gam = hv - hx*b1 - hy*b2
+        gam = hourglass_gamma()
         gamz = dot_product(gam, zl)
         do k = 1, 4
             m(1, k) = m(1, k) - gam(k)*sh%qhg(1, e)
@@ -395,6 +392,13 @@ contains
             b1 = [yl(2) - yl(4), yl(3) - yl(1), yl(4) - yl(2), yl(1) - yl(3)]/(2*a)
             b2 = [xl(4) - xl(2), xl(1) - xl(3), xl(2) - xl(4), xl(3) - xl(1)]/(2*a)
         end subroutine local_geometry
+
+        !> The hourglass shape vector gamma = h - (h.x) b1 - (h.y) b2 of the
+        !> geometry local_geometry last took.
+        function hourglass_gamma() result(g)
+            real(wp) :: g(4)
+            g = hv - dot_product(hv, xl)*b1 - dot_product(hv, yl)*b2
+        end function hourglass_gamma
     end subroutine shell_element
 
     !> Plane stress plasticity at one point: the 3-D radial return with the
@@ -581,10 +585,5 @@ contains
         z = real(gz(ip, nip), wp)
     end function point_z
 
-    pure function cross(a, b) result(c)
-        real(wp), intent(in) :: a(3), b(3)
-        real(wp) :: c(3)
-        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-    end function cross
 
 end module xd_elements_shell_bt

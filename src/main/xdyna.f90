@@ -193,29 +193,26 @@ program xdyna
     end if
 
     call tm%start(ph_init)
-    call setup_run(model, maps%hex, st, solids, asm, rg, sh, asm_sh, nfree, error, step_note)
-    if (allocated(error)) then
-        call say(model%deck_path//': '//error%message)
-        call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
-        call finish(exit_input)
-    end if
-    ! IGNORE 0: slave nodes moved out of initial penetrations (the moves
-    ! named in d3hsp); the mesh is then set up again from the moved nodes
-    call initial_penetrations(model, st%v, st%mass, moved_note, nmoved, error)
-    if (allocated(error)) then
-        call say(error%message)
-        call log_line(lg, ' *** Error: '//error%message)
-        call finish(exit_input)
-    end if
-    if (len(moved_note) > 0) call log_line(lg, moved_note)
-    if (nmoved > 0) then
+    ! the mesh set up; then IGNORE 0: slave nodes moved out of initial
+    ! penetrations (the moves named in d3hsp), and the mesh set up again
+    ! from the moved nodes
+    do i = 1, 2
         call setup_run(model, maps%hex, st, solids, asm, rg, sh, asm_sh, nfree, error, step_note)
         if (allocated(error)) then
             call say(model%deck_path//': '//error%message)
             call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
             call finish(exit_input)
         end if
-    end if
+        if (i == 2) exit
+        call initial_penetrations(model, st%v, st%mass, moved_note, nmoved, error)
+        if (allocated(error)) then
+            call say(error%message)
+            call log_line(lg, ' *** Error: '//error%message)
+            call finish(exit_input)
+        end if
+        if (len(moved_note) > 0) call log_line(lg, moved_note)
+        if (nmoved == 0) exit
+    end do
     if (len(step_note) > 0) call add_warning(model, step_note)
     call build_walls(model, st%x0, walls, wall_notes)
     do while (len(wall_notes) > 0)
