@@ -1121,7 +1121,8 @@ def test_d3plot():
 
 def test_restart():
     """Restart dumps (*DATABASE_BINARY_D3DUMP) and r=: for a contact deck
-    with solids and shells, a deck with a rigid part under gravity, a bar
+    with solids and shells, two plates in edge-to-edge contact (the dump
+    in the middle of it), a deck with a rigid part under gravity, a bar
     against a moving rigid wall and a spot weld that fails, the run to T
     and the run to T/2 restarted to T give time histories that thdiff
     passes at zero tolerance, with the same rows (the restart cuts the
@@ -1129,6 +1130,7 @@ def test_restart():
     states file goes on too. A changed deck and a dump of another build are
     refused (exit 1)."""
     cases = [("input_decks/contact/shell_edge_on_solid.k", 1.0e-3),
+             ("input_decks/contact/crossed_edges_general.k", 4.0e-5),
              ("input_decks/verify/mixed_solid_shell_rigid_gravity.k", 2.0e-3),
              ("input_decks/verify/bar_heavy_wall.k", None),
              ("input_decks/verify/spot_weld_fail.k", None)]
@@ -2073,6 +2075,62 @@ def test_penmax():
            len(depths) >= 36 and min(depths) > 0.08e-3 and z[-1].max() < 0 and dev < 1e-3)
 
 
+def test_edge_contact():
+    """Edge-to-edge contact (*CONTACT_AUTOMATIC_GENERAL): two 1 mm plates in
+    perpendicular planes thrown at each other at 10 m/s, their leading
+    edges crossing half an element from any node (no node comes near the
+    other plate). With AUTOMATIC_GENERAL the edges meet and part on their
+    own sides (the edges' overlap under half the thickness: the suite's
+    band), the contact's work negative (frictionless springs return what
+    they took: the sliding energy ends within 1e-3 of the initial kinetic
+    energy and never below -0.1% of it), d3hsp counts the exterior edges and
+    the pair-cycles in contact and names no allowance (none is needed at
+    10 m/s); with AUTOMATIC_SINGLE_SURFACE (no edge contact, as LS-DYNA's)
+    the same plates pass through each other, which shows the check sees a
+    pass. On 2 MPI ranks the general run's histories are the serial ones
+    bitwise (every rank computes every edge pair alike)."""
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
+    import contact_suite as cs
+    cs.OUT = os.path.join(TMP, "edge_contact")
+    want = {"crossed_edges_general_pen_half_1to1_k2_v10_t1mm", "crossed_edges_single_pen_half_1to1_k2_v10_t1mm"}
+    res = {}
+    for c in cs.cases():
+        if c["name"] in want:
+            r = cs.run_case(c)
+            d = os.path.join(cs.OUT, c["name"])
+            log = open(os.path.join(d, "d3hsp")).read() if os.path.exists(os.path.join(d, "d3hsp")) else ""
+            res[c["type"]] = (r, d, log)
+    if set(res) != {"general", "single"}:
+        record("edge contact: both crossed-edges cases generated", False)
+        return
+    r, d, log = res["general"]
+    with h5py.File(os.path.join(d, "thist.h5"), "r") as f:
+        slide = f["glstat/sliding_interface_energy"][:]
+        ke0 = f["glstat/kinetic_energy"][0]
+    m = re.search(r"edge to edge: (\d+) exterior shell edges, (\d+) edge pair-cycles in contact", log)
+    ncont = int(m.group(2)) if m else 0
+    record(f"edge contact: AUTOMATIC_GENERAL holds edges crossing away from the nodes (edge overlap "
+           f"{r.get('edge_overlap', float('nan')):.3f} of the thickness, band 0.5; {ncont} pair-cycles in contact)",
+           r["rc"] == 0 and "fails_extra" not in r and not r["fails"] and ncont > 0,
+           "; ".join(r["fails"] + [r.get("fails_extra", "")]))
+    record(f"edge contact: the frictionless edge springs do no net positive work (sliding energy min "
+           f"{slide.min() / ke0:+.2e}, end {slide[-1] / ke0:+.2e} of KE0; bands -1e-3, |end| 1e-3)",
+           slide.min() >= -1e-3 * ke0 and abs(slide[-1]) <= 1e-3 * ke0)
+    record("edge contact: d3hsp names the exterior edges (24) and no edge allowance at 10 m/s",
+           m is not None and int(m.group(1)) == 24 and "edge contact found deeper" not in log
+           and "no side known" not in log)
+    r, d, log = res["single"]
+    record("edge contact: a single surface (no edge contact) lets the same edges pass (the check sees a pass)",
+           r["rc"] == 0 and "passed each other" in r.get("fails_extra", ""), r.get("fails_extra", ""))
+    if shutil.which("mpirun") is None:
+        return
+    serial = res["general"][1]
+    out = os.path.join(TMP, "edge_contact_mpi2")
+    p = mpirun(2, ["i=" + os.path.join(serial, "deck.k"), "outdir=" + out])
+    ok, msg = (False, p.stderr[-300:]) if p.returncode else same_histories(serial, out)
+    record("edge contact: mpirun -np 2 gives the serial histories bitwise", ok, msg)
+
+
 def test_blocks_impact():
     """A block striking a block with non-matching meshes at 1 m/s, penalty
     contact both ways (surface-to-surface) and one way (nodes-to-surface):
@@ -3015,7 +3073,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_states, test_d3plot, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_edge_contact, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_states, test_d3plot, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -29,6 +29,7 @@ module xd_contact_contact
                                        reset_clearance, fresh_clearance
     use xd_contact_enforcement, only: friction_t, penalty_force, lagrange_projection, slave_stiffness, pdir, &
                                       body_response_t
+    use xd_contact_edge_contact, only: edges_t, build_edges, edge_search, edge_forces, edge_unknown
     !$ use omp_lib, only: omp_get_wtime
     use xd_core_sorting, only: where_true, sort_index
     use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_dp
@@ -43,6 +44,7 @@ module xd_contact_contact
         character(len=48) :: keyword = ''
         type(surface_t) :: surf
         type(master_lists_t) :: lists
+        type(edges_t) :: ed                   !< exterior shell edges and their pairs (AUTOMATIC_GENERAL)
         real(wp), allocatable :: xl(:, :)     !< surface coordinates at the last search
         real(wp), allocatable :: lc(:)        !< characteristic lengths at the last search
         real(wp) :: margin = 0                !< pool margin delta
@@ -208,6 +210,8 @@ contains
                                    model%hex_conn(:, 1:model%nhex), &
                                    cap=(c%kind == ct_single .or. c%kind == ct_general) .and. model%ctl%contact%ssthk == 0)
                 deallocate (slaves)
+                ! AUTOMATIC_GENERAL: shell edges against shell edges as well
+                if (c%kind == ct_general) call build_edges(it%surf, it%ed)
                 call pair_parts(it)
                 ! pool margin from the median characteristic length at t = 0 (a
                 ! typical length: a few large segments must not widen every pool)
@@ -396,6 +400,7 @@ contains
                 call characteristic_lengths(it%surf, it%xl, it%lc)
                 it%ls%lc = it%lc
                 call build_master_lists(it%surf, it%xl, it%lc, it%reach, it%margin, ct%mnl, it%lists, cnt, it%owned)
+                if (it%ed%ne > 0) call edge_search(it%ed, it%surf, it%xl, it%margin)
                 it%nsearch = it%nsearch + 1
                 it%last_cycle = cycle
                 it%drift = 0
@@ -729,9 +734,54 @@ contains
                     it%mmaster = it%mmaster + dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
                 end do
                 it%ncontact_total = it%ncontact_total + it%npair
+                if (it%ed%np > 0) call edge_enforce(it, f, ct%fnode, dt, time)
             end associate
         end do
     end subroutine contact_enforce
+
+    !> Steps 3-4 for the pairs of exterior shell edges (AUTOMATIC_GENERAL):
+    !> their penalty forces, spread linearly to each edge's two nodes (edge
+    !> a, taken as the slave side, and edge b), added in pair order; every
+    !> rank holds every pair (the edges are few), so the sums are the same
+    !> on every rank. Penalty forces also under the Lagrangian projection,
+    !> which is for slave nodes.
+    subroutine edge_enforce(it, f, fnode, dt, time)
+        type(interface_t), intent(inout) :: it
+        real(wp), intent(inout) :: f(:, :), fnode(:, :)
+        real(wp), intent(in) :: dt
+        real(dp), intent(in) :: time
+        integer :: j, q, nd(4)
+        real(wp) :: w(4), fa(3), vrel(3)
+        associate (ed => it%ed, s => it%surf)
+            call edge_forces(ed, s, it%ls%xl, it%ls%vl, it%ms, it%fr, dt, time)
+            do j = 1, ed%nact
+                q = ed%act(j)
+                call edge_weights(it, q, nd, w)
+                fa = ed%fa(:, q)
+                f(:, s%node(nd)) = f(:, s%node(nd)) + spread(fa, 2, 4)*spread(w, 1, 3)
+                fnode(:, s%node(nd)) = fnode(:, s%node(nd)) + spread(fa, 2, 4)*spread(w, 1, 3)
+                vrel = matmul(it%ls%vl(:, nd), w)
+                it%pminus = it%pminus + dot_product(real(fa, dp), real(vrel, dp))
+                it%fslave = it%fslave + fa
+                it%fmaster = it%fmaster - fa
+                it%mslave = it%mslave + dot_product(abs(w(1:2)), it%ms(nd(1:2)))
+                it%mmaster = it%mmaster + dot_product(abs(w(3:4)), it%ms(nd(3:4)))
+            end do
+        end associate
+    end subroutine edge_enforce
+
+    !> Edge pair q's four nodes (edge a's two, edge b's two) and the signed
+    !> weights of edge a's force on them: 1 - s, s, -(1 - t), -t.
+    pure subroutine edge_weights(it, q, nd, w)
+        type(interface_t), intent(in) :: it
+        integer, intent(in) :: q
+        integer, intent(out) :: nd(4)
+        real(wp), intent(out) :: w(4)
+        associate (ed => it%ed)
+            nd = [ed%en(:, ed%pa(q)), ed%en(:, ed%pb(q))]
+            w = [1.0_wp - ed%st(1, q), ed%st(1, q), -(1.0_wp - ed%st(2, q)), -ed%st(2, q)]
+        end associate
+    end subroutine edge_weights
 
     !> One slave's penalty force (Eq. 12) in it%fk(:, k), and its event.
     !>
@@ -919,6 +969,21 @@ contains
                     end associate
                 end do
                 it%nev = 0
+                do q = 1, it%ed%nev
+                    associate (e => it%ed%ev(q))
+                        if (e%kind == edge_unknown) then
+                            what = 'within reach with no side known: no edge contact until they part; distance'
+                        else
+                            what = 'edge contact found deeper than a step: excess allowed'
+                        end if
+                        write (buf, '(a,i0,a,es12.5,a,2(1x,i0),a,2(1x,i0),a,a,1x,es11.4)') '   interface ', it%id, &
+                            ' t ', e%time, ': edges', node_id(s%node(e%node(1:2))), ' and', node_id(s%node(e%node(3:4))), &
+                            ': ', trim(what), e%depth
+                        if (len(txt) > 0) txt = txt//new_line('a')
+                        txt = txt//trim(buf)
+                    end associate
+                end do
+                it%ed%nev = 0
             end associate
         end do
     end function contact_events
@@ -1062,8 +1127,8 @@ contains
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: v(:, :)
         real(dp), intent(in) :: dt_avg
-        integer :: i, q, k, m, a, b, al
-        real(wp) :: vrel(3), vrel0(3)
+        integer :: i, q, k, m, a, b, al, nd(4)
+        real(wp) :: vrel(3), vrel0(3), w(4), fa(3)
         real(dp) :: pplus, fv
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
@@ -1083,6 +1148,19 @@ contains
                     it%pair_imp(a, b, al) = it%pair_imp(a, b, al) + dt_avg*norm2(real(it%fpair(:, q), dp))
                     it%pair_work(a, b, al) = it%pair_work(a, b, al) + &
                         0.5_dp*dt_avg*(fv + dot_product(real(it%fpair(:, q), dp), real(vrel0, dp)))
+                end do
+                ! the edge pairs: edge a's part against edge b's
+                do q = 1, it%ed%nact
+                    call edge_weights(it, it%ed%act(q), nd, w)
+                    fa = it%ed%fa(:, it%ed%act(q))
+                    fv = dot_product(real(fa, dp), real(matmul(v(:, s%node(nd)), w), dp))
+                    pplus = pplus + fv
+                    a = it%seg_lp(it%ed%eseg(it%ed%pa(it%ed%act(q))))
+                    b = it%seg_lp(it%ed%eseg(it%ed%pb(it%ed%act(q))))
+                    al = merge(2, 1, it%ed%p0(it%ed%act(q)) > 0.0_wp)
+                    it%pair_imp(a, b, al) = it%pair_imp(a, b, al) + dt_avg*norm2(real(fa, dp))
+                    it%pair_work(a, b, al) = it%pair_work(a, b, al) + &
+                        0.5_dp*dt_avg*(fv + dot_product(real(fa, dp), real(matmul(it%ls%vl(:, nd), w), dp)))
                 end do
                 it%energy = it%energy - 0.5_dp*dt_avg*(it%pminus + pplus)
             end associate
@@ -1132,6 +1210,11 @@ contains
                 write (buf, '(a,i0,a,i0,a,i0,a,i0,a,i0)') '     segments ', s%nseg, ' (shell ', s%nshell_seg, &
                     ', solid ', s%nsolid_seg, ')   surface nodes ', s%nnode, '   slave nodes ', s%nslave
                 txt = txt//trim(buf)//nl
+                if (it%ed%ne > 0) then
+                    write (buf, '(a,i0,a)') '     edge to edge: ', it%ed%ne, ' exterior shell edges, paired at each '// &
+                        'search (within both half-thicknesses plus delta)'
+                    txt = txt//trim(buf)//nl
+                end if
                 if (s%ncap > 0) then
                     write (buf, '(a,i0,a)') '     shell contact thickness limited to 40% of the shortest edge at ', &
                         s%ncap, ' nodes (single surface, *CONTROL_CONTACT SSTHK 0; SSTHK 1 or SST/MST lift it)'
@@ -1218,6 +1301,23 @@ contains
                         ' contacts released deep (deeper than one step can undo, or beyond PENMAX; deepest ', it%prel, &
                         '); the first ', min(it%nrel, max_named), ' named above'
                     txt = txt//trim(buf)//nl
+                end if
+                if (it%ed%ne > 0) then
+                    write (buf, '(a,i0,a,i0,a,i0,a)') '   interface ', it%id, ': edge to edge: ', it%ed%ne, &
+                        ' exterior shell edges, ', it%ed%ncontact, ' edge pair-cycles in contact'
+                    txt = txt//trim(buf)//nl
+                    if (it%ed%nlate > 0) then
+                        write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%ed%nlate, &
+                            ' edge contacts found deeper than a step (largest excess ', it%ed%plate, &
+                            ') allowed, shrinking as the edges part; the first ', min(it%ed%nlate, max_named), ' named above'
+                        txt = txt//trim(buf)//nl
+                    end if
+                    if (it%ed%nunknown > 0) then
+                        write (buf, '(a,i0,a,i0,a,i0,a)') '   interface ', it%id, ': ', it%ed%nunknown, &
+                            ' edge pairs within reach with no side known (overlapping when first seen): no contact '// &
+                            'until they parted; the first ', min(it%ed%nunknown, max_named), ' named above'
+                        txt = txt//trim(buf)//nl
+                    end if
                 end if
                 txt = txt//pair_table(it)
             end associate

@@ -21,6 +21,7 @@ module xd_solver_restart
     use xd_contact_rigidwall, only: walls_t
     use xd_rigid_bodies, only: rigid_t
     use xd_contact_contact, only: contacts_t
+    use xd_contact_edge_contact, only: edges_t
     use xd_output_histories, only: history_marks_t
     use xd_output_states, only: states_marks_t
     implicit none
@@ -29,8 +30,8 @@ module xd_solver_restart
 
     !> 3: the slaves' clearances (list_gap) are kept; 4: the refused deep
     !> contacts (count, deepest, the segment last named per slave) and the
-    !> contact's impulse and work by part pair
-    integer, parameter :: dump_format = 4
+    !> contact's impulse and work by part pair; 5: the edge pairs of AUTOMATIC_GENERAL interfaces
+    integer, parameter :: dump_format = 5
 
     !> What a dump says about itself.
     type :: dump_meta_t
@@ -171,6 +172,15 @@ contains
                 call dput(r, 'rlast', it%rlast, nf)
                 call dput(r, 'pair_imp', [it%pair_imp], nf)
                 call dput(r, 'pair_work', [it%pair_work], nf)
+                if (it%ed%ne > 0) then
+                    ! the edge pairs of the last search and their state
+                    associate (ed => it%ed)
+                        call dput(r, 'edge_ints', [ed%np, ed%nlate, ed%nunknown, ed%pa, ed%pb, ed%side, &
+                                                   merge(1, 0, ed%named)], nf)
+                        call dput(r, 'edge_reals', [ed%plate, ed%kp, ed%p0, [ed%ft]], nf)
+                        call dput(r, 'edge_count', [ed%ncontact], nf)
+                    end associate
+                end if
                 call h5gclose_f(r, err)
             end associate
         end do
@@ -445,6 +455,7 @@ contains
                 call geti(r, 'rlast', size(it%rlast)); if (ok()) it%rlast = bi
                 call getd(r, 'pair_imp', size(it%pair_imp)); if (ok()) it%pair_imp = reshape(bd, shape(it%pair_imp))
                 call getd(r, 'pair_work', size(it%pair_work)); if (ok()) it%pair_work = reshape(bd, shape(it%pair_work))
+                if (it%ed%ne > 0) call get_edges(it%ed)
                 call h5gclose_f(r, err)
             end associate
         end do
@@ -526,6 +537,39 @@ contains
             call dget(loc, name, bl, there, why)
             call expect(there, size(bl), n, name, why)
         end subroutine getl
+
+        !> The edge pairs of an AUTOMATIC_GENERAL interface (group r): np
+        !> pairs, then 4 np + 3 integers and 5 np + 1 reals.
+        subroutine get_edges(ed)
+            type(edges_t), intent(inout) :: ed
+            integer :: np
+            call geti(r, 'edge_ints', -1)
+            if (.not. ok()) return
+            np = bi(1)
+            if (.not. ok_size(size(bi), 4*np + 3, 'edge_ints')) return
+            call getw(r, 'edge_reals', 5*np + 1)
+            call getl(r, 'edge_count', 1)
+            if (.not. ok()) return
+            ed%np = np
+            ed%nlate = bi(2)
+            ed%nunknown = bi(3)
+            ed%pa = bi(4:3 + np)
+            ed%pb = bi(4 + np:3 + 2*np)
+            ed%side = bi(4 + 2*np:3 + 3*np)
+            ed%named = bi(4 + 3*np:3 + 4*np) /= 0
+            ed%plate = bw(1)
+            ed%kp = bw(2:1 + np)
+            ed%p0 = bw(2 + np:1 + 2*np)
+            ed%ft = reshape(bw(2 + 2*np:1 + 5*np), [3, np])
+            ed%ncontact = bl(1)
+            if (any(ed%pa < 1 .or. ed%pa > ed%ne .or. ed%pb < 1 .or. ed%pb > ed%ne)) then
+                call fail('edge_ints: an edge number outside the model''s '//itoa(ed%ne)//' exterior edges')
+                return
+            end if
+            deallocate (ed%act, ed%st, ed%fa)
+            allocate (ed%act(np), ed%st(2, np), ed%fa(3, np))
+            ed%nact = 0
+        end subroutine get_edges
 
         !> A dataset read must be there, whole, with the model's number of values.
         subroutine expect(there, got, n, name, why)

@@ -190,7 +190,7 @@ contains
                 end if
                 call tm%stop(ph_enforce)
                 if (dom%on) call tm%move(ph_enforce, ph_ghost, ct%wall_gather - t_gather)
-                if (any(ct%ifc(:)%nev > 0)) call log_line(lg, contact_events(ct, model%node_id))
+                if (any(ct%ifc(:)%nev > 0) .or. any(ct%ifc(:)%ed%nev > 0)) call log_line(lg, contact_events(ct, model%node_id))
                 call tm%start(ph_integrate)
             end if
             call accelerations()
