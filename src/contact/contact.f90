@@ -29,7 +29,7 @@ module xd_contact_contact
                                        reset_clearance, fresh_clearance
     use xd_contact_enforcement, only: friction_t, penalty_force, lagrange_projection, slave_stiffness, pdir, &
                                       body_response_t
-    use xd_contact_edge_contact, only: edges_t, build_edges, edge_search, edge_forces, edge_unknown
+    use xd_contact_edge_contact, only: edges_t, build_edges, edge_search, edge_forces, edge_unknown, edge_initial
     !$ use omp_lib, only: omp_get_wtime
     use xd_core_sorting, only: where_true, sort_index
     use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_dp
@@ -663,6 +663,7 @@ contains
         integer :: i, k, j, sn, m, q, i2
         real(wp) :: vrel(3), fs(3)
         real(dp) :: t0
+        logical :: first
         ct%fnode = 0
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
@@ -682,6 +683,7 @@ contains
                 ! penalty forces (Eq. 12) with damping and friction, per slave
                 ! (threaded: each writes only its own entries), then listed as
                 ! pairs in slave order
+                first = .not. it%started
                 !$omp parallel do schedule(dynamic, 64) default(shared) private(i2, k)
                 do i2 = 1, size(it%mine)
                     k = it%mine(i2)
@@ -734,7 +736,7 @@ contains
                     it%mmaster = it%mmaster + dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
                 end do
                 it%ncontact_total = it%ncontact_total + it%npair
-                if (it%ed%np > 0) call edge_enforce(it, f, ct%fnode, dt, time)
+                if (it%ed%np > 0) call edge_enforce(it, f, ct%fnode, dt, time, first)
             end associate
         end do
     end subroutine contact_enforce
@@ -745,15 +747,16 @@ contains
     !> rank holds every pair (the edges are few), so the sums are the same
     !> on every rank. Penalty forces also under the Lagrangian projection,
     !> which is for slave nodes.
-    subroutine edge_enforce(it, f, fnode, dt, time)
+    subroutine edge_enforce(it, f, fnode, dt, time, first)
         type(interface_t), intent(inout) :: it
         real(wp), intent(inout) :: f(:, :), fnode(:, :)
         real(wp), intent(in) :: dt
         real(dp), intent(in) :: time
+        logical, intent(in) :: first      !< the interface's first active cycle
         integer :: j, q, nd(4)
         real(wp) :: w(4), fa(3), vrel(3)
         associate (ed => it%ed, s => it%surf)
-            call edge_forces(ed, s, it%ls%xl, it%ls%vl, it%ms, it%fr, dt, time)
+            call edge_forces(ed, s, it%ls%xl, it%ls%vl, it%ms, it%fr, dt, time, first)
             do j = 1, ed%nact
                 q = ed%act(j)
                 call edge_weights(it, q, nd, w)
@@ -973,6 +976,8 @@ contains
                     associate (e => it%ed%ev(q))
                         if (e%kind == edge_unknown) then
                             what = 'within reach with no side known: no edge contact until they part; distance'
+                        else if (e%kind == edge_initial) then
+                            what = 'initial edge penetration (allowed): depth'
                         else
                             what = 'edge contact found deeper than a step: excess allowed'
                         end if
@@ -1310,6 +1315,12 @@ contains
                         write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%ed%nlate, &
                             ' edge contacts found deeper than a step (largest excess ', it%ed%plate, &
                             ') allowed, shrinking as the edges part; the first ', min(it%ed%nlate, max_named), ' named above'
+                        txt = txt//trim(buf)//nl
+                    end if
+                    if (it%ed%ninit > 0) then
+                        write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%ed%ninit, &
+                            ' initial edge penetrations (deepest ', it%ed%pinit, ') allowed, shrinking as the edges '// &
+                            'part; the first ', min(it%ed%ninit, max_named), ' named above'
                         txt = txt//trim(buf)//nl
                     end if
                     if (it%ed%nunknown > 0) then

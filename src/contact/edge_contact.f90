@@ -13,11 +13,13 @@
 !> points lie inside both edges is in contact when the edges' distance
 !> along their common normal m = e_a x e_b / |e_a x e_b| is below the sum
 !> of the half-thicknesses; the spring pushes along m to the side edge a
-!> was on when the edges were last apart (sigma), so that edges that have
-!> crossed are pushed back, not through. Closest points at an end of an
+!> was on when last clearly apart (sigma: the lines half the reach or more
+!> apart, out of edge contact), so that edges that have crossed are pushed
+!> back, not through. Closest points at an end of an
 !> edge are a node against the other edge's segment, which the node to
 !> segment contact treats (its tube and pinball): no force here, and no
-!> double force there. The force at the closest points is spread to the
+!> double force there; so are edges crossing at an angle so small that a
+!> node near the crossing lies within the other edge's reach. The force at the closest points is spread to the
 !> edges' nodes linearly, so momentum and angular momentum are kept (the
 !> force lies along the line joining the two points).
 module xd_contact_edge_contact
@@ -30,7 +32,7 @@ module xd_contact_edge_contact
     implicit none
     private
     public :: edges_t, edge_event_t, build_edges, edge_search, edge_forces, closest_on_lines, segment_distance, &
-              edge_unknown, edge_late
+              edge_unknown, edge_late, edge_initial
 
     !> sin of the angle between two edges below which they count as
     !> parallel: their common normal is then not defined, and a crossing
@@ -46,8 +48,9 @@ module xd_contact_edge_contact
     integer, parameter :: max_named = 200   !< edge events named per interface (all counted)
     !> Named in d3hsp: a pair within reach whose side is not known (no
     !> contact until the edges part); a contact found deeper than one
-    !> step's approach (the excess allowed).
-    integer, parameter :: edge_unknown = 1, edge_late = 2
+    !> step's approach (the excess allowed); a contact at the first cycle
+    !> (the whole depth allowed, shrinking, as IGNORE = 1 for nodes).
+    integer, parameter :: edge_unknown = 1, edge_late = 2, edge_initial = 3
 
     type :: edge_event_t
         integer :: kind = 0
@@ -63,7 +66,7 @@ module xd_contact_edge_contact
         ! pairs of the last global search (edge a < edge b, in (a, b) order)
         integer :: np = 0
         integer, allocatable :: pa(:), pb(:)
-        integer, allocatable :: side(:)       !< sigma: +1 or -1 (the side of b's line a was on when apart), 0 unknown
+        integer, allocatable :: side(:)       !< sigma: +1 or -1 (the side of b's line a was on when clearly apart), 0 unknown
         logical, allocatable :: named(:)      !< an unknown side within reach already named
         real(wp), allocatable :: kp(:)        !< the spring of a pair in contact (0: not in contact last cycle)
         real(wp), allocatable :: p0(:)        !< allowed depth (missed contact), shrinking as the edges part
@@ -78,6 +81,8 @@ module xd_contact_edge_contact
         integer :: nlate = 0                  !< contacts found deeper than a step's approach (excess allowed)
         real(wp) :: plate = 0
         integer :: nunknown = 0               !< pairs found within reach with no side known (no contact)
+        integer :: ninit = 0                  !< contacts at the first cycle (initial penetrations, allowed)
+        real(wp) :: pinit = 0
         integer :: nev = 0                    !< events waiting for the log
         type(edge_event_t), allocatable :: ev(:)
     end type edges_t
@@ -289,12 +294,13 @@ contains
     !> (the edges crossed faster than a cycle's motion could show) has the
     !> excess allowed, shrinking as the edges part, and named, as a missed
     !> node contact is.
-    subroutine edge_forces(ed, s, xl, vl, ms, fr, dt, time)
+    subroutine edge_forces(ed, s, xl, vl, ms, fr, dt, time, first)
         type(edges_t), intent(inout) :: ed
         type(surface_t), intent(in) :: s
         real(wp), intent(in) :: xl(:, :), vl(:, :), ms(:), dt
         type(friction_t), intent(in) :: fr
         real(dp), intent(in) :: time
+        logical, intent(in) :: first          !< the interface's first active cycle
         integer :: q, ea, eb, a1, a2, b1, b2
         real(wp) :: sp, tp, gl, m(3), r, depth, reach, vrel(3), n(3), mp, mq, meff
         logical :: inside
@@ -307,20 +313,30 @@ contains
             b1 = ed%en(1, eb); b2 = ed%en(2, eb)
             r = s%seg_r(ed%eseg(ea)) + s%seg_r(ed%eseg(eb))
             call closest_on_lines(xl(:, a1), xl(:, a2), xl(:, b1), xl(:, b2), sp, tp, gl, m, inside)
+            ! edges crossing at so small an angle that the node of either edge
+            ! nearest the crossing (half an edge from it at most) lies within
+            ! half the reach of the other edge's line: the node contact's (its
+            ! tube holds the node), and the common normal of nearly parallel
+            ! edges (overlapping flanges) turns with every small rotation
+            if (inside) inside = 0.5_wp*max(norm2(xl(:, a2) - xl(:, a1)), norm2(xl(:, b2) - xl(:, b1)))* &
+                                 norm2(cross(xl(:, a2) - xl(:, a1), xl(:, b2) - xl(:, b1)))/ &
+                                 (norm2(xl(:, a2) - xl(:, a1))*norm2(xl(:, b2) - xl(:, b1))) > 0.5_wp*r
+            ! the side: followed while the pair is not in edge contact and the
+            ! lines lie clearly apart (half the reach or more: an edge cannot
+            ! get there from the other side within a step), kept while in
+            ! contact, so that edges driven past each other are pushed back
+            if (ed%kp(q) <= 0.0_wp .and. abs(gl) >= 0.5_wp*r .and. norm2(m) > 0.0_wp) &
+                ed%side(q) = int(sign(1.0_wp, gl))
             if (.not. inside) then
-                ! a node against the other edge's segment, or parallel edges:
-                ! the node contact's; the lines' side is followed while they
-                ! are clearly apart (the edges cannot cross here)
-                if (abs(gl) > 0.01_wp*r .and. norm2(m) > 0.0_wp) ed%side(q) = int(sign(1.0_wp, gl))
+                ! a node against the other edge's segment, or edges at a small
+                ! angle: the node contact's
                 call part(q)
                 cycle
             end if
             if (ed%side(q) == 0) then
-                if (abs(gl) >= r) then
-                    ed%side(q) = int(sign(1.0_wp, gl))
-                else if (.not. ed%named(q)) then
-                    ! within reach with no side known (edges overlapping at
-                    ! the start): no contact until they part
+                if (.not. ed%named(q)) then
+                    ! within half the reach with no side known (edges
+                    ! overlapping when first seen): no contact until they part
                     ed%named(q) = .true.
                     ed%nunknown = ed%nunknown + 1
                     if (ed%nunknown <= max_named) call add_event(edge_unknown, abs(gl))
@@ -330,7 +346,6 @@ contains
             end if
             depth = r - ed%side(q)*gl
             if (depth <= 0.0_wp) then
-                ed%side(q) = int(sign(1.0_wp, gl))
                 call part(q)
                 cycle
             end if
@@ -340,7 +355,13 @@ contains
                 ! a new contact: deeper than twice the step's approach (the
                 ! most a contact can grow in the cycle it starts) is missed
                 reach = 2.0_wp*abs(dot_product(vrel, n))*dt + 1.0e-3_wp*r
-                if (depth > reach) then
+                if (first) then
+                    ! an initial penetration: allowed whole, shrinking
+                    ed%p0(q) = depth
+                    ed%ninit = ed%ninit + 1
+                    ed%pinit = max(ed%pinit, depth)
+                    if (ed%ninit <= max_named) call add_event(edge_initial, depth)
+                else if (depth > reach) then
                     ed%p0(q) = depth - reach
                     ed%nlate = ed%nlate + 1
                     ed%plate = max(ed%plate, ed%p0(q))

@@ -175,9 +175,9 @@ contains
                 if (it%ed%ne > 0) then
                     ! the edge pairs of the last search and their state
                     associate (ed => it%ed)
-                        call dput(r, 'edge_ints', [ed%np, ed%nlate, ed%nunknown, ed%pa, ed%pb, ed%side, &
+                        call dput(r, 'edge_ints', [ed%np, ed%nlate, ed%nunknown, ed%ninit, ed%pa, ed%pb, ed%side, &
                                                    merge(1, 0, ed%named)], nf)
-                        call dput(r, 'edge_reals', [ed%plate, ed%kp, ed%p0, [ed%ft]], nf)
+                        call dput(r, 'edge_reals', [ed%plate, ed%pinit, ed%kp, ed%p0, [ed%ft]], nf)
                         call dput(r, 'edge_count', [ed%ncontact], nf)
                     end associate
                 end if
@@ -539,28 +539,30 @@ contains
         end subroutine getl
 
         !> The edge pairs of an AUTOMATIC_GENERAL interface (group r): np
-        !> pairs, then 4 np + 3 integers and 5 np + 1 reals.
+        !> pairs, then 4 np + 4 integers and 5 np + 2 reals.
         subroutine get_edges(ed)
             type(edges_t), intent(inout) :: ed
             integer :: np
             call geti(r, 'edge_ints', -1)
             if (.not. ok()) return
             np = bi(1)
-            if (.not. ok_size(size(bi), 4*np + 3, 'edge_ints')) return
-            call getw(r, 'edge_reals', 5*np + 1)
+            if (.not. ok_size(size(bi), 4*np + 4, 'edge_ints')) return
+            call getw(r, 'edge_reals', 5*np + 2)
             call getl(r, 'edge_count', 1)
             if (.not. ok()) return
             ed%np = np
             ed%nlate = bi(2)
             ed%nunknown = bi(3)
-            ed%pa = bi(4:3 + np)
-            ed%pb = bi(4 + np:3 + 2*np)
-            ed%side = bi(4 + 2*np:3 + 3*np)
-            ed%named = bi(4 + 3*np:3 + 4*np) /= 0
+            ed%ninit = bi(4)
+            ed%pa = bi(5:4 + np)
+            ed%pb = bi(5 + np:4 + 2*np)
+            ed%side = bi(5 + 2*np:4 + 3*np)
+            ed%named = bi(5 + 3*np:4 + 4*np) /= 0
             ed%plate = bw(1)
-            ed%kp = bw(2:1 + np)
-            ed%p0 = bw(2 + np:1 + 2*np)
-            ed%ft = reshape(bw(2 + 2*np:1 + 5*np), [3, np])
+            ed%pinit = bw(2)
+            ed%kp = bw(3:2 + np)
+            ed%p0 = bw(3 + np:2 + 2*np)
+            ed%ft = reshape(bw(3 + 2*np:2 + 5*np), [3, np])
             ed%ncontact = bl(1)
             if (any(ed%pa < 1 .or. ed%pa > ed%ne .or. ed%pb < 1 .or. ed%pb > ed%ne)) then
                 call fail('edge_ints: an edge number outside the model''s '//itoa(ed%ne)//' exterior edges')

@@ -4,7 +4,8 @@
 !> search against a brute-force scan of every pair; and two plates whose
 !> edges cross half an element from any node: no force while apart, a
 !> force that pushes edge a back to its side when in reach and when it has
-!> crossed, no force on a pair first seen overlapping (named instead).
+!> crossed, no force on a pair first seen overlapping (named instead), an
+!> initial penetration allowed whole.
 program test_contact_edge_contact
     use xd_kinds, only: wp, dp
     use xd_testing, only: check, check_close, test_summary
@@ -183,19 +184,19 @@ contains
         end do
         call check(qa > 0, 'crossing plates: the leading edges are paired')
         if (qa == 0) return
-        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp)
+        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp, .false.)
         call check(ed%nact == 0 .and. ed%side(qa) /= 0, 'crossing plates 0.5 apart: no contact, side known')
         ! B's edge moved to x = 0.06: in reach (0.1), 0.04 deep; a new
         ! contact deeper than the step's approach (v = 0 here) is allowed
         ! its excess: so step in from just outside first
         call move_b(s, m, b, xl, 0.1001_wp)
-        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp)
+        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp, .false.)
         call check(ed%nact == 0, 'crossing plates 0.1001 apart: still out of reach')
         do q = 1, 4
             vl(1, findloc(s%node, b(q), 1)) = -10.0_wp
         end do
         call move_b(s, m, b, xl, 0.09_wp)
-        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp)
+        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp, .false.)
         call check(ed%nact == 1 .and. ed%act(1) == qa .and. ed%nlate == 0, 'crossing plates 0.09 apart: in contact')
         fa = ed%fa(:, qa)
         call check(fa(1) < 0.0_wp .and. abs(fa(2)) + abs(fa(3)) < 1.0e-12_wp*abs(fa(1)), &
@@ -204,19 +205,27 @@ contains
         call check_close(real(-fa(1)/ed%kp(qa), dp), 0.01_dp, 1.0e-12_dp, 'in reach: force = k x depth (0.01)')
         ! B's edge through A's, 0.03 beyond: pushed back, not through
         call move_b(s, m, b, xl, 0.06_wp)
-        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp)
+        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp, .false.)
         call move_b(s, m, b, xl, 0.02_wp)
-        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp)
+        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp, .false.)
         call move_b(s, m, b, xl, -0.03_wp)
-        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp)
+        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp, .false.)
         call check(ed%nact == 1 .and. ed%fa(1, qa) < 0.0_wp, 'crossed by 0.03: edge a still pushed to its side')
         call check_close(real(-ed%fa(1, qa)/ed%kp(qa), dp), 0.13_dp, 1.0e-12_dp, 'crossed: force = k x 0.13')
         ! a pair first seen crossed (a fresh list): no side, no force, named
         ed%np = 0
         call edge_search(ed, s, xl, 1.0_wp)
-        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp)
+        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp, .false.)
         call check(ed%nact == 0 .and. ed%nunknown == 1 .and. ed%nev == 1, &
                    'a pair first seen within reach: no contact, named once')
+        ! at the first cycle, 0.07 apart (0.03 deep, the side clear): an
+        ! initial penetration, allowed whole (no force), named
+        call move_b(s, m, b, xl, 0.07_wp)
+        ed%np = 0
+        call edge_search(ed, s, xl, 1.0_wp)
+        call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp, .true.)
+        call check(ed%nact == 1 .and. ed%ninit == 1 .and. ed%nev == 2 .and. all(abs(ed%fa(:, ed%act(1))) < 1.0e-12_wp), &
+                   'an edge pair in reach at the first cycle: allowed as an initial penetration, no force, named')
     end subroutine crossing_plates
 
     !> B's leading edge to x = xb (the whole plate moved along x).
