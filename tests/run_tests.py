@@ -2075,6 +2075,101 @@ def test_penmax():
            len(depths) >= 36 and min(depths) > 0.08e-3 and z[-1].max() < 0 and dev < 1e-3)
 
 
+def thkchg_deck(path, thkchg, istupd=1):
+    """Plate A (20 mm square, 10 x 10 shells, 1 mm, elastic steel) stretched
+    in its plane by 20% over 1 ms, then held for 0.5 ms (every node's x and y
+    velocity prescribed, proportional to its position; z held), thinning under *CONTROL_SHELL
+    ISTUPD; plate B (8 mm, 4 x 4 shells, 1 mm) resting on it, 1 um above
+    contact, pressed down by a body load of 1000 m/s^2. Single surface,
+    SSTHK 1 (the shells' own thickness), THKCHG as given."""
+    lines = ["*KEYWORD", "*TITLE", f"THKCHG {thkchg}: a plate resting on a thinning plate", "*CONTROL_TERMINATION",
+             "  1.5e-3", "*CONTROL_SHELL", f"      20.0         0        -1{istupd:10d}",
+             "*CONTROL_CONTACT", f"       0.1         0         0         0         0{thkchg:10d}",
+             "         0         0         0         0         0         1",
+             "*DATABASE_GLSTAT", "  1.0e-5", "*DATABASE_NODOUT", "  1.0e-5", "*DATABASE_HISTORY_NODE", "      1013",
+             "*SECTION_SHELL", "         1         2         1         2", "     0.001     0.001     0.001     0.001",
+             "*MAT_ELASTIC", "         1      7850 2.000e+11       0.3",
+             "*PART", "plate A", "         1         1         1", "*PART", "plate B", "         2         1         1",
+             "*DEFINE_CURVE", "         1", "                 0.0                 1.0", "                 1.0                 1.0",
+             "*DEFINE_CURVE", "         2", "                 0.0                 1.0", "              1.0e-3                 1.0",
+             "             1.01e-3                 0.0", "                 1.0                 0.0",
+             "*LOAD_BODY_Z", "         1    1000.0", "*CONTACT_AUTOMATIC_SINGLE_SURFACE", "         0", "", "", "*NODE"]
+    na, nb = 11, 5
+    a = [(1 + i + na * j, -0.01 + 0.002 * i, -0.01 + 0.002 * j, 0.0) for j in range(na) for i in range(na)]
+    b = [(1001 + i + nb * j, -0.004 + 0.002 * i, -0.004 + 0.002 * j, 1.0e-3 + 1.0e-6) for j in range(nb) for i in range(nb)]
+    lines += [f"{n:8d}{x:16.8e}{y:16.8e}{z:16.8e}" for n, x, y, z in a + b]
+    lines += ["*ELEMENT_SHELL"]
+    e = 0
+    for n, base, part in ((na, 1, 1), (nb, 1001, 2)):
+        for j in range(n - 1):
+            for i in range(n - 1):
+                e += 1
+                c = base + i + n * j
+                lines.append(f"{e:8d}{part:8d}{c:8d}{c + 1:8d}{c + n + 1:8d}{c + n:8d}")
+    # A: x, y velocity 200/s times the initial position (20% over 1 ms), z
+    # and rotations held
+    lines += node_set(1, [n for n, *_ in a])
+    lines += ["*BOUNDARY_SPC_SET", "         1         0         0         0         1         1         1         1"]
+    for n, x, y, _ in a:
+        for dof, c in ((1, x), (2, y)):
+            if c != 0.0:
+                lines += ["*BOUNDARY_PRESCRIBED_MOTION_NODE", f"{n:10d}{dof:10d}         0         2{200.0 * c:10.4g}"]
+            else:
+                lines += ["*BOUNDARY_SPC_NODE", f"{n:10d}         0" + ("         1         0" if dof == 1 else
+                                                                       "         0         1") + "         0"]
+    lines.append("*END")
+    return write_lines(path, lines)
+
+
+def test_thkchg():
+    """THKCHG of *CONTROL_CONTACT with *CONTROL_SHELL ISTUPD: plate B rests
+    on plate A while A is stretched 20% in its plane and thins elastically,
+    t = t0 (1.2)^(-2 nu / (1 - nu)) = 0.8553 mm, then held. With THKCHG 1
+    B's centre ends (mean of the last 0.3 ms) at the contact distance of the
+    thinned plate, (0.8553 + 1) / 2 = 0.9277 mm, within 4% of its 72.3 um
+    descent (the spring's sag under B's weight is nanometres; the rest is
+    B's vibration; measured 1.3%); with THKCHG 0 it stays at 1.000 mm
+    within 1 um (the initial thickness); on 2 MPI ranks bitwise the serial
+    run. THKCHG 1 with ISTUPD 0 is warned in d3hsp; THKCHG
+    2 is refused naming the field."""
+    zend = {}
+    for tag in (0, 1):
+        deck = thkchg_deck(os.path.join(TMP, f"thkchg{tag}.k"), tag)
+        p, out = run_deck(deck, f"thkchg{tag}")
+        if p.returncode != 0:
+            record(f"THKCHG {tag}: the thinning plate deck runs", False, p.stderr[-300:])
+            return
+        with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+            z = f["nodout/z_coordinate"][:, 0]
+        zend[tag] = float(z[-30:].mean())   # the last 0.3 ms, A held
+        if tag == 1:
+            log = open(os.path.join(out, "d3hsp")).read()
+            if shutil.which("mpirun"):
+                # the thickness of other ranks' shells: the largest over the ranks
+                mout = os.path.join(TMP, "thkchg1_mpi2")
+                pm = mpirun(2, ["i=" + deck, "outdir=" + mout])
+                ok, msg = (False, pm.stderr[-300:]) if pm.returncode else same_histories(out, mout)
+                record("THKCHG 1: mpirun -np 2 gives the serial histories bitwise", ok, msg)
+    want = 0.5 * (1.0e-3 * 1.2 ** (-2 * 0.3 / 0.7) + 1.0e-3)
+    drop = 1.0e-3 - want
+    record(f"THKCHG 1: the plate resting on a thinning plate follows it down to {zend[1] * 1e3:.5f} mm "
+           f"(contact distance of the thinned plate {want * 1e3:.5f} mm; error {abs(zend[1] - want) / drop:.1%} "
+           f"of the {drop * 1e6:.1f} um descent, band 4%)", abs(zend[1] - want) <= 0.04 * drop)
+    record(f"THKCHG 0: the same plate stays at the initial thickness's distance ({zend[0] * 1e3:.5f} mm, band 1 um "
+           f"of 1 mm)", abs(zend[0] - 1.0e-3) <= 1.0e-6)
+    record("THKCHG 1: d3hsp says the contact thickness follows the shells'", "THKCHG 1: the shell contact" in log)
+    deck = thkchg_deck(os.path.join(TMP, "thkchg_noistupd.k"), 1, istupd=0)
+    p, out = run_deck(deck, "thkchg_noistupd", extra=("endtim=1e-5",))
+    record("THKCHG 1 with ISTUPD 0: warned in d3hsp (the thickness does not change)",
+           p.returncode == 0 and "THKCHG 1: *CONTROL_SHELL ISTUPD is 0" in open(os.path.join(out, "d3hsp")).read())
+    deck = write_lines(os.path.join(TMP, "thkchg2.k"),
+                       open(thkchg_deck(os.path.join(TMP, "thkchg_b.k"), 1)).read().replace(
+                           "         0         0         1\n", "         0         0         2\n", 1).splitlines())
+    p = run([XDYNA, "i=" + deck, "outdir=" + os.path.join(TMP, "thkchg2")])
+    record("THKCHG 2: refused (exit 1) naming the field and value",
+           p.returncode == 1 and "THKCHG" in p.stderr and "2 is not 0" in p.stderr, p.stderr[-300:])
+
+
 def test_edge_contact():
     """Edge-to-edge contact (*CONTACT_AUTOMATIC_GENERAL): two 1 mm plates in
     perpendicular planes thrown at each other at 10 m/s, their leading
@@ -3073,7 +3168,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_edge_contact, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_states, test_d3plot, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_states, test_d3plot, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -17,7 +17,7 @@ module xd_contact_contact
     use xd_kinds, only: wp, dp, i8
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
-    use xd_model, only: model_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, &
+    use xd_model, only: model_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, mat_rigid, &
                         ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_adaptive, find_box, in_box, box_t
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell
@@ -32,12 +32,13 @@ module xd_contact_contact
     use xd_contact_edge_contact, only: edges_t, build_edges, edge_search, edge_forces, edge_unknown, edge_initial
     !$ use omp_lib, only: omp_get_wtime
     use xd_core_sorting, only: where_true, sort_index
-    use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_dp
+    use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max
     implicit none
     private
     public :: contacts_t, interface_t, build_contacts, contact_search, contact_drift, contact_report, &
               interface_summary, contact_masses, contact_local_search, contact_enforce, contact_work_end, &
-              contact_energy, contact_resultants, gather_contact_state, scatter_contact_state, contact_events
+              contact_energy, contact_resultants, gather_contact_state, scatter_contact_state, contact_events, &
+              contact_thickness
 
     type :: interface_t
         integer :: id = 0
@@ -148,6 +149,11 @@ module xd_contact_contact
         real(wp) :: dt_limit = huge(1.0_wp)   !< stable step of the stiffest contact spring
         integer :: dt_node = 0                !< the node that sets it
         logical :: distributed = .false.      !< slaves split over MPI ranks: contacts are gathered
+        !> THKCHG with ISTUPD: some interface's shell contact thickness
+        !> follows the shells'; each model node's largest initial thickness of
+        !> a deformable shell at it (0: none)
+        logical :: thkchg = .false.
+        real(dp), allocatable :: node_h0(:)
         integer :: nranks = 1
         real(dp) :: wall_gather = 0           !< seconds gathering the ranks' contacts
     end type contacts_t
@@ -208,7 +214,10 @@ contains
                 call build_surface(ct%faces, model%nnode, in_a, in_b, slaves, c%kind == ct_surface_to_surface, &
                                    [c%sst, c%mst, c%sfst, c%sfmt], [model%ctl%contact%slsfac, c%sfs, c%sfm], it%surf, &
                                    model%hex_conn(:, 1:model%nhex), &
-                                   cap=(c%kind == ct_single .or. c%kind == ct_general) .and. model%ctl%contact%ssthk == 0)
+                                   cap=(c%kind == ct_single .or. c%kind == ct_general) .and. model%ctl%contact%ssthk == 0, &
+                                   follow=(c%kind == ct_single .or. c%kind == ct_general) .and. &
+                                   model%ctl%contact%thkchg == 1 .and. model%ctl%istupd /= 0)
+                ct%thkchg = ct%thkchg .or. it%surf%follow
                 deallocate (slaves)
                 ! AUTOMATIC_GENERAL: shell edges against shell edges as well
                 if (c%kind == ct_general) call build_edges(it%surf, it%ed)
@@ -244,6 +253,19 @@ contains
                 end if
             end associate
         end do
+        if (ct%thkchg) then
+            ! the initial thickness of the deformable shells (as the shells
+            ! take it: the mean of the nodal values), largest at each node
+            allocate (ct%node_h0(model%nnode))
+            ct%node_h0 = 0
+            do i = 1, model%nshell
+                if (model%mat(model%part(model%shell_part(i))%mat_ix)%mtype == mat_rigid) cycle
+                do k = 1, 4
+                    ct%node_h0(model%shell_conn(k, i)) = max(ct%node_h0(model%shell_conn(k, i)), &
+                                                             real(sum(model%shell_t(:, i))/4, dp))
+                end do
+            end do
+        end if
     contains
         subroutine box_faces(bx, on)
             type(box_t), intent(in) :: bx
@@ -412,6 +434,63 @@ contains
             end associate
         end do
     end subroutine contact_search
+
+    !> THKCHG (with ISTUPD): the shell contact thicknesses of the interfaces
+    !> that follow the shells, scaled at each node by the ratio of its
+    !> largest deformable shell thickness now (the shells' h, of the elements
+    !> `mine` computed here; the largest over the ranks) to its initial one,
+    !> within the 40% limit where it applies; a segment's own thickness by
+    !> the mean of its nodes' ratios. The contact reach (what the global
+    !> search's margin covers) does not shrink: it is the largest thickness
+    !> seen, so a thickening shell stays within the search's bound to the
+    !> next search at most.
+    subroutine contact_thickness(ct, conn, h, mine)
+        type(contacts_t), intent(inout) :: ct
+        integer, intent(in) :: conn(:, :), mine(:)
+        real(wp), intent(in) :: h(:)
+        real(dp), allocatable :: tn(:)
+        real(wp), allocatable :: rho(:)
+        integer :: i, k, e, m, nd
+        allocate (tn(size(ct%node_h0)))
+        tn = 0
+        do i = 1, size(mine)
+            e = mine(i)
+            do k = 1, 4
+                tn(conn(k, e)) = max(tn(conn(k, e)), real(h(e), dp))
+            end do
+        end do
+        if (ct%distributed) call comm_max(tn)
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                if (.not. s%follow) cycle
+                allocate (rho(s%nnode))
+                do nd = 1, s%nnode
+                    rho(nd) = 1
+                    if (ct%node_h0(s%node(nd)) > 0.0_dp .and. tn(s%node(nd)) > 0.0_dp) &
+                        rho(nd) = real(tn(s%node(nd))/ct%node_h0(s%node(nd)), wp)
+                    if (s%node_t_raw(nd) > 0.0_wp) then
+                        s%node_t(nd) = s%node_t_raw(nd)*rho(nd)
+                        if (s%capped) s%node_t(nd) = min(s%node_t(nd), ct%faces%node_cap(s%node(nd)))
+                        s%max_thick = max(s%max_thick, s%node_t(nd))
+                    end if
+                end do
+                do m = 1, s%nseg
+                    if (s%seg_t_raw(m) <= 0.0_wp) cycle
+                    s%seg_tn(:, m) = s%seg_tn_raw(:, m)*rho(s%seg(:, m))
+                    if (s%capped) then
+                        s%seg_tn(:, m) = min(s%seg_tn(:, m), ct%faces%node_cap(s%node(s%seg(:, m))))
+                        s%seg_t(m) = maxval(s%seg_tn(:, m))
+                    else
+                        s%seg_t(m) = s%seg_t_raw(m)*sum(rho(s%seg(:, m)))/4
+                    end if
+                    s%seg_r(m) = 0.5_wp*max(s%seg_t(m), maxval(s%seg_tn(:, m)))
+                    s%max_thick = max(s%max_thick, s%seg_t(m))
+                end do
+                it%reach = max(it%reach, s%max_thick)
+                deallocate (rho)
+            end associate
+        end do
+    end subroutine contact_thickness
 
     !> After the position update: u += dt x (largest speed of a surface node).
     subroutine contact_drift(ct, v, dt)
@@ -1215,6 +1294,8 @@ contains
                 write (buf, '(a,i0,a,i0,a,i0,a,i0,a,i0)') '     segments ', s%nseg, ' (shell ', s%nshell_seg, &
                     ', solid ', s%nsolid_seg, ')   surface nodes ', s%nnode, '   slave nodes ', s%nslave
                 txt = txt//trim(buf)//nl
+                if (s%follow) txt = txt//'     THKCHG 1: the shell contact thickness follows the shells'' '// &
+                                    '(*CONTROL_SHELL ISTUPD), within the 40% limit where it applies'//nl
                 if (it%ed%ne > 0) then
                     write (buf, '(a,i0,a)') '     edge to edge: ', it%ed%ne, ' exterior shell edges, paired at each '// &
                         'search (within both half-thicknesses plus delta)'

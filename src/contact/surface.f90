@@ -79,6 +79,10 @@ module xd_contact_surface
         logical, allocatable :: node_rigid(:)  !< every segment at the node is on a rigid part (it moves with the body)
         integer, allocatable :: seg_ptr(:), seg_list(:)   !< node -> segments (CSR)
         integer, allocatable :: nn_ptr(:), nn_list(:)     !< node -> nodes sharing a segment (CSR)
+        !> THKCHG: the thicknesses before the 40% limit (0: fixed by SST/MST,
+        !> or a solid face), which the shells' thickness ratios scale
+        logical :: follow = .false., capped = .false.
+        real(wp), allocatable :: seg_t_raw(:), seg_tn_raw(:, :), node_t_raw(:)
         integer :: nslave = 0
         integer :: ncap = 0                    !< surface nodes whose shell thickness the 40% edge limit lowered
         integer, allocatable :: slave(:)       !< local numbers of the slave nodes
@@ -421,8 +425,11 @@ contains
     !> every node a slave. Two-surface: nodes of both sides are slaves
     !> (the symmetric treatment of LS-DYNA's automatic surface-to-surface);
     !> nodes-to-surface: only `slave_nodes`.
-    subroutine build_surface(f, nnode_model, in_a, in_b, slave_nodes, two_way, thick, stiff, s, hex_conn, cap)
+    subroutine build_surface(f, nnode_model, in_a, in_b, slave_nodes, two_way, thick, stiff, s, hex_conn, cap, follow)
         type(faces_t), intent(in) :: f
+        !> the contact thickness follows the shells' (THKCHG): keep the raw
+        !> thicknesses
+        logical, intent(in), optional :: follow
         !> limit shell thicknesses to 40% of the shortest edge (a single-surface
         !> contact with SSTHK 0), where SST / MST do not give them
         logical, intent(in), optional :: cap
@@ -522,12 +529,21 @@ contains
         s%nshell_seg = 0
         s%nsolid_seg = 0
         s%max_thick = 0
+        s%capped = capped
+        if (present(follow)) s%follow = follow
+        allocate (s%seg_t_raw(s%nseg), s%seg_tn_raw(4, s%nseg))
+        s%seg_t_raw = 0
+        s%seg_tn_raw = 0
         do m = 1, s%nseg
             j = s%seg_face(m)
             if (s%seg_kind(m) == seg_shell) then
                 s%nshell_seg = s%nshell_seg + 1
                 s%seg_t(m) = thick(4)*f%thick(j)
                 s%seg_tn(:, m) = thick(4)*f%node_thick(f%node(:, j))
+                if (thick(2) <= 0.0_wp) then
+                    s%seg_t_raw(m) = s%seg_t(m)
+                    s%seg_tn_raw(:, m) = s%seg_tn(:, m)
+                end if
                 if (capped) then
                     s%seg_tn(:, m) = min(s%seg_tn(:, m), f%node_cap(f%node(:, j)))
                     s%seg_t(m) = maxval(s%seg_tn(:, m))
@@ -556,8 +572,11 @@ contains
             s%seg_r(m) = max(s%seg_t(m), maxval(s%seg_tn(:, m)))
             if (s%seg_kind(m) == seg_shell) s%seg_r(m) = 0.5_wp*s%seg_r(m)
         end do
+        allocate (s%node_t_raw(s%nnode))
+        s%node_t_raw = 0
         do nd = 1, s%nnode
             s%node_t(nd) = thick(3)*f%node_thick(s%node(nd))
+            if (thick(1) <= 0.0_wp) s%node_t_raw(nd) = s%node_t(nd)
             if (capped .and. s%node_t(nd) > f%node_cap(s%node(nd))) then
                 s%node_t(nd) = f%node_cap(s%node(nd))
                 s%ncap = s%ncap + 1

@@ -5,7 +5,7 @@ module xd_input_check_contacts
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
     use xd_core_sorting, only: id_map_t
-    use xd_input_context, only: read_ctx_t
+    use xd_input_context, only: read_ctx_t, add_warning
     use xd_model, only: model_t, find_set, set_node, set_part, set_shell, styp_segment_set, styp_shell_set, &
                         styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but, ct_single, ct_general, &
                         find_box
@@ -46,6 +46,10 @@ contains
                 end if
             end associate
         end do
+        ! THKCHG follows the shells' thickness, which changes only with ISTUPD
+        if (model%ctl%contact%thkchg == 1 .and. model%ctl%istupd == 0) &
+            call add_warning(model, model%deck_path//': *CONTROL_CONTACT field THKCHG 1: *CONTROL_SHELL ISTUPD is 0, '// &
+                             'so shell thicknesses do not change; the contact thickness stays the initial one')
         if (model%ctl%contact%dump_nsid > 0) then
             if (find_set(model, set_node, model%ctl%contact%dump_nsid) == 0) then
                 call make_error(error, model%deck_path//': *CONTROL_XDYNA_CONTACT field DUMPNS: node set '// &

@@ -270,7 +270,14 @@ contains
                 call get_real(card, 2, rval, 0.0_wp, error); if (allocated(error)) return
                 if (rval /= 0.0_wp) call add_warning(model, at//' field RWPNAL: rigid walls are stonewalls '// &
                                                      '(kinematic) in xdyna; ignored')
+                call get_int(card, 6, cc%thkchg, 0, error); if (allocated(error)) return
+                if (cc%thkchg /= 0 .and. cc%thkchg /= 1) then
+                    call card_error(card, 6, 'THKCHG '//itoa(cc%thkchg)//' is not 0 (the initial shell thickness) '// &
+                                    'or 1 (the shells'' thickness as it changes)', error)
+                    return
+                end if
                 do k = 5, 8
+                    if (k == 6) cycle
                     call get_int(card, k, ival, 0, error); if (allocated(error)) return
                     ! PENOPT 1 is the default stiffness rule (the one xdyna uses);
                     ! ORIEN 1 (LS-DYNA's default) orients segments, as the

@@ -271,6 +271,9 @@ module xd_model
         !> thickness is limited to 40% of the element's shortest edge (unless
         !> SST/MST give it); 1, the shell's own thickness
         integer :: ssthk = 0
+        !> THKCHG: 1, a single-surface (or general) contact's shell
+        !> thickness follows the shells' (with *CONTROL_SHELL ISTUPD)
+        integer :: thkchg = 0
         !> IGNORE of card 4: 0 moves slave nodes out of initial penetrations
         !> at t = 0 (LS-DYNA's default); 1 tracks them (allowed, shrinking
         !> as the nodes move out); 2 tracks them and names the coordinates

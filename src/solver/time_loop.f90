@@ -25,6 +25,7 @@ module xd_solver_time_loop
     use xd_contact_enforcement, only: body_response_t
     use xd_contact_contact, only: contacts_t, contact_search, contact_drift, contact_local_search, contact_enforce, &
                                   contact_work_end, contact_energy, contact_resultants, gather_contact_state, &
+                                  contact_thickness, &
                                   scatter_contact_state, contact_events
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     use xd_rigid_bodies, only: rigid_t, rigid_step, rigid_response
@@ -177,6 +178,8 @@ contains
                 ! steps 3-4 on x(n): contact forces join f(n)
                 call tm%stop(ph_integrate)
                 call tm%start(ph_local)
+                ! THKCHG: the shells' thickness of this cycle's element pass
+                if (ct%thkchg .and. sh%n > 0) call contact_thickness(ct, sh%conn, sh%h, sh%mine)
                 call contact_local_search(ct, st%x, st%v, st%time, st%dt)
                 call tm%stop(ph_local)
                 call tm%start(ph_enforce)
