@@ -70,6 +70,7 @@ module xd_contact_edge_contact
         logical, allocatable :: named(:)      !< an unknown side within reach already named
         real(wp), allocatable :: kp(:)        !< the spring of a pair in contact (0: not in contact last cycle)
         real(wp), allocatable :: p0(:)        !< allowed depth (missed contact), shrinking as the edges part
+        real(wp), allocatable :: dlast(:)     !< depth (allowance included) last cycle (0: not in contact)
         real(wp), allocatable :: ft(:, :)     !< friction force carried from cycle to cycle
         ! this cycle's contacts
         integer :: nact = 0
@@ -129,7 +130,7 @@ contains
         end do
         ed%en = ed%en(:, 1:ed%ne)
         ed%eseg = ed%eseg(1:ed%ne)
-        allocate (ed%pa(0), ed%pb(0), ed%side(0), ed%named(0), ed%kp(0), ed%p0(0), ed%ft(3, 0), ed%act(0), &
+        allocate (ed%pa(0), ed%pb(0), ed%side(0), ed%named(0), ed%kp(0), ed%p0(0), ed%dlast(0), ed%ft(3, 0), ed%act(0), &
                   ed%st(2, 0), ed%fa(3, 0), ed%ev(8))
     end subroutine build_edges
 
@@ -251,14 +252,15 @@ contains
         integer, intent(in) :: a(:), b(:)
         integer, allocatable :: side(:)
         logical, allocatable :: named(:)
-        real(wp), allocatable :: kp(:), p0(:), ft(:, :)
+        real(wp), allocatable :: kp(:), p0(:), dlast(:), ft(:, :)
         integer :: q, o, np
         np = size(a)
-        allocate (side(np), named(np), kp(np), p0(np), ft(3, np))
+        allocate (side(np), named(np), kp(np), p0(np), dlast(np), ft(3, np))
         side = 0
         named = .false.
         kp = 0
         p0 = 0
+        dlast = 0
         ft = 0
         o = 1
         do q = 1, np
@@ -272,6 +274,7 @@ contains
             named(q) = ed%named(o)
             kp(q) = ed%kp(o)
             p0(q) = ed%p0(o)
+            dlast(q) = ed%dlast(o)
             ft(:, q) = ed%ft(:, o)
         end do
         ed%np = np
@@ -281,10 +284,17 @@ contains
         call move_alloc(named, ed%named)
         call move_alloc(kp, ed%kp)
         call move_alloc(p0, ed%p0)
+        call move_alloc(dlast, ed%dlast)
         call move_alloc(ft, ed%ft)
         deallocate (ed%act, ed%st, ed%fa)
         allocate (ed%act(np), ed%st(2, np), ed%fa(3, np))
+        ! the pairs in contact last cycle (a new contact may take over from one)
         ed%nact = 0
+        do q = 1, np
+            if (ed%dlast(q) <= 0.0_wp) cycle
+            ed%nact = ed%nact + 1
+            ed%act(ed%nact) = q
+        end do
     end subroutine carry_state
 
     !> Step 3 and 4 for the edges on x(n) (xl) with v(n-1/2) (vl): each pair's
@@ -305,6 +315,14 @@ contains
         real(wp) :: sp, tp, gl, m(3), r, depth, reach, vrel(3), n(3), mp, mq, meff
         logical :: inside
         type(hit_t) :: hit
+        integer, allocatable :: prev(:)
+        real(wp), allocatable :: plast(:), dprev(:)
+        integer :: nb
+        ! last cycle's contacts, as they were (a new contact may take over
+        ! from one of them)
+        prev = ed%act(1:ed%nact)
+        plast = ed%p0(prev)
+        dprev = ed%dlast(prev)
         ed%nact = 0
         do q = 1, ed%np
             ea = ed%pa(q)
@@ -361,14 +379,26 @@ contains
                     ed%ninit = ed%ninit + 1
                     ed%pinit = max(ed%pinit, depth)
                     if (ed%ninit <= max_named) call add_event(edge_initial, depth)
-                else if (depth > reach) then
-                    ed%p0(q) = depth - reach
+                else
+                    ! the crossing handed on from a neighbouring pair (one edge in
+                    ! common, the other edges at a node): the spring goes on from
+                    ! that pair's depth and allowance, as a node moving to the
+                    ! next segment keeps its own
+                    nb = neighbour(q)
+                    if (nb > 0) then
+                        reach = reach + dprev(nb)
+                        ed%p0(q) = plast(nb)
+                    end if
+                end if
+                if (.not. first .and. depth > reach) then
+                    ed%p0(q) = ed%p0(q) + depth - reach
                     ed%nlate = ed%nlate + 1
-                    ed%plate = max(ed%plate, ed%p0(q))
-                    if (ed%nlate <= max_named) call add_event(edge_late, ed%p0(q))
+                    ed%plate = max(ed%plate, depth - reach)
+                    if (ed%nlate <= max_named) call add_event(edge_late, depth - reach)
                 end if
                 ed%kp(q) = edge_spring(s, [a1, a2, b1, b2])
             end if
+            ed%dlast(q) = depth
             if (ed%p0(q) > 0.0_wp) then
                 ed%p0(q) = min(ed%p0(q), depth)
                 depth = depth - ed%p0(q)
@@ -385,10 +415,42 @@ contains
         end do
         ed%ncontact = ed%ncontact + ed%nact
     contains
+        !> The pair in contact last cycle that pair p takes over from: one
+        !> edge in common, the other two sharing a node; the deepest (0:
+        !> none).
+        integer function neighbour(p)
+            integer, intent(in) :: p
+            integer :: j, o
+            real(wp) :: dbest
+            neighbour = 0
+            dbest = -1
+            do j = 1, size(prev)
+                o = prev(j)
+                if (o == p) cycle
+                if (.not. (hands_on(ed%pa(p), ed%pb(p), ed%pa(o), ed%pb(o)) .or. &
+                           hands_on(ed%pa(p), ed%pb(p), ed%pb(o), ed%pa(o)))) cycle
+                if (dprev(j) > dbest) then
+                    dbest = dprev(j)
+                    neighbour = j
+                end if
+            end do
+        end function neighbour
+
+        logical function hands_on(e1, e2, f1, f2)
+            integer, intent(in) :: e1, e2, f1, f2
+            hands_on = (e1 == f1 .and. adjacent(e2, f2)) .or. (e2 == f2 .and. adjacent(e1, f1))
+        end function hands_on
+
+        logical function adjacent(x, y)
+            integer, intent(in) :: x, y
+            adjacent = x /= y .and. (any(ed%en(:, x) == ed%en(1, y)) .or. any(ed%en(:, x) == ed%en(2, y)))
+        end function adjacent
+
         subroutine part(p)
             integer, intent(in) :: p
             ed%kp(p) = 0
             ed%p0(p) = 0
+            ed%dlast(p) = 0
             ed%ft(:, p) = 0
         end subroutine part
 

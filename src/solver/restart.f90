@@ -177,7 +177,7 @@ contains
                     associate (ed => it%ed)
                         call dput(r, 'edge_ints', [ed%np, ed%nlate, ed%nunknown, ed%ninit, ed%pa, ed%pb, ed%side, &
                                                    merge(1, 0, ed%named)], nf)
-                        call dput(r, 'edge_reals', [ed%plate, ed%pinit, ed%kp, ed%p0, [ed%ft]], nf)
+                        call dput(r, 'edge_reals', [ed%plate, ed%pinit, ed%kp, ed%p0, ed%dlast, [ed%ft]], nf)
                         call dput(r, 'edge_count', [ed%ncontact], nf)
                     end associate
                 end if
@@ -539,15 +539,15 @@ contains
         end subroutine getl
 
         !> The edge pairs of an AUTOMATIC_GENERAL interface (group r): np
-        !> pairs, then 4 np + 4 integers and 5 np + 2 reals.
+        !> pairs, then 4 np + 4 integers and 6 np + 2 reals.
         subroutine get_edges(ed)
             type(edges_t), intent(inout) :: ed
-            integer :: np
+            integer :: np, k
             call geti(r, 'edge_ints', -1)
             if (.not. ok()) return
             np = bi(1)
             if (.not. ok_size(size(bi), 4*np + 4, 'edge_ints')) return
-            call getw(r, 'edge_reals', 5*np + 2)
+            call getw(r, 'edge_reals', 6*np + 2)
             call getl(r, 'edge_count', 1)
             if (.not. ok()) return
             ed%np = np
@@ -562,7 +562,8 @@ contains
             ed%pinit = bw(2)
             ed%kp = bw(3:2 + np)
             ed%p0 = bw(3 + np:2 + 2*np)
-            ed%ft = reshape(bw(3 + 2*np:2 + 5*np), [3, np])
+            ed%dlast = bw(3 + 2*np:2 + 3*np)
+            ed%ft = reshape(bw(3 + 3*np:2 + 6*np), [3, np])
             ed%ncontact = bl(1)
             if (any(ed%pa < 1 .or. ed%pa > ed%ne .or. ed%pb < 1 .or. ed%pb > ed%ne)) then
                 call fail('edge_ints: an edge number outside the model''s '//itoa(ed%ne)//' exterior edges')
@@ -570,7 +571,8 @@ contains
             end if
             deallocate (ed%act, ed%st, ed%fa)
             allocate (ed%act(np), ed%st(2, np), ed%fa(3, np))
-            ed%nact = 0
+            ed%nact = count(ed%dlast > 0.0_wp)
+            ed%act(1:ed%nact) = pack([(k, k=1, np)], ed%dlast > 0.0_wp)
         end subroutine get_edges
 
         !> A dataset read must be there, whole, with the model's number of values.
