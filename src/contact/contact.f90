@@ -20,7 +20,8 @@ module xd_contact_contact
     use xd_model, only: model_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, mat_rigid, &
                         ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_adaptive, find_box, in_box, box_t
-    use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell
+    use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell, &
+                                  follow_thickness
     use xd_core_vectors, only: cross
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t, &
                                         typical_length
@@ -450,7 +451,7 @@ contains
         real(wp), intent(in) :: h(:)
         real(dp), allocatable :: tn(:)
         real(wp), allocatable :: rho(:)
-        integer :: i, k, e, m, nd
+        integer :: i, k, e, nd
         allocate (tn(size(ct%node_h0)))
         tn = 0
         do i = 1, size(mine)
@@ -468,24 +469,8 @@ contains
                     rho(nd) = 1
                     if (ct%node_h0(s%node(nd)) > 0.0_dp .and. tn(s%node(nd)) > 0.0_dp) &
                         rho(nd) = real(tn(s%node(nd))/ct%node_h0(s%node(nd)), wp)
-                    if (s%node_t_raw(nd) > 0.0_wp) then
-                        s%node_t(nd) = s%node_t_raw(nd)*rho(nd)
-                        if (s%capped) s%node_t(nd) = min(s%node_t(nd), ct%faces%node_cap(s%node(nd)))
-                        s%max_thick = max(s%max_thick, s%node_t(nd))
-                    end if
                 end do
-                do m = 1, s%nseg
-                    if (s%seg_t_raw(m) <= 0.0_wp) cycle
-                    s%seg_tn(:, m) = s%seg_tn_raw(:, m)*rho(s%seg(:, m))
-                    if (s%capped) then
-                        s%seg_tn(:, m) = min(s%seg_tn(:, m), ct%faces%node_cap(s%node(s%seg(:, m))))
-                        s%seg_t(m) = maxval(s%seg_tn(:, m))
-                    else
-                        s%seg_t(m) = s%seg_t_raw(m)*sum(rho(s%seg(:, m)))/4
-                    end if
-                    s%seg_r(m) = 0.5_wp*max(s%seg_t(m), maxval(s%seg_tn(:, m)))
-                    s%max_thick = max(s%max_thick, s%seg_t(m))
-                end do
+                call follow_thickness(s, ct%faces%node_cap, rho)
                 it%reach = max(it%reach, s%max_thick)
                 deallocate (rho)
             end associate
@@ -833,15 +818,16 @@ contains
         real(dp), intent(in) :: time
         logical, intent(in) :: first      !< the interface's first active cycle
         integer :: j, q, nd(4)
-        real(wp) :: w(4), fa(3), vrel(3)
+        real(wp) :: w(4), fa(3), vrel(3), fw(3, 4)
         associate (ed => it%ed, s => it%surf)
             call edge_forces(ed, s, it%ls%xl, it%ls%vl, it%ms, it%fr, dt, time, first)
             do j = 1, ed%nact
                 q = ed%act(j)
                 call edge_weights(it, q, nd, w)
                 fa = ed%fa(:, q)
-                f(:, s%node(nd)) = f(:, s%node(nd)) + spread(fa, 2, 4)*spread(w, 1, 3)
-                fnode(:, s%node(nd)) = fnode(:, s%node(nd)) + spread(fa, 2, 4)*spread(w, 1, 3)
+                fw = spread(fa, 2, 4)*spread(w, 1, 3)
+                f(:, s%node(nd)) = f(:, s%node(nd)) + fw
+                fnode(:, s%node(nd)) = fnode(:, s%node(nd)) + fw
                 vrel = matmul(it%ls%vl(:, nd), w)
                 it%pminus = it%pminus + dot_product(real(fa, dp), real(vrel, dp))
                 it%fslave = it%fslave + fa
@@ -1211,7 +1197,7 @@ contains
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: v(:, :)
         real(dp), intent(in) :: dt_avg
-        integer :: i, q, k, m, a, b, al, nd(4)
+        integer :: i, q, k, m, a, b, al, nd(4), j
         real(wp) :: vrel(3), vrel0(3), w(4), fa(3)
         real(dp) :: pplus, fv
         do i = 1, ct%n
@@ -1234,14 +1220,15 @@ contains
                         0.5_dp*dt_avg*(fv + dot_product(real(it%fpair(:, q), dp), real(vrel0, dp)))
                 end do
                 ! the edge pairs: edge a's part against edge b's
-                do q = 1, it%ed%nact
-                    call edge_weights(it, it%ed%act(q), nd, w)
-                    fa = it%ed%fa(:, it%ed%act(q))
+                do j = 1, it%ed%nact
+                    q = it%ed%act(j)
+                    call edge_weights(it, q, nd, w)
+                    fa = it%ed%fa(:, q)
                     fv = dot_product(real(fa, dp), real(matmul(v(:, s%node(nd)), w), dp))
                     pplus = pplus + fv
-                    a = it%seg_lp(it%ed%eseg(it%ed%pa(it%ed%act(q))))
-                    b = it%seg_lp(it%ed%eseg(it%ed%pb(it%ed%act(q))))
-                    al = merge(2, 1, it%ed%p0(it%ed%act(q)) > 0.0_wp)
+                    a = it%seg_lp(it%ed%eseg(it%ed%pa(q)))
+                    b = it%seg_lp(it%ed%eseg(it%ed%pb(q)))
+                    al = merge(2, 1, it%ed%p0(q) > 0.0_wp)
                     it%pair_imp(a, b, al) = it%pair_imp(a, b, al) + dt_avg*norm2(real(fa, dp))
                     it%pair_work(a, b, al) = it%pair_work(a, b, al) + &
                         0.5_dp*dt_avg*(fv + dot_product(real(fa, dp), real(matmul(it%ls%vl(:, nd), w), dp)))

@@ -312,7 +312,7 @@ contains
         real(dp), intent(in) :: time
         logical, intent(in) :: first          !< the interface's first active cycle
         integer :: q, ea, eb, a1, a2, b1, b2
-        real(wp) :: sp, tp, gl, m(3), r, depth, reach, vrel(3), n(3), mp, mq, meff
+        real(wp) :: sp, tp, gl, m(3), r, depth, reach, vrel(3), n(3), mp, mq, meff, lever
         logical :: inside
         type(hit_t) :: hit
         integer, allocatable :: prev(:)
@@ -320,9 +320,10 @@ contains
         integer :: nb
         ! last cycle's contacts, as they were (a new contact may take over
         ! from one of them)
-        prev = ed%act(1:ed%nact)
-        plast = ed%p0(prev)
-        dprev = ed%dlast(prev)
+        allocate (prev(ed%nact), plast(ed%nact), dprev(ed%nact))
+        prev(:) = ed%act(1:ed%nact)
+        plast(:) = ed%p0(prev)
+        dprev(:) = ed%dlast(prev)
         ed%nact = 0
         do q = 1, ed%np
             ea = ed%pa(q)
@@ -330,15 +331,13 @@ contains
             a1 = ed%en(1, ea); a2 = ed%en(2, ea)
             b1 = ed%en(1, eb); b2 = ed%en(2, eb)
             r = s%seg_r(ed%eseg(ea)) + s%seg_r(ed%eseg(eb))
-            call closest_on_lines(xl(:, a1), xl(:, a2), xl(:, b1), xl(:, b2), sp, tp, gl, m, inside)
+            call closest_on_lines(xl(:, a1), xl(:, a2), xl(:, b1), xl(:, b2), sp, tp, gl, m, inside, lever)
             ! edges crossing at so small an angle that the node of either edge
             ! nearest the crossing (half an edge from it at most) lies within
             ! half the reach of the other edge's line: the node contact's (its
             ! tube holds the node), and the common normal of nearly parallel
             ! edges (overlapping flanges) turns with every small rotation
-            if (inside) inside = 0.5_wp*max(norm2(xl(:, a2) - xl(:, a1)), norm2(xl(:, b2) - xl(:, b1)))* &
-                                 norm2(cross(xl(:, a2) - xl(:, a1), xl(:, b2) - xl(:, b1)))/ &
-                                 (norm2(xl(:, a2) - xl(:, a1))*norm2(xl(:, b2) - xl(:, b1))) > 0.5_wp*r
+            if (inside) inside = lever > 0.5_wp*r
             ! the side: followed while the pair is not in edge contact and the
             ! lines lie clearly apart (half the reach or more: an edge cannot
             ! get there from the other side within a step), kept while in
@@ -490,31 +489,28 @@ contains
     !> a, t on b; inside when both lie inside their edges (end_band) and the
     !> edges are not parallel; m the unit common normal e_a x e_b / |e_a x
     !> e_b| (zero when parallel) and g = (a1 - b1) . m, the signed distance
-    !> of the lines (the points' distance when inside).
-    pure subroutine closest_on_lines(a1, a2, b1, b2, s, t, g, m, inside)
+    !> of the lines (the points' distance when inside); lever, half the
+    !> longer edge times the sine of their angle (how far from the other
+    !> line an edge's node nearest the crossing can lie).
+    pure subroutine closest_on_lines(a1, a2, b1, b2, s, t, g, m, inside, lever)
         real(wp), intent(in) :: a1(3), a2(3), b1(3), b2(3)
         real(wp), intent(out) :: s, t, g, m(3)
         logical, intent(out) :: inside
+        real(wp), intent(out), optional :: lever
         real(wp) :: u(3), w(3), r0(3), aa, bb, cc, dd, ee, den
-        u = a2 - a1
-        w = b2 - b1
-        r0 = a1 - b1
-        aa = dot_product(u, u)
-        bb = dot_product(u, w)
-        cc = dot_product(w, w)
-        dd = dot_product(u, r0)
-        ee = dot_product(w, r0)
-        den = aa*cc - bb*bb
+        call line_terms(a1, a2, b1, b2, u, w, r0, aa, bb, cc, dd, ee, den)
         s = 0
         t = 0
         g = 0
         m = 0
         inside = .false.
+        if (present(lever)) lever = 0
         ! den = |u|^2 |w|^2 sin^2
         if (den <= (parallel_sin**2)*aa*cc .or. den <= 0.0_wp) return
         s = (bb*ee - cc*dd)/den
         t = (aa*ee - bb*dd)/den
         m = cross(u, w)
+        if (present(lever)) lever = 0.5_wp*sqrt(max(aa, cc))*norm2(m)/(sqrt(aa)*sqrt(cc))
         m = m/norm2(m)
         g = dot_product(r0, m)
         inside = min(s, 1.0_wp - s) > end_band .and. min(t, 1.0_wp - t) > end_band
@@ -525,15 +521,7 @@ contains
     pure real(wp) function segment_distance(p1, p2, q1, q2) result(d)
         real(wp), intent(in) :: p1(3), p2(3), q1(3), q2(3)
         real(wp) :: u(3), w(3), r0(3), aa, bb, cc, dd, ee, den, s, t
-        u = p2 - p1
-        w = q2 - q1
-        r0 = p1 - q1
-        aa = dot_product(u, u)
-        bb = dot_product(u, w)
-        cc = dot_product(w, w)
-        dd = dot_product(u, r0)
-        ee = dot_product(w, r0)
-        den = aa*cc - bb*bb
+        call line_terms(p1, p2, q1, q2, u, w, r0, aa, bb, cc, dd, ee, den)
         ! s on the first segment for the lines' closest points (any s when
         ! parallel), then t for that s, each clamped, then s again for t
         if (den > 1.0e-12_wp*aa*cc) then
@@ -553,5 +541,22 @@ contains
         end if
         d = norm2(p1 + s*u - q1 - t*w)
     end function segment_distance
+
+    !> The lines through a1-a2 and b1-b2: directions u, w, offset r0 = a1 -
+    !> b1, their dot products and the determinant den = u.u w.w - (u.w)^2
+    !> of the closest-point equations.
+    pure subroutine line_terms(a1, a2, b1, b2, u, w, r0, aa, bb, cc, dd, ee, den)
+        real(wp), intent(in) :: a1(3), a2(3), b1(3), b2(3)
+        real(wp), intent(out) :: u(3), w(3), r0(3), aa, bb, cc, dd, ee, den
+        u = a2 - a1
+        w = b2 - b1
+        r0 = a1 - b1
+        aa = dot_product(u, u)
+        bb = dot_product(u, w)
+        cc = dot_product(w, w)
+        dd = dot_product(u, r0)
+        ee = dot_product(w, r0)
+        den = aa*cc - bb*bb
+    end subroutine line_terms
 
 end module xd_contact_edge_contact

@@ -17,7 +17,7 @@ module xd_contact_surface
     use xd_core_sorting, only: where_true, small_sort
     implicit none
     private
-    public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid
+    public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid, follow_thickness
     public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side, seg_nodes, seg_normal
 
     integer, parameter :: seg_shell = 1, seg_solid = 2
@@ -654,6 +654,36 @@ contains
             end do
         end subroutine lone_slave_areas
     end subroutine build_surface
+
+    !> THKCHG: the shell contact thicknesses that follow the shells (those
+    !> SST/MST do not fix), the raw ones scaled by each node's thickness
+    !> ratio rho (local nodes), then the 40% limit of build_surface where
+    !> the surface has it (node_cap: the faces' per model node); a
+    !> segment's own thickness by its nodes' mean ratio. max_thick only
+    !> grows (the caller's contact reach).
+    subroutine follow_thickness(s, node_cap, rho)
+        type(surface_t), intent(inout) :: s
+        real(wp), intent(in) :: node_cap(:), rho(:)
+        integer :: nd, m
+        do nd = 1, s%nnode
+            if (s%node_t_raw(nd) <= 0.0_wp) cycle
+            s%node_t(nd) = s%node_t_raw(nd)*rho(nd)
+            if (s%capped) s%node_t(nd) = min(s%node_t(nd), node_cap(s%node(nd)))
+            s%max_thick = max(s%max_thick, s%node_t(nd))
+        end do
+        do m = 1, s%nseg
+            if (s%seg_t_raw(m) <= 0.0_wp) cycle
+            s%seg_tn(:, m) = s%seg_tn_raw(:, m)*rho(s%seg(:, m))
+            if (s%capped) then
+                s%seg_tn(:, m) = min(s%seg_tn(:, m), node_cap(s%node(s%seg(:, m))))
+                s%seg_t(m) = maxval(s%seg_tn(:, m))
+            else
+                s%seg_t(m) = s%seg_t_raw(m)*sum(rho(s%seg(:, m)))/4
+            end if
+            s%seg_r(m) = 0.5_wp*max(s%seg_t(m), maxval(s%seg_tn(:, m)))
+            s%max_thick = max(s%max_thick, s%seg_t(m))
+        end do
+    end subroutine follow_thickness
 
     !> Sides a slave looks at: single surface everything, two surfaces the
     !> other side, nodes-to-surface the master side.
