@@ -1133,7 +1133,8 @@ def test_restart():
              ("input_decks/contact/crossed_edges_general.k", 4.0e-5),
              ("input_decks/verify/mixed_solid_shell_rigid_gravity.k", 2.0e-3),
              ("input_decks/verify/bar_heavy_wall.k", None),
-             ("input_decks/verify/spot_weld_fail.k", None)]
+             ("input_decks/verify/spot_weld_fail.k", None),
+             ("input_decks/verify/shell_pinch_mass_scaling.k", None)]
     for src, endtim in cases:
         name = os.path.splitext(os.path.basename(src))[0]
         if endtim is None:
@@ -2170,6 +2171,175 @@ def test_thkchg():
            p.returncode == 1 and "THKCHG" in p.stderr and "2 is not 0" in p.stderr, p.stderr[-300:])
 
 
+
+def ms_glstat(out):
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        g = f["glstat"]
+        return {k: g[k][:] for k in g}
+
+
+def test_mass_scaling():
+    """Mass scaling (*CONTROL_TIMESTEP DT2MS, MS1ST; *CONTROL_TERMINATION
+    ENDMAS), input_decks/verify/shell_pinch_mass_scaling.k: a 2 mm column of
+    two shells pinched to 1 mm at 2 m/s between a held and a driven block,
+    every node held in y and z, so its width w(t) = 2 mm - 2 m/s t and its
+    step w/c (area over the longest side, plate wave speed c) are known.
+    DT2MS -1e-6: the column's mass factor is (1e-6 c / w)^2, 7.00 at t = 0
+    and 28.0 at the end; the run's step stays TSSFAC x 1e-6 = 0.9 us
+    (rel 1e-9: the step is that product); the added mass at the end is
+    2 m_e (f - 1) of the last cycle's width (band 0.5%: the element pass
+    sees the width a cycle apart from the last output, 2 um of 1 mm, 0.4%
+    in f); the kinetic energy the added mass entered with (d3hsp) is
+    1/2 (2 m/s)^2 times the half of the mass added after cycle 0 that sits on
+    the moving nodes (rel 1e-3); glstat's added mass and percentage and
+    matsum's +mass read the same. Without DT2MS the step falls with the
+    width (to 0.9 w_end / c within 1%). ENDMAS 50 stops the run (exit 2,
+    naming ENDMAS and a node) within two steps of the time the added mass
+    passes 50% of the model's. MS1ST 1 adds mass at cycle 0 only. DT2MS
+    +1e-6 sets every element's mass at cycle 0 so that its step is 1e-6:
+    the wide shells lose mass (factor (1e-6 c / 10 mm)^2), the total read
+    from glstat at t = 0 (rel 1e-6). Stability: the right block thrown at
+    the column at 2 m/s instead of driven (its kinetic energy goes into the
+    column's strain and back) runs 2,000 steps of at least 0.9 us, 2.6 times
+    the unscaled column's stable step, with the energy ratio within 1e-3
+    (without the added mass it would blow up in a few steps). A
+    hexahedron bar with one 2 mm element likewise: step TSSFAC |DT2MS| and
+    added mass m_e ((|DT2MS| / dt_e)^2 - 1), dt_e the run's first step
+    without DT2MS over TSSFAC (rel 1e-6). On 2 MPI ranks the pinch's
+    histories are the serial ones bitwise."""
+    src = "input_decks/verify/shell_pinch_mass_scaling.k"
+    text = open(os.path.join(ROOT, src)).read()
+    rho, E, nu, h = 7850.0, 2.0e11, 0.3, 1.0e-3
+    c = math.sqrt(E / (rho * (1 - nu * nu)))
+    me = rho * h * 2.0e-3 * 1.0e-2           # a column shell's own mass
+    base = rho * h * (0.042 * 0.02)          # the strip's
+    variant = lambda name, t: write_lines(os.path.join(TMP, name + ".k"), t.splitlines())
+    dt2ms_card = "       0.0       0.9         0       0.0   -1.0e-6"
+
+    p, out = run_deck(src, "ms_pinch")
+    if p.returncode:
+        record("mass scaling: the pinch deck runs", False, p.stderr[-300:])
+        return
+    gl = ms_glstat(out)
+    log = open(os.path.join(out, "d3hsp")).read()
+    step = gl["time_step"]
+    record(f"mass scaling: the step stays TSSFAC x |DT2MS| = 0.9 us ({step.min():.6e} to {step.max():.6e} s, rel 1e-9)",
+           abs(step.min() - 0.9e-6) <= 0.9e-15 and abs(step.max() - 0.9e-6) <= 0.9e-15)
+    f0 = (1.0e-6 * c / 2.0e-3) ** 2
+    named = re.findall(r"mass scaling: shell (\d+) of part 1 at time \S+, cycle 0: its mass x (\S+)", log)
+    record(f"mass scaling: d3hsp names shells 3 and 8 at cycle 0, factor {[float(x) for _, x in named]} against "
+           f"(1e-6 c / 2 mm)^2 = {f0:.5f} (rel 1e-4)",
+           sorted(int(e) for e, _ in named) == [3, 8] and all(abs(float(x) / f0 - 1) <= 1e-4 for _, x in named))
+    t_end = float(gl["time"][-1])
+    w_end = 2.0e-3 - 2.0 * t_end
+    f_end = (1.0e-6 * c / w_end) ** 2
+    want = 2 * me * (f_end - 1)
+    got = float(gl["added_mass"][-1])
+    record(f"mass scaling: added mass at the end {got:.5e} against 2 m_e (f - 1) = {want:.5e} for the width "
+           f"{w_end * 1e3:.4f} mm (error {got / want - 1:+.2e}, band 0.5%)", abs(got / want - 1) <= 5e-3)
+    m = re.search(r"kinetic energy the added mass entered with: (\S+)", log)
+    ke_want = 0.5 * 2.0 ** 2 * 0.5 * (got - 2 * me * (f0 - 1))
+    record(f"mass scaling: the added mass's kinetic energy {m.group(1) if m else None} against 1/2 v^2 dm_moving = "
+           f"{ke_want:.5e} (rel 1e-3)", m is not None and abs(float(m.group(1)) / ke_want - 1) <= 1e-3)
+    txt = open(os.path.join(out, "glstat")).read()
+    am = re.findall(r" added mass\.+\s+(\S+)", txt)
+    pc = re.findall(r" percentage increase\.+\s+(\S+)", txt)
+    ms = re.findall(r"\+mass=\s*(\S+)", open(os.path.join(out, "matsum")).read())
+    record(f"mass scaling: glstat's added mass {am[-1] if am else None} and percentage {pc[-1] if pc else None}, "
+           f"matsum's +mass {ms[-1] if ms else None} agree with thist.h5 (5 digits)",
+           bool(am and pc and ms) and abs(float(am[-1]) / got - 1) < 1e-4 and abs(float(ms[-1]) / got - 1) < 1e-4
+           and abs(float(pc[-1]) / (100 * got / base) - 1) < 1e-4)
+    ratio = gl["energy_ratio"]
+    record(f"mass scaling: the energy ratio (the added mass's kinetic energy counted as put in) within 2e-3 of 1 "
+           f"(worst {abs(ratio - 1).max():.2e}; the unscaled run's large-strain error is of that order)",
+           abs(ratio - 1).max() <= 2e-3)
+
+    p, out0 = run_deck(variant("ms_pinch_off", text.replace(dt2ms_card, "       0.0       0.9")), "ms_pinch_off")
+    g0 = ms_glstat(out0) if p.returncode == 0 else None
+    record(f"mass scaling: without DT2MS the step falls with the width "
+           f"({g0['time_step'].min() if g0 else 0:.4e} s against 0.9 w_end / c = {0.9 * w_end / c:.4e}, band 1%)",
+           g0 is not None and abs(g0["time_step"].min() / (0.9 * w_end / c) - 1) <= 0.01, p.stderr[-300:])
+
+    t_half = (2.0e-3 - 1.0e-6 * c / math.sqrt(1 + 0.5 * base / (2 * me))) / 2.0
+    deck = variant("ms_pinch_endmas", text.replace("*CONTROL_TERMINATION\n    5.0e-4",
+                                                   "*CONTROL_TERMINATION\n    5.0e-4         0       0.0       0.0      50.0"))
+    p, oute = run_deck(deck, "ms_pinch_endmas")
+    m = re.search(r"error termination at time (\S+),", p.stdout + p.stderr)
+    t_stop = float(m.group(1)) if m else -1
+    record(f"mass scaling: ENDMAS 50 stops the run (exit {p.returncode}) at {t_stop:.4e} s, where the added mass "
+           f"passes 50% at {t_half:.4e} s (band two steps), naming ENDMAS and a node",
+           p.returncode == 2 and abs(t_stop - t_half) <= 1.8e-6 and "ENDMAS" in p.stderr and "at node" in p.stderr,
+           (p.stderr)[-300:])
+
+    p, out1 = run_deck(variant("ms_pinch_ms1st", text.replace(dt2ms_card, dt2ms_card + "         0         0         1")),
+                       "ms_pinch_ms1st")
+    g1 = ms_glstat(out1) if p.returncode == 0 else None
+    record("mass scaling: MS1ST 1 scales at cycle 0 only (the added mass stays 2 m_e (f0 - 1), rel 1e-9, and the "
+           "step then falls below 0.9 us)", g1 is not None and np.all(abs(g1["added_mass"] / (2 * me * (f0 - 1)) - 1)
+                                                               <= 1e-9) and g1["time_step"].min() < 0.85e-6,
+           p.stderr[-300:])
+
+    # the right block thrown at the column instead of driven
+    free = text.replace("*BOUNDARY_PRESCRIBED_MOTION_SET\n         3         1         0         1       1.0",
+                        "*INITIAL_VELOCITY\n         3\n      -2.0       0.0       0.0")
+    free = free.replace("*CONTROL_TERMINATION\n    5.0e-4", "*CONTROL_TERMINATION\n    1.8e-3")
+    p, outf = run_deck(variant("ms_pinch_free", free), "ms_pinch_free")
+    gf = ms_glstat(outf) if p.returncode == 0 else None
+    ok = gf is not None and len(gf["time_step"]) > 100
+    record(f"mass scaling: the block thrown at the column runs to 1.8 ms in steps of at least 0.9 us "
+           f"({0.9e-6 / (0.9 * 2.0e-3 / c):.2f} x the unscaled column's step) with the energy ratio within 1e-3 "
+           f"(worst {abs(gf['energy_ratio'] - 1).max() if ok else float('nan'):.2e})",
+           ok and abs(gf["energy_ratio"] - 1).max() <= 1e-3 and gf["time_step"].min() >= 0.9e-6 * (1 - 1e-9)
+           and gf["time"][-1] >= 1.8e-3 * (1 - 1e-6) and gf["internal_energy"].max() > 0.5 * gf["kinetic_energy"][0],
+           p.stderr[-300:])
+
+    pos = free.replace(dt2ms_card, "       0.0       0.9         0       0.0    1.0e-6").replace(
+        "*CONTROL_TERMINATION\n    1.8e-3", "*CONTROL_TERMINATION\n    1.0e-5")
+    p, outp = run_deck(variant("ms_pinch_positive", pos), "ms_pinch_positive")
+    gp = ms_glstat(outp) if p.returncode == 0 else None
+    fw = (1.0e-6 * c / 1.0e-2) ** 2
+    want = 2 * me * (f0 - 1) + 8 * (rho * h * 1.0e-4) * (fw - 1)
+    record(f"mass scaling: DT2MS +1e-6 sets every shell's mass at cycle 0 (added {gp['added_mass'][0] if gp else 0:.6e} "
+           f"against {want:.6e}: the wide shells x {fw:.4f}, the column x {f0:.4f}; rel 1e-6)",
+           gp is not None and abs(gp["added_mass"][0] / want - 1) <= 1e-6, p.stderr[-300:])
+
+    # a hexahedron bar with one 2 mm element
+    hx = ["*KEYWORD", "*TITLE", "mass scaling of a thin hexahedron", "*CONTROL_TERMINATION", "    2.0e-5",
+          "*CONTROL_TIMESTEP", "DT2MS", "*DATABASE_GLSTAT", "    1.0e-6", "*SECTION_SOLID", "         1         1",
+          "*MAT_ELASTIC", "         1      7850 2.000e+11       0.3", "*PART", "bar", "         1         1         1",
+          "*INITIAL_VELOCITY", "         0", "       1.0       0.0       0.0", "*NODE"]
+    xs = [0.0, 0.01, 0.012, 0.022]
+    nid = lambda i, j, k: 1 + i + 4 * (j + 2 * k)
+    hx += [f"{nid(i, j, k):8d}{x:16.8e}{0.01 * j:16.8e}{0.01 * k:16.8e}" for k in range(2) for j in range(2)
+           for i, x in enumerate(xs)]
+    hx += ["*ELEMENT_SOLID"] + [f"{i + 1:8d}{1:8d}" + "".join(f"{n:8d}" for n in (
+        nid(i, 0, 0), nid(i + 1, 0, 0), nid(i + 1, 1, 0), nid(i, 1, 0), nid(i, 0, 1), nid(i + 1, 0, 1), nid(i + 1, 1, 1),
+        nid(i, 1, 1))) for i in range(3)] + ["*END"]
+    steps = {}
+    for tag, card in (("off", "       0.0       0.9"), ("on", "       0.0       0.9         0       0.0   -1.5e-6")):
+        p, o = run_deck(variant("ms_hex_" + tag, "\n".join(hx).replace("DT2MS", card)), "ms_hex_" + tag)
+        steps[tag] = ms_glstat(o) if p.returncode == 0 else None
+    ok = all(v is not None for v in steps.values())
+    if ok:
+        dte = steps["off"]["time_step"][0] / 0.9
+        want = rho * 2.0e-3 * 1.0e-4 * ((1.5e-6 / dte) ** 2 - 1)
+        got = steps["on"]["added_mass"][0]
+        record(f"mass scaling: the thin hexahedron (step {dte:.4e} s unscaled) gets {got:.6e} kg against "
+               f"m_e ((1.5 us / dt_e)^2 - 1) = {want:.6e} (rel 1e-6; the 10 mm cubes' 1.7 us steps keep their "
+               f"mass) and the run's step at least 1.35 us (rel 1e-9) and at most 6.2% above (the linear bulk "
+               f"viscosity's share of the step, sqrt(1 + Q2^2) + Q2 with Q2 0.06, taken when a round-off "
+               f"volume rate is negative and left when it is not)",
+               abs(got / want - 1) <= 1e-6 and steps["on"]["time_step"].max() <= 1.35e-6 * (math.hypot(1, 0.06) + 0.06)
+               * (1 + 1e-9) and abs(steps["on"]["time_step"].min() / 1.35e-6 - 1) <= 1e-9)
+    else:
+        record("mass scaling: the thin hexahedron decks run", False)
+
+    if shutil.which("mpirun"):
+        mout = os.path.join(TMP, "ms_pinch_mpi2")
+        pm = mpirun(2, ["i=" + os.path.join(ROOT, src), "outdir=" + mout])
+        ok, msg = (False, pm.stderr[-300:]) if pm.returncode else same_histories(out, mout)
+        record("mass scaling: mpirun -np 2 gives the pinch's serial histories bitwise", ok, msg)
+
 def test_edge_contact():
     """Edge-to-edge contact (*CONTACT_AUTOMATIC_GENERAL): two 1 mm plates in
     perpendicular planes thrown at each other at 10 m/s, their leading
@@ -3168,7 +3338,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_states, test_d3plot, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_states, test_d3plot, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

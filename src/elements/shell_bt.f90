@@ -41,6 +41,12 @@ module xd_elements_shell_bt
         integer :: crit = 0, bad = 0
         logical :: thickness_update = .false.   !< *CONTROL_SHELL ISTUPD
         integer, allocatable :: mine(:)       !< the elements computed here (MPI: this rank's)
+        ! mass scaling (*CONTROL_TIMESTEP DT2MS), allocated only when it is on:
+        ! an element's mass is msf times its own, so its step sqrt(msf) times
+        real(wp), allocatable :: msf(:)       !< mass factor (1: the element's own mass)
+        real(wp), allocatable :: ms_need(:)   !< this cycle's wanted factor (0: none wanted)
+        real(wp) :: ms_target = 0             !< element step to be kept (0: no scaling this cycle)
+        logical :: ms_all = .false.           !< every element brought to ms_target (positive DT2MS, cycle 0)
     end type shells_t
 
     ! Gauss points and weights on [-1, 1], NIP 1..10 (rows: nip)
@@ -204,6 +210,15 @@ contains
             if (.not. (dte > 0.0_wp)) then
                 if (tbad == 0) tbad = e
                 cycle
+            end if
+            if (allocated(sh%msf)) then
+                ! mass scaling: the step of the element's scaled mass; one
+                ! below the target asks for the factor that brings it there
+                dte = dte*sqrt(sh%msf(e))
+                if (sh%ms_target > 0.0_wp .and. (dte < sh%ms_target .or. sh%ms_all)) then
+                    sh%ms_need(e) = sh%msf(e)*(sh%ms_target/dte)**2
+                    dte = sh%ms_target
+                end if
             end if
             if (dte < tmin) then
                 tmin = dte

@@ -60,6 +60,12 @@ module xd_elements_solid_groups
         integer, allocatable :: gbad(:)        !< per group: first element with volume <= 0
         integer, allocatable :: group_of(:)    !< group of each element
         logical, allocatable :: active(:)      !< per group: computed here (MPI: this rank's)
+        ! mass scaling (*CONTROL_TIMESTEP DT2MS), allocated only when it is on:
+        ! an element's mass is msf times its own, so its step sqrt(msf) times
+        real(wp), allocatable :: msf(:)       !< mass factor (1: the element's own mass)
+        real(wp), allocatable :: ms_need(:)   !< this cycle's wanted factor (0: none wanted)
+        real(wp) :: ms_target = 0             !< element step to be kept (0: no scaling this cycle)
+        logical :: ms_all = .false.           !< every element brought to ms_target (positive DT2MS, cycle 0)
     contains
         procedure :: stress => solid_stress
         procedure :: set_stress => solid_set_stress
@@ -417,6 +423,19 @@ contains
                 s%fslot(3, e + k) = fz(i, k)
             end do
         end do
+        if (allocated(s%msf)) then
+            ! mass scaling: the step of the element's scaled mass; one below
+            ! the target asks for the factor that brings it there
+            dte = dte*sqrt(s%msf(a:b))
+            if (s%ms_target > 0.0_wp) then
+                do i = 1, n
+                    if (dte(i) > 0.0_wp .and. (dte(i) < s%ms_target .or. s%ms_all)) then
+                        s%ms_need(a + i - 1) = s%msf(a + i - 1)*(s%ms_target/dte(i))**2
+                        dte(i) = s%ms_target
+                    end if
+                end do
+            end if
+        end if
         k = minloc(dte, 1)
         s%gdt(g) = dte(k)
         s%gcrit(g) = a + k - 1

@@ -18,8 +18,7 @@ contains
         type(model_t), intent(inout) :: model
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
-        integer :: ic, isdo, lctm, erode, ms1st, btype
-        real(wp) :: endmas
+        integer :: ic, isdo, lctm, erode, btype
         character(len=:), allocatable :: at
         ic = first_card(kw)
         if (ic > kw%ncard) return
@@ -33,18 +32,18 @@ contains
                 call get_int(card, 2, c%endcyc, 0, error); if (allocated(error)) return
                 call get_real(card, 3, c%dtmin, 0.0_wp, error); if (allocated(error)) return
                 call get_real(card, 4, c%endeng, 0.0_wp, error); if (allocated(error)) return
-                call get_real(card, 5, endmas, 0.0_wp, error); if (allocated(error)) return
+                call get_real(card, 5, c%endmas, 0.0_wp, error); if (allocated(error)) return
                 if (c%endtim < 0.0_wp) then
                     call card_error(card, 1, 'termination time must not be negative', error); return
                 end if
-                ! ENDMAS stops a run whose mass scaling added too much mass:
-                ! xdyna adds none, so the limit is always met
+                if (c%endmas < 0.0_wp) then
+                    call card_error(card, 5, 'ENDMAS (a percentage of the mass) must not be negative', error); return
+                end if
                 c%termination_given = .true.
             case ('CONTROL_TIMESTEP')
                 call get_card(ctx, kw, ic, 'DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST', 1, card, error)
                 if (allocated(error)) return
-                call ignored_fields(model, card, [3, 4, 8], 'shell step options (ISDO, TSLIMT, MS1ST) are not in xdyna; '// &
-                    'ignored')
+                call ignored_fields(model, card, [3, 4], 'shell step options (ISDO, TSLIMT) are not in xdyna; ignored')
                 call get_real(card, 1, c%dtinit, 0.0_wp, error); if (allocated(error)) return
                 call get_real(card, 2, c%tssfac, 0.9_wp, error, zero_default=.true.); if (allocated(error)) return
                 call get_int(card, 3, isdo, 0, error); if (allocated(error)) return
@@ -52,12 +51,13 @@ contains
                 call get_real(card, 5, c%dt2ms, 0.0_wp, error); if (allocated(error)) return
                 call get_int(card, 6, lctm, 0, error); if (allocated(error)) return
                 call get_int(card, 7, erode, 0, error); if (allocated(error)) return
-                call get_int(card, 8, ms1st, 0, error); if (allocated(error)) return
+                call get_int(card, 8, c%ms1st, 0, error); if (allocated(error)) return
+                if (c%ms1st /= 0 .and. c%ms1st /= 1) then
+                    call card_error(card, 8, 'MS1ST must be 0 or 1', error); return
+                end if
                 if (c%tssfac <= 0.0_wp .or. c%tssfac > 1.0_wp) then
                     call card_error(card, 2, 'TSSFAC must lie in (0, 1]', error); return
                 end if
-                if (c%dt2ms /= 0.0_wp) call add_warning(model, at//' field DT2MS: mass scaling '// &
-                                                        'is not implemented; ignored')
                 if (lctm /= 0) call add_warning(model, at//' field LCTM: time step limit curve '// &
                                                 'is not implemented; ignored')
                 if (erode /= 0) call add_warning(model, at//' field ERODE: erosion on minimum time '// &

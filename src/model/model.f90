@@ -296,7 +296,9 @@ module xd_model
         real(wp) :: dtinit = 0
         real(wp) :: tssfac = 0.9_wp
         real(wp) :: tslimt = 0
-        real(wp) :: dt2ms = 0
+        real(wp) :: dt2ms = 0               !< *CONTROL_TIMESTEP: mass scaling (< 0: only where needed)
+        integer :: ms1st = 0                !< mass scaling at the first cycle only
+        real(wp) :: endmas = 0              !< *CONTROL_TERMINATION: stop when the added mass passes this percent
         integer :: ihq = 1
         real(wp) :: qh = 0.1_wp
         real(wp) :: q1 = 1.5_wp, q2 = 0.06_wp

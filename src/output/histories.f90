@@ -30,6 +30,7 @@ module xd_output_histories
         type(h5series_t) :: ser(ndb)
         integer :: nwall = 0
         logical :: contact = .false.         !< glstat carries the sliding interface energy
+        logical :: scaling = .false.         !< glstat carries the added mass (DT2MS)
         integer, allocatable :: nodes(:)     !< node indices for nodout
         integer, allocatable :: node_ids(:)  !< and their user ids
         real(dp), allocatable :: rdisp(:, :) !< (3, nodout nodes) rotation so far (models with shells)
@@ -115,6 +116,7 @@ contains
         if (rg%n == 0) h%on(s_rbdout) = .false.
         if (model%ncontact == 0) h%on(s_rcforc) = .false.
         h%contact = model%ncontact > 0
+        h%scaling = model%ctl%dt2ms /= 0.0_wp
         ! nodout nodes: *DATABASE_HISTORY_NODE ids, then node sets
         allocate (h%nodes(0))
         if (allocated(model%db%hist_node_ix)) h%nodes = model%db%hist_node_ix
@@ -170,6 +172,10 @@ contains
             if (model%ncontact > 0) then
                 cols = [cols, [character(len=32) :: 'sliding_interface_energy']]
                 units = [units, [character(len=32) :: 'energy']]
+            end if
+            if (h%scaling) then
+                cols = [cols, [character(len=32) :: 'added_mass']]
+                units = [units, [character(len=32) :: 'mass']]
             end if
             call make_series('glstat', cols, units, 0, [0], s_glstat)
         end if
@@ -392,8 +398,8 @@ contains
         call row('system damping energy', 0.0_dp)
         call row('sliding interface energy', en%slide)
         call row('external work', en%ext)
-        ! no erosion, damping, drilling stiffness or mass scaling here: their
-        ! lines read zero, as LS-DYNA's do for a model without them
+        ! no erosion, damping or drilling stiffness here: their lines read
+        ! zero, as LS-DYNA's do for a model without them
         call row('eroded kinetic energy', 0.0_dp)
         call row('eroded internal energy', 0.0_dp)
         call row('eroded hourglass energy', 0.0_dp)
@@ -409,14 +415,19 @@ contains
         write (u, '(a,i14)', iostat=ios) ' '//dots('time per zone cycle.(nanosec)'), nint(zone_ns)
         if (ios /= 0) nbad = nbad + 1
         write (u, '(a)', iostat=ios) '', '', ' number of shell elements that  ', &
-            ' '//dots('reached the minimum time step')//'    0', '', ''
+            ' '//dots('reached the minimum time step')//'    '//itoa(en%nshell_scaled), '', ''
         if (ios /= 0) nbad = nbad + 1
-        call row('added mass', 0.0_dp)
-        call row('percentage increase', 0.0_dp)
+        call row('added mass', en%added)
+        if (en%mass - en%added > 0) then
+            call row('percentage increase', 100*en%added/(en%mass - en%added))
+        else
+            call row('percentage increase', 0.0_dp)
+        end if
         call settle(h, s_glstat, nbad)
         vals = [real(st%dt, dp), en%ke, en%ie, en%hg, en%ext, en%total, en%ratio, en%vel]
         if (walls%n > 0) vals = [vals, en%wall]
         if (h%contact) vals = [vals, en%slide]
+        if (h%scaling) vals = [vals, en%added]
         call series_append(h%ser(s_glstat), st%time, reshape(vals, [1, size(vals)]))
     contains
         subroutine row(label, x)
@@ -461,7 +472,7 @@ contains
             write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' x-rbv=', rbv(1), '     y-rbv=', rbv(2), '     z-rbv=', rbv(3)
             if (ios /= 0) nbad = nbad + 1
             write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) '                         hgeng=', en%part_hg(p), &
-                '     +mass=', 0.0_dp, '     eroded_he=', 0.0_dp
+                '     +mass=', en%part_added(p), '     eroded_he=', 0.0_dp
             if (ios /= 0) nbad = nbad + 1
             write (u, '(a)', iostat=ios) '', ''
             if (ios /= 0) nbad = nbad + 1

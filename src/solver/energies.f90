@@ -16,7 +16,10 @@ module xd_solver_energies
         real(dp) :: ke = 0, ie = 0, hg = 0, ext = 0, wall = 0, slide = 0, total = 0, ratio = 1
         real(dp) :: vel(3) = 0              !< velocity of the centre of mass
         real(dp) :: mass = 0
+        real(dp) :: added = 0               !< mass scaling: mass added so far
+        integer :: nshell_scaled = 0        !< shells that reached the DT2MS step
         real(dp), allocatable :: part_ie(:), part_ke(:), part_hg(:), part_mass(:)
+        real(dp), allocatable :: part_added(:)   !< mass scaling: mass added per part
         real(dp), allocatable :: part_mom(:, :)   !< (3, npart)
     end type energies_t
 
@@ -44,12 +47,18 @@ contains
         real(dp) :: mshare, mom(3), ke_b, mom_b(3), ie, hg, ker
         if (.not. allocated(en%part_ie)) then
             allocate (en%part_ie(model%npart), en%part_ke(model%npart), en%part_hg(model%npart), &
-                      en%part_mass(model%npart), en%part_mom(3, model%npart))
+                      en%part_mass(model%npart), en%part_mom(3, model%npart), en%part_added(model%npart))
         end if
-        en%part_ie = 0; en%part_ke = 0; en%part_hg = 0; en%part_mass = 0; en%part_mom = 0
+        en%part_ie = 0; en%part_ke = 0; en%part_hg = 0; en%part_mass = 0; en%part_mom = 0; en%part_added = 0
+        en%nshell_scaled = 0
         do e = 1, solids%n
             p = solids%part(e)
             mshare = real(model%mat(model%part(p)%mat_ix)%ro, dp)*solids%vol0(e)/8.0_dp
+            if (allocated(solids%msf)) then
+                ! mass scaling: the element's mass is msf times its own
+                en%part_added(p) = en%part_added(p) + 8.0_dp*mshare*(solids%msf(e) - 1.0_dp)
+                mshare = mshare*solids%msf(e)
+            end if
             ! work booked so far, and the first half of the current forces'
             en%part_ie(p) = en%part_ie(p) + solids%eint(e) + dt_avg*solids%pend_int(e)
             en%part_hg(p) = en%part_hg(p) + solids%ehg(e) + dt_avg*solids%pend_hg(e)
@@ -72,6 +81,11 @@ contains
             nn = 4
             if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
             mshare = real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/nn
+            if (allocated(sh%msf)) then
+                en%part_added(p) = en%part_added(p) + nn*mshare*(sh%msf(e) - 1.0_dp)
+                mshare = mshare*sh%msf(e)
+                if (sh%msf(e) /= 1.0_wp) en%nshell_scaled = en%nshell_scaled + 1
+            end if
             do k = 1, nn
                 nd = sh%conn(k, e)
                 if (rg%n > 0) then
@@ -109,6 +123,7 @@ contains
             mom = mom + mom_b
         end do
         en%mass = sum(real(st%mass, dp))
+        en%added = sum(en%part_added)
         en%vel = 0
         if (en%mass > 0) en%vel = mom/en%mass
         en%ext = st%ext_work
@@ -131,8 +146,10 @@ contains
         en%slide = 0
         if (present(slide)) en%slide = slide
         en%total = en%ke + en%ie + en%hg + en%wall + en%slide
-        if (abs(st%e_initial + en%ext) > tiny(1.0_dp)) then
-            en%ratio = en%total/(st%e_initial + en%ext)
+        ! the kinetic energy that mass scaling's added mass entered with
+        ! counts as energy put in, beside the external work
+        if (abs(st%e_initial + en%ext + st%ms_work) > tiny(1.0_dp)) then
+            en%ratio = en%total/(st%e_initial + en%ext + st%ms_work)
         else
             en%ratio = 1.0_dp
         end if

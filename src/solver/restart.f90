@@ -31,7 +31,7 @@ module xd_solver_restart
     !> 3: the slaves' clearances (list_gap) are kept; 4: the refused deep
     !> contacts (count, deepest, the segment last named per slave) and the
     !> contact's impulse and work by part pair; 5: the edge pairs of AUTOMATIC_GENERAL interfaces
-    integer, parameter :: dump_format = 5
+    integer, parameter :: dump_format = 6
 
     !> What a dump says about itself.
     type :: dump_meta_t
@@ -96,6 +96,12 @@ contains
         call dput(g, 'dt', [st%dt, st%dt_old, st%dt_first], nf)
         call dput(g, 'sums', [st%dt_avg_prev, st%ext_work, st%e_initial], nf)
         call dput(g, 'crit_elem', [st%crit_elem], nf)
+        if (allocated(sh%msf)) then
+            ! mass scaling: the masses as they have grown, bitwise
+            call dput(g, 'mass', st%mass, nf)
+            if (st%rot) call dput(g, 'irot', st%irot, nf)
+            call dput(g, 'ms_work', [st%ms_work], nf)
+        end if
         call h5gclose_f(g, err)
 
         call h5gcreate_f(f, 'solids', g, err)
@@ -109,6 +115,7 @@ contains
         call dput(g, 'ehg', solids%ehg, nf)
         call dput(g, 'pend_int', solids%pend_int, nf)
         call dput(g, 'pend_hg', solids%pend_hg, nf)
+        if (allocated(solids%msf)) call dput(g, 'msf', solids%msf, nf)
         call h5gclose_f(g, err)
 
         call h5gcreate_f(f, 'shells', g, err)
@@ -122,6 +129,7 @@ contains
             call dput(g, 'pend_int', sh%pend_int, nf)
             call dput(g, 'pend_hg', sh%pend_hg, nf)
             call dput(g, 'h', sh%h, nf)
+            if (allocated(sh%msf)) call dput(g, 'msf', sh%msf, nf)
         end if
         call h5gclose_f(g, err)
 
@@ -333,6 +341,13 @@ contains
         end if
         call geti(g, 'crit_elem', 1)
         if (ok()) st%crit_elem = bi(1)
+        if (allocated(sh%msf)) then
+            call getw(g, 'mass', st%nnode); if (ok()) st%mass = bw
+            if (st%rot) then
+                call getw(g, 'irot', st%nnode); if (ok()) st%irot = bw
+            end if
+            call getd(g, 'ms_work', 1); if (ok()) st%ms_work = bd(1)
+        end if
         call h5gclose_f(g, err)
 
         call h5gopen_f(f, 'solids', g, err)
@@ -346,6 +361,9 @@ contains
         call getd(g, 'ehg', size(solids%ehg)); if (ok()) solids%ehg = bd
         call getd(g, 'pend_int', size(solids%pend_int)); if (ok()) solids%pend_int = bd
         call getd(g, 'pend_hg', size(solids%pend_hg)); if (ok()) solids%pend_hg = bd
+        if (allocated(solids%msf)) then
+            call getw(g, 'msf', solids%n); if (ok()) solids%msf = bw
+        end if
         call h5gclose_f(g, err)
 
         if (sh%n > 0) then
@@ -359,6 +377,9 @@ contains
             call getd(g, 'pend_int', sh%n); if (ok()) sh%pend_int = bd
             call getd(g, 'pend_hg', sh%n); if (ok()) sh%pend_hg = bd
             call getw(g, 'h', sh%n); if (ok()) sh%h = bw
+            if (allocated(sh%msf)) then
+                call getw(g, 'msf', sh%n); if (ok()) sh%msf = bw
+            end if
             call h5gclose_f(g, err)
         end if
 

@@ -14,6 +14,7 @@ module xd_solver_setup
     use xd_solver_assembly, only: assembly_t, build_assembly
     use xd_rigid_bodies, only: rigid_t, rigid_lumped_mass, build_rigid
     use xd_elements_shell_bt, only: shells_t, build_shells, shell_masses
+    use xd_solver_mass_scaling, only: mass_scaling_arrays
     use xd_core_errors, only: error_t
     implicit none
     private
@@ -48,6 +49,7 @@ contains
         call initial_volumes_and_mass(solids, st)
         call rigid_lumped_mass(model, st)
         call build_shells(model, sh, material_plastic_law)
+        call mass_scaling_arrays(model%ctl, solids, sh)
         if (sh%n > 0) then
             st%rot = .true.
             call alloc(st%vr, 3, st%nnode, 'angular velocities')

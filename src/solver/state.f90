@@ -33,6 +33,7 @@ module xd_solver_state
         integer :: crit_elem = 0              !< element that set the step: solids index, or minus the shell's
         real(dp) :: ext_work = 0.0_dp         !< external work so far
         real(dp) :: e_initial = 0.0_dp        !< total energy at t = 0
+        real(dp) :: ms_work = 0.0_dp          !< mass scaling: kinetic energy the added mass entered with
     end type state_t
 
 end module xd_solver_state

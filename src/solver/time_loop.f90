@@ -32,6 +32,8 @@ module xd_solver_time_loop
     use xd_elements_shell_bt, only: shells_t, shell_forces
     use xd_solver_domain, only: domain_t, share_slots, share_nodes, gather_energy_state, gather_element_state
     use xd_core_comm, only: comm_gather_small, comm_max
+    use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
+                                      mass_scaling_summary
     implicit none
     private
     public :: run_options_t, run_result_t, run_time_loop
@@ -81,6 +83,8 @@ contains
         type(run_options_t), intent(in) :: opts
         type(run_result_t), intent(out) :: res
         type(energies_t) :: en
+        type(mass_scaling_t) :: ms
+        character(len=:), allocatable :: ms_stop
         real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :)
         type(body_response_t) :: br            !< Lagrangian contact: how the rigid bodies answer an impulse
         logical, allocatable :: no_body(:)   !< no node is a rigid body's (models without rigid bodies)
@@ -98,6 +102,7 @@ contains
         if (model%ctl%endeng > 0.0_wp) ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
         t0_wall = tm%elapsed()
         cycle0 = st%cycle
+        call mass_scaling_begin(ms, model%ctl, lg)
         dumped_end = .false.
         t_dump = 0
         t_last_progress = t0_wall
@@ -122,8 +127,20 @@ contains
                 call contact_search(ct, st%x, model%node_id, st%cycle, st%time)
                 call tm%stop(ph_search)
             end if
+            if (ms%on) call mass_scaling_targets(ms, st%cycle, solids, sh)
             call element_pass(st%dt_old, st%dt_avg_prev, dtc)
             if (res%status /= exit_normal) exit
+            if (ms%on) then
+                ! the masses the element pass asked for, before anything
+                ! divides by them
+                call tm%start(ph_elements)
+                call mass_scaling_step(ms, model, dom, solids, sh, st, rg, lg, ms_stop)
+                call tm%stop(ph_elements)
+                if (allocated(ms_stop)) then
+                    call fail(ms_stop)
+                    exit
+                end if
+            end if
             ! a model of rigid bodies alone has no element step: DTINIT sets it
             if (solids%ngroup == 0 .and. sh%n == 0) dtc = model%ctl%dtinit/model%ctl%tssfac
             ! the stiffest contact spring's stable step, if it is shorter
@@ -253,6 +270,8 @@ contains
                     call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en, &
                                           contact_energy(ct, 0.0_dp))
                     st%e_initial = en%total
+                    ! mass scaled at cycle 0 is in the initial energy
+                    st%ms_work = 0
                     en%ratio = 1.0_dp
                     ! no work is done by t = 0 (st%ext_work already holds the
                     ! first half step's, the leapfrog's share of cycle 0, which
@@ -325,6 +344,7 @@ contains
             if (.not. (st%time <= opts%endtim + 1.000001_dp*real(st%dt_old, dp))) &
                 call fail('time '//rtoa(st%time)//' is past the end time '//rtoa(opts%endtim)//' by more than a step')
         end if
+        call mass_scaling_summary(ms, model, solids, sh, st, lg)
         if (res%status == exit_normal) then
             call log_line(lg, '')
             call log_line(lg, ' N o r m a l    t e r m i n a t i o n   at time '//rtoa(st%time)// &
