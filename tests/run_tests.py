@@ -2254,8 +2254,17 @@ def test_mass_scaling():
            f"(worst {abs(ratio - 1).max():.2e}; the unscaled run's large-strain error is of that order)",
            abs(ratio - 1).max() <= 2e-3)
 
+    m = re.search(r"time step over the (\d+) cycles of this run: set by an element in (\d+) cycles.*mass-scaling "
+                  r"floor TSSFAC x \|DT2MS\| in (\d+) cycles", log)
+    record(f"step control in d3hsp: the DT2MS floor set the step in every cycle ({m.groups() if m else None})",
+           m is not None and m.group(1) == m.group(3) and int(m.group(1)) > 500 and m.group(2) == "0")
     p, out0 = run_deck(variant("ms_pinch_off", text.replace(dt2ms_card, "       0.0       0.9")), "ms_pinch_off")
     g0 = ms_glstat(out0) if p.returncode == 0 else None
+    log0 = open(os.path.join(out0, "d3hsp")).read() if p.returncode == 0 else ""
+    m = re.search(r"time step over the (\d+) cycles of this run: set by an element in (\d+) cycles.*\n   shell (\d+) of "
+                  r"part 1: (\d+) cycles", log0)
+    record(f"step control in d3hsp without DT2MS: an element in every cycle, the column's shell 3 or 8 most often "
+           f"({m.groups() if m else None})", m is not None and m.group(1) == m.group(2) and m.group(3) in ("3", "8"))
     record(f"mass scaling: without DT2MS the step falls with the width "
            f"({g0['time_step'].min() if g0 else 0:.4e} s against 0.9 w_end / c = {0.9 * w_end / c:.4e}, band 1%)",
            g0 is not None and abs(g0["time_step"].min() / (0.9 * w_end / c) - 1) <= 0.01, p.stderr[-300:])

@@ -3,13 +3,14 @@
 10 m/s, answered by physics, each with the whole-model single-surface
 contact and again with the contact card removed (what the contact adds).
 
-    crush_family.py [--only NAME] [--jobs N] [--per-fold N] [--qm Q] [--dt2ms F]
+    crush_family.py [--only NAME] [--jobs N] [--per-fold N] [--qm Q] [--dt2ms F] [--istupd]
 
 --per-fold and --qm change the mesh (elements per half-fold, 3) and the
 shells' stiffness hourglass coefficient (0.02) for a mesh study; a run
 that stops on the way prints its mean force over the crush it reached.
 --dt2ms F adds mass scaling (*CONTROL_TIMESTEP DT2MS = -F h / c, h the
-element size, c the plate wave speed).
+element size, c the plate wave speed); --istupd lets the shells' thickness
+follow their strain (*CONTROL_SHELL ISTUPD 1).
 
 Tubes: square (side b, wall t) and circular (diameter D, wall t) on
 mid-surfaces, 40-100 mm across, walls 1-3 mm, b/t and D/t 20-60,
@@ -66,6 +67,8 @@ PER_FOLD, QM = 3.0, 0.02
 # mass scaling (--dt2ms F): DT2MS = -F h / c, h the element size and c the
 # plate wave speed (about the first step of a square element); 0: none
 MS_FRACTION = 0.0
+# --istupd: *CONTROL_SHELL ISTUPD 1 (the shells' thickness follows their strain)
+ISTUPD = 0
 
 # (name, shape, b or D, t), m
 TUBES = [("square_b40_t2", "square", 0.040, 2.0e-3),
@@ -128,6 +131,8 @@ def deck(name, shape, b, t, contact):
         c = math.sqrt(E / (RHO * (1 - 0.3 ** 2)))
         i = lines.index("*CONTROL_TIMESTEP")
         lines[i + 1] = g.f10(0.0, 0.9, 0, 0.0, -MS_FRACTION * h / c)
+    if ISTUPD:
+        lines += ["*CONTROL_SHELL", g.f10(20.0, 0, -1, 1)]
     lines += ["*CONTROL_HOURGLASS", g.f10(4, QM),
               "*SECTION_SHELL", g.f10(2, 2, 1.0, 5), g.f10(t, t, t, t),
               "*MAT_PIECEWISE_LINEAR_PLASTICITY", g.f10(1, RHO, E, 0.3, SIGMA0, 0.0)]
@@ -238,7 +243,7 @@ def markdown(rows):
 
 
 def main(argv):
-    global PER_FOLD, QM, OUT, MS_FRACTION
+    global PER_FOLD, QM, OUT, MS_FRACTION, ISTUPD
     jobs = int(argv[argv.index("--jobs") + 1]) if "--jobs" in argv else 2
     only = argv[argv.index("--only") + 1] if "--only" in argv else None
     if "--per-fold" in argv:
@@ -247,8 +252,10 @@ def main(argv):
         QM = float(argv[argv.index("--qm") + 1])
     if "--dt2ms" in argv:
         MS_FRACTION = float(argv[argv.index("--dt2ms") + 1])
-    if (PER_FOLD, QM, MS_FRACTION) != (3.0, 0.02, 0.0):
-        OUT = OUT + f"-h{PER_FOLD:g}-qm{QM:g}" + (f"-ms{MS_FRACTION:g}" if MS_FRACTION else "")
+    ISTUPD = 1 if "--istupd" in argv else 0
+    if (PER_FOLD, QM, MS_FRACTION, ISTUPD) != (3.0, 0.02, 0.0, 0):
+        OUT = OUT + f"-h{PER_FOLD:g}-qm{QM:g}" + (f"-ms{MS_FRACTION:g}" if MS_FRACTION else "") + \
+            ("-istupd" if ISTUPD else "")
     rows = run_family(jobs, only)
     for r in rows:
         for tag, pr in (("with", r.get("partial_on")), ("without", r.get("partial_off"))):

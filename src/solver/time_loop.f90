@@ -32,6 +32,8 @@ module xd_solver_time_loop
     use xd_elements_shell_bt, only: shells_t, shell_forces
     use xd_solver_domain, only: domain_t, share_slots, share_nodes, gather_energy_state, gather_element_state
     use xd_core_comm, only: comm_gather_small, comm_max
+    use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, by_element, &
+                                      by_contact, by_floor, by_other
     use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
                                       mass_scaling_summary
     implicit none
@@ -84,6 +86,8 @@ contains
         type(run_result_t), intent(out) :: res
         type(energies_t) :: en
         type(mass_scaling_t) :: ms
+        type(step_stats_t) :: ss
+        integer :: set_by
         character(len=:), allocatable :: ms_stop
         real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :)
         type(body_response_t) :: br            !< Lagrangian contact: how the rigid bodies answer an impulse
@@ -103,6 +107,7 @@ contains
         t0_wall = tm%elapsed()
         cycle0 = st%cycle
         call mass_scaling_begin(ms, model%ctl, lg)
+        call step_stats_init(ss, solids%n, sh%n)
         dumped_end = .false.
         t_dump = 0
         t_last_progress = t0_wall
@@ -141,8 +146,15 @@ contains
                     exit
                 end if
             end if
+            set_by = by_element
+            if (ms%on) then
+                if (dtc == ms%target) set_by = by_floor
+            end if
             ! a model of rigid bodies alone has no element step: DTINIT sets it
-            if (solids%ngroup == 0 .and. sh%n == 0) dtc = model%ctl%dtinit/model%ctl%tssfac
+            if (solids%ngroup == 0 .and. sh%n == 0) then
+                dtc = model%ctl%dtinit/model%ctl%tssfac
+                set_by = by_other
+            end if
             ! the stiffest contact spring's stable step, if it is shorter
             if (ct%n > 0) then
                 if (ct%dt_limit < dtc) then
@@ -152,6 +164,7 @@ contains
                         'at '//ftoa(real(dtc/ct%dt_limit, dp))//' times the cycles (penalty scale SLSFAC, SFS, '// &
                         'SFM too high?)')
                     dtc = ct%dt_limit
+                    set_by = by_contact
                 end if
             end if
             st%dt = real(model%ctl%tssfac, wp)*dtc
@@ -170,13 +183,18 @@ contains
                 exit
             end if
             if (st%cycle == 0) then
-                if (model%ctl%dtinit > 0.0_wp) st%dt = min(st%dt, model%ctl%dtinit)
+                if (model%ctl%dtinit > 0.0_wp) then
+                    if (model%ctl%dtinit < st%dt) set_by = by_other
+                    st%dt = min(st%dt, model%ctl%dtinit)
+                end if
                 st%dt_first = st%dt
             else if (model%ctl%dtmin > 0.0_wp .and. st%dt < model%ctl%dtmin*st%dt_first) then
                 call fail('time step '//rtoa(real(st%dt, dp))//' fell below DTMIN x first step; '// &
                           'controlling '//controlling())
                 exit
             end if
+
+            call step_stats_count(ss, set_by, st%crit_elem)
 
             call tm%start(ph_integrate)
             dt_avg = 0.5_dp*(real(st%dt_old, dp) + st%dt)
@@ -344,6 +362,7 @@ contains
             if (.not. (st%time <= opts%endtim + 1.000001_dp*real(st%dt_old, dp))) &
                 call fail('time '//rtoa(st%time)//' is past the end time '//rtoa(opts%endtim)//' by more than a step')
         end if
+        call step_stats_report(ss, model, solids, sh, lg)
         call mass_scaling_summary(ms, model, solids, sh, st, lg)
         if (res%status == exit_normal) then
             call log_line(lg, '')

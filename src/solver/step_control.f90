@@ -1,0 +1,93 @@
+!> What set the time step, cycle by cycle: an element (solid or shell), the
+!> contact springs' stable-step bound, or the mass-scaling floor (DT2MS).
+!> d3hsp gets the count of each at the end of the run, the elements that
+!> set it most often by name, so that a user sees whether one crushed
+!> element held the whole run back.
+module xd_solver_step_control
+    use xd_kinds, only: dp
+    use xd_core_strings, only: itoa
+    use xd_core_sorting, only: sort_index
+    use xd_model, only: model_t
+    use xd_elements_solid_groups, only: solids_t
+    use xd_elements_shell_bt, only: shells_t
+    use xd_output_d3hsp, only: log_t, log_line
+    implicit none
+    private
+    public :: step_stats_t, step_stats_init, step_stats_count, step_stats_report
+    public :: by_element, by_contact, by_floor, by_other
+
+    integer, parameter :: by_element = 1, by_contact = 2, by_floor = 3, by_other = 4
+    integer, parameter :: named = 5   !< elements named in the report
+
+    type :: step_stats_t
+        integer :: ncycle = 0
+        integer :: nkind(4) = 0             !< cycles set by each of by_*
+        integer, allocatable :: solid(:), shell(:)   !< cycles each element set the step
+    end type step_stats_t
+
+contains
+
+    subroutine step_stats_init(ss, nsolid, nshell)
+        type(step_stats_t), intent(out) :: ss
+        integer, intent(in) :: nsolid, nshell
+        allocate (ss%solid(nsolid), ss%shell(nshell))
+        ss%solid = 0
+        ss%shell = 0
+    end subroutine step_stats_init
+
+    !> One cycle: what set its step (by_*); crit: the element (solids > 0,
+    !> minus the shell's index), for by_element and by_floor.
+    subroutine step_stats_count(ss, kind, crit)
+        type(step_stats_t), intent(inout) :: ss
+        integer, intent(in) :: kind, crit
+        ss%ncycle = ss%ncycle + 1
+        ss%nkind(kind) = ss%nkind(kind) + 1
+        if (kind /= by_element) return
+        if (crit > 0) then
+            ss%solid(crit) = ss%solid(crit) + 1
+        else if (crit < 0) then
+            ss%shell(-crit) = ss%shell(-crit) + 1
+        end if
+    end subroutine step_stats_count
+
+    subroutine step_stats_report(ss, model, solids, sh, lg)
+        type(step_stats_t), intent(in) :: ss
+        type(model_t), intent(in) :: model
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        type(log_t), intent(in) :: lg
+        integer, allocatable :: perm(:), cnt(:)
+        integer :: i, k, ns
+        if (ss%ncycle == 0) return
+        call log_line(lg, '')
+        call log_line(lg, ' time step over the '//itoa(ss%ncycle)//' cycles of this run: set by an element in '// &
+                      share(ss%nkind(by_element))//', by the contact springs'' bound in '//share(ss%nkind(by_contact))// &
+                      ', by the mass-scaling floor TSSFAC x |DT2MS| in '//share(ss%nkind(by_floor))// &
+                      ', otherwise (DTINIT, no element) in '//share(ss%nkind(by_other)))
+        ns = size(ss%solid)
+        cnt = [ss%solid, ss%shell]
+        if (count(cnt > 0) == 0) return
+        call sort_index(-real(cnt, dp), perm)
+        do i = 1, min(named, count(cnt > 0))
+            k = perm(i)
+            if (k <= ns) then
+                call log_line(lg, '   solid '//itoa(solids%eid(k))//' of part '//itoa(model%part(solids%part(k))%id)// &
+                              ': '//share(cnt(k)))
+            else
+                call log_line(lg, '   shell '//itoa(sh%eid(k - ns))//' of part '// &
+                              itoa(model%part(sh%part(k - ns))%id)//': '//share(cnt(k)))
+            end if
+        end do
+        if (count(cnt > 0) > named) call log_line(lg, '   and '//itoa(count(cnt > 0) - named)// &
+                                                  ' other elements: '//share(sum(cnt(perm(named + 1:)))))
+    contains
+        function share(n) result(s)
+            integer, intent(in) :: n
+            character(len=:), allocatable :: s
+            character(len=8) :: pc
+            write (pc, '(f6.1)') 100.0_dp*n/ss%ncycle
+            s = itoa(n)//' cycles ('//trim(adjustl(pc))//'%)'
+        end function share
+    end subroutine step_stats_report
+
+end module xd_solver_step_control
