@@ -44,6 +44,7 @@ module xd_elements_shell_bt
         ! mass scaling (*CONTROL_TIMESTEP DT2MS), allocated only when it is on:
         ! an element's mass is msf times its own, so its step sqrt(msf) times
         real(wp), allocatable :: msf(:)       !< mass factor (1: the element's own mass)
+        real(wp), allocatable :: msq(:)       !< sqrt(msf); 1 (allocated) without mass scaling
         real(wp), allocatable :: ms_need(:)   !< this cycle's wanted factor (0: none wanted)
         real(wp) :: ms_target = 0             !< element step to be kept (0: no scaling this cycle)
         logical :: ms_all = .false.           !< every element brought to ms_target (positive DT2MS, cycle 0)
@@ -111,7 +112,8 @@ contains
         if (sh%n == 0) return
         sh%thickness_update = model%ctl%istupd /= 0
         allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%e(sh%n), sh%nu(sh%n), &
-                  sh%ro(sh%n), sh%shrf(sh%n), sh%qm(sh%n), sh%nip(sh%n), sh%area0(sh%n))
+                  sh%ro(sh%n), sh%shrf(sh%n), sh%qm(sh%n), sh%nip(sh%n), sh%area0(sh%n), sh%msq(sh%n))
+        sh%msq = 1
         call alloc(sh%fslot, 3, 4*sh%n, 'shell force slots')
         call alloc(sh%mslot, 3, 4*sh%n, 'shell moment slots')
         call alloc(sh%qhg, 5, sh%n, 'shell hourglass forces')
@@ -211,15 +213,11 @@ contains
                 if (tbad == 0) tbad = e
                 cycle
             end if
-            if (allocated(sh%msf)) then
-                ! mass scaling: the step of the element's scaled mass; one
-                ! below the target asks for the factor that brings it there
-                dte = dte*sqrt(sh%msf(e))
-                if (sh%ms_target > 0.0_wp .and. (dte < sh%ms_target .or. sh%ms_all)) then
-                    sh%ms_need(e) = sh%msf(e)*(sh%ms_target/dte)**2
-                    dte = sh%ms_target
-                end if
-            end if
+            ! mass scaling: the step of the element's scaled mass (msq 1
+            ! without: the product is exact); one below the target asks for
+            ! the factor that brings it there
+            dte = dte*sh%msq(e)
+            if (dte < sh%ms_target .or. sh%ms_all) call ask_mass(sh, e, dte)
             if (dte < tmin) then
                 tmin = dte
                 tcrit = e
@@ -235,6 +233,16 @@ contains
         !$omp end critical (shell_step)
         !$omp end parallel
     end subroutine shell_forces
+
+    !> Mass scaling: the factor that brings element e's step dte (of its
+    !> present mass) to the target, which is its step now.
+    subroutine ask_mass(sh, e, dte)
+        type(shells_t), intent(inout) :: sh
+        integer, intent(in) :: e
+        real(wp), intent(inout) :: dte
+        sh%ms_need(e) = sh%msf(e)*(sh%ms_target/dte)**2
+        dte = sh%ms_target
+    end subroutine ask_mass
 
     subroutine shell_element(sh, e, x, v, w, dt, dt_avg_prev, dte)
         type(shells_t), intent(inout) :: sh

@@ -173,6 +173,7 @@ contains
                 ! the rotary inertia of shell_masses, scaled alike
                 dj = (f1 - f0)*me/nn*(sh%h(e)**2 + 3.0_wp*sh%area0(e))/12.0_wp
                 sh%msf(e) = f1
+                sh%msq(e) = sqrt(f1)
             end if
             dm = (f1 - f0)*me/nn
             do k = 1, nn

@@ -378,7 +378,11 @@ contains
             call getd(g, 'pend_hg', sh%n); if (ok()) sh%pend_hg = bd
             call getw(g, 'h', sh%n); if (ok()) sh%h = bw
             if (allocated(sh%msf)) then
-                call getw(g, 'msf', sh%n); if (ok()) sh%msf = bw
+                call getw(g, 'msf', sh%n)
+                if (ok()) then
+                    sh%msf = bw
+                    sh%msq = sqrt(bw)
+                end if
             end if
             call h5gclose_f(g, err)
         end if
