@@ -1253,7 +1253,8 @@ def test_batch_signals():
     ok, msg = same_histories(full, out)
     record("batch: the restart after the wall-clock stop completes identically", q.returncode == 0 and ok, msg)
     # a killed run (SIGKILL: no chance to close anything) leaves every
-    # finished state and history row readable
+    # finished state readable, and every history row up to thist.h5's last
+    # flush (a second of wall time at most before the kill; also at a hold)
     import xml.etree.ElementTree as ET
     kdeck = os.path.join(TMP, "killed.k")
     with open(kdeck, "w") as fh:
@@ -1285,7 +1286,8 @@ def test_batch_signals():
         detail = f"{len(t)} states, {nx} in the XDMF, {rows} glstat rows"
     except (OSError, KeyError, ET.ParseError) as err:
         good, detail = False, str(err)
-    record(f"batch: after SIGKILL mid-run every finished state and history row reads back ({detail})", good)
+    record(f"batch: after SIGKILL mid-run every finished state and every history row flushed reads back ({detail})",
+           good)
 
 
 def test_slurm_example():

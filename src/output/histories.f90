@@ -12,10 +12,11 @@ module xd_output_histories
     use xd_contact_rigidwall, only: walls_t
     use xd_rigid_bodies, only: rigid_t
     use xd_output_thist_h5, only: h5file_t, h5series_t, h5_open, h5_reopen, h5_close, series_create, series_open, &
-                                  series_append
+                                  series_append, series_flush
     implicit none
     private
     public :: histories_t, open_histories, histories_due, write_histories, close_histories, version_line, &
+              flush_histories, &
               history_marks_t, history_marks, history_failure, track_rotations
 
     character(len=*), parameter :: xdyna_version = '0.1.0'
@@ -31,6 +32,7 @@ module xd_output_histories
         integer :: nwall = 0
         logical :: contact = .false.         !< glstat carries the sliding interface energy
         logical :: scaling = .false.         !< glstat carries the added mass (DT2MS)
+        integer(i8) :: flushed = -1          !< system clock at thist.h5's last flush (-1: never)
         integer, allocatable :: nodes(:)     !< node indices for nodout
         integer, allocatable :: node_ids(:)  !< and their user ids
         real(dp), allocatable :: rdisp(:, :) !< (3, nodout nodes) rotation so far (models with shells)
@@ -337,6 +339,7 @@ contains
         real(wp), intent(in), optional :: fc(:, :)   !< (3, nodes) contact force per node
         real(wp), intent(in), optional :: wminus(:, :)  !< (3, nodes) angular velocity at t - dt/2 (with shells)
         logical :: due(ndb)
+        integer(i8) :: now, rate
         due = h%on .and. (force .or. st%time >= h%next*(1.0_dp - 1.0e-9_dp))
         if (h%writer) then
             if (due(s_glstat)) call write_glstat(h, st, walls, en, crit, zone_ns)
@@ -345,6 +348,12 @@ contains
             if (due(s_rcforc) .and. present(rc)) call write_rcforc(h, model, st, rc)
             if (due(s_matsum)) call write_matsum(h, model, st, en)
             if (due(s_nodout)) call write_nodout(h, st, vn, fc, wminus)
+        end if
+        if (h%writer) then
+            ! thist.h5's rows go out in blocks: at the first and the last
+            ! output, and a second of wall time apart at most
+            call system_clock(now, rate)
+            if (force .or. h%flushed < 0 .or. real(now - h%flushed, dp) >= real(rate, dp)) call flush_histories(h)
         end if
         if (h%writer .and. h%failed == 0) then
             if (any(h%ser%bad)) h%failed = ndb + 1
@@ -664,6 +673,23 @@ contains
         if (h%failed >= 1 .and. h%failed <= ndb) name = trim(h%path(h%failed))
         if (h%failed == ndb + 1) name = trim(h%h5path)
     end function history_failure
+
+    !> thist.h5's rows held in memory written out and the file flushed (at
+    !> the pace write_histories keeps, before a dump and at a hold); a failed
+    !> write is the run's history failure.
+    subroutine flush_histories(h)
+        type(histories_t), intent(inout) :: h
+        integer :: k
+        integer(i8) :: rate
+        if (.not. h%writer) return
+        do k = 1, ndb
+            if (h%ser(k)%gid >= 0) call series_flush(h%ser(k))
+        end do
+        call system_clock(h%flushed, rate)
+        if (h%failed == 0) then
+            if (any(h%ser%bad)) h%failed = ndb + 1
+        end if
+    end subroutine flush_histories
 
     subroutine close_histories(h)
         type(histories_t), intent(inout) :: h

@@ -13,7 +13,8 @@ module xd_solver_time_loop
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
     use xd_solver_energies, only: energies_t, compute_energies
-    use xd_output_histories, only: histories_t, histories_due, write_histories, history_failure, track_rotations
+    use xd_output_histories, only: histories_t, histories_due, write_histories, history_failure, track_rotations, &
+                                   flush_histories
     use xd_output_states, only: states_t, states_due, write_state, states_marks, states_failure
     use xd_output_histories, only: history_marks
     use xd_solver_restart, only: dump_meta_t, write_dump
@@ -332,6 +333,7 @@ contains
             ! batch: a status line on SIGUSR2; a dump every N cycles; on SIGTERM
             ! or SIGUSR1, or near the wall-clock limit, a dump and exit 3
             if (allocated(opts%hold_cycles)) then
+                if (any(opts%hold_cycles == st%cycle)) call flush_histories(hist)
                 if (any(opts%hold_cycles == st%cycle)) call hold_for_signal(' held at cycle '//itoa(st%cycle)// &
                                                                    ' (XDYNA_HOLD_AT): waiting for a signal', 120.0, opts%progress)
             end if
@@ -661,6 +663,8 @@ contains
             t1 = tm%elapsed()
             call tm%start(ph_output)
             call gather_element_state(dom, solids, sh, energies=.true.)
+            ! the dump's history marks count the rows in thist.h5
+            call flush_histories(hist)
             ok = .true.
             if (dom%on) call gather_contact_state(ct)
             if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, walls, rg, ct, &
