@@ -30,7 +30,7 @@ module xd_solver_mass_scaling
     implicit none
     private
     public :: mass_scaling_t, mass_scaling_arrays, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
-              mass_scaling_summary, element_added_mass
+              mass_scaling_summary
 
     !> elements named in d3hsp when first scaled; the rest are counted
     integer, parameter :: max_named = 20
@@ -113,25 +113,13 @@ contains
         character(len=:), allocatable, intent(out) :: stop_message
         real(dp), allocatable :: rec(:, :), all(:, :)
         integer, allocatable :: perm(:)
-        integer :: e, i, n
+        integer :: i, n
         real(dp) :: added, pct
         n = count(solids%ms_need > 0.0_wp) + count(sh%ms_need > 0.0_wp)
         allocate (rec(3, n))
         n = 0
-        do e = 1, solids%n
-            if (solids%ms_need(e) > 0.0_wp) then
-                n = n + 1
-                rec(:, n) = [1.0_dp, real(e, dp), real(solids%ms_need(e), dp)]
-                solids%ms_need(e) = 0
-            end if
-        end do
-        do e = 1, sh%n
-            if (sh%ms_need(e) > 0.0_wp) then
-                n = n + 1
-                rec(:, n) = [2.0_dp, real(e, dp), real(sh%ms_need(e), dp)]
-                sh%ms_need(e) = 0
-            end if
-        end do
+        call collect(1, solids%ms_need)
+        call collect(2, sh%ms_need)
         if (dom%on) then
             ! every rank's, in element order (solids, then shells)
             call comm_gather_records(rec, dom%nranks, all)
@@ -154,6 +142,21 @@ contains
 
     contains
 
+        !> This rank's asks of one kind (1 solids, 2 shells) as records, in
+        !> element order; the asks cleared.
+        subroutine collect(kind, need)
+            integer, intent(in) :: kind
+            real(wp), intent(inout) :: need(:)
+            integer :: e
+            do e = 1, size(need)
+                if (need(e) > 0.0_wp) then
+                    n = n + 1
+                    rec(:, n) = [real(kind, dp), real(e, dp), real(need(e), dp)]
+                    need(e) = 0
+                end if
+            end do
+        end subroutine collect
+
         subroutine scale_element(kind, e, f1)
             integer, intent(in) :: kind, e
             real(wp), intent(in) :: f1
@@ -162,14 +165,14 @@ contains
             dj = 0
             if (kind == 1) then
                 f0 = solids%msf(e)
-                me = model%mat(model%part(solids%part(e))%mat_ix)%ro*solids%vol0(e)
+                me = real(solid_mass(model, solids, e), wp)
                 nn = 8
                 solids%msf(e) = f1
             else
                 f0 = sh%msf(e)
                 nn = 4
                 if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
-                me = sh%ro(e)*sh%h(e)*sh%area0(e)
+                me = real(shell_mass(sh, e), wp)
                 ! the rotary inertia of shell_masses, scaled alike
                 dj = (f1 - f0)*me/nn*(sh%h(e)**2 + 3.0_wp*sh%area0(e))/12.0_wp
                 sh%msf(e) = f1
@@ -209,6 +212,21 @@ contains
         end subroutine scale_element
     end subroutine mass_scaling_step
 
+    !> An element's own mass (unscaled): the solid's density times its
+    !> initial volume; the shell's as shell_masses lumps it.
+    real(dp) function solid_mass(model, solids, e)
+        type(model_t), intent(in) :: model
+        type(solids_t), intent(in) :: solids
+        integer, intent(in) :: e
+        solid_mass = real(model%mat(model%part(solids%part(e))%mat_ix)%ro, dp)*solids%vol0(e)
+    end function solid_mass
+
+    real(dp) function shell_mass(sh, e)
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: e
+        shell_mass = real(sh%ro(e), dp)*sh%h(e)*sh%area0(e)
+    end function shell_mass
+
     !> Mass added to the deformable elements so far (taken away: negative).
     real(dp) function element_added_mass(model, solids, sh) result(added)
         type(model_t), intent(in) :: model
@@ -218,13 +236,12 @@ contains
         added = 0
         if (allocated(solids%msf)) then
             do e = 1, solids%n
-                if (solids%msf(e) /= 1.0_wp) added = added + &
-                    (solids%msf(e) - 1.0_dp)*model%mat(model%part(solids%part(e))%mat_ix)%ro*solids%vol0(e)
+                if (solids%msf(e) /= 1.0_wp) added = added + (solids%msf(e) - 1.0_dp)*solid_mass(model, solids, e)
             end do
         end if
         if (allocated(sh%msf)) then
             do e = 1, sh%n
-                if (sh%msf(e) /= 1.0_wp) added = added + (sh%msf(e) - 1.0_dp)*sh%ro(e)*sh%h(e)*sh%area0(e)
+                if (sh%msf(e) /= 1.0_wp) added = added + (sh%msf(e) - 1.0_dp)*shell_mass(sh, e)
             end do
         end if
     end function element_added_mass
@@ -244,8 +261,7 @@ contains
         do e = 1, solids%n
             if (solids%msf(e) == 1.0_wp) cycle
             do k = 1, 8
-                dm(solids%conn(k, e)) = dm(solids%conn(k, e)) + (solids%msf(e) - 1.0_dp)* &
-                                        model%mat(model%part(solids%part(e))%mat_ix)%ro*solids%vol0(e)/8
+                dm(solids%conn(k, e)) = dm(solids%conn(k, e)) + (solids%msf(e) - 1.0_dp)*solid_mass(model, solids, e)/8
             end do
         end do
         do e = 1, sh%n
@@ -253,7 +269,7 @@ contains
             nn = 4
             if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
             do k = 1, nn
-                dm(sh%conn(k, e)) = dm(sh%conn(k, e)) + (sh%msf(e) - 1.0_dp)*sh%ro(e)*sh%h(e)*sh%area0(e)/nn
+                dm(sh%conn(k, e)) = dm(sh%conn(k, e)) + (sh%msf(e) - 1.0_dp)*shell_mass(sh, e)/nn
             end do
         end do
         call sort_index(-dm, perm)

@@ -6,7 +6,7 @@ module xd_test_fixtures
     use xd_model, only: model_t, part_t, material_t, mat_elastic
     implicit none
     private
-    public :: empty_model, add_block, add_shell, node_at, set_sheet
+    public :: empty_model, add_block, add_shell, node_at, set_sheet, grid_quads
 
 contains
 
@@ -115,5 +115,18 @@ contains
         model%shell_part = [(pid, i=1, model%nshell)]
         model%shell_id = [(i, i=1, model%nshell)]
     end subroutine set_sheet
+
+    !> Connectivity of an n x n grid of quads on (n + 1)^2 nodes numbered
+    !> row by row (node 1 + i + (n + 1) j at column i, row j).
+    function grid_quads(n) result(conn)
+        integer, intent(in) :: n
+        integer :: conn(4, n*n)
+        integer :: i, j
+        do j = 0, n - 1
+            do i = 0, n - 1
+                conn(:, 1 + i + n*j) = [1 + i + (n + 1)*j, 2 + i + (n + 1)*j, 2 + i + (n + 1)*(j + 1), 1 + i + (n + 1)*(j + 1)]
+            end do
+        end do
+    end function grid_quads
 
 end module xd_test_fixtures

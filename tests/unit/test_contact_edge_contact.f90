@@ -14,7 +14,7 @@ program test_contact_edge_contact
     use xd_contact_edge_contact, only: edges_t, build_edges, edge_search, edge_forces, closest_on_lines, &
                                        segment_distance
     use xd_contact_enforcement, only: friction_t
-    use xd_test_fixtures, only: empty_model, add_shell, node_at, set_sheet
+    use xd_test_fixtures, only: empty_model, add_shell, node_at, set_sheet, grid_quads
     implicit none
 
     call lines_closed_form()
@@ -88,11 +88,7 @@ contains
                 x(:, 1 + i + (n + 1)*j) = [real(i, wp), real(j, wp), 0.0_wp]
             end do
         end do
-        do j = 0, n - 1
-            do i = 0, n - 1
-                conn(:, 1 + i + n*j) = [1 + i + (n + 1)*j, 2 + i + (n + 1)*j, 2 + i + (n + 1)*(j + 1), 1 + i + (n + 1)*(j + 1)]
-            end do
-        end do
+        conn = grid_quads(n)
         call set_sheet(m, x, conn, 0.1_wp, 1)
         call surface_of(m, f, s)
         call build_edges(s, ed)

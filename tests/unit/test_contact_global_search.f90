@@ -20,7 +20,7 @@ program test_contact_global_search
     use xd_contact_surface, only: wanted_side
     use xd_contact_local_search, only: local_search_t, fresh_clearance
     use xd_core_strings, only: ftoa
-    use xd_test_fixtures, only: empty_model, add_shell, node_at, set_sheet
+    use xd_test_fixtures, only: empty_model, add_shell, node_at, set_sheet, grid_quads
     !$ use omp_lib, only: omp_set_num_threads
     implicit none
 
@@ -188,11 +188,7 @@ contains
                 x(:, 1 + i + (n + 1)*j) = crumple(real(i, wp)/n, real(j, wp)/n)
             end do
         end do
-        do j = 0, n - 1
-            do i = 0, n - 1
-                conn(:, 1 + i + n*j) = [1 + i + (n + 1)*j, 2 + i + (n + 1)*j, 2 + i + (n + 1)*(j + 1), 1 + i + (n + 1)*(j + 1)]
-            end do
-        end do
+        conn = grid_quads(n)
         call set_sheet(m, x, conn, 0.001_wp, 1)
         call build_faces(m, m%x0, f)
         call build_surface(f, m%nnode, [(.true., i=1, f%n)], [(.false., i=1, f%n)], [integer ::], .false., &
