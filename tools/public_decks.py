@@ -76,7 +76,7 @@ def main(argv):
                 k = list(m["ids"][:]).index(1)
                 vx = m["x_momentum"][-1, k] / m["mass"][-1, k]
                 ie = f["glstat/internal_energy"][-1]
-            car6 = {"post_max_x_force": float(abs(fx).max()), "node605_final_x_disp": float(ux),
+            car6 = {"post_max_x_force": float(fx.max()), "node605_final_x_disp": float(ux),
                     "part1_final_x_rbv": float(vx), "final_internal_energy": float(ie), "wall_s": wall}
             print(json.dumps(car6), flush=True)
     with open(os.path.join(ROOT, "doc", "public-decks.md"), "w") as f:

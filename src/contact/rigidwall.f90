@@ -13,7 +13,7 @@ module xd_contact_rigidwall
     use xd_core_sorting, only: where_true
     implicit none
     private
-    public :: walls_t, wall_nodes_t, build_walls, apply_walls, walls_kinetic, wall_distance
+    public :: walls_t, wall_nodes_t, build_walls, apply_walls, walls_kinetic, wall_distance, wall_normal_force
 
     type :: wall_nodes_t
         integer, allocatable :: node(:)     !< nodes the wall stops
@@ -21,8 +21,12 @@ module xd_contact_rigidwall
         real(dp) :: shift = 0               !< moving wall: distance moved along the normal
         real(dp) :: vel = 0, vel_old = 0    !< moving wall: velocity along the normal
         real(dp) :: energy = 0              !< kinetic energy removed so far
-        real(wp) :: force(3) = 0            !< force of the nodes on the wall, this cycle
-        real(wp) :: normal_force = 0        !< its component along the wall normal (positive: pressing)
+        !> force of the wall on its nodes this cycle (LS-DYNA's rwforc: a car
+        !> striking a post in -x reads +x; the ground under a car, +z)
+        real(wp) :: force(3) = 0
+        !> its component along the wall normal (positive: pressing); a
+        !> cylinder's, its size across the axis
+        real(wp) :: normal_force = 0
     end type wall_nodes_t
 
     type :: walls_t
@@ -194,7 +198,7 @@ contains
                 end if
             end if
             st%v(:, nd) = st%v(:, nd)*st%free(:, nd)
-            wn%force = wn%force - st%mass(nd)*(st%v(:, nd) - vold)/dt_avg
+            wn%force = wn%force + st%mass(nd)*(st%v(:, nd) - vold)/dt_avg
             ! energy taken by the wall: minus the work of its force m dv/dt_avg
             ! over the step, with the mean of v(n-1/2) and v(n+1/2); zero for a
             ! node resting on the wall however hard it is pressed
@@ -204,11 +208,18 @@ contains
         ! a moving wall keeps the kinetic energy it gains; the rest is dissipated
         if (w%moving) de = de - 0.5_dp*w%mass*(wn%vel**2 - wn%vel_old**2)
         wn%shift = wn%shift + dt*wn%vel
-        wn%normal_force = -dot_product(wn%force, w%normal)
-        ! a cylinder presses radially: the force across its axis
-        if (w%cylinder) wn%normal_force = norm2(wn%force + wn%normal_force*w%normal)
+        call wall_normal_force(w, wn)
         wn%energy = wn%energy + de
     end subroutine apply_wall
+
+    !> The normal force of a wall from its force on the nodes: along its
+    !> normal, or for a cylinder (whose normal is its axis) across the axis.
+    pure subroutine wall_normal_force(w, wn)
+        type(rigidwall_t), intent(in) :: w
+        type(wall_nodes_t), intent(inout) :: wn
+        wn%normal_force = dot_product(wn%force, w%normal)
+        if (w%cylinder) wn%normal_force = norm2(wn%force - wn%normal_force*w%normal)
+    end subroutine wall_normal_force
 
     !> Signed distance of the point x from the wall after it moves by `ahead`
     !> along its normal (negative: behind or inside), and the wall normal

@@ -14,7 +14,7 @@ module xd_rigid_bodies
     use xd_model, only: model_t, mat_rigid, find_set, set_node, curve_value, constraint_dirs, mark_part_nodes
     use xd_solver_state, only: state_t
     use xd_core_vectors, only: cross
-    use xd_contact_rigidwall, only: walls_t, wall_distance
+    use xd_contact_rigidwall, only: walls_t, wall_distance, wall_normal_force
     use xd_contact_enforcement, only: body_response_t
     implicit none
     logical, parameter :: coords_64 = precision(1.0_wp) >= 15   !< 64-bit field data (the default build)
@@ -584,7 +584,7 @@ contains
                             lt = lt + vn*rn
                             call constrained_omega(b, qm, fixr, wfix)
                             if (w%moving) wn%vel = wn%vel - vn/w%mass
-                            wn%force = wn%force - real(vn*real(nrm, dp)/ha, wp)
+                            wn%force = wn%force + real(vn*real(nrm, dp)/ha, wp)
                         end do
                         if (dj <= 1.0e-12_dp*max(maxval(abs(jn)), tiny(1.0_dp))) exit
                     end do
@@ -595,7 +595,7 @@ contains
                     de = -dot_product(jt, 0.5_dp*(b%vc_old + b%vc)) - dot_product(lt, 0.5_dp*(b%omega_old + b%omega))
                     if (w%moving) de = de - 0.5_dp*w%mass*(wn%vel**2 - vw0**2)
                     wn%energy = wn%energy + de
-                    wn%normal_force = -dot_product(wn%force, w%normal)
+                    call wall_normal_force(w, wn)
                 end associate
             end do
         end subroutine wall_impulses
