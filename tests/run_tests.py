@@ -1377,6 +1377,28 @@ def test_format_rules():
         log = f.read()
     record("format rules: output-only keyword skipped with one warning",
            log.count("*DATABASE_EXTENT_BINARY is output-only") == 1)
+    # keywords that tune another code or ask for outputs xdyna does not
+    # write are read and named, not refused (a deck opening with *KEYWORD_ID
+    # stopped at line 1 before); the answer is the plain deck's, bitwise;
+    # *DATABASE_HISTORY_NODE_ID's node joins nodout
+    foreign = os.path.join(TMP, "fmt_foreign.k")
+    with open(foreign, "w") as f:
+        f.write(text.replace("*KEYWORD\n", "*KEYWORD_ID\nproject 42\n*CONTROL_MPP_IO_NODUMP\n*CONTROL_ACCURACY\n"
+                             "         1         4\n*DATABASE_ABSTAT\n   1.0e-3\n*DATABASE_HISTORY_NODE_ID\n"
+                             "         7 a heading\n", 1))
+    pf, of = run_deck(foreign, "fmt_foreign")
+    q = run([THDIFF, of, ob, "--rtol", "0", "--atol", "0", "--only", "glstat,matsum"])
+    log = open(os.path.join(of, "d3hsp")).read() if pf.returncode == 0 else ""
+    named = all(k in log for k in ('*KEYWORD_ID job identification "project 42"', "*CONTROL_MPP_IO_NODUMP is output-only",
+                                   "field OSU 1", "field INN 4", "*DATABASE_ABSTAT is output-only"))
+    nodes = []
+    if pf.returncode == 0:
+        with h5py.File(os.path.join(of, "thist.h5"), "r") as f:
+            nodes = sorted(f["nodout/ids"][:].tolist())
+    record(f"foreign keywords: *KEYWORD_ID, *CONTROL_MPP_IO_NODUMP, *CONTROL_ACCURACY, *DATABASE_ABSTAT read and "
+           f"named in d3hsp, the run bitwise the plain deck's; *DATABASE_HISTORY_NODE_ID adds its node (nodout {nodes})",
+           pf.returncode == 0 and q.returncode == 0 and named and nodes == [3, 7, 12],
+           pf.stdout[-300:] + pf.stderr[-300:] + q.stdout[-300:])
     p = run([XDYNA, "--check", "i=tests/decks/malformed/unknown_keyword.k", "unsupported=warn"])
     record("unsupported=warn turns an unknown keyword into a warning", p.returncode == 0 and
            "*FOO_BAR is not a supported keyword" in p.stdout, p.stdout[-300:] + p.stderr[-300:])

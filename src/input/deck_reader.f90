@@ -115,6 +115,17 @@ contains
         select case (kw%family)
         case (fam_meta)
             if (kw%name == 'TITLE' .and. kw%ncard > 0) model%title = ctx%src%line(kw%card_line(1))
+            ! LS-DYNA's job identification (PROJECT, NUM, STAGE): named, not
+            ! used (xdyna's outputs are named by outdir= and jobid=)
+            if (kw%name == 'KEYWORD_ID') then
+                if (kw%ncard > 0) then
+                    call add_warning(model, at//': '//trim(kw%written)//' job identification "'// &
+                                     trim(ctx%src%line(kw%card_line(1)))//'" read; output names come from '// &
+                                     'outdir= and jobid=, not from it')
+                else
+                    call add_warning(model, at//': '//trim(kw%written)//' without its card; read')
+                end if
+            end if
         case (fam_geometry)
             call read_geometry(ctx, kw, model, error)
         case (fam_section)

@@ -37,6 +37,7 @@ module xd_input_keyword_table
 
     type(entry_t), parameter :: table(*) = [ &
         entry_t('KEYWORD', fam_meta, '', .false.), &
+        entry_t('KEYWORD_ID', fam_meta, '', .false.), &
         entry_t('TITLE', fam_meta, '', .false.), &
         entry_t('PARAMETER', fam_meta, '', .false.), &
         entry_t('PARAMETER_LOCAL', fam_meta, '', .false.), &
@@ -93,6 +94,7 @@ module xd_input_keyword_table
         entry_t('CONTROL_BULK_VISCOSITY', fam_control, '', .false.), &
         entry_t('CONTROL_ENERGY', fam_control, '', .false.), &
         entry_t('CONTROL_SHELL', fam_control, '', .false.), &
+        entry_t('CONTROL_ACCURACY', fam_control, '', .false.), &
         entry_t('DEFINE_CURVE', fam_load, '', .false.), &
         entry_t('SET_SEGMENT', fam_load, '', .false.), &
         entry_t('SET_SEGMENT_GENERAL', fam_load, '', .false.), &
@@ -122,6 +124,7 @@ module xd_input_keyword_table
         entry_t('DATABASE_RCFORC', fam_database, '', .false.), &
         entry_t('DATABASE_RWFORC', fam_database, '', .false.), &
         entry_t('DATABASE_HISTORY_NODE', fam_database, '', .false.), &
+        entry_t('DATABASE_HISTORY_NODE_ID', fam_database, '', .false.), &
         entry_t('DATABASE_HISTORY_NODE_SET', fam_database, '', .false.), &
         entry_t('DATABASE_BINARY_D3PLOT', fam_database, '', .false.), &
         entry_t('DATABASE_BINARY_D3DUMP', fam_database, '', .false.), &
@@ -146,6 +149,10 @@ module xd_input_keyword_table
         entry_t('CONTROL_PARALLEL', fam_skip, '', .false.), &
         entry_t('CONTROL_MPP_*', fam_skip, '', .false.), &
         entry_t('SENSOR_DEFINE_*', fam_skip, '', .false.), &
+        ! any other output request (keywords read above come first: a
+        ! pattern is tried only after the exact names and their _TITLE and
+        ! _ID forms)
+        entry_t('DATABASE_*', fam_skip, '', .false.), &
         ! in KEYWORDS.md, arriving with later work: a clear message until then
         entry_t('SET_SOLID_GENERAL', fam_planned, '', .false.), &
         entry_t('CONTACT_AUTOMATIC_SINGLE_SURFACE', fam_contact, '', .true.), &
@@ -196,33 +203,39 @@ contains
         end select
 
         base = tok(2:)
-        if (find(base, kw)) return
+        if (find(base, kw, .false.)) return
         if (ends_with(base, '_TITLE')) then
             base = base(1:len(base) - 6)
             kw%title = .true.
-            if (find(base, kw)) return
+            if (find(base, kw, .false.)) return
         end if
         if (ends_with(base, '_ID')) then
             base = base(1:len(base) - 3)
-            if (find(base, kw)) then
+            if (find(base, kw, .false.)) then
                 if (table_id_option(base)) then
                     kw%has_id = .true.
                     return
                 end if
             end if
         end if
+        kw%title = .false.
+        if (find(tok(2:), kw, .true.)) return
         kw%family = fam_unknown
         kw%name = tok(2:)
         kw%title = .false.
     end subroutine lookup_keyword
 
-    logical function find(base, kw)
+    !> The table's entry for base: its exact name, or (pattern) the first
+    !> entry ending in '*' whose stem begins base.
+    logical function find(base, kw, pattern)
         character(len=*), intent(in) :: base
         type(keyword_t), intent(inout) :: kw
+        logical, intent(in) :: pattern
         integer :: i, k
         find = .false.
         do i = 1, size(table)
             k = index(table(i)%name, '*')
+            if ((k > 0) .neqv. pattern) cycle
             if (k > 0) then
                 find = len(base) >= k - 1
                 if (find) find = base(1:k - 1) == table(i)%name(1:k - 1)

@@ -2,6 +2,7 @@
 module xd_input_read_controls
     use xd_kinds, only: wp
     use xd_core_errors, only: error_t
+    use xd_core_strings, only: itoa
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
@@ -18,7 +19,7 @@ contains
         type(model_t), intent(inout) :: model
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
-        integer :: ic, isdo, lctm, erode, btype
+        integer :: ic, isdo, lctm, erode, btype, osu, inn, iacc
         character(len=:), allocatable :: at
         ic = first_card(kw)
         if (ic > kw%ncard) return
@@ -79,6 +80,22 @@ contains
                 if (btype /= 1) call add_warning(model, at//' field TYPE: only the standard form (1) is implemented')
             case ('CONTROL_SHELL')
                 call read_control_shell()
+            case ('CONTROL_ACCURACY')
+                ! OSU (second-order objective stress update), INN (invariant
+                ! node numbering), PIDOSU, IACC: xdyna has neither; the
+                ! defaults (0, 1 or 0, -, 0) are what it does
+                call get_card(ctx, kw, ic, 'OSU INN PIDOSU IACC', 1, card, error)
+                if (allocated(error)) return
+                call get_int(card, 1, osu, 0, error); if (allocated(error)) return
+                call get_int(card, 2, inn, 1, error); if (allocated(error)) return
+                call get_int(card, 4, iacc, 0, error); if (allocated(error)) return
+                if (osu /= 0) call add_warning(model, at//' field OSU '//itoa(osu)//': the second-order '// &
+                    'objective stress update is not implemented (the first-order update is used; answers with '// &
+                    'large rotations per step differ); ignored')
+                if (inn /= 0 .and. inn /= 1) call add_warning(model, at//' field INN '//itoa(inn)// &
+                    ': invariant node numbering is not implemented (element axes follow the node order); ignored')
+                if (iacc /= 0) call add_warning(model, at//' field IACC '//itoa(iacc)// &
+                    ': the accuracy options of implicit and contact are not implemented; ignored')
             case ('CONTROL_ENERGY')
                 call get_card(ctx, kw, ic, 'HGEN RWEN SLNTEN RYLEN', 1, card, error)
                 if (allocated(error)) return
@@ -177,6 +194,17 @@ contains
                         call push(model%db%hist_set, id)
                     end if
                 end do
+            end do
+        case ('DATABASE_HISTORY_NODE_ID')
+            ! one node a card: ID, then a heading (for LS-DYNA's legend; not kept)
+            do ic = first_card(kw), kw%ncard
+                call get_card(ctx, kw, ic, 'ID HEADING', 1, card, error)
+                if (allocated(error)) return
+                call get_int(card, 1, id, 0, error); if (allocated(error)) return
+                if (id <= 0) then
+                    call card_error(card, 1, 'node id must be positive', error); return
+                end if
+                call push(model%db%hist_node, id)
             end do
         case ('DATABASE_BINARY_D3PLOT')
             call get_card(ctx, kw, ic, 'DT LCDT BEAM NPLTC PSETID', 1, card, error)

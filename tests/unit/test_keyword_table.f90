@@ -4,7 +4,8 @@ program test_keyword_table
     use xd_testing, only: check, test_summary
     use xd_input_field_reader, only: width_standard, width_long, width_i10
     use xd_input_keyword_table, only: keyword_t, lookup_keyword, fam_geometry, fam_material, fam_set, &
-                                      fam_condition, fam_skip, fam_unknown, fam_planned, fam_contact
+                                      fam_condition, fam_skip, fam_unknown, fam_planned, fam_contact, fam_meta, &
+                                      fam_database, fam_control
     implicit none
     type(keyword_t) :: kw
     call look('*ELEMENT_SOLID (ten nodes format)')
@@ -36,6 +37,19 @@ program test_keyword_table
     call look('*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID')
     call check(kw%family == fam_contact .and. kw%has_id .and. kw%name == 'CONTACT_AUTOMATIC_SINGLE_SURFACE', &
                'contact keywords take the _ID option')
+    call look('*KEYWORD_ID')
+    call check(kw%family == fam_meta .and. kw%name == 'KEYWORD_ID', '*KEYWORD_ID is read (it stopped decks at line 1)')
+    call look('*CONTROL_ACCURACY')
+    call check(kw%family == fam_control, '*CONTROL_ACCURACY is read (its fields are checked and named)')
+    call look('*DATABASE_ABSTAT')
+    call check(kw%family == fam_skip, 'an output request xdyna does not write is skipped with a warning')
+    call look('*DATABASE_HISTORY_NODE_ID')
+    call check(kw%family == fam_database .and. kw%name == 'DATABASE_HISTORY_NODE_ID', &
+               '*DATABASE_HISTORY_NODE_ID is read, not taken by the output pattern')
+    call look('*CONTACT_AUTOMATIC_GENERAL_ID')
+    call check(kw%family == fam_contact .and. kw%has_id, 'the patterns come after exact names and their _ID forms')
+    call look('*DATABASE_BINARY_D3PLOT')
+    call check(kw%family == fam_database, 'an output xdyna writes is read, not skipped')
     call look('*WHATEVER')
     call check(kw%family == fam_unknown .and. kw%name == 'WHATEVER', 'unknown keyword')
     call test_summary()
