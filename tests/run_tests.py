@@ -1196,6 +1196,57 @@ def test_restart():
            q.returncode == 1 and "another build" in q.stderr, q.stderr[-200:])
 
 
+def test_sense_switches():
+    """LS-DYNA's sense switches, written into d3kil in the output directory
+    before the run starts (the run reads it at cycle 50, then deletes it):
+    sw1 writes a restart dump and stops with exit 3, and the restart ends
+    as the uninterrupted run (zero tolerance); sw3 writes a dump and the
+    run goes on unchanged; sw4 adds one state and changes nothing else; a
+    word that is no switch is named in d3hsp and ignored. Each failed before
+    d3kil was read (the runs ignored it)."""
+    deck = os.path.join(ROOT, "input_decks/contact/tube_crush.k")
+    full = os.path.join(TMP, "sw_full")
+    shutil.rmtree(full, ignore_errors=True)
+    run([XDYNA, "i=" + deck, "outdir=" + full, "endtim=1.0e-3"])
+
+    def with_switch(word, name):
+        out = os.path.join(TMP, name)
+        shutil.rmtree(out, ignore_errors=True)
+        os.makedirs(out)
+        with open(os.path.join(out, "d3kil"), "w") as f:
+            f.write(word + "\n")
+        p = run([XDYNA, "i=" + deck, "outdir=" + out, "endtim=1.0e-3"])
+        log = open(os.path.join(out, "d3hsp")).read() if os.path.exists(os.path.join(out, "d3hsp")) else ""
+        return p, out, log, not os.path.exists(os.path.join(out, "d3kil"))
+
+    def states(out):
+        m = re.search(r"states: (\d+) written", open(os.path.join(out, "d3hsp")).read())
+        return int(m.group(1)) if m else -1
+
+    p, out, log, gone = with_switch("sw1", "sw_sw1")
+    dumped = os.path.exists(os.path.join(out, "d3dump.h5"))
+    record("sense switch sw1: a restart dump and exit 3 at the cycle d3kil is read (50), d3kil deleted",
+           p.returncode == 3 and dumped and gone and "cycle 50: stopped by sense switch sw1" in p.stderr + log,
+           f"rc={p.returncode} {p.stderr[-200:]}")
+    q = run([XDYNA, "r=" + os.path.join(out, "d3dump.h5"), "endtim=1.0e-3"])
+    ok, msg = same_histories(full, out)
+    record("sense switch sw1: the restart completes as the uninterrupted run (zero tolerance)",
+           q.returncode == 0 and ok, msg + q.stderr[-200:])
+    p, out, log, gone = with_switch("sw3", "sw_sw3")
+    ok, msg = same_histories(full, out)
+    record("sense switch sw3: a restart dump written, the run goes on to normal termination unchanged",
+           p.returncode == 0 and gone and os.path.exists(os.path.join(out, "d3dump.h5")) and ok
+           and "sw3 (restart dump, the run goes on)" in log, msg + p.stderr[-200:])
+    p, out, log, gone = with_switch("sw4", "sw_sw4")
+    ok, msg = same_histories(full, out)
+    record(f"sense switch sw4: one state more ({states(out)} against {states(full)}), the histories unchanged",
+           p.returncode == 0 and gone and ok and states(out) == states(full) + 1, msg + p.stderr[-200:])
+    p, out, log, gone = with_switch("hello", "sw_hello")
+    record("sense switch: a word that is no switch is named in d3hsp and ignored",
+           p.returncode == 0 and gone and '"hello" read from d3kil' in log and "not a sense switch" in log,
+           p.stderr[-200:])
+
+
 def test_batch_signals():
     """Batch operation on the tube crush (2 ms): SIGUSR2
     prints a status line; SIGTERM writes a restart dump and stops with exit
@@ -3386,7 +3437,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_states, test_d3plot, test_restart, test_batch_signals, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -311,6 +311,7 @@ program xdyna
     opts%dump_every = model%db%d3dump
     opts%wallclock = wallclock
     opts%dump_path = out_path(stem, 'd3dump.h5')
+    opts%kill_path = out_path(stem, 'd3kil')
     opts%meta%deck = deck
     opts%meta%digest = ctx%src%digest()
     opts%meta%outdir = outdir

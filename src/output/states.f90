@@ -248,10 +248,13 @@ contains
         real(wp) :: sg(6), r(3, 3), q2, w
         logical :: ok
         if (.not. s%on) return
+        ! (a state asked off the schedule, sense switch sw4, leaves it as it is)
+        if (states_due(s, st%time)) then
+            s%next = s%next + s%dt
+            if (st%time >= s%next) s%next = st%time + s%dt
+        end if
         s%n = s%n + 1
         s%times = [s%times, st%time]
-        s%next = s%next + s%dt
-        if (st%time >= s%next) s%next = st%time + s%dt
         if (.not. s%writer .or. s%failed) return
         if (s%bin%on) then
             call write_binary(s, st, solids, sh, v, en)

@@ -19,6 +19,8 @@ module xd_solver_time_loop
     use xd_output_histories, only: history_marks
     use xd_solver_restart, only: dump_meta_t, write_dump
     use xd_core_signals, only: stop_signal, status_signal, hold_for_signal
+    use xd_solver_sense_switch, only: read_sense_switch, switch_name, sw_none, sw_stop, sw_status, sw_dump, sw_state, &
+                                      sw_flush, sw_unknown
     use xd_output_d3hsp, only: log_t, log_line
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
@@ -49,6 +51,10 @@ module xd_solver_time_loop
         integer :: dump_every = -1           !< cycles between restart dumps (0: at the end only; -1: none)
         real(dp) :: wallclock = 0.0_dp       !< wall seconds allowed (0: no limit): stop with a dump before
         character(len=:), allocatable :: dump_path
+        !> the sense-switch file in the output directory (d3kil in the
+        !> working directory is read too), looked for every `switch_every` cycles
+        character(len=:), allocatable :: kill_path
+        integer :: switch_every = 50
         type(dump_meta_t) :: meta            !< what a dump says about the run
         integer, allocatable :: hold_cycles(:) !< tests only (XDYNA_HOLD_AT): wait at these cycles for a signal
     end type run_options_t
@@ -97,13 +103,16 @@ contains
         real(dp) :: dt_avg, wpm
         real(dp) :: t_last_progress, ratio_limit, t0_wall, t_dump, t_gather
         real(wp) :: dt_ref
-        logical :: done, energy_now, dumped_end, near_limit, status_now
-        integer :: nd, cycle0, stop_sig
+        logical :: done, energy_now, dumped_end, near_limit, status_now, state_asked, switch_gone
+        integer :: nd, cycle0, stop_sig, switch
+        character(len=:), allocatable :: switch_text
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode))
         no_body = .false.
         if (st%rot) allocate (vrminus(3, st%nnode))
         ratio_limit = 1.5_dp
+        state_asked = .false.
+        switch_gone = .true.
         if (model%ctl%endeng > 0.0_wp) ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
         t0_wall = tm%elapsed()
         cycle0 = st%cycle
@@ -238,7 +247,8 @@ contains
             ! energies where histories or states are due (the d3plot's global
             ! variables carry them), or every energy_check_every cycles
             energy_now = histories_due(hist, st%time) .or. done .or. st%cycle == 0 .or. &
-                         mod(st%cycle, opts%energy_check_every) == 0 .or. states_due(states, st%time)
+                         mod(st%cycle, opts%energy_check_every) == 0 .or. states_due(states, st%time) .or. &
+                         state_asked
             if (energy_now) vminus = st%v
             ! central differences: v(n+1/2) = v(n-1/2) + a(n) (dt(n-1/2) + dt(n+1/2))/2
             !$omp parallel do schedule(static)
@@ -304,8 +314,8 @@ contains
                 call tm%stop(ph_output)
                 call check_energy()
                 if (res%status /= exit_normal) exit
-                if (histories_due(hist, st%time) .or. states_due(states, st%time) .or. done .or. st%cycle == 0) &
-                    call output(force=done .or. st%cycle == 0)
+                if (histories_due(hist, st%time) .or. states_due(states, st%time) .or. done .or. st%cycle == 0 &
+                    .or. state_asked) call output(force=done .or. st%cycle == 0)
                 if (res%status /= exit_normal) exit
             end if
             ! the contact forces' work with v(n+1/2), after the energies at t(n)
@@ -337,8 +347,12 @@ contains
                 if (any(opts%hold_cycles == st%cycle)) call hold_for_signal(' held at cycle '//itoa(st%cycle)// &
                                                                    ' (XDYNA_HOLD_AT): waiting for a signal', 120.0, opts%progress)
             end if
-            call stop_flags(stop_sig, near_limit, status_now)
+            call stop_flags(stop_sig, near_limit, status_now, switch)
             if (status_now) call progress()
+            if (switch /= sw_none) then
+                call sense_switch(switch)
+                if (res%status /= exit_normal) exit
+            end if
             if (opts%dump_every > 0) then
                 if (mod(st%cycle, opts%dump_every) == 0) call dump()
                 if (res%status /= exit_normal) exit
@@ -542,21 +556,57 @@ contains
         !> wall-clock margin: 10 cycles, 5% of the allowance, twice the last
         !> dump's time, and 0.5 s for the dump, closing the files and the
         !> parallel shutdown.
-        subroutine stop_flags(sig, limit, status)
+        subroutine stop_flags(sig, limit, status, sw)
             integer, intent(out) :: sig
             logical, intent(out) :: limit, status
-            real(dp) :: fl(3)
+            integer, intent(out) :: sw       !< a sense switch of d3kil (rank 0 reads it; sw_none: none)
+            real(dp) :: fl(4)
             limit = .false.
+            sw = sw_none
+            if (dom%rank == 0 .and. switch_gone .and. mod(st%cycle, opts%switch_every) == 0) then
+                call read_sense_switch(opts%kill_path, 'd3kil', sw, switch_text, switch_gone)
+                if (sw /= sw_none) call log_line(lg, ' sense switch "'//switch_text//'" read from d3kil at time '// &
+                                                 rtoa(st%time)//', cycle '//itoa(st%cycle)//': '//switch_name(sw))
+                if (.not. switch_gone) call log_line(lg, ' *** Warning: d3kil could not be deleted; sense '// &
+                                                     'switches are no longer read')
+                if (sw == sw_unknown) sw = sw_none
+            end if
             if (opts%wallclock > 0.0_dp) then
                 limit = tm%elapsed() + max(10.0_dp*(tm%elapsed() - t0_wall)/max(st%cycle - cycle0, 1), &
                                            0.05_dp*opts%wallclock, 2.0_dp*t_dump) + 0.5_dp >= opts%wallclock
             end if
-            fl = [real(stop_signal(), dp), merge(1.0_dp, 0.0_dp, limit), merge(1.0_dp, 0.0_dp, status_signal())]
+            fl = [real(stop_signal(), dp), merge(1.0_dp, 0.0_dp, limit), merge(1.0_dp, 0.0_dp, status_signal()), &
+                  real(sw, dp)]
             if (dom%on) call comm_max(fl)
             sig = nint(fl(1))
             limit = fl(2) > 0
             status = fl(3) > 0
+            sw = nint(fl(4))
         end subroutine stop_flags
+
+        !> What a sense switch asks, at the end of this cycle (every rank).
+        subroutine sense_switch(sw)
+            integer, intent(in) :: sw
+            select case (sw)
+            case (sw_stop)
+                call dump()
+                if (res%status == exit_normal) &
+                    call stop_run('stopped by sense switch sw1 (d3kil); restart dump '//opts%dump_path)
+            case (sw_status)
+                call progress()
+            case (sw_dump)
+                call dump()
+            case (sw_state)
+                ! the state at the next cycle's end, where its energies are computed
+                if (states%on) then
+                    state_asked = .true.
+                else
+                    call log_line(lg, ' *** Warning: sense switch sw4: this run writes no states')
+                end if
+            case (sw_flush)
+                call flush_histories(hist)
+            end select
+        end subroutine sense_switch
 
         subroutine accelerations()
             integer :: i
@@ -746,7 +796,7 @@ contains
             else
                 call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, wminus=vrminus)
             end if
-            if (states_due(states, st%time) .or. (force .and. states%on)) then
+            if (states_due(states, st%time) .or. (force .and. states%on) .or. state_asked) then
                 ! the energies (and shell thicknesses) are gathered already
                 ! where this cycle computed the energies
                 call gather_element_state(dom, solids, sh, energies=.not. energy_now)
@@ -755,6 +805,7 @@ contains
                 else
                     call write_state(states, st, solids, sh, vn, en=en)
                 end if
+                state_asked = .false.
             end if
             call tm%stop(ph_output)
             ! a failed write (a full disk, a quota, the directory gone) stops
