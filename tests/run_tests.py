@@ -2830,6 +2830,50 @@ def layout(line):
                   lambda m: " " * (len(m.group(0)) - 1) + "#", line.rstrip("\n")).rstrip()
 
 
+def test_thist_metadata():
+    """thist.h5 says what its numbers are: the root carries the title, the
+    code and version, the date and the unit system; every column its
+    dimension and, where the deck names its units (*CONTROL_UNITS), its
+    unit (mm, s, mtrc_ton: forces in N, energies in N*mm, accelerations in
+    mm/s^2); every ids dataset the kind of entity it numbers. A unit
+    LS-DYNA does not know is refused naming the field. (Before, `units`
+    held the dimension and nothing said the rest.)"""
+    def attr(obj, name):
+        v = obj.attrs.get(name)
+        if v is None:
+            return None
+        v = v[0] if hasattr(v, "__len__") and not isinstance(v, (bytes, str)) else v
+        return (v.decode() if isinstance(v, bytes) else str(v)).strip()
+    base = open(os.path.join(ROOT, "input_decks/verify/bar_wall.k")).read()
+    p, out = run_deck("input_decks/verify/bar_wall.k", "meta_plain")
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        root = {k: attr(f, k) for k in ("title", "code", "date", "unit_system")}
+        ke = (attr(f["glstat/kinetic_energy"], "dimension"), attr(f["glstat/kinetic_energy"], "units"))
+        ent = attr(f["rwforc/ids"], "entity")
+    record(f"thist.h5 root: title, code, date, unit system ({root})", p.returncode == 0 and root["title"]
+           and root["code"].startswith("xdyna ") and re.match(r"\d{4}-\d\d-\d\dT", root["date"] or "")
+           and "not given" in root["unit_system"])
+    record(f"thist.h5 without *CONTROL_UNITS: dimension 'energy', no unit claimed ({ke}); ids say what they "
+           f"number ({ent!r})", ke == ("energy", "") and ent.startswith("rigid wall id"))
+    deck = os.path.join(TMP, "meta_units.k")
+    with open(deck, "w") as f:
+        f.write(base.replace("*KEYWORD\n", "*KEYWORD\n*CONTROL_UNITS\n        mm       sec  mtrc_ton\n", 1))
+    p = run([XDYNA, "i=" + deck, "outdir=" + os.path.join(TMP, "meta_units")])
+    got = {}
+    if p.returncode == 0:
+        with h5py.File(os.path.join(TMP, "meta_units", "thist.h5"), "r") as f:
+            got = {"energy": attr(f["glstat/kinetic_energy"], "units"), "force": attr(f["rwforc/x_force"], "units"),
+                   "time": attr(f["glstat/time"], "units"), "system": attr(f, "unit_system")}
+    record(f"thist.h5 with *CONTROL_UNITS mm sec mtrc_ton: units named ({got})", p.returncode == 0
+           and got.get("energy") == "N*mm" and got.get("force") == "N" and got.get("time") == "s"
+           and "force N" in got.get("system", ""), p.stderr[-300:])
+    with open(deck, "w") as f:
+        f.write(base.replace("*KEYWORD\n", "*KEYWORD\n*CONTROL_UNITS\n     parsec\n", 1))
+    q = run([XDYNA, "--check", "i=" + deck])
+    record("*CONTROL_UNITS: an unknown unit is refused naming the field and value",
+           q.returncode == 1 and "LENGTH" in q.stderr and "parsec" in q.stderr, q.stderr[-300:])
+
+
 def test_lstc_layouts():
     """nodout and rwforc in the layout of LSTC's binout-to-ASCII translator
     (no R14 nodout or rwforc is in ../shared/reference-output; its printf
@@ -3437,7 +3481,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

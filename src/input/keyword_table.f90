@@ -95,6 +95,7 @@ module xd_input_keyword_table
         entry_t('CONTROL_ENERGY', fam_control, '', .false.), &
         entry_t('CONTROL_SHELL', fam_control, '', .false.), &
         entry_t('CONTROL_ACCURACY', fam_control, '', .false.), &
+        entry_t('CONTROL_UNITS', fam_control, '', .false.), &
         entry_t('DEFINE_CURVE', fam_load, '', .false.), &
         entry_t('SET_SEGMENT', fam_load, '', .false.), &
         entry_t('SET_SEGMENT_GENERAL', fam_load, '', .false.), &

@@ -2,7 +2,8 @@
 module xd_input_read_controls
     use xd_kinds, only: wp
     use xd_core_errors, only: error_t
-    use xd_core_strings, only: itoa
+    use xd_core_strings, only: itoa, to_lower
+    use xd_output_units, only: length_units, time_units, mass_units
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
@@ -96,6 +97,19 @@ contains
                     ': invariant node numbering is not implemented (element axes follow the node order); ignored')
                 if (iacc /= 0) call add_warning(model, at//' field IACC '//itoa(iacc)// &
                     ': the accuracy options of implicit and contact are not implemented; ignored')
+            case ('CONTROL_UNITS')
+                ! the unit system, for the outputs' labels only (the solver
+                ! needs consistent units and converts nothing)
+                call get_card(ctx, kw, ic, 'LENGTH TIME MASS TEMP', 1, card, error)
+                if (allocated(error)) return
+                c%unit_l = unit_index(1, length_units, 'm')
+                if (allocated(error)) return
+                c%unit_t = unit_index(2, time_units, 'sec')
+                if (allocated(error)) return
+                c%unit_m = unit_index(3, mass_units, 'kg')
+                if (allocated(error)) return
+                if (len_trim(card%f(4)) > 0) call add_warning(model, at//' field TEMP: xdyna has no temperatures; '// &
+                                                              'ignored')
             case ('CONTROL_ENERGY')
                 call get_card(ctx, kw, ic, 'HGEN RWEN SLNTEN RYLEN', 1, card, error)
                 if (allocated(error)) return
@@ -108,6 +122,34 @@ contains
         if (kw%name == 'CONTROL_SHELL') return
         call no_more_cards(ctx, kw, ic + 1, error)
     contains
+        !> The index of field k's unit in `names` (case ignored; blank: the
+        !> default `dflt`, LS-DYNA's; 's' is 'sec').
+        integer function unit_index(k, names, dflt) result(ix)
+            integer, intent(in) :: k
+            character(len=*), intent(in) :: names(:), dflt
+            character(len=:), allocatable :: v
+            integer :: j
+            v = to_lower(trim(adjustl(card%f(k))))
+            if (len(v) == 0) v = dflt
+            if (v == 's') v = 'sec'
+            ix = 0
+            do j = 1, size(names)
+                if (v == trim(names(j))) ix = j
+            end do
+            if (ix == 0) call card_error(card, k, 'unit "'//trim(adjustl(card%f(k)))//'" is not one of '// &
+                                         join(names), error)
+        end function unit_index
+
+        function join(names) result(t)
+            character(len=*), intent(in) :: names(:)
+            character(len=:), allocatable :: t
+            integer :: j
+            t = trim(names(1))
+            do j = 2, size(names)
+                t = t//', '//trim(names(j))
+            end do
+        end function join
+
         !> Card 1 WRPANG ESORT IRNXX ISTUPD THEORY BWC MITER PROJ; card 2
         !> ROTASCL INTGRD LAMSHT CSTYP6 TSHELL. Fields that would change the
         !> physics and are not implemented get a warning naming them.

@@ -304,6 +304,9 @@ module xd_model
         real(wp) :: q1 = 1.5_wp, q2 = 0.06_wp
         integer :: hgen = 1, rwen = 2, slnten = 1, rylen = 1
         integer :: istupd = 0               !< *CONTROL_SHELL: shell thickness follows the strain
+        !> *CONTROL_UNITS: indices in xd_output_units' lists of length, time
+        !> and mass units (0: not given)
+        integer :: unit_l = 0, unit_t = 0, unit_m = 0
         logical :: termination_given = .false.
         type(contact_controls_t) :: contact
     end type controls_t

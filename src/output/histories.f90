@@ -11,6 +11,8 @@ module xd_output_histories
     use xd_solver_energies, only: energies_t
     use xd_contact_rigidwall, only: walls_t
     use xd_rigid_bodies, only: rigid_t
+    use xd_output_units, only: unit_name, unit_system_text
+    use xd_output_thist_h5, only: h5_root_attributes
     use xd_output_thist_h5, only: h5file_t, h5series_t, h5_open, h5_reopen, h5_close, series_create, series_open, &
                                   series_append, series_flush
     implicit none
@@ -93,6 +95,16 @@ contains
         s = repeat(' ', 20)//code//' date '//d(5:6)//'/'//d(7:8)//'/'//d(1:4)
     end function version_line
 
+    !> The date and time now, ISO 8601 with the zone's offset.
+    function iso_date() result(s)
+        character(len=:), allocatable :: s
+        character(len=8) :: d
+        character(len=10) :: t
+        character(len=5) :: z
+        call date_and_time(date=d, time=t, zone=z)
+        s = d(1:4)//'-'//d(5:6)//'-'//d(7:8)//'T'//t(1:2)//':'//t(3:4)//':'//t(5:6)//z(1:3)//':'//z(4:5)
+    end function iso_date
+
     !> Create the history files; with `resume` (a restart), open the ones
     !> the run wrote instead, cut back to the marks of the dump, and go on.
     subroutine open_histories(model, outdir, rg, h, ok, resume, writer, rotating)
@@ -154,6 +166,11 @@ contains
         h%h5path = out_path(outdir, 'thist.h5')
         if (fresh) then
             call h5_open(out_path(outdir, 'thist.h5'), h%h5, ok)
+            if (ok) call h5_root_attributes(h%h5, [character(len=16) :: 'title', 'code', 'date', 'unit_system'], &
+                                            [character(len=160) :: model%title, 'xdyna '//xdyna_version// &
+                                            merge(' (double precision)', ' (single precision)', wp == dp), &
+                                            iso_date(), unit_system_text(model%ctl%unit_l, model%ctl%unit_t, &
+                                            model%ctl%unit_m)])
         else
             call h5_reopen(out_path(outdir, 'thist.h5'), h%h5, ok)
             h%next = resume%next
@@ -179,7 +196,7 @@ contains
                 cols = [cols, [character(len=32) :: 'added_mass']]
                 units = [units, [character(len=32) :: 'mass']]
             end if
-            call make_series('glstat', cols, units, 0, [0], s_glstat)
+            call make_series('glstat', cols, units, 0, [0], s_glstat, '')
         end if
         if (h%on(s_matsum)) then
             call start_file(s_matsum, 'matsum')
@@ -192,7 +209,7 @@ contains
                     'y_momentum', 'z_momentum', 'mass']
             units = [character(len=32) :: 'energy', 'energy', 'energy', 'mass*length/time', 'mass*length/time', &
                      'mass*length/time', 'mass']
-            call make_series('matsum', cols, units, model%npart, model%part(1:model%npart)%id, s_matsum)
+            call make_series('matsum', cols, units, model%npart, model%part(1:model%npart)%id, s_matsum, 'part id')
         end if
         if (h%on(s_nodout)) then
             call start_file(s_nodout, 'nodout')
@@ -223,7 +240,7 @@ contains
                 units = [units, [character(len=32) :: 'radian', 'radian', 'radian', 'radian/time', 'radian/time', &
                                  'radian/time', 'radian/time^2', 'radian/time^2', 'radian/time^2']]
             end if
-            call make_series('nodout', cols, units, size(ids), ids, s_nodout)
+            call make_series('nodout', cols, units, size(ids), ids, s_nodout, 'node id')
         end if
         if (h%on(s_rwforc)) then
             call start_file(s_rwforc, 'rwforc')
@@ -236,7 +253,8 @@ contains
             end if
             cols = [character(len=32) :: 'normal_force', 'x_force', 'y_force', 'z_force']
             units = [character(len=32) :: 'force', 'force', 'force', 'force']
-            call make_series('rwforc', cols, units, size(ids), ids, s_rwforc)
+            call make_series('rwforc', cols, units, size(ids), ids, s_rwforc, 'rigid wall id (its _ID, else its '// &
+                             'number in the deck)')
         end if
         if (h%on(s_rcforc)) then
             call start_file(s_rcforc, 'rcforc')
@@ -249,7 +267,8 @@ contains
             cols = [character(len=32) :: 'slave_x_force', 'slave_y_force', 'slave_z_force', 'slave_mass', &
                     'master_x_force', 'master_y_force', 'master_z_force', 'master_mass']
             units = [character(len=32) :: 'force', 'force', 'force', 'mass', 'force', 'force', 'force', 'mass']
-            call make_series('rcforc', cols, units, size(ids), ids, s_rcforc)
+            call make_series('rcforc', cols, units, size(ids), ids, s_rcforc, 'contact interface id (its _ID, else '// &
+                             'its number in the deck)')
         end if
         if (h%on(s_rbdout)) then
             ! rigid bodies, HDF5 only: part id, or minus the body's number for node-set bodies
@@ -259,7 +278,8 @@ contains
                     'z_angular_momentum']
             units = [character(len=32) :: 'length/time', 'length/time', 'length/time', '1/time', '1/time', &
                      '1/time', 'mass*length^2/time', 'mass*length^2/time', 'mass*length^2/time']
-            call make_series('rbdout', cols, units, rg%n, ids, s_rbdout)
+            call make_series('rbdout', cols, units, rg%n, ids, s_rbdout, 'rigid body: its part id, or minus its '// &
+                             'number for a *CONSTRAINED_NODAL_RIGID_BODY')
         end if
         ! what the files hold now is complete (a restart's truncated files, or
         ! the headers)
@@ -286,12 +306,21 @@ contains
                       position='append')
             end if
         end subroutine start_file
-        subroutine make_series(name, cols, units, nent, ids, k)
-            character(len=*), intent(in) :: name, cols(:), units(:)
+        !> units: the columns' dimensions; their units come from the deck's
+        !> unit system (*CONTROL_UNITS)
+        subroutine make_series(name, cols, units, nent, ids, k, entity)
+            character(len=*), intent(in) :: name, cols(:), units(:), entity
             integer, intent(in) :: nent, ids(:), k
             logical :: good
+            character(len=32) :: un(size(units))
+            integer :: j
             if (fresh) then
-                call series_create(h%h5, name, cols, units, nent, ids, h%ser(k))
+                do j = 1, size(units)
+                    un(j) = unit_name(trim(units(j)), model%ctl%unit_l, model%ctl%unit_t, model%ctl%unit_m)
+                end do
+                call series_create(h%h5, name, cols, units, un, &
+                                   unit_name('time', model%ctl%unit_l, model%ctl%unit_t, model%ctl%unit_m), nent, &
+                                   ids, entity, h%ser(k))
             else
                 call series_open(h%h5, name, cols, nent, resume%nt(k), h%ser(k), good)
                 ok = ok .and. good

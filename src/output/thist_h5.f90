@@ -1,7 +1,11 @@
 !> Time histories in one HDF5 file, `thist.h5`: one group per database
 !> (glstat, matsum, nodout), a `time` dataset and one dataset per named
-!> column, each with a `units` attribute; per-entity series are 2-D
-!> (time x entity) with the entity ids beside them. Rows are kept in memory
+!> column, each with a `dimension` attribute (what it measures: 'energy',
+!> 'length/time^2') and a `units` attribute (its unit in the deck's system
+!> of *CONTROL_UNITS, '' where the deck gives none); per-entity series are
+!> 2-D (time x entity) with the entity ids beside them, whose `entity`
+!> attribute says what they number. The file's root carries the title,
+!> the code and version, the date and the unit system. Rows are kept in memory
 !> and written in blocks (series_flush: one extent and one write per column
 !> for the block, then the file flushed): a row at a time cost car6 a fifth
 !> of its run. The caller flushes at most a second of wall time apart, before
@@ -12,7 +16,8 @@ module xd_output_thist_h5
     use xd_kinds, only: wp, dp
     implicit none
     private
-    public :: h5file_t, h5series_t, h5_open, h5_reopen, h5_close, series_create, series_open, series_append, series_flush
+    public :: h5file_t, h5series_t, h5_open, h5_reopen, h5_close, series_create, series_open, series_append, &
+              series_flush, h5_root_attributes
 
     type :: h5file_t
         integer(hid_t) :: id = -1
@@ -124,14 +129,26 @@ contains
         f%open = .false.
     end subroutine h5_close
 
-    !> A group `name` with columns `cols` (units `units`) for `nent` entities
-    !> (0: one scalar series) whose ids are `ids`.
-    subroutine series_create(f, name, cols, units, nent, ids, s)
+    !> String attributes names(k) = values(k) on the file's root.
+    subroutine h5_root_attributes(f, names, values)
+        type(h5file_t), intent(in) :: f
+        character(len=*), intent(in) :: names(:), values(:)
+        integer :: k
+        do k = 1, size(names)
+            call put_attr(f%id, trim(names(k)), trim(values(k)))
+        end do
+    end subroutine h5_root_attributes
+
+    !> A group `name` with columns `cols` (dimensions `dims`, units `units`)
+    !> for `nent` entities (0: one scalar series) whose ids are `ids`, and
+    !> which kind of entity they number (`entity`); time in `time_unit`.
+    subroutine series_create(f, name, cols, dims, units, time_unit, nent, ids, entity, s)
         type(h5file_t), intent(in) :: f
         character(len=*), intent(in) :: name
-        character(len=*), intent(in) :: cols(:), units(:)
+        character(len=*), intent(in) :: cols(:), dims(:), units(:), time_unit
         integer, intent(in) :: nent
         integer, intent(in) :: ids(:)
+        character(len=*), intent(in) :: entity
         type(h5series_t), intent(out) :: s
         integer :: err, k
         integer(hid_t) :: sp, ds
@@ -141,27 +158,28 @@ contains
         s%file = f%id
         call h5gcreate_f(f%id, name, s%gid, err)
         allocate (s%dset(s%ncol))
-        call make_dataset(s%gid, 'time', 0, 'time', s%tset)
+        call make_dataset(s%gid, 'time', 0, 'time', time_unit, s%tset)
         do k = 1, s%ncol
-            call make_dataset(s%gid, trim(cols(k)), nent, trim(units(k)), s%dset(k))
+            call make_dataset(s%gid, trim(cols(k)), nent, trim(dims(k)), trim(units(k)), s%dset(k))
         end do
         if (nent > 0) then
             d1 = nent
             call h5screate_simple_f(1, d1, sp, err)
             call h5dcreate_f(s%gid, 'ids', H5T_NATIVE_INTEGER, sp, ds, err)
             call h5dwrite_f(ds, H5T_NATIVE_INTEGER, ids(1:nent), d1, err)
+            call put_attr(ds, 'entity', entity)
             call h5dclose_f(ds, err)
             call h5sclose_f(sp, err)
         end if
     end subroutine series_create
 
-    subroutine make_dataset(gid, name, nent, units, ds)
+    subroutine make_dataset(gid, name, nent, dim, units, ds)
         integer(hid_t), intent(in) :: gid
-        character(len=*), intent(in) :: name, units
+        character(len=*), intent(in) :: name, dim, units
         integer, intent(in) :: nent
         integer(hid_t), intent(out) :: ds
-        integer(hid_t) :: sp, pl, at, aspace, atype
-        integer(hsize_t) :: dims(2), maxd(2), chunk(2), adim(1)
+        integer(hid_t) :: sp, pl
+        integer(hsize_t) :: dims(2), maxd(2), chunk(2)
         integer :: err, rank
         if (nent > 0) then
             rank = 2
@@ -180,17 +198,30 @@ contains
         call h5dcreate_f(gid, name, H5T_NATIVE_DOUBLE, sp, ds, err, pl)
         call h5pclose_f(pl, err)
         call h5sclose_f(sp, err)
-        ! units attribute (a string)
+        call put_attr(ds, 'dimension', dim)
+        call put_attr(ds, 'units', units)
+    end subroutine make_dataset
+
+    !> A string attribute on an HDF5 object (an empty string is written as
+    !> one blank: HDF5 strings have a size of at least 1).
+    subroutine put_attr(obj, name, value)
+        integer(hid_t), intent(in) :: obj
+        character(len=*), intent(in) :: name, value
+        integer(hid_t) :: at, aspace, atype
+        integer(hsize_t) :: adim(1)
+        integer :: err
+        character(len=max(len(value), 1)) :: v
+        v = value
         adim = 1
         call h5screate_simple_f(1, adim, aspace, err)
         call h5tcopy_f(H5T_FORTRAN_S1, atype, err)
-        call h5tset_size_f(atype, int(max(len(units), 1), size_t), err)
-        call h5acreate_f(ds, 'units', atype, aspace, at, err)
-        call h5awrite_f(at, atype, [units], adim, err)
+        call h5tset_size_f(atype, int(len(v), size_t), err)
+        call h5acreate_f(obj, name, atype, aspace, at, err)
+        call h5awrite_f(at, atype, [v], adim, err)
         call h5aclose_f(at, err)
         call h5tclose_f(atype, err)
         call h5sclose_f(aspace, err)
-    end subroutine make_dataset
+    end subroutine put_attr
 
     !> Append one output time: values(nent or 1, ncol), kept until the
     !> block is full (then written) or the caller flushes.
