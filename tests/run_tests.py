@@ -961,6 +961,32 @@ def test_states():
         pngs.append(q.returncode == 0 and os.path.exists(png) and os.path.getsize(png) > 10000)
     record("plotting: tools/xdplot.py writes deformed-mesh (by field, by part) and overlaid history PNGs "
            "(each over 10 kB)", all(pngs))
+    # a default run writes no d3plot.h5: the tools read the binary d3plot
+    # family (tools/d3plot_read.py), which holds the run's own values (the
+    # float32 of d3plot.h5's, compared exactly); xdplot's mesh then works
+    # (it stopped with "d3plot.h5 not found" before)
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
+    from d3plot_read import D3plot
+    d = D3plot(out)
+    worst, nst = 0.0, 0
+    with h5py.File(os.path.join(out, "d3plot.h5"), "r") as f:
+        same_t = np.array_equal(d.times.astype(np.float32), f["states/time"][:].astype(np.float32))
+        for k in range(len(d.times)):
+            a, g = d.state(k), f[f"states/{k + 1:06d}"]
+            for q in ("coordinates", "shell_plastic_strain", "shell_thickness", "solid_plastic_strain"):
+                if q in g:
+                    worst = max(worst, float(np.abs(a[q] - g[q][:].astype(np.float32)).max()))
+            nst += 1
+    plain = out + "_binary_only"
+    shutil.copytree(out, plain, dirs_exist_ok=True)
+    os.remove(os.path.join(plain, "d3plot.h5"))
+    png = os.path.join(TMP, "states_binary.png")
+    q = run(["/usr/bin/python3", os.path.join(ROOT, "tools", "xdplot.py"), "mesh", plain, "--color", "plastic_strain",
+             "--out", png])
+    record(f"plotting: without d3plot.h5 the tools read the d3plot family ({nst} states, times and fields equal to "
+           f"d3plot.h5's, largest difference {worst:.1e}) and xdplot.py mesh writes its PNG",
+           same_t and nst == len(d.times) and nst > 1 and worst == 0.0 and q.returncode == 0
+           and os.path.exists(png) and os.path.getsize(png) > 10000, q.stderr[-300:])
 
 
 def with_cards(src_deck, name, cards):
@@ -988,6 +1014,17 @@ def same_histories(a, b):
             lb = [x for x in open(pb).read().splitlines()[2:] if "time per zone" not in x] if os.path.exists(pb) else []
             ascii_same = ascii_same and la == lb
     return q.returncode == 0 and rows and ascii_same, q.stdout[-300:]
+
+
+def deck_part_titles(deck):
+    """{part id: heading} of a deck's *PART cards (the heading card, then
+    the card whose first field is the id)."""
+    lines = [x for x in open(deck).read().splitlines() if not x.startswith("$")]
+    out = {}
+    for i, x in enumerate(lines):
+        if x.strip().upper() == "*PART":
+            out[int(lines[i + 2].replace(",", " ").split()[0])] = lines[i + 1].strip()
+    return out
 
 
 def vtk_blocks(reader):
@@ -1057,6 +1094,8 @@ def test_d3plot():
                 worst[q][0] = max(worst[q][0], float(np.abs(ours - ref).max()))
                 worst[q][1] = max(worst[q][1], float(np.abs(ref).max()))
             parts_ok, nseen, ncells = True, 0, 0
+            titles_ok, named = True, []
+            heads = deck_part_titles(deck)
             covered = set()
             eparts = {}
             for kind in ("solid", "shell"):
@@ -1091,6 +1130,10 @@ def test_d3plot():
                         mine = {(kind, int(e)) for e in eid}
                         owner = [q for q, es in eparts.items() if es == mine]
                         parts_ok = parts_ok and len(owner) == 1
+                        # the block's name is its part's title (the d3plot's
+                        # part-title section; before: "PartK (MatlM)")
+                        named.append(bname)
+                        titles_ok = titles_ok and len(owner) == 1 and bname == heads.get(owner[0])
                     if kind == "solid":
                         held("solid stress", v2n(cd.GetArray("Stress")), g["solid_stress"][:][rows])
                         held("solid plastic strain", v2n(cd.GetArray("EffPlastStrn")),
@@ -1120,8 +1163,8 @@ def test_d3plot():
                f"thickness and plastic strain equal to the run's own (d3plot.h5) "
                f"(difference / largest value: {', '.join(f'{k2} {v[0]:.1e} / {v[1]:.3g}' for k2, v in worst.items())}); "
                f"{nseen} part blocks of {ncells} cells, "
-               f"each exactly one deck part's elements ({nel} elements)",
-               same_t and exact and stress_ok and met and parts_ok and ncells == nel and nstate == len(t)
+               f"each exactly one deck part's elements ({nel} elements) and named by the deck's part title ({named})",
+               same_t and exact and stress_ok and met and parts_ok and titles_ok and ncells == nel and nstate == len(t)
                and len(covered) == len(ids)
                and (name != "tube" or len(members) > 1))
         if name == "mixed":

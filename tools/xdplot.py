@@ -9,9 +9,12 @@
 
     xdplot.py mesh RUN [--times T ...] [--color part|von_mises|plastic_strain|thickness|displacement]
                        [--view ELEV AZIM] [--out PNG]
-        Deformed meshes from RUN/d3plot.h5 at the states nearest the given
+        Deformed meshes from RUN/d3plot.h5 (h5plot=1), else from the binary
+        d3plot family every run writes, at the states nearest the given
         times (default: four states spread over the run), side by side in
-        one figure like the paper's Figs. 9-11, coloured by part or a field.
+        one figure like the paper's Figs. 9-11, coloured by part or a field
+        (von Mises and plastic strain of a shell: d3plot.h5's values, or the
+        d3plot's largest over the points through the thickness).
 
 Exit 0 with the PNG written; 2 on bad arguments or missing files.
 """
@@ -89,10 +92,9 @@ def history(runs, out, nodes):
     return 0
 
 
-def faces_of(f):
+def faces_of(m):
     """Polygons (node index lists) and their element (kind, index)."""
     polys, owner = [], []
-    m = f["mesh"]
     if "shell_connectivity" in m:
         for e, c in enumerate(m["shell_connectivity"][:]):
             polys.append(list(c[:3]) if c[2] == c[3] else list(c))
@@ -117,23 +119,35 @@ def faces_of(f):
     return polys, owner
 
 
+def open_states(run):
+    """(times, mesh, state): the states' times, the mesh (connectivity and
+    parts) and state(k), the fields of state k, from RUN/d3plot.h5 if the
+    run wrote it, else from the d3plot family."""
+    h5 = os.path.join(run, "d3plot.h5")
+    if os.path.exists(h5):
+        f = h5py.File(h5, "r")
+        return f["states/time"][:], f["mesh"], lambda k: f[f"states/{k + 1:06d}"]
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from d3plot_read import D3plot
+    d = D3plot(run)
+    return d.times, d.mesh, d.state
+
+
 def mesh(run, times, colour, view, out):
-    f = h5py.File(os.path.join(run, "d3plot.h5"), "r")
-    st_times = f["states/time"][:]
+    st_times, m, state = open_states(run)
     if len(st_times) == 0:
-        print("xdplot: no states in d3plot.h5", file=sys.stderr)
+        print(f"xdplot: no states in {run}", file=sys.stderr)
         return 2
     if not times:
         picks = sorted(set(np.linspace(0, len(st_times) - 1, min(4, len(st_times))).round().astype(int)))
     else:
         picks = [int(np.argmin(abs(st_times - t))) for t in times]
-    polys, owner = faces_of(f)
-    m = f["mesh"]
+    polys, owner = faces_of(m)
     fig = plt.figure(figsize=(4.2 * len(picks), 4.6))
     cmap = plt.get_cmap("tab20" if colour == "part" else "viridis")
     vals_all = []
     for s in picks:
-        g = f[f"states/{s + 1:06d}"]
+        g = state(s)
         if colour == "part":
             v = [m[f"{k}_part"][e] for k, e in owner]
         elif colour == "displacement":
@@ -146,11 +160,10 @@ def mesh(run, times, colour, view, out):
     hi = max(v.max() for v in vals_all)
     if hi <= lo:
         hi = lo + 1.0
-    x0 = f["states/000001/coordinates"][:]
+    x0 = state(0)["coordinates"][:]
     span = (x0.max(0) - x0.min(0)).max()
     for j, s in enumerate(picks):
-        g = f[f"states/{s + 1:06d}"]
-        x = g["coordinates"][:]
+        x = state(s)["coordinates"][:]
         ax = fig.add_subplot(1, len(picks), j + 1, projection="3d")
         v = vals_all[j]
         if colour == "part":
@@ -191,8 +204,8 @@ def main():
     p.add_argument("--view", type=float, nargs=2, default=[25.0, -60.0])
     a = p.parse_args()
     for r in a.runs:
-        need = "thist.h5" if a.what == "history" else "d3plot.h5"
-        if not os.path.exists(os.path.join(r, need)):
+        need = "thist.h5" if a.what == "history" else "d3plot"
+        if not (os.path.exists(os.path.join(r, need)) or os.path.exists(os.path.join(r, "d3plot.h5"))):
             print(f"xdplot: {os.path.join(r, need)} not found", file=sys.stderr)
             return 2
     out = a.out or os.path.join(a.runs[0], f"{a.what}.png")

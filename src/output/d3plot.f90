@@ -3,11 +3,15 @@
 !> byte order; the first member (`d3plot`) holds the 64 control words, the
 !> geometry (initial coordinates, hexahedra and shells with their material
 !> numbers) and the user ids (NARBS: the deck's node, element and part
-!> ids), then states; a state is the time, the global variables, current
+!> ids), then, after an end-of-file marker, the part titles (entity type
+!> 90001: the number of parts, then each part's id and its 72-character
+!> title) and the run's title (90000), as LS-DYNA writes them: readers
+!> (VTK's, lasso-python's) label the parts with them. The states follow in
+!> the members after it; a state is the time, the global variables, current
 !> coordinates and velocities of every node, 7 words per hexahedron (stress
 !> xx yy zz xy yz zx, effective plastic strain), NV2D words per shell and
-!> one deletion flag per element (1: in the model). Members `d3plot01`,
-!> `d3plot02`, ... follow when a state would take a member past its size
+!> one deletion flag per element (1: in the model). The first state opens
+!> `d3plot01`; `d3plot02`, ... follow when a state would take a member past its size
 !> (a state is never split); a member followed by another ends with the
 !> end-of-file marker -999999.0, the last one after its last state (VTK's
 !> reader, 9.1, loses its file handle when the family's last word is the
@@ -58,6 +62,7 @@ module xd_output_d3plot
         integer, allocatable :: shell_mat(:), shell_id(:)
         integer :: nmat_solid = 0, nmat_shell = 0     !< NUMMAT8, NUMMAT4
         integer, allocatable :: part_id(:)            !< the deck's id of each material (NMMAT)
+        character(len=70), allocatable :: part_title(:) !< the deck's heading of each (*PART's first card)
         integer :: maxint = 3
         integer :: nrigid = 0                         !< rigid bodies (NUMRBS)
     end type d3plot_mesh_t
@@ -66,11 +71,11 @@ module xd_output_d3plot
         logical :: on = .false.
         character(len=:), allocatable :: base         !< path of the first member
         integer :: u = -1
-        integer :: member = 0                         !< the open member (0: d3plot)
+        integer :: member = 0                         !< the open member (0: d3plot, which holds no state)
         integer(int64) :: words = 0                   !< words of the open member (before the marker)
         integer :: in_member = 0                      !< states in the open member
         integer(int64) :: limit = 7*member_unit
-        integer(int64) :: head_words = 0              !< control, geometry and ids
+        integer(int64) :: head_words = 0              !< control, geometry, ids and titles
         integer(int64) :: state_words = 0
         integer :: nnode = 0, nsolid = 0, nshell = 0, nmmat = 0, maxint = 3, nv2d = 0, nglbv = 0
         logical :: failed = .false.
@@ -180,7 +185,7 @@ contains
         c(52) = d%nmmat                ! NMMAT
         ! geometry: coordinates, hexahedra (8 nodes, material), shells (4, material)
         ngeo = 3*d%nnode + 9*d%nsolid + 5*d%nshell
-        allocate (w(nhead + ngeo + narbs))
+        allocate (w(nhead + ngeo + narbs + 3 + 19*d%nmmat + 19))
         w(1:nhead) = c
         k = nhead
         w(k + 1:k + 3*d%nnode) = transfer(reshape(mesh%x0, [3*d%nnode]), w(1:1), 3*d%nnode)
@@ -226,6 +231,31 @@ contains
         w(k + 1:k + d%nmmat) = mesh%part_id          ! in the deck's order (the same)
         k = k + d%nmmat
         w(k + 1:k + d%nmmat) = [(i, i=1, d%nmmat)]   ! the order: identity
+        k = k + d%nmmat
+        ! the end of the geometry, then the titles: parts (90001), run (90000)
+        w(k + 1) = transfer(eof_marker, w(1))
+        w(k + 2) = 90001
+        w(k + 3) = d%nmmat
+        k = k + 3
+        do i = 1, d%nmmat
+            w(k + 1) = mesh%part_id(i)
+            w(k + 2:k + 19) = chars72(mesh%part_title(i))
+            k = k + 19
+        end do
+        w(k + 1) = 90000
+        w(k + 2:k + 19) = chars72(mesh%title)
+    contains
+        !> 72 characters (blank-filled) as 18 words.
+        function chars72(text) result(c18)
+            character(len=*), intent(in) :: text
+            integer(int32) :: c18(18)
+            character(len=72) :: t
+            integer :: j
+            t = text
+            do j = 1, 18
+                c18(j) = transfer(t(4*j - 3:4*j), c18(j))
+            end do
+        end function chars72
     end subroutine static_words
 
     !> One state. glob: the NGLBV global variables; x, v: coordinates and
@@ -239,8 +269,10 @@ contains
         integer(int64) :: pos
         if (.not. d%on .or. d%failed) return
         if (member_full(d)) then
-            ! the next member; this one ends with the marker
-            write (d%u, pos=4*d%words + 1, iostat=ios) eof_marker
+            ! the next member; this one ends with the marker (the first
+            ! has it before its titles)
+            ios = 0
+            if (d%member > 0) write (d%u, pos=4*d%words + 1, iostat=ios) eof_marker
             if (ios == 0) close (d%u, iostat=ios)
             if (ios /= 0) then
                 call fail_member(d)
@@ -274,11 +306,12 @@ contains
         d%u = -1
     end subroutine d3plot_close
 
-    !> The next state opens a new member: it would take the open one, which
-    !> holds states already, past the limit (a member holds one state at least).
+    !> The next state opens a new member: the open one is the first (the
+    !> geometry and titles alone), or the state would take it, which holds
+    !> states already, past the limit (a member holds one state at least).
     pure logical function member_full(d)
         type(d3plot_t), intent(in) :: d
-        member_full = d%in_member > 0 .and. d%words + d%state_words > d%limit
+        member_full = d%member == 0 .or. (d%in_member > 0 .and. d%words + d%state_words > d%limit)
     end function member_full
 
     !> A write to the open member failed: no more states, the member named.

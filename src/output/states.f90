@@ -217,6 +217,7 @@ contains
         m%shell_mat = dmat(hpart)
         m%shell_id = [hid, model%shell_id(rshell)]
         m%part_id = model%part(s%dmat_part)%id
+        m%part_title = model%part(s%dmat_part)%heading
         m%nrigid = count(model%mat(model%part(1:model%npart)%mat_ix)%mtype == mat_rigid)
         if (sh%n > 0) m%maxint = max(3, maxval(sh%nip))
         keep = -1
