@@ -3328,6 +3328,43 @@ def test_wall_semantics():
                    named >= int(face.sum()) > 0 and x[:, nxt].min() >= 0.002 - 1e-9 * 0.5)
 
 
+def test_lone_cube():
+    """A lone free hexahedron (10 mm steel cube, nu 0.3) translating at (1, 2,
+    3) m/s at TSSFAC 0.9 (issue 30, finding 10: it blew up at cycle 31).
+    Its breathing mode allows sqrt((lambda + 2 mu) / 3K) = 0.734 of L/c;
+    the set-up check finds it and scales the step to 0.98 of that (named in
+    d3hsp, within 1%: the power iteration's convergence). The run ends
+    normally, the translation unchanged to round-off (1e-9 of the speed:
+    float sums over 8 nodes and 100 cycles), the energy ratio 1 within
+    1e-6. At TSSFAC 0.6 the step is within the limit and nothing is
+    scaled."""
+    nu = 0.3
+    lam_2mu = (1 - nu) / ((1 + nu) * (1 - 2 * nu))
+    three_k = 1 / (1 - 2 * nu)
+    expect = 0.98 * np.sqrt(lam_2mu / three_k)
+    p, out = run_deck("input_decks/verify/lone_cube.k", "lone_cube")
+    log = open(os.path.join(out, "d3hsp")).read() if os.path.exists(os.path.join(out, "d3hsp")) else ""
+    m = re.search(r"steps are scaled by\s+([0-9.]+)", log)
+    got = float(m.group(1)) if m else 0.0
+    record(f"lone cube: the set-up check scales its step by {got:.3f}, 0.98 of its breathing mode's "
+           f"limit {expect:.3f} (1%)", p.returncode == 0 and abs(got / expect - 1) < 0.01, p.stdout[-300:])
+    if p.returncode == 0:
+        g = glstat(out)
+        v = np.array([g["x_velocity"], g["y_velocity"], g["z_velocity"]]).T
+        dev = float(np.max(np.abs(v - [1.0, 2.0, 3.0])))
+        rdev = float(np.max(np.abs(g["energy_ratio"] - 1)))
+        record(f"lone cube: the translation stays (1, 2, 3) m/s (largest deviation {dev:.1e} m/s), energy "
+               f"ratio 1 ({rdev:.1e})", dev < 1e-9 * np.sqrt(14) and rdev < 1e-6)
+    deck = os.path.join(TMP, "lone_cube_06.k")
+    with open(deck, "w") as f:
+        f.write(open(os.path.join(ROOT, "input_decks/verify/lone_cube.k")).read().replace(
+            "         0       0.9", "         0       0.6"))
+    q = run([XDYNA, "i=" + deck, "outdir=" + os.path.join(TMP, "lone_cube_06")])
+    log = open(os.path.join(TMP, "lone_cube_06", "d3hsp")).read() if q.returncode == 0 else ""
+    record("lone cube at TSSFAC 0.6: within the limit, runs with no step scaled", q.returncode == 0
+           and "steps are scaled" not in log, q.stdout[-300:])
+
+
 def test_hardening():
     """Issue 18's findings that are mended, each on the input that showed it:
     - no deck or argument text reaches a shell: outdir='x$(touch F)' makes a
@@ -3524,7 +3561,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_hardening, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -67,7 +67,8 @@ contains
         call build_rigid(model, st, rg, error)
         if (allocated(error)) return
         call initial_stresses(model, hex_map, solids, st)
-        call check_solid_steps(solids, st%x0, st%mass, model%part(1:model%npart)%id, step_note)
+        call check_solid_steps(solids, st%x0, st%mass, st%free, model%ctl%tssfac, model%part(1:model%npart)%id, &
+                               step_note)
     end subroutine setup_run
 
     subroutine initial_volumes_and_mass(s, st)
