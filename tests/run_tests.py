@@ -1027,6 +1027,35 @@ def deck_part_titles(deck):
     return out
 
 
+def dump_sum(data):
+    """The checksum xdyna writes after a dump's bytes (restart.f90,
+    image_sum): Adler's two sums modulo 2^31 - 1, b * 2^31 + a."""
+    p = 2147483647
+    x = np.frombuffer(data, dtype=np.uint8).astype(np.int64)
+    n = len(x)
+    a = (1 + int(x.sum())) % p
+    # b = sum over i of a_i = n + sum_i (n - i) x_i, i from 0
+    b = (n + int(np.dot(np.arange(n, 0, -1, dtype=np.int64) % p, x) % p)) % p if n else 0
+    return b * 2147483648 + a
+
+
+def unseal_dump(path):
+    """Cut the checksum record off a dump (to edit it with h5py)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    assert data[-16:-8] == b"XDYNASUM"
+    with open(path, "wb") as f:
+        f.write(data[:-16])
+
+
+def seal_dump(path):
+    """Append the checksum record a dump ends with."""
+    with open(path, "rb") as f:
+        data = f.read()
+    with open(path, "ab") as f:
+        f.write(b"XDYNASUM" + int(dump_sum(data)).to_bytes(8, "little", signed=True))
+
+
 def vtk_blocks(reader):
     """The blocks of a vtkLSDynaReader's output: (name, grid) for each part."""
     out = reader.GetOutput()
@@ -1231,9 +1260,13 @@ def test_restart():
            q.returncode == 1 and "has changed since the dump" in q.stderr, q.stderr[-200:])
     other = os.path.join(TMP, "rs_other_build.h5")
     shutil.copy(dump, other)
+    # (a dump ends with a checksum of its bytes: edited as another build's
+    # would be written, then sealed again as that build would seal it)
+    unseal_dump(other)
     with h5py.File(other, "r+") as f:
         del f.attrs["build"]
         f.attrs.create("build", np.bytes_("xdyna 0.0.9, real 32 bits, another compiler"))
+    seal_dump(other)
     q = run([XDYNA, "r=" + other])
     record("restart: a dump of another build is refused (exit 1, names both builds)",
            q.returncode == 1 and "another build" in q.stderr, q.stderr[-200:])
@@ -1573,6 +1606,23 @@ def test_thdiff():
     open(os.path.join(pert, "glstat"), "w").write("\n".join(lines))
     q = run([THDIFF, os.path.join(base, "glstat"), os.path.join(pert, "glstat"), "--rtol", "1e-3"])
     record("thdiff: a 1% change in an ASCII glstat value is rejected", q.returncode == 1, q.stdout[-300:])
+    # a run directory without matsum against one with it (issue 30, finding
+    # 8: "all series within tolerance", exit 0): the series of one run only
+    # are a difference, unless --common asks for the common ones
+    nomat = os.path.join(TMP, "bar_no_matsum")
+    shutil.rmtree(nomat, ignore_errors=True)
+    shutil.copytree(base, nomat)
+    for name in ("thist.h5", "matsum"):
+        os.remove(os.path.join(nomat, name))
+    ascii_base = os.path.join(TMP, "bar_ascii_only")
+    shutil.rmtree(ascii_base, ignore_errors=True)
+    shutil.copytree(base, ascii_base)
+    os.remove(os.path.join(ascii_base, "thist.h5"))
+    q = run([THDIFF, ascii_base, nomat, "--rtol", "0"])
+    q2 = run([THDIFF, ascii_base, nomat, "--rtol", "0", "--common"])
+    record("thdiff: a run without matsum fails against one with it (its series named as in one run only); "
+           "--common passes", q.returncode == 1 and "matsum" in q.stdout and q2.returncode == 0,
+           q.stdout[-300:] + q2.stdout[-200:])
     q = run([THDIFF, os.path.join(base, "nodout"), os.path.join(base, "thist.h5"), "--common", "--only", "nodout",
              "--rtol", "1e-4", "--atol", "1e-12"])
     record("thdiff: ASCII nodout and thist.h5 of one run agree (ASCII has 5 digits)", q.returncode == 0,
@@ -3365,6 +3415,129 @@ def test_lone_cube():
            and "steps are scaled" not in log, q.stdout[-300:])
 
 
+def test_hardening_two():
+    """Issue 30's findings mended here, each on the input that showed it,
+    each failing before: ncpu=100000 (a crash with no message: now exit 1
+    naming the limit, finding 4); a *SET_NODE_LIST_GENERATE range of two
+    billion ids and one ending at 2147483647 (gigabytes, then a failure with
+    no place named; a counter that wrapped: now exit 1 naming the card,
+    finding 5); r= a FIFO (hung: now exit 1, finding 6); a FIFO named
+    glstat in the output directory, and o= a FIFO (hung, deaf to SIGTERM:
+    now exit 1 naming it, finding 7); d3hsp's thread count with ncpu=1
+    (said 2, finding 11); a contact that did positive work in a run with no
+    initial energy (an 'Inf%' warning, a trap in the debug build: now the
+    work alone, finding 12). Each case has 60 s to answer."""
+    base = os.path.join(TMP, "hard2")
+    shutil.rmtree(base, ignore_errors=True)
+    os.makedirs(base)
+    deck = os.path.join(ROOT, "input_decks/verify/bar_wall.k")
+    text = open(deck).read()
+
+    def answer(args, cwd=None):
+        try:
+            q = subprocess.run([XDYNA, *args], capture_output=True, text=True, timeout=60, cwd=cwd)
+            return q.returncode, q.stderr + q.stdout
+        except subprocess.TimeoutExpired:
+            return None, "no answer within 60 s"
+
+    rc, msg = answer(["i=" + deck, "outdir=" + os.path.join(base, "many"), "ncpu=100000", "endtim=1e-6"])
+    record("hardening: ncpu=100000 exits 1 naming the limit", rc == 1 and "ncpu=100000" in msg
+           and "processors" in msg, msg[-300:])
+    for name, card in (("gen2e9", "         1 2000000000\n"), ("genwrap", " 2147483646 2147483647\n")):
+        path = os.path.join(base, name + ".k")
+        with open(path, "w") as fh:
+            fh.write(text.replace("*KEYWORD\n", "*KEYWORD\n*SET_NODE_LIST_GENERATE\n        77\n" + card, 1))
+        rc, msg = answer(["i=" + path, "outdir=" + os.path.join(base, name + "_out")])
+        if name == "gen2e9":
+            good = rc == 1 and name + ".k:" in msg and "more than 50000000 ids" in msg
+        else:
+            # two ids: read, then refused as undefined nodes (the set is checked against the mesh)
+            good = rc == 1 and name + ".k" in msg and "2147483646" in msg
+        record(f"hardening: *SET_NODE_LIST_GENERATE {card.split()[0]} to {card.split()[1]} exits 1 naming the "
+               f"card at once", good, msg[-300:])
+    fifo = os.path.join(base, "dump_fifo")
+    os.mkfifo(fifo)
+    rc, msg = answer(["r=" + fifo])
+    record("hardening: r= a FIFO exits 1 (not a regular file)", rc == 1 and "not a regular file" in msg, msg[-300:])
+    out = os.path.join(base, "fifo_out")
+    os.makedirs(out)
+    os.mkfifo(os.path.join(out, "glstat"))
+    rc, msg = answer(["i=" + deck, "outdir=" + out, "endtim=1e-6"])
+    record("hardening: a FIFO named glstat in the output directory: exit 1 naming it", rc == 1
+           and "glstat exists and is not a regular file" in msg, msg[-300:])
+    os.mkfifo(os.path.join(base, "log_fifo"))
+    rc, msg = answer(["i=" + deck, "outdir=" + os.path.join(base, "o_fifo"), "o=" + os.path.join(base, "log_fifo"),
+                      "endtim=1e-6"])
+    record("hardening: o= a FIFO: exit 1 naming it", rc == 1 and "log_fifo exists and is not a regular file" in msg,
+           msg[-300:])
+    out = os.path.join(base, "one_thread")
+    rc, msg = answer(["i=" + deck, "outdir=" + out, "ncpu=1", "endtim=1e-6"])
+    log = open(os.path.join(out, "d3hsp")).read() if rc == 0 else ""
+    record("hardening: d3hsp says 'threads per rank 1' with ncpu=1", rc == 0 and "threads per rank 1" in log,
+           msg[-300:])
+    # a dump written from one directory with relative paths restarts from
+    # another (finding 14: it made ./runs/... there and exited 2); a flipped
+    # byte in the dump's stored output directory, or anywhere else in it,
+    # is refused before anything is read or created (findings 2 and 3)
+    work = os.path.join(base, "work")
+    os.makedirs(work)
+    dk = os.path.join(work, "dumped.k")
+    with open(dk, "w") as fh:
+        fh.write(text.replace("*KEYWORD\n", "*KEYWORD\n*DATABASE_BINARY_D3DUMP\n         0\n", 1))
+    rc, msg = answer(["i=dumped.k", "outdir=runs/a", "endtim=2e-5"], cwd=work)
+    dump = os.path.join(work, "runs", "a", "d3dump.h5")
+    elsewhere = os.path.join(base, "elsewhere")
+    os.makedirs(elsewhere)
+    rc2, msg2 = answer(["r=" + dump, "endtim=4e-5"], cwd=elsewhere)
+    record("hardening: a dump written with relative paths restarts from another directory, writing where the "
+           "run wrote", rc == 0 and rc2 == 0 and not os.path.exists(os.path.join(elsewhere, "runs"))
+           and "N o r m a l" in open(os.path.join(work, "runs", "a", "d3hsp")).read().split("R e s t a r t")[-1],
+           msg2[-300:])
+    if os.path.exists(dump):
+        data = bytearray(open(dump, "rb").read())
+        k = data.find(os.path.join(work, "runs", "a").encode())
+        flips = {"the output directory's name": k + len(work) + 3, "the middle": len(data) // 2, "the first byte": 0,
+                 "the checksum": len(data) - 1}
+        for what, at in flips.items():
+            bad = bytearray(data)
+            bad[at] ^= 0x04
+            path = os.path.join(base, "flip.h5")
+            open(path, "wb").write(bad)
+            rc, msg = answer(["r=" + path], cwd=elsewhere)
+            record(f"hardening: a dump with a flipped byte in {what} is refused (exit 1, 'checksum'), nothing "
+                   f"created", k > 0 and rc == 1 and "checksum" in msg and os.listdir(elsewhere) == [], msg[-300:])
+    # a deck's escape sequence echoed in an error is written escaped (finding
+    # 16: the raw bytes drove the terminal)
+    path = os.path.join(base, "escape.k")
+    with open(path, "w") as fh:
+        fh.write(text.replace("*KEYWORD\n", "*KEYWORD\n*CONTROL_TERMINATION\n\x1b[31mred\n", 1))
+    rc, msg = answer(["--check", "i=" + path])
+    record("hardening: an escape sequence in a deck is echoed as \\x1B, never raw", rc == 1 and "\\x1B" in msg
+           and "\x1b" not in msg, repr(msg[-300:]))
+    dbg = XDYNA + "_debug"
+    if os.path.exists(dbg):
+        # the debug build restarts from a dump (finding 15: 'why' not
+        # allocated) and reports a contact's work in a run with no initial
+        # energy without a trap (finding 12)
+        path = os.path.join(base, "dumped.k")
+        with open(path, "w") as fh:
+            fh.write(text.replace("*KEYWORD\n", "*KEYWORD\n*DATABASE_BINARY_D3DUMP\n         0\n", 1))
+        out = os.path.join(base, "dbg_dump")
+        q = run([dbg, "i=" + path, "outdir=" + out, "endtim=2e-5"])
+        q2 = run([dbg, "r=" + os.path.join(out, "d3dump.h5"), "endtim=4e-5"])
+        record("hardening: the debug build restarts from its dump", q.returncode == 0 and q2.returncode == 0,
+               q2.stderr[-300:])
+        out = os.path.join(base, "dbg_lag")
+        q = run([dbg, "i=" + os.path.join(ROOT, "input_decks/contact/block_on_block_lagrange.k"), "outdir=" + out,
+                 "endcyc=2000"])
+        log = open(os.path.join(out, "d3hsp")).read() if os.path.exists(os.path.join(out, "d3hsp")) else ""
+        record("hardening: the Lagrangian block on block (no initial energy) ends in the debug build with no "
+               "'Inf' in its contact report", q.returncode == 0 and "Inf" not in log and "NaN" not in log,
+               q.stderr[-300:])
+    else:
+        print("SKIP hardening: the debug build is not there (make debug)")
+
+
 def test_hardening():
     """Issue 18's findings that are mended, each on the input that showed it:
     - no deck or argument text reaches a shell: outdir='x$(touch F)' makes a
@@ -3561,7 +3734,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -26,6 +26,13 @@ class:
     FAIL      anything else: a crash (signal), a hang (timeout), exit 1 or 2
               without the promised message, exit 0 without normal termination
 
+A fifth of the time (--dump-share) goes to damaged restart dumps: a small
+dump (the bar on a wall) with one byte changed, the positions taken in a
+stride that covers the whole file, then at random, each run with r=: the
+only right answer is exit 1 naming the checksum; and to the files that are
+no files: a FIFO as r=, as an *INCLUDE and as an output (glstat) in outdir=,
+each answered with exit 1 within the timeout.
+
 The failing decks are kept (--keep, default build/fuzz/failures) with the
 command and its output, to become regression decks. Prints the counts per
 class; exit 1 when any FAIL was seen.
@@ -159,6 +166,78 @@ def classify(p, timeout, outdir=None):
     return "FAIL", f"exit {p.returncode}"
 
 
+def damaged_dumps(seconds, rng, work, keep, timeout):
+    """Restart dumps with one byte changed, and FIFOs where files belong,
+    for `seconds`: (cases, counts by class: refused, FAIL)."""
+    counts = {}
+    base = os.path.join(work, "dumps")
+    shutil.rmtree(base, ignore_errors=True)
+    os.makedirs(base)
+    deck = os.path.join(base, "dumped.k")
+    with open(os.path.join(ROOT, "input_decks", "verify", "bar_wall.k")) as fh:
+        text = fh.read()
+    with open(deck, "w") as fh:
+        fh.write(text.replace("*KEYWORD\n", "*KEYWORD\n*DATABASE_BINARY_D3DUMP\n         0\n", 1))
+    out = os.path.join(base, "run")
+    subprocess.run([XDYNA, "i=" + deck, "outdir=" + out, "endtim=2e-5"], capture_output=True, timeout=60)
+    dump = os.path.join(out, "d3dump.h5")
+    if not os.path.exists(dump):
+        return 0, {"FAIL": 1}
+    good = open(dump, "rb").read()
+
+    def answer(args, cwd=None):
+        try:
+            return subprocess.run([XDYNA, *args], capture_output=True, text=True, timeout=timeout, cwd=cwd,
+                                  errors="replace")
+        except subprocess.TimeoutExpired:
+            return None
+
+    def note(cls, what, p):
+        counts[cls] = counts.get(cls, 0) + 1
+        if cls == "FAIL":
+            with open(os.path.join(keep, f"dump_{sum(counts.values()):05d}.txt"), "w") as fh:
+                fh.write(what + "\n" + ("hang" if p is None else f"exit {p.returncode}\n{p.stdout[-1000:]}"
+                                       f"\n{p.stderr[-1000:]}"))
+            print(f"FAIL {what}", flush=True)
+
+    # files that are no files: each must be refused at once
+    fifo = os.path.join(base, "fifo")
+    os.mkfifo(fifo)
+    p = answer(["r=" + fifo])
+    note("refused" if p is not None and p.returncode == 1 else "FAIL", "r= a FIFO", p)
+    inc = os.path.join(base, "inc.k")
+    with open(inc, "w") as fh:
+        fh.write(text.replace("*KEYWORD\n", "*KEYWORD\n*INCLUDE\n" + fifo + "\n", 1))
+    p = answer(["i=" + inc, "outdir=" + os.path.join(base, "inc_out")])
+    note("refused" if p is not None and p.returncode == 1 else "FAIL", "*INCLUDE of a FIFO", p)
+    fo = os.path.join(base, "fifo_out")
+    os.makedirs(fo)
+    os.mkfifo(os.path.join(fo, "glstat"))
+    p = answer(["i=" + deck, "outdir=" + fo, "endtim=1e-6"])
+    note("refused" if p is not None and p.returncode == 1 else "FAIL", "a FIFO as glstat in outdir=", p)
+    # one byte changed: a stride over the whole file first, then at random
+    n = len(good)
+    stride = max(1, n // 64)
+    order = list(range(0, n, stride))
+    t0 = time.time()
+    k = 0
+    bad = os.path.join(base, "bad.h5")
+    while time.time() - t0 < seconds:
+        at = order[k] if k < len(order) else rng.randrange(n)
+        k += 1
+        data = bytearray(good)
+        data[at] ^= rng.randrange(1, 256)
+        with open(bad, "wb") as fh:
+            fh.write(data)
+        elsewhere = os.path.join(base, "cwd")
+        shutil.rmtree(elsewhere, ignore_errors=True)
+        os.makedirs(elsewhere)
+        p = answer(["r=" + bad, "endtim=4e-5"], cwd=elsewhere)
+        refused = p is not None and p.returncode == 1 and "checksum" in p.stderr and os.listdir(elsewhere) == []
+        note("refused" if refused else "FAIL", f"dump byte {at} of {n} changed", p)
+    return k + 3, counts
+
+
 def main(argv):
     ap = argparse.ArgumentParser()
     ap.add_argument("--seconds", type=float, default=60)
@@ -166,6 +245,7 @@ def main(argv):
     ap.add_argument("--keep", default=os.path.join(ROOT, "build", "fuzz", "failures"))
     ap.add_argument("--timeout", type=float, default=30)
     ap.add_argument("--summary", help="also write the counts to this file")
+    ap.add_argument("--dump-share", type=float, default=0.2, help="share of the time for damaged dumps and FIFOs")
     args = ap.parse_args(argv)
     rng = random.Random(args.seed)
     pool = decks()
@@ -175,7 +255,7 @@ def main(argv):
     counts = {}
     n = 0
     t0 = time.time()
-    while time.time() - t0 < args.seconds:
+    while time.time() - t0 < (1 - args.dump_share) * args.seconds:
         src, text = rng.choice(pool)
         mutated, kind = mutate(text, rng, work)
         n += 1
@@ -202,8 +282,15 @@ def main(argv):
                 if p is not None:
                     fh.write(p.stdout[-2000:] + "\n" + p.stderr[-2000:])
             print(f"FAIL case {n} ({os.path.relpath(src, ROOT)}, {kind}): {why}", flush=True)
-    line = (f"fuzz: {n} mutated decks in {time.time() - t0:.0f} s (seed {args.seed}): " +
-            ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    t1 = time.time()
+    nd, dcounts = damaged_dumps(args.dump_share * args.seconds, rng, work, args.keep, args.timeout)
+    line = (f"fuzz: {n} mutated decks in {t1 - t0:.0f} s (seed {args.seed}): " +
+            ", ".join(f"{k} {v}" for k, v in sorted(counts.items())) +
+            f"; {nd} damaged dumps and FIFOs in {time.time() - t1:.0f} s: " +
+            ", ".join(f"{k} {v}" for k, v in sorted(dcounts.items())))
+    for k, v in dcounts.items():
+        if k == "FAIL":
+            counts["FAIL"] = counts.get("FAIL", 0) + v
     print(line)
     if args.summary:
         with open(args.summary, "w") as fh:

@@ -1324,7 +1324,7 @@ contains
     !> End-of-run lines: searches, sizes and time per interface.
     function contact_report(ct, e_ref) result(txt)
         type(contacts_t), intent(in) :: ct
-        real(dp), intent(in) :: e_ref          !< the run's initial total energy (the scale of "created")
+        real(dp), intent(in) :: e_ref          !< the run's energy scale, initial energy plus external work (of "created")
         character(len=:), allocatable :: txt
         character(len=220) :: buf
         character(len=1), parameter :: nl = new_line('a')
@@ -1363,9 +1363,18 @@ contains
                 if (it%energy < -0.01_dp*abs(e_ref)) then
                     ! the ratio books this work as (negative) sliding energy, so
                     ! it stays at 1 while the contact creates energy
-                    write (buf, '(a,i0,a,es10.3,a,f6.1,a)') '   *** Warning: interface ', it%id, &
-                        ': its forces did net positive work ', -it%energy, ' (', -100.0_dp*it%energy/abs(e_ref), &
-                        '% of the initial energy): energy created, which the energy ratio does not show'
+                    if (e_ref /= 0.0_dp) then
+                        write (buf, '(a,i0,a,es10.3,a,f6.1,a)') '   *** Warning: interface ', it%id, &
+                            ': its forces did net positive work ', -it%energy, ' (', -100.0_dp*it%energy/abs(e_ref), &
+                            '% of the initial energy plus external work): energy created, which the energy '// &
+                            'ratio does not show'
+                    else
+                        ! (no initial energy to compare with: the work alone)
+                        write (buf, '(a,i0,a,es10.3,a)') '   *** Warning: interface ', it%id, &
+                            ': its forces did net positive work ', -it%energy, &
+                            ' (the run had no initial energy nor external work): energy created, which the '// &
+                            'energy ratio does not show'
+                    end if
                     txt = txt//trim(buf)//nl
                     txt = txt//'       (springs too stiff for the step: SLSFAC, SFS, SFM; or depths pushed out at once)'//nl
                 end if

@@ -4,7 +4,7 @@
 module xd_core_errors
     implicit none
     private
-    public :: error_t, make_error
+    public :: error_t, make_error, printable
     public :: exit_normal, exit_input, exit_run, exit_signal
 
     integer, parameter :: exit_normal = 0   !< normal termination
@@ -37,8 +37,27 @@ contains
             end if
             error%message = error%message//' '
         end if
-        error%message = error%message//text
+        error%message = error%message//printable(text)
         if (present(code)) error%code = code
     end subroutine make_error
+
+    !> text with its control characters (bytes 0-31 and 127: a terminal's
+    !> escape sequences, a stray carriage return) written as \xNN, so that
+    !> a deck's bytes echoed in a message cannot drive the terminal.
+    pure function printable(text) result(t)
+        character(len=*), intent(in) :: text
+        character(len=:), allocatable :: t
+        character(len=*), parameter :: hex = '0123456789ABCDEF'
+        integer :: i, c
+        t = ''
+        do i = 1, len(text)
+            c = iachar(text(i:i))
+            if (c < 32 .or. c == 127) then
+                t = t//'\x'//hex(c/16 + 1:c/16 + 1)//hex(mod(c, 16) + 1:mod(c, 16) + 1)
+            else
+                t = t//text(i:i)
+            end if
+        end do
+    end function printable
 
 end module xd_core_errors

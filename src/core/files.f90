@@ -6,7 +6,7 @@ module xd_core_files
     use xd_kinds, only: i8
     implicit none
     private
-    public :: rename_file, delete_file, written_bytes, truncate_file, make_dirs, file_kind
+    public :: rename_file, delete_file, written_bytes, truncate_file, make_dirs, file_kind, absolute_path
     public :: fk_missing, fk_regular, fk_directory, fk_other
 
     integer, parameter :: fk_missing = 0, fk_regular = 1, fk_directory = 2, fk_other = 3
@@ -113,5 +113,20 @@ contains
             k = fk_other
         end if
     end function file_kind
+
+    !> `path` as an absolute path: itself if it starts with '/', else under
+    !> the working directory (a restart from elsewhere finds the same files).
+    function absolute_path(path) result(p)
+        character(len=*), intent(in) :: path
+        character(len=:), allocatable :: p
+        character(len=4096) :: cwd
+        integer :: st
+        p = path
+        if (len(path) == 0) return
+        if (path(1:1) == '/') return
+        call getcwd(cwd, st)
+        if (st /= 0) return
+        p = trim(cwd)//'/'//path
+    end function absolute_path
 
 end module xd_core_files

@@ -81,6 +81,11 @@ contains
                     call make_error(error, at//'shell set '//itoa(sid)//' is not defined')
                     return
                 end if
+                if (model%set(ref)%n == 0) then
+                    call make_error(error, at//'shell set '//itoa(sid)//' is empty: the contact would have no '// &
+                                    'surface on that side')
+                    return
+                end if
                 if (allocated(model%set(ref)%member_ix)) deallocate (model%set(ref)%member_ix)
                 allocate (model%set(ref)%member_ix(model%set(ref)%n))
                 call shells%build(model%shell_id(1:model%nshell), dup)
@@ -94,13 +99,24 @@ contains
                 end do
             case (styp_part_set, styp_all_but)
                 ref = find_set(model, set_part, sid)
-                if (ref == 0) call make_error(error, at//'part set '//itoa(sid)//' is not defined')
+                if (ref == 0) then
+                    call make_error(error, at//'part set '//itoa(sid)//' is not defined')
+                else if (styp == styp_part_set .and. model%set(ref)%n == 0) then
+                    ! (a set of parts to leave out may be empty)
+                    call make_error(error, at//'part set '//itoa(sid)//' is empty: the contact would have no '// &
+                                    'surface on that side')
+                end if
             case (styp_part)
                 ref = parts%find(sid)
                 if (ref == 0) call make_error(error, at//'part '//itoa(sid)//' is not defined')
             case (styp_node_set)
                 ref = find_set(model, set_node, sid)
-                if (ref == 0) call make_error(error, at//'node set '//itoa(sid)//' is not defined')
+                if (ref == 0) then
+                    call make_error(error, at//'node set '//itoa(sid)//' is not defined')
+                else if (model%set(ref)%n == 0) then
+                    call make_error(error, at//'node set '//itoa(sid)//' is empty: the contact would have no '// &
+                                    'slave nodes')
+                end if
             end select
         end subroutine resolve
     end subroutine check_contacts

@@ -1,7 +1,7 @@
 !> What every keyword reader needs: the deck lines, the parameters, and the
 !> helpers that turn card i of a keyword into fields.
 module xd_input_context
-    use xd_core_errors, only: error_t, make_error
+    use xd_core_errors, only: error_t, make_error, printable
     use xd_core_strings, only: itoa
     use xd_input_deck_source, only: deck_source_t
     use xd_input_field_reader, only: card_format_t, card_t, param_table_t, split_card, card_format, card_blank, &
@@ -67,7 +67,7 @@ contains
         character(len=*), intent(in) :: text
         model%nwarn = model%nwarn + 1
         if (.not. allocated(model%warnings)) model%warnings = ''
-        model%warnings = model%warnings//' *** Warning: '//text//new_line('a')
+        model%warnings = model%warnings//' *** Warning: '//printable(text)//new_line('a')
     end subroutine add_warning
 
     !> The ID/heading card of an _ID option: ID (I10, I20 in long format),

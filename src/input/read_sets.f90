@@ -1,5 +1,6 @@
 !> Readers for node and part sets (*SET_NODE_LIST, *SET_PART_LIST, _GENERATE).
 module xd_input_read_sets
+    use xd_kinds, only: i8
     use xd_core_errors, only: error_t
     use xd_core_strings, only: itoa
     use xd_input_field_reader, only: card_t, card_format_t, card_format, get_int, card_error, card_blank, get_text
@@ -10,6 +11,10 @@ module xd_input_read_sets
     implicit none
     private
     public :: read_set
+
+    !> the most ids a set may hold (200 MB of them): a _GENERATE range of
+    !> two billion ids allocated gigabytes before it failed with no place named
+    integer, parameter :: max_members = 50000000
 
 contains
 
@@ -67,9 +72,17 @@ contains
                                         ' is empty or not positive', error)
                         return
                     end if
-                    do j = b, e
+                    ! (counted in 64 bits: a range ending at the largest
+                    ! integer wrapped its counter and never ended)
+                    if (int(e, i8) - b + 1 + s%n > max_members) then
+                        call card_error(card, k + 1, 'range '//itoa(b)//' to '//itoa(e)//' makes the set '// &
+                                        'hold more than '//itoa(max_members)//' ids', error)
+                        return
+                    end if
+                    do j = b, e - 1
                         call push(s, j)
                     end do
+                    call push(s, e)
                 end do
             else
                 do k = 1, 8

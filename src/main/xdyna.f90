@@ -4,7 +4,7 @@
 program xdyna
     use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
     use xd_kinds, only: wp, dp
-    use xd_core_errors, only: error_t, exit_normal, exit_input, exit_run, exit_signal
+    use xd_core_errors, only: error_t, exit_normal, exit_input, exit_run, exit_signal, printable
     use xd_core_strings, only: to_lower, itoa, ftoa
     use xd_core_parallel_env, only: parallel_env_t, parallel_start, parallel_stop, terminate
     use xd_core_timers, only: timers_t, ph_input, ph_init
@@ -23,7 +23,7 @@ program xdyna
     use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses
     use xd_contact_initial_penetration, only: initial_penetrations
     use xd_core_strings, only: join_path, out_path
-    use xd_core_files, only: make_dirs
+    use xd_core_files, only: make_dirs, file_kind, fk_missing, fk_regular, absolute_path
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
     use xd_rigid_bodies, only: rigid_t
     use xd_solver_loads, only: pressures_t, build_pressures
@@ -36,7 +36,7 @@ program xdyna
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     use xd_solver_domain, only: domain_t, build_domain, domain_summary
     use xd_contact_contact, only: gather_contact_state, scatter_contact_state
-    !$ use omp_lib, only: omp_set_num_threads
+    !$ use omp_lib, only: omp_set_num_threads, omp_get_num_procs
     implicit none
 
     type(parallel_env_t) :: env
@@ -72,7 +72,12 @@ program xdyna
     logical :: check_only, ok
     character(len=:), allocatable :: memory_note, hold, step_note
     real(dp) :: endtim_cli
-    integer :: i, k, ncpu, nfree, nparts, endcyc_cli, nmoved
+    integer :: i, k, ncpu, nfree, nparts, endcyc_cli, nmoved, nprocs
+    character(len=:), allocatable :: bad_out
+    !> the files a run writes in its output directory (besides d3hsp and
+    !> the d3plot members)
+    character(len=12), parameter :: out_names(11) = [character(len=12) :: 'glstat', 'matsum', 'nodout', &
+        'rwforc', 'rcforc', 'thist.h5', 'd3plot', 'd3plot.h5', 'd3plot.xdmf', 'd3dump.h5', 'contact_debug']
     integer :: h5plot                !< h5plot= (or XDYNA_H5PLOT): 1 also d3plot.h5, 0 not, -1 the deck's
     integer :: xfactor               !< x=: d3plot member size in 262,144 words (0: the deck's)
 
@@ -119,8 +124,22 @@ program xdyna
     end do
     if (len(restart) > 0) then
         ! a restart: the dump names its deck and output directory, and must
-        ! come from this build
+        ! come from this build; only a regular file (HDF5 waits for ever on a
+        ! FIFO)
+        if (file_kind(restart) == fk_missing) then
+            call say('xdyna: r='//restart//': no such file')
+            call finish(exit_input)
+        else if (file_kind(restart) /= fk_regular) then
+            call say('xdyna: r='//restart//': not a regular file (a FIFO, a device, a socket or a directory)')
+            call finish(exit_input)
+        end if
         call read_dump_meta(restart, meta, ok)
+        if (allocated(meta%damage)) then
+            if (len(meta%damage) > 0) then
+                call say('xdyna: r='//restart//': the dump '//meta%damage)
+                call finish(exit_input)
+            end if
+        end if
         if (.not. ok) then
             call say('xdyna: r='//restart//': not a readable restart dump (not an HDF5 file, or damaged)')
             call finish(exit_input)
@@ -144,6 +163,7 @@ program xdyna
         call finish(exit_input)
     end if
     !$ if (ncpu > 0) call omp_set_num_threads(ncpu)
+    !$ if (ncpu > 0) env%nthreads = ncpu
     stem = outdir
     if (len(jobid) > 0) stem = join_path(outdir, jobid//'.')
 
@@ -155,6 +175,20 @@ program xdyna
             call finish_alone(exit_input)
         end if
         if (len(printed) == 0) printed = out_path(stem, 'd3hsp')
+        ! an output that exists and is not a regular file (a FIFO, a device)
+        ! would block the run at its open, beyond the reach of signals
+        bad_out = not_a_file(printed)
+        do k = 1, size(out_names)
+            if (len(bad_out) == 0) bad_out = not_a_file(out_path(stem, trim(out_names(k))))
+        end do
+        do k = 1, 99
+            if (len(bad_out) == 0) bad_out = not_a_file(out_path(stem, 'd3plot'//itoa2(k)))
+        end do
+        if (len(bad_out) > 0) then
+            call say('xdyna: the output '//bad_out//' exists and is not a regular file (a FIFO, a device, a '// &
+                     'socket or a directory); remove it or choose another outdir=')
+            call finish_alone(exit_input)
+        end if
         call log_open(printed, lg, ok, append=len(restart) > 0)
         if (.not. ok) then
             call say('xdyna: cannot write the log in '//outdir)
@@ -312,9 +346,10 @@ program xdyna
     opts%wallclock = wallclock
     opts%dump_path = out_path(stem, 'd3dump.h5')
     opts%kill_path = out_path(stem, 'd3kil')
-    opts%meta%deck = deck
+    ! absolute: a restart started from another directory finds them
+    opts%meta%deck = absolute_path(deck)
     opts%meta%digest = ctx%src%digest()
-    opts%meta%outdir = outdir
+    opts%meta%outdir = absolute_path(outdir)
     if (.not. ok) then
         call say('xdyna: cannot create the states (d3plot'//trim(merge(', d3plot.h5', '           ', &
                  model%db%d3plot_h5))//') in '//outdir)
@@ -328,7 +363,7 @@ program xdyna
     call close_states(states)
     call close_histories(hist)
     if (dom%on .and. ct%n > 0) call gather_contact_state(ct)
-    if (ct%n > 0) call log_line(lg, contact_report(ct, st%e_initial))
+    if (ct%n > 0) call log_line(lg, contact_report(ct, max(abs(st%e_initial), res%e_scale)))
     if (ct%dump_unit /= 0) close (ct%dump_unit)
     call timing_table(lg, tm, res%ncycle, solids%n + sh%n, tm%elapsed())
     if (res%status == exit_signal) then
@@ -344,6 +379,25 @@ program xdyna
     call finish(exit_normal)
 
 contains
+
+    !> `path` when it exists and is not a regular file, else ''.
+    function not_a_file(path) result(t)
+        character(len=*), intent(in) :: path
+        character(len=:), allocatable :: t
+        integer :: kind
+        kind = file_kind(path)
+        t = ''
+        if (kind /= fk_missing .and. kind /= fk_regular) t = path
+    end function not_a_file
+
+    !> k with at least two digits (the d3plot members' numbering).
+    function itoa2(k) result(t)
+        integer, intent(in) :: k
+        character(len=:), allocatable :: t
+        character(len=12) :: b
+        write (b, '(i2.2)') k
+        t = trim(b)
+    end function itoa2
 
     function get_arg(k) result(a)
         integer, intent(in) :: k
@@ -453,6 +507,15 @@ contains
                 call finish(exit_input)
             end if
             ncpu = abs(ncpu)
+            ! a thread count far beyond the machine's processors only costs
+            ! memory (a stack and work arrays each): 100,000 crashed the run
+            nprocs = 1
+            !$ nprocs = omp_get_num_procs()
+            if (ncpu > max(64, 8*nprocs)) then
+                call say('xdyna: ncpu='//val//' is more than 8 times the '//itoa(nprocs)//' processors here '// &
+                         '(at most '//itoa(max(64, 8*nprocs))//' threads)')
+                call finish(exit_input)
+            end if
         case ('wallclock')
             call parse_real(val, wallclock, good)
             if (.not. good .or. wallclock <= 0.0_dp) then
@@ -587,7 +650,7 @@ contains
     !> A message for standard error, from rank 0 alone.
     subroutine say(text)
         character(len=*), intent(in) :: text
-        if (env%rank == 0) write (error_unit, '(a)') text
+        if (env%rank == 0) write (error_unit, '(a)') printable(text)
     end subroutine say
 
 end program xdyna

@@ -171,6 +171,7 @@ contains
         logical :: good
         integer(hid_t) :: ds
         integer :: n
+        if (present(why)) why = ''
         call open_any(g, name, n, ds)
         ok = n >= 0
         if (.not. ok) then
@@ -197,6 +198,7 @@ contains
         logical :: good
         integer(hid_t) :: ds
         integer :: n
+        if (present(why)) why = ''
         call open_any(g, name, n, ds)
         ok = n >= 0
         if (.not. ok) then
@@ -223,6 +225,7 @@ contains
         logical :: good
         integer(hid_t) :: ds
         integer :: n
+        if (present(why)) why = ''
         call open_any(g, name, n, ds)
         ok = n >= 0
         if (.not. ok) then
@@ -249,6 +252,7 @@ contains
         logical :: good
         integer(hid_t) :: ds
         integer :: n
+        if (present(why)) why = ''
         call open_any(g, name, n, ds)
         ok = n >= 0
         if (.not. ok) then

@@ -30,13 +30,18 @@ module xd_solver_restart
 
     !> 3: the slaves' clearances (list_gap) are kept; 4: the refused deep
     !> contacts (count, deepest, the segment last named per slave) and the
-    !> contact's impulse and work by part pair; 5: the edge pairs of AUTOMATIC_GENERAL interfaces
-    integer, parameter :: dump_format = 6
+    !> contact's impulse and work by part pair; 5: the edge pairs of AUTOMATIC_GENERAL interfaces;
+    !> 6: mass scaling; 7: a checksum of every byte after the HDF5 image, and
+    !> the deck and output directory as absolute paths
+    integer, parameter :: dump_format = 7
+    !> what precedes the checksum at the end of a dump
+    character(len=8), parameter :: sum_magic = 'XDYNASUM'
 
     !> What a dump says about itself.
     type :: dump_meta_t
         integer :: format = 0
         character(len=:), allocatable :: build, deck, digest, outdir
+        character(len=:), allocatable :: damage   !< read_dump_meta: what fails the dump's checksum ('' if none)
         real(dp) :: time = 0
         integer :: cycle = 0
     end type dump_meta_t
@@ -238,14 +243,78 @@ contains
         open (newunit=u, file=path, access='stream', form='unformatted', status='replace', action='write', iostat=ios)
         ok = ios == 0
         if (.not. ok) return
-        write (u, iostat=ios) img
+        ! the image, then its checksum: every byte a restart reads is covered
+        ! (HDF5's own per-dataset checksums leave its metadata and the text
+        ! attributes out: flipped bytes there ran another simulation, or
+        ! crashed HDF5)
+        write (u, iostat=ios) img, sum_magic, image_sum(img)
         ok = ios == 0
         flush (u, iostat=ios)
         inquire (unit=u, size=sz)
-        ok = ok .and. ios == 0 .and. sz == int(n, i8) .and. written_bytes(u) == sz
+        ok = ok .and. ios == 0 .and. sz == int(n, i8) + 16 .and. written_bytes(u) == sz
         close (u, iostat=ios)
         ok = ok .and. ios == 0
     end subroutine save_image
+
+    !> A checksum of bytes (Adler's two running sums, modulo 2^31 - 1, the
+    !> sums reduced every 2^20 bytes so that 64 bits never overflow): b x
+    !> 2^31 + a, with a = 1 + the sum of the bytes and b the sum of the a's.
+    !> One changed byte always changes a.
+    pure integer(i8) function image_sum(img) result(ck)
+        use, intrinsic :: iso_c_binding, only: c_int8_t
+        integer(c_int8_t), intent(in) :: img(:)
+        integer(i8), parameter :: p = 2147483647_i8
+        integer(i8) :: a, b
+        integer(i8) :: i, j, n
+        a = 1
+        b = 0
+        n = size(img, kind=i8)
+        i = 1
+        do while (i <= n)
+            do j = i, min(n, i + 1048575_i8)
+                a = a + iand(int(img(j), i8), 255_i8)
+                b = b + a
+            end do
+            a = mod(a, p)
+            b = mod(b, p)
+            i = i + 1048576_i8
+        end do
+        ck = b*2147483648_i8 + a
+    end function image_sum
+
+    !> Whether the dump's bytes match the checksum written after them
+    !> (save_image); `why` says what is wrong otherwise.
+    subroutine dump_intact(path, good, why)
+        use, intrinsic :: iso_c_binding, only: c_int8_t
+        character(len=*), intent(in) :: path
+        logical, intent(out) :: good
+        character(len=:), allocatable, intent(out) :: why
+        integer(c_int8_t), allocatable :: img(:)
+        integer(i8) :: sz, ck
+        character(len=8) :: magic
+        integer :: u, ios
+        good = .false.
+        why = 'cannot be read'
+        open (newunit=u, file=path, access='stream', form='unformatted', status='old', action='read', iostat=ios)
+        if (ios /= 0) return
+        inquire (unit=u, size=sz)
+        if (sz < 16) then
+            why = 'is too short to be a dump'
+            close (u)
+            return
+        end if
+        allocate (img(sz - 16))
+        read (u, iostat=ios) img, magic, ck
+        close (u)
+        if (ios /= 0) return
+        if (magic /= sum_magic) then
+            why = 'has no checksum record (not an xdyna dump of this format, or cut short)'
+            return
+        end if
+        good = ck == image_sum(img)
+        why = ''
+        if (.not. good) why = 'is damaged: its bytes fail the checksum written with them'
+    end subroutine dump_intact
 
     !> The dump's own description; ok false if it is not a readable dump.
     subroutine read_dump_meta(path, meta, ok)
@@ -261,6 +330,9 @@ contains
         inquire (file=path, exist=there)
         ok = there
         if (.not. ok) return
+        ! every byte checked before HDF5 reads any (a damaged file crashed it)
+        call dump_intact(path, good, meta%damage)
+        if (.not. good) return
         ! HDF5's own diagnostics stay quiet: a damaged dump is said in one line
         ! by the caller
         call h5open_f(err)

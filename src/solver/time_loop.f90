@@ -67,6 +67,9 @@ module xd_solver_time_loop
         character(len=:), allocatable :: message
         integer :: ncycle = 0
         real(dp) :: loop_wall = 0.0_dp
+        !> the run's energy scale: the largest |initial energy + external work|
+        !> an energy check saw (the contact report's reference)
+        real(dp) :: e_scale = 0.0_dp
     end type run_result_t
 
 contains
@@ -637,6 +640,7 @@ contains
                     return
                 end if
             end do
+            res%e_scale = max(res%e_scale, abs(st%e_initial + en%ext))
             if (en%total /= en%total .or. abs(en%total) > huge(1.0_wp)) then
                 do i = 1, st%nnode
                     if (any(st%v(:, i) /= st%v(:, i)) .or. any(abs(st%v(:, i)) > huge(1.0_wp))) exit

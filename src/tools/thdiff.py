@@ -218,7 +218,9 @@ def choose_kinds(a, b):
     if os.path.isdir(a) and os.path.isdir(b):
         if all(os.path.exists(os.path.join(p, "thist.h5")) for p in (a, b)):
             return "h5"
-        return [n for n in ASCII_NAMES if all(os.path.exists(os.path.join(p, n)) for p in (a, b))]
+        # every file either run has: one the other lacks shows as series in
+        # one run only (a difference, unless --common), never skipped
+        return [n for n in ASCII_NAMES if any(os.path.exists(os.path.join(p, n)) for p in (a, b))]
     return ASCII_NAMES
 
 
