@@ -3656,6 +3656,42 @@ def test_hardening():
                q.returncode == 1 and "field RO" in q.stderr and "out of range" in q.stderr, q.stderr[-300:])
 
 
+def test_full_filesystem():
+    """A full file system (issue 30, finding 1: after the right message the
+    run died with SIGSEGV, exit 139, inside HDF5's clean-up at exit, when
+    thist.h5 could not be written at cycle 0 or d3plot.h5 mid-run; a
+    file-size limit, EFBIG, did not show it, a full disk, ENOSPC, did). A
+    20 MB tmpfs filled to three levels under the tube crush with d3plot.h5:
+    each run stops with exit 2 naming the file it could not write. Needs
+    root to mount the tmpfs: SKIP otherwise."""
+    mnt = os.path.join(TMP, "small_fs")
+    os.makedirs(mnt, exist_ok=True)
+    q = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=20m", "tmpfs", mnt], capture_output=True, text=True)
+    if q.returncode != 0:
+        print("SKIP full file system: cannot mount a tmpfs here (needs root)")
+        return
+    try:
+        deck = os.path.join(ROOT, "input_decks/contact/tube_crush.k")
+        # 18 MB free: d3plot.h5 fails mid-run (its states); 15 MB: nodout
+        # mid-run; 12 MB: thist.h5 at cycle 0 (HDF5 lays out its chunks)
+        for fill_kb in (2000, 5000, 8000):
+            for f in os.listdir(mnt):
+                p = os.path.join(mnt, f)
+                shutil.rmtree(p) if os.path.isdir(p) else os.remove(p)
+            with open(os.path.join(mnt, "fill"), "wb") as fh:
+                try:
+                    fh.write(bytes(1024 * fill_kb))
+                except OSError:
+                    pass
+            p = run([XDYNA, "i=" + deck, "outdir=" + os.path.join(mnt, "o"), "h5plot=1", "endtim=1e-3"])
+            named = re.search(r"cannot (write|create) (\S+)", p.stderr)
+            record(f"full file system ({20000 - fill_kb} kB free): exit 2 naming the file, no crash "
+                   f"(exit {p.returncode}: {named.group(0) if named else p.stderr[-120:]!r})",
+                   p.returncode == 2 and named is not None, p.stderr[-300:])
+    finally:
+        subprocess.run(["umount", mnt], capture_output=True)
+
+
 def test_write_failures():
     """Write failures (issue 18, finding 2: a full disk gave 430 HDF5 errors,
     "normal termination", SIGSEGV, ASCII files cut mid-line and a 0-byte
@@ -3734,7 +3770,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -31,6 +31,7 @@ program xdyna
     use xd_output_histories, only: histories_t, open_histories, close_histories, history_marks_t
     use xd_output_states, only: states_t, open_states, close_states, states_marks_t, states_summary
     use xd_solver_restart, only: dump_meta_t, read_dump_meta, read_dump, build_tag, dump_format
+    use xd_output_h5io, only: h5_no_exit_handler
     use xd_core_signals, only: signals_install, stop_signal, hold_for_signal
     use xd_core_comm, only: comm_max
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
@@ -85,6 +86,7 @@ program xdyna
     ! parallel start-up: a SIGTERM during set-up stops the run cleanly
     ! (exit 3, no dump: there is no state yet)
     call signals_install()
+    call h5_no_exit_handler()
     hold = get_env('XDYNA_HOLD_AT')
     if (hold == 'start') call hold_for_signal(' held at start (XDYNA_HOLD_AT): waiting for a signal', 120.0, .true.)
     call tm%begin()

@@ -11,7 +11,7 @@ module xd_output_h5io
     use, intrinsic :: iso_fortran_env, only: real32, real64, int32, int64
     implicit none
     private
-    public :: dput, dget, put_text, get_text
+    public :: dput, dget, put_text, get_text, h5_no_exit_handler
 
     interface dput
         module procedure put_r4, put_r8, put_i4, put_i8
@@ -314,5 +314,15 @@ contains
         call h5aclose_f(at, err)
         text = buf(1)(1:min(int(n), len(buf(1))))
     end function get_text
+
+    !> HDF5 registers a clean-up at exit that flushes and closes whatever
+    !> is still open; after a write refused by a full disk that clean-up
+    !> crashed (SIGSEGV inside it, after our error message). xdyna closes
+    !> its files itself on every path that can still write them, so the
+    !> handler is not registered: called before any other HDF5 call.
+    subroutine h5_no_exit_handler()
+        integer :: err
+        call h5dont_atexit_f(err)
+    end subroutine h5_no_exit_handler
 
 end module xd_output_h5io
