@@ -3515,6 +3515,28 @@ def test_hardening_two():
     record("hardening: an escape sequence in a deck is echoed as \\x1B, never raw", rc == 1 and "\\x1B" in msg
            and "\x1b" not in msg, repr(msg[-300:]))
     dbg = XDYNA + "_debug"
+    # inputs the release build refuses cleanly, refused by the debug build
+    # too, not trapped (finding 17): an expression that overflows, a
+    # coordinate of 1e300, a velocity of 1e300 (that one ran into the
+    # energies' arithmetic: now refused at set-up, naming the node)
+    lines = text.split("\n")
+    j = next(i for i, l in enumerate(lines) if l.startswith("*NODE")) + 1
+    while lines[j].startswith("$"):
+        j += 1
+    lines[j] = lines[j][:8] + "%16s" % "1.0e300" + lines[j][24:]
+    odd = {"overflow": (text.replace("*KEYWORD\n", "*KEYWORD\n*PARAMETER_EXPRESSION\nR big     1.0e300*1.0e300\n", 1),
+                        "not finite"),
+           "coordinate": ("\n".join(lines), "inverted (volume -6.2500E+294)"),
+           "velocity": (text.replace("*INITIAL_VELOCITY\n         0\n       -10", "*INITIAL_VELOCITY\n         0\n"
+                                     "     1e300", 1), "beyond what the energies can hold")}
+    for name, (body, expect) in odd.items():
+        path = os.path.join(base, f"odd_{name}.k")
+        with open(path, "w") as fh:
+            fh.write(body)
+        for exe in [XDYNA] + ([dbg] if os.path.exists(dbg) else []):
+            q = run([exe, "i=" + path, "outdir=" + os.path.join(base, f"odd_{name}_out")])
+            record(f"hardening: {name} 1e300 exits 1 in the {'debug' if exe == dbg else 'release'} build "
+                   f"('{expect}')", q.returncode == 1 and expect in q.stderr, q.stderr[-300:])
     if os.path.exists(dbg):
         # the debug build restarts from a dump (finding 15: 'why' not
         # allocated) and reports a contact's work in a run with no initial

@@ -42,7 +42,12 @@ contains
         real(dp), intent(in) :: x
         character(len=:), allocatable :: s
         character(len=32) :: buf
-        write (buf, '(es12.5)') x
+        ! (a three-digit exponent keeps its E: 1.00000E+300, not 1.00000+300)
+        if (abs(x) >= 1.0e100_dp .or. (abs(x) < 1.0e-99_dp .and. x /= 0.0_dp)) then
+            write (buf, '(es13.5e3)') x
+        else
+            write (buf, '(es12.5)') x
+        end if
         s = trim(adjustl(buf))
     end function rtoa
 
@@ -53,7 +58,9 @@ contains
         character(len=32) :: buf
         ! beyond what nine digits before the point hold: exponent notation
         ! (a blown-up energy printed as asterisks said nothing)
-        if (abs(x) >= 1.0e8_dp) then
+        if (abs(x) >= 1.0e100_dp) then
+            write (buf, '(es13.5e3)') x
+        else if (abs(x) >= 1.0e8_dp) then
             write (buf, '(es12.5)') x
         else
             write (buf, '(f14.4)') x

@@ -6,12 +6,16 @@
 !> nint anint real exp log log10 (plus the names ls_integer, ls_real).
 !> Recursive descent; an error names the position and what was expected.
 module xd_input_expression
+    use, intrinsic :: ieee_exceptions, only: ieee_get_halting_mode, ieee_set_halting_mode, ieee_set_flag, &
+                                             ieee_overflow, ieee_divide_by_zero, ieee_invalid, ieee_flag_type
     use xd_kinds, only: dp
     use xd_core_strings, only: to_upper, itoa
     use xd_input_field_reader, only: param_table_t
     implicit none
     private
     public :: evaluate
+
+    type(ieee_flag_type), parameter :: traps(3) = [ieee_overflow, ieee_divide_by_zero, ieee_invalid]
 
     type :: parser_t
         character(len=:), allocatable :: s
@@ -29,6 +33,12 @@ contains
         real(dp), intent(out) :: value
         character(len=:), allocatable, intent(out) :: msg
         type(parser_t) :: ps
+        logical :: halt(3)
+        ! a deck's arithmetic may overflow (1e300*1e300): it is evaluated
+        ! with the floating-point traps off, so that the debug build, which
+        ! traps them, reports it as the release build does (not finite)
+        call ieee_get_halting_mode(traps, halt)
+        call ieee_set_halting_mode(traps, .false.)
         ps%s = trim(text)
         ps%p = 1
         ps%msg = ''
@@ -38,6 +48,8 @@ contains
             if (ps%p <= len(ps%s)) call fail(ps, 'unexpected '''//ps%s(ps%p:)//'''')
         end if
         if (len(ps%msg) == 0 .and. .not. (abs(value) <= huge(1.0_dp))) call fail(ps, 'the value is not finite')
+        call ieee_set_flag(traps, .false.)
+        call ieee_set_halting_mode(traps, halt)
         msg = ps%msg
     end subroutine evaluate
 

@@ -401,7 +401,11 @@ contains
     function rtoa_short(x) result(s)
         real(wp), intent(in) :: x
         character(len=16) :: s
-        write (s, '(es12.4)') x
+        if (abs(x) >= 1.0e100_wp .or. (abs(x) < 1.0e-99_wp .and. x /= 0.0_wp)) then
+            write (s, '(es13.4e3)') x
+        else
+            write (s, '(es12.4)') x
+        end if
         s = adjustl(s)
     end function rtoa_short
 

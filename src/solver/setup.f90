@@ -15,7 +15,8 @@ module xd_solver_setup
     use xd_rigid_bodies, only: rigid_t, rigid_lumped_mass, build_rigid
     use xd_elements_shell_bt, only: shells_t, build_shells, shell_masses
     use xd_solver_mass_scaling, only: mass_scaling_arrays
-    use xd_core_errors, only: error_t
+    use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: itoa, rtoa
     implicit none
     private
     public :: setup_run
@@ -64,6 +65,8 @@ contains
         call initial_velocities(model, solids, st)
         st%v = st%v*st%free
         if (st%rot) st%vr = st%vr*st%free_r
+        call check_speeds(model, st, error)
+        if (allocated(error)) return
         call build_rigid(model, st, rg, error)
         if (allocated(error)) return
         call initial_stresses(model, hex_map, solids, st)
@@ -139,6 +142,30 @@ contains
 
     !> Node-set velocities first (NSID 0: every node), then generations,
     !> then single nodes, so the most specific definition wins.
+    !> Initial velocities whose kinetic energy the run cannot hold: a node
+    !> of mass m at speed |v| beyond sqrt(huge / m) / 1000 (the energies,
+    !> summed over the model, would overflow; the arithmetic that found it
+    !> trapped in the debug build). The speed is compared, never squared.
+    subroutine check_speeds(model, st, error)
+        type(model_t), intent(in) :: model
+        type(state_t), intent(in) :: st
+        type(error_t), allocatable, intent(out) :: error
+        integer :: k
+        real(wp) :: vmax, speed
+        do k = 1, st%nnode
+            vmax = sqrt(huge(1.0_wp)/max(st%mass(k), 1.0_wp))*1.0e-3_wp
+            speed = maxval(abs(st%v(:, k)))
+            if (st%rot) speed = max(speed, maxval(abs(st%vr(:, k))))
+            if (speed > vmax) then
+                call make_error(error, 'node '//itoa(model%node_id(k))//': its initial velocity ('// &
+                                rtoa(real(speed, dp))// &
+                                ') is beyond what the energies can hold (at most '//rtoa(real(vmax, dp))// &
+                                ' for its mass): a *INITIAL_VELOCITY value far out of range?')
+                return
+            end if
+        end do
+    end subroutine check_speeds
+
     subroutine initial_velocities(model, solids, st)
         type(model_t), intent(in) :: model
         type(solids_t), intent(in) :: solids
