@@ -3514,6 +3514,18 @@ def test_hardening_two():
     rc, msg = answer(["--check", "i=" + path])
     record("hardening: an escape sequence in a deck is echoed as \\x1B, never raw", rc == 1 and "\\x1B" in msg
            and "\x1b" not in msg, repr(msg[-300:]))
+    # a serial run under a 2 MB file-size limit (finding 13: Open MPI's
+    # start-up wrote a shared-memory file past it and the run died with a
+    # PMIx error before a word of ours; alone, xdyna now asks PMIx for its
+    # in-memory store)
+    import resource
+
+    def small_files():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (2 * 1024 * 1024, 2 * 1024 * 1024))
+    q = subprocess.run([XDYNA, "i=" + deck, "outdir=" + os.path.join(base, "ulimit"), "endtim=1e-5"],
+                       capture_output=True, text=True, timeout=60, preexec_fn=small_files)
+    record("hardening: a serial run under ulimit -f 2 MB starts and ends normally", q.returncode == 0
+           and "normal termination" in q.stdout, (q.stdout + q.stderr)[-300:])
     dbg = XDYNA + "_debug"
     # inputs the release build refuses cleanly, refused by the debug build
     # too, not trapped (finding 17): an expression that overflows, a

@@ -5,6 +5,7 @@ module xd_core_parallel_env
                        MPI_Abort, MPI_Comm_rank, MPI_Comm_size, MPI_COMM_WORLD, &
                        MPI_THREAD_FUNNELED
     use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+    use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private
@@ -16,14 +17,34 @@ module xd_core_parallel_env
         integer :: nthreads = 1
     end type parallel_env_t
 
+    interface
+        integer(c_int) function c_setenv(name, value, overwrite) bind(c, name='setenv')
+            import :: c_int, c_char
+            character(kind=c_char), intent(in) :: name(*), value(*)
+            integer(c_int), value :: overwrite
+        end function c_setenv
+    end interface
+
 contains
 
     subroutine parallel_start(env)
         type(parallel_env_t), intent(out) :: env
-        integer :: provided
+        integer :: provided, st, n
         logical :: up
         call MPI_Initialized(up)
-        if (.not. up) call MPI_Init_thread(MPI_THREAD_FUNNELED, provided)
+        if (.not. up) then
+            ! started alone (no mpirun): Open MPI starts a PMIx server of its
+            ! own, whose default store is a shared-memory file; under a
+            ! file-size limit (ulimit -f below about 4.5 MB) that write
+            ! failed and the run died before a word of ours. Its in-memory
+            ! store needs no file (a value the user set is kept)
+            call get_environment_variable('OMPI_COMM_WORLD_SIZE', length=n, status=st)
+            if (st /= 0) then
+                call get_environment_variable('PMIX_RANK', length=n, status=st)
+                if (st /= 0) st = c_setenv('PMIX_MCA_gds'//c_null_char, 'hash'//c_null_char, 0_c_int)
+            end if
+            call MPI_Init_thread(MPI_THREAD_FUNNELED, provided)
+        end if
         call MPI_Comm_rank(MPI_COMM_WORLD, env%rank)
         call MPI_Comm_size(MPI_COMM_WORLD, env%nranks)
         env%nthreads = 1
