@@ -24,6 +24,7 @@ program xdyna
     use xd_contact_initial_penetration, only: initial_penetrations
     use xd_core_strings, only: join_path, out_path
     use xd_core_files, only: make_dirs, file_kind, fk_missing, fk_regular, absolute_path
+    use xd_output_d3plot, only: d3plot_member_name
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
     use xd_rigid_bodies, only: rigid_t
     use xd_solver_loads, only: pressures_t, build_pressures
@@ -126,21 +127,11 @@ program xdyna
     end do
     if (len(restart) > 0) then
         ! a restart: the dump names its deck and output directory, and must
-        ! come from this build; only a regular file (HDF5 waits for ever on a
-        ! FIFO)
-        if (file_kind(restart) == fk_missing) then
-            call say('xdyna: r='//restart//': no such file')
-            call finish(exit_input)
-        else if (file_kind(restart) /= fk_regular) then
-            call say('xdyna: r='//restart//': not a regular file (a FIFO, a device, a socket or a directory)')
-            call finish(exit_input)
-        end if
+        ! come from this build
         call read_dump_meta(restart, meta, ok)
-        if (allocated(meta%damage)) then
-            if (len(meta%damage) > 0) then
-                call say('xdyna: r='//restart//': the dump '//meta%damage)
-                call finish(exit_input)
-            end if
+        if (len(meta%damage) > 0) then
+            call say('xdyna: r='//restart//': the dump '//meta%damage)
+            call finish(exit_input)
         end if
         if (.not. ok) then
             call say('xdyna: r='//restart//': not a readable restart dump (not an HDF5 file, or damaged)')
@@ -184,7 +175,7 @@ program xdyna
             if (len(bad_out) == 0) bad_out = not_a_file(out_path(stem, trim(out_names(k))))
         end do
         do k = 1, 99
-            if (len(bad_out) == 0) bad_out = not_a_file(out_path(stem, 'd3plot'//itoa2(k)))
+            if (len(bad_out) == 0) bad_out = not_a_file(d3plot_member_name(out_path(stem, 'd3plot'), k))
         end do
         if (len(bad_out) > 0) then
             call say('xdyna: the output '//bad_out//' exists and is not a regular file (a FIFO, a device, a '// &
@@ -391,15 +382,6 @@ contains
         t = ''
         if (kind /= fk_missing .and. kind /= fk_regular) t = path
     end function not_a_file
-
-    !> k with at least two digits (the d3plot members' numbering).
-    function itoa2(k) result(t)
-        integer, intent(in) :: k
-        character(len=:), allocatable :: t
-        character(len=12) :: b
-        write (b, '(i2.2)') k
-        t = trim(b)
-    end function itoa2
 
     function get_arg(k) result(a)
         integer, intent(in) :: k

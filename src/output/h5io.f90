@@ -269,19 +269,22 @@ contains
         end if
     end subroutine get_i8
 
-    !> A string attribute of object g.
+    !> A string attribute of object g (an empty string is written as one
+    !> blank: HDF5 strings have a size of at least 1).
     subroutine put_text(g, name, text)
         integer(hid_t), intent(in) :: g
         character(len=*), intent(in) :: name, text
         integer(hid_t) :: sp, at, t
         integer(hsize_t) :: d(1)
         integer :: err
+        character(len=max(len(text), 1)) :: v
+        v = text
         d = 1
         call h5screate_simple_f(1, d, sp, err)
         call h5tcopy_f(H5T_FORTRAN_S1, t, err)
-        call h5tset_size_f(t, int(max(len(text), 1), size_t), err)
+        call h5tset_size_f(t, int(len(v), size_t), err)
         call h5acreate_f(g, name, t, sp, at, err)
-        call h5awrite_f(at, t, [text], d, err)
+        call h5awrite_f(at, t, [v], d, err)
         call h5aclose_f(at, err)
         call h5tclose_f(t, err)
         call h5sclose_f(sp, err)

@@ -14,6 +14,7 @@
 module xd_output_thist_h5
     use hdf5
     use xd_kinds, only: wp, dp
+    use xd_output_h5io, only: put_text
     implicit none
     private
     public :: h5file_t, h5series_t, h5_open, h5_reopen, h5_close, series_create, series_open, series_append, &
@@ -135,7 +136,7 @@ contains
         character(len=*), intent(in) :: names(:), values(:)
         integer :: k
         do k = 1, size(names)
-            call put_attr(f%id, trim(names(k)), trim(values(k)))
+            call put_text(f%id, trim(names(k)), trim(values(k)))
         end do
     end subroutine h5_root_attributes
 
@@ -167,7 +168,7 @@ contains
             call h5screate_simple_f(1, d1, sp, err)
             call h5dcreate_f(s%gid, 'ids', H5T_NATIVE_INTEGER, sp, ds, err)
             call h5dwrite_f(ds, H5T_NATIVE_INTEGER, ids(1:nent), d1, err)
-            call put_attr(ds, 'entity', entity)
+            call put_text(ds, 'entity', entity)
             call h5dclose_f(ds, err)
             call h5sclose_f(sp, err)
         end if
@@ -198,30 +199,9 @@ contains
         call h5dcreate_f(gid, name, H5T_NATIVE_DOUBLE, sp, ds, err, pl)
         call h5pclose_f(pl, err)
         call h5sclose_f(sp, err)
-        call put_attr(ds, 'dimension', dim)
-        call put_attr(ds, 'units', units)
+        call put_text(ds, 'dimension', dim)
+        call put_text(ds, 'units', units)
     end subroutine make_dataset
-
-    !> A string attribute on an HDF5 object (an empty string is written as
-    !> one blank: HDF5 strings have a size of at least 1).
-    subroutine put_attr(obj, name, value)
-        integer(hid_t), intent(in) :: obj
-        character(len=*), intent(in) :: name, value
-        integer(hid_t) :: at, aspace, atype
-        integer(hsize_t) :: adim(1)
-        integer :: err
-        character(len=max(len(value), 1)) :: v
-        v = value
-        adim = 1
-        call h5screate_simple_f(1, adim, aspace, err)
-        call h5tcopy_f(H5T_FORTRAN_S1, atype, err)
-        call h5tset_size_f(atype, int(len(v), size_t), err)
-        call h5acreate_f(obj, name, atype, aspace, at, err)
-        call h5awrite_f(at, atype, [v], adim, err)
-        call h5aclose_f(at, err)
-        call h5tclose_f(atype, err)
-        call h5sclose_f(aspace, err)
-    end subroutine put_attr
 
     !> Append one output time: values(nent or 1, ncol), kept until the
     !> block is full (then written) or the caller flushes.

@@ -13,7 +13,7 @@ module xd_solver_restart
     use hdf5
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa
-    use xd_core_files, only: rename_file, delete_file, written_bytes
+    use xd_core_files, only: rename_file, delete_file, written_bytes, file_kind, fk_missing, fk_regular
     use xd_output_h5io, only: dput, dget, put_text, get_text
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
@@ -41,7 +41,9 @@ module xd_solver_restart
     type :: dump_meta_t
         integer :: format = 0
         character(len=:), allocatable :: build, deck, digest, outdir
-        character(len=:), allocatable :: damage   !< read_dump_meta: what fails the dump's checksum ('' if none)
+        !> read_dump_meta: what makes the file no dump to read (missing, not a
+        !> regular file, failing its checksum; '' if nothing)
+        character(len=:), allocatable :: damage
         real(dp) :: time = 0
         integer :: cycle = 0
     end type dump_meta_t
@@ -294,6 +296,16 @@ contains
         character(len=8) :: magic
         integer :: u, ios
         good = .false.
+        ! only a regular file is opened (a FIFO would block the open for ever)
+        select case (file_kind(path))
+        case (fk_missing)
+            why = 'does not exist'
+            return
+        case (fk_regular)
+        case default
+            why = 'is not a regular file (a FIFO, a device, a socket or a directory)'
+            return
+        end select
         why = 'cannot be read'
         open (newunit=u, file=path, access='stream', form='unformatted', status='old', action='read', iostat=ios)
         if (ios /= 0) return
@@ -323,16 +335,14 @@ contains
         logical, intent(out) :: ok
         integer(hid_t) :: f
         integer :: err, ios
-        logical :: there, good
+        logical :: good
         real(dp), allocatable :: t(:)
         integer, allocatable :: c(:)
         character(len=:), allocatable :: fmt
-        inquire (file=path, exist=there)
-        ok = there
-        if (.not. ok) return
         ! every byte checked before HDF5 reads any (a damaged file crashed it)
         call dump_intact(path, good, meta%damage)
-        if (.not. good) return
+        ok = good
+        if (.not. ok) return
         ! HDF5's own diagnostics stay quiet: a damaged dump is said in one line
         ! by the caller
         call h5open_f(err)

@@ -7,6 +7,7 @@
 !> signals (SIGTERM, SIGUSR1, SIGUSR2) stay as they are.
 module xd_solver_sense_switch
     use xd_core_strings, only: to_upper
+    use xd_core_files, only: file_kind, fk_regular
     implicit none
     private
     public :: sw_none, sw_stop, sw_status, sw_dump, sw_state, sw_flush, sw_unknown, read_sense_switch, switch_name
@@ -31,11 +32,12 @@ contains
         sw = sw_none
         text = ''
         gone = .true.
-        inquire (file=path1, exist=there)
+        ! (a regular file only: a FIFO named d3kil would block the open)
         path = path1
+        there = file_kind(path1) == fk_regular
         if (.not. there .and. len(path2) > 0) then
-            inquire (file=path2, exist=there)
             path = path2
+            there = file_kind(path2) == fk_regular
         end if
         if (.not. there) return
         line = ''
