@@ -43,7 +43,8 @@ contains
 
     !> text with its control characters (bytes 0-31 and 127: a terminal's
     !> escape sequences, a stray carriage return) written as \xNN, so that
-    !> a deck's bytes echoed in a message cannot drive the terminal.
+    !> a deck's bytes echoed in a message cannot drive the terminal; the line
+    !> feeds and tabs of a message's own layout are kept.
     pure function printable(text) result(t)
         character(len=*), intent(in) :: text
         character(len=:), allocatable :: t
@@ -52,7 +53,7 @@ contains
         t = ''
         do i = 1, len(text)
             c = iachar(text(i:i))
-            if (c < 32 .or. c == 127) then
+            if ((c < 32 .and. c /= 9 .and. c /= 10) .or. c == 127) then
                 t = t//'\x'//hex(c/16 + 1:c/16 + 1)//hex(mod(c, 16) + 1:mod(c, 16) + 1)
             else
                 t = t//text(i:i)
