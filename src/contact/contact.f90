@@ -1327,6 +1327,7 @@ contains
         real(dp), intent(in) :: e_ref          !< the run's energy scale, initial energy plus external work (of "created")
         character(len=:), allocatable :: txt
         character(len=220) :: buf
+        character(len=64) :: scale
         character(len=1), parameter :: nl = new_line('a')
         integer :: i
         real(dp) :: per, avg_m, avg_p, avg_r
@@ -1363,18 +1364,13 @@ contains
                 if (it%energy < -0.01_dp*abs(e_ref)) then
                     ! the ratio books this work as (negative) sliding energy, so
                     ! it stays at 1 while the contact creates energy
-                    if (e_ref /= 0.0_dp) then
-                        write (buf, '(a,i0,a,es10.3,a,f6.1,a)') '   *** Warning: interface ', it%id, &
-                            ': its forces did net positive work ', -it%energy, ' (', -100.0_dp*it%energy/abs(e_ref), &
-                            '% of the initial energy plus external work): energy created, which the energy '// &
-                            'ratio does not show'
-                    else
-                        ! (no initial energy to compare with: the work alone)
-                        write (buf, '(a,i0,a,es10.3,a)') '   *** Warning: interface ', it%id, &
-                            ': its forces did net positive work ', -it%energy, &
-                            ' (the run had no initial energy nor external work): energy created, which the '// &
-                            'energy ratio does not show'
-                    end if
+                    ! (no initial energy to compare with: the work alone)
+                    scale = '(the run had no initial energy nor external work)'
+                    if (e_ref /= 0.0_dp) write (scale, '(a,f6.1,a)') '(', -100.0_dp*it%energy/abs(e_ref), &
+                        '% of the initial energy plus external work)'
+                    write (buf, '(a,i0,a,es10.3,a)') '   *** Warning: interface ', it%id, &
+                        ': its forces did net positive work ', -it%energy, ' '//trim(scale)// &
+                        ': energy created, which the energy ratio does not show'
                     txt = txt//trim(buf)//nl
                     txt = txt//'       (springs too stiff for the step: SLSFAC, SFS, SFM; or depths pushed out at once)'//nl
                 end if

@@ -223,7 +223,6 @@ contains
         if (find(tok(2:), kw, .true.)) return
         kw%family = fam_unknown
         kw%name = tok(2:)
-        kw%title = .false.
     end subroutine lookup_keyword
 
     !> The table's entry for base: its exact name, or (pattern) the first
