@@ -190,3 +190,40 @@ awk -v t1="$(grep '  total' $out/d3hsp | awk '{print $NF}')" -v c=$tcycles '
     /MPI contact exchange/ {ghost = $4}
     /MPI wait/ {wait = $4}
     END {printf "bench: ranks: tubes %.2f s on 1 rank, %.2f s on 2: speed-up %.2fx; halo exchange %.1f%% (%.0f us a cycle), contact exchange %.1f%% (%.0f us a cycle), wait %.1f%%\n", t1, t2, t1 / t2, 100 * halo / t2, 1e6 * halo / c, 100 * ghost / t2, 1e6 * ghost / c, 100 * wait / t2}' $out2/d3hsp
+
+# car6, the public car deck (../shared/public-decks, or XDYNA_PUBLIC_DECKS),
+# unchanged, whole 0.2 s, one thread, BENCH_RUNS runs: wall time, cycles, ns
+# per element-cycle by phase, peak memory; the median run's figures
+public=${XDYNA_PUBLIC_DECKS:-../shared/public-decks}
+if [ -f $public/car6_main.k ]; then
+    cdir=$dir/car6
+    rm -rf $cdir
+    mkdir -p $cdir
+    cp $public/*.k $cdir/
+    echo "bench: car6 (car6_main.k unchanged, 2424 shells, 0.2 s), 1 thread, $runs runs"
+    : > $dir/car6.txt
+    i=1
+    while [ $i -le $runs ]; do
+        out=$cdir/run$i
+        OMP_NUM_THREADS=1 /usr/bin/time -f "%M" -o $cdir/mem$i.txt ./bin/xdyna i=$cdir/car6_main.k outdir=$out > /dev/null
+        awk -v mem=$(cat $cdir/mem$i.txt) -v n=2424 '
+            /element processing/ {el = $3}
+            /force assembly/ {as = $3}
+            /time integration/ {ti = $3}
+            /rigid walls/ {rw = $3}
+            /contact global search/ {gs = $4}
+            /contact local search/ {ls = $4}
+            /contact enforcement/ {en = $3}
+            /output  / {ou = $2}
+            /  total/ {tot = $NF}
+            /cycles \.\.\./ {c = $NF}
+            END {f = 1e9 / (n * c)
+                 printf "%.2f s wall, %d cycles, %.0f ns per element-cycle (elements %.0f, assembly %.0f, integration %.0f, walls %.0f, global search %.0f, local search %.0f, enforcement %.0f, output %.0f: %.1f%% of the run); peak memory %d kB\n", tot, c, tot * f, el * f, as * f, ti * f, rw * f, gs * f, ls * f, en * f, ou * f, 100 * ou / tot, mem}' \
+            $out/d3hsp | tee -a $dir/car6.txt | sed "s/^/  run $i: /"
+        i=$((i + 1))
+    done
+    sort -n $dir/car6.txt | awk '{a[NR]=$0} END {print "bench: car6 median: " a[int((NR + 1) / 2)]}'
+    echo "bench: car6 peer (doc/performance.md): OpenRadioss 56.0 s, 31,160 cycles, one core of a 2-core AMD EPYC machine of this class"
+else
+    echo "bench: car6 SKIPPED: $public/car6_main.k is not here"
+fi

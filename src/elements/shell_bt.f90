@@ -34,6 +34,9 @@ module xd_elements_shell_bt
         type(plastic_params_t), allocatable :: pp(:)  !< plastic laws of the shell materials
         real(wp), allocatable :: epsp(:, :)   !< (10, n) effective plastic strain per point
         real(wp), allocatable :: alpha(:, :, :)  !< (6, 10, n) back stress per point
+        !> the material can move a back stress (kinematic share of a
+        !> hardening modulus not 0); otherwise alpha stays 0 and is not read
+        logical, allocatable :: backstress(:)
         real(dp), allocatable :: eint(:), ehg(:), pend_int(:), pend_hg(:)
         real(wp), allocatable :: area0(:)
         real(wp), allocatable :: fslot(:, :), mslot(:, :)   !< (3, 4n) forces and moments
@@ -49,6 +52,28 @@ module xd_elements_shell_bt
         real(wp) :: ms_target = 0             !< element step to be kept (0: no scaling this cycle)
         logical :: ms_all = .false.           !< every element brought to ms_target (positive DT2MS, cycle 0)
     end type shells_t
+
+    !> Shells per block of the element loop. The geometry of a whole block
+    !> (frames, local coordinates, derivatives) is taken in loops over its
+    !> elements before their forces: each element's frame is a chain of
+    !> square roots and divisions that waits on itself, and the chains of a
+    !> block's elements are independent, so the processor overlaps them
+    !> (one element at a time, the frame alone took a fifth of car6's run).
+    integer, parameter :: nblk = 16
+
+    !> The geometry of a block of shells on one set of coordinates: the
+    !> nodes, the corotational frame (e3 normal, e1 along side 1-2), the
+    !> local coordinates about the centre, the area and the derivatives
+    !> b1 = dN/dx, b2 = dN/dy; ok false for a collapsed or inverted element.
+    type :: block_geom_t
+        real(wp) :: xe(nblk, 3, 4)
+        real(wp) :: e1(nblk, 3), e2(nblk, 3), e3(nblk, 3)
+        real(wp) :: xl(nblk, 4), yl(nblk, 4), zl(nblk, 4)
+        real(wp) :: a(nblk), b1(nblk, 4), b2(nblk, 4)
+        real(wp) :: gam(nblk, 4)   !< hourglass shape vector h - (h.x) b1 - (h.y) b2
+        real(wp) :: ls(nblk)       !< longest side
+        logical :: ok(nblk)
+    end type block_geom_t
 
     ! Gauss points and weights on [-1, 1], NIP 1..10 (rows: nip)
     real(dp), parameter :: gz(10, 10) = reshape([real(dp) :: &
@@ -121,7 +146,7 @@ contains
         call alloc_dp(sh%ehg, sh%n, 'shell energies')
         call alloc_dp(sh%pend_int, sh%n, 'shell energies')
         call alloc_dp(sh%pend_hg, sh%n, 'shell energies')
-        allocate (sh%sig(5, 10, sh%n), sh%plastic(sh%n), sh%pmat(sh%n), sh%pp(model%nmat), &
+        allocate (sh%sig(5, 10, sh%n), sh%plastic(sh%n), sh%backstress(sh%n), sh%pmat(sh%n), sh%pp(model%nmat), &
                   sh%epsp(10, sh%n), sh%alpha(6, 10, sh%n))
         sh%sig = 0
         sh%epsp = 0
@@ -146,6 +171,9 @@ contains
                 sh%plastic(e) = m%mtype == mat_plastic_kinematic .or. m%mtype == mat_piecewise_linear
                 sh%pmat(e) = model%part(p)%mat_ix
             end associate
+            sh%backstress(e) = .false.
+            if (sh%plastic(e)) sh%backstress(e) = sh%pp(sh%pmat(e))%ncurve == 0 .and. &
+                                                  sh%pp(sh%pmat(e))%beta < 1.0_wp .and. sh%pp(sh%pmat(e))%ep /= 0.0_wp
             sh%qm(e) = model%ctl%qh
             k = model%part(p)%hg_ix
             if (k > 0) sh%qm(e) = model%hg(k)%qm
@@ -196,32 +224,42 @@ contains
         type(shells_t), intent(inout) :: sh
         real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
         real(dp), intent(in) :: dt_avg_prev
-        integer :: e, i, tcrit, tbad
-        real(wp) :: dte, tmin
+        integer :: e, ib, l, nb, i0, tcrit, tbad, els(nblk)
+        real(wp) :: dte, tmin, dtb(nblk)
+        type(block_geom_t) :: gm, gn
         sh%dtmin = huge(1.0_wp)
         sh%crit = 0
         sh%bad = 0
-        !$omp parallel default(shared) private(e, i, dte, tmin, tcrit, tbad)
+        !$omp parallel default(shared) private(e, ib, l, nb, i0, els, gm, gn, dte, dtb, tmin, tcrit, tbad)
         tmin = huge(1.0_wp)
         tcrit = 0
         tbad = 0
         !$omp do schedule(static)
-        do i = 1, size(sh%mine)
-            e = sh%mine(i)
-            call shell_element(sh, e, x, v, w, dt, dt_avg_prev, dte)
-            if (.not. (dte > 0.0_wp)) then
-                if (tbad == 0) tbad = e
-                cycle
-            end if
-            ! mass scaling: the step of the element's scaled mass (msq 1
-            ! without: the product is exact); one below the target asks for
-            ! the factor that brings it there
-            dte = dte*sh%msq(e)
-            if (dte < sh%ms_target .or. sh%ms_all) call ask_mass(sh, e, dte)
-            if (dte < tmin) then
-                tmin = dte
-                tcrit = e
-            end if
+        do ib = 1, (size(sh%mine) + nblk - 1)/nblk
+            i0 = (ib - 1)*nblk
+            nb = min(nblk, size(sh%mine) - i0)
+            els(1:nb) = sh%mine(i0 + 1:i0 + nb)
+            ! the rates on the mid-step geometry, the forces on x(n)
+            call block_geometry(sh, els, nb, x, v, 0.5_wp*dt, .true., gm)
+            call block_geometry(sh, els, nb, x, v, 0.0_wp, .false., gn)
+            call block_forces(sh, els, nb, gm, gn, v, w, dt, dt_avg_prev, dtb)
+            do l = 1, nb
+                e = els(l)
+                dte = dtb(l)
+                if (.not. (dte > 0.0_wp)) then
+                    if (tbad == 0) tbad = e
+                    cycle
+                end if
+                ! mass scaling: the step of the element's scaled mass (msq 1
+                ! without: the product is exact); one below the target asks for
+                ! the factor that brings it there
+                dte = dte*sh%msq(e)
+                if (dte < sh%ms_target .or. sh%ms_all) call ask_mass(sh, e, dte)
+                if (dte < tmin) then
+                    tmin = dte
+                    tcrit = e
+                end if
+            end do
         end do
         !$omp end do
         !$omp critical (shell_step)
@@ -244,23 +282,40 @@ contains
         dte = sh%ms_target
     end subroutine ask_mass
 
-    subroutine shell_element(sh, e, x, v, w, dt, dt_avg_prev, dte)
+    !> Forces, moments, stresses and steps of the nb shells els(1:nb) of a
+    !> block, gm their geometry at mid-step, gn at x(n): loops over the
+    !> block's elements (structure of arrays, vectorised) for the rates, the
+    !> hourglass and the forces; the points' stress update per element (a
+    !> yielding point's return is its own iteration). dte(l) = -1 for an
+    !> element collapsed or inverted (the mid-step one is not updated).
+    subroutine block_forces(sh, els, nb, gm, gn, v, w, dt, dt_avg_prev, dte)
         type(shells_t), intent(inout) :: sh
-        integer, intent(in) :: e
-        real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
+        integer, intent(in) :: els(:), nb
+        type(block_geom_t), intent(in) :: gm, gn
+        real(wp), intent(in) :: v(:, :), w(:, :), dt
         real(dp), intent(in) :: dt_avg_prev
-        real(wp), intent(out) :: dte
-        real(wp), parameter :: hv(4) = [1.0_wp, -1.0_wp, 1.0_wp, -1.0_wp]
-        real(wp) :: xe(3, 4), e1(3), e2(3), e3(3), xc(3), xl(4), yl(4), zl(4), a, b1(4), b2(4), vl(3, 4), wl(3, 4)
-        real(wp) :: dx, dy, dxy, kx, ky, kxy, gxz, gyz, qe, ge, z, dd(5), s(5), sold(5)
-        real(wp) :: nres(3), mres(3), qres(2), f(3, 4), m(3, 4), gam(4), qd(5), bb, c, ls, hh, wx, wy, gamz
-        real(wp) :: dzz, dzz_mean, am, b1m(4), b2m(4)
-        real(dp) :: pold, pnew
-        integer :: k, ip, nip, nn
-        logical :: ok
+        real(wp), intent(out) :: dte(:)
         real(wp), parameter :: quarter = 0.25_wp
-        nn = 4
-        if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
+        real(wp) :: vg(nblk, 3, 4), wg(nblk, 3, 4), vl(nblk, 3, 4), wl(nblk, 3, 4), r(nblk, 8)
+        real(wp) :: nres(nblk, 3), mres(nblk, 3), qres(nblk, 2), qd(nblk, 5), hq(nblk, 5)
+        real(wp) :: fs(nblk, 3, 4), ms(nblk, 3, 4), bb(nblk), gamz(nblk), wsp(nblk)
+        real(wp) :: hh(nblk), ym(nblk), nu(nblk), ro(nblk)
+        real(wp) :: wx, wy, f1, f2, f3, m1, m2, b1k, b2k, gk, a, c, ge
+        real(dp) :: pold, pnew
+        integer :: l, k, e, nd
+        ! gather: the nodes' velocities, the elements' data
+        do l = 1, nb
+            e = els(l)
+            do k = 1, 4
+                nd = sh%conn(k, e)
+                vg(l, :, k) = v(:, nd)
+                wg(l, :, k) = w(:, nd)
+            end do
+            hh(l) = sh%h(e)
+            ym(l) = sh%e(e)
+            nu(l) = sh%nu(e)
+            ro(l) = sh%ro(e)
+        end do
         ! The rates v(n-1/2) are taken on the mid-step geometry x(n-1/2) =
         ! x(n) - dt/2 v(n-1/2), the forces on x(n). (Rates on x(n) see a
         ! rigid turn of theta per step as a membrane strain of order
@@ -268,210 +323,384 @@ contains
         ! few degrees gained 22% energy in 200 us and one at ten degrees blew
         ! up; on the mid-step geometry 0.1%.)
         do k = 1, 4
-            xe(:, k) = x(:, sh%conn(k, e)) - 0.5_wp*dt*v(:, sh%conn(k, e))
+            do l = 1, nb
+                vl(l, 1, k) = vg(l, 1, k)*gm%e1(l, 1) + vg(l, 2, k)*gm%e1(l, 2) + vg(l, 3, k)*gm%e1(l, 3)
+                vl(l, 2, k) = vg(l, 1, k)*gm%e2(l, 1) + vg(l, 2, k)*gm%e2(l, 2) + vg(l, 3, k)*gm%e2(l, 3)
+                vl(l, 3, k) = vg(l, 1, k)*gm%e3(l, 1) + vg(l, 2, k)*gm%e3(l, 2) + vg(l, 3, k)*gm%e3(l, 3)
+                wl(l, 1, k) = wg(l, 1, k)*gm%e1(l, 1) + wg(l, 2, k)*gm%e1(l, 2) + wg(l, 3, k)*gm%e1(l, 3)
+                wl(l, 2, k) = wg(l, 1, k)*gm%e2(l, 1) + wg(l, 2, k)*gm%e2(l, 2) + wg(l, 3, k)*gm%e2(l, 3)
+                wl(l, 3, k) = wg(l, 1, k)*gm%e3(l, 1) + wg(l, 2, k)*gm%e3(l, 2) + wg(l, 3, k)*gm%e3(l, 3)
+            end do
         end do
-        call local_geometry(ok)
-        if (.not. ok) then
-            dte = -1
-            return
-        end if
+        ! membrane, bending and transverse shear rates (BT 1984): dx dy dxy
+        ! (engineering), kx ky kxy, gxz gyz
+        r(1:nb, :) = 0
         do k = 1, 4
-            vl(:, k) = [dot_product(v(:, sh%conn(k, e)), e1), dot_product(v(:, sh%conn(k, e)), e2), &
-                        dot_product(v(:, sh%conn(k, e)), e3)]
-            wl(:, k) = [dot_product(w(:, sh%conn(k, e)), e1), dot_product(w(:, sh%conn(k, e)), e2), &
-                        dot_product(w(:, sh%conn(k, e)), e3)]
+            do l = 1, nb
+                r(l, 1) = r(l, 1) + gm%b1(l, k)*vl(l, 1, k)
+                r(l, 2) = r(l, 2) + gm%b2(l, k)*vl(l, 2, k)
+                r(l, 3) = r(l, 3) + (gm%b2(l, k)*vl(l, 1, k) + gm%b1(l, k)*vl(l, 2, k))
+                r(l, 4) = r(l, 4) + gm%b1(l, k)*wl(l, 2, k)
+                r(l, 5) = r(l, 5) - gm%b2(l, k)*wl(l, 1, k)
+                r(l, 6) = r(l, 6) + (gm%b2(l, k)*wl(l, 2, k) - gm%b1(l, k)*wl(l, 1, k))
+                r(l, 7) = r(l, 7) + (gm%b1(l, k)*vl(l, 3, k) + quarter*wl(l, 2, k))
+                r(l, 8) = r(l, 8) + (gm%b2(l, k)*vl(l, 3, k) - quarter*wl(l, 1, k))
+            end do
         end do
-        ! membrane, bending and transverse shear rates (BT 1984)
-        dx = sum(b1*vl(1, :))
-        dy = sum(b2*vl(2, :))
-        dxy = sum(b2*vl(1, :) + b1*vl(2, :))
-        kx = sum(b1*wl(2, :))
-        ky = -sum(b2*wl(1, :))
-        kxy = sum(b2*wl(2, :) - b1*wl(1, :))
-        gxz = sum(b1*vl(3, :)) + quarter*sum(wl(2, :))
-        gyz = sum(b2*vl(3, :)) - quarter*sum(wl(1, :))
-        ! plane stress elastic update at the points, resultants
-        hh = sh%h(e)
-        qe = sh%e(e)/(1 - sh%nu(e)**2)
-        ge = sh%e(e)/(2*(1 + sh%nu(e)))
-        nip = sh%nip(e)
-        nres = 0; mres = 0; qres = 0
-        pold = 0; pnew = 0
-        dzz_mean = 0
-        do ip = 1, nip
-            z = real(gz(ip, nip), wp)*hh/2
-            dd = [dx + z*kx, dy + z*ky, dxy + z*kxy, gyz, gxz]     ! engineering shears
-            sold = sh%sig(:, ip, e)
-            s = sold
-            if (sh%plastic(e)) then
-                call plane_stress_plastic(sh, e, ip, dd, dt, s, dzz)
-                dzz_mean = dzz_mean + real(gw(ip, nip), wp)/2*dzz
-            else
-                dzz_mean = dzz_mean - real(gw(ip, nip), wp)/2*sh%nu(e)/(1 - sh%nu(e))*(dd(1) + dd(2))
-                s(1) = s(1) + dt*qe*(dd(1) + sh%nu(e)*dd(2))
-                s(2) = s(2) + dt*qe*(dd(2) + sh%nu(e)*dd(1))
-                s(3) = s(3) + dt*ge*dd(3)
-                s(4) = s(4) + dt*sh%shrf(e)*ge*dd(4)
-                s(5) = s(5) + dt*sh%shrf(e)*ge*dd(5)
-            end if
-            sh%sig(:, ip, e) = s
-            ! powers per unit area with the old and the new stresses
-            pold = pold + real(gw(ip, nip), dp)*hh/2*dot_product(real(sold, dp), real(dd, dp))
-            pnew = pnew + real(gw(ip, nip), dp)*hh/2*dot_product(real(s, dp), real(dd, dp))
-            nres = nres + real(gw(ip, nip), wp)*hh/2*s(1:3)
-            mres = mres + real(gw(ip, nip), wp)*hh/2*z*s(1:3)
-            qres = qres + real(gw(ip, nip), wp)*hh/2*[s(5), s(4)]
-        end do
-        ! thickness change (ISTUPD): the mean thickness strain rate of the points
-        if (sh%thickness_update) sh%h(e) = sh%h(e)*exp(dt*dzz_mean)
-        ! internal energy: the rule of the solids (work f(n).(v- + v+)/2 dt_avg)
-        sh%eint(e) = sh%eint(e) + dt_avg_prev*(sh%pend_int(e) + 0.5_dp*pold*a)
-        sh%pend_int(e) = 0.5_dp*pnew*a
-        ! the hourglass rates on the mid-step geometry too
-        gam = hourglass_gamma()
-        wx = sum(b2*vl(3, :))
-        wy = -sum(b1*vl(3, :))
-        qd = [dot_product(gam, wl(1, :)), dot_product(gam, wl(2, :)), dot_product(gam, vl(3, :)), &
-              dot_product(gam, vl(1, :) - wy*zl), dot_product(gam, vl(2, :) + wx*zl)]
-        am = a
-        b1m = b1
-        b2m = b2
-        ! the forces: on x(n)
-        do k = 1, 4
-            xe(:, k) = x(:, sh%conn(k, e))
-        end do
-        call local_geometry(ok)
-        if (.not. ok) then
-            dte = -1
-            return
-        end if
-        ! nodal forces and moments (local): minus the derivatives of the power
-        do k = 1, 4
-            f(1, k) = -a*(b1(k)*nres(1) + b2(k)*nres(3))
-            f(2, k) = -a*(b2(k)*nres(2) + b1(k)*nres(3))
-            f(3, k) = -a*(b1(k)*qres(1) + b2(k)*qres(2))
-            m(1, k) = -a*(-b2(k)*mres(2) - b1(k)*mres(3) - quarter*qres(2))
-            m(2, k) = -a*(b1(k)*mres(1) + b2(k)*mres(3) + quarter*qres(1))
-            m(3, k) = 0
-        end do
+        ! the points' stresses, the resultants and the internal energy
+        call block_points(sh, els, nb, r, gm%a, gm%ok, dt, dt_avg_prev, nres, mres, qres)
         ! Belytschko-Tsay hourglass: gamma = h - (h.x) b1 - (h.y) b2; stiffness
         ! form on the out-of-plane rotations and displacement and the membrane
-        ! membrane rates of a warped element (nodes zl off its mean plane) less
-        ! the rigid spin about the in-plane axes (wx = dvz/dy, wy = -dvz/dx):
-        ! that spin moves the warped nodes in-plane by (wy zl, -wx zl), an
+        ! rates of a warped element (nodes zl off its mean plane) less the
+        ! rigid spin about the in-plane axes (wx = dvz/dy, wy = -dvz/dx): that
+        ! spin moves the warped nodes in-plane by (wy zl, -wx zl), an
         ! hourglass pattern, and without this correction a warped element
         ! turning as a rigid body strained its membrane hourglass springs (a
         ! warped patch spinning free stored 1.4% of its kinetic energy in
-        ! them; the tube crush's mean force was 49.1 kN, now 41.5 kN)
-        bb = sum(b1m**2 + b2m**2)
-        c = sh%qm(e)
-        pold = dot_product(real(sh%qhg(:, e), dp), real(qd, dp))
-        sh%qhg(1:2, e) = sh%qhg(1:2, e) + dt*c*sh%e(e)*hh**3*am/192*bb*qd(1:2)
-        sh%qhg(3, e) = sh%qhg(3, e) + dt*c*sh%shrf(e)*ge*hh**3/12*bb*qd(3)
-        sh%qhg(4:5, e) = sh%qhg(4:5, e) + dt*c*sh%e(e)*hh*am/8*bb*qd(4:5)
-        pnew = dot_product(real(sh%qhg(:, e), dp), real(qd, dp))
-        sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold)
-        sh%pend_hg(e) = 0.5_dp*pnew
-        gam = hourglass_gamma()
-        gamz = dot_product(gam, zl)
-        do k = 1, 4
-            m(1, k) = m(1, k) - gam(k)*sh%qhg(1, e)
-            m(2, k) = m(2, k) - gam(k)*sh%qhg(2, e)
-            f(3, k) = f(3, k) - gam(k)*sh%qhg(3, e)
-            f(1, k) = f(1, k) - gam(k)*sh%qhg(4, e)
-            f(2, k) = f(2, k) - gam(k)*sh%qhg(5, e)
-            ! the warping correction's share (the rates' dependence on vz
-            ! through the spin): the forces stay work-conjugate to the rates
-            ! and in equilibrium
-            f(3, k) = f(3, k) - gamz*(b1(k)*sh%qhg(4, e) + b2(k)*sh%qhg(5, e))
+        ! them; the tube crush's mean force was 49.1 kN, now 41.5 kN). The
+        ! rates on the mid-step geometry too.
+        do l = 1, nb
+            wx = ((gm%b2(l, 1)*vl(l, 3, 1) + gm%b2(l, 2)*vl(l, 3, 2)) + gm%b2(l, 3)*vl(l, 3, 3)) + &
+                 gm%b2(l, 4)*vl(l, 3, 4)
+            wy = -(((gm%b1(l, 1)*vl(l, 3, 1) + gm%b1(l, 2)*vl(l, 3, 2)) + gm%b1(l, 3)*vl(l, 3, 3)) + &
+                   gm%b1(l, 4)*vl(l, 3, 4))
+            qd(l, :) = 0
+            bb(l) = 0
+            do k = 1, 4
+                qd(l, 1) = qd(l, 1) + gm%gam(l, k)*wl(l, 1, k)
+                qd(l, 2) = qd(l, 2) + gm%gam(l, k)*wl(l, 2, k)
+                qd(l, 3) = qd(l, 3) + gm%gam(l, k)*vl(l, 3, k)
+                qd(l, 4) = qd(l, 4) + gm%gam(l, k)*(vl(l, 1, k) - wy*gm%zl(l, k))
+                qd(l, 5) = qd(l, 5) + gm%gam(l, k)*(vl(l, 2, k) + wx*gm%zl(l, k))
+                bb(l) = bb(l) + (gm%b1(l, k)**2 + gm%b2(l, k)**2)
+            end do
         end do
-        ! to global, into the element's slots (a triangle's fourth node is its third)
+        do l = 1, nb
+            e = els(l)
+            hq(l, :) = 0
+            if (.not. gm%ok(l)) cycle
+            c = sh%qm(e)
+            a = gm%a(l)
+            ge = ym(l)/(2*(1 + nu(l)))
+            pold = dot_product(real(sh%qhg(:, e), dp), real(qd(l, :), dp))
+            sh%qhg(1:2, e) = sh%qhg(1:2, e) + dt*c*ym(l)*hh(l)**3*a/192*bb(l)*qd(l, 1:2)
+            sh%qhg(3, e) = sh%qhg(3, e) + dt*c*sh%shrf(e)*ge*hh(l)**3/12*bb(l)*qd(l, 3)
+            sh%qhg(4:5, e) = sh%qhg(4:5, e) + dt*c*ym(l)*hh(l)*a/8*bb(l)*qd(l, 4:5)
+            pnew = dot_product(real(sh%qhg(:, e), dp), real(qd(l, :), dp))
+            sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold)
+            sh%pend_hg(e) = 0.5_dp*pnew
+            hq(l, :) = sh%qhg(:, e)
+        end do
+        ! the forces: on x(n); nodal forces and moments (local) are minus the
+        ! derivatives of the power, the hourglass's and the warping
+        ! correction's share (the rates' dependence on vz through the spin:
+        ! the forces stay work-conjugate to the rates and in equilibrium)
+        ! with them; then to global
+        do l = 1, nb
+            gamz(l) = ((gn%gam(l, 1)*gn%zl(l, 1) + gn%gam(l, 2)*gn%zl(l, 2)) + gn%gam(l, 3)*gn%zl(l, 3)) + &
+                      gn%gam(l, 4)*gn%zl(l, 4)
+        end do
         do k = 1, 4
-            sh%fslot(:, 4*(e - 1) + k) = f(1, k)*e1 + f(2, k)*e2 + f(3, k)*e3
-            sh%mslot(:, 4*(e - 1) + k) = m(1, k)*e1 + m(2, k)*e2 + m(3, k)*e3
+            do l = 1, nb
+                a = gn%a(l)
+                b1k = gn%b1(l, k)
+                b2k = gn%b2(l, k)
+                gk = gn%gam(l, k)
+                f1 = -a*(b1k*nres(l, 1) + b2k*nres(l, 3)) - gk*hq(l, 4)
+                f2 = -a*(b2k*nres(l, 2) + b1k*nres(l, 3)) - gk*hq(l, 5)
+                f3 = (-a*(b1k*qres(l, 1) + b2k*qres(l, 2)) - gk*hq(l, 3)) - gamz(l)*(b1k*hq(l, 4) + b2k*hq(l, 5))
+                m1 = -a*(-b2k*mres(l, 2) - b1k*mres(l, 3) - quarter*qres(l, 2)) - gk*hq(l, 1)
+                m2 = -a*(b1k*mres(l, 1) + b2k*mres(l, 3) + quarter*qres(l, 1)) - gk*hq(l, 2)
+                fs(l, 1, k) = f1*gn%e1(l, 1) + f2*gn%e2(l, 1) + f3*gn%e3(l, 1)
+                fs(l, 2, k) = f1*gn%e1(l, 2) + f2*gn%e2(l, 2) + f3*gn%e3(l, 2)
+                fs(l, 3, k) = f1*gn%e1(l, 3) + f2*gn%e2(l, 3) + f3*gn%e3(l, 3)
+                ms(l, 1, k) = m1*gn%e1(l, 1) + m2*gn%e2(l, 1)
+                ms(l, 2, k) = m1*gn%e1(l, 2) + m2*gn%e2(l, 2)
+                ms(l, 3, k) = m1*gn%e1(l, 3) + m2*gn%e2(l, 3)
+            end do
         end do
         ! time step: area over the longest side, plate wave speed
-        ls = 0
-        do k = 1, 4
-            ls = max(ls, norm2(xe(:, mod(k, 4) + 1) - xe(:, k)))
+        do l = 1, nb
+            wsp(l) = sqrt(ym(l)/(ro(l)*(1 - nu(l)**2)))
+            dte(l) = gn%a(l)/gn%ls(l)/wsp(l)
         end do
-        dte = a/ls/sqrt(sh%e(e)/(sh%ro(e)*(1 - sh%nu(e)**2)))
-    contains
-        !> The element's frame, local coordinates, area and derivatives on xe.
-        subroutine local_geometry(good)
-            logical, intent(out) :: good
-            call shell_frame(xe, nn == 3, e1, e2, e3, good)
-            if (.not. good) return
-            xc = sum(xe, 2)/4
+        ! into the elements' slots (a triangle's fourth node is its third)
+        do l = 1, nb
+            e = els(l)
+            if (.not. (gm%ok(l) .and. gn%ok(l))) then
+                dte(l) = -1
+                cycle
+            end if
             do k = 1, 4
-                xl(k) = dot_product(xe(:, k) - xc, e1)
-                yl(k) = dot_product(xe(:, k) - xc, e2)
-                zl(k) = dot_product(xe(:, k) - xc, e3)
+                sh%fslot(:, 4*(e - 1) + k) = fs(l, :, k)
+                sh%mslot(:, 4*(e - 1) + k) = ms(l, :, k)
             end do
-            a = 0.5_wp*((xl(3) - xl(1))*(yl(4) - yl(2)) + (xl(2) - xl(4))*(yl(3) - yl(1)))
-            good = a > 0.0_wp
-            if (.not. good) return
-            b1 = [yl(2) - yl(4), yl(3) - yl(1), yl(4) - yl(2), yl(1) - yl(3)]/(2*a)
-            b2 = [xl(4) - xl(2), xl(1) - xl(3), xl(2) - xl(4), xl(3) - xl(1)]/(2*a)
-        end subroutine local_geometry
+        end do
+    end subroutine block_forces
 
-        !> The hourglass shape vector gamma = h - (h.x) b1 - (h.y) b2 of the
-        !> geometry local_geometry last took.
-        function hourglass_gamma() result(g)
-            real(wp) :: g(4)
-            g = hv - dot_product(hv, xl)*b1 - dot_product(hv, yl)*b2
-        end function hourglass_gamma
-    end subroutine shell_element
+    !> The stresses at the points of the block's shells from their rates r
+    !> (dx dy dxy kx ky kxy gxz gyz) on the mid-step areas a (elements not ok
+    !> are left as they are): the plane-stress elastic trial of every point
+    !> of a layer in one loop over the elements, then the return of those
+    !> that yield, each on its own; the resultants (membrane n, bending m,
+    !> shear q per unit length), the thickness change (ISTUPD) and the
+    !> internal energy.
+    subroutine block_points(sh, els, nb, r, a, ok, dt, dt_avg_prev, nres, mres, qres)
+        type(shells_t), intent(inout) :: sh
+        integer, intent(in) :: els(:), nb
+        real(wp), intent(in) :: r(nblk, 8), a(nblk), dt
+        logical, intent(in) :: ok(nblk)
+        real(dp), intent(in) :: dt_avg_prev
+        real(wp), intent(out) :: nres(nblk, 3), mres(nblk, 3), qres(nblk, 2)
+        real(wp) :: hh(nblk), qe(nblk), ge(nblk), nu(nblk), sf(nblk), zf(nblk), wf(nblk), sy(nblk), al(nblk, 6)
+        real(wp) :: dd(nblk, 5), so(nblk, 5), t(nblk, 5), dzz(nblk), dzm(nblk), xeq2(nblk), pm, fac, h, sl(5)
+        real(dp) :: pold(nblk), pnew(nblk)
+        integer :: nip(nblk), l, e, ip, mix, maxnip
+        maxnip = 0
+        do l = 1, nb
+            e = els(l)
+            hh(l) = sh%h(e)
+            nu(l) = sh%nu(e)
+            qe(l) = sh%e(e)/(1 - nu(l)**2)
+            ge(l) = sh%e(e)/(2*(1 + nu(l)))
+            ! the transverse shear factor of an elastic shell (the plastic
+            ! return takes the full shear modulus)
+            sf(l) = sh%shrf(e)
+            if (sh%plastic(e)) sf(l) = 1
+            nip(l) = sh%nip(e)
+            if (.not. ok(l)) nip(l) = 0
+            maxnip = max(maxnip, nip(l))
+        end do
+        nres(1:nb, :) = 0; mres(1:nb, :) = 0; qres(1:nb, :) = 0
+        pold(1:nb) = 0; pnew(1:nb) = 0
+        dzm(1:nb) = 0
+        do ip = 1, maxnip
+            do l = 1, nb
+                e = els(l)
+                if (ip > nip(l)) then
+                    wf(l) = 0; zf(l) = 0; so(l, :) = 0; al(l, :) = 0; sy(l) = huge(1.0_wp)
+                    cycle
+                end if
+                wf(l) = real(gw(ip, nip(l)), wp)/2
+                zf(l) = real(gz(ip, nip(l)), wp)*hh(l)/2
+                so(l, :) = sh%sig(:, ip, e)
+                al(l, :) = 0
+                if (sh%backstress(e)) al(l, :) = sh%alpha(:, ip, e)
+                sy(l) = huge(1.0_wp)
+                if (sh%plastic(e)) then
+                    mix = sh%pmat(e)
+                    if (sh%pp(mix)%ncurve == 0) then
+                        sy(l) = sh%pp(mix)%sigy + sh%pp(mix)%beta*sh%pp(mix)%ep*sh%epsp(ip, e)
+                    else
+                        call yield_stress(sh%pp(mix), sh%epsp(ip, e), sy(l), h)
+                    end if
+                end if
+            end do
+            ! the elastic plane-stress trial (s_zz stays 0 with the elastic
+            ! d_zz) and the von Mises value of its deviator less the back
+            ! stress, squared (no root on the elastic path, the common one)
+            do l = 1, nb
+                dd(l, 1) = r(l, 1) + zf(l)*r(l, 4)
+                dd(l, 2) = r(l, 2) + zf(l)*r(l, 5)
+                dd(l, 3) = r(l, 3) + zf(l)*r(l, 6)
+                dd(l, 4) = r(l, 8)     ! engineering shears
+                dd(l, 5) = r(l, 7)
+                dzz(l) = -nu(l)/(1 - nu(l))*(dd(l, 1) + dd(l, 2))
+                t(l, 1) = so(l, 1) + dt*qe(l)*(dd(l, 1) + nu(l)*dd(l, 2))
+                t(l, 2) = so(l, 2) + dt*qe(l)*(dd(l, 2) + nu(l)*dd(l, 1))
+                t(l, 3) = so(l, 3) + dt*ge(l)*dd(l, 3)
+                t(l, 4) = so(l, 4) + dt*sf(l)*ge(l)*dd(l, 4)
+                t(l, 5) = so(l, 5) + dt*sf(l)*ge(l)*dd(l, 5)
+                pm = (t(l, 1) + t(l, 2))/3.0_wp
+                xeq2(l) = 1.5_wp*((t(l, 1) - pm - al(l, 1))**2 + (t(l, 2) - pm - al(l, 2))**2 + (pm + al(l, 3))**2 + &
+                                  2.0_wp*((t(l, 3) - al(l, 4))**2 + (t(l, 4) - al(l, 5))**2 + (t(l, 5) - al(l, 6))**2))
+            end do
+            ! the points beyond the yield surface (Cowper-Symonds scales it
+            ! by the rate)
+            do l = 1, nb
+                if (ip > nip(l) .or. dt <= 0.0_wp) cycle
+                e = els(l)
+                if (.not. sh%plastic(e)) cycle
+                mix = sh%pmat(e)
+                fac = 1
+                if (sh%pp(mix)%c > 0.0_wp .and. sh%pp(mix)%p > 0.0_wp) &
+                    fac = rate_factor(sh%pp(mix), [dd(l, 1), dd(l, 2), dzz(l), 0.5_wp*dd(l, 3), 0.5_wp*dd(l, 4), &
+                                                   0.5_wp*dd(l, 5)])
+                if (xeq2(l) <= (fac*sy(l))**2) cycle
+                sl = so(l, :)
+                if (.not. sh%backstress(e)) then
+                    ! isotropic hardening, or none (kinematic is then the
+                    ! same law, its back stress stays 0)
+                    call plane_stress_return(sh%e(e), nu(l), sh%pp(mix), fac, t(l, :), sl, sh%epsp(ip, e), dzz(l))
+                    dzz(l) = dzz(l)/dt
+                else
+                    call mixed_return(sh, e, ip, dd(l, :), dt, sl, dzz(l))
+                end if
+                t(l, :) = sl
+            end do
+            do l = 1, nb
+                if (ip > nip(l)) cycle
+                sh%sig(:, ip, els(l)) = t(l, :)
+            end do
+            ! powers per unit area with the old and the new stresses,
+            ! resultants, the mean thickness strain rate
+            do l = 1, nb
+                pold(l) = pold(l) + real(wf(l)*hh(l), dp)*(((real(so(l, 1), dp)*dd(l, 1) + so(l, 2)*dd(l, 2)) + &
+                                                            so(l, 3)*dd(l, 3)) + so(l, 4)*dd(l, 4) + so(l, 5)*dd(l, 5))
+                pnew(l) = pnew(l) + real(wf(l)*hh(l), dp)*(((real(t(l, 1), dp)*dd(l, 1) + t(l, 2)*dd(l, 2)) + &
+                                                            t(l, 3)*dd(l, 3)) + t(l, 4)*dd(l, 4) + t(l, 5)*dd(l, 5))
+                nres(l, 1) = nres(l, 1) + wf(l)*hh(l)*t(l, 1)
+                nres(l, 2) = nres(l, 2) + wf(l)*hh(l)*t(l, 2)
+                nres(l, 3) = nres(l, 3) + wf(l)*hh(l)*t(l, 3)
+                mres(l, 1) = mres(l, 1) + wf(l)*hh(l)*zf(l)*t(l, 1)
+                mres(l, 2) = mres(l, 2) + wf(l)*hh(l)*zf(l)*t(l, 2)
+                mres(l, 3) = mres(l, 3) + wf(l)*hh(l)*zf(l)*t(l, 3)
+                qres(l, 1) = qres(l, 1) + wf(l)*hh(l)*t(l, 5)
+                qres(l, 2) = qres(l, 2) + wf(l)*hh(l)*t(l, 4)
+                dzm(l) = dzm(l) + wf(l)*dzz(l)
+            end do
+        end do
+        do l = 1, nb
+            if (.not. ok(l)) cycle
+            e = els(l)
+            ! thickness change (ISTUPD): the mean thickness strain rate of the points
+            if (sh%thickness_update) sh%h(e) = sh%h(e)*exp(dt*dzm(l))
+            ! internal energy: the rule of the solids (work f(n).(v- + v+)/2 dt_avg)
+            sh%eint(e) = sh%eint(e) + dt_avg_prev*(sh%pend_int(e) + 0.5_dp*pold(l)*a(l))
+            sh%pend_int(e) = 0.5_dp*pnew(l)*a(l)
+        end do
+    end subroutine block_points
 
-    !> Plane stress plasticity at one point: the 3-D radial return with the
-    !> thickness strain rate d_zz found by secant iteration so that s_zz = 0
-    !> (starting from the elastic and the incompressible guesses). dd holds
-    !> the in-plane rates and the engineering shears (xx yy xy yz zx).
-    subroutine plane_stress_plastic(sh, e, ip, dd, dt, s, dzz)
+    !> The geometry of the nb shells els(1:nb) on the coordinates x - hdt v
+    !> (mid: hdt = dt/2) or x (not mid), in g: the arithmetic of shell_frame
+    !> and of the local coordinates, written out per component so that the
+    !> loops over the block's elements carry no calls.
+    subroutine block_geometry(sh, els, nb, x, v, hdt, mid, g)
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: els(:), nb
+        real(wp), intent(in) :: x(:, :), v(:, :), hdt
+        logical, intent(in) :: mid
+        type(block_geom_t), intent(inout) :: g
+        real(wp) :: pd(nblk, 3), qd(nblk, 3), nlen(nblk)
+        real(wp) :: p1, p2, p3, c1, c2, c3, n3, d, r1, r2, r3, aa, hx, hy, s12, s23, s34, s41
+        integer :: l, k, nd
+        do l = 1, nb
+            do k = 1, 4
+                nd = sh%conn(k, els(l))
+                if (mid) then
+                    g%xe(l, :, k) = x(:, nd) - hdt*v(:, nd)
+                else
+                    g%xe(l, :, k) = x(:, nd)
+                end if
+            end do
+            ! the diagonals (a triangle's sides 1-2, 1-3), whose cross
+            ! product is the normal
+            if (sh%conn(3, els(l)) == sh%conn(4, els(l))) then
+                pd(l, :) = g%xe(l, :, 2) - g%xe(l, :, 1)
+                qd(l, :) = g%xe(l, :, 3) - g%xe(l, :, 1)
+            else
+                pd(l, :) = g%xe(l, :, 3) - g%xe(l, :, 1)
+                qd(l, :) = g%xe(l, :, 4) - g%xe(l, :, 2)
+            end if
+        end do
+        do l = 1, nb
+            ! the normal (straight-line code: the loop vectorises)
+            c1 = pd(l, 2)*qd(l, 3) - pd(l, 3)*qd(l, 2)
+            c2 = pd(l, 3)*qd(l, 1) - pd(l, 1)*qd(l, 3)
+            c3 = pd(l, 1)*qd(l, 2) - pd(l, 2)*qd(l, 1)
+            n3 = sqrt(c1**2 + c2**2 + c3**2)
+            nlen(l) = n3
+            n3 = max(n3, tiny(1.0_wp))
+            c1 = c1/n3
+            c2 = c2/n3
+            c3 = c3/n3
+            ! e1 along side 1-2, less its normal part
+            p1 = g%xe(l, 1, 2) - g%xe(l, 1, 1)
+            p2 = g%xe(l, 2, 2) - g%xe(l, 2, 1)
+            p3 = g%xe(l, 3, 2) - g%xe(l, 3, 1)
+            d = p1*c1 + p2*c2 + p3*c3
+            p1 = p1 - d*c1
+            p2 = p2 - d*c2
+            p3 = p3 - d*c3
+            d = sqrt(p1**2 + p2**2 + p3**2)
+            d = max(d, tiny(1.0_wp))
+            p1 = p1/d
+            p2 = p2/d
+            p3 = p3/d
+            g%e3(l, 1) = c1
+            g%e3(l, 2) = c2
+            g%e3(l, 3) = c3
+            g%e1(l, 1) = p1
+            g%e1(l, 2) = p2
+            g%e1(l, 3) = p3
+            g%e2(l, 1) = c2*p3 - c3*p2
+            g%e2(l, 2) = c3*p1 - c1*p3
+            g%e2(l, 3) = c1*p2 - c2*p1
+        end do
+        do k = 1, 4
+            do l = 1, nb
+                ! local coordinates about the centre
+                r1 = g%xe(l, 1, k) - (((g%xe(l, 1, 1) + g%xe(l, 1, 2)) + g%xe(l, 1, 3)) + g%xe(l, 1, 4))/4
+                r2 = g%xe(l, 2, k) - (((g%xe(l, 2, 1) + g%xe(l, 2, 2)) + g%xe(l, 2, 3)) + g%xe(l, 2, 4))/4
+                r3 = g%xe(l, 3, k) - (((g%xe(l, 3, 1) + g%xe(l, 3, 2)) + g%xe(l, 3, 3)) + g%xe(l, 3, 4))/4
+                g%xl(l, k) = r1*g%e1(l, 1) + r2*g%e1(l, 2) + r3*g%e1(l, 3)
+                g%yl(l, k) = r1*g%e2(l, 1) + r2*g%e2(l, 2) + r3*g%e2(l, 3)
+                g%zl(l, k) = r1*g%e3(l, 1) + r2*g%e3(l, 2) + r3*g%e3(l, 3)
+            end do
+        end do
+        do l = 1, nb
+            g%a(l) = 0.5_wp*((g%xl(l, 3) - g%xl(l, 1))*(g%yl(l, 4) - g%yl(l, 2)) + &
+                             (g%xl(l, 2) - g%xl(l, 4))*(g%yl(l, 3) - g%yl(l, 1)))
+            ! (a collapsed or inverted element's derivatives are finite
+            ! nonsense: ok below says so)
+            aa = max(2*g%a(l), tiny(1.0_wp))
+            g%b1(l, 1) = (g%yl(l, 2) - g%yl(l, 4))/aa
+            g%b1(l, 2) = (g%yl(l, 3) - g%yl(l, 1))/aa
+            g%b1(l, 3) = (g%yl(l, 4) - g%yl(l, 2))/aa
+            g%b1(l, 4) = (g%yl(l, 1) - g%yl(l, 3))/aa
+            g%b2(l, 1) = (g%xl(l, 4) - g%xl(l, 2))/aa
+            g%b2(l, 2) = (g%xl(l, 1) - g%xl(l, 3))/aa
+            g%b2(l, 3) = (g%xl(l, 2) - g%xl(l, 4))/aa
+            g%b2(l, 4) = (g%xl(l, 3) - g%xl(l, 1))/aa
+        end do
+        do l = 1, nb
+            ! the hourglass shape vector, h = (1, -1, 1, -1)
+            hx = ((g%xl(l, 1) - g%xl(l, 2)) + g%xl(l, 3)) - g%xl(l, 4)
+            hy = ((g%yl(l, 1) - g%yl(l, 2)) + g%yl(l, 3)) - g%yl(l, 4)
+            g%gam(l, 1) = (1.0_wp - hx*g%b1(l, 1)) - hy*g%b2(l, 1)
+            g%gam(l, 2) = (-1.0_wp - hx*g%b1(l, 2)) - hy*g%b2(l, 2)
+            g%gam(l, 3) = (1.0_wp - hx*g%b1(l, 3)) - hy*g%b2(l, 3)
+            g%gam(l, 4) = (-1.0_wp - hx*g%b1(l, 4)) - hy*g%b2(l, 4)
+            ! the longest side (the step's length: area over it)
+            s12 = (g%xe(l, 1, 2) - g%xe(l, 1, 1))**2 + (g%xe(l, 2, 2) - g%xe(l, 2, 1))**2 + &
+                  (g%xe(l, 3, 2) - g%xe(l, 3, 1))**2
+            s23 = (g%xe(l, 1, 3) - g%xe(l, 1, 2))**2 + (g%xe(l, 2, 3) - g%xe(l, 2, 2))**2 + &
+                  (g%xe(l, 3, 3) - g%xe(l, 3, 2))**2
+            s34 = (g%xe(l, 1, 4) - g%xe(l, 1, 3))**2 + (g%xe(l, 2, 4) - g%xe(l, 2, 3))**2 + &
+                  (g%xe(l, 3, 4) - g%xe(l, 3, 3))**2
+            s41 = (g%xe(l, 1, 1) - g%xe(l, 1, 4))**2 + (g%xe(l, 2, 1) - g%xe(l, 2, 4))**2 + &
+                  (g%xe(l, 3, 1) - g%xe(l, 3, 4))**2
+            g%ls(l) = sqrt(max(s12, s23, s34, s41))
+        end do
+        do l = 1, nb
+            g%ok(l) = nlen(l) > 0.0_wp .and. g%a(l) > 0.0_wp
+        end do
+    end subroutine block_geometry
+
+    !> Mixed hardening beyond the yield surface: the 3-D radial return, d_zz
+    !> found by secant iteration so that s_zz = 0 (starting from the elastic
+    !> and the incompressible guesses).
+    subroutine mixed_return(sh, e, ip, dd, dt, s, dzz)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e, ip
         real(wp), intent(in) :: dd(5), dt
         real(wp), intent(inout) :: s(5)
-        real(wp), intent(out) :: dzz               !< the thickness strain rate found
+        real(wp), intent(out) :: dzz
         real(wp) :: lam, mu, d(1, 6), sg(1, 6), ep(1), al(1, 6), z0, z1, f0, f1, z2
-        real(wp) :: qe, st(6), xeq, sy, h, t1, t2, t4, t5, t6, pm
         integer :: it
-        dzz = -sh%nu(e)/(1 - sh%nu(e))*(dd(1) + dd(2))
-        if (dt <= 0.0_wp) return
         mu = sh%e(e)/(2*(1 + sh%nu(e)))
         lam = sh%e(e)*sh%nu(e)/((1 + sh%nu(e))*(1 - 2*sh%nu(e)))
         z0 = -sh%nu(e)/(1 - sh%nu(e))*(dd(1) + dd(2))
-        ! the elastic plane-stress trial (s_zz stays 0 with d_zz = z0): inside
-        ! the yield surface, the 3-D return below would change nothing, so
-        ! the point is done (most points of a crash model, most of the time)
-        qe = sh%e(e)/(1 - sh%nu(e)**2)
-        t1 = s(1) + dt*qe*(dd(1) + sh%nu(e)*dd(2))
-        t2 = s(2) + dt*qe*(dd(2) + sh%nu(e)*dd(1))
-        t4 = s(3) + dt*mu*dd(3)
-        t5 = s(4) + dt*mu*dd(4)
-        t6 = s(5) + dt*mu*dd(5)
-        ! the von Mises value of dev(trial) - alpha, from scalars (an array
-        ! built here and read back as a vector stalled the store forwarding)
-        pm = (t1 + t2)/3.0_wp
-        xeq = sqrt(1.5_wp*((t1 - pm - sh%alpha(1, ip, e))**2 + (t2 - pm - sh%alpha(2, ip, e))**2 + &
-                           (pm + sh%alpha(3, ip, e))**2 + 2.0_wp*((t4 - sh%alpha(4, ip, e))**2 + &
-                           (t5 - sh%alpha(5, ip, e))**2 + (t6 - sh%alpha(6, ip, e))**2)))
-        st = [t1, t2, 0.0_wp, t4, t5, t6]
-        call yield_stress(sh%pp(sh%pmat(e)), sh%epsp(ip, e), sy, h)
-        if (xeq <= rate_factor(sh%pp(sh%pmat(e)), [dd(1), dd(2), z0, 0.5_wp*dd(3), 0.5_wp*dd(4), 0.5_wp*dd(5)])*sy) then
-            s = [st(1), st(2), st(4), st(5), st(6)]
-            return
-        end if
-        if (sh%pp(sh%pmat(e))%ncurve > 0 .or. sh%pp(sh%pmat(e))%beta >= 1.0_wp) then
-            ! isotropic hardening: the plane-stress return in closed form
-            call plane_stress_return(sh%e(e), sh%nu(e), sh%pp(sh%pmat(e)), &
-                                     rate_factor(sh%pp(sh%pmat(e)), [dd(1), dd(2), z0, 0.5_wp*dd(3), 0.5_wp*dd(4), &
-                                                                     0.5_wp*dd(5)]), &
-                                     [st(1), st(2), st(4), st(5), st(6)], s, sh%epsp(ip, e), dzz)
-            dzz = dzz/dt
-            return
-        end if
-        ! mixed hardening: the 3-D radial return, d_zz iterated so that s_zz = 0
         z1 = -(dd(1) + dd(2))
         f0 = szz(z0)
         if (abs(f0) <= tol10*max(maxval(abs(s)), 1.0_wp)) then
@@ -510,7 +739,7 @@ contains
             sh%epsp(ip, e) = ep(1)
             sh%alpha(:, ip, e) = al(1, :)
         end subroutine commit
-    end subroutine plane_stress_plastic
+    end subroutine mixed_return
 
     !> Plane-stress J2 return with isotropic hardening (Simo & Taylor 1986):
     !> from the elastic trial st (xx yy xy yz zx) to the stress s on the yield

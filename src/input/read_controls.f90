@@ -204,8 +204,8 @@ contains
         case ('DATABASE_GLSTAT', 'DATABASE_MATSUM', 'DATABASE_NODOUT', 'DATABASE_RCFORC', 'DATABASE_RWFORC')
             call get_card(ctx, kw, ic, 'DT BINARY LCUR IOOPT', 1, card, error)
             if (allocated(error)) return
-            call ignored_fields(model, card, [2, 3, 4], 'xdyna writes the ASCII file and thist.h5 at DT whatever BINARY says '// &
-                '(no binout), with no output curve; ignored', keep='1 2 3')
+            call ignored_fields(model, card, [2, 3, 4], 'BINARY 1 or 3: the ASCII file and thist.h5 (the binout''s '// &
+                'counterpart), 2: thist.h5 alone; no output curve; ignored', keep='1 2 3')
             call get_real(card, 1, h%dt, 0.0_wp, error); if (allocated(error)) return
             call get_int(card, 2, h%binary, 0, error); if (allocated(error)) return
             if (h%dt < 0.0_wp) then

@@ -140,6 +140,9 @@ contains
         s = s//'   time step scale TSSFAC .... '//trim(fmt(model%ctl%tssfac))//nl
         s = s//'   glstat / matsum / nodout .. '//trim(fmt(model%db%glstat%dt))//' / '// &
             trim(fmt(model%db%matsum%dt))//' / '//trim(fmt(model%db%nodout%dt))//nl
+        ! where BINARY 2 leaves out an ASCII file (thist.h5 holds the series)
+        if (any([model%db%glstat%binary, model%db%matsum%binary, model%db%nodout%binary, model%db%rwforc%binary, &
+                 model%db%rcforc%binary] == 2)) s = s//'   thist.h5 alone (BINARY 2) . '//binout_only()//nl
         if (model%nwarn > 0) s = s//nl//model%warnings
     contains
         function fmt(x) result(t)
@@ -148,6 +151,17 @@ contains
             write (t, '(es12.4)') x
             t = adjustl(t)
         end function fmt
+        !> The databases whose ASCII file is not written.
+        function binout_only() result(t)
+            character(len=:), allocatable :: t
+            t = ''
+            if (model%db%glstat%binary == 2) t = t//' glstat'
+            if (model%db%matsum%binary == 2) t = t//' matsum'
+            if (model%db%nodout%binary == 2) t = t//' nodout'
+            if (model%db%rwforc%binary == 2) t = t//' rwforc'
+            if (model%db%rcforc%binary == 2) t = t//' rcforc'
+            t = trim(adjustl(t))//' (no ASCII file)'
+        end function binout_only
         function onoff(b) result(t)
             logical, intent(in) :: b
             character(len=:), allocatable :: t

@@ -4,7 +4,7 @@
 module xd_output_histories
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa, join_path, out_path
-    use xd_core_files, only: truncate_file, written_bytes
+    use xd_core_files, only: truncate_file, written_bytes, delete_file
     use xd_model, only: model_t, find_set, set_node
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
@@ -28,6 +28,8 @@ module xd_output_histories
     type :: histories_t
         logical :: on(ndb) = .false.
         integer :: unit(ndb) = 0
+        logical :: ascii(ndb) = .true.       !< the database has its ASCII file (BINARY not 2)
+        logical :: dirty(ndb) = .false.      !< records written since its last check (settle_ascii)
         real(dp) :: dt(ndb) = 0, next(ndb) = 0
         type(h5file_t) :: h5
         type(h5series_t) :: ser(ndb)
@@ -125,6 +127,10 @@ contains
         h%dt = [real(model%db%glstat%dt, dp), real(model%db%matsum%dt, dp), real(model%db%nodout%dt, dp), &
                 real(model%db%rwforc%dt, dp), real(model%db%glstat%dt, dp), real(model%db%rcforc%dt, dp)]
         h%on = h%dt > 0.0_dp
+        ! BINARY 2 asks for LS-DYNA's binout alone, whose counterpart here is
+        ! thist.h5: no ASCII file then (rbdout has none)
+        h%ascii = [model%db%glstat%binary /= 2, model%db%matsum%binary /= 2, model%db%nodout%binary /= 2, &
+                   model%db%rwforc%binary /= 2, .false., model%db%rcforc%binary /= 2]
         h%nwall = model%nwall
         if (h%nwall == 0) h%on(s_rwforc) = .false.
         if (rg%n == 0) h%on(s_rbdout) = .false.
@@ -201,7 +207,7 @@ contains
         if (h%on(s_matsum)) then
             call start_file(s_matsum, 'matsum')
             if (fresh) call header(h%unit(s_matsum))
-            if (fresh) then
+            if (fresh .and. h%unit(s_matsum) /= 0) then
                 call legend(h%unit(s_matsum), model%part(1:model%npart)%id, model%part(1:model%npart)%heading)
                 write (h%unit(s_matsum), '(a)') '', '', ''
             end if
@@ -246,7 +252,7 @@ contains
             call start_file(s_rwforc, 'rwforc')
             if (fresh) call header(h%unit(s_rwforc))
             ids = model%wall(1:model%nwall)%id
-            if (fresh) then
+            if (fresh .and. h%unit(s_rwforc) /= 0) then
                 call legend(h%unit(s_rwforc), ids, model%wall(1:model%nwall)%heading)
                 write (h%unit(s_rwforc), '(a)') '', '', &
                     '    time       wall#   normal-force    x-force        y-force        z-force'
@@ -260,7 +266,7 @@ contains
             call start_file(s_rcforc, 'rcforc')
             if (fresh) call header(h%unit(s_rcforc))
             ids = model%contact(1:model%ncontact)%id
-            if (fresh) then
+            if (fresh .and. h%unit(s_rcforc) /= 0) then
                 call legend(h%unit(s_rcforc), ids, model%contact(1:model%ncontact)%heading)
                 write (h%unit(s_rcforc), '(a)') ''
             end if
@@ -297,6 +303,12 @@ contains
         subroutine start_file(k, name)
             integer, intent(in) :: k
             character(len=*), intent(in) :: name
+            if (.not. h%ascii(k)) then
+                ! a fresh run leaves no older run's file of that name beside
+                ! its thist.h5 (one would read as this run's)
+                if (fresh) call delete_file(out_path(outdir, name))
+                return
+            end if
             h%path(k) = out_path(outdir, name)
             if (fresh) then
                 open (newunit=h%unit(k), file=out_path(outdir, name), status='replace', action='write')
@@ -328,6 +340,7 @@ contains
         end subroutine make_series
         subroutine header(u)
             integer, intent(in) :: u
+            if (u == 0) return
             write (u, '(a)') ' '//h%title
             write (u, '(a)') version_line()
         end subroutine header
@@ -335,6 +348,7 @@ contains
             integer, intent(in) :: u, ids(:)
             character(len=*), intent(in) :: titles(:)
             integer :: i
+            if (u == 0) return
             write (u, '(a)') '', '{BEGIN LEGEND}', ' Entity #        Title'
             do i = 1, size(ids)
                 write (u, '(i9,5x,a)') ids(i), titles(i)(1:min(70, len(titles(i))))
@@ -379,8 +393,9 @@ contains
             if (due(s_nodout)) call write_nodout(h, st, vn, fc, wminus)
         end if
         if (h%writer) then
-            ! thist.h5's rows go out in blocks: at the first and the last
-            ! output, and a second of wall time apart at most
+            ! thist.h5's rows go out in blocks, the ASCII files' records with
+            ! their units' buffers: at the first and the last output, and a
+            ! second of wall time apart at most
             call system_clock(now, rate)
             if (force .or. h%flushed < 0 .or. real(now - h%flushed, dp) >= real(rate, dp)) call flush_histories(h)
         end if
@@ -410,58 +425,60 @@ contains
         integer :: ios, nbad
         nbad = 0
         u = h%unit(s_glstat)
-        write (u, '(a)', iostat=ios) '', ''
-        if (ios /= 0) nbad = nbad + 1
-        ! (LS-DYNA counts the cycle about to be taken from 1); the columns
-        ! that fixed-column readers slice: the cycle in 14-20, the element
-        ! in 45-53, the part in 63-71
-        write (u, '(a,i8,a,a6,i9,a,i10)', iostat=ios) ' dt of cycle', st%cycle + 1, ' is controlled by ', &
-            merge('shell ', 'solid ', crit(1) == 2), crit(2), ' of part', crit(3)
-        if (ios /= 0) nbad = nbad + 1
-        write (u, '(a)', iostat=ios) ''
-        if (ios /= 0) nbad = nbad + 1
-        call row('time', st%time)
-        call row('time step', real(st%dt, dp))
-        call row('kinetic energy', en%ke)
-        call row('internal energy', en%ie)
-        if (walls%n > 0) then
-            call row('stonewall energy', en%wall)
-            do k = 1, walls%n
-                write (wl, '(a,i2)') ' wall#', k
-                call row('stonewall energy'//wl, walls%w(k)%energy)
-            end do
+        if (u /= 0) then
+            write (u, '(a)', iostat=ios) '', ''
+            if (ios /= 0) nbad = nbad + 1
+            ! (LS-DYNA counts the cycle about to be taken from 1); the columns
+            ! that fixed-column readers slice: the cycle in 14-20, the element
+            ! in 45-53, the part in 63-71
+            write (u, '(a,i8,a,a6,i9,a,i10)', iostat=ios) ' dt of cycle', st%cycle + 1, ' is controlled by ', &
+                merge('shell ', 'solid ', crit(1) == 2), crit(2), ' of part', crit(3)
+            if (ios /= 0) nbad = nbad + 1
+            write (u, '(a)', iostat=ios) ''
+            if (ios /= 0) nbad = nbad + 1
+            call row('time', st%time)
+            call row('time step', real(st%dt, dp))
+            call row('kinetic energy', en%ke)
+            call row('internal energy', en%ie)
+            if (walls%n > 0) then
+                call row('stonewall energy', en%wall)
+                do k = 1, walls%n
+                    write (wl, '(a,i2)') ' wall#', k
+                    call row('stonewall energy'//wl, walls%w(k)%energy)
+                end do
+            end if
+            call row('spring and damper energy', 0.0_dp)
+            call row('hourglass energy ', en%hg)
+            call row('system damping energy', 0.0_dp)
+            call row('sliding interface energy', en%slide)
+            call row('external work', en%ext)
+            ! no erosion, damping or drilling stiffness here: their lines read
+            ! zero, as LS-DYNA's do for a model without them
+            call row('eroded kinetic energy', 0.0_dp)
+            call row('eroded internal energy', 0.0_dp)
+            call row('eroded hourglass energy', 0.0_dp)
+            call row('total energy', en%total)
+            call row('total energy / initial energy', en%ratio)
+            call row('energy ratio w/o eroded energy', en%ratio)
+            call row('global x velocity', en%vel(1))
+            call row('global y velocity', en%vel(2))
+            call row('global z velocity', en%vel(3))
+            call row('dissipated kinetic energy', 0.0_dp)
+            call row('dissipated internal energy', 0.0_dp)
+            call row('drilling energy', 0.0_dp)
+            write (u, '(a,i14)', iostat=ios) ' '//dots('time per zone cycle.(nanosec)'), nint(zone_ns)
+            if (ios /= 0) nbad = nbad + 1
+            write (u, '(a)', iostat=ios) '', '', ' number of shell elements that  ', &
+                ' '//dots('reached the minimum time step')//'    '//itoa(en%nshell_scaled), '', ''
+            if (ios /= 0) nbad = nbad + 1
+            call row('added mass', en%added)
+            if (en%mass - en%added > 0) then
+                call row('percentage increase', 100*en%added/(en%mass - en%added))
+            else
+                call row('percentage increase', 0.0_dp)
+            end if
+            call settle(h, s_glstat, nbad)
         end if
-        call row('spring and damper energy', 0.0_dp)
-        call row('hourglass energy ', en%hg)
-        call row('system damping energy', 0.0_dp)
-        call row('sliding interface energy', en%slide)
-        call row('external work', en%ext)
-        ! no erosion, damping or drilling stiffness here: their lines read
-        ! zero, as LS-DYNA's do for a model without them
-        call row('eroded kinetic energy', 0.0_dp)
-        call row('eroded internal energy', 0.0_dp)
-        call row('eroded hourglass energy', 0.0_dp)
-        call row('total energy', en%total)
-        call row('total energy / initial energy', en%ratio)
-        call row('energy ratio w/o eroded energy', en%ratio)
-        call row('global x velocity', en%vel(1))
-        call row('global y velocity', en%vel(2))
-        call row('global z velocity', en%vel(3))
-        call row('dissipated kinetic energy', 0.0_dp)
-        call row('dissipated internal energy', 0.0_dp)
-        call row('drilling energy', 0.0_dp)
-        write (u, '(a,i14)', iostat=ios) ' '//dots('time per zone cycle.(nanosec)'), nint(zone_ns)
-        if (ios /= 0) nbad = nbad + 1
-        write (u, '(a)', iostat=ios) '', '', ' number of shell elements that  ', &
-            ' '//dots('reached the minimum time step')//'    '//itoa(en%nshell_scaled), '', ''
-        if (ios /= 0) nbad = nbad + 1
-        call row('added mass', en%added)
-        if (en%mass - en%added > 0) then
-            call row('percentage increase', 100*en%added/(en%mass - en%added))
-        else
-            call row('percentage increase', 0.0_dp)
-        end if
-        call settle(h, s_glstat, nbad)
         vals = [real(st%dt, dp), en%ke, en%ie, en%hg, en%ext, en%total, en%ratio, en%vel]
         if (walls%n > 0) vals = [vals, en%wall]
         if (h%contact) vals = [vals, en%slide]
@@ -495,27 +512,30 @@ contains
         integer :: ios, nbad
         nbad = 0
         u = h%unit(s_matsum)
-        write (u, '(a,es13.4)', iostat=ios) ' time =', st%time
-        if (ios /= 0) nbad = nbad + 1
-        do p = 1, model%npart
-            rbv = 0
-            if (en%part_mass(p) > 0) rbv = en%part_mom(:, p)/en%part_mass(p)
-            write (u, '(a,i5,3x,a,es13.4,a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' mat.#=', model%part(p)%id, &
-                '          inten=', en%part_ie(p), '     kinen=', en%part_ke(p), '     eroded_ie=', 0.0_dp, &
-                '     eroded_ke=', 0.0_dp
+        if (u /= 0) then
+            write (u, '(a,es13.4)', iostat=ios) ' time =', st%time
             if (ios /= 0) nbad = nbad + 1
-            write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' x-mom=', en%part_mom(1, p), '     y-mom=', &
-                en%part_mom(2, p), '     z-mom=', en%part_mom(3, p)
-            if (ios /= 0) nbad = nbad + 1
-            write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' x-rbv=', rbv(1), '     y-rbv=', rbv(2), '     z-rbv=', rbv(3)
-            if (ios /= 0) nbad = nbad + 1
-            write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) '                         hgeng=', en%part_hg(p), &
-                '     +mass=', en%part_added(p), '     eroded_he=', 0.0_dp
-            if (ios /= 0) nbad = nbad + 1
-            write (u, '(a)', iostat=ios) '', ''
-            if (ios /= 0) nbad = nbad + 1
-        end do
-        call settle(h, s_matsum, nbad)
+            do p = 1, model%npart
+                rbv = 0
+                if (en%part_mass(p) > 0) rbv = en%part_mom(:, p)/en%part_mass(p)
+                write (u, '(a,i5,3x,a,es13.4,a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' mat.#=', model%part(p)%id, &
+                    '          inten=', en%part_ie(p), '     kinen=', en%part_ke(p), '     eroded_ie=', 0.0_dp, &
+                    '     eroded_ke=', 0.0_dp
+                if (ios /= 0) nbad = nbad + 1
+                write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' x-mom=', en%part_mom(1, p), '     y-mom=', &
+                    en%part_mom(2, p), '     z-mom=', en%part_mom(3, p)
+                if (ios /= 0) nbad = nbad + 1
+                write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' x-rbv=', rbv(1), '     y-rbv=', rbv(2), &
+                    '     z-rbv=', rbv(3)
+                if (ios /= 0) nbad = nbad + 1
+                write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) '                         hgeng=', en%part_hg(p), &
+                    '     +mass=', en%part_added(p), '     eroded_he=', 0.0_dp
+                if (ios /= 0) nbad = nbad + 1
+                write (u, '(a)', iostat=ios) '', ''
+                if (ios /= 0) nbad = nbad + 1
+            end do
+            call settle(h, s_matsum, nbad)
+        end if
         allocate (vals(model%npart, 7))
         vals(:, 1) = en%part_ie
         vals(:, 2) = en%part_ke
@@ -552,6 +572,7 @@ contains
             vals(k, 4:6) = vn(:, nd)
             vals(k, 7:9) = st%a(:, nd)
             vals(k, 10:12) = st%x(:, nd)
+            if (u == 0) cycle
             write (u, '(i9,es13.4,11es12.4)', iostat=ios) h%node_ids(k), vals(k, :)
             if (ios /= 0) nbad = nbad + 1
         end do
@@ -569,6 +590,7 @@ contains
             call block_head(' nodal point  x-rot      y-rot       z-rot       x-rot vel   y-rot vel   '// &
                             'z-rot vel   x-rot acc   y-rot acc   z-rot acc')
             do k = 1, size(h%nodes)
+                if (u == 0) exit
                 write (u, '(i9,es13.4,8es12.4)', iostat=ios) h%node_ids(k), rot(k, :)
                 if (ios /= 0) nbad = nbad + 1
             end do
@@ -591,6 +613,7 @@ contains
         !> Three blank lines, the step line, a blank line and the column line.
         subroutine block_head(columns)
             character(len=*), intent(in) :: columns
+            if (u == 0) return
             write (u, '(a)', iostat=ios) '', '', ''
             if (ios /= 0) nbad = nbad + 1
             write (u, '(a,i8,a,es14.7,a)', iostat=ios) ' n o d a l   p r i n t   o u t   f o r   t i m e  s t e p', &
@@ -628,6 +651,7 @@ contains
         ! R14's columns: SURFA the slave side, SURFB the master side; the
         ! moments mx, my, mz are not computed here and read zero
         do k = 1, model%ncontact
+            if (h%unit(s_rcforc) == 0) exit
             write (h%unit(s_rcforc), fmt, iostat=ios) '  SURFA', model%contact(k)%id, ' time', st%time, &
                 '  x ', rc(1, k), '  y ', rc(2, k), '  z ', rc(3, k), ' mass ', rc(4, k), '  mx ', 0.0_dp, &
                 '  my ', 0.0_dp, '  mz ', 0.0_dp
@@ -653,6 +677,7 @@ contains
         do k = 1, walls%n
             vals(k, 1) = walls%w(k)%normal_force
             vals(k, 2:4) = walls%w(k)%force
+            if (h%unit(s_rwforc) == 0) cycle
             write (h%unit(s_rwforc), '(es12.5,i8,4es15.6)', iostat=ios) st%time, model%wall(k)%id, vals(k, :)
             if (ios /= 0) nbad = nbad + 1
         end do
@@ -676,23 +701,42 @@ contains
         call series_append(h%ser(s_rbdout), st%time, vals)
     end subroutine write_rbdout
 
-    !> After a write `nbad` failed writes of database k: flush it, and keep
-    !> its size as the last complete record, or note the failure (the file
-    !> is cut back to that record when it is closed).
+    !> After a record of database k with `nbad` failed writes: a failure is
+    !> noted (the file is cut back to its last complete record when it is
+    !> closed). The records themselves go out with the unit's buffer and are
+    !> checked where the files are flushed (settle_ascii), not one by one: a
+    !> flush and a size query per record cost car6 more than its elements'
+    !> stresses.
     subroutine settle(h, k, nbad)
         type(histories_t), intent(inout) :: h
         integer, intent(in) :: k, nbad
-        integer :: ios
-        integer(i8) :: sz
         if (h%failed /= 0) return
-        flush (h%unit(k), iostat=ios)
-        inquire (unit=h%unit(k), size=sz)
-        if (nbad > 0 .or. ios /= 0 .or. written_bytes(h%unit(k)) /= sz) then
-            h%failed = k
-        else
-            h%good(k) = sz
-        end if
+        if (nbad > 0) h%failed = k
+        h%dirty(k) = .true.
     end subroutine settle
+
+    !> Each ASCII file flushed and its size kept as its last complete record
+    !> (every record before the flush is whole), or the failure noted: a
+    !> short write leaves the file smaller than what was written to it.
+    subroutine settle_ascii(h)
+        type(histories_t), intent(inout) :: h
+        integer :: k, ios
+        integer(i8) :: sz
+        do k = 1, ndb
+            if (h%failed /= 0) return
+            ! (a unit appended to since a restart but not yet written has
+            ! its offset at 0 until its first write: only those written)
+            if (.not. h%on(k) .or. h%unit(k) == 0 .or. .not. h%dirty(k)) cycle
+            h%dirty(k) = .false.
+            flush (h%unit(k), iostat=ios)
+            inquire (unit=h%unit(k), size=sz)
+            if (ios /= 0 .or. written_bytes(h%unit(k)) /= sz) then
+                h%failed = k
+            else
+                h%good(k) = sz
+            end if
+        end do
+    end subroutine settle_ascii
 
     !> The file a write failed on ('' if none).
     function history_failure(h) result(name)
@@ -703,14 +747,16 @@ contains
         if (h%failed == ndb + 1) name = trim(h%h5path)
     end function history_failure
 
-    !> thist.h5's rows held in memory written out and the file flushed (at
-    !> the pace write_histories keeps, before a dump and at a hold); a failed
-    !> write is the run's history failure.
+    !> thist.h5's rows held in memory written out and the file flushed, the
+    !> ASCII files flushed and checked (at the pace write_histories keeps,
+    !> before a dump and at a hold); a failed write is the run's history
+    !> failure.
     subroutine flush_histories(h)
         type(histories_t), intent(inout) :: h
         integer :: k
         integer(i8) :: rate
         if (.not. h%writer) return
+        call settle_ascii(h)
         do k = 1, ndb
             if (h%ser(k)%gid >= 0) call series_flush(h%ser(k))
         end do

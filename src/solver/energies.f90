@@ -21,6 +21,9 @@ module xd_solver_energies
         real(dp), allocatable :: part_ie(:), part_ke(:), part_hg(:), part_mass(:)
         real(dp), allocatable :: part_added(:)   !< mass scaling: mass added per part
         real(dp), allocatable :: part_mom(:, :)   !< (3, npart)
+        ! work arrays: per node 1/2 v(n-1/2).v(n+1/2) and v(n) (0 on a rigid
+        ! body's nodes, whose motion is the body's)
+        real(dp), allocatable, private :: kn(:), vn(:, :)
     end type energies_t
 
 contains
@@ -44,13 +47,26 @@ contains
         type(energies_t), intent(inout) :: en
         real(dp), intent(in), optional :: slide   !< sliding interface energy (contact)
         integer :: e, k, p, nd, nn
-        real(dp) :: mshare, mom(3), ke_b, mom_b(3), ie, hg, ker
+        real(dp) :: mshare, mom(3), ke_b, mom_b(3), ie, hg, ker, ksum, msum(3)
         if (.not. allocated(en%part_ie)) then
             allocate (en%part_ie(model%npart), en%part_ke(model%npart), en%part_hg(model%npart), &
                       en%part_mass(model%npart), en%part_mom(3, model%npart), en%part_added(model%npart))
         end if
         en%part_ie = 0; en%part_ke = 0; en%part_hg = 0; en%part_mass = 0; en%part_mom = 0; en%part_added = 0
         en%nshell_scaled = 0
+        if (.not. allocated(en%kn)) allocate (en%kn(st%nnode), en%vn(3, st%nnode))
+        ! each node's share once; the elements' loops below weigh it by their mass
+        do nd = 1, st%nnode
+            en%kn(nd) = 0.5_dp*sum(real(vminus(:, nd), dp)*vplus(:, nd))
+            en%vn(:, nd) = 0.5_dp*real(vminus(:, nd) + vplus(:, nd), dp)
+        end do
+        if (rg%n > 0) then
+            do nd = 1, st%nnode
+                if (.not. rg%on(nd)) cycle
+                en%kn(nd) = 0
+                en%vn(:, nd) = 0
+            end do
+        end if
         do e = 1, solids%n
             p = solids%part(e)
             mshare = real(model%mat(model%part(p)%mat_ix)%ro, dp)*solids%vol0(e)/8.0_dp
@@ -63,15 +79,15 @@ contains
             en%part_ie(p) = en%part_ie(p) + solids%eint(e) + dt_avg*solids%pend_int(e)
             en%part_hg(p) = en%part_hg(p) + solids%ehg(e) + dt_avg*solids%pend_hg(e)
             en%part_mass(p) = en%part_mass(p) + 8.0_dp*mshare
+            ksum = 0
+            msum = 0
             do k = 1, 8
                 nd = solids%conn(k, e)
-                ! a node of a rigid body: its mass and motion are the body's
-                if (rg%n > 0) then
-                    if (rg%on(nd)) cycle
-                end if
-                en%part_ke(p) = en%part_ke(p) + 0.5_dp*mshare*sum(real(vminus(:, nd), dp)*vplus(:, nd))
-                en%part_mom(:, p) = en%part_mom(:, p) + 0.5_dp*mshare*real(vminus(:, nd) + vplus(:, nd), dp)
+                ksum = ksum + en%kn(nd)
+                msum = msum + en%vn(:, nd)
             end do
+            en%part_ke(p) = en%part_ke(p) + mshare*ksum
+            en%part_mom(:, p) = en%part_mom(:, p) + mshare*msum
         end do
         en%ie = sum(en%part_ie)
         en%hg = sum(en%part_hg)
@@ -86,14 +102,15 @@ contains
                 mshare = mshare*sh%msf(e)
                 if (sh%msf(e) /= 1.0_wp) en%nshell_scaled = en%nshell_scaled + 1
             end if
+            ksum = 0
+            msum = 0
             do k = 1, nn
                 nd = sh%conn(k, e)
-                if (rg%n > 0) then
-                    if (rg%on(nd)) cycle
-                end if
-                en%part_ke(p) = en%part_ke(p) + 0.5_dp*mshare*dot_product(real(vminus(:, nd), dp), real(vplus(:, nd), dp))
-                en%part_mom(:, p) = en%part_mom(:, p) + 0.5_dp*mshare*real(vminus(:, nd) + vplus(:, nd), dp)
+                ksum = ksum + en%kn(nd)
+                msum = msum + en%vn(:, nd)
             end do
+            en%part_ke(p) = en%part_ke(p) + mshare*ksum
+            en%part_mom(:, p) = en%part_mom(:, p) + mshare*msum
             en%part_mass(p) = en%part_mass(p) + mshare*nn
             ie = sh%eint(e) + dt_avg*sh%pend_int(e)
             hg = sh%ehg(e) + dt_avg*sh%pend_hg(e)
@@ -105,11 +122,8 @@ contains
         en%ke = 0
         mom = 0
         do nd = 1, st%nnode
-            if (rg%n > 0) then
-                if (rg%on(nd)) cycle
-            end if
-            en%ke = en%ke + 0.5_dp*st%mass(nd)*sum(real(vminus(:, nd), dp)*vplus(:, nd))
-            mom = mom + 0.5_dp*st%mass(nd)*real(vminus(:, nd) + vplus(:, nd), dp)
+            en%ke = en%ke + st%mass(nd)*en%kn(nd)
+            mom = mom + st%mass(nd)*en%vn(:, nd)
         end do
         ! rigid bodies: their own inertia, not the lumped nodal masses
         do e = 1, rg%n
