@@ -27,13 +27,13 @@ module xd_elements_shell_bt
         real(wp), allocatable :: h(:)         !< thickness (mean of the nodal values)
         real(wp), allocatable :: e(:), nu(:), ro(:), shrf(:), qm(:)
         integer, allocatable :: nip(:)
-        real(wp), allocatable :: sig(:, :, :) !< (5, 10, n) stresses at the points
+        real(wp), allocatable :: sig(:, :, :) !< (5, nip, n) stresses at the points (nip: the most of any shell)
         real(wp), allocatable :: qhg(:, :)    !< (5, n) hourglass generalized forces
         logical, allocatable :: plastic(:)
         integer, allocatable :: pmat(:)       !< index into pp
         type(plastic_params_t), allocatable :: pp(:)  !< plastic laws of the shell materials
-        real(wp), allocatable :: epsp(:, :)   !< (10, n) effective plastic strain per point
-        real(wp), allocatable :: alpha(:, :, :)  !< (6, 10, n) back stress per point
+        real(wp), allocatable :: epsp(:, :)   !< (nip, n) effective plastic strain per point
+        real(wp), allocatable :: alpha(:, :, :)  !< (6, nip, n) back stress per point (n 0: no shell has one)
         !> the material can move a back stress (kinematic share of a
         !> hardening modulus not 0); otherwise alpha stays 0 and is not read
         logical, allocatable :: backstress(:)
@@ -127,7 +127,7 @@ contains
                 type(plastic_params_t), intent(out) :: pp
             end subroutine plastic_law
         end interface
-        integer :: e, p, k, mix, ee
+        integer :: e, p, k, mix, ee, nipmax
         integer, allocatable :: keep(:)
         ! rigid shells are not deformable elements (the rigid bodies take them)
         keep = pack([(e, e=1, model%nshell)], &
@@ -146,11 +146,7 @@ contains
         call alloc_dp(sh%ehg, sh%n, 'shell energies')
         call alloc_dp(sh%pend_int, sh%n, 'shell energies')
         call alloc_dp(sh%pend_hg, sh%n, 'shell energies')
-        allocate (sh%sig(5, 10, sh%n), sh%plastic(sh%n), sh%backstress(sh%n), sh%pmat(sh%n), sh%pp(model%nmat), &
-                  sh%epsp(10, sh%n), sh%alpha(6, 10, sh%n))
-        sh%sig = 0
-        sh%epsp = 0
-        sh%alpha = 0
+        allocate (sh%plastic(sh%n), sh%backstress(sh%n), sh%pmat(sh%n), sh%pp(model%nmat))
         do mix = 1, model%nmat
             if (model%mat(mix)%mtype == mat_plastic_kinematic .or. model%mat(mix)%mtype == mat_piecewise_linear) &
                 call plastic_law(model, mix, sh%pp(mix))
@@ -178,6 +174,19 @@ contains
             k = model%part(p)%hg_ix
             if (k > 0) sh%qm(e) = model%hg(k)%qm
         end do
+        ! the points' state, as many per shell as the most any shell has
+        ! (each shell's in one run of memory: NIP 2 in 80 bytes, not 400);
+        ! back stresses only where a material moves them
+        nipmax = max(1, maxval(sh%nip))
+        allocate (sh%sig(5, nipmax, sh%n), sh%epsp(nipmax, sh%n))
+        if (any(sh%backstress)) then
+            allocate (sh%alpha(6, nipmax, sh%n))
+        else
+            allocate (sh%alpha(6, nipmax, 0))
+        end if
+        sh%sig = 0
+        sh%epsp = 0
+        sh%alpha = 0
     end subroutine build_shells
 
     !> Lumped masses: a quarter of rho h A on each node (a third for
@@ -300,7 +309,7 @@ contains
         real(wp) :: nres(nblk, 3), mres(nblk, 3), qres(nblk, 2), qd(nblk, 5), hq(nblk, 5)
         real(wp) :: fs(nblk, 3, 4), ms(nblk, 3, 4), bb(nblk), gamz(nblk), wsp(nblk)
         real(wp) :: hh(nblk), ym(nblk), nu(nblk), ro(nblk)
-        real(wp) :: wx, wy, f1, f2, f3, m1, m2, b1k, b2k, gk, a, c, ge
+        real(wp) :: wx, wy, f1, f2, f3, m1, m2, b1k, b2k, gk, a, c, ge, q1, q2, q3, q4, q5, b
         real(dp) :: pold, pnew
         integer :: l, k, e, nd
         ! gather: the nodes' velocities, the elements' data
@@ -334,18 +343,29 @@ contains
         end do
         ! membrane, bending and transverse shear rates (BT 1984): dx dy dxy
         ! (engineering), kx ky kxy, gxz gyz
-        r(1:nb, :) = 0
-        do k = 1, 4
-            do l = 1, nb
-                r(l, 1) = r(l, 1) + gm%b1(l, k)*vl(l, 1, k)
-                r(l, 2) = r(l, 2) + gm%b2(l, k)*vl(l, 2, k)
-                r(l, 3) = r(l, 3) + (gm%b2(l, k)*vl(l, 1, k) + gm%b1(l, k)*vl(l, 2, k))
-                r(l, 4) = r(l, 4) + gm%b1(l, k)*wl(l, 2, k)
-                r(l, 5) = r(l, 5) - gm%b2(l, k)*wl(l, 1, k)
-                r(l, 6) = r(l, 6) + (gm%b2(l, k)*wl(l, 2, k) - gm%b1(l, k)*wl(l, 1, k))
-                r(l, 7) = r(l, 7) + (gm%b1(l, k)*vl(l, 3, k) + quarter*wl(l, 2, k))
-                r(l, 8) = r(l, 8) + (gm%b2(l, k)*vl(l, 3, k) - quarter*wl(l, 1, k))
-            end do
+        ! (sums over the four nodes in registers, one element per lane: a
+        ! block array zeroed and then added to stalled on its own stores)
+        do l = 1, nb
+            r(l, 1) = ((gm%b1(l, 1)*vl(l, 1, 1) + gm%b1(l, 2)*vl(l, 1, 2)) + gm%b1(l, 3)*vl(l, 1, 3)) + &
+                      gm%b1(l, 4)*vl(l, 1, 4)
+            r(l, 2) = ((gm%b2(l, 1)*vl(l, 2, 1) + gm%b2(l, 2)*vl(l, 2, 2)) + gm%b2(l, 3)*vl(l, 2, 3)) + &
+                      gm%b2(l, 4)*vl(l, 2, 4)
+            r(l, 3) = (((gm%b2(l, 1)*vl(l, 1, 1) + gm%b1(l, 1)*vl(l, 2, 1)) + &
+                        (gm%b2(l, 2)*vl(l, 1, 2) + gm%b1(l, 2)*vl(l, 2, 2))) + &
+                       (gm%b2(l, 3)*vl(l, 1, 3) + gm%b1(l, 3)*vl(l, 2, 3))) + &
+                      (gm%b2(l, 4)*vl(l, 1, 4) + gm%b1(l, 4)*vl(l, 2, 4))
+            r(l, 4) = ((gm%b1(l, 1)*wl(l, 2, 1) + gm%b1(l, 2)*wl(l, 2, 2)) + gm%b1(l, 3)*wl(l, 2, 3)) + &
+                      gm%b1(l, 4)*wl(l, 2, 4)
+            r(l, 5) = -(((gm%b2(l, 1)*wl(l, 1, 1) + gm%b2(l, 2)*wl(l, 1, 2)) + gm%b2(l, 3)*wl(l, 1, 3)) + &
+                        gm%b2(l, 4)*wl(l, 1, 4))
+            r(l, 6) = (((gm%b2(l, 1)*wl(l, 2, 1) - gm%b1(l, 1)*wl(l, 1, 1)) + &
+                        (gm%b2(l, 2)*wl(l, 2, 2) - gm%b1(l, 2)*wl(l, 1, 2))) + &
+                       (gm%b2(l, 3)*wl(l, 2, 3) - gm%b1(l, 3)*wl(l, 1, 3))) + &
+                      (gm%b2(l, 4)*wl(l, 2, 4) - gm%b1(l, 4)*wl(l, 1, 4))
+            r(l, 7) = (((gm%b1(l, 1)*vl(l, 3, 1) + gm%b1(l, 2)*vl(l, 3, 2)) + gm%b1(l, 3)*vl(l, 3, 3)) + &
+                       gm%b1(l, 4)*vl(l, 3, 4)) + quarter*(((wl(l, 2, 1) + wl(l, 2, 2)) + wl(l, 2, 3)) + wl(l, 2, 4))
+            r(l, 8) = (((gm%b2(l, 1)*vl(l, 3, 1) + gm%b2(l, 2)*vl(l, 3, 2)) + gm%b2(l, 3)*vl(l, 3, 3)) + &
+                       gm%b2(l, 4)*vl(l, 3, 4)) - quarter*(((wl(l, 1, 1) + wl(l, 1, 2)) + wl(l, 1, 3)) + wl(l, 1, 4))
         end do
         ! the points' stresses, the resultants and the internal energy
         call block_points(sh, els, nb, r, gm%a, gm%ok, dt, dt_avg_prev, nres, mres, qres)
@@ -364,21 +384,24 @@ contains
                  gm%b2(l, 4)*vl(l, 3, 4)
             wy = -(((gm%b1(l, 1)*vl(l, 3, 1) + gm%b1(l, 2)*vl(l, 3, 2)) + gm%b1(l, 3)*vl(l, 3, 3)) + &
                    gm%b1(l, 4)*vl(l, 3, 4))
-            qd(l, :) = 0
-            bb(l) = 0
+            q1 = 0; q2 = 0; q3 = 0; q4 = 0; q5 = 0; b = 0
             do k = 1, 4
-                qd(l, 1) = qd(l, 1) + gm%gam(l, k)*wl(l, 1, k)
-                qd(l, 2) = qd(l, 2) + gm%gam(l, k)*wl(l, 2, k)
-                qd(l, 3) = qd(l, 3) + gm%gam(l, k)*vl(l, 3, k)
-                qd(l, 4) = qd(l, 4) + gm%gam(l, k)*(vl(l, 1, k) - wy*gm%zl(l, k))
-                qd(l, 5) = qd(l, 5) + gm%gam(l, k)*(vl(l, 2, k) + wx*gm%zl(l, k))
-                bb(l) = bb(l) + (gm%b1(l, k)**2 + gm%b2(l, k)**2)
+                q1 = q1 + gm%gam(l, k)*wl(l, 1, k)
+                q2 = q2 + gm%gam(l, k)*wl(l, 2, k)
+                q3 = q3 + gm%gam(l, k)*vl(l, 3, k)
+                q4 = q4 + gm%gam(l, k)*(vl(l, 1, k) - wy*gm%zl(l, k))
+                q5 = q5 + gm%gam(l, k)*(vl(l, 2, k) + wx*gm%zl(l, k))
+                b = b + (gm%b1(l, k)**2 + gm%b2(l, k)**2)
             end do
+            qd(l, 1) = q1; qd(l, 2) = q2; qd(l, 3) = q3; qd(l, 4) = q4; qd(l, 5) = q5
+            bb(l) = b
         end do
         do l = 1, nb
             e = els(l)
-            hq(l, :) = 0
-            if (.not. gm%ok(l)) cycle
+            if (.not. gm%ok(l)) then
+                hq(l, :) = 0
+                cycle
+            end if
             c = sh%qm(e)
             a = gm%a(l)
             ge = ym(l)/(2*(1 + nu(l)))
