@@ -346,10 +346,12 @@ contains
             call merge_wp(solids%alpha, 6, dom%solid_mine)
         end if
         if (sh%n == 0) return
-        call merge_wp(sh%sig, 50, dom%shell_mine)
+        ! (the points' arrays hold as many points a shell as the most any
+        ! shell has; back stresses only where a material moves them)
+        call merge_wp(sh%sig, 5*size(sh%sig, 2), dom%shell_mine)
         call merge_wp(sh%qhg, 5, dom%shell_mine)
-        call merge_wp(sh%epsp, 10, dom%shell_mine)
-        call merge_wp(sh%alpha, 60, dom%shell_mine)
+        call merge_wp(sh%epsp, size(sh%epsp, 1), dom%shell_mine)
+        if (size(sh%alpha) > 0) call merge_wp(sh%alpha, 6*size(sh%alpha, 2), dom%shell_mine)
     end subroutine gather_element_state
 
     !> a holds `stride` values per element: element e's are entries
