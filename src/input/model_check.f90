@@ -2,7 +2,7 @@
 !> twice, densities and moduli are positive, no hexahedron is inverted or
 !> degenerate. Resolves ids to indices on the way.
 module xd_input_model_check
-    use xd_kinds, only: wp
+    use xd_kinds, only: wp, dp
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
     use xd_core_sorting, only: id_map_t
@@ -401,7 +401,9 @@ contains
     function rtoa_short(x) result(s)
         real(wp), intent(in) :: x
         character(len=16) :: s
-        if (abs(x) >= 1.0e100_wp .or. (abs(x) < 1.0e-99_wp .and. x /= 0.0_wp)) then
+        ! (compared in double: the single build's reals end near 3e38 and
+        ! 1e-38, where a three-digit exponent is never needed)
+        if (abs(real(x, dp)) >= 1.0e100_dp .or. (abs(real(x, dp)) < 1.0e-99_dp .and. x /= 0.0_wp)) then
             write (s, '(es13.4e3)') x
         else
             write (s, '(es12.4)') x

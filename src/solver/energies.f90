@@ -47,7 +47,8 @@ contains
         type(energies_t), intent(inout) :: en
         real(dp), intent(in), optional :: slide   !< sliding interface energy (contact)
         integer :: e, k, p, nd, nn
-        real(dp) :: mshare, mom(3), ke_b, mom_b(3), ie, hg, ker, ksum, msum(3)
+        real(dp) :: mshare, mom(3), ke_b, mom_b(3), ker, ksum, msum(3), ake, amom(3), amass, aie, ahg
+        integer :: pc
         if (.not. allocated(en%part_ie)) then
             allocate (en%part_ie(model%npart), en%part_ke(model%npart), en%part_hg(model%npart), &
                       en%part_mass(model%npart), en%part_mom(3, model%npart), en%part_added(model%npart))
@@ -91,8 +92,27 @@ contains
         end do
         en%ie = sum(en%part_ie)
         en%hg = sum(en%part_hg)
-        do e = 1, sh%n
-            p = sh%part(e)
+        ! the sums of a run of elements of one part in registers (elements
+        ! come part by part), added to the part's where the part changes
+        pc = 0
+        ake = 0; amom = 0; amass = 0; aie = 0; ahg = 0
+        do e = 1, sh%n + 1
+            p = -1
+            if (e <= sh%n) p = sh%part(e)
+            if (p /= pc) then
+                if (pc > 0) then
+                    en%part_ke(pc) = en%part_ke(pc) + ake
+                    en%part_mom(:, pc) = en%part_mom(:, pc) + amom
+                    en%part_mass(pc) = en%part_mass(pc) + amass
+                    en%part_ie(pc) = en%part_ie(pc) + aie
+                    en%part_hg(pc) = en%part_hg(pc) + ahg
+                    en%ie = en%ie + aie
+                    en%hg = en%hg + ahg
+                end if
+                pc = p
+                ake = 0; amom = 0; amass = 0; aie = 0; ahg = 0
+            end if
+            if (e > sh%n) exit
             ! the shell's share of its nodes' mass (a third each for triangles)
             nn = 4
             if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
@@ -109,15 +129,11 @@ contains
                 ksum = ksum + en%kn(nd)
                 msum = msum + en%vn(:, nd)
             end do
-            en%part_ke(p) = en%part_ke(p) + mshare*ksum
-            en%part_mom(:, p) = en%part_mom(:, p) + mshare*msum
-            en%part_mass(p) = en%part_mass(p) + mshare*nn
-            ie = sh%eint(e) + dt_avg*sh%pend_int(e)
-            hg = sh%ehg(e) + dt_avg*sh%pend_hg(e)
-            en%part_ie(p) = en%part_ie(p) + ie
-            en%part_hg(p) = en%part_hg(p) + hg
-            en%ie = en%ie + ie
-            en%hg = en%hg + hg
+            ake = ake + mshare*ksum
+            amom = amom + mshare*msum
+            amass = amass + mshare*nn
+            aie = aie + (sh%eint(e) + dt_avg*sh%pend_int(e))
+            ahg = ahg + (sh%ehg(e) + dt_avg*sh%pend_hg(e))
         end do
         en%ke = 0
         mom = 0
