@@ -797,9 +797,23 @@ contains
             phi2 = q1*u1*u1 + rr*u2*u2
             phi = sqrt(phi2)
             de = c23*dg*phi
-            call yield_stress(pp, epsp + de, sy, h)
+            if (pp%ncurve == 0) then
+                ! the bilinear law in line (the call cost as much as the rest)
+                sy = pp%sigy + pp%beta*pp%ep*(epsp + de)
+                h = pp%beta*pp%ep
+            else
+                call yield_stress(pp, epsp + de, sy, h)
+            end if
             f = 0.5_wp*phi2 - (fac*sy)**2/3.0_wp
             if (abs(f) <= tol12*phi2) exit
+            if (it == 1) then
+                ! the first step from the 3-D radial return: the equivalent
+                ! stress sqrt(3/2) phi falls by 3 G de to the yield stress
+                ! (Newton from dg = 0 took several steps to get there)
+                de = (sqrt(1.5_wp)*phi - fac*sy)/(1.5_wp*c2 + fac*h)
+                dg = de/(c23*phi)
+                cycle
+            end if
             dphi2 = -2.0_wp*(q1*c1*u1**3 + rr*c2*u2**3)
             dphi = dphi2/(2.0_wp*phi)
             fp = 0.5_wp*dphi2 - 2.0_wp/3.0_wp*fac*sy*fac*h*c23*(phi + dg*dphi)
