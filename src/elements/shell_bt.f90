@@ -12,7 +12,7 @@ module xd_elements_shell_bt
     use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
     implicit none
     private
-    public :: shells_t, build_shells, shell_forces, shell_masses, shell_frame, point_weight, point_z
+    public :: shells_t, build_shells, shell_forces, shell_masses, shell_axes, point_weight, point_z
 
     ! iteration tolerances: 1e-10 and 1e-12 relative in double precision,
     ! ten round-offs in single (where 1e-12 cannot be reached and every
@@ -308,8 +308,8 @@ contains
         real(wp) :: vg(nblk, 3, 4), wg(nblk, 3, 4), vl(nblk, 3, 4), wl(nblk, 3, 4), r(nblk, 8)
         real(wp) :: nres(nblk, 3), mres(nblk, 3), qres(nblk, 2), qd(nblk, 5), hq(nblk, 5)
         real(wp) :: fs(nblk, 3, 4), ms(nblk, 3, 4), bb(nblk), gamz(nblk), wsp(nblk)
-        real(wp) :: hh(nblk), ym(nblk), nu(nblk), ro(nblk)
-        real(wp) :: wx, wy, f1, f2, f3, m1, m2, b1k, b2k, gk, a, c, ge, q1, q2, q3, q4, q5, b
+        real(wp) :: hh(nblk), ym(nblk), nu(nblk), ro(nblk), ge(nblk)
+        real(wp) :: wx, wy, f1, f2, f3, m1, m2, b1k, b2k, gk, a, c, q1, q2, q3, q4, q5, b
         real(dp) :: pold, pnew
         integer :: l, k, e, nd
         ! gather: the nodes' velocities, the elements' data
@@ -324,6 +324,7 @@ contains
             ym(l) = sh%e(e)
             nu(l) = sh%nu(e)
             ro(l) = sh%ro(e)
+            ge(l) = ym(l)/(2*(1 + nu(l)))
         end do
         ! The rates v(n-1/2) are taken on the mid-step geometry x(n-1/2) =
         ! x(n) - dt/2 v(n-1/2), the forces on x(n). (Rates on x(n) see a
@@ -368,7 +369,7 @@ contains
                        gm%b2(l, 4)*vl(l, 3, 4)) - quarter*(((wl(l, 1, 1) + wl(l, 1, 2)) + wl(l, 1, 3)) + wl(l, 1, 4))
         end do
         ! the points' stresses, the resultants and the internal energy
-        call block_points(sh, els, nb, r, gm%a, gm%ok, dt, dt_avg_prev, nres, mres, qres)
+        call block_points(sh, els, nb, r, gm%a, gm%ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
         ! Belytschko-Tsay hourglass: gamma = h - (h.x) b1 - (h.y) b2; stiffness
         ! form on the out-of-plane rotations and displacement and the membrane
         ! rates of a warped element (nodes zl off its mean plane) less the
@@ -404,10 +405,9 @@ contains
             end if
             c = sh%qm(e)
             a = gm%a(l)
-            ge = ym(l)/(2*(1 + nu(l)))
             pold = dot_product(real(sh%qhg(:, e), dp), real(qd(l, :), dp))
             sh%qhg(1:2, e) = sh%qhg(1:2, e) + dt*c*ym(l)*hh(l)**3*a/192*bb(l)*qd(l, 1:2)
-            sh%qhg(3, e) = sh%qhg(3, e) + dt*c*sh%shrf(e)*ge*hh(l)**3/12*bb(l)*qd(l, 3)
+            sh%qhg(3, e) = sh%qhg(3, e) + dt*c*sh%shrf(e)*ge(l)*hh(l)**3/12*bb(l)*qd(l, 3)
             sh%qhg(4:5, e) = sh%qhg(4:5, e) + dt*c*ym(l)*hh(l)*a/8*bb(l)*qd(l, 4:5)
             pnew = dot_product(real(sh%qhg(:, e), dp), real(qd(l, :), dp))
             sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold)
@@ -468,24 +468,23 @@ contains
     !> that yield, each on its own; the resultants (membrane n, bending m,
     !> shear q per unit length), the thickness change (ISTUPD) and the
     !> internal energy.
-    subroutine block_points(sh, els, nb, r, a, ok, dt, dt_avg_prev, nres, mres, qres)
+    subroutine block_points(sh, els, nb, r, a, ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: els(:), nb
         real(wp), intent(in) :: r(nblk, 8), a(nblk), dt
+        !> the elements' thickness, Young's modulus, Poisson's ratio and shear modulus
+        real(wp), intent(in) :: hh(nblk), ym(nblk), nu(nblk), ge(nblk)
         logical, intent(in) :: ok(nblk)
         real(dp), intent(in) :: dt_avg_prev
         real(wp), intent(out) :: nres(nblk, 3), mres(nblk, 3), qres(nblk, 2)
-        real(wp) :: hh(nblk), qe(nblk), ge(nblk), nu(nblk), sf(nblk), zf(nblk), wf(nblk), sy(nblk), al(nblk, 6)
+        real(wp) :: qe(nblk), sf(nblk), zf(nblk), wf(nblk), sy(nblk), al(nblk, 6)
         real(wp) :: dd(nblk, 5), so(nblk, 5), t(nblk, 5), dzz(nblk), dzm(nblk), xeq2(nblk), pm, fac, h, sl(5)
         real(dp) :: pold(nblk), pnew(nblk)
         integer :: nip(nblk), l, e, ip, mix, maxnip
         maxnip = 0
         do l = 1, nb
             e = els(l)
-            hh(l) = sh%h(e)
-            nu(l) = sh%nu(e)
-            qe(l) = sh%e(e)/(1 - nu(l)**2)
-            ge(l) = sh%e(e)/(2*(1 + nu(l)))
+            qe(l) = ym(l)/(1 - nu(l)**2)
             ! the transverse shear factor of an elastic shell (the plastic
             ! return takes the full shear modulus)
             sf(l) = sh%shrf(e)
@@ -831,43 +830,21 @@ contains
         dezz = -nu/ym*(s(1) + s(2) - sold) - dg*(s(1) + s(2))/3.0_wp
     end subroutine plane_stress_return
 
-    !> The corotational frame of a shell with nodes xe (triangle: N4 = N3):
-    !> normal from the diagonals (a triangle's sides), x along side 1-2.
-    !> ok false for a collapsed element.
-    pure subroutine shell_frame(xe, tri, e1, e2, e3, ok)
-        real(wp), intent(in) :: xe(3, 4)
-        logical, intent(in) :: tri
-        real(wp), intent(out) :: e1(3), e2(3), e3(3)
-        logical, intent(out) :: ok
-        real(wp) :: n3
-        if (tri) then
-            e3 = cross(xe(:, 2) - xe(:, 1), xe(:, 3) - xe(:, 1))
-        else
-            e3 = cross(xe(:, 3) - xe(:, 1), xe(:, 4) - xe(:, 2))
-        end if
-        ! lengths as sqrt(x.x): norm2's overflow-safe scaling costs much
-        ! more, and coordinates are far from overflow
-        n3 = sqrt(e3(1)**2 + e3(2)**2 + e3(3)**2)
-        ok = n3 > 0.0_wp
-        e1 = 0
-        e2 = 0
-        if (.not. ok) return
-        e3 = e3/n3
-        e1 = xe(:, 2) - xe(:, 1)
-        e1 = e1 - (e1(1)*e3(1) + e1(2)*e3(2) + e1(3)*e3(3))*e3
-        e1 = e1/sqrt(e1(1)**2 + e1(2)**2 + e1(3)**2)
-        e2 = cross(e3, e1)
-    end subroutine shell_frame
+    !> The corotational frame of shell e on coordinates x, as the element
+    !> loop takes it (block_geometry): the columns of r are e1 (along side
+    !> 1-2), e2 and e3 (the normal).
+    subroutine shell_axes(sh, e, x, r)
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: e
+        real(wp), intent(in) :: x(:, :)
+        real(wp), intent(out) :: r(3, 3)
+        type(block_geom_t) :: g
+        call block_geometry(sh, [e], 1, x, x, 0.0_wp, .false., g)
+        r(:, 1) = g%e1(1, :)
+        r(:, 2) = g%e2(1, :)
+        r(:, 3) = g%e3(1, :)
+    end subroutine shell_axes
 
-    !> (The shell keeps its own copy of the cross product: the same formula
-    !> as xd_core_vectors's, but taking that one changes the compiled
-    !> arithmetic of the frame in round-off, which car6's chaotic crush
-    !> amplifies: node 605 ended at -520.2 mm instead of -519.9.)
-    pure function cross(a, b) result(c)
-        real(wp), intent(in) :: a(3), b(3)
-        real(wp) :: c(3)
-        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-    end function cross
 
     !> Weight of integration point ip of nip through the thickness (the
     !> weights sum to 1).

@@ -22,7 +22,7 @@ module xd_output_states
     use xd_model, only: model_t, mat_rigid
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
-    use xd_elements_shell_bt, only: shells_t, shell_frame, point_weight, point_z
+    use xd_elements_shell_bt, only: shells_t, shell_axes, point_weight, point_z
     use xd_solver_energies, only: energies_t
     use xd_output_d3plot, only: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_write, d3plot_close, member_unit
     implicit none
@@ -247,7 +247,6 @@ contains
         integer :: err, e, ip
         real(wp), allocatable :: sig(:, :), vm(:), ep(:), th(:)
         real(wp) :: sg(6), r(3, 3), q2, w
-        logical :: ok
         if (.not. s%on) return
         ! (a state asked off the schedule, sense switch sw4, leaves it as it is)
         if (states_due(s, st%time)) then
@@ -306,7 +305,7 @@ contains
             ep = 0
             th(sh%n + 1:) = s%rshell_t
             ! each element writes its own entries: threaded, the same result
-            !$omp parallel do schedule(static) private(q2, sg, ip, w, r, ok)
+            !$omp parallel do schedule(static) private(q2, sg, ip, w, r)
             do e = 1, sh%n
                 q2 = 0
                 ep(e) = 0
@@ -326,7 +325,7 @@ contains
                     if (sh%plastic(e)) ep(e) = max(ep(e), sh%epsp(ip, e))
                 end do
                 vm(e) = sqrt(q2)
-                call shell_frame(st%x(:, sh%conn(:, e)), sh%conn(3, e) == sh%conn(4, e), r(:, 1), r(:, 2), r(:, 3), ok)
+                call shell_axes(sh, e, st%x, r)
                 sig(:, e) = to_global(sg, r)
                 th(e) = sh%h(e)
             end do
@@ -361,7 +360,6 @@ contains
         real(sp), allocatable :: glob(:), solid(:, :), shell(:, :), alive(:)
         real(wp) :: r(3, 3), pt(5, 10), nr(5), mr(3), h, w, z
         integer :: e, nm, k, j, l, ip, ipx(3), nip, mx
-        logical :: ok
         nm = size(s%dmat_part)
         mx = s%bin%maxint
         allocate (glob(s%bin%nglbv), solid(7, s%nsolid), shell(s%bin%nv2d, s%nshell), alive(s%nsolid + s%nshell))
@@ -394,10 +392,10 @@ contains
         if (size(solids%epsp) > 0) solid(7, 1:solids%n) = real(solids%epsp, sp)
         shell = 0
         ! layers: per layer six global stresses and the plastic strain
-        !$omp parallel do schedule(static) private(r, ok, pt, nr, mr, h, w, z, ip, ipx, nip, l)
+        !$omp parallel do schedule(static) private(r, pt, nr, mr, h, w, z, ip, ipx, nip, l)
         do e = 1, sh%n
             nip = sh%nip(e)
-            call shell_frame(st%x(:, sh%conn(:, e)), sh%conn(3, e) == sh%conn(4, e), r(:, 1), r(:, 2), r(:, 3), ok)
+            call shell_axes(sh, e, st%x, r)
             pt = 0
             pt(:, 1:nip) = sh%sig(:, 1:nip, e)
             if (mx == 3) then
