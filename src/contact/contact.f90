@@ -82,6 +82,9 @@ module xd_contact_contact
         real(wp) :: prel = 0                  !< the deepest of them
         integer :: nref = 0                   !< deep contacts refused: zones the slave never entered
         real(wp) :: pref = 0                  !< the deepest of them
+        !> per slave: the segment it held last (kept after the contact ends;
+        !> 0: none yet): a slave back under it, deep, is in contact again
+        integer, allocatable :: held(:)
         integer, allocatable :: rseg(:)       !< per slave: this cycle's deepest refused segment (0: none)
         real(wp), allocatable :: rdep(:)      !< per slave: its depth
         real(wp), allocatable :: deep(:)      !< per slave: the depth of a contact dropped beyond PENMAX (0: none)
@@ -542,7 +545,8 @@ contains
                 n = s%nslave
                 allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n), it%p0(n))
                 allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n), it%evk(n), it%evd(n), it%ev(16), it%found(n))
-                allocate (it%rseg(n), it%rdep(n), it%rlast(n), it%deep(n))
+                allocate (it%rseg(n), it%rdep(n), it%rlast(n), it%deep(n), it%held(n))
+                it%held = 0
                 it%deep = 0
                 it%rseg = 0
                 it%rdep = 0
@@ -601,8 +605,8 @@ contains
                 it%ls%first = .not. it%started
                 if (it%cl%search /= it%nsearch .and. allocated(it%lists%gap)) &
                     call reset_clearance(s, it%lists, it%xl, it%nsearch, it%cl)
-                call find_contacts(s, it%lists, it%ls, it%cl, it%cseg, it%fprev, it%aeff + it%p0, ct%sw, it%mine, &
-                                  it%hit, it%found, it%xl, it%rseg, it%rdep, it%p0, it%deep)
+                call find_contacts(s, it%lists, it%ls, it%cl, it%cseg, it%held, it%fprev, it%aeff + it%p0, ct%sw, &
+                                   it%mine, it%hit, it%found, it%xl, it%rseg, it%rdep, it%p0, it%deep)
             end associate
         end do
     end subroutine contact_local_search
@@ -636,12 +640,14 @@ contains
     !> slave's search run. A slave so found close is searched without a
     !> fresh bound for the next `back_off` cycles (its clearance would rarely
     !> have grown).
-    subroutine find_contacts(s, lists, ls, cl, cseg, fprev, aprev, sw, mine, hit, found, xs, rseg, rdep, allow, deep)
+    subroutine find_contacts(s, lists, ls, cl, cseg, held, fprev, aprev, sw, mine, hit, found, xs, rseg, rdep, allow, &
+                             deep)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
         type(clearance_t), intent(inout) :: cl
         integer, intent(in) :: cseg(:)
+        integer, intent(in) :: held(:)       !< per slave: the segment it held last (0: none)
         real(wp), intent(in) :: fprev(:, :), aprev(:)
         type(search_switches_t), intent(in) :: sw
         integer, intent(in) :: mine(:)
@@ -682,7 +688,7 @@ contains
                 end if
             end if
             call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k), xs, rseg(k), rdep(k), &
-                              allow(k), deep(k))
+                              allow(k), deep(k), held(k))
             found(k) = hit(k)%found
         end do
         !$omp end parallel do
@@ -786,6 +792,7 @@ contains
                     fs = it%fpair(:, q)
                     vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
                     it%cseg(k) = m
+                    it%held(k) = m
                     it%fprev(:, k) = fs
                     f(:, s%node(sn)) = f(:, s%node(sn)) + fs
                     ct%fnode(:, s%node(sn)) = ct%fnode(:, s%node(sn)) + fs

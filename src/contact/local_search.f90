@@ -83,7 +83,7 @@ contains
     !> penmax times its thickness (less `allow`, the slave's allowance, on
     !> the old segment) holds no contact: the node is released and passes.
     subroutine find_contact(s, lists, ls, i, oldseg, fprev, aprev, sw, best, xs, refused, refused_depth, allow, &
-                            beyond)
+                            beyond, held)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
@@ -97,14 +97,20 @@ contains
         real(wp), intent(out), optional :: refused_depth
         real(wp), intent(in), optional :: allow      !< the slave's allowance on oldseg
         real(wp), intent(out), optional :: beyond    !< the depth of a contact dropped beyond PENMAX (0: none)
+        !> the segment the slave held last (0: none): it was on that
+        !> segment's contact side then, so being deep under it again is a
+        !> contact, not a face it never crossed
+        integer, intent(in), optional :: held
         type(hit_t) :: hit
-        integer :: sn, want, j, k, m, mn, cnode, nsolid_miss, ntried, rseg
+        integer :: sn, want, j, k, m, mn, cnode, nsolid_miss, ntried, rseg, held_seg
         integer :: tried(max_tried)
         real(wp) :: ts, cv(3), rdep
         logical :: have_v, interior
         real(wp) :: deep
 
         sn = s%slave(i)
+        held_seg = 0
+        if (present(held)) held_seg = held
         ts = 0.5_wp*s%node_t(sn)
         want = wanted_side(s, sn)
         best%found = .false.
@@ -250,7 +256,7 @@ contains
                 if (in_plane_own(m, h) .or. too_deep(h)) return
                 ! deeper than the slave can have gone since last cycle, in a
                 ! zone it did not enter since the search: not its contact
-                if (.not. ls%first .and. m /= oldseg .and. h%gap == 0.0_wp) then
+                if (.not. ls%first .and. m /= oldseg .and. m /= held_seg .and. h%gap == 0.0_wp) then
                     if (.not. reachable(h)) then
                         if (.not. came_in(m)) then
                             if (abs(h%a) > rdep) then

@@ -33,7 +33,7 @@ module xd_solver_restart
     !> contact's impulse and work by part pair; 5: the edge pairs of AUTOMATIC_GENERAL interfaces;
     !> 6: mass scaling; 7: a checksum of every byte after the HDF5 image, and
     !> the deck and output directory as absolute paths
-    integer, parameter :: dump_format = 7
+    integer, parameter :: dump_format = 8
     !> what precedes the checksum at the end of a dump
     character(len=8), parameter :: sum_magic = 'XDYNASUM'
 
@@ -173,6 +173,7 @@ contains
                 call dput(r, 'counts', [it%total%pool, it%total%reduced, it%total%masters, it%ncontact_total], nf)
                 call dput(r, 'energy', [it%energy], nf)
                 call dput(r, 'cseg', it%cseg, nf)
+                call dput(r, 'held', it%held, nf)
                 call dput(r, 'fprev', [it%fprev], nf)
                 call dput(r, 'ft', [it%ft], nf)
                 call dput(r, 'p0', it%p0, nf)
@@ -548,6 +549,7 @@ contains
                 end if
                 call getd(r, 'energy', 1); if (ok()) it%energy = bd(1)
                 call geti(r, 'cseg', size(it%cseg)); if (ok()) it%cseg = bi
+                call geti(r, 'held', size(it%held)); if (ok()) it%held = bi
                 call getw(r, 'fprev', size(it%fprev)); if (ok()) it%fprev = reshape(bw, shape(it%fprev))
                 call getw(r, 'ft', size(it%ft)); if (ok()) it%ft = reshape(bw, shape(it%ft))
                 call getw(r, 'p0', size(it%p0)); if (ok()) it%p0 = bw

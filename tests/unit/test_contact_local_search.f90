@@ -53,7 +53,8 @@ contains
     !> plate's contact zone (half thicknesses 0.05 + 0.1), at rest, in no
     !> contact last cycle. Where the node lay there already at the last
     !> search it never crossed into the zone: no contact, the plate named
-    !> as refused with depth 0.12. Where it lay outside at the search (z =
+    !> as refused with depth 0.12; unless the plate is the segment the node
+    !> held last (a contact that slid off and came back). Where it lay outside at the search (z =
     !> 0.5) it came in since (a missed contact): found. At the first cycle
     !> every contact is an initial penetration: found.
     subroutine refused_deep()
@@ -62,7 +63,7 @@ contains
         type(master_lists_t) :: l
         type(local_search_t) :: ls
         type(hit_t) :: h
-        integer :: p(4), q(4), k, rseg
+        integer :: p(4), q(4), k, rseg, plate
         real(wp) :: rdep
         real(wp), allocatable :: xs(:, :)
         call empty_model(m, 2)
@@ -80,6 +81,13 @@ contains
         call check(.not. h%found .and. rseg > 0 .and. abs(rdep - 0.12_wp) < 1.0e-9_wp, &
                    'local search: a node 0.12 deep in a shell''s zone it lay in at the last search is refused '// &
                    '(no contact; the segment and depth named)')
+        ! the node held that plate earlier (released when it slid off,
+        ! back under it now): on its contact side then, so a contact again
+        plate = rseg
+        call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep, &
+                          held=plate)
+        call check(h%found .and. rseg == 0 .and. abs(abs(h%a) - 0.12_wp) < 1.0e-9_wp, &
+                   'local search: the same node deep under the segment it held last (released, back) is found')
         xs(3, s%slave(k)) = 0.5_wp
         call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep)
         call check(h%found .and. rseg == 0 .and. abs(abs(h%a) - 0.12_wp) < 1.0e-9_wp, &
