@@ -680,7 +680,9 @@ def test_shell_warped_spin():
     motion, so the hourglass and internal energies must stay below 1e-5 of
     the kinetic energy (before the membrane hourglass rates left out the
     rigid spin of warped elements, the hourglass energy reached 1.4% of
-    it) and the kinetic energy must stay within 1e-3."""
+    it) and the kinetic energy must stay within 1e-3. The deck takes the
+    stiffness hourglass form (it says why: under the viscous form the
+    spin's centrifugal load drives the corners' twist, an hourglass mode)."""
     p, out = run_deck("input_decks/verify/shell_warped_spin.k", "shell_warped_spin")
     record("warped shell spin runs (exit 0)", p.returncode == 0, p.stderr[-300:])
     if p.returncode != 0:
@@ -692,6 +694,119 @@ def test_shell_warped_spin():
     dke = abs(g["kinetic_energy"][-1] / ke0 - 1)
     record(f"warped shell spin: hourglass {hg:.1e} and internal {ie:.1e} of the kinetic energy (under 1e-5), "
            f"kinetic energy kept within 1e-3 ({dke:.1e})", hg < 1e-5 and ie < 1e-5 and dke < 1e-3)
+
+
+def hourglass_modes_deck(path, hourglass, endtim, tssfac=0.1):
+    """Three free 10 mm steel shells, 1 mm thick, each started in one pure
+    hourglass mode (corner pattern h = 1, -1, 1, -1; 0.01 m/s): part 1
+    in-plane (x), part 2 out of plane (z), part 3 rotation about x (1 rad/s).
+    None of them strains the one point, so each mode answers to its own
+    hourglass coefficient alone. `hourglass` is the *HOURGLASS card (None:
+    no card, the parts take *CONTROL_HOURGLASS's defaults). TSSFAC 0.1
+    keeps the modes many steps long."""
+    L, h, v = 0.01, 0.001, 0.01
+    out = ["*KEYWORD", "*TITLE", "one shell per hourglass mode, free", "*CONTROL_TERMINATION",
+           f"{endtim:10.4g}         0", "*CONTROL_TIMESTEP", f"         0{tssfac:10.3f}",
+           "*DATABASE_GLSTAT", f"{endtim / 4000:10.4g}", "*DATABASE_MATSUM", f"{endtim / 4000:10.4g}",
+           "*SECTION_SHELL", "         1         2         1         2", f"{h:10.4g}" * 4,
+           "*MAT_ELASTIC", "         1      7850     2e+11       0.3"]
+    if hourglass is not None:
+        out += ["*HOURGLASS", hourglass]
+    for p in (1, 2, 3):
+        out += ["*PART", f"mode {p}", f"{p:10d}         1         1         0{int(hourglass is not None):10d}"]
+    out.append("*NODE")
+    pat, xy = [1, -1, 1, -1], [(0, 0), (L, 0), (L, L), (0, L)]
+    for p in (1, 2, 3):
+        out += [f"{4 * (p - 1) + k + 1:8d}{xy[k][0] + 3 * L * (p - 1):16.9e}{xy[k][1]:16.9e}{0.0:16.9e}"
+                for k in range(4)]
+    out.append("*ELEMENT_SHELL")
+    out += [f"{p:8d}{p:8d}" + "".join(f"{4 * (p - 1) + k + 1:8d}" for k in range(4)) for p in (1, 2, 3)]
+    out.append("*INITIAL_VELOCITY_NODE")
+    out += [f"{k + 1:10d}{v * pat[k]:10.4g}{0:10d}{0:10d}" for k in range(4)]
+    out += [f"{k + 5:10d}{0:10d}{0:10d}{v * pat[k]:10.4g}" for k in range(4)]
+    out += [f"{k + 9:10d}{0:10d}{0:10d}{0:10d}{v / L * pat[k]:10.4g}" for k in range(4)]
+    out.append("*END")
+    with open(path, "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
+def hourglass_mode_energies(out):
+    """Kinetic and hourglass energy of each mode's shell (matsum's kinetic
+    energy is translational; the rotating shell's is glstat's less the
+    other two), with the times and the time step."""
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        ke, hg = f["matsum/kinetic_energy"][:], f["matsum/hourglass_energy"][:]
+        ke[:, 2] = f["glstat/kinetic_energy"][:] - ke[:, 0] - ke[:, 1]
+        return f["matsum/time"][:], ke, hg, f["glstat/time_step"][:]
+
+
+def test_shell_hourglass_forms():
+    """Belytschko-Tsay hourglass control, each form against its closed-form
+    response (issue 31). One square shell of side L, mass m = rho h L^2 per
+    node quarter, gamma = h (gamma.gamma = 4), B.B = 2/L^2: the stiffness
+    at coefficient 1 of each mode is k1 = E h L^2/8 B.B (membrane),
+    kappa G h^3/12 B.B (warping), E h^3 L^2/192 B.B (bending, on the rotary
+    inertia m (h^2 + 3 L^2)/12), and its mass m/4. The stiffness form
+    (IHQ 4) makes each mode a free oscillator, omega^2 = q k1/(m/4), which
+    the central difference turns into (2/dt) asin(omega dt/2); the viscous
+    form (IHQ 1, the default) a damper, qdot falling by (1 - 2 q omega1 dt)
+    a step (omega1^2 = k1/(m/4)). Both are exact for these linear modes
+    but for round-off, so the tolerance is 1e-4 on a frequency or a
+    rate. Energy: the stiffness form keeps kinetic + hourglass energy, the
+    viscous form turns the kinetic energy into hourglass work, both to 1e-9
+    (round-off; before the fix the rotating shell's initial kinetic energy
+    was taken from the spin after the first step, and its balance read
+    1.6e-3, lambda dt)."""
+    L, h, E, rho, nu = 0.01, 0.001, 2e11, 7850.0, 0.3
+    G, m = E / (2 * (1 + nu)), rho * h * L * L / 4
+    k1 = [E * h / 4, G * h ** 3 / (6 * L * L), E * h ** 3 / 96]
+    m1 = [m / 4, m / 4, m * (h * h + 3 * L * L) / 12 / 4]
+    names = ["membrane", "warping", "bending"]
+    runs = {}
+    # stiffness form, its three coefficients apart: QM 0.05, QB 0.02, QW 0.08
+    for key, card, endtim in (("stiff", f"{1:10d}{4:10d}{0.05:10.3g}{0:10d}{0:10.1f}{0:10.1f}{0.02:10.3g}{0.08:10.3g}",
+                               3e-3),
+                              ("visc", f"{1:10d}{1:10d}{0.1:10.3g}{0:10d}{0:10.1f}{0:10.1f}{0.05:10.3g}{0.2:10.3g}",
+                               1e-3),
+                              ("default", None, 1e-3)):
+        deck = os.path.join(TMP, f"hg_{key}.k")
+        hourglass_modes_deck(deck, card, endtim)
+        p, out = run_deck(deck, f"hg_{key}")
+        record(f"hourglass modes ({key}) run (exit 0)", p.returncode == 0, p.stderr[-300:])
+        if p.returncode != 0:
+            return
+        runs[key] = hourglass_mode_energies(out)
+    t, ke, hg, dts = runs["stiff"]
+    dt = dts[1]
+    for i, q in enumerate([0.05, 0.08, 0.02]):
+        k = ke[:, i]
+        mins = [j for j in range(1, len(k) - 1) if k[j] <= k[j - 1] and k[j] < k[j + 1]]
+        tm = [t[j] + 0.5 * (k[j - 1] - k[j + 1]) / (k[j - 1] - 2 * k[j] + k[j + 1]) * (t[1] - t[0]) for j in mins]
+        w = np.sqrt(q * k1[i] / m1[i])
+        wd = 2 / dt * np.arcsin(w * dt / 2)
+        got = np.pi / np.mean(np.diff(tm)) if len(tm) > 2 else 0.0
+        record(f"stiffness form (IHQ 4), {names[i]} mode at q {q}: omega {got:.6g} against {wd:.6g} "
+               f"({len(tm)} half periods; within 1e-4)", abs(got / wd - 1) < 1e-4)
+        bal = np.max(abs(k + hg[:, i] - k[0])) / k[0]
+        record(f"stiffness form, {names[i]} mode: kinetic + hourglass energy kept within 1e-9 ({bal:.1e})",
+               bal < 1e-9)
+    for key, qs in (("visc", [0.1, 0.2, 0.05]), ("default", [0.1, 0.1, 0.1])):
+        t, ke, hg, dts = runs[key]
+        dt = dts[1]
+        for i, q in enumerate(qs):
+            k = ke[:, i]
+            lam = 2 * q * np.sqrt(k1[i] / m1[i])
+            want = -2 * np.log(1 - lam * dt) / dt
+            sel = (k < 0.5 * k[0]) & (k > 1e-4 * k[0])
+            got = -np.polyfit(t[sel], np.log(k[sel]), 1)[0] if sel.sum() > 3 else 0.0
+            form = "viscous form (IHQ 1)" if key == "visc" else "no *HOURGLASS (IHQ 1 default, QM 0.1)"
+            record(f"{form}, {names[i]} mode at q {q}: kinetic energy decays at {got:.6g}/s against {want:.6g} "
+                   f"(within 1e-4)", abs(got / want - 1) < 1e-4)
+            live = k > 1e-6 * k[0]
+            mono = bool(np.all(np.diff(k[live]) <= 0))
+            bal = np.max(abs(k + hg[:, i] - k[0])) / k[0]
+            record(f"{form}, {names[i]} mode: no overshoot (kinetic energy falls every output), its loss booked "
+                   f"as hourglass work within 1e-9 ({bal:.1e})", mono and bal < 1e-9)
 
 
 def shell_grid(n, first, part, e0, shift=0.0, z=0.0):
@@ -3275,6 +3390,33 @@ def test_public_decks():
         worst, crossings, nst, _ = penetration.check_run(out, parts, growth=True)
         record(f"public {deck}: no node through a shell of the contact parts ({nst} states: overlap growth "
                f"{worst:.3f} of the thickness, pass-throughs {crossings})", worst < 1.0 and crossings == 0)
+    # car6 with its *HOURGLASS cards' IHQ 4 set to 1 (issue 31): the shells
+    # take the viscous form (d3hsp names it), whose hourglass work only
+    # grows (it dissipates; 1e-9 of the energy for round-off), and the run
+    # differs from the deck's own stiffness form
+    src = open(os.path.join(PUBLIC, "car6_crash_v223.k")).read()
+    ihq1 = re.sub(r"(?m)^(\s+\d+)(\s+)4(\s+0\.02)", r"\g<1>\g<2>1\g<3>", src)
+    os.makedirs(os.path.join(TMP, "car6_ihq1"), exist_ok=True)
+    with open(os.path.join(TMP, "car6_ihq1", "car6_crash_v223.k"), "w") as fh:
+        fh.write(ihq1)
+    shutil.copy(os.path.join(PUBLIC, "car6_main.k"), os.path.join(TMP, "car6_ihq1", "car6_main.k"))
+    out1 = os.path.join(TMP, "car6_ihq1", "out")
+    p = run([XDYNA, "i=" + os.path.join(TMP, "car6_ihq1", "car6_main.k"), "outdir=" + out1, "endtim=0.010"])
+    log = open(os.path.join(out1, "d3hsp")).read() if p.returncode == 0 else ""
+    record("public car6 with IHQ 1: runs, every shell part viscous in d3hsp",
+           p.returncode == 0 and log.count("shell hourglass: viscous (IHQ 1)") == 7 and "(IHQ 4)" not in log,
+           p.stderr[-300:])
+    if p.returncode == 0:
+        with h5py.File(os.path.join(out1, "thist.h5"), "r") as f1, \
+                h5py.File(os.path.join(TMP, "public_car6_main", "thist.h5"), "r") as f4:
+            hg1, tot = f1["glstat/hourglass_energy"][:], f1["glstat/total_energy"][0]
+            hg4 = f4["glstat/hourglass_energy"][:]
+            d1, d4 = f1["nodout/x_displacement"][-1], f4["nodout/x_displacement"][-1]
+        drop = float(np.min(np.diff(hg1))) / tot
+        record(f"public car6 IHQ 1: hourglass work never falls (smallest step {drop:.1e} of the energy, above -1e-9); "
+               f"IHQ 4's hourglass energy at 10 ms {hg4[-1]:.3e}, IHQ 1's {hg1[-1]:.3e}, node displacements "
+               f"{np.max(abs(d1 - d4)):.2e} apart", drop > -1e-9 and abs(hg1[-1] / hg4[-1] - 1) > 0.01
+               and np.max(abs(d1 - d4)) > 0)
     out = os.path.join(TMP, "public_ball_plate")
     shutil.rmtree(out, ignore_errors=True)
     p = run([XDYNA, "i=" + os.path.join(PUBLIC, "ball_plate.k"), "outdir=" + out])
@@ -3808,7 +3950,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

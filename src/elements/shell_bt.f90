@@ -25,7 +25,11 @@ module xd_elements_shell_bt
         integer, allocatable :: conn(:, :)    !< (4, n)
         integer, allocatable :: eid(:), part(:)
         real(wp), allocatable :: h(:)         !< thickness (mean of the nodal values)
-        real(wp), allocatable :: e(:), nu(:), ro(:), shrf(:), qm(:)
+        real(wp), allocatable :: e(:), nu(:), ro(:), shrf(:)
+        !> hourglass coefficients: membrane (QM), bending (QB), warping (QW);
+        !> viscous form (IHQ 1-3) or stiffness form (IHQ 4-5)
+        real(wp), allocatable :: qm(:), qb(:), qw(:)
+        logical, allocatable :: hg_viscous(:)
         integer, allocatable :: nip(:)
         real(wp), allocatable :: sig(:, :, :) !< (5, nip, n) stresses at the points (nip: the most of any shell)
         real(wp), allocatable :: qhg(:, :)    !< (5, n) hourglass generalized forces
@@ -137,7 +141,8 @@ contains
         if (sh%n == 0) return
         sh%thickness_update = model%ctl%istupd /= 0
         allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%e(sh%n), sh%nu(sh%n), &
-                  sh%ro(sh%n), sh%shrf(sh%n), sh%qm(sh%n), sh%nip(sh%n), sh%area0(sh%n), sh%msq(sh%n))
+                  sh%ro(sh%n), sh%shrf(sh%n), sh%qm(sh%n), sh%qb(sh%n), sh%qw(sh%n), sh%hg_viscous(sh%n), &
+                  sh%nip(sh%n), sh%area0(sh%n), sh%msq(sh%n))
         sh%msq = 1
         call alloc(sh%fslot, 3, 4*sh%n, 'shell force slots')
         call alloc(sh%mslot, 3, 4*sh%n, 'shell moment slots')
@@ -170,9 +175,19 @@ contains
             sh%backstress(e) = .false.
             if (sh%plastic(e)) sh%backstress(e) = sh%pp(sh%pmat(e))%ncurve == 0 .and. &
                                                   sh%pp(sh%pmat(e))%beta < 1.0_wp .and. sh%pp(sh%pmat(e))%ep /= 0.0_wp
+            ! *CONTROL_HOURGLASS, then the part's *HOURGLASS (QB and QW
+            ! default to its QM; QH stands for all three)
             sh%qm(e) = model%ctl%qh
+            sh%qb(e) = model%ctl%qh
+            sh%qw(e) = model%ctl%qh
+            sh%hg_viscous(e) = model%ctl%ihq <= 3
             k = model%part(p)%hg_ix
-            if (k > 0) sh%qm(e) = model%hg(k)%qm
+            if (k > 0) then
+                sh%qm(e) = model%hg(k)%qm
+                sh%qb(e) = model%hg(k)%qb
+                sh%qw(e) = model%hg(k)%qw
+                if (model%hg(k)%ihq > 0) sh%hg_viscous(e) = model%hg(k)%ihq <= 3
+            end if
         end do
         ! the points' state, as many per shell as the most any shell has
         ! (each shell's in one run of memory: NIP 2 in 80 bytes, not 400);
@@ -307,9 +322,10 @@ contains
         real(wp), parameter :: quarter = 0.25_wp
         real(wp) :: vg(nblk, 3, 4), wg(nblk, 3, 4), vl(nblk, 3, 4), wl(nblk, 3, 4), r(nblk, 8)
         real(wp) :: nres(nblk, 3), mres(nblk, 3), qres(nblk, 2), qd(nblk, 5), hq(nblk, 5)
-        real(wp) :: fs(nblk, 3, 4), ms(nblk, 3, 4), bb(nblk), gamz(nblk), wsp(nblk)
+        real(wp) :: fs(nblk, 3, 4), ms(nblk, 3, 4), bb(nblk), gg(nblk), gamz(nblk), wsp(nblk)
         real(wp) :: hh(nblk), ym(nblk), nu(nblk), ro(nblk), ge(nblk)
-        real(wp) :: wx, wy, f1, f2, f3, m1, m2, b1k, b2k, gk, a, c, q1, q2, q3, q4, q5, b
+        real(wp) :: wx, wy, f1, f2, f3, m1, m2, b1k, b2k, gk, a, q1, q2, q3, q4, q5, b, g
+        real(wp) :: kb, kw, km, cb, cw, cm, mn, jn
         real(dp) :: pold, pnew
         integer :: l, k, e, nd
         ! gather: the nodes' velocities, the elements' data
@@ -385,8 +401,9 @@ contains
                  gm%b2(l, 4)*vl(l, 3, 4)
             wy = -(((gm%b1(l, 1)*vl(l, 3, 1) + gm%b1(l, 2)*vl(l, 3, 2)) + gm%b1(l, 3)*vl(l, 3, 3)) + &
                    gm%b1(l, 4)*vl(l, 3, 4))
-            q1 = 0; q2 = 0; q3 = 0; q4 = 0; q5 = 0; b = 0
+            q1 = 0; q2 = 0; q3 = 0; q4 = 0; q5 = 0; b = 0; g = 0
             do k = 1, 4
+                g = g + gm%gam(l, k)**2
                 q1 = q1 + gm%gam(l, k)*wl(l, 1, k)
                 q2 = q2 + gm%gam(l, k)*wl(l, 2, k)
                 q3 = q3 + gm%gam(l, k)*vl(l, 3, k)
@@ -396,19 +413,44 @@ contains
             end do
             qd(l, 1) = q1; qd(l, 2) = q2; qd(l, 3) = q3; qd(l, 4) = q4; qd(l, 5) = q5
             bb(l) = b
+            gg(l) = g
         end do
+        ! the generalized forces: stiffness form (IHQ 4-5), Q += dt k qdot
+        ! with Belytschko and Tsay's k (bending QB E h^3 A/192 B.B, warping
+        ! QW kappa G h^3/12 B.B, membrane QM E h A/8 B.B); viscous form
+        ! (IHQ 1-3), Q = c qdot with c = 2 q sqrt(k1 m): each mode damped at
+        ! the fraction q (QB, QW, QM) of critical against the stiffness k1
+        ! the stiffness form has at coefficient 1 (the element's own), m the
+        ! mode's mass, a node's share over gamma.gamma (rotary for bending)
         do l = 1, nb
             e = els(l)
             if (.not. gm%ok(l)) then
                 hq(l, :) = 0
                 cycle
             end if
-            c = sh%qm(e)
             a = gm%a(l)
+            kb = ym(l)*hh(l)**3*a/192*bb(l)
+            kw = sh%shrf(e)*ge(l)*hh(l)**3/12*bb(l)
+            km = ym(l)*hh(l)*a/8*bb(l)
             pold = dot_product(real(sh%qhg(:, e), dp), real(qd(l, :), dp))
-            sh%qhg(1:2, e) = sh%qhg(1:2, e) + dt*c*ym(l)*hh(l)**3*a/192*bb(l)*qd(l, 1:2)
-            sh%qhg(3, e) = sh%qhg(3, e) + dt*c*sh%shrf(e)*ge(l)*hh(l)**3/12*bb(l)*qd(l, 3)
-            sh%qhg(4:5, e) = sh%qhg(4:5, e) + dt*c*ym(l)*hh(l)*a/8*bb(l)*qd(l, 4:5)
+            if (sh%hg_viscous(e)) then
+                ! the modes' masses: a node's mass and rotary inertia (as
+                ! shell_masses gives them) over gamma.gamma
+                mn = ro(l)*hh(l)*a/4/gg(l)
+                jn = mn*(hh(l)**2 + 3*a)/12
+                cb = 2*sh%qb(e)*sqrt(kb*jn)
+                cw = 2*sh%qw(e)*sqrt(kw*mn)
+                cm = 2*sh%qm(e)*sqrt(km*mn)
+                sh%qhg(1:2, e) = cb*qd(l, 1:2)
+                sh%qhg(3, e) = cw*qd(l, 3)
+                sh%qhg(4:5, e) = cm*qd(l, 4:5)
+            else
+                sh%qhg(1:2, e) = sh%qhg(1:2, e) + dt*sh%qb(e)*kb*qd(l, 1:2)
+                sh%qhg(3, e) = sh%qhg(3, e) + dt*sh%qw(e)*kw*qd(l, 3)
+                sh%qhg(4:5, e) = sh%qhg(4:5, e) + dt*sh%qm(e)*km*qd(l, 4:5)
+            end if
+            ! the work of each step's forces over the velocities before and
+            ! after them, as the central difference moves the nodes
             pnew = dot_product(real(sh%qhg(:, e), dp), real(qd(l, :), dp))
             sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold)
             sh%pend_hg(e) = 0.5_dp*pnew

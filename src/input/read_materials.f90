@@ -296,13 +296,14 @@ contains
         if (ic > kw%ncard) return
         call get_card(ctx, kw, ic, 'HGID IHQ QM IBQ Q1 Q2 QB QW', 1, card, error)
         if (allocated(error)) return
-        call ignored_fields(model, card, [4, 7, 8], 'IBQ is not used by LS-DYNA either; QB/QW are for other shell '// &
-            'formulations; ignored')
+        call ignored_fields(model, card, [4], 'IBQ is not used by LS-DYNA either; ignored')
         call get_int(card, 1, h%id, 0, error); if (allocated(error)) return
         call get_int(card, 2, h%ihq, 0, error); if (allocated(error)) return
         call get_real(card, 3, h%qm, 0.1_wp, error, zero_default=.true.); if (allocated(error)) return
         call get_real(card, 5, h%q1, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 6, h%q2, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 7, h%qb, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 8, h%qw, 0.0_wp, error); if (allocated(error)) return
         if (h%id <= 0) then
             call card_error(card, 1, 'hourglass id must be a positive integer', error); return
         end if
@@ -312,6 +313,14 @@ contains
         if (h%qm < 0.0_wp) then
             call card_error(card, 3, 'QM must not be negative', error); return
         end if
+        if (h%qb < 0.0_wp) then
+            call card_error(card, 7, 'QB must not be negative', error); return
+        end if
+        if (h%qw < 0.0_wp) then
+            call card_error(card, 8, 'QW must not be negative', error); return
+        end if
+        if (h%qb == 0.0_wp) h%qb = h%qm
+        if (h%qw == 0.0_wp) h%qw = h%qm
         h%src = kw%card_line(ic)
         if (.not. allocated(model%hg)) allocate (model%hg(8))
         if (model%nhg == size(model%hg)) model%hg = [model%hg, model%hg]

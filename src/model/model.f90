@@ -70,6 +70,8 @@ module xd_model
         integer :: ihq = 0                  !< 0: take *CONTROL_HOURGLASS
         real(wp) :: qm = 0.1_wp
         real(wp) :: q1 = 1.5_wp, q2 = 0.06_wp
+        !> shells: bending (QB) and warping (QW) coefficients; 0: QM
+        real(wp) :: qb = 0, qw = 0
         integer :: src = 0
     end type hourglass_t
 

@@ -59,6 +59,42 @@ contains
         lg%open = .false.
     end subroutine log_close
 
+    !> A real as d3hsp writes it (es12.4, left-adjusted).
+    function fmt(x) result(t)
+        real(wp), intent(in) :: x
+        character(len=16) :: t
+        write (t, '(es12.4)') x
+        t = adjustl(t)
+    end function fmt
+
+    !> One line per part with shells: its hourglass form and coefficients
+    !> (IHQ 1-3 viscous, 4-5 stiffness; QB and QW default to QM).
+    function shell_hourglass_lines(model) result(s)
+        type(model_t), intent(in) :: model
+        character(len=:), allocatable :: s
+        character(len=1), parameter :: nl = new_line('a')
+        integer :: p, k, ihq
+        real(wp) :: qm, qb, qw
+        s = ''
+        do p = 1, model%npart
+            if (count(model%shell_part(1:model%nshell) == p) == 0) cycle
+            ihq = model%ctl%ihq
+            qm = model%ctl%qh; qb = qm; qw = qm
+            k = model%part(p)%hg_ix
+            if (k > 0) then
+                if (model%hg(k)%ihq > 0) ihq = model%hg(k)%ihq
+                qm = model%hg(k)%qm; qb = model%hg(k)%qb; qw = model%hg(k)%qw
+            end if
+            if (ihq <= 3) then
+                s = s//'     part '//itoa(model%part(p)%id)//' shell hourglass: viscous (IHQ '//itoa(ihq)// &
+                    '), fractions of critical damping'
+            else
+                s = s//'     part '//itoa(model%part(p)%id)//' shell hourglass: stiffness (IHQ '//itoa(ihq)//')'
+            end if
+            s = s//' QM '//trim(fmt(qm))//' QB '//trim(fmt(qb))//' QW '//trim(fmt(qw))//nl
+        end do
+    end function shell_hourglass_lines
+
     !> Model summary as text (for d3hsp and for --check on stdout).
     function model_summary(model, solids, nrigid) result(s)
         type(model_t), intent(in) :: model
@@ -109,6 +145,7 @@ contains
             trim(fmt(model%ctl%q2))//')'//nl
         if (model%nshell > 0) then
             s = s//'   shell elements ............ on  (Belytschko-Tsay, '//itoa(model%nshell)//')'//nl
+            s = s//shell_hourglass_lines(model)
         else
             s = s//'   shell elements ............ off (none in the deck)'//nl
         end if
@@ -145,12 +182,6 @@ contains
                  model%db%rcforc%binary] == 2)) s = s//'   thist.h5 alone (BINARY 2) . '//binout_only()//nl
         if (model%nwarn > 0) s = s//nl//model%warnings
     contains
-        function fmt(x) result(t)
-            real(wp), intent(in) :: x
-            character(len=16) :: t
-            write (t, '(es12.4)') x
-            t = adjustl(t)
-        end function fmt
         !> The databases whose ASCII file is not written.
         function binout_only() result(t)
             character(len=:), allocatable :: t

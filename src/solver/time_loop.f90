@@ -297,8 +297,8 @@ contains
                     ! at t = 0 the kinetic energy is that of the initial velocities
                     ! (the start v(1/2) = v(0) + a(0) dt/2 adds an O(dt^2) offset
                     ! when a(0) /= 0)
+                    ! (vrminus, like vminus, was taken before the update)
                     vn = vminus
-                    if (st%rot) vrminus = st%vr
                     call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en, &
                                           contact_energy(ct, 0.0_dp))
                     st%e_initial = en%total
