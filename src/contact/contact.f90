@@ -77,6 +77,8 @@ module xd_contact_contact
         integer :: ninit = 0                  !< initial penetrations found (allowed as IGNORE = 1)
         integer :: nlate = 0                  !< contacts deeper than one step's approach (excess allowed)
         real(wp) :: plate = 0                 !< the deepest of them
+        integer :: nback = 0                  !< of those, back under the segment the node held last
+        real(wp) :: pback = 0                 !< the deepest of them
         real(wp) :: pinit = 0                 !< the deepest initial penetration
         integer :: nrel = 0                   !< contacts lost while deeper than one step can undo
         real(wp) :: prel = 0                  !< the deepest of them
@@ -128,7 +130,8 @@ module xd_contact_contact
     !> named once per slave and segment while it lasts); a contact released
     !> beyond PENMAX times the segment's thickness (counted with the deep
     !> releases).
-    integer, parameter :: ev_none = 0, ev_initial = 1, ev_late = 2, ev_released = 3, ev_refused = 4, ev_penmax = 5
+    integer, parameter :: ev_none = 0, ev_initial = 1, ev_late = 2, ev_released = 3, ev_refused = 4, ev_penmax = 5, &
+                          ev_back = 6
     integer, parameter :: max_named = 200   !< late and released events named per interface (all counted)
     integer, parameter :: default_interval = 100   !< longest cycles between global searches when none is given
     real(wp), parameter :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
@@ -930,7 +933,9 @@ contains
             reach = 2.0_wp*abs(dot_product(vrel, it%hit(k)%nhat))*dt + 1.0e-3_wp*it%hit(k)%tm
             if (it%cseg(k) /= 0) reach = reach + it%aeff(k) + it%p0(k)
             if (abs(it%hit(k)%a) > reach) then
-                it%evk(k) = ev_late
+                ! (back under the segment it held last: named apart, the
+                ! local search let it through without the came-in test)
+                it%evk(k) = merge(ev_back, ev_late, m == it%held(k))
                 it%evd(k) = abs(it%hit(k)%a) - reach
                 it%p0(k) = it%p0(k) + it%evd(k)
             end if
@@ -992,6 +997,10 @@ contains
             it%nlate = it%nlate + 1
             it%plate = max(it%plate, it%evd(k))
             named = it%nlate <= max_named
+        case (ev_back)
+            it%nback = it%nback + 1
+            it%pback = max(it%pback, it%evd(k))
+            named = it%nback <= max_named
         case (ev_refused)
             it%nref = it%nref + 1
             it%pref = max(it%pref, it%evd(k))
@@ -1031,6 +1040,7 @@ contains
                         case (ev_initial); what = 'initial penetration (allowed)'
                         case (ev_late); what = 'missed contact (entered since the search) deeper than a step: excess allowed'
                         case (ev_refused); what = 'deep under a face it did not cross since the search: no contact'
+                        case (ev_back); what = 'back under the segment it held last, deeper than a step: excess allowed'
                         case (ev_penmax); what = 'contact released beyond PENMAX times the thickness'
                         case default; what = 'contact released deep'
                         end select
@@ -1360,6 +1370,12 @@ contains
                     write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%nlate, &
                         ' missed contacts found (or moved) deeper than one step''s approach (largest excess ', it%plate, &
                         ') allowed like initial penetrations; the first ', min(it%nlate, max_named), ' named above'
+                    txt = txt//trim(buf)//nl
+                end if
+                if (it%nback > 0) then
+                    write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%nback, &
+                        ' contacts back under the segment the node held last, deeper than a step (largest excess ', &
+                        it%pback, ') allowed; the first ', min(it%nback, max_named), ' named above'
                     txt = txt//trim(buf)//nl
                 end if
                 if (it%nref > 0) then

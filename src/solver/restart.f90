@@ -181,6 +181,8 @@ contains
                 call dput(r, 'aeff', it%aeff, nf)
                 call dput(r, 'late', [it%plate], nf)
                 call dput(r, 'nlate', [it%nlate], nf)
+                call dput(r, 'back', [it%pback], nf)
+                call dput(r, 'nback', [it%nback], nf)
                 call dput(r, 'nrel', [it%nrel], nf)
                 call dput(r, 'rel', [it%prel], nf)
                 call dput(r, 'nref', [it%nref], nf)
@@ -557,6 +559,8 @@ contains
                 call getw(r, 'aeff', size(it%aeff)); if (ok()) it%aeff = bw
                 call getw(r, 'late', 1); if (ok()) it%plate = bw(1)
                 call geti(r, 'nlate', 1); if (ok()) it%nlate = bi(1)
+                call getw(r, 'back', 1); if (ok()) it%pback = bw(1)
+                call geti(r, 'nback', 1); if (ok()) it%nback = bi(1)
                 call geti(r, 'nrel', 1); if (ok()) it%nrel = bi(1)
                 call getw(r, 'rel', 1); if (ok()) it%prel = bw(1)
                 call geti(r, 'nref', 1); if (ok()) it%nref = bi(1)
