@@ -1366,24 +1366,12 @@ contains
                         ') allowed, shrinking as the nodes move out (as LS-DYNA''s IGNORE = 1), each named above'
                     txt = txt//trim(buf)//nl
                 end if
-                if (it%nlate > 0) then
-                    write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%nlate, &
-                        ' missed contacts found (or moved) deeper than one step''s approach (largest excess ', it%plate, &
-                        ') allowed like initial penetrations; the first ', min(it%nlate, max_named), ' named above'
-                    txt = txt//trim(buf)//nl
-                end if
-                if (it%nback > 0) then
-                    write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%nback, &
-                        ' contacts back under the segment the node held last, deeper than a step (largest excess ', &
-                        it%pback, ') allowed; the first ', min(it%nback, max_named), ' named above'
-                    txt = txt//trim(buf)//nl
-                end if
-                if (it%nref > 0) then
-                    write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%nref, &
-                        ' deep contacts refused, under faces the node did not cross since the search (deepest ', &
-                        it%pref, '); the first ', min(it%nref, max_named), ' named above'
-                    txt = txt//trim(buf)//nl
-                end if
+                if (it%nlate > 0) txt = txt//count_line(it%id, it%nlate, ' missed contacts found (or moved) deeper '// &
+                    'than one step''s approach (largest excess ', it%plate, ') allowed like initial penetrations')//nl
+                if (it%nback > 0) txt = txt//count_line(it%id, it%nback, ' contacts back under the segment the '// &
+                    'node held last, deeper than a step (largest excess ', it%pback, ') allowed')//nl
+                if (it%nref > 0) txt = txt//count_line(it%id, it%nref, ' deep contacts refused, under faces the '// &
+                    'node did not cross since the search (deepest ', it%pref, ')')//nl
                 if (it%energy < -0.01_dp*abs(e_ref)) then
                     ! the ratio books this work as (negative) sliding energy, so
                     ! it stays at 1 while the contact creates energy
@@ -1397,12 +1385,8 @@ contains
                     txt = txt//trim(buf)//nl
                     txt = txt//'       (springs too stiff for the step: SLSFAC, SFS, SFM; or depths pushed out at once)'//nl
                 end if
-                if (it%nrel > 0) then
-                    write (buf, '(a,i0,a,i0,a,es10.3,a,i0,a)') '   interface ', it%id, ': ', it%nrel, &
-                        ' contacts released deep (deeper than one step can undo, or beyond PENMAX; deepest ', it%prel, &
-                        '); the first ', min(it%nrel, max_named), ' named above'
-                    txt = txt//trim(buf)//nl
-                end if
+                if (it%nrel > 0) txt = txt//count_line(it%id, it%nrel, ' contacts released deep (deeper than '// &
+                    'one step can undo, or beyond PENMAX; deepest ', it%prel, ')')//nl
                 if (it%ed%ne > 0) then
                     write (buf, '(a,i0,a,i0,a,i0,a)') '   interface ', it%id, ': edge to edge: ', it%ed%ne, &
                         ' exterior shell edges, ', it%ed%ncontact, ' edge pair-cycles in contact'
@@ -1483,5 +1467,18 @@ contains
         call system_clock(c, r)
         wtime = real(c, dp)/real(r, dp)
     end function wtime
+
+    !> d3hsp's count of one kind of contact event: 'interface id: n' what
+    !> depth tail '; the first m named above'.
+    function count_line(id, n, what, depth, tail) result(t)
+        integer, intent(in) :: id, n
+        character(len=*), intent(in) :: what, tail
+        real(wp), intent(in) :: depth
+        character(len=:), allocatable :: t
+        character(len=24) :: d
+        write (d, '(es10.3)') depth
+        t = '   interface '//itoa(id)//': '//itoa(n)//what//trim(adjustl(d))//tail//'; the first '// &
+            itoa(min(n, max_named))//' named above'
+    end function count_line
 
 end module xd_contact_contact

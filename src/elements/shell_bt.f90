@@ -435,8 +435,10 @@ contains
             pold = dot_product(real(sh%qhg(:, e), dp), real(qd(l, :), dp))
             if (sh%hg_viscous(e)) then
                 ! the modes' masses: a node's mass and rotary inertia (as
-                ! shell_masses gives them) over gamma.gamma
-                mn = ro(l)*hh(l)*a/4/gg(l)
+                ! shell_masses gives them, a third on a triangle's nodes;
+                ! times the mass-scaling factor) over gamma.gamma
+                mn = ro(l)*hh(l)*a/merge(3, 4, sh%conn(3, e) == sh%conn(4, e))/gg(l)
+                if (allocated(sh%msf)) mn = mn*sh%msf(e)
                 jn = mn*(hh(l)**2 + 3*a)/12
                 cb = 2*sh%qb(e)*sqrt(kb*jn)
                 cw = 2*sh%qw(e)*sqrt(kw*mn)
