@@ -22,7 +22,7 @@ program global_search_bench
     character(len=32) :: arg
     integer, allocatable :: sizes(:)
     logical :: mixed_only
-    real(dp) :: ns(4), ms(4), nsp(3), msp(3), nnp(3)
+    real(dp) :: ns(4), ms(4), nsp(3), msp(3), nnp(3), dlp(3), add
 
     nargs = command_argument_count()
     mixed_only = .false.
@@ -60,12 +60,19 @@ program global_search_bench
         ms(4)/ms(3), 'x the masters per slave of the tube under a plate of its own size'
     ! a fine patch in a coarse plate: what the patch adds to a search, per
     ! patch node, against the patch searched alone
-    call patch_case(0, nsp(1), msp(1), nnp(1))
-    call patch_case(1, nsp(2), msp(2), nnp(2))
-    call patch_case(2, nsp(3), msp(3), nnp(3))
+    call patch_case(0, nsp(1), msp(1), nnp(1), dlp(1))
+    call patch_case(1, nsp(2), msp(2), nnp(2), dlp(2))
+    call patch_case(2, nsp(3), msp(3), nnp(3), dlp(3))
+    add = (nsp(2)*nnp(2) - nsp(1)*nnp(1))/nnp(3)
     write (*, '(a,f8.1,a,f8.1,a,f6.1,a)') '  mixed sizes: 1 mm patch in an 8 mm plate adds ', &
-        (nsp(2)*nnp(2) - nsp(1)*nnp(1))/nnp(3), ' ns per patch node and search, alone ', nsp(3), ' (', &
-        (nsp(2)*nnp(2) - nsp(1)*nnp(1))/nnp(3)/nsp(3), 'x)'
+        add, ' ns per patch node and search, alone ', nsp(3), ' (', add/nsp(3), 'x)'
+    ! the search runs when the motion could have used up the margin (4u >
+    ! delta): what a run pays per unit of motion is the cost of a search
+    ! over delta/4, and the patch alone, with its own smaller margin,
+    ! searches as much more often
+    write (*, '(a,f9.0,a,f9.0,a,f6.2,a,2(f6.3,a))') '  mixed sizes: per patch node and mm of motion, in the plate ', &
+        add/(250*dlp(2)), ' ns, alone ', nsp(3)/(250*dlp(3)), ' (', add/dlp(2)/(nsp(3)/dlp(3)), &
+        'x; margins delta ', 1000*dlp(2), ' and ', 1000*dlp(3), ' mm)'
 
 contains
 
@@ -129,10 +136,10 @@ contains
     !> 64 x 64 shells of 1 mm (4,225 nodes; the patch's border nodes apart
     !> from the coarse ones, as a non-conforming refinement); 2: that patch
     !> alone. 1 mm thick. t: ns per slave per search, mm: masters per slave,
-    !> nn: nodes.
-    subroutine patch_case(kind, t, mm, nn)
+    !> nn: nodes, dl: the pool margin delta (m).
+    subroutine patch_case(kind, t, mm, nn, dl)
         integer, intent(in) :: kind
-        real(dp), intent(out) :: t, mm, nn
+        real(dp), intent(out) :: t, mm, nn, dl
         real(wp), allocatable :: x(:, :)
         integer, allocatable :: conn(:, :)
         integer, parameter :: nc = 260, nf = 64, i0 = 126
@@ -177,9 +184,9 @@ contains
             end do
         end if
         select case (kind)
-        case (0); call time_search('8 mm plate (260 x 260)', x, conn(:, 1:e), 0.001_wp, t, mm, nn)
-        case (1); call time_search('the same, a 1 mm patch in it', x, conn(:, 1:e), 0.001_wp, t, mm, nn)
-        case default; call time_search('the 1 mm patch alone', x, conn(:, 1:e), 0.001_wp, t, mm, nn)
+        case (0); call time_search('8 mm plate (260 x 260)', x, conn(:, 1:e), 0.001_wp, t, mm, nn, dl)
+        case (1); call time_search('the same, a 1 mm patch in it', x, conn(:, 1:e), 0.001_wp, t, mm, nn, dl)
+        case default; call time_search('the 1 mm patch alone', x, conn(:, 1:e), 0.001_wp, t, mm, nn, dl)
         end select
     end subroutine patch_case
 
@@ -262,12 +269,13 @@ contains
     !> thickness th; the search as the run makes it (reach = thickness,
     !> margin 0.25 x the median characteristic length), timed. Prints the
     !> row; t: ns per slave per search, mm: master nodes per slave.
-    subroutine time_search(label, x, conn, th, t, mm, nsl)
+    subroutine time_search(label, x, conn, th, t, mm, nsl, dl)
         character(len=*), intent(in) :: label
         real(wp), intent(in) :: x(:, :), th
         integer, intent(in) :: conn(:, :)
         real(dp), intent(out) :: t, mm
         real(dp), intent(out), optional :: nsl   !< slave nodes
+        real(dp), intent(out), optional :: dl    !< the pool margin delta
         type(model_t) :: m
         type(faces_t) :: f
         type(surface_t) :: s
@@ -329,6 +337,7 @@ contains
         t = 1.0e9_dp*tr((nrep + 1)/2)/s%nslave
         mm = real(cnt%masters, dp)/s%nslave
         if (present(nsl)) nsl = real(s%nslave, dp)
+        if (present(dl)) dl = real(margin, dp)
         write (*, '(2x,a28,i15,i11,f18.1,f16.2,f13.2)') label, s%nnode, nrep, t, mm, real(cnt%pool, dp)/s%nslave
     end subroutine time_search
 

@@ -2120,6 +2120,22 @@ def test_contact_search_interval():
             record(f"contact fixed interval 170 keeps the bound: plate found {gap * 1e3:.1f} mm before "
                    f"touching (> 0); every cycle used lists with 4u/delta <= 1 ({worst:.3f})",
                    bool(found) and gap > 0 and worst <= 1.0)
+    # the default (SEARCH 0, no interval in the deck) searches on the motion
+    # alone, as SEARCH 2 does: the same searches at the same cycles, so the
+    # same run bit for bit (before 2026-11-26 it also searched every 100
+    # cycles: more searches, the same bound)
+    pd, outd = run_deck("input_decks/contact/search_default.k", "contact_search_default")
+    outa = os.path.join(TMP, "contact_search_adaptive")
+    if pd.returncode != 0 or not os.path.exists(os.path.join(outa, "thist.h5")):
+        record("contact default search runs", False, pd.stderr[-300:])
+        return
+    logd = open(os.path.join(outd, "d3hsp")).read()
+    nd, na = interface_line(logd, 2), interface_line(open(os.path.join(outa, "d3hsp")).read(), 2)
+    same = all(np.array_equal(glstat(outd)[k], glstat(outa)[k]) for k in glstat(outa))
+    record(f"contact default search: on the motion alone, named in d3hsp; {nd:.0f} searches as the adaptive "
+           f"policy's {na:.0f}, every cycle within the bound (4u/delta {interface_line(logd, 8):.3f} <= 1), "
+           f"glstat bitwise the adaptive run's",
+           "global search on the motion alone" in logd and nd == na and interface_line(logd, 8) <= 1.0 and same)
 
 
 def bars_histories(out):
@@ -2747,6 +2763,13 @@ def test_contact_block_on_block():
            pen < 2.5e-4)
     record("contact block on block: the cube is held (its lower face stays within 1 mm of z = 0)",
            np.max(abs(z[-1])) < 1e-3)
+    # a resting contact: the motion never uses the pool margin, so the
+    # default searches once, at cycle 0 (before 2026-11-26 it also searched
+    # every 100 cycles: 68 searches here, each finding the same lists)
+    log = open(os.path.join(out, "d3hsp")).read()
+    ns, worst = interface_line(log, 2), interface_line(log, 8)
+    record(f"contact block on block: searched {ns:.0f} time(s) over the run (1: the motion, 4u/delta "
+           f"{worst:.3f}, never calls for another)", ns == 1 and worst <= 1.0)
     # Lagrangian projection: the constraint stops every approach, so the
     # cube stays where it was put; 1e-6 of the 25 mm window (25 nm) bounds
     # what is left (5 nm measured: the first step's fall, and the

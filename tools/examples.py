@@ -52,7 +52,7 @@ EXAMPLES = {
 }
 
 # name: (what it is, *CONTROL_XDYNA_CONTACT card or None)
-KNOBS = [("default", "search every 10 cycles, minimal master node set", None),
+KNOBS = [("default", "the default: search when 4u > delta, minimal master node set", None),
          ("interval_1", "global search every cycle", "         1         1"),
          ("adaptive", "adaptive search interval (4u > delta)", "         2"),
          ("closest_1", "master node list: the closest node", "         0         0         1"),

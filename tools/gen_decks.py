@@ -1121,6 +1121,7 @@ def contact_decks(outdir):
     contact_friction(outdir, "friction_sliding", 1.0, 0.0)
     contact_friction(outdir, "friction_sticking", 0.0, 0.2 * 9.81)
     contact_block_plate(outdir, "search_adaptive", single, f10(2, 0, 0, 0, 0, 0, 0.0, 90))
+    contact_block_plate(outdir, "search_default", single, f10(0, 0, 0, 0, 0, 0, 0.0, 90))
     contact_block_plate(outdir, "search_fixed_170", single, f10(1, 170, 0, 0, 0, 0, 0.0, 90))
     contact_block_plate(outdir, "variant_surface_to_surface",
                         ["*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_ID", f10(7) + "cube on plate", f10(1, 2, 3, 3), "", ""],

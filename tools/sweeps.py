@@ -343,7 +343,7 @@ def main():
     xc = lambda search=0, nsrch=0, mnl=0, track=0, enforce=0: ["*CONTROL_XDYNA_CONTACT",
                                                               g.f10(search, nsrch, mnl, track, 0, enforce)]
     knobs = [("search every cycle (reference)", xc(1, 1), None), ("every 5 cycles", xc(1, 5), None),
-             ("default: every 100 cycles at the longest, sooner when 4u > delta", [], None), ("every 20 cycles", xc(1, 20), None),
+             ("default: when 4u > delta", [], None), ("every 100 cycles at the longest, sooner when 4u > delta", xc(1), None), ("every 20 cycles", xc(1, 20), None),
              ("adaptive", xc(2), None), ("closest node", xc(mnl=1), None), ("three closest", xc(mnl=3), None),
              ("tracking off", xc(track=2), None), ("SLSFAC 0.01", ["*CONTROL_CONTACT", g.f10(0.01)], None),
              ("SLSFAC 1", ["*CONTROL_CONTACT", g.f10(1.0)], None), ("Lagrangian", xc(enforce=2), None),

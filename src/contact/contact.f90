@@ -19,7 +19,7 @@ module xd_contact_contact
     use xd_core_strings, only: itoa
     use xd_model, only: model_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, mat_rigid, &
                         ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
-                        styp_node_set, styp_all, styp_all_but, search_adaptive, find_box, in_box, box_t
+                        styp_node_set, styp_all, styp_all_but, search_auto, search_adaptive, find_box, in_box, box_t
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell, &
                                   follow_thickness
     use xd_core_vectors, only: cross
@@ -133,7 +133,7 @@ module xd_contact_contact
     integer, parameter :: ev_none = 0, ev_initial = 1, ev_late = 2, ev_released = 3, ev_refused = 4, ev_penmax = 5, &
                           ev_back = 6
     integer, parameter :: max_named = 200   !< late and released events named per interface (all counted)
-    integer, parameter :: default_interval = 100   !< longest cycles between global searches when none is given
+    integer, parameter :: default_interval = 100   !< SEARCH 1: longest cycles between global searches when none is given
     real(wp), parameter :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
 
     type :: contact_event_t
@@ -240,13 +240,17 @@ contains
                 ! no interval given (BSORT, NSRCH, NSBCS all 0): LS-DYNA then
                 ! chooses the interval itself; here the search runs when the
                 ! motion could have used up the pool margin (4u > delta), which
-                ! keeps the search's bound, and at least every 100 cycles
+                ! keeps the search's bound (SEARCH 1 of *CONTROL_XDYNA_CONTACT
+                ! also searches every 100 cycles, as before 2026-11-26: car6
+                ! searched 332 times, 219 on the motion alone)
                 interval = default_interval
                 if (model%ctl%contact%nsbcs > 0) interval = model%ctl%contact%nsbcs
                 if (model%ctl%contact%nsrch > 0) interval = model%ctl%contact%nsrch
                 if (c%bsort > 0) interval = c%bsort
                 it%interval = interval
-                it%adaptive = model%ctl%contact%search == search_adaptive
+                it%adaptive = model%ctl%contact%search == search_adaptive .or. &
+                              (model%ctl%contact%search == search_auto .and. model%ctl%contact%nsbcs <= 0 .and. &
+                               model%ctl%contact%nsrch <= 0 .and. c%bsort <= 0)
                 ! slaves whose master node lists go to the debug dump
                 if (model%ctl%contact%dump_nsid > 0) then
                     sset = find_set(model, set_node, model%ctl%contact%dump_nsid)
@@ -1321,8 +1325,8 @@ contains
                     txt = txt//trim(buf)//nl
                 end if
                 if (it%adaptive) then
-                    write (buf, '(a,es11.3,a,es11.3,a)') '     global search adaptive: again when 4u > delta = ', &
-                        it%margin, ' (reach t_c ', it%reach, ')'
+                    write (buf, '(a,es11.3,a,es11.3,a)') '     global search on the motion alone, when 4u > delta; '// &
+                        'pool margin delta ', it%margin, ' (reach t_c ', it%reach, ')'
                 else
                     write (buf, '(a,i0,a,es11.3,a,es11.3,a)') '     global search every ', it%interval, &
                         ' cycles at the longest, sooner when 4u > delta; pool margin delta ', it%margin, &

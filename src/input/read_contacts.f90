@@ -11,7 +11,7 @@ module xd_input_read_contacts
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: get_id_card, read_ctx_t, get_card, first_card, add_warning, ignored_fields
     use xd_model, only: model_t, contact_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface, &
-                        styp_segment_set, styp_node_set, styp_all, styp_all_but, search_fixed, search_adaptive, &
+                        styp_segment_set, styp_node_set, styp_all, styp_all_but, search_auto, search_fixed, search_adaptive, &
                         mnl_minimal, mnl_closest1, mnl_closest3
     implicit none
     private
@@ -355,10 +355,13 @@ contains
             if (allocated(error)) return
             call get_int(card, 1, ival, 0, error); if (allocated(error)) return
             select case (ival)
-            case (0, 1); cc%search = search_fixed
+            case (0); cc%search = search_auto
+            case (1); cc%search = search_fixed
             case (2); cc%search = search_adaptive
             case default
-                call card_error(card, 1, 'SEARCH '//itoa(ival)//' is not 1 (every NSRCH cycles) or 2 (adaptive)', error); return
+                call card_error(card, 1, 'SEARCH '//itoa(ival)//' is not 0 (on the motion, at most NSRCH cycles apart if '// &
+                                'given), 1 (also every 100 cycles when no interval is given) or 2 (on the motion alone)', &
+                                error); return
             end select
             call get_int(card, 2, cc%nsrch, 0, error); if (allocated(error)) return
             if (cc%nsrch < 0) then

@@ -13,7 +13,7 @@ module xd_model
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
-    public :: search_fixed, search_adaptive, mnl_minimal, mnl_closest1, mnl_closest3
+    public :: search_auto, search_fixed, search_adaptive, mnl_minimal, mnl_closest1, mnl_closest3
     public :: styp_segment_set, styp_shell_set, styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but
 
     integer, parameter :: mat_elastic = 1, mat_plastic_kinematic = 3, mat_rigid = 20, &
@@ -236,7 +236,12 @@ module xd_model
     !> SSTYP / MSTYP codes of the contact cards.
     integer, parameter :: styp_segment_set = 0, styp_shell_set = 1, styp_part_set = 2, styp_part = 3, &
                           styp_node_set = 4, styp_all = 5, styp_all_but = 6
-    integer, parameter :: search_fixed = 1, search_adaptive = 2
+    !> Global search interval policy: auto (SEARCH 0, the default) searches
+    !> when the motion could have used up the pool margin (4u > delta), or
+    !> at the interval a deck gives (NSRCH, NSBCS, BSORT) at the longest;
+    !> fixed (1) also at most every 100 cycles when none is given; adaptive
+    !> (2) on the motion alone.
+    integer, parameter :: search_auto = 0, search_fixed = 1, search_adaptive = 2
     integer, parameter :: mnl_minimal = 0, mnl_closest1 = 1, mnl_closest3 = 3
 
     !> *CONTACT_...: cards 1-3 and optional card A.
@@ -281,7 +286,7 @@ module xd_model
         !> as the nodes move out); 2 tracks them and names the coordinates
         !> that would remove them
         integer :: ignore = 0
-        integer :: search = search_fixed          !< interval policy
+        integer :: search = search_auto           !< interval policy
         integer :: nsrch = 0                      !< fixed interval from *CONTROL_XDYNA_CONTACT (0: NSBCS)
         integer :: mnl = mnl_minimal              !< master node list policy
         logical :: tracking = .true., screens = .true.

@@ -86,7 +86,7 @@ def main():
        "contact_master_node_set.k:{line}: *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE card 1 field MSTYP: the master "
        "side is made of segments")
     mk("contact_bad_search", lambda L: (L.insert(3, "*CONTROL_XDYNA_CONTACT"), L.insert(4, "         3")) and 5,
-       "contact_bad_search.k:{line}: *CONTROL_XDYNA_CONTACT card 1 field SEARCH: SEARCH 3 is not 1")
+       "contact_bad_search.k:{line}: *CONTROL_XDYNA_CONTACT card 1 field SEARCH: SEARCH 3 is not 0")
     mk("contact_bad_mnl", lambda L: (L.insert(3, "*CONTROL_XDYNA_CONTACT"), L.insert(4, "         1        10         2")) and 5,
        "contact_bad_mnl.k:{line}: *CONTROL_XDYNA_CONTACT card 1 field MNL: MNL 2 is not 0")
     mk("contact_segment_not_a_face", lambda L: (L.insert(3, "*SET_SEGMENT"), L.insert(4, "         4"),
