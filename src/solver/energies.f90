@@ -24,6 +24,13 @@ module xd_solver_energies
         ! work arrays: per node 1/2 v(n-1/2).v(n+1/2) and v(n) (0 on a rigid
         ! body's nodes, whose motion is the body's)
         real(dp), allocatable, private :: kn(:), vn(:, :)
+        ! while element masses stay as they started (no mass scaling, no
+        ! shell thickness update): each node's mass by part, the elements'
+        ! shares summed once (np_ptr(nnode + 1) into np_part, np_m), and
+        ! each part's mass
+        logical, private :: fixed_mass = .false.
+        integer, allocatable, private :: np_ptr(:), np_part(:)
+        real(dp), allocatable, private :: np_m(:), part_mass0(:)
     end type energies_t
 
 contains
@@ -46,9 +53,8 @@ contains
         real(dp), intent(in) :: dt_avg       !< step of the velocity update at this time (0 at t = 0)
         type(energies_t), intent(inout) :: en
         real(dp), intent(in), optional :: slide   !< sliding interface energy (contact)
-        integer :: e, k, p, nd, nn
-        real(dp) :: mshare, mom(3), ke_b, mom_b(3), ker, ksum, msum(3), ake, amom(3), amass, aie, ahg
-        integer :: pc
+        integer :: e, p, nd
+        real(dp) :: mom(3), ke_b, mom_b(3), ker
         if (.not. allocated(en%part_ie)) then
             allocate (en%part_ie(model%npart), en%part_ke(model%npart), en%part_hg(model%npart), &
                       en%part_mass(model%npart), en%part_mom(3, model%npart), en%part_added(model%npart))
@@ -56,91 +62,50 @@ contains
         en%part_ie = 0; en%part_ke = 0; en%part_hg = 0; en%part_mass = 0; en%part_mom = 0; en%part_added = 0
         en%nshell_scaled = 0
         if (.not. allocated(en%kn)) allocate (en%kn(st%nnode), en%vn(3, st%nnode))
-        ! each node's share once; the elements' loops below weigh it by their mass
-        do nd = 1, st%nnode
-            en%kn(nd) = 0.5_dp*sum(real(vminus(:, nd), dp)*vplus(:, nd))
-            en%vn(:, nd) = 0.5_dp*real(vminus(:, nd) + vplus(:, nd), dp)
-        end do
-        if (rg%n > 0) then
+        if (.not. allocated(en%np_ptr)) call node_part_masses(model, st, solids, sh, en)
+        if (en%fixed_mass) then
+            ! one pass over the nodes: each node's share, the whole model's
+            ! kinetic energy, momentum and spin, and the parts' by the node
+            ! table (a run of one part summed in registers: nodes mostly come
+            ! part by part); each sum in node order, as separate loops
+            ! would take it
+            call node_pass()
+            en%part_mass = en%part_mass0
+            if (solids%n > 0) call ie_by_part(solids%part, solids%eint, solids%pend_int, solids%ehg, solids%pend_hg)
+            if (sh%n > 0) call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg)
+            en%ie = sum(en%part_ie)
+            en%hg = sum(en%part_hg)
+        else
+            ! each node's share once; the elements' loops weigh it by their mass
             do nd = 1, st%nnode
-                if (.not. rg%on(nd)) cycle
-                en%kn(nd) = 0
-                en%vn(:, nd) = 0
+                en%kn(nd) = 0.5_dp*sum(real(vminus(:, nd), dp)*vplus(:, nd))
+                en%vn(:, nd) = 0.5_dp*real(vminus(:, nd) + vplus(:, nd), dp)
             end do
+            if (rg%n > 0) then
+                do nd = 1, st%nnode
+                    if (.not. rg%on(nd)) cycle
+                    en%kn(nd) = 0
+                    en%vn(:, nd) = 0
+                end do
+            end if
+            call by_elements()
+            en%ke = 0
+            mom = 0
+            do nd = 1, st%nnode
+                en%ke = en%ke + st%mass(nd)*en%kn(nd)
+                mom = mom + st%mass(nd)*en%vn(:, nd)
+            end do
+            ker = 0
+            if (st%rot) then
+                do nd = 1, st%nnode
+                    ! a rigid body's nodes spin with it: their inertia is in the body's
+                    if (rg%n > 0) then
+                        if (rg%on(nd)) cycle
+                    end if
+                    ker = ker + 0.5_dp*st%irot(nd)*dot_product(real(wminus(:, nd), dp), real(wplus(:, nd), dp))
+                end do
+            end if
         end if
-        do e = 1, solids%n
-            p = solids%part(e)
-            mshare = real(model%mat(model%part(p)%mat_ix)%ro, dp)*solids%vol0(e)/8.0_dp
-            if (allocated(solids%msf)) then
-                ! mass scaling: the element's mass is msf times its own
-                en%part_added(p) = en%part_added(p) + 8.0_dp*mshare*(solids%msf(e) - 1.0_dp)
-                mshare = mshare*solids%msf(e)
-            end if
-            ! work booked so far, and the first half of the current forces'
-            en%part_ie(p) = en%part_ie(p) + solids%eint(e) + dt_avg*solids%pend_int(e)
-            en%part_hg(p) = en%part_hg(p) + solids%ehg(e) + dt_avg*solids%pend_hg(e)
-            en%part_mass(p) = en%part_mass(p) + 8.0_dp*mshare
-            ksum = 0
-            msum = 0
-            do k = 1, 8
-                nd = solids%conn(k, e)
-                ksum = ksum + en%kn(nd)
-                msum = msum + en%vn(:, nd)
-            end do
-            en%part_ke(p) = en%part_ke(p) + mshare*ksum
-            en%part_mom(:, p) = en%part_mom(:, p) + mshare*msum
-        end do
-        en%ie = sum(en%part_ie)
-        en%hg = sum(en%part_hg)
-        ! the sums of a run of elements of one part in registers (elements
-        ! come part by part), added to the part's where the part changes
-        pc = 0
-        ake = 0; amom = 0; amass = 0; aie = 0; ahg = 0
-        do e = 1, sh%n + 1
-            p = -1
-            if (e <= sh%n) p = sh%part(e)
-            if (p /= pc) then
-                if (pc > 0) then
-                    en%part_ke(pc) = en%part_ke(pc) + ake
-                    en%part_mom(:, pc) = en%part_mom(:, pc) + amom
-                    en%part_mass(pc) = en%part_mass(pc) + amass
-                    en%part_ie(pc) = en%part_ie(pc) + aie
-                    en%part_hg(pc) = en%part_hg(pc) + ahg
-                    en%ie = en%ie + aie
-                    en%hg = en%hg + ahg
-                end if
-                pc = p
-                ake = 0; amom = 0; amass = 0; aie = 0; ahg = 0
-            end if
-            if (e > sh%n) exit
-            ! the shell's share of its nodes' mass (a third each for triangles)
-            nn = 4
-            if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
-            mshare = real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/nn
-            if (allocated(sh%msf)) then
-                en%part_added(p) = en%part_added(p) + nn*mshare*(sh%msf(e) - 1.0_dp)
-                mshare = mshare*sh%msf(e)
-                if (sh%msf(e) /= 1.0_wp) en%nshell_scaled = en%nshell_scaled + 1
-            end if
-            ksum = 0
-            msum = 0
-            do k = 1, nn
-                nd = sh%conn(k, e)
-                ksum = ksum + en%kn(nd)
-                msum = msum + en%vn(:, nd)
-            end do
-            ake = ake + mshare*ksum
-            amom = amom + mshare*msum
-            amass = amass + mshare*nn
-            aie = aie + (sh%eint(e) + dt_avg*sh%pend_int(e))
-            ahg = ahg + (sh%ehg(e) + dt_avg*sh%pend_hg(e))
-        end do
-        en%ke = 0
-        mom = 0
-        do nd = 1, st%nnode
-            en%ke = en%ke + st%mass(nd)*en%kn(nd)
-            mom = mom + st%mass(nd)*en%vn(:, nd)
-        end do
         ! rigid bodies: their own inertia, not the lumped nodal masses
         do e = 1, rg%n
             if (.not. rg%b(e)%from_part) cycle
@@ -162,17 +127,7 @@ contains
         do e = 1, walls%n
             en%wall = en%wall + walls%w(e)%energy
         end do
-        if (st%rot) then
-            ker = 0
-            do nd = 1, st%nnode
-                ! a rigid body's nodes spin with it: their inertia is in the body's
-                if (rg%n > 0) then
-                    if (rg%on(nd)) cycle
-                end if
-                ker = ker + 0.5_dp*st%irot(nd)*dot_product(real(wminus(:, nd), dp), real(wplus(:, nd), dp))
-            end do
-            en%ke = en%ke + ker
-        end if
+        if (st%rot) en%ke = en%ke + ker
         en%slide = 0
         if (present(slide)) en%slide = slide
         en%total = en%ke + en%ie + en%hg + en%wall + en%slide
@@ -183,6 +138,243 @@ contains
         else
             en%ratio = 1.0_dp
         end if
+    contains
+        !> The fixed-mass path's pass over the nodes (en%ke, mom and ker of
+        !> the whole model, the parts' kinetic energy and momentum).
+        subroutine node_pass()
+            integer :: nd, k, p, pc
+            real(dp) :: kn, vn(3), ake, amom(3)
+            logical :: on_body
+            en%ke = 0
+            mom = 0
+            ker = 0
+            pc = 0
+            ake = 0; amom = 0
+            do nd = 1, st%nnode
+                kn = 0.5_dp*sum(real(vminus(:, nd), dp)*vplus(:, nd))
+                vn = 0.5_dp*real(vminus(:, nd) + vplus(:, nd), dp)
+                on_body = .false.
+                if (rg%n > 0) on_body = rg%on(nd)
+                if (on_body) then
+                    kn = 0
+                    vn = 0
+                end if
+                en%ke = en%ke + st%mass(nd)*kn
+                mom = mom + st%mass(nd)*vn
+                ! a rigid body's nodes spin with it: their inertia is in the body's
+                if (st%rot .and. .not. on_body) &
+                    ker = ker + 0.5_dp*st%irot(nd)*dot_product(real(wminus(:, nd), dp), real(wplus(:, nd), dp))
+                do k = en%np_ptr(nd), en%np_ptr(nd + 1) - 1
+                    p = en%np_part(k)
+                    if (p /= pc) then
+                        if (pc > 0) then
+                            en%part_ke(pc) = en%part_ke(pc) + ake
+                            en%part_mom(:, pc) = en%part_mom(:, pc) + amom
+                        end if
+                        pc = p
+                        ake = 0; amom = 0
+                    end if
+                    ake = ake + en%np_m(k)*kn
+                    amom = amom + en%np_m(k)*vn
+                end do
+            end do
+            if (pc > 0) then
+                en%part_ke(pc) = en%part_ke(pc) + ake
+                en%part_mom(:, pc) = en%part_mom(:, pc) + amom
+            end if
+        end subroutine node_pass
+
+        !> Internal and hourglass energy by part: the work booked so far and
+        !> the first half of the current forces', a run of one part's
+        !> elements summed in registers.
+        subroutine ie_by_part(part, eint, pend_int, ehg, pend_hg)
+            integer, intent(in) :: part(:)
+            real(dp), intent(in) :: eint(:), pend_int(:), ehg(:), pend_hg(:)
+            integer :: e, p, pc, first
+            real(dp) :: aie, ahg
+            first = 1
+            do e = 1, size(part) + 1
+                if (e <= size(part)) then
+                    if (part(e) == part(first)) cycle
+                end if
+                if (e > first) then
+                    pc = part(first)
+                    aie = 0; ahg = 0
+                    do p = first, e - 1
+                        aie = aie + (eint(p) + dt_avg*pend_int(p))
+                        ahg = ahg + (ehg(p) + dt_avg*pend_hg(p))
+                    end do
+                    en%part_ie(pc) = en%part_ie(pc) + aie
+                    en%part_hg(pc) = en%part_hg(pc) + ahg
+                end if
+                first = e
+            end do
+        end subroutine ie_by_part
+
+        !> Kinetic energy, momentum and mass by part through each element's
+        !> share of its nodes (mass scaling or a thickness update change the
+        !> elements' masses during the run), internal and hourglass energy.
+        subroutine by_elements()
+            integer :: e, k, p, nd, nn, pc
+            real(dp) :: mshare, ksum, msum(3), ake, amom(3), amass, aie, ahg
+            do e = 1, solids%n
+                p = solids%part(e)
+                mshare = real(model%mat(model%part(p)%mat_ix)%ro, dp)*solids%vol0(e)/8.0_dp
+                if (allocated(solids%msf)) then
+                    ! mass scaling: the element's mass is msf times its own
+                    en%part_added(p) = en%part_added(p) + 8.0_dp*mshare*(solids%msf(e) - 1.0_dp)
+                    mshare = mshare*solids%msf(e)
+                end if
+                ! work booked so far, and the first half of the current forces'
+                en%part_ie(p) = en%part_ie(p) + solids%eint(e) + dt_avg*solids%pend_int(e)
+                en%part_hg(p) = en%part_hg(p) + solids%ehg(e) + dt_avg*solids%pend_hg(e)
+                en%part_mass(p) = en%part_mass(p) + 8.0_dp*mshare
+                ksum = 0
+                msum = 0
+                do k = 1, 8
+                    nd = solids%conn(k, e)
+                    ksum = ksum + en%kn(nd)
+                    msum = msum + en%vn(:, nd)
+                end do
+                en%part_ke(p) = en%part_ke(p) + mshare*ksum
+                en%part_mom(:, p) = en%part_mom(:, p) + mshare*msum
+            end do
+            en%ie = sum(en%part_ie)
+            en%hg = sum(en%part_hg)
+            ! the sums of a run of elements of one part in registers (elements
+            ! come part by part), added to the part's where the part changes
+            pc = 0
+            ake = 0; amom = 0; amass = 0; aie = 0; ahg = 0
+            do e = 1, sh%n + 1
+                p = -1
+                if (e <= sh%n) p = sh%part(e)
+                if (p /= pc) then
+                    if (pc > 0) then
+                        en%part_ke(pc) = en%part_ke(pc) + ake
+                        en%part_mom(:, pc) = en%part_mom(:, pc) + amom
+                        en%part_mass(pc) = en%part_mass(pc) + amass
+                        en%part_ie(pc) = en%part_ie(pc) + aie
+                        en%part_hg(pc) = en%part_hg(pc) + ahg
+                        en%ie = en%ie + aie
+                        en%hg = en%hg + ahg
+                    end if
+                    pc = p
+                    ake = 0; amom = 0; amass = 0; aie = 0; ahg = 0
+                end if
+                if (e > sh%n) exit
+                ! the shell's share of its nodes' mass (a third each for triangles)
+                nn = 4
+                if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
+                mshare = real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/nn
+                if (allocated(sh%msf)) then
+                    en%part_added(p) = en%part_added(p) + nn*mshare*(sh%msf(e) - 1.0_dp)
+                    mshare = mshare*sh%msf(e)
+                    if (sh%msf(e) /= 1.0_wp) en%nshell_scaled = en%nshell_scaled + 1
+                end if
+                ksum = 0
+                msum = 0
+                do k = 1, nn
+                    nd = sh%conn(k, e)
+                    ksum = ksum + en%kn(nd)
+                    msum = msum + en%vn(:, nd)
+                end do
+                ake = ake + mshare*ksum
+                amom = amom + mshare*msum
+                amass = amass + mshare*nn
+                aie = aie + (sh%eint(e) + dt_avg*sh%pend_int(e))
+                ahg = ahg + (sh%ehg(e) + dt_avg*sh%pend_hg(e))
+            end do
+        end subroutine by_elements
     end subroutine compute_energies
+
+    !> The node-by-part mass table (each element's share of its nodes, as
+    !> compute_energies weighs them: an eighth of a hexahedron, a quarter of
+    !> a quadrilateral, a third of a triangle), where element masses stay
+    !> fixed for the run: the incidences by node, then each node's shares
+    !> of one part summed (a node has few).
+    subroutine node_part_masses(model, st, solids, sh, en)
+        type(model_t), intent(in) :: model
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        type(energies_t), intent(inout) :: en
+        integer, allocatable :: ptr(:), fill(:), ip(:)
+        real(dp), allocatable :: im(:)
+        integer :: e, k, nd, nn, n, j, q
+        logical :: merged
+        en%fixed_mass = .not. (allocated(solids%msf) .or. allocated(sh%msf) .or. sh%thickness_update)
+        allocate (en%np_ptr(st%nnode + 1), en%part_mass0(model%npart))
+        en%np_ptr = 1
+        en%part_mass0 = 0
+        if (.not. en%fixed_mass) then
+            allocate (en%np_part(0), en%np_m(0))
+            return
+        end if
+        allocate (ptr(st%nnode + 1))
+        ptr = 0
+        do e = 1, solids%n
+            do k = 1, 8
+                ptr(solids%conn(k, e) + 1) = ptr(solids%conn(k, e) + 1) + 1
+            end do
+        end do
+        do e = 1, sh%n
+            do k = 1, shell_nodes(e)
+                ptr(sh%conn(k, e) + 1) = ptr(sh%conn(k, e) + 1) + 1
+            end do
+        end do
+        ptr(1) = 1
+        do nd = 1, st%nnode
+            ptr(nd + 1) = ptr(nd + 1) + ptr(nd)
+        end do
+        allocate (fill(st%nnode), ip(ptr(st%nnode + 1) - 1), im(ptr(st%nnode + 1) - 1))
+        fill = ptr(1:st%nnode)
+        do e = 1, solids%n
+            do k = 1, 8
+                nd = solids%conn(k, e)
+                ip(fill(nd)) = solids%part(e)
+                im(fill(nd)) = real(model%mat(model%part(solids%part(e))%mat_ix)%ro, dp)*solids%vol0(e)/8.0_dp
+                fill(nd) = fill(nd) + 1
+            end do
+        end do
+        do e = 1, sh%n
+            nn = shell_nodes(e)
+            do k = 1, nn
+                nd = sh%conn(k, e)
+                ip(fill(nd)) = sh%part(e)
+                im(fill(nd)) = real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/nn
+                fill(nd) = fill(nd) + 1
+            end do
+        end do
+        ! each node's incidences of one part into one entry, in place
+        n = 0
+        do nd = 1, st%nnode
+            en%np_ptr(nd) = n + 1
+            do j = ptr(nd), ptr(nd + 1) - 1
+                merged = .false.
+                do q = en%np_ptr(nd), n
+                    if (ip(q) == ip(j)) then
+                        im(q) = im(q) + im(j)
+                        merged = .true.
+                        exit
+                    end if
+                end do
+                if (merged) cycle
+                n = n + 1
+                ip(n) = ip(j)
+                im(n) = im(j)
+            end do
+        end do
+        en%np_ptr(st%nnode + 1) = n + 1
+        en%np_part = ip(1:n)
+        en%np_m = im(1:n)
+        do q = 1, n
+            en%part_mass0(en%np_part(q)) = en%part_mass0(en%np_part(q)) + en%np_m(q)
+        end do
+    contains
+        integer function shell_nodes(e)
+            integer, intent(in) :: e
+            shell_nodes = merge(3, 4, sh%conn(3, e) == sh%conn(4, e))
+        end function shell_nodes
+    end subroutine node_part_masses
 
 end module xd_solver_energies

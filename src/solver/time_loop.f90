@@ -11,7 +11,7 @@ module xd_solver_time_loop
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, solid_forces
     use xd_solver_state, only: state_t
-    use xd_solver_assembly, only: assembly_t, assemble
+    use xd_solver_assembly, only: assembly_t, assemble, assemble_pair
     use xd_solver_energies, only: energies_t, compute_energies
     use xd_output_histories, only: histories_t, histories_due, write_histories, history_failure, track_rotations, &
                                    flush_histories
@@ -261,10 +261,15 @@ contains
             !$omp end parallel do
             if (st%rot) then
                 if (energy_now) vrminus = st%vr
+                ! (as a select over all nodes, so that the loop vectorises: a
+                ! node without rotary inertia divides by 1 and keeps its vr)
+                !$omp parallel do schedule(static)
                 do nd = 1, st%nnode
-                    if (st%irot(nd) > 0.0_wp) st%vr(:, nd) = st%vr(:, nd) + &
-                        real(dt_avg, wp)*st%mom(:, nd)/st%irot(nd)*st%free_r(:, nd)
+                    st%vr(:, nd) = merge(st%vr(:, nd) + real(dt_avg, wp)*st%mom(:, nd)/ &
+                                         merge(st%irot(nd), 1.0_wp, st%irot(nd) > 0.0_wp)*st%free_r(:, nd), &
+                                         st%vr(:, nd), st%irot(nd) > 0.0_wp)
                 end do
+                !$omp end parallel do
             end if
             call tm%stop(ph_integrate)
             if (walls%n > 0) then
@@ -470,11 +475,8 @@ contains
                 call share_slots(dom, solids, sh)
                 call tm%stop(ph_comm)
                 call tm%start(ph_assembly)
-                call assemble(asm, solids%fslot, st%f, nodes=dom%nodes)
-                if (sh%n > 0) then
-                    call assemble(asm_sh, sh%fslot, st%f, add=.true., nodes=dom%nodes)
-                    call assemble(asm_sh, sh%mslot, st%mom, nodes=dom%nodes)
-                end if
+                if (solids%n > 0 .or. sh%n == 0) call assemble(asm, solids%fslot, st%f, nodes=dom%nodes)
+                if (sh%n > 0) call assemble_pair(asm_sh, sh%fslot, sh%mslot, st%f, st%mom, solids%n > 0, nodes=dom%nodes)
                 call tm%stop(ph_assembly)
                 call tm%start(ph_comm)
                 if (sh%n > 0) then
@@ -486,11 +488,8 @@ contains
                 return
             end if
             call tm%start(ph_assembly)
-            call assemble(asm, solids%fslot, st%f)
-            if (sh%n > 0) then
-                call assemble(asm_sh, sh%fslot, st%f, add=.true.)
-                call assemble(asm_sh, sh%mslot, st%mom)
-            end if
+            if (solids%n > 0 .or. sh%n == 0) call assemble(asm, solids%fslot, st%f)
+            if (sh%n > 0) call assemble_pair(asm_sh, sh%fslot, sh%mslot, st%f, st%mom, solids%n > 0)
             call tm%stop(ph_assembly)
         end subroutine element_pass
 
@@ -615,11 +614,10 @@ contains
             integer :: i
             !$omp parallel do schedule(static)
             do i = 1, st%nnode
-                if (st%mass(i) > 0.0_wp) then
-                    st%a(:, i) = st%f(:, i)/st%mass(i)*st%free(:, i)
-                else
-                    st%a(:, i) = 0.0_wp
-                end if
+                ! (a select, so that the loop vectorises: a massless node
+                ! divides by 1 and gets no acceleration)
+                st%a(:, i) = merge(st%f(:, i)/merge(st%mass(i), 1.0_wp, st%mass(i) > 0.0_wp)*st%free(:, i), &
+                                   0.0_wp, st%mass(i) > 0.0_wp)
             end do
             !$omp end parallel do
         end subroutine accelerations
