@@ -151,8 +151,13 @@ contains
             pc = 0
             ake = 0; amom = 0
             do nd = 1, st%nnode
-                kn = 0.5_dp*sum(real(vminus(:, nd), dp)*vplus(:, nd))
-                vn = 0.5_dp*real(vminus(:, nd) + vplus(:, nd), dp)
+                ! (written out by component: the array forms made
+                ! temporaries for each node)
+                kn = 0.5_dp*(real(vminus(1, nd), dp)*vplus(1, nd) + real(vminus(2, nd), dp)*vplus(2, nd) + &
+                             real(vminus(3, nd), dp)*vplus(3, nd))
+                vn(1) = 0.5_dp*real(vminus(1, nd) + vplus(1, nd), dp)
+                vn(2) = 0.5_dp*real(vminus(2, nd) + vplus(2, nd), dp)
+                vn(3) = 0.5_dp*real(vminus(3, nd) + vplus(3, nd), dp)
                 on_body = .false.
                 if (rg%n > 0) on_body = rg%on(nd)
                 if (on_body) then
@@ -163,7 +168,9 @@ contains
                 mom = mom + st%mass(nd)*vn
                 ! a rigid body's nodes spin with it: their inertia is in the body's
                 if (st%rot .and. .not. on_body) &
-                    ker = ker + 0.5_dp*st%irot(nd)*dot_product(real(wminus(:, nd), dp), real(wplus(:, nd), dp))
+                    ker = ker + 0.5_dp*st%irot(nd)*(real(wminus(1, nd), dp)*wplus(1, nd) + &
+                                                    real(wminus(2, nd), dp)*wplus(2, nd) + &
+                                                    real(wminus(3, nd), dp)*wplus(3, nd))
                 do k = en%np_ptr(nd), en%np_ptr(nd + 1) - 1
                     p = en%np_part(k)
                     if (p /= pc) then
