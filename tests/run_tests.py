@@ -857,6 +857,109 @@ def clamped_plate_deck(path, v, nip=2, tssfac=0.9):
     return write_lines(path, lines)
 
 
+def test_shell_step_length():
+    """The shells' step length, *CONTROL_TIMESTEP ISDO as LS-DYNA's manual
+    gives it. One free elastic shell (steel, E 200 GPa, nu 0.3, rho 7850)
+    at rest: a parallelogram with sides 10 and 6 mm at 45 degrees (area
+    42.43 mm^2, diagonals 14.85 and 7.15 mm) and a triangle of the same two
+    sides. The first step must be TSSFAC 0.9 x L / c (rel 1e-6: the step
+    is that expression in floating point):
+    ISDO 0 area / longest side (the triangle's shortest altitude, twice
+    that), 1 area / longest diagonal (triangle as 0), 2 max(shortest side,
+    area / longest side) with the bar wave speed (the triangle's shortest
+    side). Then a triangle-meshed cantilever struck at its free edge (a
+    velocity jump that excites the highest modes) runs 4000 cycles at
+    ISDO 0 with the energy ratio within 1e-3 of 1: the triangle's step
+    (doubled on 2026-11-26, from half its altitude) is stable. Its margin,
+    measured: at TSSFAC 0.95 this strip runs, at 1.0 it stops (velocities
+    reverse within a step), and the same strip of quadrilaterals does the
+    same at the same factors: the triangles' step has the quadrilaterals'
+    margin."""
+    E, nu, rho = 200e9, 0.3, 7850.0
+    c_plate, c_bar = math.sqrt(E / (rho * (1 - nu * nu))), math.sqrt(E / rho)
+    a, b, th = 0.010, 0.006, math.radians(45.0)
+    p1, p2 = (0.0, 0.0), (a, 0.0)
+    p4 = (b * math.cos(th), b * math.sin(th))
+    p3 = (a + p4[0], p4[1])
+    area_q = a * b * math.sin(th)
+    d13, d24 = math.dist(p1, p3), math.dist(p2, p4)
+    area_t = 0.5 * a * b * math.sin(th)
+    side_t = [a, math.dist(p2, p4), b]
+    expect = {("quad", 0): area_q / a / c_plate, ("quad", 1): area_q / max(d13, d24) / c_plate,
+              ("quad", 2): max(b, area_q / a) / c_bar,
+              ("tri", 0): 2 * area_t / max(side_t) / c_plate, ("tri", 1): 2 * area_t / max(side_t) / c_plate,
+              ("tri", 2): min(side_t) / c_bar}
+
+    def deck(shape, isdo):
+        nodes = [p1, p2, p3, p4] if shape == "quad" else [p1, p2, p4]
+        conn = "       1       1       1       2       3       4" if shape == "quad" else \
+            "       1       1       1       2       3       3"
+        lines = ["*KEYWORD", "*TITLE", f"one free shell, ISDO {isdo}", "*CONTROL_TERMINATION", "   1.0e-06         2",
+                 "*CONTROL_TIMESTEP", f"         0       0.9{isdo:>10d}", "*DATABASE_GLSTAT", " 1.000e-09",
+                 "*SECTION_SHELL", "         1         2       1.0         2", "     0.001     0.001     0.001     0.001",
+                 "*MAT_ELASTIC", "         1      7850 2.000e+11       0.3", "*PART", "shell",
+                 "         1         1         1", "*NODE"]
+        lines += [f"{k + 1:8d}{x:16.9e}{y:16.9e}{0.0:16.9e}       0       0" for k, (x, y) in enumerate(nodes)]
+        lines += ["*ELEMENT_SHELL", conn, "*END"]
+        path = os.path.join(TMP, f"step_{shape}_{isdo}.k")
+        with open(path, "w") as f:
+            f.write("\n".join(lines) + "\n")
+        return path
+
+    for shape in ("quad", "tri"):
+        for isdo in (0, 1, 2):
+            out = os.path.join(TMP, f"step_{shape}_{isdo}")
+            shutil.rmtree(out, ignore_errors=True)
+            p = run([XDYNA, "i=" + deck(shape, isdo), "outdir=" + out])
+            if p.returncode != 0:
+                record(f"shell step ISDO {isdo} {shape} runs", False, p.stderr[-300:])
+                continue
+            dt = glstat(out)["time_step"][0]
+            want = 0.9 * expect[(shape, isdo)]
+            log = open(os.path.join(out, "d3hsp")).read()
+            record(f"shell step, ISDO {isdo}, {'parallelogram' if shape == 'quad' else 'triangle'}: first step "
+                   f"{dt:.6e} s against 0.9 L/c = {want:.6e} (rel 1e-6), d3hsp names the rule",
+                   abs(dt / want - 1) < roundoff(1e-6) and f"shell step length ISDO {isdo}" in log)
+    # the triangles' stability at their step: a 40 x 4 mm strip of 20 x 2
+    # squares split in triangles, 1 mm thick, clamped at x = 0, its free
+    # edge struck at 1 m/s across the plate
+    n, m, h = 20, 2, 0.002
+    lines = ["*KEYWORD", "*TITLE", "a cantilever of triangles struck at its free edge", "*CONTROL_TERMINATION",
+             "   1.0e-03", "*DATABASE_GLSTAT", " 1.000e-06", "*SECTION_SHELL", "         1         2       1.0         2",
+             "     0.001     0.001     0.001     0.001", "*MAT_ELASTIC", "         1      7850 2.000e+11       0.3",
+             "*PART", "strip", "         1         1         1", "*NODE"]
+    nid = lambda i, j: 1 + i + (n + 1) * j
+    for j in range(m + 1):
+        for i in range(n + 1):
+            lines.append(f"{nid(i, j):8d}{i * h:16.9e}{j * h:16.9e}{0.0:16.9e}       0       0")
+    lines.append("*ELEMENT_SHELL")
+    e = 0
+    for j in range(m):
+        for i in range(n):
+            q = [nid(i, j), nid(i + 1, j), nid(i + 1, j + 1), nid(i, j + 1)]
+            for t in ([q[0], q[1], q[2], q[2]], [q[0], q[2], q[3], q[3]]):
+                e += 1
+                lines.append(f"{e:8d}       1" + "".join(f"{v:8d}" for v in t))
+    lines += ["*SET_NODE_LIST", "         1"] + [f"{nid(0, j):10d}" for j in range(m + 1)]
+    lines += ["*SET_NODE_LIST", "         2"] + [f"{nid(n, j):10d}" for j in range(m + 1)]
+    lines += ["*BOUNDARY_SPC_SET", "         1         0         1         1         1         1         1         1",
+              "*INITIAL_VELOCITY", "         2", "       0.0       0.0       1.0", "*END"]
+    path = os.path.join(TMP, "tri_strip.k")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    out = os.path.join(TMP, "tri_strip")
+    shutil.rmtree(out, ignore_errors=True)
+    p = run([XDYNA, "i=" + path, "outdir=" + out])
+    if p.returncode != 0:
+        record("triangle strip runs", False, p.stderr[-300:])
+        return
+    g = glstat(out)
+    ncyc = int(re.search(r"cycles \.+ +(\d+)", open(os.path.join(out, "d3hsp")).read()).group(1))
+    worst = float(np.max(np.abs(g["energy_ratio"] - 1)))
+    record(f"shell step: a cantilever of triangles struck at its free edge runs {ncyc} cycles at ISDO 0 "
+           f"(at least 4000) with the energy ratio within 1e-3 of 1 ({worst:.1e})", ncyc >= 4000 and worst < 1e-3)
+
+
 def test_shell_large_vibration():
     """An elastic clamped plate vibrating at large amplitude conserves its
     energy: ratio within 1e-3 over 200 us (about 7 periods, 590 cycles) at
@@ -3973,7 +4076,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_step_length, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -47,6 +47,7 @@ module xd_elements_shell_bt
         real(wp) :: dtmin = 0
         integer :: crit = 0, bad = 0
         logical :: thickness_update = .false.   !< *CONTROL_SHELL ISTUPD
+        integer :: isdo = 0                     !< *CONTROL_TIMESTEP ISDO: the step's length
         integer, allocatable :: mine(:)       !< the elements computed here (MPI: this rank's)
         ! mass scaling (*CONTROL_TIMESTEP DT2MS), allocated only when it is on:
         ! an element's mass is msf times its own, so its step sqrt(msf) times
@@ -140,6 +141,7 @@ contains
         sh%mine = [(e, e=1, sh%n)]
         if (sh%n == 0) return
         sh%thickness_update = model%ctl%istupd /= 0
+        sh%isdo = model%ctl%isdo
         allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%e(sh%n), sh%nu(sh%n), &
                   sh%ro(sh%n), sh%shrf(sh%n), sh%qm(sh%n), sh%qb(sh%n), sh%qw(sh%n), sh%hg_viscous(sh%n), &
                   sh%nip(sh%n), sh%area0(sh%n), sh%msq(sh%n))
@@ -486,11 +488,17 @@ contains
                 ms(l, 3, k) = m1*gn%e1(l, 3) + m2*gn%e2(l, 3)
             end do
         end do
-        ! time step: area over the longest side, plate wave speed
-        do l = 1, nb
-            wsp(l) = sqrt(ym(l)/(ro(l)*(1 - nu(l)**2)))
-            dte(l) = gn%a(l)/gn%ls(l)/wsp(l)
-        end do
+        ! time step (ISDO, LS-DYNA's meaning): the plate wave speed and the
+        ! area over the longest side; a triangle's shortest altitude, twice
+        ! that (the longest side is the altitude's base)
+        if (sh%isdo == 0) then
+            do l = 1, nb
+                wsp(l) = sqrt(ym(l)/(ro(l)*(1 - nu(l)**2)))
+                dte(l) = merge(2.0_wp, 1.0_wp, sh%conn(3, els(l)) == sh%conn(4, els(l)))*gn%a(l)/gn%ls(l)/wsp(l)
+            end do
+        else
+            call step_options()
+        end if
         ! into the elements' slots (a triangle's fourth node is its third)
         do l = 1, nb
             e = els(l)
@@ -503,6 +511,42 @@ contains
                 sh%mslot(:, 4*(e - 1) + k) = ms(l, :, k)
             end do
         end do
+    contains
+        !> ISDO 1: area over the longest diagonal (a triangle: its shortest
+        !> altitude, as 0); 2: the bar wave speed and the larger of the
+        !> shortest side and area over the longest side (a triangle: its
+        !> shortest side). On the end-of-step geometry, as ISDO 0.
+        subroutine step_options()
+            integer :: l, k, nside
+            real(wp) :: sd(4), d13, d24, len
+            logical :: tri
+            do l = 1, nb
+                tri = sh%conn(3, els(l)) == sh%conn(4, els(l))
+                do k = 1, 4
+                    sd(k) = norm2(gn%xe(l, :, mod(k, 4) + 1) - gn%xe(l, :, k))
+                end do
+                nside = merge(3, 4, tri)
+                if (tri) sd(3) = sd(4)   ! the sides 1-2, 2-3 and 3-1 (4 = 3)
+                if (sh%isdo == 1) then
+                    wsp(l) = sqrt(ym(l)/(ro(l)*(1 - nu(l)**2)))
+                    if (tri) then
+                        len = 2*gn%a(l)/maxval(sd(1:3))
+                    else
+                        d13 = norm2(gn%xe(l, :, 3) - gn%xe(l, :, 1))
+                        d24 = norm2(gn%xe(l, :, 4) - gn%xe(l, :, 2))
+                        len = gn%a(l)/max(d13, d24)
+                    end if
+                else
+                    wsp(l) = sqrt(ym(l)/ro(l))
+                    if (tri) then
+                        len = minval(sd(1:3))
+                    else
+                        len = max(minval(sd), gn%a(l)/maxval(sd))
+                    end if
+                end if
+                dte(l) = len/wsp(l)
+            end do
+        end subroutine step_options
     end subroutine block_forces
 
     !> The stresses at the points of the block's shells from their rates r

@@ -45,10 +45,21 @@ contains
             case ('CONTROL_TIMESTEP')
                 call get_card(ctx, kw, ic, 'DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST', 1, card, error)
                 if (allocated(error)) return
-                call ignored_fields(model, card, [3, 4], 'shell step options (ISDO, TSLIMT) are not in xdyna; ignored')
+                call ignored_fields(model, card, [4], 'TSLIMT (a shell step floor for *MAT_003 and *MAT_024) is not '// &
+                                    'in xdyna; ignored')
                 call get_real(card, 1, c%dtinit, 0.0_wp, error); if (allocated(error)) return
                 call get_real(card, 2, c%tssfac, 0.9_wp, error, zero_default=.true.); if (allocated(error)) return
                 call get_int(card, 3, isdo, 0, error); if (allocated(error)) return
+                select case (isdo)
+                case (0:2)
+                    c%isdo = isdo
+                case (3)
+                    c%isdo = 0
+                    call add_warning(model, at//' field ISDO: 3 (the step from the largest eigenvalue) is not in '// &
+                                     'xdyna; ISDO 0 (area over the longest side) used')
+                case default
+                    call card_error(card, 3, 'ISDO '//trim(card%f(3))//' is not 0, 1, 2 or 3', error); return
+                end select
                 call get_real(card, 4, c%tslimt, 0.0_wp, error); if (allocated(error)) return
                 call get_real(card, 5, c%dt2ms, 0.0_wp, error); if (allocated(error)) return
                 call get_int(card, 6, lctm, 0, error); if (allocated(error)) return

@@ -302,6 +302,11 @@ module xd_model
         real(wp) :: endeng = 0
         real(wp) :: dtinit = 0
         real(wp) :: tssfac = 0.9_wp
+        !> *CONTROL_TIMESTEP ISDO, the shells' step length: 0 area over the
+        !> longest side, 1 over the longest diagonal (triangles: the shortest
+        !> altitude for both), 2 the larger of the shortest side and area over
+        !> the longest side with the bar wave speed (triangles: the shortest side)
+        integer :: isdo = 0
         real(wp) :: tslimt = 0
         real(wp) :: dt2ms = 0               !< *CONTROL_TIMESTEP: mass scaling (< 0: only where needed)
         integer :: ms1st = 0                !< mass scaling at the first cycle only

@@ -175,6 +175,19 @@ contains
         s = s//'   termination time .......... '//trim(fmt(model%ctl%endtim))//nl
         if (model%ctl%endcyc > 0) s = s//'   termination cycle ......... '//itoa(model%ctl%endcyc)//nl
         s = s//'   time step scale TSSFAC .... '//trim(fmt(model%ctl%tssfac))//nl
+        if (model%nshell > 0) then
+            select case (model%ctl%isdo)
+            case (1)
+                s = s//'   shell step length ISDO 1 .. area over the longest diagonal (triangles: the shortest '// &
+                    'altitude), plate wave speed'//nl
+            case (2)
+                s = s//'   shell step length ISDO 2 .. the larger of the shortest side and area over the longest '// &
+                    'side (triangles: the shortest side), bar wave speed'//nl
+            case default
+                s = s//'   shell step length ISDO 0 .. area over the longest side (triangles: the shortest '// &
+                    'altitude), plate wave speed'//nl
+            end select
+        end if
         s = s//'   glstat / matsum / nodout .. '//trim(fmt(model%db%glstat%dt))//' / '// &
             trim(fmt(model%db%matsum%dt))//' / '//trim(fmt(model%db%nodout%dt))//nl
         ! where BINARY 2 leaves out an ASCII file (thist.h5 holds the series)
