@@ -6,7 +6,7 @@ module xd_solver_assembly
     use xd_core_memory, only: alloc
     implicit none
     private
-    public :: assembly_t, build_assembly, assemble, assemble_pair
+    public :: assembly_t, build_assembly, assemble
 
     type :: assembly_t
         integer :: nnode = 0
@@ -50,95 +50,70 @@ contains
     end subroutine build_assembly
 
     !> f(:, node) = sum of its slots, in slot order (added to f with `add`),
-    !> for every node or the nodes listed in `nodes`.
-    subroutine assemble(asm, fslot, f, add, nodes)
+    !> for every node or the nodes listed in `nodes`; with mslot and m, also
+    !> m(:, node) from mslot in the same pass over the slots (the shells'
+    !> forces and moments: the same sums, bit for bit, as two passes).
+    subroutine assemble(asm, fslot, f, add, nodes, mslot, m)
         type(assembly_t), intent(in) :: asm
         real(wp), contiguous, intent(in) :: fslot(:, :)
         real(wp), contiguous, intent(inout) :: f(:, :)
         logical, intent(in), optional :: add
         integer, intent(in), optional :: nodes(:)
-        logical :: acc
-        integer :: i, nd
+        real(wp), contiguous, intent(in), optional :: mslot(:, :)
+        real(wp), contiguous, intent(inout), optional :: m(:, :)
+        logical :: acc, pair
+        integer :: i, n
         acc = .false.
         if (present(add)) acc = add
+        pair = present(mslot) .and. present(m)
+        n = asm%nnode
+        if (present(nodes)) n = size(nodes)
+        ! (the node list's presence tested outside the loop, which then
+        ! vectorises its index arithmetic)
         if (present(nodes)) then
-            !$omp parallel do schedule(static) private(i, nd)
-            do i = 1, size(nodes)
-                nd = nodes(i)
-                call sum3(nd)
+            !$omp parallel do schedule(static) private(i)
+            do i = 1, n
+                call node_sum(nodes(i))
             end do
             !$omp end parallel do
         else
-            !$omp parallel do schedule(static) private(nd)
-            do nd = 1, asm%nnode
-                call sum3(nd)
+            !$omp parallel do schedule(static) private(i)
+            do i = 1, n
+                call node_sum(i)
             end do
             !$omp end parallel do
         end if
     contains
-        subroutine sum3(nd)
-            integer, intent(in) :: nd
-            integer :: j
-            real(wp) :: s1, s2, s3
-            s1 = 0; s2 = 0; s3 = 0
-            if (acc) then
-                s1 = f(1, nd); s2 = f(2, nd); s3 = f(3, nd)
-            end if
-            do j = asm%ptr(nd), asm%ptr(nd + 1) - 1
-                s1 = s1 + fslot(1, asm%slot(j))
-                s2 = s2 + fslot(2, asm%slot(j))
-                s3 = s3 + fslot(3, asm%slot(j))
-            end do
-            f(1, nd) = s1; f(2, nd) = s2; f(3, nd) = s3
-        end subroutine sum3
-    end subroutine assemble
-
-    !> The shells' two sums in one pass over the slots: f(:, node) (added to
-    !> f with `add`) from fslot and m(:, node) from mslot, each in slot order
-    !> (the same sums, bit for bit, as two calls of assemble).
-    subroutine assemble_pair(asm, fslot, mslot, f, m, add, nodes)
-        type(assembly_t), intent(in) :: asm
-        real(wp), contiguous, intent(in) :: fslot(:, :), mslot(:, :)
-        real(wp), contiguous, intent(inout) :: f(:, :), m(:, :)
-        logical, intent(in) :: add
-        integer, intent(in), optional :: nodes(:)
-        integer :: i, nd
-        if (present(nodes)) then
-            !$omp parallel do schedule(static) private(i, nd)
-            do i = 1, size(nodes)
-                nd = nodes(i)
-                call sum6(nd)
-            end do
-            !$omp end parallel do
-        else
-            !$omp parallel do schedule(static) private(nd)
-            do nd = 1, asm%nnode
-                call sum6(nd)
-            end do
-            !$omp end parallel do
-        end if
-    contains
-        subroutine sum6(nd)
+        subroutine node_sum(nd)
             integer, intent(in) :: nd
             integer :: j, k
             real(wp) :: s1, s2, s3, r1, r2, r3
             s1 = 0; s2 = 0; s3 = 0
-            if (add) then
+            if (acc) then
                 s1 = f(1, nd); s2 = f(2, nd); s3 = f(3, nd)
             end if
-            r1 = 0; r2 = 0; r3 = 0
-            do j = asm%ptr(nd), asm%ptr(nd + 1) - 1
-                k = asm%slot(j)
-                s1 = s1 + fslot(1, k)
-                s2 = s2 + fslot(2, k)
-                s3 = s3 + fslot(3, k)
-                r1 = r1 + mslot(1, k)
-                r2 = r2 + mslot(2, k)
-                r3 = r3 + mslot(3, k)
-            end do
+            if (pair) then
+                r1 = 0; r2 = 0; r3 = 0
+                do j = asm%ptr(nd), asm%ptr(nd + 1) - 1
+                    k = asm%slot(j)
+                    s1 = s1 + fslot(1, k)
+                    s2 = s2 + fslot(2, k)
+                    s3 = s3 + fslot(3, k)
+                    r1 = r1 + mslot(1, k)
+                    r2 = r2 + mslot(2, k)
+                    r3 = r3 + mslot(3, k)
+                end do
+                m(1, nd) = r1; m(2, nd) = r2; m(3, nd) = r3
+            else
+                do j = asm%ptr(nd), asm%ptr(nd + 1) - 1
+                    k = asm%slot(j)
+                    s1 = s1 + fslot(1, k)
+                    s2 = s2 + fslot(2, k)
+                    s3 = s3 + fslot(3, k)
+                end do
+            end if
             f(1, nd) = s1; f(2, nd) = s2; f(3, nd) = s3
-            m(1, nd) = r1; m(2, nd) = r2; m(3, nd) = r3
-        end subroutine sum6
-    end subroutine assemble_pair
+        end subroutine node_sum
+    end subroutine assemble
 
 end module xd_solver_assembly

@@ -11,7 +11,7 @@ module xd_solver_time_loop
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, solid_forces
     use xd_solver_state, only: state_t
-    use xd_solver_assembly, only: assembly_t, assemble, assemble_pair
+    use xd_solver_assembly, only: assembly_t, assemble
     use xd_solver_energies, only: energies_t, compute_energies
     use xd_output_histories, only: histories_t, histories_due, write_histories, history_failure, track_rotations, &
                                    flush_histories
@@ -476,7 +476,8 @@ contains
                 call tm%stop(ph_comm)
                 call tm%start(ph_assembly)
                 if (solids%n > 0 .or. sh%n == 0) call assemble(asm, solids%fslot, st%f, nodes=dom%nodes)
-                if (sh%n > 0) call assemble_pair(asm_sh, sh%fslot, sh%mslot, st%f, st%mom, solids%n > 0, nodes=dom%nodes)
+                if (sh%n > 0) call assemble(asm_sh, sh%fslot, st%f, add=solids%n > 0, nodes=dom%nodes, &
+                                            mslot=sh%mslot, m=st%mom)
                 call tm%stop(ph_assembly)
                 call tm%start(ph_comm)
                 if (sh%n > 0) then
@@ -489,7 +490,7 @@ contains
             end if
             call tm%start(ph_assembly)
             if (solids%n > 0 .or. sh%n == 0) call assemble(asm, solids%fslot, st%f)
-            if (sh%n > 0) call assemble_pair(asm_sh, sh%fslot, sh%mslot, st%f, st%mom, solids%n > 0)
+            if (sh%n > 0) call assemble(asm_sh, sh%fslot, st%f, add=solids%n > 0, mslot=sh%mslot, m=st%mom)
             call tm%stop(ph_assembly)
         end subroutine element_pass
 
