@@ -47,6 +47,7 @@ module xd_input_keyword_table
         entry_t('PARAMETER_EXPRESSION_NOECHO', fam_meta, 'PARAMETER_EXPRESSION', .false.), &
         entry_t('NODE', fam_geometry, '', .false.), &
         entry_t('ELEMENT_SOLID', fam_geometry, '', .false.), &
+        entry_t('ELEMENT_MASS', fam_geometry, '', .false.), &
         entry_t('PART', fam_geometry, '', .false.), &
         entry_t('PART_INERTIA', fam_geometry, '', .false.), &
         entry_t('ELEMENT_SHELL', fam_geometry, '', .false.), &

@@ -29,6 +29,8 @@ contains
             call read_part(ctx, kw, model, error)
         case ('ELEMENT_SHELL', 'ELEMENT_SHELL_THICKNESS')
             call read_element_shell(ctx, kw, model, error)
+        case ('ELEMENT_MASS')
+            call read_element_mass(ctx, kw, model, error)
         end select
     end subroutine read_geometry
 
@@ -80,6 +82,56 @@ contains
 
     !> One-line form EID PID N1..N8, or two-line form (EID PID, then N1..N10),
     !> told apart by whether the third field of the first card holds a node.
+    !> *ELEMENT_MASS: EID NID MASS PID (I8 I8 E16 I8), a point mass on a
+    !> node. PID (a part for the mass's energy in matsum) is warned: the mass
+    !> counts in glstat's kinetic energy and the model's mass, not in a part.
+    subroutine read_element_mass(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(card_format_t) :: fmt
+        integer :: ic, eid, nid, pid
+        real(wp) :: m
+        fmt = card_format('EID:8 NID:8 MASS:16 PID:8', kw%width_mode)
+        do ic = 1, kw%ncard
+            call get_card(ctx, kw, ic, fmt, 1, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            call get_int(card, 1, eid, 0, error); if (allocated(error)) return
+            call get_int(card, 2, nid, 0, error); if (allocated(error)) return
+            call get_real(card, 3, m, 0.0_wp, error); if (allocated(error)) return
+            call get_int(card, 4, pid, 0, error); if (allocated(error)) return
+            if (eid <= 0) then
+                call card_error(card, 1, 'element id must be a positive integer', error); return
+            end if
+            if (nid <= 0) then
+                call card_error(card, 2, 'node id must be a positive integer', error); return
+            end if
+            if (.not. (m >= 0.0_wp .and. m <= huge(1.0_wp))) then
+                call card_error(card, 3, 'MASS must be a finite value, not negative', error); return
+            end if
+            if (pid /= 0) call add_warning(model, ctx%src%where(kw%card_line(ic))//': *ELEMENT_MASS '//itoa(eid)// &
+                                           ' field PID = '//itoa(pid)//': the mass is not booked to a part in matsum '// &
+                                           '(it counts in glstat and the model''s mass); ignored')
+            if (.not. allocated(model%pmass)) then
+                allocate (model%pmass_eid(16), model%pmass_nid(16), model%pmass_src(16), model%pmass(16))
+            end if
+            if (model%npmass == size(model%pmass)) then
+                model%pmass_eid = [model%pmass_eid, model%pmass_eid]
+                model%pmass_nid = [model%pmass_nid, model%pmass_nid]
+                model%pmass_src = [model%pmass_src, model%pmass_src]
+                model%pmass = [model%pmass, model%pmass]
+            end if
+            model%npmass = model%npmass + 1
+            model%pmass_eid(model%npmass) = eid
+            model%pmass_nid(model%npmass) = nid
+            model%pmass_src(model%npmass) = kw%card_line(ic)
+            model%pmass(model%npmass) = m
+        end do
+    end subroutine read_element_mass
+
     subroutine read_element_solid(ctx, kw, model, error)
         type(read_ctx_t), intent(in) :: ctx
         type(keyword_t), intent(in) :: kw

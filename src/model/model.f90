@@ -375,6 +375,11 @@ module xd_model
         type(hourglass_t), allocatable :: hg(:)
         type(set_t), allocatable :: set(:)
         integer :: ncurve = 0, nbody = 0, nwall = 0, npresc = 0, nnrb = 0, nsegset = 0, npress = 0
+        !> *ELEMENT_MASS: point masses on nodes (id, node id, its index once
+        !> checked, mass, deck line)
+        integer :: npmass = 0
+        integer, allocatable :: pmass_eid(:), pmass_nid(:), pmass_ix(:), pmass_src(:)
+        real(wp), allocatable :: pmass(:)
         type(segment_set_t), allocatable :: segset(:)
         type(pressure_t), allocatable :: press(:)
         type(nodal_rigid_t), allocatable :: nrb(:)

@@ -170,6 +170,8 @@ contains
         s = s//'   segment pressures ......... '//onoff(model%npress > 0)//nl
         s = s//'   boundary constraints ...... '//onoff(model%nspc > 0 .or. any(model%node_tc(1:model%nnode) > 0))//nl
         s = s//'   initial velocities ........ '//onoff(model%nivel > 0)//nl
+        if (model%npmass > 0) s = s//'   point masses (*ELEMENT_MASS) '//itoa(model%npmass)//', total '// &
+                                    trim(fmt(real(sum(model%pmass(1:model%npmass)), wp)))//nl
         s = s//'   initial stresses .......... '//onoff(model%nistress > 0)//nl
         s = s//nl//' c o n t r o l s'//nl
         s = s//'   termination time .......... '//trim(fmt(model%ctl%endtim))//nl

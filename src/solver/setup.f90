@@ -35,6 +35,7 @@ contains
         integer, intent(out) :: nfree_nodes
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable, intent(out) :: step_note   !< a scaled solid step, for d3hsp ('' if none)
+        integer :: i
         st%nnode = model%nnode
         call alloc(st%x, 3, st%nnode, 'coordinates')
         call alloc(st%x0, 3, st%nnode, 'initial coordinates')
@@ -60,6 +61,12 @@ contains
             call shell_masses(sh, st%x, st%mass, st%irot)
             call build_assembly(st%nnode, sh%conn, asm_sh)
         end if
+        ! *ELEMENT_MASS: point masses join their nodes' (and so a rigid
+        ! body's, where the node is on one: the body takes a node's mass
+        ! beyond its own elements' as a point mass)
+        do i = 1, model%npmass
+            st%mass(model%pmass_ix(i)) = st%mass(model%pmass_ix(i)) + model%pmass(i)
+        end do
         nfree_nodes = count(st%mass <= 0.0_wp)
         call constraint_masks(model, st)
         call initial_velocities(model, solids, st)
