@@ -971,7 +971,9 @@ def test_element_mass():
     ms. d3hsp names the masses and their total. On a rigid body's node the
     mass joins the body (its mass exactly, the energy kept); a point mass on
     a node no deck defines is refused naming the line, the field and the
-    node."""
+    node. *CONSTRAINED_EXTRA_NODES_NODE joins a node (no element's, with a
+    point mass) to a spinning rigid block: the body carries its mass and the
+    node keeps its distance to the block."""
     E, rho, L, a, M = 200e9, 7850.0, 0.1, 0.01, 1.0
     n = 10
     lines = ["*KEYWORD", "*TITLE", "a bar carrying a point mass", "*CONTROL_TERMINATION", "   1.5e-03",
@@ -1035,6 +1037,43 @@ def test_element_mass():
         detail = p.stderr[-300:]
     record(f"element mass: 1 kg on a node of the spinning rigid block joins the body (7.85 -> 8.85 kg, 1e-9; "
            f"energy ratio within 1e-6): {detail}", ok)
+    # *CONSTRAINED_EXTRA_NODES_NODE: a node of no element, 30 mm off the
+    # spinning rigid block, carrying 1 kg, joined to the block: the body is
+    # 8.85 kg, the node keeps its distance to the block's node 1 (a rigid
+    # motion: 1e-9 relative over the spin) and the energy is kept
+    text2 = text.replace("*END", "*NODE\n     999 1.300000000e-01 2.500000000e-02 2.500000000e-02       0       0\n"
+                         "*CONSTRAINED_EXTRA_NODES_NODE\n         1       999\n*DATABASE_NODOUT\n 1.000e-04\n"
+                         "*DATABASE_HISTORY_NODE\n         1       999\n*END").replace(
+        "     901       1     1.000e+00       0", "     901     999     1.000e+00       0")
+    xpath = os.path.join(TMP, "rigid_spin_extra.k")
+    with open(xpath, "w") as f:
+        f.write(text2)
+    p = run([XDYNA, "i=" + xpath, "outdir=" + out + "_extra"])
+    ok = p.returncode == 0
+    if ok:
+        with h5py.File(os.path.join(out + "_extra", "thist.h5"), "r") as f:
+            mb, ratio = float(f["matsum/mass"][0][0]), f["glstat/energy_ratio"][:]
+            xs = np.stack([f["nodout/" + c + "_coordinate"][:] for c in "xyz"], axis=-1)
+        dist = np.linalg.norm(xs[:, 1, :] - xs[:, 0, :], axis=-1)
+        spread = float(np.max(np.abs(dist / dist[0] - 1)))
+        moved = float(np.max(np.linalg.norm(xs[:, 1, :] - xs[0, 1, :], axis=-1)))
+        log = open(os.path.join(out + "_extra", "d3hsp")).read()
+        ok = (abs(mb - 8.85) < 1e-9 and spread < 1e-9 and moved > 1e-3 and float(np.max(np.abs(ratio - 1))) < 1e-6
+              and "extra nodes on rigid bodies 1" in log)
+        detail = (f"body {mb:.12g} kg, distance to node 1 kept to {spread:.1e} while the node moved {moved * 1e3:.1f} mm, "
+                  f"energy ratio within {float(np.max(np.abs(ratio - 1))):.1e}")
+    else:
+        detail = p.stderr[-300:]
+    record(f"extra nodes: a 1 kg node joined to the spinning rigid block moves with it (8.85 kg; distance kept to "
+           f"1e-9; energy to 1e-6; named in d3hsp): {detail}", ok)
+    bad2 = xpath.replace(".k", "_bad.k")
+    with open(bad2, "w") as f:
+        f.write(text2.replace("*CONSTRAINED_EXTRA_NODES_NODE\n         1       999",
+                              "*CONSTRAINED_EXTRA_NODES_NODE\n         1      9999"))
+    p = run([XDYNA, "i=" + bad2, "outdir=" + out + "_extra_bad"])
+    record("extra nodes: an undefined node is refused (exit 1) naming the line, NID and the node",
+           p.returncode == 1 and "*CONSTRAINED_EXTRA_NODES_NODE field NID: node 9999 is not defined" in p.stderr,
+           p.stderr[-300:])
     bad = path.replace(".k", "_bad.k")
     with open(bad, "w") as f:
         f.write(open(path).read().replace(f"{900:8d}{tip[0]:8d}", f"{900:8d}{99999:8d}"))

@@ -469,6 +469,7 @@ contains
         type(id_maps_t), intent(in) :: maps
         type(error_t), allocatable, intent(out) :: error
         integer :: i, k
+        character(len=:), allocatable :: at
         do i = 1, model%nspc
             associate (c => model%spc(i))
                 if (c%is_set) then
@@ -534,6 +535,38 @@ contains
                                 itoa(model%istress(i)%eid)//' is not defined')
                 return
             end if
+        end do
+        ! *CONSTRAINED_EXTRA_NODES: a rigid part, and nodes that exist
+        do i = 1, model%nxn
+            associate (r => model%xn(i))
+                at = ctx%src%where(r%src)//': *CONSTRAINED_EXTRA_NODES_'//trim(merge('SET ', 'NODE', r%set))
+                r%part_ix = maps%part%find(r%pid)
+                if (r%part_ix == 0) then
+                    call make_error(error, at//' field PID: part '//itoa(r%pid)//' is not defined'); return
+                end if
+                if (model%mat(model%part(r%part_ix)%mat_ix)%mtype /= mat_rigid) then
+                    call make_error(error, at//' field PID: part '//itoa(r%pid)//' is not rigid (*MAT_RIGID): '// &
+                                    'extra nodes join a rigid body'); return
+                end if
+                if (r%iflag == 1 .and. model%part(r%part_ix)%inertia) then
+                    call make_error(error, at//' field IFLAG: 1 (the nodes'' masses added to *PART_INERTIA''s '// &
+                                    'properties) is not in xdyna; give the body''s properties with them, IFLAG 0')
+                    return
+                end if
+                if (r%set) then
+                    k = find_set(model, set_node, r%id)
+                    if (k == 0) then
+                        call make_error(error, at//' field NSID: node set '//itoa(r%id)//' is not defined'); return
+                    end if
+                    r%node_ix = model%set(k)%member_ix
+                else
+                    k = maps%node%find(r%id)
+                    if (k == 0) then
+                        call make_error(error, at//' field NID: node '//itoa(r%id)//' is not defined'); return
+                    end if
+                    r%node_ix = [k]
+                end if
+            end associate
         end do
         if (model%npmass > 0) then
             allocate (model%pmass_ix(model%npmass))

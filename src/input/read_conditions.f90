@@ -1,5 +1,6 @@
 !> Readers for boundary and initial conditions: *BOUNDARY_SPC_NODE/_SET,
-!> *INITIAL_VELOCITY (+_NODE, _GENERATION), *INITIAL_STRESS_SOLID.
+!> *INITIAL_VELOCITY (+_NODE, _GENERATION), *INITIAL_STRESS_SOLID, nodal rigid
+!> bodies and spot welds, *CONSTRAINED_EXTRA_NODES_NODE/_SET.
 module xd_input_read_conditions
     use xd_kinds, only: wp
     use xd_core_errors, only: error_t, make_error
@@ -7,7 +8,7 @@ module xd_input_read_conditions
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: get_id_card, read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
-    use xd_model, only: model_t, spc_t, init_vel_t, init_stress_t, prescribed_t, nodal_rigid_t, iv_node_set, &
+    use xd_model, only: model_t, spc_t, init_vel_t, init_stress_t, prescribed_t, nodal_rigid_t, extra_nodes_t, iv_node_set, &
                         iv_node, iv_generation
     implicit none
     private
@@ -27,6 +28,8 @@ contains
             call read_prescribed(ctx, kw, model, error)
         case ('CONSTRAINED_NODAL_RIGID_BODY', 'CONSTRAINED_GENERALIZED_WELD_SPOT')
             call read_nodal_rigid(ctx, kw, model, error)
+        case ('CONSTRAINED_EXTRA_NODES_NODE', 'CONSTRAINED_EXTRA_NODES_SET')
+            call read_extra_nodes(ctx, kw, model, error)
         case ('INITIAL_VELOCITY')
             call read_initial_velocity(ctx, kw, model, error)
         case ('INITIAL_VELOCITY_NODE')
@@ -407,6 +410,51 @@ contains
             model%nrb(model%nnrb) = r
         end do
     end subroutine read_nodal_rigid
+
+    !> *CONSTRAINED_EXTRA_NODES_NODE / _SET: PID NID (NSID) IFLAG, one card
+    !> each; the part and the nodes are checked once the deck is read.
+    subroutine read_extra_nodes(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(extra_nodes_t) :: r
+        integer :: ic
+        logical :: set
+        set = kw%name == 'CONSTRAINED_EXTRA_NODES_SET'
+        do ic = 1, kw%ncard
+            if (set) then
+                call get_card(ctx, kw, ic, 'PID NSID IFLAG', 1, card, error)
+            else
+                call get_card(ctx, kw, ic, 'PID NID IFLAG', 1, card, error)
+            end if
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            r = extra_nodes_t(set=set, src=kw%card_line(ic))
+            call get_int(card, 1, r%pid, 0, error); if (allocated(error)) return
+            call get_int(card, 2, r%id, 0, error); if (allocated(error)) return
+            call get_int(card, 3, r%iflag, 0, error); if (allocated(error)) return
+            if (r%pid <= 0) then
+                call card_error(card, 1, 'PID must name a rigid part', error); return
+            end if
+            if (r%id <= 0) then
+                if (set) then
+                    call card_error(card, 2, 'NSID must name a node set', error)
+                else
+                    call card_error(card, 2, 'NID must name a node', error)
+                end if
+                return
+            end if
+            if (r%iflag /= 0 .and. r%iflag /= 1) then
+                call card_error(card, 3, 'IFLAG must be 0 or 1', error); return
+            end if
+            if (.not. allocated(model%xn)) allocate (model%xn(8))
+            if (model%nxn == size(model%xn)) model%xn = [model%xn, model%xn]
+            model%nxn = model%nxn + 1
+            model%xn(model%nxn) = r
+        end do
+    end subroutine read_extra_nodes
 
     subroutine push_ivel(model, iv)
         type(model_t), intent(inout) :: model

@@ -13,7 +13,7 @@ module xd_model
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
-    public :: search_auto, search_fixed, search_adaptive, mnl_minimal, mnl_closest1, mnl_closest3
+    public :: extra_nodes_t, search_auto, search_fixed, search_adaptive, mnl_minimal, mnl_closest1, mnl_closest3
     public :: styp_segment_set, styp_shell_set, styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but
 
     integer, parameter :: mat_elastic = 1, mat_plastic_kinematic = 3, mat_rigid = 20, &
@@ -190,6 +190,19 @@ module xd_model
         real(wp) :: tfail = 1.0e20_wp
         integer :: src = 0
     end type nodal_rigid_t
+
+    !> *CONSTRAINED_EXTRA_NODES_NODE / _SET: nodes (or a node set) joined to
+    !> the rigid body of part PID (IFLAG: with *PART_INERTIA, whether the
+    !> nodes' masses add to the deck's properties)
+    type :: extra_nodes_t
+        integer :: pid = 0
+        integer :: id = 0                   !< node id (_NODE) or node set id (_SET)
+        logical :: set = .false.
+        integer :: iflag = 0
+        integer :: src = 0
+        integer :: part_ix = 0
+        integer, allocatable :: node_ix(:)
+    end type extra_nodes_t
 
     !> *RIGIDWALL_PLANAR: a stonewall through `tail` with unit normal `normal`
     !> (towards the side the nodes are on); finite walls have in-plane axes
@@ -383,6 +396,8 @@ module xd_model
         type(segment_set_t), allocatable :: segset(:)
         type(pressure_t), allocatable :: press(:)
         type(nodal_rigid_t), allocatable :: nrb(:)
+        integer :: nxn = 0
+        type(extra_nodes_t), allocatable :: xn(:)
         type(prescribed_t), allocatable :: presc(:)
         type(curve_t), allocatable :: curve(:)
         type(body_load_t), allocatable :: body(:)

@@ -103,7 +103,7 @@ contains
         character(len=:), allocatable :: s
         character(len=160) :: buf
         character(len=1), parameter :: nl = new_line('a')
-        integer :: p, ne, m
+        integer :: p, ne, m, k
         s = ' input deck: '//model%deck_path//nl
         if (len_trim(model%title) > 0) s = s//' title: '//trim(model%title)//nl
         s = s//nl//' m o d e l   s u m m a r y'//nl
@@ -172,6 +172,8 @@ contains
         s = s//'   initial velocities ........ '//onoff(model%nivel > 0)//nl
         if (model%npmass > 0) s = s//'   point masses (*ELEMENT_MASS) '//itoa(model%npmass)//', total '// &
                                     trim(fmt(real(sum(model%pmass(1:model%npmass)), wp)))//nl
+        if (model%nxn > 0) s = s//'   extra nodes on rigid bodies '//itoa(sum([(size(model%xn(k)%node_ix), &
+                                 k=1, model%nxn)]))//' (*CONSTRAINED_EXTRA_NODES)'//nl
         s = s//'   initial stresses .......... '//onoff(model%nistress > 0)//nl
         s = s//nl//' c o n t r o l s'//nl
         s = s//'   termination time .......... '//trim(fmt(model%ctl%endtim))//nl

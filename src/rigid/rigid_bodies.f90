@@ -224,6 +224,11 @@ contains
                     jt = jt + j2
                     mark(model%shell_conn(:, e)) = .true.
                 end do
+                ! *CONSTRAINED_EXTRA_NODES: more nodes of the body, whose
+                ! mass (their elements' lumped share, point masses) it carries
+                do i = 1, model%nxn
+                    if (model%xn(i)%part_ix == p) mark(model%xn(i)%node_ix) = .true.
+                end do
                 call add_deformable_share(b, jt, mark)
                 if (b%mass > 0.0_dp) then
                     b%xc = b%xc/b%mass
