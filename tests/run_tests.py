@@ -62,6 +62,17 @@ def run_deck(deck, name, env=None, extra=()):
     return p, out
 
 
+def run_text(name, text):
+    """Write a deck made here (`text`) as TMP/name.k and run it into
+    TMP/name; returns the process, the output directory and the deck."""
+    path = os.path.join(TMP, name + ".k")
+    with open(path, "w") as f:
+        f.write(text)
+    out = os.path.join(TMP, name)
+    shutil.rmtree(out, ignore_errors=True)
+    return run([XDYNA, "i=" + path, "outdir=" + out]), out, path
+
+
 def glstat(out):
     with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
         return {k: f["glstat"][k][:] for k in f["glstat"]}
@@ -901,16 +912,11 @@ def test_shell_step_length():
                  "         1         1         1", "*NODE"]
         lines += [f"{k + 1:8d}{x:16.9e}{y:16.9e}{0.0:16.9e}       0       0" for k, (x, y) in enumerate(nodes)]
         lines += ["*ELEMENT_SHELL", conn, "*END"]
-        path = os.path.join(TMP, f"step_{shape}_{isdo}.k")
-        with open(path, "w") as f:
-            f.write("\n".join(lines) + "\n")
-        return path
+        return "\n".join(lines) + "\n"
 
     for shape in ("quad", "tri"):
         for isdo in (0, 1, 2):
-            out = os.path.join(TMP, f"step_{shape}_{isdo}")
-            shutil.rmtree(out, ignore_errors=True)
-            p = run([XDYNA, "i=" + deck(shape, isdo), "outdir=" + out])
+            p, out, _ = run_text(f"step_{shape}_{isdo}", deck(shape, isdo))
             if p.returncode != 0:
                 record(f"shell step ISDO {isdo} {shape} runs", False, p.stderr[-300:])
                 continue
@@ -944,12 +950,7 @@ def test_shell_step_length():
     lines += ["*SET_NODE_LIST", "         2"] + [f"{nid(n, j):10d}" for j in range(m + 1)]
     lines += ["*BOUNDARY_SPC_SET", "         1         0         1         1         1         1         1         1",
               "*INITIAL_VELOCITY", "         2", "       0.0       0.0       1.0", "*END"]
-    path = os.path.join(TMP, "tri_strip.k")
-    with open(path, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    out = os.path.join(TMP, "tri_strip")
-    shutil.rmtree(out, ignore_errors=True)
-    p = run([XDYNA, "i=" + path, "outdir=" + out])
+    p, out, _ = run_text("tri_strip", "\n".join(lines) + "\n")
     if p.returncode != 0:
         record("triangle strip runs", False, p.stderr[-300:])
         return
@@ -997,12 +998,7 @@ def test_element_mass():
     lines += ["*SET_NODE_LIST", "         2"] + [f"{v:10d}" for v in tip]
     lines += ["*BOUNDARY_SPC_SET", "         1         0         1         1         1         0         0         0",
               "*INITIAL_VELOCITY", "         2", "       1.0       0.0       0.0", "*END"]
-    path = os.path.join(TMP, "element_mass.k")
-    with open(path, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    out = os.path.join(TMP, "element_mass")
-    shutil.rmtree(out, ignore_errors=True)
-    p = run([XDYNA, "i=" + path, "outdir=" + out])
+    p, out, path = run_text("element_mass", "\n".join(lines) + "\n")
     if p.returncode != 0:
         record("element mass: the bar with a point mass runs", False, p.stderr[-300:])
         return
@@ -1023,13 +1019,10 @@ def test_element_mass():
     # block of the verification decks (7.85 kg) with 1 kg on its node 1
     with open(os.path.join(ROOT, "input_decks/verify/rigid_spin.k")) as f:
         text = f.read().replace("*END", "*ELEMENT_MASS\n     901       1     1.000e+00       0\n*END")
-    rpath = os.path.join(TMP, "rigid_spin_mass.k")
-    with open(rpath, "w") as f:
-        f.write(text)
-    p = run([XDYNA, "i=" + rpath, "outdir=" + out + "_rigid"])
+    p, rout, _ = run_text("rigid_spin_mass", text)
     ok = p.returncode == 0
     if ok:
-        with h5py.File(os.path.join(out + "_rigid", "thist.h5"), "r") as f:
+        with h5py.File(os.path.join(rout, "thist.h5"), "r") as f:
             mb, ratio = float(f["matsum/mass"][0][0]), f["glstat/energy_ratio"][:]
         ok = abs(mb - 8.85) < 1e-9 and float(np.max(np.abs(ratio - 1))) < 1e-6
         detail = f"body mass {mb:.12g} kg, energy ratio within {float(np.max(np.abs(ratio - 1))):.1e} of 1"
@@ -1045,19 +1038,16 @@ def test_element_mass():
                          "*CONSTRAINED_EXTRA_NODES_NODE\n         1       999\n*DATABASE_NODOUT\n 1.000e-04\n"
                          "*DATABASE_HISTORY_NODE\n         1       999\n*END").replace(
         "     901       1     1.000e+00       0", "     901     999     1.000e+00       0")
-    xpath = os.path.join(TMP, "rigid_spin_extra.k")
-    with open(xpath, "w") as f:
-        f.write(text2)
-    p = run([XDYNA, "i=" + xpath, "outdir=" + out + "_extra"])
+    p, xout, _ = run_text("rigid_spin_extra", text2)
     ok = p.returncode == 0
     if ok:
-        with h5py.File(os.path.join(out + "_extra", "thist.h5"), "r") as f:
+        with h5py.File(os.path.join(xout, "thist.h5"), "r") as f:
             mb, ratio = float(f["matsum/mass"][0][0]), f["glstat/energy_ratio"][:]
             xs = np.stack([f["nodout/" + c + "_coordinate"][:] for c in "xyz"], axis=-1)
         dist = np.linalg.norm(xs[:, 1, :] - xs[:, 0, :], axis=-1)
         spread = float(np.max(np.abs(dist / dist[0] - 1)))
         moved = float(np.max(np.linalg.norm(xs[:, 1, :] - xs[0, 1, :], axis=-1)))
-        log = open(os.path.join(out + "_extra", "d3hsp")).read()
+        log = open(os.path.join(xout, "d3hsp")).read()
         ok = (abs(mb - 8.85) < 1e-9 and spread < 1e-9 and moved > 1e-3 and float(np.max(np.abs(ratio - 1))) < 1e-6
               and "extra nodes on rigid bodies 1" in log)
         detail = (f"body {mb:.12g} kg, distance to node 1 kept to {spread:.1e} while the node moved {moved * 1e3:.1f} mm, "
@@ -1066,18 +1056,12 @@ def test_element_mass():
         detail = p.stderr[-300:]
     record(f"extra nodes: a 1 kg node joined to the spinning rigid block moves with it (8.85 kg; distance kept to "
            f"1e-9; energy to 1e-6; named in d3hsp): {detail}", ok)
-    bad2 = xpath.replace(".k", "_bad.k")
-    with open(bad2, "w") as f:
-        f.write(text2.replace("*CONSTRAINED_EXTRA_NODES_NODE\n         1       999",
-                              "*CONSTRAINED_EXTRA_NODES_NODE\n         1      9999"))
-    p = run([XDYNA, "i=" + bad2, "outdir=" + out + "_extra_bad"])
+    p, _, _ = run_text("rigid_spin_extra_bad", text2.replace("*CONSTRAINED_EXTRA_NODES_NODE\n         1       999",
+                                                            "*CONSTRAINED_EXTRA_NODES_NODE\n         1      9999"))
     record("extra nodes: an undefined node is refused (exit 1) naming the line, NID and the node",
            p.returncode == 1 and "*CONSTRAINED_EXTRA_NODES_NODE field NID: node 9999 is not defined" in p.stderr,
            p.stderr[-300:])
-    bad = path.replace(".k", "_bad.k")
-    with open(bad, "w") as f:
-        f.write(open(path).read().replace(f"{900:8d}{tip[0]:8d}", f"{900:8d}{99999:8d}"))
-    p = run([XDYNA, "i=" + bad, "outdir=" + out + "_bad"])
+    p, _, _ = run_text("element_mass_bad", open(path).read().replace(f"{900:8d}{tip[0]:8d}", f"{900:8d}{99999:8d}"))
     record("element mass: a point mass on an undefined node is refused (exit 1) naming the line, NID and the node",
            p.returncode == 1 and "*ELEMENT_MASS 900 field NID: node 99999 is not defined" in p.stderr
            and "element_mass_bad.k:" in p.stderr, p.stderr[-300:])
