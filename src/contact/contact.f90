@@ -174,6 +174,7 @@ contains
         type(contacts_t), intent(out) :: ct
         type(error_t), allocatable, intent(out) :: error
         integer :: i, interval, sset, k
+        logical :: given
         logical, allocatable :: in_a(:), in_b(:), dumped(:)
         integer, allocatable :: slaves(:)
         real(wp), allocatable :: xl(:, :), lc(:)
@@ -248,9 +249,9 @@ contains
                 if (model%ctl%contact%nsrch > 0) interval = model%ctl%contact%nsrch
                 if (c%bsort > 0) interval = c%bsort
                 it%interval = interval
+                given = model%ctl%contact%nsbcs > 0 .or. model%ctl%contact%nsrch > 0 .or. c%bsort > 0
                 it%adaptive = model%ctl%contact%search == search_adaptive .or. &
-                              (model%ctl%contact%search == search_auto .and. model%ctl%contact%nsbcs <= 0 .and. &
-                               model%ctl%contact%nsrch <= 0 .and. c%bsort <= 0)
+                              (model%ctl%contact%search == search_auto .and. .not. given)
                 ! slaves whose master node lists go to the debug dump
                 if (model%ctl%contact%dump_nsid > 0) then
                     sset = find_set(model, set_node, model%ctl%contact%dump_nsid)

@@ -517,7 +517,7 @@ contains
         !> shortest side and area over the longest side (a triangle: its
         !> shortest side). On the end-of-step geometry, as ISDO 0.
         subroutine step_options()
-            integer :: l, k, nside
+            integer :: l, k
             real(wp) :: sd(4), d13, d24, len
             logical :: tri
             do l = 1, nb
@@ -525,7 +525,6 @@ contains
                 do k = 1, 4
                     sd(k) = norm2(gn%xe(l, :, mod(k, 4) + 1) - gn%xe(l, :, k))
                 end do
-                nside = merge(3, 4, tri)
                 if (tri) sd(3) = sd(4)   ! the sides 1-2, 2-3 and 3-1 (4 = 3)
                 if (sh%isdo == 1) then
                     wsp(l) = sqrt(ym(l)/(ro(l)*(1 - nu(l)**2)))

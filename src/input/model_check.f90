@@ -568,18 +568,16 @@ contains
                 end if
             end associate
         end do
-        if (model%npmass > 0) then
-            allocate (model%pmass_ix(model%npmass))
-            do i = 1, model%npmass
-                model%pmass_ix(i) = maps%node%find(model%pmass_nid(i))
-                if (model%pmass_ix(i) == 0) then
-                    call make_error(error, ctx%src%where(model%pmass_src(i))//': *ELEMENT_MASS '// &
-                                    itoa(model%pmass_eid(i))//' field NID: node '//itoa(model%pmass_nid(i))// &
-                                    ' is not defined')
+        do i = 1, model%npmass
+            associate (pm => model%pmass(i))
+                pm%ix = maps%node%find(pm%nid)
+                if (pm%ix == 0) then
+                    call make_error(error, ctx%src%where(pm%src)//': *ELEMENT_MASS '//itoa(pm%eid)//' field NID: node '// &
+                                    itoa(pm%nid)//' is not defined')
                     return
                 end if
-            end do
-        end if
+            end associate
+        end do
         if (allocated(model%db%hist_node)) then
             allocate (model%db%hist_node_ix(size(model%db%hist_node)))
             do k = 1, size(model%db%hist_node)

@@ -8,7 +8,7 @@ module xd_input_read_geometry
                                      card_error
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, add_warning, ignored_fields
-    use xd_model, only: model_t, part_t
+    use xd_model, only: model_t, part_t, point_mass_t
     implicit none
     private
     public :: read_geometry
@@ -80,8 +80,6 @@ contains
         end do
     end subroutine read_node
 
-    !> One-line form EID PID N1..N8, or two-line form (EID PID, then N1..N10),
-    !> told apart by whether the third field of the first card holds a node.
     !> *ELEMENT_MASS: EID NID MASS PID (I8 I8 E16 I8), a point mass on a
     !> node. PID (a part for the mass's energy in matsum) is warned: the mass
     !> counts in glstat's kinetic energy and the model's mass, not in a part.
@@ -115,23 +113,15 @@ contains
             if (pid /= 0) call add_warning(model, ctx%src%where(kw%card_line(ic))//': *ELEMENT_MASS '//itoa(eid)// &
                                            ' field PID = '//itoa(pid)//': the mass is not booked to a part in matsum '// &
                                            '(it counts in glstat and the model''s mass); ignored')
-            if (.not. allocated(model%pmass)) then
-                allocate (model%pmass_eid(16), model%pmass_nid(16), model%pmass_src(16), model%pmass(16))
-            end if
-            if (model%npmass == size(model%pmass)) then
-                model%pmass_eid = [model%pmass_eid, model%pmass_eid]
-                model%pmass_nid = [model%pmass_nid, model%pmass_nid]
-                model%pmass_src = [model%pmass_src, model%pmass_src]
-                model%pmass = [model%pmass, model%pmass]
-            end if
+            if (.not. allocated(model%pmass)) allocate (model%pmass(16))
+            if (model%npmass == size(model%pmass)) model%pmass = [model%pmass, model%pmass]
             model%npmass = model%npmass + 1
-            model%pmass_eid(model%npmass) = eid
-            model%pmass_nid(model%npmass) = nid
-            model%pmass_src(model%npmass) = kw%card_line(ic)
-            model%pmass(model%npmass) = m
+            model%pmass(model%npmass) = point_mass_t(eid=eid, nid=nid, mass=m, src=kw%card_line(ic))
         end do
     end subroutine read_element_mass
 
+    !> One-line form EID PID N1..N8, or two-line form (EID PID, then N1..N10),
+    !> told apart by whether the third field of the first card holds a node.
     subroutine read_element_solid(ctx, kw, model, error)
         type(read_ctx_t), intent(in) :: ctx
         type(keyword_t), intent(in) :: kw

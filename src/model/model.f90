@@ -13,7 +13,7 @@ module xd_model
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
-    public :: extra_nodes_t, search_auto, search_fixed, search_adaptive, mnl_minimal, mnl_closest1, mnl_closest3
+    public :: extra_nodes_t, point_mass_t, search_auto, search_fixed, search_adaptive, mnl_minimal, mnl_closest1, mnl_closest3
     public :: styp_segment_set, styp_shell_set, styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but
 
     integer, parameter :: mat_elastic = 1, mat_plastic_kinematic = 3, mat_rigid = 20, &
@@ -190,6 +190,15 @@ module xd_model
         real(wp) :: tfail = 1.0e20_wp
         integer :: src = 0
     end type nodal_rigid_t
+
+    !> *ELEMENT_MASS: a point mass on a node (its index once checked)
+    type :: point_mass_t
+        integer :: eid = 0
+        integer :: nid = 0
+        integer :: ix = 0
+        real(wp) :: mass = 0
+        integer :: src = 0
+    end type point_mass_t
 
     !> *CONSTRAINED_EXTRA_NODES_NODE / _SET: nodes (or a node set) joined to
     !> the rigid body of part PID (IFLAG: with *PART_INERTIA, whether the
@@ -388,11 +397,8 @@ module xd_model
         type(hourglass_t), allocatable :: hg(:)
         type(set_t), allocatable :: set(:)
         integer :: ncurve = 0, nbody = 0, nwall = 0, npresc = 0, nnrb = 0, nsegset = 0, npress = 0
-        !> *ELEMENT_MASS: point masses on nodes (id, node id, its index once
-        !> checked, mass, deck line)
         integer :: npmass = 0
-        integer, allocatable :: pmass_eid(:), pmass_nid(:), pmass_ix(:), pmass_src(:)
-        real(wp), allocatable :: pmass(:)
+        type(point_mass_t), allocatable :: pmass(:)
         type(segment_set_t), allocatable :: segset(:)
         type(pressure_t), allocatable :: press(:)
         type(nodal_rigid_t), allocatable :: nrb(:)

@@ -171,7 +171,7 @@ contains
         s = s//'   boundary constraints ...... '//onoff(model%nspc > 0 .or. any(model%node_tc(1:model%nnode) > 0))//nl
         s = s//'   initial velocities ........ '//onoff(model%nivel > 0)//nl
         if (model%npmass > 0) s = s//'   point masses (*ELEMENT_MASS) '//itoa(model%npmass)//', total '// &
-                                    trim(fmt(real(sum(model%pmass(1:model%npmass)), wp)))//nl
+                                    trim(fmt(sum(model%pmass(1:model%npmass)%mass)))//nl
         if (model%nxn > 0) s = s//'   extra nodes on rigid bodies '//itoa(sum([(size(model%xn(k)%node_ix), &
                                  k=1, model%nxn)]))//' (*CONSTRAINED_EXTRA_NODES)'//nl
         s = s//'   initial stresses .......... '//onoff(model%nistress > 0)//nl

@@ -68,21 +68,15 @@ contains
         pair = present(mslot) .and. present(m)
         n = asm%nnode
         if (present(nodes)) n = size(nodes)
-        ! (the node list's presence tested outside the loop, which then
-        ! vectorises its index arithmetic)
-        if (present(nodes)) then
-            !$omp parallel do schedule(static) private(i)
-            do i = 1, n
+        !$omp parallel do schedule(static) private(i)
+        do i = 1, n
+            if (present(nodes)) then
                 call node_sum(nodes(i))
-            end do
-            !$omp end parallel do
-        else
-            !$omp parallel do schedule(static) private(i)
-            do i = 1, n
+            else
                 call node_sum(i)
-            end do
-            !$omp end parallel do
-        end if
+            end if
+        end do
+        !$omp end parallel do
     contains
         subroutine node_sum(nd)
             integer, intent(in) :: nd

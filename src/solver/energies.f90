@@ -8,6 +8,7 @@ module xd_solver_energies
     use xd_solver_state, only: state_t
     use xd_contact_rigidwall, only: walls_t, walls_kinetic
     use xd_rigid_bodies, only: rigid_t, rigid_energy
+    use xd_solver_assembly, only: assembly_t, build_assembly
     implicit none
     private
     public :: energies_t, compute_energies
@@ -61,7 +62,6 @@ contains
         end if
         en%part_ie = 0; en%part_ke = 0; en%part_hg = 0; en%part_mass = 0; en%part_mom = 0; en%part_added = 0
         en%nshell_scaled = 0
-        if (.not. allocated(en%kn)) allocate (en%kn(st%nnode), en%vn(3, st%nnode))
         if (.not. allocated(en%np_ptr)) call node_part_masses(model, st, solids, sh, en)
         if (en%fixed_mass) then
             ! one pass over the nodes: each node's share, the whole model's
@@ -77,6 +77,7 @@ contains
             en%hg = sum(en%part_hg)
         else
             ! each node's share once; the elements' loops weigh it by their mass
+            if (.not. allocated(en%kn)) allocate (en%kn(st%nnode), en%vn(3, st%nnode))
             do nd = 1, st%nnode
                 en%kn(nd) = 0.5_dp*sum(real(vminus(:, nd), dp)*vplus(:, nd))
                 en%vn(:, nd) = 0.5_dp*real(vminus(:, nd) + vplus(:, nd), dp)
@@ -297,18 +298,19 @@ contains
     !> The node-by-part mass table (each element's share of its nodes, as
     !> compute_energies weighs them: an eighth of a hexahedron, a quarter of
     !> a quadrilateral, a third of a triangle), where element masses stay
-    !> fixed for the run: the incidences by node, then each node's shares
-    !> of one part summed (a node has few).
+    !> fixed for the run: each node's incidences (the assembly's slot lists,
+    !> solids then shells) with the shares of one part summed (a node has
+    !> few).
     subroutine node_part_masses(model, st, solids, sh, en)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
         type(energies_t), intent(inout) :: en
-        integer, allocatable :: ptr(:), fill(:), ip(:)
+        type(assembly_t) :: as, ash
+        integer, allocatable :: ip(:)
         real(dp), allocatable :: im(:)
-        integer :: e, k, nd, nn, n, j, q
-        logical :: merged
+        integer :: e, k, nd, n, j
         en%fixed_mass = .not. (allocated(solids%msf) .or. allocated(sh%msf) .or. sh%thickness_update)
         allocate (en%np_ptr(st%nnode + 1), en%part_mass0(model%npart))
         en%np_ptr = 1
@@ -317,71 +319,51 @@ contains
             allocate (en%np_part(0), en%np_m(0))
             return
         end if
-        allocate (ptr(st%nnode + 1))
-        ptr = 0
-        do e = 1, solids%n
-            do k = 1, 8
-                ptr(solids%conn(k, e) + 1) = ptr(solids%conn(k, e) + 1) + 1
-            end do
-        end do
-        do e = 1, sh%n
-            do k = 1, shell_nodes(e)
-                ptr(sh%conn(k, e) + 1) = ptr(sh%conn(k, e) + 1) + 1
-            end do
-        end do
-        ptr(1) = 1
-        do nd = 1, st%nnode
-            ptr(nd + 1) = ptr(nd + 1) + ptr(nd)
-        end do
-        allocate (fill(st%nnode), ip(ptr(st%nnode + 1) - 1), im(ptr(st%nnode + 1) - 1))
-        fill = ptr(1:st%nnode)
-        do e = 1, solids%n
-            do k = 1, 8
-                nd = solids%conn(k, e)
-                ip(fill(nd)) = solids%part(e)
-                im(fill(nd)) = real(model%mat(model%part(solids%part(e))%mat_ix)%ro, dp)*solids%vol0(e)/8.0_dp
-                fill(nd) = fill(nd) + 1
-            end do
-        end do
-        do e = 1, sh%n
-            nn = shell_nodes(e)
-            do k = 1, nn
-                nd = sh%conn(k, e)
-                ip(fill(nd)) = sh%part(e)
-                im(fill(nd)) = real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/nn
-                fill(nd) = fill(nd) + 1
-            end do
-        end do
-        ! each node's incidences of one part into one entry, in place
+        call build_assembly(st%nnode, solids%conn, as)
+        if (sh%n > 0) then
+            call build_assembly(st%nnode, sh%conn, ash)
+        else
+            allocate (ash%ptr(st%nnode + 1), ash%slot(0))
+            ash%ptr = 1
+        end if
+        allocate (ip(size(as%slot) + size(ash%slot)), im(size(as%slot) + size(ash%slot)))
         n = 0
         do nd = 1, st%nnode
             en%np_ptr(nd) = n + 1
-            do j = ptr(nd), ptr(nd + 1) - 1
-                merged = .false.
-                do q = en%np_ptr(nd), n
-                    if (ip(q) == ip(j)) then
-                        im(q) = im(q) + im(j)
-                        merged = .true.
-                        exit
-                    end if
-                end do
-                if (merged) cycle
-                n = n + 1
-                ip(n) = ip(j)
-                im(n) = im(j)
+            do j = as%ptr(nd), as%ptr(nd + 1) - 1
+                e = (as%slot(j) - 1)/8 + 1
+                call add(solids%part(e), real(model%mat(model%part(solids%part(e))%mat_ix)%ro, dp)*solids%vol0(e)/8.0_dp)
+            end do
+            do j = ash%ptr(nd), ash%ptr(nd + 1) - 1
+                e = (ash%slot(j) - 1)/4 + 1
+                k = ash%slot(j) - 4*(e - 1)
+                ! a triangle's fourth node is its third: counted once
+                if (k == 4 .and. sh%conn(3, e) == sh%conn(4, e)) cycle
+                call add(sh%part(e), real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/merge(3, 4, sh%conn(3, e) == sh%conn(4, e)))
             end do
         end do
         en%np_ptr(st%nnode + 1) = n + 1
         en%np_part = ip(1:n)
         en%np_m = im(1:n)
-        do q = 1, n
-            en%part_mass0(en%np_part(q)) = en%part_mass0(en%np_part(q)) + en%np_m(q)
+        do j = 1, n
+            en%part_mass0(en%np_part(j)) = en%part_mass0(en%np_part(j)) + en%np_m(j)
         end do
     contains
-        integer function shell_nodes(e)
-            integer, intent(in) :: e
-            shell_nodes = merge(3, 4, sh%conn(3, e) == sh%conn(4, e))
-        end function shell_nodes
+        !> Node nd's share m of part p: onto its entry of that part, or a new one.
+        subroutine add(p, m)
+            integer, intent(in) :: p
+            real(dp), intent(in) :: m
+            integer :: q
+            do q = en%np_ptr(nd), n
+                if (ip(q) == p) then
+                    im(q) = im(q) + m
+                    return
+                end if
+            end do
+            n = n + 1
+            ip(n) = p
+            im(n) = m
+        end subroutine add
     end subroutine node_part_masses
 
 end module xd_solver_energies

@@ -65,7 +65,7 @@ contains
         ! body's, where the node is on one: the body takes a node's mass
         ! beyond its own elements' as a point mass)
         do i = 1, model%npmass
-            st%mass(model%pmass_ix(i)) = st%mass(model%pmass_ix(i)) + model%pmass(i)
+            st%mass(model%pmass(i)%ix) = st%mass(model%pmass(i)%ix) + model%pmass(i)%mass
         end do
         nfree_nodes = count(st%mass <= 0.0_wp)
         call constraint_masks(model, st)

@@ -615,10 +615,11 @@ contains
             integer :: i
             !$omp parallel do schedule(static)
             do i = 1, st%nnode
-                ! (a select, so that the loop vectorises: a massless node
-                ! divides by 1 and gets no acceleration)
-                st%a(:, i) = merge(st%f(:, i)/merge(st%mass(i), 1.0_wp, st%mass(i) > 0.0_wp)*st%free(:, i), &
-                                   0.0_wp, st%mass(i) > 0.0_wp)
+                if (st%mass(i) > 0.0_wp) then
+                    st%a(:, i) = st%f(:, i)/st%mass(i)*st%free(:, i)
+                else
+                    st%a(:, i) = 0.0_wp
+                end if
             end do
             !$omp end parallel do
         end subroutine accelerations
