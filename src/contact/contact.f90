@@ -17,7 +17,7 @@ module xd_contact_contact
     use xd_kinds, only: wp, dp, i8
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
-    use xd_model, only: model_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, mat_rigid, &
+    use xd_model, only: model_t, contact_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, mat_rigid, &
                         ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_auto, search_adaptive, find_box, in_box, box_t
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell, &
@@ -36,7 +36,7 @@ module xd_contact_contact
     use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max
     implicit none
     private
-    public :: contacts_t, interface_t, build_contacts, contact_search, contact_drift, contact_report, &
+    public :: contacts_t, interface_t, build_contacts, faces_of, contact_search, contact_drift, contact_report, &
               interface_summary, contact_masses, contact_local_search, contact_enforce, contact_work_end, &
               contact_energy, contact_resultants, gather_contact_state, scatter_contact_state, contact_events, &
               contact_thickness
@@ -293,51 +293,7 @@ contains
             integer, intent(in) :: sid, styp, ref
             character(len=*), intent(in) :: field
             logical, intent(out) :: sel(:)
-            logical, allocatable :: inpart(:), inshell(:)
-            integer :: j, q, key(4), nu
-            integer, allocatable :: fkey(:, :)
-            associate (f => ct%faces)
-                select case (styp)
-                case (styp_all)
-                    sel = .true.
-                case (styp_part)
-                    sel = f%part == ref
-                case (styp_part_set, styp_all_but)
-                    allocate (inpart(model%npart))
-                    inpart = .false.
-                    inpart(model%set(ref)%member_ix) = .true.
-                    sel = inpart(f%part)
-                    if (styp == styp_all_but) sel = .not. sel
-                case (styp_shell_set)
-                    allocate (inshell(0:model%nshell))
-                    inshell = .false.
-                    inshell(model%set(ref)%member_ix) = .true.
-                    sel = inshell(f%shell)
-                case (styp_segment_set)
-                    ! each listed segment must be an exterior face (any node order)
-                    allocate (fkey(4, f%n))
-                    do j = 1, f%n
-                        call face_key(f%node(:, j), fkey(:, j), nu)
-                    end do
-                    sel = .false.
-                    do q = 1, model%segset(ref)%n
-                        call face_key(model%segset(ref)%seg(:, q), key, nu)
-                        do j = 1, f%n
-                            if (all(fkey(:, j) == key)) exit
-                        end do
-                        if (j > f%n) then
-                            call make_error(error, trim(model%contact(i)%at)//': *'//trim(model%contact(i)%keyword)// &
-                                            ' '//itoa(model%contact(i)%id)//' field '//field//': segment '//itoa(q)// &
-                                            ' of *SET_SEGMENT '//itoa(sid)//' (nodes '// &
-                                            node_ids(model%segset(ref)%seg(:, q))//') is not an exterior element face')
-                            return
-                        end if
-                        sel(j) = .true.
-                    end do
-                case default
-                    sel = .false.
-                end select
-            end associate
+            call faces_of(model, ct%faces, model%contact(i), sid, styp, ref, field, sel, error)
         end subroutine select_faces
 
         !> The interface's parts and each segment's and slave's local part.
@@ -375,16 +331,6 @@ contains
             end associate
         end subroutine pair_parts
 
-        function node_ids(nd) result(t)
-            integer, intent(in) :: nd(4)
-            character(len=:), allocatable :: t
-            integer :: q
-            t = itoa(model%node_id(nd(1)))
-            do q = 2, 4
-                t = t//' '//itoa(model%node_id(nd(q)))
-            end do
-        end function node_ids
-
         function face_nodes(sel) result(nodes)
             logical, intent(in) :: sel(:)
             integer, allocatable :: nodes(:)
@@ -398,6 +344,68 @@ contains
             nodes = where_true(on)
         end function face_nodes
     end subroutine build_contacts
+
+    !> Faces of the parts, sets or segments that (sid, styp) of contact c
+    !> names (sel: over faces); a listed segment that is no exterior face is
+    !> an error naming the contact's card.
+    subroutine faces_of(model, f, c, sid, styp, ref, field, sel, error)
+        type(model_t), intent(in) :: model
+        type(faces_t), intent(in) :: f
+        type(contact_t), intent(in) :: c
+        integer, intent(in) :: sid, styp, ref
+        character(len=*), intent(in) :: field
+        logical, intent(out) :: sel(:)
+        type(error_t), allocatable, intent(inout) :: error
+        logical, allocatable :: inpart(:), inshell(:)
+        integer :: j, q, key(4), nu
+        integer, allocatable :: fkey(:, :)
+        select case (styp)
+        case (styp_all)
+            sel = .true.
+        case (styp_part)
+            sel = f%part == ref
+        case (styp_part_set, styp_all_but)
+            allocate (inpart(model%npart))
+            inpart = .false.
+            inpart(model%set(ref)%member_ix) = .true.
+            sel = inpart(f%part)
+            if (styp == styp_all_but) sel = .not. sel
+        case (styp_shell_set)
+            allocate (inshell(0:model%nshell))
+            inshell = .false.
+            inshell(model%set(ref)%member_ix) = .true.
+            sel = inshell(f%shell)
+        case (styp_segment_set)
+            ! each listed segment must be an exterior face (any node order)
+            allocate (fkey(4, f%n))
+            do j = 1, f%n
+                call face_key(f%node(:, j), fkey(:, j), nu)
+            end do
+            sel = .false.
+            do q = 1, model%segset(ref)%n
+                call face_key(model%segset(ref)%seg(:, q), key, nu)
+                do j = 1, f%n
+                    if (all(fkey(:, j) == key)) exit
+                end do
+                if (j > f%n) then
+                    call make_error(error, trim(c%at)//': *'//trim(c%keyword)// &
+                                    ' '//itoa(c%id)//' field '//field//': segment '//itoa(q)// &
+                                    ' of *SET_SEGMENT '//itoa(sid)//' (nodes '// &
+                                    trim(ids(model%segset(ref)%seg(:, q)))//') is not an exterior element face')
+                    return
+                end if
+                sel(j) = .true.
+            end do
+        case default
+            sel = .false.
+        end select
+    contains
+        function ids(nd) result(t)
+            integer, intent(in) :: nd(4)
+            character(len=60) :: t
+            write (t, '(i0,3(1x,i0))') model%node_id(nd)
+        end function ids
+    end subroutine faces_of
 
     !> Step 2 where due: at cycle 0, then every `interval` cycles (fixed) or
     !> when 4u > delta (adaptive). Returns the seconds spent.

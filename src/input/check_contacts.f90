@@ -8,7 +8,7 @@ module xd_input_check_contacts
     use xd_input_context, only: read_ctx_t, add_warning
     use xd_model, only: model_t, find_set, set_node, set_part, set_shell, styp_segment_set, styp_shell_set, &
                         styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but, ct_single, ct_general, &
-                        find_box
+                        find_box, contact_t
     implicit none
     private
     public :: check_contacts
@@ -21,8 +21,15 @@ contains
         type(id_map_t), intent(in) :: parts
         type(error_t), allocatable, intent(out) :: error
         integer :: i
-        do i = 1, model%ncontact
-            associate (c => model%contact(i))
+        type(contact_t) :: c
+        ! the sliding contacts, then the tied ones (read alike, held apart)
+        do i = 1, model%ncontact + model%ntied
+            if (i <= model%ncontact) then
+                c = model%contact(i)
+            else
+                c = model%tied(i - model%ncontact)
+            end if
+            block
                 if (c%kind == ct_single .or. c%kind == ct_general) then
                     ! single surface: SSID 0 is the whole model; MSID is unused
                     if (c%ssid == 0) c%sstyp = styp_all
@@ -44,7 +51,12 @@ contains
                                     itoa(c%mboxid)//' is not defined (*DEFINE_BOX)')
                     return
                 end if
-            end associate
+            end block
+            if (i <= model%ncontact) then
+                model%contact(i) = c
+            else
+                model%tied(i - model%ncontact) = c
+            end if
         end do
         ! THKCHG follows the shells' thickness, which changes only with ISTUPD
         if (model%ctl%contact%thkchg == 1 .and. model%ctl%istupd == 0) &
@@ -65,7 +77,7 @@ contains
             type(id_map_t) :: shells
             integer :: k, dup
             character(len=:), allocatable :: at
-            at = ctx%src%where(src)//': *'//trim(model%contact(i)%keyword)//' field '//field//': '
+            at = ctx%src%where(src)//': *'//trim(c%keyword)//' field '//field//': '
             ref = 0
             select case (styp)
             case (styp_all)

@@ -164,6 +164,13 @@ module xd_input_keyword_table
         entry_t('CONTACT_AUTOMATIC_GENERAL', fam_contact, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_NODES_TO_SURFACE', fam_contact, '', .true.), &
         entry_t('CONTACT_SINGLE_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTACT_TIED_NODES_TO_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTACT_TIED_SHELL_EDGE_TO_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTACT_TIED_SURFACE_TO_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTACT_TIED_NODES_TO_SURFACE_OFFSET', fam_contact, '', .true.), &
+        entry_t('CONTACT_TIED_SHELL_EDGE_TO_SURFACE_OFFSET', fam_contact, '', .true.), &
+        entry_t('CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET', fam_contact, '', .true.), &
+        entry_t('CONTACT_TIED_SURFACE_TO_SURFACE_OFFSET', fam_contact, '', .true.), &
         entry_t('CONTROL_CONTACT', fam_contact, '', .false.), &
         entry_t('CONTROL_XDYNA_CONTACT', fam_contact, '', .false.) &
         ]

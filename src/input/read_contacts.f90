@@ -12,7 +12,7 @@ module xd_input_read_contacts
     use xd_input_context, only: get_id_card, read_ctx_t, get_card, first_card, add_warning, ignored_fields
     use xd_model, only: model_t, contact_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface, &
                         styp_segment_set, styp_node_set, styp_all, styp_all_but, search_auto, search_fixed, search_adaptive, &
-                        mnl_minimal, mnl_closest1, mnl_closest3
+                        mnl_minimal, mnl_closest1, mnl_closest3, ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface
     implicit none
     private
     public :: read_contact
@@ -47,6 +47,7 @@ contains
         type(contact_t) :: c
         integer :: ic, k, ibox(2), ival
         real(wp) :: rval
+        logical :: tied
         character(len=:), allocatable :: at
 
         c%keyword = kw%name
@@ -55,7 +56,15 @@ contains
         case ('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE'); c%kind = ct_surface_to_surface
         case ('CONTACT_AUTOMATIC_GENERAL'); c%kind = ct_general
         case ('CONTACT_AUTOMATIC_NODES_TO_SURFACE'); c%kind = ct_nodes_to_surface
+        case ('CONTACT_TIED_NODES_TO_SURFACE'); c%kind = ct_tied_nodes
+        case ('CONTACT_TIED_SHELL_EDGE_TO_SURFACE'); c%kind = ct_tied_shell_edge
+        case ('CONTACT_TIED_SURFACE_TO_SURFACE'); c%kind = ct_tied_surface
+        case ('CONTACT_TIED_NODES_TO_SURFACE_OFFSET'); c%kind = ct_tied_nodes; c%tied_offset = .true.
+        case ('CONTACT_TIED_SHELL_EDGE_TO_SURFACE_OFFSET', 'CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET')
+            c%kind = ct_tied_shell_edge; c%tied_offset = .true.
+        case ('CONTACT_TIED_SURFACE_TO_SURFACE_OFFSET'); c%kind = ct_tied_surface; c%tied_offset = .true.
         end select
+        tied = c%kind >= ct_tied_nodes
         if (kw%has_id) then
             call get_id_card(ctx, kw, c%id, c%heading, error)
             if (allocated(error)) return
@@ -103,12 +112,12 @@ contains
                                 'is for the slave side only', error)
                 return
             end if
-            if (c%sstyp == styp_node_set .and. c%kind /= ct_nodes_to_surface) then
+            if (c%sstyp == styp_node_set .and. c%kind /= ct_nodes_to_surface .and. .not. tied) then
                 call card_error(card, 3, 'SSTYP 4 (node set) gives slave nodes without segments: use '// &
                                 '*CONTACT_AUTOMATIC_NODES_TO_SURFACE', error)
                 return
             end if
-            if (c%kind == ct_surface_to_surface .or. c%kind == ct_nodes_to_surface) then
+            if (c%kind == ct_surface_to_surface .or. c%kind == ct_nodes_to_surface .or. tied) then
                 if (c%ssid == 0 .and. c%sstyp /= styp_all) then
                     call card_error(card, 1, 'a two-surface contact needs a slave side (SSID > 0, or SSTYP 5)', &
                                     error)
@@ -236,6 +245,28 @@ contains
             end do
         end if
 
+        if (tied) then
+            ! a tie is a constraint: no friction, damping, penalty or search
+            if (c%fs > 0.0_wp .or. c%fd > 0.0_wp .or. c%dc > 0.0_wp .or. c%vc > 0.0_wp .or. c%vdc > 0.0_wp) &
+                call add_warning(model, at//' card 2 fields FS-VDC: a tied contact holds its slave nodes on the '// &
+                                 'surface (a constraint); friction and damping do not apply; ignored')
+            if (c%bt > 0.0_wp) call add_warning(model, at//' card 2 field BT: the tie holds from t = 0 (the '// &
+                                                'slave nodes are placed on the surface then); BT '// &
+                                                'ignored')
+            if (c%sfs /= 1.0_wp .or. c%sfm /= 1.0_wp) call add_warning(model, at//' card 3 fields SFS/SFM: a tied '// &
+                                                'contact has no penalty springs; ignored')
+            if (c%sboxid > 0 .or. c%mboxid > 0) then
+                call make_error(error, at//': SBOXID/MBOXID are not read for a tied contact; give the slave '// &
+                                'nodes as a node set instead')
+                return
+            end if
+            if (.not. allocated(model%tied)) allocate (model%tied(4))
+            if (model%ntied == size(model%tied)) model%tied = [model%tied, model%tied]
+            model%ntied = model%ntied + 1
+            if (c%id == 0) c%id = model%ncontact + model%ntied
+            model%tied(model%ntied) = c
+            return
+        end if
         if (.not. allocated(model%contact)) allocate (model%contact(4))
         if (model%ncontact == size(model%contact)) model%contact = [model%contact, model%contact]
         model%ncontact = model%ncontact + 1

@@ -20,6 +20,7 @@ program xdyna
     use xd_solver_setup, only: setup_run
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
     use xd_contact_rigidwall, only: walls_t, build_walls
+    use xd_contact_tied, only: ties_t, place_ties, start_ties
     use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses
     use xd_contact_initial_penetration, only: initial_penetrations
     use xd_core_strings, only: join_path, out_path
@@ -56,6 +57,7 @@ program xdyna
     type(prescribed_nodes_t) :: pn
     type(rigid_t) :: rg
     type(pressures_t) :: pl
+    type(ties_t) :: td
     type(shells_t) :: sh
     type(assembly_t) :: asm_sh
     type(histories_t) :: hist
@@ -65,7 +67,7 @@ program xdyna
     type(dump_meta_t) :: meta
     type(history_marks_t) :: hmarks
     type(states_marks_t) :: smarks
-    character(len=:), allocatable :: dump_error, wall_notes, moved_note
+    character(len=:), allocatable :: dump_error, wall_notes, moved_note, tie_note
     logical :: outdir_given
     real(dp) :: wallclock
     type(run_result_t) :: res
@@ -220,6 +222,15 @@ program xdyna
     end if
 
     call tm%start(ph_init)
+    ! tied contacts: slave nodes placed on their master surfaces (model%x0)
+    ! before the mesh is set up
+    call place_ties(model, td, tie_note, error)
+    if (allocated(error)) then
+        call say(error%message)
+        call log_line(lg, ' *** Error: '//error%message)
+        call finish(exit_input)
+    end if
+    if (len(tie_note) > 0) call log_line(lg, tie_note)
     ! the mesh set up; then IGNORE 0: slave nodes moved out of initial
     ! penetrations (the moves named in d3hsp), and the mesh set up again
     ! from the moved nodes
@@ -241,6 +252,13 @@ program xdyna
         if (nmoved == 0) exit
     end do
     if (len(step_note) > 0) call add_warning(model, step_note)
+    call start_ties(model, td, rg%member, st%x0, st%mass, st%v, st%vr, st%irot, tie_note, error)
+    if (allocated(error)) then
+        call say(error%message)
+        call log_line(lg, ' *** Error: '//error%message)
+        call finish(exit_input)
+    end if
+    if (len(tie_note) > 0) call log_line(lg, tie_note)
     call build_walls(model, st%x0, walls, wall_notes)
     do while (len(wall_notes) > 0)
         i = index(wall_notes, new_line('a'))
@@ -351,7 +369,7 @@ program xdyna
     call tm%stop(ph_init)
 
     opts%progress = env%rank == 0
-    call run_time_loop(model, dom, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, states, lg, tm, opts, res)
+    call run_time_loop(model, dom, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, td, hist, states, lg, tm, opts, res)
     if (env%rank == 0 .and. states%on) call log_line(lg, states_summary(states))
     call close_states(states)
     call close_histories(hist)

@@ -13,6 +13,7 @@ module xd_model
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
+    public :: ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface
     public :: extra_nodes_t, point_mass_t, search_auto, search_fixed, search_adaptive, mnl_minimal, mnl_closest1, mnl_closest3
     public :: styp_segment_set, styp_shell_set, styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but
 
@@ -255,6 +256,10 @@ module xd_model
     !> Contact variants: every one runs the same automatic algorithm; they
     !> differ in which nodes are slaves and which segments masters.
     integer, parameter :: ct_single = 1, ct_surface_to_surface = 2, ct_general = 3, ct_nodes_to_surface = 4
+    !> tied contacts (*CONTACT_TIED_...): slave nodes held on the master
+    !> surface, translations (nodes, surface) or translations and rotations
+    !> (shell edge)
+    integer, parameter :: ct_tied_nodes = 11, ct_tied_shell_edge = 12, ct_tied_surface = 13
     !> SSTYP / MSTYP codes of the contact cards.
     integer, parameter :: styp_segment_set = 0, styp_shell_set = 1, styp_part_set = 2, styp_part = 3, &
                           styp_node_set = 4, styp_all = 5, styp_all_but = 6
@@ -288,6 +293,8 @@ module xd_model
         !> initial penetrations, 2 tracks them and names the coordinates
         !> that would remove them
         integer :: ignore = 0
+        !> *CONTACT_TIED_..._OFFSET / _BEAM_OFFSET: the slave kept at its gap
+        logical :: tied_offset = .false.
         integer :: src = 0
         character(len=200) :: at = ''            !< 'file:line' of card 1, for set-up errors
     end type contact_t
@@ -414,6 +421,10 @@ module xd_model
         type(coord_t), allocatable :: coord(:)
         integer :: ncontact = 0
         type(contact_t), allocatable :: contact(:)
+        !> *CONTACT_TIED_...: read as the sliding contacts are (cards 1-3),
+        !> held apart from them (no search, no penalty)
+        integer :: ntied = 0
+        type(contact_t), allocatable :: tied(:)
         integer :: nspc = 0, nivel = 0, nistress = 0
         type(spc_t), allocatable :: spc(:)
         type(init_vel_t), allocatable :: ivel(:)

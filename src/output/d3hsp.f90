@@ -160,6 +160,12 @@ contains
         else
             s = s//'   contact ................... off (no contact keyword)'//nl
         end if
+        if (model%ntied > 0) then
+            s = s//'   tied contacts ............. on  ('//itoa(model%ntied)//' interface(s); slave nodes held on '// &
+                'their segments, each named above)'//nl
+        else
+            s = s//'   tied contacts ............. off (no *CONTACT_TIED_...)'//nl
+        end if
         if (model%nwall > 0) then
             s = s//'   rigid walls ............... on  ('//itoa(model%nwall)//' planar stonewall(s))'//nl
         else

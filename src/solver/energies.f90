@@ -42,7 +42,7 @@ contains
     !> velocities use v(n) = (v(n-1/2) + v(n+1/2))/2. With shells, the
     !> angular velocities wminus, wplus give the rotational kinetic energy
     !> 1/2 I w(n-1/2).w(n+1/2).
-    subroutine compute_energies(model, st, solids, sh, walls, rg, vminus, vplus, wminus, wplus, dt_avg, en, slide)
+    subroutine compute_energies(model, st, solids, sh, walls, rg, vminus, vplus, wminus, wplus, dt_avg, en, slide, ke_fix)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
@@ -54,6 +54,10 @@ contains
         real(dp), intent(in) :: dt_avg       !< step of the velocity update at this time (0 at t = 0)
         type(energies_t), intent(inout) :: en
         real(dp), intent(in), optional :: slide   !< sliding interface energy (contact)
+        !> (npart) kinetic energy to add by part: the tied contacts' (their
+        !> slaves' mass as the dynamics move it, on their segments' nodes,
+        !> instead of at the slaves' own velocities)
+        real(dp), intent(in), optional :: ke_fix(:)
         integer :: e, p, nd
         real(dp) :: mom(3), ke_b, mom_b(3), ker
         if (.not. allocated(en%part_ie)) then
@@ -129,6 +133,10 @@ contains
             en%wall = en%wall + walls%w(e)%energy
         end do
         if (st%rot) en%ke = en%ke + ker
+        if (present(ke_fix)) then
+            en%part_ke = en%part_ke + ke_fix
+            en%ke = en%ke + sum(ke_fix)
+        end if
         en%slide = 0
         if (present(slide)) en%slide = slide
         en%total = en%ke + en%ie + en%hg + en%wall + en%slide

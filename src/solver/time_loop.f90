@@ -26,6 +26,7 @@ module xd_solver_time_loop
                                pressure_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
     use xd_contact_enforcement, only: body_response_t
+    use xd_contact_tied, only: ties_t, tie_forces, tie_accelerations, tie_velocities, tie_kinetic
     use xd_contact_contact, only: contacts_t, contact_search, contact_drift, contact_local_search, contact_enforce, &
                                   contact_work_end, contact_energy, contact_resultants, gather_contact_state, &
                                   contact_thickness, &
@@ -74,7 +75,7 @@ module xd_solver_time_loop
 
 contains
 
-    subroutine run_time_loop(model, dom, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, hist, states, lg, tm, &
+    subroutine run_time_loop(model, dom, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, td, hist, states, lg, tm, &
                              opts, res)
         type(model_t), intent(in) :: model
         type(domain_t), intent(in) :: dom
@@ -88,6 +89,7 @@ contains
         type(prescribed_nodes_t), intent(in) :: pn
         type(rigid_t), intent(inout) :: rg
         type(pressures_t), intent(inout) :: pl
+        type(ties_t), intent(inout) :: td       !< tied contacts
         type(histories_t), intent(inout) :: hist
         type(states_t), intent(inout) :: states
         type(log_t), intent(in) :: lg
@@ -100,6 +102,7 @@ contains
         integer :: set_by
         character(len=:), allocatable :: ms_stop
         real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :)
+        real(dp), allocatable :: ke_fix(:)     !< tied contacts' kinetic energy by part
         type(body_response_t) :: br            !< Lagrangian contact: how the rigid bodies answer an impulse
         logical, allocatable :: no_body(:)   !< no node is a rigid body's (models without rigid bodies)
         real(wp) :: dtc, g_new(3)
@@ -110,7 +113,8 @@ contains
         integer :: nd, cycle0, stop_sig, switch
         character(len=:), allocatable :: switch_text
 
-        allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode))
+        allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
+        ke_fix = 0
         no_body = .false.
         if (st%rot) allocate (vrminus(3, st%nnode))
         ratio_limit = 1.5_dp
@@ -244,7 +248,11 @@ contains
                 if (any(ct%ifc(:)%nev > 0) .or. any(ct%ifc(:)%ed%nev > 0)) call log_line(lg, contact_events(ct, model%node_id))
                 call tm%start(ph_integrate)
             end if
+            ! tied contacts: the slaves' forces to their segments, and the
+            ! segments' nodes accelerated with the slave masses they carry
+            if (td%n > 0) call tie_forces(td, st%time, st%x, st%f, st%mom)
             call accelerations()
+            if (td%n > 0) call tie_accelerations(td, st%time, st%f, st%mass, st%free, st%a, st%mom, st%irot)
             done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
             if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
             ! energies where histories or states are due (the d3plot's global
@@ -291,6 +299,8 @@ contains
                 st%ext_work = st%ext_work + wpm
                 call tm%stop(ph_rigid)
             end if
+            ! tied slaves move with their segments (after every other update)
+            if (td%n > 0) call tie_velocities(td, st%time, st%dt, st%x, st%v, st%vr)
             ! second half of the load work, with the final v(n+1/2)
             if (model%nbody > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
             if (pl%n > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*pressure_power(pl, st)
@@ -304,8 +314,9 @@ contains
                     ! when a(0) /= 0)
                     ! (vrminus, like vminus, was taken before the update)
                     vn = vminus
+                    if (td%n > 0) call tie_kinetic(td, st%mass, st%irot, vminus, vminus, vrminus, vrminus, ke_fix)
                     call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en, &
-                                          contact_energy(ct, 0.0_dp))
+                                          contact_energy(ct, 0.0_dp), ke_fix)
                     st%e_initial = en%total
                     ! mass scaled at cycle 0 is in the initial energy
                     st%ms_work = 0
@@ -316,8 +327,9 @@ contains
                     en%ext = 0
                 else
                     vn = 0.5_wp*(vminus + st%v)
+                    if (td%n > 0) call tie_kinetic(td, st%mass, st%irot, vminus, st%v, vrminus, st%vr, ke_fix)
                     call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
-                                          contact_energy(ct, dt_avg))
+                                          contact_energy(ct, dt_avg), ke_fix)
                 end if
                 call tm%stop(ph_output)
                 call check_energy()

@@ -1,0 +1,559 @@
+!> Tied contacts (*CONTACT_TIED_NODES_TO_SURFACE, _SHELL_EDGE_TO_SURFACE,
+!> _SURFACE_TO_SURFACE): slave nodes held on the master surface for the
+!> whole run, a kinematic constraint (no springs, no search after t = 0).
+!>
+!> At t = 0 each slave node is projected on the nearest master segment
+!> (closest point, project_segment of the segment check, edges and corners
+!> included). It is tied if that point lies within the tie distance:
+!>
+!>   the slave's shell half thickness plus the segment's (SST, MST and
+!>   SFST, SFMT as the sliding contacts take them; 0 on a solid), and at
+!>   least 5% of the segment's shorter diagonal.
+!>
+!> A tied node is moved onto that point before the mesh is set up (a
+!> stress-free start) and named in d3hsp with its segment and the distance
+!> moved; a slave with no segment within reach is named as not tied.
+!>
+!> Each cycle, with N_j the segment's shape functions at the tie point
+!> (Hallquist's tied interface of DYNA3D):
+!>
+!> 1. the slave's force (and, for a shell edge, its moment) goes to the
+!>    master nodes, N_j f_s, and the slave's own is zeroed;
+!> 2. a master node's acceleration is its force over its mass plus the
+!>    slave masses it carries, sum N_j m_s (its moment likewise over its
+!>    rotary inertia plus N_j I_s);
+!> 3. after every other velocity update (walls, prescribed motion, rigid
+!>    bodies) the slave's velocity is the segment's there, v_s = sum N_j
+!>    v_j (its angular velocity likewise, for a shell edge).
+!>
+!> Total force and linear momentum are kept exactly (sum of N_j = 1); the
+!> slave keeps its own mass for the energies. The shell edge's rotations
+!> are tied where the slave and every node of its segment have rotary
+!> inertia (a shell surface); on a solid face only the translations are
+!> tied, and d3hsp says so per interface. A slave on a rigid body, or a
+!> slave that is also a node of another tie's segment (a chain), is a
+!> set-up error naming the node. A master node on a rigid body passes the
+!> slave's force to the body (the body's mass does not grow by it).
+module xd_contact_tied
+    use xd_kinds, only: wp, dp
+    use xd_core_errors, only: error_t, make_error
+    use xd_core_strings, only: itoa, rtoa
+    use xd_core_sorting, only: where_true
+    use xd_model, only: model_t, contact_t, styp_node_set, ct_tied_shell_edge
+    use xd_contact_surface, only: faces_t, build_faces, segment_diagonals, seg_shell
+    use xd_contact_segment_check, only: project_segment
+    use xd_contact_contact, only: faces_of
+    implicit none
+    private
+    public :: ties_t, place_ties, start_ties, tie_forces, tie_accelerations, tie_velocities, tie_kinetic
+
+    integer, parameter :: max_named = 2000   !< nodes named per interface (all counted)
+
+    !> The ties of every tied interface, one entry per tied slave.
+    type :: ties_t
+        integer :: n = 0                      !< tied slave nodes
+        integer :: nifc = 0                   !< tied interfaces
+        integer, allocatable :: slave(:)      !< (n) model node
+        integer, allocatable :: mnode(:, :)   !< (4, n) the segment's model nodes (triangle: N4 = N3)
+        real(wp), allocatable :: phi(:, :)    !< (4, n) shape functions at the tie point
+        integer, allocatable :: ifc(:)        !< (n) interface
+        integer, allocatable :: spart(:)      !< (n) a part the slave node belongs to (0: none found)
+        logical, allocatable :: rot(:)        !< (n) rotations tied as well
+        logical, allocatable :: offset(:)     !< (n) _OFFSET: the slave kept at its gap
+        real(wp), allocatable :: rloc(:, :)   !< (3, n) the gap in the segment's frame at t = 0
+        !> (n) the mass each of the segment's nodes adds for the gap's rotary
+        !> inertia, m_s |r|^2 / sum |y_j|^2
+        real(wp), allocatable :: mrot(:)
+        real(wp), allocatable :: death(:)     !< (nifc) DT: the ties end then
+        integer, allocatable :: master(:)     !< (nm) model nodes that carry a slave
+        logical, allocatable :: m_rigid(:)    !< (nm) on a rigid body (the body takes the force)
+        real(wp), allocatable :: madd(:)      !< (nm) slave mass carried (this cycle's ties)
+        real(wp), allocatable :: jadd(:)      !< (nm) slave rotary inertia carried
+        integer, allocatable :: mpos(:, :)    !< (4, n) position of mnode in master
+        logical :: rot_any = .false.
+    end type ties_t
+
+contains
+
+    !> Projects the slaves of every *CONTACT_TIED_... on its master surface at
+    !> t = 0 and moves the tied ones onto it (model%x0); `txt` is what d3hsp
+    !> takes.
+    subroutine place_ties(model, td, txt, error)
+        type(model_t), intent(inout) :: model
+        type(ties_t), intent(out) :: td
+        character(len=:), allocatable, intent(out) :: txt
+        type(error_t), allocatable, intent(out) :: error
+        type(faces_t) :: faces
+        logical, allocatable :: in_s(:), in_m(:), on(:)
+        integer, allocatable :: slaves(:), segs(:), nd(:)
+        integer :: i, k, j, s, best, kind, nnamed, nfree, ntied, q
+        real(wp) :: xm(3, 4), xi, eta, nsh(4), p(3), d, dbest, tol, dmin, dmax, moved, tbest, phib(4)
+        real(wp), allocatable :: hnode(:)
+        integer, allocatable :: npart_of(:)
+        character(len=300) :: buf
+        txt = ''
+        td%nifc = model%ntied
+        if (model%ntied == 0) then
+            allocate (td%slave(0), td%mnode(4, 0), td%phi(4, 0), td%ifc(0), td%rot(0), td%death(0), &
+                      td%offset(0), td%rloc(3, 0), td%spart(0))
+            return
+        end if
+        call build_faces(model, model%x0, faces)
+        allocate (in_s(faces%n), in_m(faces%n), on(model%nnode), td%death(model%ntied))
+        allocate (td%slave(0), td%mnode(4, 0), td%phi(4, 0), td%ifc(0), td%rot(0), td%offset(0), td%rloc(3, 0))
+        ! a part of each node (its first face's), for the energies by part
+        allocate (npart_of(model%nnode))
+        npart_of = 0
+        do j = faces%n, 1, -1
+            npart_of(faces%node(:, j)) = faces%part(j)
+        end do
+        ! the shell thickness at each node (the slave's half goes into the
+        ! tie distance)
+        hnode = faces%node_thick
+        do i = 1, model%ntied
+            associate (c => model%tied(i))
+                td%death(i) = c%dt
+                call faces_of(model, faces, c, c%msid, c%mstyp, c%mref, 'MSID', in_m, error)
+                if (allocated(error)) return
+                if (c%sstyp == styp_node_set) then
+                    slaves = model%set(c%sref)%member_ix
+                else
+                    call faces_of(model, faces, c, c%ssid, c%sstyp, c%sref, 'SSID', in_s, error)
+                    if (allocated(error)) return
+                    on = .false.
+                    do j = 1, faces%n
+                        if (in_s(j)) on(faces%node(:, j)) = .true.
+                    end do
+                    slaves = where_true(on)
+                end if
+                segs = where_true(in_m)
+                if (size(segs) == 0) then
+                    call make_error(error, trim(c%at)//': *'//trim(c%keyword)//' '//itoa(c%id)// &
+                                    ': the master side (MSID) has no segments')
+                    return
+                end if
+                txt = txt//' tied contact '//itoa(c%id)//' (*'//trim(c%keyword)//'): '
+                nnamed = 0
+                nfree = 0
+                ntied = 0
+                do k = 1, size(slaves)
+                    s = slaves(k)
+                    p = model%x0(:, s)
+                    best = 0
+                    dbest = huge(1.0_wp)
+                    tbest = 0
+                    do q = 1, size(segs)
+                        j = segs(q)
+                        nd = faces%node(:, j)
+                        ! a node of the segment is not tied to it
+                        if (any(nd == s)) cycle
+                        xm = model%x0(:, nd)
+                        ! a cheap reject: farther from every node than the
+                        ! segment's longest diagonal and the tie distance
+                        call segment_diagonals(xm, dmin, dmax)
+                        tol = tie_distance(c, faces, j, hnode(s), dmin)
+                        if (minval(norm2(xm - spread(p, 2, 4), 1)) > dmax + tol) cycle
+                        call project_segment(xm, p, xi, eta, nsh, kind)
+                        d = norm2(p - matmul(xm, nsh))
+                        if (d <= tol .and. d < dbest) then
+                            best = j
+                            dbest = d
+                            tbest = tol
+                            phib = nsh
+                        end if
+                    end do
+                    if (best == 0) then
+                        nfree = nfree + 1
+                        if (nnamed < max_named) then
+                            nnamed = nnamed + 1
+                            txt = txt//new_line('a')//'   node '//itoa(model%node_id(s))// &
+                                  ' not tied: no master segment within the tie distance'
+                        end if
+                        cycle
+                    end if
+                    ntied = ntied + 1
+                    nd = faces%node(:, best)
+                    moved = dbest
+                    phib = phibest(phib, nd)
+                    td%offset = [td%offset, c%tied_offset]
+                    if (c%tied_offset) then
+                        ! the gap kept, in the segment's own frame
+                        td%rloc = reshape([td%rloc, matmul(transpose(seg_frame(model%x0(:, nd))), &
+                                                           model%x0(:, s) - matmul(model%x0(:, nd), phib))], &
+                                          [3, size(td%offset)])
+                        moved = 0
+                    else
+                        td%rloc = reshape([td%rloc, [0.0_wp, 0.0_wp, 0.0_wp]], [3, size(td%offset)])
+                        model%x0(:, s) = matmul(model%x0(:, nd), phib)
+                    end if
+                    td%slave = [td%slave, s]
+                    td%ifc = [td%ifc, i]
+                    td%rot = [td%rot, c%kind == ct_tied_shell_edge]
+                    td%mnode = reshape([td%mnode, nd], [4, size(td%slave)])
+                    td%phi = reshape([td%phi, phib], [4, size(td%slave)])
+                    if (nnamed < max_named) then
+                        nnamed = nnamed + 1
+                        if (c%tied_offset) then
+                            write (buf, '(a,i0,a,4(1x,i0),a,es10.3,a,es10.3,a)') '   node ', model%node_id(s), &
+                                ' tied to segment', model%node_id(nd), ' (kept at its gap ', dbest, &
+                                ' from it; tie distance ', tbest, ')'
+                        else
+                            write (buf, '(a,i0,a,4(1x,i0),a,es10.3,a,es10.3,a)') '   node ', model%node_id(s), &
+                                ' tied to segment', model%node_id(nd), ' (moved ', moved, ' onto it; tie distance ', &
+                                tbest, ')'
+                        end if
+                        txt = txt//new_line('a')//trim(buf)
+                    end if
+                end do
+                txt = txt//new_line('a')//'   '//itoa(ntied)//' slave nodes tied, '//itoa(nfree)//' not tied'
+                if (nnamed == max_named) txt = txt//' (the first '//itoa(max_named)//' named)'
+                txt = txt//new_line('a')
+            end associate
+        end do
+        td%n = size(td%slave)
+        td%spart = npart_of(td%slave)
+    contains
+        !> a triangle's fourth shape function on its repeated node is 0
+        pure function phibest(ph, nn) result(r)
+            real(wp), intent(in) :: ph(4)
+            integer, intent(in) :: nn(4)
+            real(wp) :: r(4)
+            r = ph
+            if (nn(4) == nn(3)) then
+                r(3) = r(3) + r(4)
+                r(4) = 0
+            end if
+        end function phibest
+    end subroutine place_ties
+
+    !> The tie distance of slave (shell half thickness hs2*2 at the node)
+    !> against face j: the half thicknesses (SST/MST, SFST/SFMT as the
+    !> sliding contacts take them), at least 5% of the segment's shorter
+    !> diagonal.
+    pure real(wp) function tie_distance(c, faces, j, hs, dmin) result(tol)
+        type(contact_t), intent(in) :: c
+        type(faces_t), intent(in) :: faces
+        integer, intent(in) :: j
+        real(wp), intent(in) :: hs, dmin
+        real(wp) :: ts, tm
+        ts = hs*c%sfst
+        if (c%sst > 0.0_wp) ts = c%sst
+        tm = 0
+        if (faces%kind(j) == seg_shell) tm = faces%thick(j)*c%sfmt
+        if (c%mst > 0.0_wp) tm = c%mst
+        tol = max(0.5_wp*(ts + tm), 0.05_wp*dmin)
+    end function tie_distance
+
+    !> After the mesh is set up: which ties hold rotations, the master list,
+    !> the set-up checks (a slave on a rigid body, a chain), and the slaves'
+    !> initial velocities made the segment's. `txt` adds to d3hsp.
+    subroutine start_ties(model, td, member, x0, mass, v, vr, irot, txt, error)
+        type(model_t), intent(in) :: model
+        type(ties_t), intent(inout) :: td
+        logical, intent(in) :: member(:)          !< node of a rigid body
+        real(wp), intent(in) :: x0(:, :), mass(:)
+        real(wp), intent(inout) :: v(:, :)
+        real(wp), allocatable, intent(inout) :: vr(:, :)
+        real(wp), allocatable, intent(in) :: irot(:)
+        character(len=:), allocatable, intent(out) :: txt
+        type(error_t), allocatable, intent(out) :: error
+        integer, allocatable :: pos(:)
+        logical, allocatable :: is_m(:)
+        integer :: k, i, nrot, nlin, s, noff
+        real(wp) :: dv, vmax, xm(3, 4), r(3), y(3, 4)
+        real(dp) :: madded
+        real(wp), allocatable :: vs(:, :)
+        txt = ''
+        if (td%n == 0) return
+        allocate (pos(model%nnode), is_m(model%nnode))
+        is_m = .false.
+        do k = 1, td%n
+            is_m(td%mnode(:, k)) = .true.
+        end do
+        do k = 1, td%n
+            s = td%slave(k)
+            if (member(s)) then
+                call make_error(error, trim(model%tied(td%ifc(k))%at)//': *'//trim(model%tied(td%ifc(k))%keyword)// &
+                                ' '//itoa(model%tied(td%ifc(k))%id)//': slave node '//itoa(model%node_id(s))// &
+                                ' is on a rigid body (use *CONSTRAINED_EXTRA_NODES to join a node to a body)')
+                return
+            end if
+            if (is_m(s)) then
+                call make_error(error, trim(model%tied(td%ifc(k))%at)//': *'//trim(model%tied(td%ifc(k))%keyword)// &
+                                ' '//itoa(model%tied(td%ifc(k))%id)//': slave node '//itoa(model%node_id(s))// &
+                                ' is also a node of a tied segment (a chain of ties is not supported)')
+                return
+            end if
+            if (count(td%slave == s) > 1) then
+                call make_error(error, 'slave node '//itoa(model%node_id(s))//' is tied by more than one '// &
+                                '*CONTACT_TIED_... (tie it once)')
+                return
+            end if
+        end do
+        td%master = where_true(is_m)
+        pos = 0
+        pos(td%master) = [(i, i=1, size(td%master))]
+        allocate (td%mpos(4, td%n), td%m_rigid(size(td%master)), td%madd(size(td%master)), td%jadd(size(td%master)))
+        do k = 1, td%n
+            td%mpos(:, k) = pos(td%mnode(:, k))
+        end do
+        td%m_rigid = member(td%master)
+        td%madd = 0
+        td%jadd = 0
+        ! rotations where the slave and its segment's nodes have rotary inertia
+        nrot = 0
+        nlin = 0
+        do k = 1, td%n
+            if (.not. td%rot(k)) cycle
+            if (.not. allocated(irot)) then
+                td%rot(k) = .false.
+            else
+                td%rot(k) = irot(td%slave(k)) > 0.0_wp .and. all(irot(td%mnode(:, k)) > 0.0_wp .or. td%phi(:, k) == 0.0_wp)
+            end if
+            if (td%rot(k)) then
+                nrot = nrot + 1
+            else
+                nlin = nlin + 1
+            end if
+        end do
+        td%rot_any = nrot > 0
+        ! offset ties: the gap fixed in the segment's frame, its moment r x f_s
+        ! passed as a couple of nodal forces, and m_s |r|^2 / sum |y|^2 added
+        ! to each of the segment's nodes' mass: the gap's rotary inertia as
+        ! the nodes' translations carry it (without it a gap long against
+        ! its segment, seen through the couple, outruns the nodes' inertia:
+        ! a lever of shells tied 5-35 mm beside a plate's edge blew up in 12
+        ! cycles)
+        allocate (td%mrot(td%n))
+        td%mrot = 0
+        noff = 0
+        madded = 0
+        do k = 1, td%n
+            if (.not. td%offset(k)) cycle
+            xm = x0(:, td%mnode(:, k))
+            r = x0(:, td%slave(k)) - matmul(xm, td%phi(:, k))
+            y = xm - spread(sum(xm, 2)/4, 2, 4)
+            td%mrot(k) = mass(td%slave(k))*dot_product(r, r)/sum(y**2)
+            madded = madded + 4*td%mrot(k)
+            noff = noff + 1
+        end do
+        if (noff > 0) txt = txt//' tied offsets: '//itoa(noff)//' slave nodes held at their gaps in their '// &
+                            'segments'' frames; the segments'' nodes carry '//rtoa(madded)//' of added mass '// &
+                            'for the gaps'' rotary inertia (in the kinetic energy, booked to the slaves'' parts)'// &
+                            new_line('a')
+        if (nrot + nlin > 0) txt = txt//' tied shell edges: '//itoa(nrot)//' slave nodes with rotations tied, '// &
+                                   itoa(nlin)//' with translations only (a segment or slave without rotary inertia, '// &
+                                   'such as a solid face)'//new_line('a')
+        ! the slaves start with the segment's velocity
+        vmax = 0
+        dv = 0
+        vs = v(:, td%slave)
+        call tie_velocities(td, 0.0_dp, 0.0_wp, x0, v, vr)
+        do k = 1, td%n
+            vmax = max(vmax, norm2(vs(:, k)))
+            dv = max(dv, norm2(v(:, td%slave(k)) - vs(:, k)))
+        end do
+        if (dv > 1.0e-12_wp*max(vmax, tiny(1.0_wp))) txt = txt//' tied slaves: initial velocities set to their '// &
+            'segments'' (largest change '//rtoa(real(dv, dp))//')'//new_line('a')
+    end subroutine start_ties
+
+    !> The tied contacts' kinetic energy by part, to add to the nodes' own:
+    !> the slave masses as the dynamics move them (N_j m_s and the gap's
+    !> added mass on the segment's nodes, N_j I_s on their rotations) less
+    !> the slaves' own, 1/2 m v(n-1/2).v(n+1/2) as the energies take it.
+    !> With it the energy ratio holds the tie's dynamics to account: they
+    !> conserve this energy, not the slaves' own.
+    subroutine tie_kinetic(td, mass, irot, vm, vp, wm, wp_, ke)
+        type(ties_t), intent(in) :: td
+        real(wp), intent(in) :: mass(:), vm(:, :), vp(:, :)
+        real(wp), allocatable, intent(in) :: irot(:), wm(:, :), wp_(:, :)
+        real(dp), intent(inout) :: ke(:)
+        integer :: k, q, s, j
+        real(dp) :: c
+        ke = 0
+        do k = 1, td%n
+            s = td%slave(k)
+            c = -0.5_dp*mass(s)*dot_product(real(vm(:, s), dp), vp(:, s))
+            do q = 1, 4
+                j = td%mnode(q, k)
+                c = c + 0.5_dp*(td%phi(q, k)*mass(s) + td%mrot(k))*dot_product(real(vm(:, j), dp), vp(:, j))
+            end do
+            if (td%rot(k)) then
+                c = c - 0.5_dp*irot(s)*dot_product(real(wm(:, s), dp), wp_(:, s))
+                do q = 1, 4
+                    j = td%mnode(q, k)
+                    c = c + 0.5_dp*td%phi(q, k)*irot(s)*dot_product(real(wm(:, j), dp), wp_(:, j))
+                end do
+            end if
+            if (td%spart(k) > 0) ke(td%spart(k)) = ke(td%spart(k)) + c
+        end do
+    end subroutine tie_kinetic
+
+    !> The segment's frame (columns e1, e2, e3): e3 its normal (the
+    !> diagonals' cross product), e1 along its mid-line from the N1-N4 side
+    !> to the N2-N3 side, e2 = e3 x e1. A triangle (N4 = N3) likewise.
+    pure function seg_frame(xm) result(e)
+        real(wp), intent(in) :: xm(3, 4)
+        real(wp) :: e(3, 3)
+        e(:, 3) = cross3(xm(:, 3) - xm(:, 1), xm(:, 4) - xm(:, 2))
+        e(:, 3) = e(:, 3)/norm2(e(:, 3))
+        e(:, 1) = xm(:, 2) + xm(:, 3) - xm(:, 1) - xm(:, 4)
+        e(:, 1) = e(:, 1) - dot_product(e(:, 1), e(:, 3))*e(:, 3)
+        e(:, 1) = e(:, 1)/norm2(e(:, 1))
+        e(:, 2) = cross3(e(:, 3), e(:, 1))
+    end function seg_frame
+
+    pure function cross3(a, b) result(c)
+        real(wp), intent(in) :: a(3), b(3)
+        real(wp) :: c(3)
+        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+    end function cross3
+
+    !> Forces on the segment's nodes (4 entries, a triangle's N3 twice)
+    !> whose sum is zero and whose moment about any point is m: (J^-1 m) x
+    !> y_j, y_j from the nodes' centroid, J = sum (|y|^2 1 - y y^T). They
+    !> are the forces of a moment on the segment's best-fit rigid rotation.
+    pure function couple_forces(xm, m) result(fq)
+        real(wp), intent(in) :: xm(3, 4), m(3)
+        real(wp) :: fq(3, 4), y(3, 4), jm(3, 3), w(3)
+        integer :: q, i
+        y = xm - spread(sum(xm, 2)/4, 2, 4)
+        jm = 0
+        do q = 1, 4
+            do i = 1, 3
+                jm(i, i) = jm(i, i) + dot_product(y(:, q), y(:, q))
+            end do
+            jm = jm - spread(y(:, q), 2, 3)*spread(y(:, q), 1, 3)
+        end do
+        w = solve3(jm, m)
+        do q = 1, 4
+            fq(:, q) = cross3(w, y(:, q))
+        end do
+    end function couple_forces
+
+    !> The segment's best-fit rigid spin from its nodes' velocities: J w =
+    !> sum y_j x (v_j - the mean velocity).
+    pure function seg_spin(xm, vm) result(w)
+        real(wp), intent(in) :: xm(3, 4), vm(3, 4)
+        real(wp) :: w(3), y(3, 4), u(3, 4), jm(3, 3), h(3)
+        integer :: q, i
+        y = xm - spread(sum(xm, 2)/4, 2, 4)
+        u = vm - spread(sum(vm, 2)/4, 2, 4)
+        jm = 0
+        h = 0
+        do q = 1, 4
+            do i = 1, 3
+                jm(i, i) = jm(i, i) + dot_product(y(:, q), y(:, q))
+            end do
+            jm = jm - spread(y(:, q), 2, 3)*spread(y(:, q), 1, 3)
+            h = h + cross3(y(:, q), u(:, q))
+        end do
+        w = solve3(jm, h)
+    end function seg_spin
+
+    !> a 3 x 3 symmetric positive definite system by Cramer's rule
+    pure function solve3(a, b) result(x)
+        real(wp), intent(in) :: a(3, 3), b(3)
+        real(wp) :: x(3), det
+        det = dot_product(a(:, 1), cross3(a(:, 2), a(:, 3)))
+        x(1) = dot_product(b, cross3(a(:, 2), a(:, 3)))/det
+        x(2) = dot_product(a(:, 1), cross3(b, a(:, 3)))/det
+        x(3) = dot_product(a(:, 1), cross3(a(:, 2), b))/det
+    end function solve3
+
+    !> Step 1: the slaves' forces (and tied moments) to their segments' nodes;
+    !> an offset slave's force also as the couple of its gap, r x f_s.
+    subroutine tie_forces(td, time, x, f, mom)
+        type(ties_t), intent(in) :: td
+        real(dp), intent(in) :: time
+        real(wp), intent(in) :: x(:, :)
+        real(wp), intent(inout) :: f(:, :)
+        real(wp), allocatable, intent(inout) :: mom(:, :)
+        real(wp) :: fq(3, 4), xm(3, 4)
+        integer :: k, q, s
+        do k = 1, td%n
+            if (time > td%death(td%ifc(k))) cycle
+            s = td%slave(k)
+            if (td%offset(k)) then
+                xm = x(:, td%mnode(:, k))
+                fq = couple_forces(xm, cross3(x(:, s) - matmul(xm, td%phi(:, k)), f(:, s)))
+                do q = 1, 4
+                    f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) + fq(:, q)
+                end do
+            end if
+            do q = 1, 4
+                f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) + td%phi(q, k)*f(:, s)
+            end do
+            f(:, s) = 0
+            if (td%rot(k)) then
+                do q = 1, 4
+                    mom(:, td%mnode(q, k)) = mom(:, td%mnode(q, k)) + td%phi(q, k)*mom(:, s)
+                end do
+                mom(:, s) = 0
+            end if
+        end do
+    end subroutine tie_forces
+
+    !> Step 2, after the free accelerations: a master node's acceleration
+    !> over its mass plus the slave mass it carries; its moment scaled so
+    !> that the rotational update divides by its inertia plus the slaves'.
+    subroutine tie_accelerations(td, time, f, mass, free, a, mom, irot)
+        type(ties_t), intent(inout) :: td
+        real(dp), intent(in) :: time
+        real(wp), intent(in) :: f(:, :), mass(:), free(:, :)
+        real(wp), intent(inout) :: a(:, :)
+        real(wp), allocatable, intent(inout) :: mom(:, :)
+        real(wp), allocatable, intent(in) :: irot(:)
+        integer :: k, q, i, j
+        if (td%n == 0) return
+        td%madd = 0
+        td%jadd = 0
+        do k = 1, td%n
+            if (time > td%death(td%ifc(k))) cycle
+            do q = 1, 4
+                td%madd(td%mpos(q, k)) = td%madd(td%mpos(q, k)) + td%phi(q, k)*mass(td%slave(k))
+                if (td%rot(k)) td%jadd(td%mpos(q, k)) = td%jadd(td%mpos(q, k)) + td%phi(q, k)*irot(td%slave(k))
+                td%madd(td%mpos(q, k)) = td%madd(td%mpos(q, k)) + td%mrot(k)
+            end do
+        end do
+        do i = 1, size(td%master)
+            if (td%m_rigid(i)) cycle
+            j = td%master(i)
+            if (td%madd(i) > 0.0_wp) a(:, j) = f(:, j)/(mass(j) + td%madd(i))*free(:, j)
+            if (td%jadd(i) > 0.0_wp) mom(:, j) = mom(:, j)*(irot(j)/(irot(j) + td%jadd(i)))
+        end do
+    end subroutine tie_accelerations
+
+    !> Step 3, after every other velocity update: each slave moves with its
+    !> segment; an offset slave to its gap in the segment's frame at the
+    !> step's end (positions x + dt v), so that the gap is kept exactly,
+    !> not only to first order in the segment's turn.
+    subroutine tie_velocities(td, time, dt, x, v, vr)
+        type(ties_t), intent(in) :: td
+        real(dp), intent(in) :: time
+        real(wp), intent(in) :: dt
+        real(wp), intent(in) :: x(:, :)
+        real(wp), intent(inout) :: v(:, :)
+        real(wp), allocatable, intent(inout) :: vr(:, :)
+        real(wp) :: ym(3, 4)
+        integer :: k, s
+        do k = 1, td%n
+            if (time > td%death(td%ifc(k))) cycle
+            s = td%slave(k)
+            if (td%offset(k) .and. dt > 0.0_wp) then
+                ym = x(:, td%mnode(:, k)) + dt*v(:, td%mnode(:, k))
+                v(:, s) = (matmul(ym, td%phi(:, k)) + matmul(seg_frame(ym), td%rloc(:, k)) - x(:, s))/dt
+            else if (td%offset(k)) then
+                ! (at t = 0) the segment's velocity there and its best-fit
+                ! spin times the gap
+                ym = x(:, td%mnode(:, k))
+                v(:, s) = matmul(v(:, td%mnode(:, k)), td%phi(:, k)) + &
+                          cross3(seg_spin(ym, v(:, td%mnode(:, k))), x(:, s) - matmul(ym, td%phi(:, k)))
+            else
+                v(:, s) = matmul(v(:, td%mnode(:, k)), td%phi(:, k))
+            end if
+            if (td%rot(k)) vr(:, s) = matmul(vr(:, td%mnode(:, k)), td%phi(:, k))
+        end do
+    end subroutine tie_velocities
+
+end module xd_contact_tied
