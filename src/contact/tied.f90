@@ -39,15 +39,16 @@ module xd_contact_tied
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa, rtoa
     use xd_core_sorting, only: where_true
-    use xd_model, only: model_t, contact_t, styp_node_set, ct_tied_shell_edge
+    use xd_model, only: model_t, contact_t, styp_node_set, ct_tied_shell_edge, ct_tiebreak
     use xd_contact_surface, only: faces_t, build_faces, segment_diagonals, seg_shell
     use xd_contact_segment_check, only: project_segment
     use xd_contact_contact, only: faces_of
     implicit none
     private
-    public :: ties_t, place_ties, start_ties, tie_forces, tie_accelerations, tie_velocities, tie_kinetic
+    public :: ties_t, place_ties, start_ties, tie_forces, tie_accelerations, tie_velocities, tie_kinetic, tie_break
 
     integer, parameter :: max_named = 2000   !< nodes named per interface (all counted)
+    integer, parameter :: tie_held = 0, tie_softening = 1, tie_broken = 2
 
     !> The ties of every tied interface, one entry per tied slave.
     type :: ties_t
@@ -69,8 +70,22 @@ module xd_contact_tied
         logical, allocatable :: m_rigid(:)    !< (nm) on a rigid body (the body takes the force)
         real(wp), allocatable :: madd(:)      !< (nm) slave mass carried (this cycle's ties)
         real(wp), allocatable :: jadd(:)      !< (nm) slave rotary inertia carried
+        real(wp), allocatable :: mnodal(:)    !< (nnode) madd by model node (0 off the masters)
+        real(wp), allocatable :: vold(:, :)   !< (3, n) the slave's velocity before this step's update
         integer, allocatable :: mpos(:, :)    !< (4, n) position of mnode in master
         logical :: rot_any = .false.
+        ! tiebreak (*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK)
+        integer, allocatable :: state(:)      !< (n) tie_held, tie_softening (OPTION 2), tie_broken
+        real(wp), allocatable :: area(:)      !< (n) the slave's share of its side's face area
+        real(wp), allocatable :: sgn(:)       !< (n) +1 or -1: the segment's normal turned from master to slave
+        real(wp), allocatable :: fs0(:, :)    !< (3, n) the slave's own force this cycle (before the tie took it)
+        real(wp), allocatable :: f0(:, :)     !< (3, n) OPTION 2: the interface force at failure, segment frame
+        real(wp), allocatable :: dmg(:)       !< (n) OPTION 2: damage, the separation over PARAM (0-1)
+        real(wp), allocatable :: urel(:, :)   !< (3, n) OPTION 2: the slave's separation from its tie place
+        integer, allocatable :: opt(:)        !< (nifc) tiebreak OPTION (0: a tied contact)
+        real(wp), allocatable :: nfls(:), sfls(:), param(:)   !< (nifc)
+        real(dp) :: ework = 0                 !< work the softening interfaces took (dissipated)
+        integer :: nbroken = 0
     end type ties_t
 
 contains
@@ -86,20 +101,24 @@ contains
         type(faces_t) :: faces
         logical, allocatable :: in_s(:), in_m(:), on(:)
         integer, allocatable :: slaves(:), segs(:), nd(:)
-        integer :: i, k, j, s, best, kind, nnamed, nfree, ntied, q
-        real(wp) :: xm(3, 4), xi, eta, nsh(4), p(3), d, dbest, tol, dmin, dmax, moved, tbest, phib(4)
-        real(wp), allocatable :: hnode(:)
+        integer :: i, k, j, s, best, kind, nnamed, nfree, ntied, q, k0
+        logical, allocatable :: tmark(:)
+        real(wp) :: xm(3, 4), xi, eta, nsh(4), p(3), d, dbest, tol, dmin, dmax, moved, tbest, phib(4), en(3, 3), gp(3), sg
+        real(wp), allocatable :: hnode(:), narea(:), nout(:, :)
         integer, allocatable :: npart_of(:)
         character(len=300) :: buf
         txt = ''
         td%nifc = model%ntied
         if (model%ntied == 0) then
             allocate (td%slave(0), td%mnode(4, 0), td%phi(4, 0), td%ifc(0), td%rot(0), td%death(0), &
-                      td%offset(0), td%rloc(3, 0), td%spart(0))
+                      td%offset(0), td%rloc(3, 0), td%spart(0), td%area(0), td%opt(0), td%nfls(0), td%sfls(0), &
+                      td%param(0), td%sgn(0))
             return
         end if
         call build_faces(model, model%x0, faces)
-        allocate (in_s(faces%n), in_m(faces%n), on(model%nnode), td%death(model%ntied))
+        allocate (in_s(faces%n), in_m(faces%n), on(model%nnode), td%death(model%ntied), td%opt(model%ntied), &
+                  td%nfls(model%ntied), td%sfls(model%ntied), td%param(model%ntied), td%area(0), narea(model%nnode), &
+                  nout(3, model%nnode), td%sgn(0), tmark(model%nnode))
         allocate (td%slave(0), td%mnode(4, 0), td%phi(4, 0), td%ifc(0), td%rot(0), td%offset(0), td%rloc(3, 0))
         ! a part of each node (its first face's), for the energies by part
         allocate (npart_of(model%nnode))
@@ -113,10 +132,16 @@ contains
         do i = 1, model%ntied
             associate (c => model%tied(i))
                 td%death(i) = c%dt
+                td%opt(i) = merge(c%tb_option, 0, c%kind == ct_tiebreak)
+                td%nfls(i) = c%nfls
+                td%sfls(i) = c%sfls
+                td%param(i) = c%tb_param
                 call faces_of(model, faces, c, c%msid, c%mstyp, c%mref, 'MSID', in_m, error)
                 if (allocated(error)) return
                 if (c%sstyp == styp_node_set) then
                     slaves = model%set(c%sref)%member_ix
+                    on = .false.
+                    on(slaves) = .true.
                 else
                     call faces_of(model, faces, c, c%ssid, c%sstyp, c%sref, 'SSID', in_s, error)
                     if (allocated(error)) return
@@ -126,6 +151,17 @@ contains
                     end do
                     slaves = where_true(on)
                 end if
+                ! the slave side's outward normals at its nodes (solids)
+                narea = 0
+                nout = 0
+                do j = 1, faces%n
+                    if (c%sstyp == styp_node_set) then
+                        if (.not. any(on_set(faces%node(:, j)))) cycle
+                    else if (.not. in_s(j)) then
+                        cycle
+                    end if
+                    call add_area(faces%node(:, j), faces%kind(j) /= seg_shell)
+                end do
                 segs = where_true(in_m)
                 if (size(segs) == 0) then
                     call make_error(error, trim(c%at)//': *'//trim(c%keyword)//' '//itoa(c%id)// &
@@ -133,6 +169,7 @@ contains
                     return
                 end if
                 txt = txt//' tied contact '//itoa(c%id)//' (*'//trim(c%keyword)//'): '
+                k0 = size(td%slave) + 1
                 nnamed = 0
                 nfree = 0
                 ntied = 0
@@ -186,7 +223,21 @@ contains
                         td%rloc = reshape([td%rloc, [0.0_wp, 0.0_wp, 0.0_wp]], [3, size(td%offset)])
                         model%x0(:, s) = matmul(model%x0(:, nd), phib)
                     end if
+                    ! the normal's sense from the master to the slave side:
+                    ! by the gap, or (touching) against the slave solid's
+                    ! outward normal
+                    en = seg_frame(model%x0(:, nd))
+                    gp = model%x0(:, s) - matmul(model%x0(:, nd), phib)
+                    if (norm2(gp) > 1.0e-6_wp*dmax_of(model%x0(:, nd))) then
+                        sg = sign(1.0_wp, dot_product(gp, en(:, 3)))
+                    else if (norm2(nout(:, s)) > 0.0_wp) then
+                        sg = sign(1.0_wp, -dot_product(nout(:, s), en(:, 3)))
+                    else
+                        sg = 1
+                    end if
+                    td%sgn = [td%sgn, sg]
                     td%slave = [td%slave, s]
+                    td%area = [td%area, narea(s)]
                     td%ifc = [td%ifc, i]
                     td%rot = [td%rot, c%kind == ct_tied_shell_edge]
                     td%mnode = reshape([td%mnode, nd], [4, size(td%slave)])
@@ -205,6 +256,22 @@ contains
                         txt = txt//new_line('a')//trim(buf)
                     end if
                 end do
+                ! each tied slave's share of the area of the slave side's
+                ! faces whose nodes are all tied here (a tiebreak's stress is
+                ! its interface force over it): a quarter of a
+                ! quadrilateral, a third of a triangle
+                tmark = .false.
+                tmark(td%slave(k0:)) = .true.
+                narea = 0
+                do j = 1, faces%n
+                    if (c%sstyp == styp_node_set) then
+                        if (.not. all(tmark(faces%node(:, j)))) cycle
+                    else if (.not. in_s(j) .or. .not. all(tmark(faces%node(:, j)))) then
+                        cycle
+                    end if
+                    call add_area(faces%node(:, j), .false.)
+                end do
+                td%area(k0:) = narea(td%slave(k0:))
                 txt = txt//new_line('a')//'   '//itoa(ntied)//' slave nodes tied, '//itoa(nfree)//' not tied'
                 if (nnamed == max_named) txt = txt//' (the first '//itoa(max_named)//' named)'
                 txt = txt//new_line('a')
@@ -213,6 +280,43 @@ contains
         td%n = size(td%slave)
         td%spart = npart_of(td%slave)
     contains
+        real(wp) function dmax_of(xq)
+            real(wp), intent(in) :: xq(3, 4)
+            real(wp) :: d1, d2
+            call segment_diagonals(xq, d1, d2)
+            dmax_of = d2
+        end function dmax_of
+
+        logical elemental function on_set(nd)
+            integer, intent(in) :: nd
+            on_set = on(nd)
+        end function on_set
+
+        subroutine add_area(nd, solid)
+            integer, intent(in) :: nd(4)
+            logical, intent(in) :: solid
+            real(wp) :: a, an(3)
+            integer :: q
+            an = 0.5_wp*cross3(model%x0(:, nd(3)) - model%x0(:, nd(1)), model%x0(:, nd(4)) - model%x0(:, nd(2)))
+            a = norm2(an)
+            ! a solid face's outward normal (its nodes run counter-clockwise
+            ! seen from outside), summed at its nodes
+            if (solid) then
+                do q = 1, 4
+                    nout(:, nd(q)) = nout(:, nd(q)) + an
+                end do
+            end if
+            if (nd(4) == nd(3)) then
+                do q = 1, 3
+                    narea(nd(q)) = narea(nd(q)) + a/3
+                end do
+            else
+                do q = 1, 4
+                    narea(nd(q)) = narea(nd(q)) + a/4
+                end do
+            end if
+        end subroutine add_area
+
         !> a triangle's fourth shape function on its repeated node is 0
         pure function phibest(ph, nn) result(r)
             real(wp), intent(in) :: ph(4)
@@ -300,6 +404,9 @@ contains
         td%m_rigid = member(td%master)
         td%madd = 0
         td%jadd = 0
+        allocate (td%mnodal(model%nnode), td%vold(3, td%n))
+        td%mnodal = 0
+        td%vold = 0
         ! rotations where the slave and its segment's nodes have rotary inertia
         nrot = 0
         nlin = 0
@@ -324,8 +431,13 @@ contains
         ! its segment, seen through the couple, outruns the nodes' inertia:
         ! a lever of shells tied 5-35 mm beside a plate's edge blew up in 12
         ! cycles)
-        allocate (td%mrot(td%n))
+        allocate (td%mrot(td%n), td%state(td%n), td%fs0(3, td%n), td%f0(3, td%n), td%dmg(td%n), td%urel(3, td%n))
         td%mrot = 0
+        td%state = tie_held
+        td%fs0 = 0
+        td%f0 = 0
+        td%dmg = 0
+        td%urel = 0
         noff = 0
         madded = 0
         do k = 1, td%n
@@ -357,6 +469,14 @@ contains
             'segments'' (largest change '//rtoa(real(dv, dp))//')'//new_line('a')
     end subroutine start_ties
 
+    !> Whether tie k holds its slave now (before its DT, not broken).
+    pure logical function holds(td, k, time)
+        type(ties_t), intent(in) :: td
+        integer, intent(in) :: k
+        real(dp), intent(in) :: time
+        holds = time <= td%death(td%ifc(k)) .and. td%state(k) == tie_held
+    end function holds
+
     !> The tied contacts' kinetic energy by part, to add to the nodes' own:
     !> the slave masses as the dynamics move them (N_j m_s and the gap's
     !> added mass on the segment's nodes, N_j I_s on their rotations) less
@@ -372,6 +492,7 @@ contains
         real(dp) :: c
         ke = 0
         do k = 1, td%n
+            if (td%state(k) /= tie_held) cycle
             s = td%slave(k)
             c = -0.5_dp*mass(s)*dot_product(real(vm(:, s), dp), vp(:, s))
             do q = 1, 4
@@ -464,7 +585,7 @@ contains
     !> Step 1: the slaves' forces (and tied moments) to their segments' nodes;
     !> an offset slave's force also as the couple of its gap, r x f_s.
     subroutine tie_forces(td, time, x, f, mom)
-        type(ties_t), intent(in) :: td
+        type(ties_t), intent(inout) :: td
         real(dp), intent(in) :: time
         real(wp), intent(in) :: x(:, :)
         real(wp), intent(inout) :: f(:, :)
@@ -472,8 +593,10 @@ contains
         real(wp) :: fq(3, 4), xm(3, 4)
         integer :: k, q, s
         do k = 1, td%n
-            if (time > td%death(td%ifc(k))) cycle
+            if (td%state(k) == tie_softening) call soften(k)
+            if (.not. holds(td, k, time)) cycle
             s = td%slave(k)
+            td%fs0(:, k) = f(:, s)
             if (td%offset(k)) then
                 xm = x(:, td%mnode(:, k))
                 fq = couple_forces(xm, cross3(x(:, s) - matmul(xm, td%phi(:, k)), f(:, s)))
@@ -492,7 +615,89 @@ contains
                 mom(:, s) = 0
             end if
         end do
+    contains
+        !> OPTION 2 after failure: the interface force at failure, turned
+        !> with the segment, times 1 - D, D the slave's separation from its
+        !> tie place over PARAM (never healing); the work it takes is booked
+        subroutine soften(k)
+            integer, intent(in) :: k
+            real(wp) :: e(3, 3), u(3), fc(3), xm(3, 4), fq(3, 4)
+            integer :: q, s
+            s = td%slave(k)
+            xm = x(:, td%mnode(:, k))
+            e = seg_frame(xm)
+            u = x(:, s) - matmul(xm, td%phi(:, k)) - matmul(e, td%rloc(:, k))
+            fc = (1 - td%dmg(k))*matmul(e, td%f0(:, k))
+            ! the force of the last step over its separation's change
+            td%ework = td%ework - dot_product(real(fc, dp), real(u - td%urel(:, k), dp))
+            td%urel(:, k) = u
+            td%dmg(k) = max(td%dmg(k), min(1.0_wp, norm2(u)/td%param(td%ifc(k))))
+            if (td%dmg(k) >= 1.0_wp) then
+                td%state(k) = tie_broken
+                return
+            end if
+            fc = (1 - td%dmg(k))*matmul(e, td%f0(:, k))
+            f(:, s) = f(:, s) + fc
+            do q = 1, 4
+                f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) - td%phi(q, k)*fc
+            end do
+            fq = couple_forces(xm, cross3(x(:, s) - matmul(xm, td%phi(:, k)), -fc))
+            do q = 1, 4
+                f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) + fq(:, q)
+            end do
+        end subroutine soften
     end subroutine tie_forces
+
+    !> Tiebreak failure, after every velocity update: each held tiebreak
+    !> slave's interface force, what held it against its own force, F = m_s
+    !> a_s - f_s with a_s its velocity change over the step (whatever moved
+    !> its segment: forces, prescribed motion, a rigid body), over its area: the normal stress
+    !> (tension positive, along the segment's normal from the master to the
+    !> slave side) and the shear stress. Where (max(sn, 0)/NFLS)^2 + (ss/
+    !> SFLS)^2 >= 1 the tie breaks: OPTION 1 releases the slave to the
+    !> sliding contact; OPTION 2 keeps the force it had, falling to zero as
+    !> the slave separates by PARAM. Each break is named in `txt`.
+    subroutine tie_break(td, time, mass, dt_avg, v, x, txt, node_id)
+        type(ties_t), intent(inout) :: td
+        real(dp), intent(in) :: time
+        real(wp), intent(in) :: mass(:), dt_avg, v(:, :), x(:, :)
+        character(len=:), allocatable, intent(out) :: txt
+        integer, intent(in) :: node_id(:)
+        real(wp) :: fi(3), e(3, 3), sn, ss, crit, xm(3, 4)
+        integer :: k, s, i
+        character(len=200) :: buf
+        txt = ''
+        do k = 1, td%n
+            i = td%ifc(k)
+            if (td%opt(i) == 0 .or. .not. holds(td, k, time)) cycle
+            s = td%slave(k)
+            if (td%area(k) <= 0.0_wp) cycle
+            if (dt_avg <= 0.0_wp) cycle
+            fi = mass(s)*(v(:, s) - td%vold(:, k))/dt_avg - td%fs0(:, k)
+            xm = x(:, td%mnode(:, k))
+            e = seg_frame(xm)
+            sn = -dot_product(fi, e(:, 3))*td%sgn(k)/td%area(k)
+            ss = norm2(fi - dot_product(fi, e(:, 3))*e(:, 3))/td%area(k)
+            crit = 0
+            if (td%nfls(i) > 0.0_wp) crit = crit + (max(sn, 0.0_wp)/td%nfls(i))**2
+            if (td%sfls(i) > 0.0_wp) crit = crit + (ss/td%sfls(i))**2
+            if (crit < 1.0_wp) cycle
+            td%nbroken = td%nbroken + 1
+            if (td%opt(i) == 2) then
+                td%state(k) = tie_softening
+                td%f0(:, k) = matmul(transpose(e), fi)
+                td%urel(:, k) = 0
+            else
+                td%state(k) = tie_broken
+            end if
+            if (td%nbroken <= max_named) then
+                write (buf, '(a,i0,a,i0,a,es12.5,a,es10.3,a,es10.3,a)') ' tiebreak ', i, ': node ', node_id(s), &
+                    ' broke at time ', time, ' (normal stress ', sn, ', shear ', ss, ')'
+                txt = txt//trim(buf)//new_line('a')
+            end if
+        end do
+        if (len(txt) > 0) txt = txt(1:len(txt) - 1)
+    end subroutine tie_break
 
     !> Step 2, after the free accelerations: a master node's acceleration
     !> over its mass plus the slave mass it carries; its moment scaled so
@@ -509,13 +714,14 @@ contains
         td%madd = 0
         td%jadd = 0
         do k = 1, td%n
-            if (time > td%death(td%ifc(k))) cycle
+            if (.not. holds(td, k, time)) cycle
             do q = 1, 4
                 td%madd(td%mpos(q, k)) = td%madd(td%mpos(q, k)) + td%phi(q, k)*mass(td%slave(k))
                 if (td%rot(k)) td%jadd(td%mpos(q, k)) = td%jadd(td%mpos(q, k)) + td%phi(q, k)*irot(td%slave(k))
                 td%madd(td%mpos(q, k)) = td%madd(td%mpos(q, k)) + td%mrot(k)
             end do
         end do
+        td%mnodal(td%master) = td%madd
         do i = 1, size(td%master)
             if (td%m_rigid(i)) cycle
             j = td%master(i)
@@ -529,7 +735,7 @@ contains
     !> step's end (positions x + dt v), so that the gap is kept exactly,
     !> not only to first order in the segment's turn.
     subroutine tie_velocities(td, time, dt, x, v, vr)
-        type(ties_t), intent(in) :: td
+        type(ties_t), intent(inout) :: td
         real(dp), intent(in) :: time
         real(wp), intent(in) :: dt
         real(wp), intent(in) :: x(:, :)
@@ -538,8 +744,9 @@ contains
         real(wp) :: ym(3, 4)
         integer :: k, s
         do k = 1, td%n
-            if (time > td%death(td%ifc(k))) cycle
+            if (.not. holds(td, k, time)) cycle
             s = td%slave(k)
+            td%vold(:, k) = v(:, s)
             if (td%offset(k) .and. dt > 0.0_wp) then
                 ym = x(:, td%mnode(:, k)) + dt*v(:, td%mnode(:, k))
                 v(:, s) = (matmul(ym, td%phi(:, k)) + matmul(seg_frame(ym), td%rloc(:, k)) - x(:, s))/dt

@@ -161,6 +161,7 @@ module xd_input_keyword_table
         entry_t('SET_SOLID_GENERAL', fam_planned, '', .false.), &
         entry_t('CONTACT_AUTOMATIC_SINGLE_SURFACE', fam_contact, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK', fam_contact, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_GENERAL', fam_contact, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_NODES_TO_SURFACE', fam_contact, '', .true.), &
         entry_t('CONTACT_SINGLE_SURFACE', fam_contact, '', .true.), &

@@ -12,7 +12,7 @@ module xd_input_read_contacts
     use xd_input_context, only: get_id_card, read_ctx_t, get_card, first_card, add_warning, ignored_fields
     use xd_model, only: model_t, contact_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface, &
                         styp_segment_set, styp_node_set, styp_all, styp_all_but, search_auto, search_fixed, search_adaptive, &
-                        mnl_minimal, mnl_closest1, mnl_closest3, ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface
+                        mnl_minimal, mnl_closest1, mnl_closest3, ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface, ct_tiebreak
     implicit none
     private
     public :: read_contact
@@ -47,13 +47,15 @@ contains
         type(contact_t) :: c
         integer :: ic, k, ibox(2), ival
         real(wp) :: rval
-        logical :: tied
+        logical :: tied, tiebreak
         character(len=:), allocatable :: at
 
         c%keyword = kw%name
+        tiebreak = .false.
         select case (kw%name)
         case ('CONTACT_AUTOMATIC_SINGLE_SURFACE', 'CONTACT_SINGLE_SURFACE'); c%kind = ct_single
         case ('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE'); c%kind = ct_surface_to_surface
+        case ('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK'); c%kind = ct_surface_to_surface; tiebreak = .true.
         case ('CONTACT_AUTOMATIC_GENERAL'); c%kind = ct_general
         case ('CONTACT_AUTOMATIC_NODES_TO_SURFACE'); c%kind = ct_nodes_to_surface
         case ('CONTACT_TIED_NODES_TO_SURFACE'); c%kind = ct_tied_nodes
@@ -183,6 +185,37 @@ contains
             end do
         end if
 
+        ! the tiebreak's card 4: OPTION NFLS SFLS PARAM ERATEN ERATES CT2CN CN
+        if (tiebreak) then
+            if (ic + 3 > kw%ncard) then
+                call make_error(error, at//': the tiebreak card (OPTION NFLS SFLS PARAM, after card 3) is missing')
+                return
+            end if
+            call get_card(ctx, kw, ic + 3, 'OPTION NFLS SFLS PARAM ERATEN ERATES CT2CN CN', 4, card, error)
+            if (allocated(error)) return
+            call get_int(card, 1, c%tb_option, 1, error, zero_default=.true.); if (allocated(error)) return
+            call get_real(card, 2, c%nfls, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 3, c%sfls, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 4, c%tb_param, 0.0_wp, error); if (allocated(error)) return
+            if (c%tb_option /= 1 .and. c%tb_option /= 2) then
+                call card_error(card, 1, 'OPTION '//itoa(c%tb_option)//' is not 1 (tied until the stress '// &
+                                'criterion, then contact) or 2 (then the stress falls to zero over PARAM); the '// &
+                                'other tiebreak options are not in xdyna', error)
+                return
+            end if
+            if (c%nfls < 0.0_wp .or. c%sfls < 0.0_wp) then
+                call card_error(card, 2, 'the failure stresses NFLS and SFLS must not be negative', error)
+                return
+            end if
+            if (c%tb_option == 2 .and. c%tb_param <= 0.0_wp) then
+                call card_error(card, 4, 'OPTION 2 needs PARAM > 0, the separation over which the stress falls '// &
+                                'to zero', error)
+                return
+            end if
+            call ignored_fields(model, card, [5, 6, 7, 8], 'the tiebreak''s rate and cohesive fields are not used '// &
+                                'by OPTION 1 and 2; ignored')
+            ic = ic + 1
+        end if
         ! optional card A
         if (ic + 3 <= kw%ncard) then
             call get_card(ctx, kw, ic + 3, 'SOFT SOFSCL LCIDAB MAXPAR SBOPT DEPTH BSORT FRCFRQ', 4, card, error)
@@ -266,6 +299,22 @@ contains
             if (c%id == 0) c%id = model%ncontact + model%ntied
             model%tied(model%ntied) = c
             return
+        end if
+        if (tiebreak) then
+            ! the tie, held apart as the tied contacts are (the slaves keep
+            ! their gaps), and the sliding contact for after it breaks
+            if (c%id == 0) c%id = model%ncontact + 1
+            block
+                type(contact_t) :: t
+                t = c
+                t%kind = ct_tiebreak
+                t%tied_offset = .true.
+                if (.not. allocated(model%tied)) allocate (model%tied(4))
+                if (model%ntied == size(model%tied)) model%tied = [model%tied, model%tied]
+                model%ntied = model%ntied + 1
+                model%tied(model%ntied) = t
+            end block
+            c%tb_option = 0
         end if
         if (.not. allocated(model%contact)) allocate (model%contact(4))
         if (model%ncontact == size(model%contact)) model%contact = [model%contact, model%contact]

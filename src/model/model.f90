@@ -13,7 +13,7 @@ module xd_model
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
-    public :: ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface
+    public :: ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface, ct_tiebreak
     public :: extra_nodes_t, point_mass_t, search_auto, search_fixed, search_adaptive, mnl_minimal, mnl_closest1, mnl_closest3
     public :: styp_segment_set, styp_shell_set, styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but
 
@@ -260,6 +260,9 @@ module xd_model
     !> surface, translations (nodes, surface) or translations and rotations
     !> (shell edge)
     integer, parameter :: ct_tied_nodes = 11, ct_tied_shell_edge = 12, ct_tied_surface = 13
+    !> the tie of a *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK (its
+    !> sliding contact is a ct_surface_to_surface beside it)
+    integer, parameter :: ct_tiebreak = 14
     !> SSTYP / MSTYP codes of the contact cards.
     integer, parameter :: styp_segment_set = 0, styp_shell_set = 1, styp_part_set = 2, styp_part = 3, &
                           styp_node_set = 4, styp_all = 5, styp_all_but = 6
@@ -295,6 +298,12 @@ module xd_model
         integer :: ignore = 0
         !> *CONTACT_TIED_..._OFFSET / _BEAM_OFFSET: the slave kept at its gap
         logical :: tied_offset = .false.
+        !> *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK card 4: OPTION (0:
+        !> no tiebreak), the normal and shear failure stresses NFLS, SFLS (0:
+        !> no failure in that mode) and PARAM (OPTION 2: the separation over
+        !> which the stress falls to zero)
+        integer :: tb_option = 0
+        real(wp) :: nfls = 0, sfls = 0, tb_param = 0
         integer :: src = 0
         character(len=200) :: at = ''            !< 'file:line' of card 1, for set-up errors
     end type contact_t

@@ -49,12 +49,16 @@ contains
     !> v(n-1/2). (The mean form, m dv . (v(n-1/2) + v(n+1/2))/2, left a
     !> residue of 1/2 m dv^2 at each step of a ramp: energy ratios of 0.5 in
     !> the first cycles of a run driven from rest.)
-    subroutine apply_prescribed(model, pn, st, dt, dt_avg, work)
+    subroutine apply_prescribed(model, pn, st, dt, dt_avg, work, mextra)
         type(model_t), intent(in) :: model
         type(prescribed_nodes_t), intent(in) :: pn
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt, dt_avg
         real(dp), intent(out) :: work
+        !> (nnode) mass a node carries beyond its own (tied slaves' on their
+        !> segments' nodes): the prescribed motion moves it too
+        real(wp), intent(in), optional :: mextra(:)
+        real(dp) :: m
         integer :: i, k, nd, j
         real(wp) :: t, target, vold, vprev
         work = 0
@@ -80,7 +84,9 @@ contains
                         target = (pm%sf*curve_value(c, t + dt) - (st%x(j, nd) - st%x0(j, nd)))/dt
                     end select
                     st%v(j, nd) = target
-                    work = work + 0.5_dp*real(st%mass(nd), dp)*(target - vold + st%jprev(j, nd))*vprev
+                    m = st%mass(nd)
+                    if (present(mextra)) m = m + mextra(nd)
+                    work = work + 0.5_dp*m*(target - vold + st%jprev(j, nd))*vprev
                     st%jprev(j, nd) = target - vold
                 end do
             end associate

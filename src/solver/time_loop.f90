@@ -26,7 +26,7 @@ module xd_solver_time_loop
                                pressure_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
     use xd_contact_enforcement, only: body_response_t
-    use xd_contact_tied, only: ties_t, tie_forces, tie_accelerations, tie_velocities, tie_kinetic
+    use xd_contact_tied, only: ties_t, tie_forces, tie_accelerations, tie_velocities, tie_kinetic, tie_break
     use xd_contact_contact, only: contacts_t, contact_search, contact_drift, contact_local_search, contact_enforce, &
                                   contact_work_end, contact_energy, contact_resultants, gather_contact_state, &
                                   contact_thickness, &
@@ -111,7 +111,7 @@ contains
         real(wp) :: dt_ref
         logical :: done, energy_now, dumped_end, near_limit, status_now, state_asked, switch_gone
         integer :: nd, cycle0, stop_sig, switch
-        character(len=:), allocatable :: switch_text
+        character(len=:), allocatable :: switch_text, tie_events
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
         ke_fix = 0
@@ -252,7 +252,9 @@ contains
             ! segments' nodes accelerated with the slave masses they carry
             if (td%n > 0) call tie_forces(td, st%time, st%x, st%f, st%mom)
             call accelerations()
-            if (td%n > 0) call tie_accelerations(td, st%time, st%f, st%mass, st%free, st%a, st%mom, st%irot)
+            if (td%n > 0) then
+                call tie_accelerations(td, st%time, st%f, st%mass, st%free, st%a, st%mom, st%irot)
+            end if
             done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
             if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
             ! energies where histories or states are due (the d3plot's global
@@ -290,7 +292,11 @@ contains
                 call tm%stop(ph_contact)
             end if
             if (pn%n > 0) then
-                call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm)
+                if (td%n > 0) then
+                    call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm, td%mnodal)
+                else
+                    call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm)
+                end if
                 st%ext_work = st%ext_work + wpm
             end if
             if (rg%n > 0) then
@@ -300,7 +306,13 @@ contains
                 call tm%stop(ph_rigid)
             end if
             ! tied slaves move with their segments (after every other update)
-            if (td%n > 0) call tie_velocities(td, st%time, st%dt, st%x, st%v, st%vr)
+            if (td%n > 0) then
+                call tie_velocities(td, st%time, st%dt, st%x, st%v, st%vr)
+                ! tiebreak: each held slave's interface force from its
+                ! velocity change this step
+                call tie_break(td, st%time, st%mass, real(dt_avg, wp), st%v, st%x, tie_events, model%node_id)
+                if (len(tie_events) > 0) call log_line(lg, tie_events)
+            end if
             ! second half of the load work, with the final v(n+1/2)
             if (model%nbody > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
             if (pl%n > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*pressure_power(pl, st)
@@ -329,7 +341,7 @@ contains
                     vn = 0.5_wp*(vminus + st%v)
                     if (td%n > 0) call tie_kinetic(td, st%mass, st%irot, vminus, st%v, vrminus, st%vr, ke_fix)
                     call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
-                                          contact_energy(ct, dt_avg), ke_fix)
+                                          contact_energy(ct, dt_avg) + td%ework, ke_fix)
                 end if
                 call tm%stop(ph_output)
                 call check_energy()
