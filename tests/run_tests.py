@@ -1432,7 +1432,7 @@ def test_tiebreak():
     the force at failure and lets it fall to zero over PARAM 0.5 mm of
     separation: the sliding interface energy reaches 1/2 F A PARAM (5%) and
     the energy ratio stays within 1e-3. Two ranks give the serial
-    histories bitwise."""
+    histories bitwise, and a restart mid-softening the uninterrupted run's."""
     M, A = 7850 * 0.02 * 0.02 * 0.002, 4e-4
     for mode, sig, comp in (("normal", 1e6, "z_momentum"), ("shear", 0.5e6, "x_momentum")):
         p, out, path = run_text("tiebreak_" + mode, tiebreak_deck(mode))
@@ -1479,6 +1479,21 @@ def test_tiebreak():
     with h5py.File(os.path.join(TMP, "tiebreak_normal", "thist.h5"), "r") as f:
         P1 = f["matsum/z_momentum"][-1, 0]
     want = 0.5 * 1e6 * A * 0.5e-3
+    # a restart dump at 1.2 ms, between the break (1.0 ms) and the end of
+    # the softening (about 1.3 ms), carries the ties' state: the restarted
+    # run ends as the uninterrupted one, bitwise
+    text = tiebreak_deck("normal", option=2, param=0.5e-3, tend=3e-3).replace(
+        "*END", "*DATABASE_BINARY_D3DUMP\n         0\n*END")
+    path = os.path.join(TMP, "tiebreak_rs.k")
+    with open(path, "w") as f:
+        f.write(text)
+    full, part = os.path.join(TMP, "tiebreak_rs_full"), os.path.join(TMP, "tiebreak_rs_part")
+    q1 = run([XDYNA, "i=" + path, "outdir=" + full, "endtim=2e-3"])
+    q2 = run([XDYNA, "i=" + path, "outdir=" + part, "endtim=1.2e-3"])
+    q3 = run([XDYNA, "r=" + os.path.join(part, "d3dump.h5"), "endtim=2e-3"])
+    ok, msg = ((False, (q1.stderr + q2.stderr + q3.stderr)[-300:]) if q1.returncode or q2.returncode or q3.returncode
+               else same_histories(full, part))
+    record("tiebreak OPTION 2: a restart from 1.2 ms, mid-softening, ends as the uninterrupted run (bitwise)", ok, msg)
     record(f"tiebreak OPTION 2: the interface takes {slide:.5f} J as it opens over PARAM, against 1/2 NFLS A PARAM "
            f"{want:.5f} J (5%: {slide / want - 1:+.2%}); the plate leaves with more momentum than under OPTION 1 "
            f"({P2:.4f} against {P1:.4f} N s); energy ratio within 1e-3 ({float(np.max(np.abs(ratio - 1))):.1e})",

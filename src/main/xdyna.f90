@@ -322,7 +322,7 @@ program xdyna
     if (endtim_cli > 0.0_dp) opts%endtim = endtim_cli
     if (opts%endtim <= 0.0_dp) opts%endtim = huge(1.0_dp)
     if (len(restart) > 0) then
-        call read_dump(restart, st, solids, sh, walls, rg, ct, hmarks, smarks, dump_error)
+        call read_dump(restart, st, solids, sh, walls, rg, ct, td, hmarks, smarks, dump_error)
         if (allocated(dump_error)) then
             call say('xdyna: r='//restart//': cannot restart from this dump: '//dump_error)
             call finish(exit_input)

@@ -14,6 +14,7 @@ module xd_solver_restart
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa
     use xd_core_files, only: rename_file, delete_file, written_bytes, file_kind, fk_missing, fk_regular
+    use xd_contact_tied, only: ties_t
     use xd_output_h5io, only: dput, dget, put_text, get_text
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
@@ -57,7 +58,7 @@ contains
         t = 'xdyna 0.1.0, real '//itoa(storage_size(1.0_wp))//' bits, '//compiler_version()
     end function build_tag
 
-    subroutine write_dump(path, meta, st, solids, sh, walls, rg, ct, hm, sm, ok)
+    subroutine write_dump(path, meta, st, solids, sh, walls, rg, ct, td, hm, sm, ok)
         character(len=*), intent(in) :: path
         type(dump_meta_t), intent(in) :: meta
         type(state_t), intent(in) :: st
@@ -66,6 +67,7 @@ contains
         type(walls_t), intent(in) :: walls
         type(rigid_t), intent(in) :: rg
         type(contacts_t), intent(in) :: ct
+        type(ties_t), intent(in) :: td          !< tied contacts (a tiebreak's state)
         type(history_marks_t), intent(in) :: hm
         type(states_marks_t), intent(in) :: sm
         logical, intent(out) :: ok
@@ -203,6 +205,20 @@ contains
             end associate
         end do
         call h5gclose_f(g, err)
+
+        ! tiebreaks: which ties broke, the softening ones' state
+        if (td%n > 0) then
+            call h5gcreate_f(f, 'ties', g, err)
+            call dput(g, 'state', td%state, nf)
+            call dput(g, 'dmg', td%dmg, nf)
+            call dput(g, 'f0', [td%f0], nf)
+            call dput(g, 'urel', [td%urel], nf)
+            call dput(g, 'vold', [td%vold], nf)
+            call dput(g, 'fs0', [td%fs0], nf)
+            call dput(g, 'ework', [td%ework], nf)
+            call dput(g, 'nbroken', [td%nbroken], nf)
+            call h5gclose_f(g, err)
+        end if
 
         call h5gcreate_f(f, 'output', g, err)
         call dput(g, 'hist_next', hm%next, nf)
@@ -369,7 +385,7 @@ contains
 
     !> Put the dump's state into structures the deck has just built;
     !> `error` names what does not fit (a dump of another model).
-    subroutine read_dump(path, st, solids, sh, walls, rg, ct, hm, sm, error)
+    subroutine read_dump(path, st, solids, sh, walls, rg, ct, td, hm, sm, error)
         character(len=*), intent(in) :: path
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
@@ -377,6 +393,7 @@ contains
         type(walls_t), intent(inout) :: walls
         type(rigid_t), intent(inout) :: rg
         type(contacts_t), intent(inout) :: ct
+        type(ties_t), intent(inout) :: td
         type(history_marks_t), intent(out) :: hm
         type(states_marks_t), intent(out) :: sm
         character(len=:), allocatable, intent(out) :: error
@@ -505,6 +522,23 @@ contains
         end do
         call h5gclose_f(g, err)
 
+        if (td%n > 0) then
+            call h5gopen_f(f, 'ties', g, err)
+            if (err /= 0) then
+                call fail('the model has tied contacts and the dump holds no tie state')
+                return
+            end if
+            call geti(g, 'state', td%n); if (ok()) td%state = bi
+            call getw(g, 'dmg', td%n); if (ok()) td%dmg = bw
+            call getw(g, 'f0', 3*td%n); if (ok()) td%f0 = reshape(bw, [3, td%n])
+            call getw(g, 'urel', 3*td%n); if (ok()) td%urel = reshape(bw, [3, td%n])
+            call getw(g, 'vold', 3*td%n); if (ok()) td%vold = reshape(bw, [3, td%n])
+            call getw(g, 'fs0', 3*td%n); if (ok()) td%fs0 = reshape(bw, [3, td%n])
+            call getd(g, 'ework', 1); if (ok()) td%ework = bd(1)
+            call geti(g, 'nbroken', 1); if (ok()) td%nbroken = bi(1)
+            call h5gclose_f(g, err)
+            if (.not. ok()) return
+        end if
         call h5gopen_f(f, 'contact', g, err)
         do k = 1, ct%n
             associate (it => ct%ifc(k), s => ct%ifc(k)%surf)

@@ -745,7 +745,7 @@ contains
             call flush_histories(hist)
             ok = .true.
             if (dom%on) call gather_contact_state(ct)
-            if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, walls, rg, ct, &
+            if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, walls, rg, ct, td, &
                                                history_marks(hist), states_marks(states), ok)
             if (dom%on) call scatter_contact_state(ct, dom%rank)
             ! rank 0 wrote it: every rank learns whether it could
