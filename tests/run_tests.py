@@ -1061,6 +1061,41 @@ def test_element_mass():
     record("extra nodes: an undefined node is refused (exit 1) naming the line, NID and the node",
            p.returncode == 1 and "*CONSTRAINED_EXTRA_NODES_NODE field NID: node 9999 is not defined" in p.stderr,
            p.stderr[-300:])
+    # *ELEMENT_MASS_NODE_SET: the same 1 kg as one card on the tip's node
+    # set, shared equally: the four 0.25 kg point masses again, so the run
+    # is the point masses' bitwise
+    text = open(path).read()
+    i0 = text.index("*ELEMENT_MASS\n")
+    i1 = text.index("*SET_NODE_LIST")
+    text_ns = text[:i0] + f"*ELEMENT_MASS_NODE_SET\n{900:8d}{2:8d}{M:16.6e}{0:8d}\n" + text[i1:]
+    p, nout, _ = run_text("element_mass_node_set", text_ns)
+    ok, msg = (False, p.stderr[-300:]) if p.returncode else same_histories(out, nout)
+    record("element mass: *ELEMENT_MASS_NODE_SET shares 1 kg over the tip's 4 nodes: the point masses' run bitwise",
+           ok, msg)
+    # *ELEMENT_MASS_PART FINMASS: the bar (no tip mass) made twice its own
+    # mass, shared as its own nodal masses are: matsum's mass is the
+    # FINMASS and the clamped-free bar's period 4 L / c grows by sqrt(2)
+    # (the same stiffness, twice the density): within 1%
+    # (every node set moving at 1 m/s, the clamped ones held: the bar's
+    # first mode rings; a lone tip node set moving alone rang at the mesh's
+    # top frequency)
+    text_b = (text[:i0] + text[i1:]).replace("*INITIAL_VELOCITY\n         2", "*INITIAL_VELOCITY\n         0")
+    periods = {}
+    for label, extra in (("bare", ""), ("part", f"*ELEMENT_MASS_PART\n{1:8d}{0.0:16.6e}{2 * rho * L * a * a:16.6e}\n")):
+        p, bout, _ = run_text("element_mass_" + label, text_b.replace("*END", extra + "*END"))
+        if p.returncode != 0:
+            record(f"element mass: the bar ({label}) runs", False, p.stderr[-300:])
+            return
+        with h5py.File(os.path.join(bout, "thist.h5"), "r") as f:
+            t, vx, mb = f["nodout/time"][:], f["nodout/x_velocity"][:, 0], float(f["matsum/mass"][0][0])
+        cr = [t[i] - vx[i] * (t[i + 1] - t[i]) / (vx[i + 1] - vx[i]) for i in range(len(t) - 1) if vx[i] * vx[i + 1] < 0]
+        periods[label] = (2 * float(np.mean(np.diff(cr))), mb)
+    log = open(os.path.join(TMP, "element_mass_part", "d3hsp")).read()
+    r = periods["part"][0] / periods["bare"][0]
+    record(f"element mass: *ELEMENT_MASS_PART FINMASS doubles the bar's mass (matsum {periods['part'][1]:.6g} kg against "
+           f"{2 * rho * L * a * a:.6g}, 1e-9) and its period grows {r:.4f} times (sqrt 2 = 1.4142, 1%); named in d3hsp",
+           abs(periods["part"][1] / (2 * rho * L * a * a) - 1) < 1e-9 and abs(r / math.sqrt(2) - 1) < 0.01
+           and "*ELEMENT_MASS_PART: part 1: mass" in log)
     p, _, _ = run_text("element_mass_bad", open(path).read().replace(f"{900:8d}{tip[0]:8d}", f"{900:8d}{99999:8d}"))
     record("element mass: a point mass on an undefined node is refused (exit 1) naming the line, NID and the node",
            p.returncode == 1 and "*ELEMENT_MASS 900 field NID: node 99999 is not defined" in p.stderr

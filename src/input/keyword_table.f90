@@ -48,6 +48,9 @@ module xd_input_keyword_table
         entry_t('NODE', fam_geometry, '', .false.), &
         entry_t('ELEMENT_SOLID', fam_geometry, '', .false.), &
         entry_t('ELEMENT_MASS', fam_geometry, '', .false.), &
+        entry_t('ELEMENT_MASS_NODE_SET', fam_geometry, '', .false.), &
+        entry_t('ELEMENT_MASS_PART', fam_geometry, '', .false.), &
+        entry_t('ELEMENT_MASS_PART_SET', fam_geometry, '', .false.), &
         entry_t('PART', fam_geometry, '', .false.), &
         entry_t('PART_INERTIA', fam_geometry, '', .false.), &
         entry_t('ELEMENT_SHELL', fam_geometry, '', .false.), &

@@ -12,7 +12,7 @@ module xd_input_model_check
     use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
                                 hex_regular, hex_wedge, hex_tet, hex_bad
     use xd_model, only: model_t, find_set, mat_rigid, set_node, set_shell, pressure_t, set_part, iv_node_set, iv_node, &
-        iv_generation, find_box, find_coord
+        iv_generation, find_box, find_coord, point_mass_t
     implicit none
     private
     public :: check_model, id_maps_t
@@ -568,6 +568,64 @@ contains
                 end if
             end associate
         end do
+        ! *ELEMENT_MASS_NODE_SET: each set's mass shared equally, one point
+        ! mass a node
+        if (any(model%pmass(1:model%npmass)%set)) then
+            block
+                type(point_mass_t), allocatable :: pms(:)
+                integer :: ks, q
+                allocate (pms(0))
+                do i = 1, model%npmass
+                    associate (pm => model%pmass(i))
+                        if (.not. pm%set) then
+                            pms = [pms, pm]
+                            cycle
+                        end if
+                        ks = find_set(model, set_node, pm%nid)
+                        if (ks == 0) then
+                            call make_error(error, ctx%src%where(pm%src)//': *ELEMENT_MASS_NODE_SET '//itoa(pm%eid)// &
+                                            ' field NSID: node set '//itoa(pm%nid)//' is not defined')
+                            return
+                        end if
+                        if (model%set(ks)%n == 0) then
+                            call make_error(error, ctx%src%where(pm%src)//': *ELEMENT_MASS_NODE_SET '//itoa(pm%eid)// &
+                                            ' field NSID: node set '//itoa(pm%nid)//' is empty')
+                            return
+                        end if
+                        do q = 1, model%set(ks)%n
+                            pms = [pms, point_mass_t(eid=pm%eid, nid=model%set(ks)%member(q), &
+                                                     mass=pm%mass/model%set(ks)%n, src=pm%src)]
+                        end do
+                    end associate
+                end do
+                model%pmass = pms
+                model%npmass = size(pms)
+            end block
+        end if
+        ! *ELEMENT_MASS_PART(_SET): the parts
+        if (allocated(model%partmass)) then
+            do i = 1, size(model%partmass)
+                associate (pm => model%partmass(i))
+                    if (pm%set) then
+                        k = find_set(model, set_part, pm%id)
+                        if (k == 0) then
+                            call make_error(error, ctx%src%where(pm%src)//': *ELEMENT_MASS_PART_SET field PSID: '// &
+                                            'part set '//itoa(pm%id)//' is not defined')
+                            return
+                        end if
+                        pm%part_ix = model%set(k)%member_ix
+                    else
+                        k = maps%part%find(pm%id)
+                        if (k == 0) then
+                            call make_error(error, ctx%src%where(pm%src)//': *ELEMENT_MASS_PART field PID: part '// &
+                                            itoa(pm%id)//' is not defined')
+                            return
+                        end if
+                        pm%part_ix = [k]
+                    end if
+                end associate
+            end do
+        end if
         do i = 1, model%npmass
             associate (pm => model%pmass(i))
                 pm%ix = maps%node%find(pm%nid)

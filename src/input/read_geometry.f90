@@ -8,7 +8,7 @@ module xd_input_read_geometry
                                      card_error
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, add_warning, ignored_fields
-    use xd_model, only: model_t, part_t, point_mass_t
+    use xd_model, only: model_t, part_t, point_mass_t, part_mass_t
     implicit none
     private
     public :: read_geometry
@@ -29,8 +29,10 @@ contains
             call read_part(ctx, kw, model, error)
         case ('ELEMENT_SHELL', 'ELEMENT_SHELL_THICKNESS')
             call read_element_shell(ctx, kw, model, error)
-        case ('ELEMENT_MASS')
+        case ('ELEMENT_MASS', 'ELEMENT_MASS_NODE_SET')
             call read_element_mass(ctx, kw, model, error)
+        case ('ELEMENT_MASS_PART', 'ELEMENT_MASS_PART_SET')
+            call read_element_mass_part(ctx, kw, model, error)
         end select
     end subroutine read_geometry
 
@@ -105,7 +107,8 @@ contains
                 call card_error(card, 1, 'element id must be a positive integer', error); return
             end if
             if (nid <= 0) then
-                call card_error(card, 2, 'node id must be a positive integer', error); return
+                call card_error(card, 2, trim(merge('node set id', 'node id    ', kw%name == 'ELEMENT_MASS_NODE_SET'))// &
+                                ' must be a positive integer', error); return
             end if
             if (.not. (m >= 0.0_wp .and. m <= huge(1.0_wp))) then
                 call card_error(card, 3, 'MASS must be a finite value, not negative', error); return
@@ -116,9 +119,56 @@ contains
             if (.not. allocated(model%pmass)) allocate (model%pmass(16))
             if (model%npmass == size(model%pmass)) model%pmass = [model%pmass, model%pmass]
             model%npmass = model%npmass + 1
-            model%pmass(model%npmass) = point_mass_t(eid=eid, nid=nid, mass=m, src=kw%card_line(ic))
+            model%pmass(model%npmass) = point_mass_t(eid=eid, nid=nid, mass=m, src=kw%card_line(ic), &
+                                                     set=kw%name == 'ELEMENT_MASS_NODE_SET')
         end do
     end subroutine read_element_mass
+
+    !> *ELEMENT_MASS_PART / _PART_SET: PID (PSID) ADDMASS FINMASS LCID MWD
+    !> (I8 E16 E16 I8 I8). FINMASS > 0 wins over ADDMASS (the mass added is
+    !> what makes the part that heavy); LCID and MWD (time-varying mass)
+    !> are refused.
+    subroutine read_element_mass_part(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(card_format_t) :: fmt
+        type(part_mass_t) :: pm
+        integer :: ic, id, lcid, mwd
+        real(wp) :: add, fin
+        fmt = card_format('PID:8 ADDMASS:16 FINMASS:16 LCID:8 MWD:8', kw%width_mode)
+        do ic = 1, kw%ncard
+            call get_card(ctx, kw, ic, fmt, 1, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            call get_int(card, 1, id, 0, error); if (allocated(error)) return
+            call get_real(card, 2, add, 0.0_wp, error); if (allocated(error)) return
+            call get_real(card, 3, fin, 0.0_wp, error); if (allocated(error)) return
+            call get_int(card, 4, lcid, 0, error); if (allocated(error)) return
+            call get_int(card, 5, mwd, 0, error); if (allocated(error)) return
+            if (id <= 0) then
+                call card_error(card, 1, 'a part (set) id must be a positive integer', error); return
+            end if
+            if (.not. (add >= 0.0_wp .and. add <= huge(1.0_wp))) then
+                call card_error(card, 2, 'ADDMASS must be a finite value, not negative', error); return
+            end if
+            if (.not. (fin >= 0.0_wp .and. fin <= huge(1.0_wp))) then
+                call card_error(card, 3, 'FINMASS must be a finite value, not negative', error); return
+            end if
+            if (lcid /= 0 .or. mwd /= 0) then
+                call card_error(card, 4, 'a mass varying in time (LCID, MWD) is not in xdyna', error); return
+            end if
+            pm = part_mass_t(id=id, set=kw%name == 'ELEMENT_MASS_PART_SET', addmass=add, finmass=fin, &
+                             src=kw%card_line(ic))
+            if (.not. allocated(model%partmass)) then
+                model%partmass = [pm]
+            else
+                model%partmass = [model%partmass, pm]
+            end if
+        end do
+    end subroutine read_element_mass_part
 
     !> One-line form EID PID N1..N8, or two-line form (EID PID, then N1..N10),
     !> told apart by whether the third field of the first card holds a node.

@@ -14,7 +14,8 @@ module xd_model
     public :: iv_node_set, iv_node, iv_generation
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
     public :: ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface, ct_tiebreak
-    public :: extra_nodes_t, point_mass_t, search_auto, search_fixed, search_adaptive, mnl_minimal, mnl_closest1, mnl_closest3
+    public :: extra_nodes_t, point_mass_t, part_mass_t, search_auto, search_fixed, search_adaptive, mnl_minimal, &
+              mnl_closest1, mnl_closest3
     public :: styp_segment_set, styp_shell_set, styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but
 
     integer, parameter :: mat_elastic = 1, mat_plastic_kinematic = 3, mat_rigid = 20, &
@@ -199,7 +200,21 @@ module xd_model
         integer :: ix = 0
         real(wp) :: mass = 0
         integer :: src = 0
+        !> *ELEMENT_MASS_NODE_SET: NID is a node set, MASS shared equally
+        !> among its nodes (expanded into one point mass a node when checked)
+        logical :: set = .false.
     end type point_mass_t
+
+    !> *ELEMENT_MASS_PART / _PART_SET: mass added to a part's nodes in
+    !> proportion to the part's own nodal masses, ADDMASS or enough to make
+    !> the part FINMASS
+    type :: part_mass_t
+        integer :: id = 0                 !< PID, or PSID for _PART_SET
+        logical :: set = .false.
+        real(wp) :: addmass = 0, finmass = 0
+        integer, allocatable :: part_ix(:)   !< the parts, once checked
+        integer :: src = 0
+    end type part_mass_t
 
     !> *CONSTRAINED_EXTRA_NODES_NODE / _SET: nodes (or a node set) joined to
     !> the rigid body of part PID (IFLAG: with *PART_INERTIA, whether the
@@ -415,6 +430,7 @@ module xd_model
         integer :: ncurve = 0, nbody = 0, nwall = 0, npresc = 0, nnrb = 0, nsegset = 0, npress = 0
         integer :: npmass = 0
         type(point_mass_t), allocatable :: pmass(:)
+        type(part_mass_t), allocatable :: partmass(:)   !< *ELEMENT_MASS_PART(_SET)
         type(segment_set_t), allocatable :: segset(:)
         type(pressure_t), allocatable :: press(:)
         type(nodal_rigid_t), allocatable :: nrb(:)

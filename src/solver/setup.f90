@@ -35,6 +35,7 @@ contains
         integer, intent(out) :: nfree_nodes
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable, intent(out) :: step_note   !< a scaled solid step, for d3hsp ('' if none)
+        character(len=:), allocatable :: mass_note
         integer :: i
         st%nnode = model%nnode
         call alloc(st%x, 3, st%nnode, 'coordinates')
@@ -67,6 +68,9 @@ contains
         do i = 1, model%npmass
             st%mass(model%pmass(i)%ix) = st%mass(model%pmass(i)%ix) + model%pmass(i)%mass
         end do
+        ! *ELEMENT_MASS_PART(_SET): to the parts' nodes
+        mass_note = ''
+        if (allocated(model%partmass)) call add_part_masses(model, solids, sh, st, mass_note)
         nfree_nodes = count(st%mass <= 0.0_wp)
         call constraint_masks(model, st)
         call initial_velocities(model, solids, st)
@@ -79,6 +83,9 @@ contains
         call initial_stresses(model, hex_map, solids, st)
         call check_solid_steps(solids, st%x0, st%mass, st%free, model%ctl%tssfac, model%part(1:model%npart)%id, &
                                step_note)
+        ! the part masses added, named with the step's notes in d3hsp
+        if (len(mass_note) > 0) step_note = step_note//merge(new_line('a'), ' ', len(step_note) > 0)// &
+                                            mass_note(1:len(mass_note) - 1)
     end subroutine setup_run
 
     subroutine initial_volumes_and_mass(s, st)
@@ -108,6 +115,63 @@ contains
             deallocate (xl, yl, zl, bx, by, bz, vol)
         end do
     end subroutine initial_volumes_and_mass
+
+    !> *ELEMENT_MASS_PART(_SET): each part's added mass (ADDMASS, or FINMASS
+    !> less the part's own mass) shared among its nodes in proportion to
+    !> the part's own nodal masses (its elements' lumped shares), so that
+    !> the part's mass distribution keeps its shape. `note` (d3hsp) names
+    !> each part's mass before and after; a FINMASS below the part's own
+    !> mass is named and nothing added.
+    subroutine add_part_masses(model, solids, sh, st, note)
+        type(model_t), intent(in) :: model
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        type(state_t), intent(inout) :: st
+        character(len=:), allocatable, intent(inout) :: note
+        real(wp), allocatable :: share(:)
+        real(dp) :: mp, add
+        integer :: i, q, e, k, p, nn, g
+        character(len=200) :: buf
+        allocate (share(st%nnode))
+        do i = 1, size(model%partmass)
+            associate (pm => model%partmass(i))
+                do q = 1, size(pm%part_ix)
+                    p = pm%part_ix(q)
+                    share = 0
+                    do g = 1, solids%ngroup
+                        do e = solids%group(g)%first, solids%group(g)%last
+                            if (solids%part(e) /= p) cycle
+                            do k = 1, 8
+                                share(solids%conn(k, e)) = share(solids%conn(k, e)) + &
+                                                           solids%group(g)%ro*solids%vol0(e)/8
+                            end do
+                        end do
+                    end do
+                    do e = 1, sh%n
+                        if (sh%part(e) /= p) cycle
+                        nn = merge(3, 4, sh%conn(3, e) == sh%conn(4, e))
+                        do k = 1, nn
+                            share(sh%conn(k, e)) = share(sh%conn(k, e)) + sh%ro(e)*sh%h(e)*sh%area0(e)/nn
+                        end do
+                    end do
+                    mp = sum(real(share, dp))
+                    add = pm%addmass
+                    if (pm%finmass > 0.0_wp) add = pm%finmass - mp
+                    if (mp <= 0.0_dp .or. add < 0.0_dp) then
+                        write (buf, '(a,i0,a,es12.5,a,es12.5,a)') '*ELEMENT_MASS_PART: part ', model%part(p)%id, &
+                            ' has mass ', mp, '; FINMASS ', pm%finmass, ' is below it (or the part has no '// &
+                            'elements): nothing added'
+                        note = note//trim(buf)//new_line('a')
+                        cycle
+                    end if
+                    st%mass = st%mass + real(add/mp, wp)*share
+                    write (buf, '(a,i0,a,es12.5,a,es12.5)') ' *ELEMENT_MASS_PART: part ', model%part(p)%id, &
+                        ': mass ', mp, ' -> ', mp + add
+                    note = note//trim(buf)//new_line('a')
+                end do
+            end associate
+        end do
+    end subroutine add_part_masses
 
     !> *NODE TC/RC codes and *BOUNDARY_SPC: 0 in `free` (`free_r`, with
     !> shells) for each fixed translation (rotation); massless nodes and
