@@ -317,7 +317,8 @@ contains
         type(energies_t), intent(inout) :: en
         type(assembly_t) :: as, ash
         integer, allocatable :: ip(:)
-        real(dp), allocatable :: im(:)
+        real(dp), allocatable :: im(:), fp(:)
+        real(dp) :: madd
         integer :: e, k, nd, n, j
         en%fixed_mass = .not. (allocated(solids%msf) .or. allocated(sh%msf) .or. sh%thickness_update)
         allocate (en%np_ptr(st%nnode + 1), en%part_mass0(model%npart))
@@ -356,6 +357,23 @@ contains
         do j = 1, n
             en%part_mass0(en%np_part(j)) = en%part_mass0(en%np_part(j)) + en%np_m(j)
         end do
+        ! *ELEMENT_MASS_PART: the mass added in proportion to the part's own
+        ! nodal shares, so its shares scale by the part's new mass over its own
+        if (allocated(model%partmass)) then
+            allocate (fp(model%npart))
+            fp = 1
+            do j = 1, size(model%partmass)
+                do k = 1, size(model%partmass(j)%part_ix)
+                    e = model%partmass(j)%part_ix(k)
+                    if (en%part_mass0(e) <= 0.0_dp) cycle
+                    madd = model%partmass(j)%addmass
+                    if (model%partmass(j)%finmass > 0.0_wp) madd = model%partmass(j)%finmass - en%part_mass0(e)
+                    if (madd > 0.0_dp) fp(e) = fp(e)*(1 + madd/en%part_mass0(e))
+                end do
+            end do
+            en%np_m = en%np_m*fp(en%np_part)
+            en%part_mass0 = en%part_mass0*fp
+        end if
     contains
         !> Node nd's share m of part p: onto its entry of that part, or a new one.
         subroutine add(p, m)
