@@ -223,10 +223,12 @@ def solid_depth(surf, X, A, S, dist, tnode):
 crossed = []          # the first pass-throughs: (node, state, segment)
 
 
-def check_states(surf, states, tshell_states, node_ids, parts=None, growth=False, seg_part=None):
+def check_states(surf, states, tshell_states, node_ids, parts=None, growth=False, seg_part=None, alive_states=None):
     """Largest overlap fraction and pass-throughs over the states; sets
     `where`. states: (nstate, nn, 3) coordinates; tshell_states: (nstate,
-    nshell) thicknesses."""
+    nshell) thicknesses; alive_states: (nstate, nshell), 0 for a shell
+    eroded by then (its segment is gone: no overlap with it, and a node
+    crossing where it was is no pass-through)."""
     global where
     where = None
     crossed.clear()
@@ -268,6 +270,10 @@ def check_states(surf, states, tshell_states, node_ids, parts=None, growth=False
             keep[i] = not v
         if seg_ok is not None:
             keep &= seg_ok[S] & node_ok[A]
+        if alive_states is not None:
+            alive = np.ones(len(conn), dtype=bool)
+            alive[:surf.nshell] = np.asarray(alive_states[state]) > 0.5
+            keep &= alive[S]
         A, S = A[keep], S[keep]
         dist = np.einsum("ij,ij->i", X[A] - cen[S], nrm[S])
         p = X[A] - dist[:, None] * nrm[S]
@@ -330,10 +336,14 @@ def check_run(run, parts=None, growth=False):
             T = np.array([f[f"states/{k}/shell_thickness"][:] for k in names], dtype=float)
         else:
             T = np.zeros((len(names), 0))
+        # eroded shells (written where a material can fail)
+        alive = None
+        if len(shells) and all("shell_alive" in f[f"states/{k}"] for k in names):
+            alive = np.array([f[f"states/{k}/shell_alive"][:] for k in names], dtype=float)
     surf = Surfaces(nn, shells.tolist(), spart.tolist(), None if hexes is None else hexes.tolist(),
                     None if hpart is None else hpart.tolist())
     seg_part = list(spart.tolist()) + ([] if hpart is None else [hpart[e] for e in surf.face_elem])
-    worst, crossings = check_states(surf, X, T, ids, parts, growth, seg_part)
+    worst, crossings = check_states(surf, X, T, ids, parts, growth, seg_part, alive)
     t_worst = float(times[where[1]]) if where else 0.0
     return worst, crossings, len(names), t_worst
 

@@ -36,7 +36,7 @@ module xd_contact_contact
     use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max
     implicit none
     private
-    public :: contacts_t, interface_t, build_contacts, faces_of, contact_search, contact_drift, contact_report, &
+    public :: contacts_t, interface_t, build_contacts, faces_of, contact_erode, contact_search, contact_drift, contact_report, &
               interface_summary, contact_masses, contact_local_search, contact_enforce, contact_work_end, &
               contact_energy, contact_resultants, gather_contact_state, scatter_contact_state, contact_events, &
               contact_thickness
@@ -406,6 +406,51 @@ contains
             write (t, '(i0,3(1x,i0))') model%node_id(nd)
         end function ids
     end subroutine faces_of
+
+    !> Erosion: the segments of eroded shells leave every interface's
+    !> node-to-segment lists, through which the searches find segments (the
+    !> surface rebuilt as the elements erode), and a slave in contact with
+    !> one of them, or holding it, lets it go. `dead_shell` is over the
+    !> model's shells (index 0, a solid face: never).
+    subroutine contact_erode(ct, dead_shell)
+        type(contacts_t), intent(inout) :: ct
+        logical, intent(in) :: dead_shell(0:)
+        logical, allocatable :: segdead(:)
+        integer, allocatable :: ptr(:), list(:)
+        integer :: i, nd, q, n, k
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                segdead = dead_shell(ct%faces%shell(s%seg_face))
+                if (.not. any(segdead)) cycle
+                allocate (ptr(s%nnode + 1), list(size(s%seg_list)))
+                n = 0
+                ptr(1) = 1
+                do nd = 1, s%nnode
+                    do q = s%seg_ptr(nd), s%seg_ptr(nd + 1) - 1
+                        if (segdead(s%seg_list(q))) cycle
+                        n = n + 1
+                        list(n) = s%seg_list(q)
+                    end do
+                    ptr(nd + 1) = n + 1
+                end do
+                s%seg_ptr = ptr
+                s%seg_list = list(1:n)
+                deallocate (ptr, list)
+                do k = 1, size(it%cseg)
+                    if (it%cseg(k) > 0) then
+                        if (segdead(it%cseg(k))) it%cseg(k) = 0
+                    end if
+                end do
+                if (allocated(it%held)) then
+                    do k = 1, size(it%held)
+                        if (it%held(k) > 0) then
+                            if (segdead(it%held(k))) it%held(k) = 0
+                        end if
+                    end do
+                end if
+            end associate
+        end do
+    end subroutine contact_erode
 
     !> Step 2 where due: at cycle 0, then every `interval` cycles (fixed) or
     !> when 4u > delta (adaptive). Returns the seconds spent.

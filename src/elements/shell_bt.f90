@@ -48,7 +48,13 @@ module xd_elements_shell_bt
         integer :: crit = 0, bad = 0
         logical :: thickness_update = .false.   !< *CONTROL_SHELL ISTUPD
         integer :: isdo = 0                     !< *CONTROL_TIMESTEP ISDO: the step's length
-        integer, allocatable :: mine(:)       !< the elements computed here (MPI: this rank's)
+        integer, allocatable :: mine(:)       !< the elements computed here (MPI: this rank's; eroded ones left out)
+        ! failure and erosion
+        integer, allocatable :: mix(:)        !< material index
+        integer, allocatable :: model_ix(:)   !< index in the model's shell list
+        logical, allocatable :: dead(:)       !< eroded
+        logical :: erodible = .false.         !< some shell's material has a failure criterion
+        integer :: ndead = 0
         ! mass scaling (*CONTROL_TIMESTEP DT2MS), allocated only when it is on:
         ! an element's mass is msf times its own, so its step sqrt(msf) times
         real(wp), allocatable :: msf(:)       !< mass factor (1: the element's own mass)
@@ -144,8 +150,9 @@ contains
         sh%isdo = model%ctl%isdo
         allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%e(sh%n), sh%nu(sh%n), &
                   sh%ro(sh%n), sh%shrf(sh%n), sh%qm(sh%n), sh%qb(sh%n), sh%qw(sh%n), sh%hg_viscous(sh%n), &
-                  sh%nip(sh%n), sh%area0(sh%n), sh%msq(sh%n))
+                  sh%nip(sh%n), sh%area0(sh%n), sh%msq(sh%n), sh%mix(sh%n), sh%model_ix(sh%n), sh%dead(sh%n))
         sh%msq = 1
+        sh%dead = .false.
         call alloc(sh%fslot, 3, 4*sh%n, 'shell force slots')
         call alloc(sh%mslot, 3, 4*sh%n, 'shell moment slots')
         call alloc(sh%qhg, 5, sh%n, 'shell hourglass forces')
@@ -163,7 +170,10 @@ contains
             p = model%shell_part(ee)
             sh%conn(:, e) = model%shell_conn(:, ee)
             sh%eid(e) = model%shell_id(ee)
+            sh%model_ix(e) = ee
             sh%part(e) = p
+            sh%mix(e) = model%part(p)%mat_ix
+            sh%erodible = sh%erodible .or. model%mat(sh%mix(e))%fail > 0.0_wp .or. model%mat(sh%mix(e))%erosion
             sh%h(e) = sum(model%shell_t(:, ee))/4
             associate (m => model%mat(model%part(p)%mat_ix), sec => model%sec_shell(model%part(p)%shell_sec_ix))
                 sh%e(e) = m%e

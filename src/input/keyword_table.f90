@@ -64,6 +64,7 @@ module xd_input_keyword_table
         entry_t('MAT_PIECEWISE_LINEAR_PLASTICITY', fam_material, '', .false.), &
         entry_t('MAT_024', fam_material, 'MAT_PIECEWISE_LINEAR_PLASTICITY', .false.), &
         entry_t('MAT_RIGID', fam_material, '', .false.), &
+        entry_t('MAT_ADD_EROSION', fam_material, '', .false.), &
         entry_t('MAT_020', fam_material, 'MAT_RIGID', .false.), &
         entry_t('HOURGLASS', fam_material, '', .false.), &
         entry_t('SET_NODE_LIST', fam_set, '', .false.), &

@@ -46,7 +46,7 @@ contains
         type(model_t), intent(inout) :: model
         type(id_maps_t), intent(out) :: maps
         type(error_t), allocatable, intent(out) :: error
-        integer :: dup
+        integer :: dup, k, j
         if (model%nnode == 0) then
             call make_error(error, model%deck_path//': the deck defines no nodes')
             return
@@ -76,6 +76,28 @@ contains
         if (dup /= 0) then
             call dup_error('material', dup, model%mat(1:model%nmat)%id, model%mat(1:model%nmat)%src)
             return
+        end if
+        ! *MAT_ADD_EROSION: its criteria join the material it names
+        if (allocated(model%erosion)) then
+            do k = 1, size(model%erosion)
+                associate (ad => model%erosion(k))
+                    j = maps%mat%find(ad%id)
+                    if (j == 0) then
+                        call make_error(error, ctx%src%where(ad%add_src)//': *MAT_ADD_EROSION field MID: material '// &
+                                        itoa(ad%id)//' is not defined')
+                        return
+                    end if
+                    model%mat(j)%erosion = .true.
+                    model%mat(j)%mxpres = ad%mxpres
+                    model%mat(j)%mnpres = ad%mnpres
+                    model%mat(j)%sigp1 = ad%sigp1
+                    model%mat(j)%sigvm = ad%sigvm
+                    model%mat(j)%failtm = ad%failtm
+                    model%mat(j)%numfip = ad%numfip
+                    model%mat(j)%ncs = ad%ncs
+                    model%mat(j)%add_src = ad%add_src
+                end associate
+            end do
         end if
         call maps%hg%build(model%hg(1:model%nhg)%id, dup)
         if (dup /= 0) then
@@ -147,6 +169,14 @@ contains
                 call make_error(error, at//' field PID: part '//itoa(model%hex_pid(e))//' is not defined')
                 return
             end if
+            associate (mt => model%mat(model%part(model%hex_part(e))%mat_ix))
+                if (mt%fail > 0.0_wp .or. mt%erosion) then
+                    call make_error(error, ctx%src%where(mt%src)//': material '//itoa(mt%id)//' of part '// &
+                                    itoa(model%hex_pid(e))//' has a failure criterion (FAIL, FS or *MAT_ADD_EROSION), '// &
+                                    'and its part has solid elements: erosion of solids is not in xdyna (shells only)')
+                    return
+                end if
+            end associate
             if (model%part(model%hex_part(e))%sec_ix == 0) then
                 call make_error(error, at//' field PID: part '//itoa(model%hex_pid(e))//' has a shell section')
                 return

@@ -25,6 +25,8 @@ contains
             call read_mat_plastic_kinematic(ctx, kw, model, error)
         case ('MAT_PIECEWISE_LINEAR_PLASTICITY')
             call read_mat_piecewise(ctx, kw, model, error)
+        case ('MAT_ADD_EROSION')
+            call read_mat_add_erosion(ctx, kw, model, error)
         case ('MAT_RIGID')
             call read_mat_rigid(ctx, kw, model, error)
         case ('HOURGLASS')
@@ -150,10 +152,11 @@ contains
                 call card_error(card, 1, 'SRC and SRP must both be positive (or both 0: no rate effect)', error)
                 return
             end if
-            if (fs > 0.0_wp) then
-                call card_error(card, 3, 'failure (element erosion) is not implemented: FS must be 0', error)
+            if (fs < 0.0_wp) then
+                call card_error(card, 3, 'FS (the effective plastic strain at failure) must not be negative', error)
                 return
             end if
+            m%fail = fs
             if (vp /= 0.0_wp) then
                 call card_error(card, 4, 'only VP 0 (the yield stress scaled by the strain rate) is implemented', error)
                 return
@@ -164,6 +167,84 @@ contains
         call push_material(model, m)
         call no_more_cards(ctx, kw, ic + 2, error)
     end subroutine read_mat_plastic_kinematic
+
+    !> *MAT_ADD_EROSION: card 1 MID EXCL MXPRES MNEPS EFFEPS VOLEPS NUMFIP NCS;
+    !> card 2 MNPRES SIGP1 SIGVM MXEPS EPSSH SIGTH IMPULSE FAILTM. The
+    !> pressure, stress and time criteria, NUMFIP and NCS are used (shells);
+    !> the strain and impulse criteria are refused where given (a field
+    !> equal to EXCL is not given). The material must be defined (checked
+    !> once the deck is read: the card is kept by MID).
+    subroutine read_mat_add_erosion(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(material_t) :: m
+        real(wp) :: excl, v(8)
+        integer :: ic, k, mid
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        call get_card(ctx, kw, ic, 'MID EXCL MXPRES MNEPS EFFEPS VOLEPS NUMFIP NCS', 1, card, error)
+        if (allocated(error)) return
+        call get_int(card, 1, mid, 0, error); if (allocated(error)) return
+        call get_real(card, 2, excl, 0.0_wp, error); if (allocated(error)) return
+        do k = 3, 6
+            call get_real(card, k, v(k), 0.0_wp, error); if (allocated(error)) return
+            if (v(k) == excl) v(k) = 0
+        end do
+        m%mxpres = v(3)
+        do k = 4, 6
+            if (v(k) /= 0.0_wp) then
+                call card_error(card, k, 'the strain criteria (MNEPS, EFFEPS, VOLEPS) are not in xdyna; give 0 '// &
+                                'or EXCL', error)
+                return
+            end if
+        end do
+        call get_real(card, 7, v(7), 0.0_wp, error); if (allocated(error)) return
+        call get_int(card, 7, m%numfip, 1, error, zero_default=.true.); if (allocated(error)) return
+        call get_int(card, 8, m%ncs, 1, error, zero_default=.true.); if (allocated(error)) return
+        if (m%numfip < 0) then
+            call card_error(card, 7, 'NUMFIP < 0 (a percentage of the points) is not in xdyna; give a count', error)
+            return
+        end if
+        if (m%ncs < 1) then
+            call card_error(card, 8, 'NCS must be at least 1', error)
+            return
+        end if
+        if (ic + 1 <= kw%ncard) then
+            call get_card(ctx, kw, ic + 1, 'MNPRES SIGP1 SIGVM MXEPS EPSSH SIGTH IMPULSE FAILTM', 2, card, error)
+            if (allocated(error)) return
+            do k = 1, 8
+                call get_real(card, k, v(k), 0.0_wp, error); if (allocated(error)) return
+                if (v(k) == excl) v(k) = 0
+            end do
+            m%mnpres = v(1)
+            m%sigp1 = v(2)
+            m%sigvm = v(3)
+            m%failtm = v(8)
+            do k = 4, 7
+                if (v(k) /= 0.0_wp) then
+                    call card_error(card, k, 'the strain, threshold and impulse criteria (MXEPS, EPSSH, SIGTH, '// &
+                                    'IMPULSE) are not in xdyna; give 0 or EXCL', error)
+                    return
+                end if
+            end do
+            if (m%sigp1 < 0.0_wp .or. m%sigvm < 0.0_wp .or. m%mxpres < 0.0_wp .or. m%failtm < 0.0_wp) then
+                call card_error(card, 2, 'SIGP1, SIGVM, MXPRES and FAILTM must not be negative', error)
+                return
+            end if
+        end if
+        m%id = mid
+        m%erosion = .true.
+        m%add_src = kw%card_line(ic)
+        if (.not. allocated(model%erosion)) then
+            model%erosion = [m]
+        else
+            model%erosion = [model%erosion, m]
+        end if
+        call no_more_cards(ctx, kw, ic + 2, error)
+    end subroutine read_mat_add_erosion
 
     !> Card 1 MID RO E PR SIGY ETAN FAIL TDEL; card 2 C P LCSS LCSR VP;
     !> cards 3-4 EPS1..8, ES1..8.
@@ -188,10 +269,11 @@ contains
         if (m%etan < 0.0_wp .or. m%etan >= m%e) then
             call card_error(card, 6, 'tangent modulus must lie in [0, E)', error); return
         end if
-        if (fail < 1.0e20_wp) then
-            call card_error(card, 7, 'failure (element erosion) is not implemented: FAIL must be 0 or 1e21', error)
+        if (fail < 0.0_wp) then
+            call card_error(card, 7, 'FAIL < 0 (a user failure subroutine) is not in xdyna', error)
             return
         end if
+        if (fail < 1.0e20_wp) m%fail = fail
         if (tdel /= 0.0_wp) call add_warning(model, ctx%src%where(kw%card_line(ic))// &
             ': *MAT_PIECEWISE_LINEAR_PLASTICITY field TDEL: element deletion is not implemented; ignored')
         m%src = kw%card_line(ic)

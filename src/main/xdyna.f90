@@ -20,8 +20,9 @@ program xdyna
     use xd_solver_setup, only: setup_run
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
     use xd_contact_rigidwall, only: walls_t, build_walls
+    use xd_elements_erosion, only: erode_shells
     use xd_contact_tied, only: ties_t, place_ties, start_ties
-    use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses
+    use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses, contact_erode
     use xd_contact_initial_penetration, only: initial_penetrations
     use xd_core_strings, only: join_path, out_path
     use xd_core_files, only: make_dirs, file_kind, fk_missing, fk_regular, absolute_path
@@ -58,6 +59,8 @@ program xdyna
     type(rigid_t) :: rg
     type(pressures_t) :: pl
     type(ties_t) :: td
+    integer, allocatable :: dead_now(:)
+    logical, allocatable :: dead_model(:)
     type(shells_t) :: sh
     type(assembly_t) :: asm_sh
     type(histories_t) :: hist
@@ -328,6 +331,22 @@ program xdyna
             call finish(exit_input)
         end if
         if (dom%on) call scatter_contact_state(ct, env%rank)
+        ! shells eroded before the dump: out of the element loops and the
+        ! contact's surfaces again
+        if (sh%n > 0) then
+            if (any(sh%dead)) then
+                dead_now = pack([(i, i=1, sh%n)], sh%dead)
+                sh%dead = .false.
+                sh%ndead = 0
+                call erode_shells(sh, dead_now)
+                if (ct%n > 0) then
+                    allocate (dead_model(0:model%nshell))
+                    dead_model = .false.
+                    dead_model(sh%model_ix) = sh%dead
+                    call contact_erode(ct, dead_model)
+                end if
+            end if
+        end if
         call open_histories(model, stem, rg, hist, ok, resume=hmarks, writer=env%rank == 0, rotating=st%rot)
     else
         call open_histories(model, stem, rg, hist, ok, writer=env%rank == 0, rotating=st%rot)

@@ -65,6 +65,16 @@ module xd_model
         integer :: ntab = 0                   !< 024: EPS/ES points given
         real(wp) :: eps(8) = 0, es(8) = 0
         integer :: src = 0
+        ! failure and erosion (shells): FAIL of 003 (FS) and 024, and
+        ! *MAT_ADD_EROSION's criteria (0: not used)
+        real(wp) :: fail = 0                  !< effective plastic strain at failure
+        real(wp) :: mxpres = 0, mnpres = 0    !< pressure above / (negative) below which a point fails
+        real(wp) :: sigp1 = 0, sigvm = 0      !< maximum principal and von Mises stress
+        real(wp) :: failtm = 0                !< failure time
+        integer :: numfip = 0                 !< failed points that erode a shell (0: all, FAIL alone)
+        integer :: ncs = 1                    !< criteria a point must meet together
+        logical :: erosion = .false.          !< *MAT_ADD_EROSION given
+        integer :: add_src = 0
     end type material_t
 
     type :: hourglass_t
@@ -431,6 +441,9 @@ module xd_model
         integer :: npmass = 0
         type(point_mass_t), allocatable :: pmass(:)
         type(part_mass_t), allocatable :: partmass(:)   !< *ELEMENT_MASS_PART(_SET)
+        !> *MAT_ADD_EROSION cards as read (id: the MID), merged into their
+        !> materials when checked
+        type(material_t), allocatable :: erosion(:)
         type(segment_set_t), allocatable :: segset(:)
         type(pressure_t), allocatable :: press(:)
         type(nodal_rigid_t), allocatable :: nrb(:)

@@ -35,6 +35,7 @@ module xd_output_histories
         type(h5series_t) :: ser(ndb)
         integer :: nwall = 0
         logical :: contact = .false.         !< glstat carries the sliding interface energy
+        logical :: erosion = .false.         !< glstat carries the eroded internal energy
         logical :: scaling = .false.         !< glstat carries the added mass (DT2MS)
         integer(i8) :: flushed = -1          !< system clock at thist.h5's last flush (-1: never)
         integer, allocatable :: nodes(:)     !< node indices for nodout
@@ -136,6 +137,7 @@ contains
         if (rg%n == 0) h%on(s_rbdout) = .false.
         if (model%ncontact == 0) h%on(s_rcforc) = .false.
         h%contact = model%ncontact > 0
+        h%erosion = any(model%mat(1:model%nmat)%fail > 0.0_wp) .or. any(model%mat(1:model%nmat)%erosion)
         h%scaling = model%ctl%dt2ms /= 0.0_wp
         ! nodout nodes: *DATABASE_HISTORY_NODE ids, then node sets
         allocate (h%nodes(0))
@@ -196,6 +198,10 @@ contains
             end if
             if (model%ncontact > 0) then
                 cols = [cols, [character(len=32) :: 'sliding_interface_energy']]
+                units = [units, [character(len=32) :: 'energy']]
+            end if
+            if (h%erosion) then
+                cols = [cols, [character(len=32) :: 'eroded_internal_energy']]
                 units = [units, [character(len=32) :: 'energy']]
             end if
             if (h%scaling) then
@@ -452,14 +458,15 @@ contains
             call row('system damping energy', 0.0_dp)
             call row('sliding interface energy', en%slide)
             call row('external work', en%ext)
-            ! no erosion, damping or drilling stiffness here: their lines read
-            ! zero, as LS-DYNA's do for a model without them
+            ! no damping or drilling stiffness here: their lines read zero, as
+            ! LS-DYNA's do for a model without them; an eroded shell's mass
+            ! stays on its nodes, so no kinetic energy is eroded
             call row('eroded kinetic energy', 0.0_dp)
-            call row('eroded internal energy', 0.0_dp)
+            call row('eroded internal energy', en%eroded_ie)
             call row('eroded hourglass energy', 0.0_dp)
             call row('total energy', en%total)
             call row('total energy / initial energy', en%ratio)
-            call row('energy ratio w/o eroded energy', en%ratio)
+            call row('energy ratio w/o eroded energy', en%ratio_live)
             call row('global x velocity', en%vel(1))
             call row('global y velocity', en%vel(2))
             call row('global z velocity', en%vel(3))
@@ -482,6 +489,7 @@ contains
         vals = [real(st%dt, dp), en%ke, en%ie, en%hg, en%ext, en%total, en%ratio, en%vel]
         if (walls%n > 0) vals = [vals, en%wall]
         if (h%contact) vals = [vals, en%slide]
+        if (h%erosion) vals = [vals, en%eroded_ie]
         if (h%scaling) vals = [vals, en%added]
         call series_append(h%ser(s_glstat), st%time, reshape(vals, [1, size(vals)]))
     contains
@@ -519,7 +527,7 @@ contains
                 rbv = 0
                 if (en%part_mass(p) > 0) rbv = en%part_mom(:, p)/en%part_mass(p)
                 write (u, '(a,i5,3x,a,es13.4,a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' mat.#=', model%part(p)%id, &
-                    '          inten=', en%part_ie(p), '     kinen=', en%part_ke(p), '     eroded_ie=', 0.0_dp, &
+                    '          inten=', en%part_ie(p), '     kinen=', en%part_ke(p), '     eroded_ie=', en%part_eroded(p), &
                     '     eroded_ke=', 0.0_dp
                 if (ios /= 0) nbad = nbad + 1
                 write (u, '(a,es13.4,a,es13.4,a,es13.4)', iostat=ios) ' x-mom=', en%part_mom(1, p), '     y-mom=', &

@@ -334,6 +334,13 @@ contains
             call put_real1(g, 'shell_von_mises', vm)
             call put_real1(g, 'shell_plastic_strain', ep)
             call put_real1(g, 'shell_thickness', th)
+            ! with erosion possible: 1 for a shell in the model, 0 once eroded
+            ! (the d3plot's deletion flags; rigid shells last, always 1)
+            if (sh%erodible) then
+                th = 1
+                where (sh%dead) th(1:sh%n) = 0
+                call put_real1(g, 'shell_alive', th)
+            end if
         end if
         call h5gclose_f(g, err)
         ! the list of times, rewritten whole (small)
@@ -440,6 +447,10 @@ contains
             shell(7*mx + 9, sh%n + e) = real(s%rshell_t(e), sp)
         end do
         alive = 1
+        ! eroded shells: deletion flag 0 (deformable shells come first)
+        if (sh%n > 0) then
+            if (sh%ndead > 0) where (sh%dead) alive(s%nsolid + 1:s%nsolid + sh%n) = 0
+        end if
         call d3plot_write(s%bin, st%time, glob, real(st%x(:, 1:s%nnode), sp), real(v(:, 1:s%nnode), sp), solid, shell, alive)
     end subroutine write_binary
 

@@ -15,6 +15,10 @@ module xd_solver_energies
 
     type :: energies_t
         real(dp) :: ke = 0, ie = 0, hg = 0, ext = 0, wall = 0, slide = 0, total = 0, ratio = 1
+        !> internal energy of the eroded shells (at erosion), in the total
+        !> and the ratio; ratio_live leaves it out
+        real(dp) :: eroded_ie = 0, ratio_live = 1
+        real(dp), allocatable :: part_eroded(:)
         real(dp) :: vel(3) = 0              !< velocity of the centre of mass
         real(dp) :: mass = 0
         real(dp) :: added = 0               !< mass scaling: mass added so far
@@ -133,19 +137,36 @@ contains
             en%wall = en%wall + walls%w(e)%energy
         end do
         if (st%rot) en%ke = en%ke + ker
+        ! eroded shells: their internal energy leaves the parts' and is
+        ! booked as eroded
+        if (.not. allocated(en%part_eroded)) allocate (en%part_eroded(model%npart))
+        en%part_eroded = 0
+        if (sh%n > 0) then
+            if (sh%ndead > 0) then
+                do e = 1, sh%n
+                    if (.not. sh%dead(e)) cycle
+                    en%part_ie(sh%part(e)) = en%part_ie(sh%part(e)) - sh%eint(e)
+                    en%part_eroded(sh%part(e)) = en%part_eroded(sh%part(e)) + sh%eint(e)
+                end do
+                en%ie = sum(en%part_ie)
+            end if
+        end if
+        en%eroded_ie = sum(en%part_eroded)
         if (present(ke_fix)) then
             en%part_ke = en%part_ke + ke_fix
             en%ke = en%ke + sum(ke_fix)
         end if
         en%slide = 0
         if (present(slide)) en%slide = slide
-        en%total = en%ke + en%ie + en%hg + en%wall + en%slide
+        en%total = en%ke + en%ie + en%hg + en%wall + en%slide + en%eroded_ie
         ! the kinetic energy that mass scaling's added mass entered with
         ! counts as energy put in, beside the external work
         if (abs(st%e_initial + en%ext + st%ms_work) > tiny(1.0_dp)) then
             en%ratio = en%total/(st%e_initial + en%ext + st%ms_work)
+            en%ratio_live = (en%total - en%eroded_ie)/(st%e_initial + en%ext + st%ms_work)
         else
             en%ratio = 1.0_dp
+            en%ratio_live = 1.0_dp
         end if
     contains
         !> The fixed-mass path's pass over the nodes (en%ke, mom and ker of

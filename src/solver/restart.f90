@@ -206,6 +206,10 @@ contains
         end do
         call h5gclose_f(g, err)
 
+        ! eroded shells
+        if (sh%n > 0) then
+            if (sh%erodible) call dput(f, 'shell_dead', merge(1, 0, sh%dead), nf)
+        end if
         ! tiebreaks: which ties broke, the softening ones' state
         if (td%n > 0) then
             call h5gcreate_f(f, 'ties', g, err)
@@ -522,6 +526,13 @@ contains
         end do
         call h5gclose_f(g, err)
 
+        if (sh%n > 0) then
+            if (sh%erodible) then
+                call geti(f, 'shell_dead', sh%n)
+                if (ok()) sh%dead = bi /= 0
+                if (.not. ok()) return
+            end if
+        end if
         if (td%n > 0) then
             call h5gopen_f(f, 'ties', g, err)
             if (err /= 0) then

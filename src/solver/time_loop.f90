@@ -26,10 +26,11 @@ module xd_solver_time_loop
                                pressure_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
     use xd_contact_enforcement, only: body_response_t
+    use xd_elements_erosion, only: shell_failures, erode_shells
     use xd_contact_tied, only: ties_t, tie_forces, tie_accelerations, tie_velocities, tie_kinetic, tie_break
     use xd_contact_contact, only: contacts_t, contact_search, contact_drift, contact_local_search, contact_enforce, &
                                   contact_work_end, contact_energy, contact_resultants, gather_contact_state, &
-                                  contact_thickness, &
+                                  contact_thickness, contact_erode, &
                                   scatter_contact_state, contact_events
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     use xd_rigid_bodies, only: rigid_t, rigid_step, rigid_response
@@ -152,6 +153,11 @@ contains
             if (ms%on) call mass_scaling_targets(ms, st%cycle, solids, sh)
             call element_pass(st%dt_old, st%dt_avg_prev, dtc)
             if (res%status /= exit_normal) exit
+            if (sh%n > 0) then
+                ! failure: shells that fail erode (their forces already in
+                ! this cycle's; from the next on they are gone)
+                if (sh%erodible) call erosion()
+            end if
             if (ms%on) then
                 ! the masses the element pass asked for, before anything
                 ! divides by them
@@ -171,6 +177,14 @@ contains
             if (solids%ngroup == 0 .and. sh%n == 0) then
                 dtc = model%ctl%dtinit/model%ctl%tssfac
                 set_by = by_other
+            end if
+            ! every deformable element eroded (none sets a step): the last
+            ! step goes on
+            if (solids%ngroup == 0 .and. sh%n > 0) then
+                if (sh%ndead == sh%n .and. st%cycle > cycle0) then
+                    dtc = st%dt_old/model%ctl%tssfac
+                    set_by = by_other
+                end if
             end if
             ! the stiffest contact spring's stable step, if it is shorter
             if (ct%n > 0) then
@@ -634,6 +648,40 @@ contains
                 call flush_histories(hist)
             end select
         end subroutine sense_switch
+
+        !> The shells that fail at this state erode on every rank: they leave
+        !> the element loops and the contact's surfaces, each named in d3hsp.
+        subroutine erosion()
+            integer, allocatable :: newly(:)
+            real(dp), allocatable :: flag(:)
+            logical, allocatable :: dead_model(:)
+            integer :: k
+            character(len=200) :: buf
+            call shell_failures(sh, model%mat, st%time, newly)
+            if (dom%on) then
+                if (.not. any_rank(size(newly) > 0)) return
+                allocate (flag(sh%n))
+                flag = 0
+                flag(newly) = 1
+                call comm_max(flag)
+                newly = pack([(k, k=1, sh%n)], flag > 0.0_dp .and. .not. sh%dead)
+            end if
+            if (size(newly) == 0) return
+            call erode_shells(sh, newly)
+            do k = 1, size(newly)
+                if (sh%ndead - size(newly) + k > 2000) exit
+                write (buf, '(a,i0,a,i0,a,es12.5,a,es11.4)') ' shell ', sh%eid(newly(k)), ' of part ', &
+                    model%part(sh%part(newly(k)))%id, ' eroded at time ', st%time, ', internal energy ', &
+                    sh%eint(newly(k))
+                call log_line(lg, trim(buf))
+            end do
+            if (ct%n > 0) then
+                allocate (dead_model(0:model%nshell))
+                dead_model = .false.
+                dead_model(sh%model_ix) = sh%dead
+                call contact_erode(ct, dead_model)
+            end if
+        end subroutine erosion
 
         subroutine accelerations()
             integer :: i

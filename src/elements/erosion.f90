@@ -1,0 +1,102 @@
+!> Failure and erosion of shells: FAIL of *MAT_PLASTIC_KINEMATIC (FS) and
+!> *MAT_PIECEWISE_LINEAR_PLASTICITY, and *MAT_ADD_EROSION's pressure,
+!> stress and time criteria.
+!>
+!> After each element pass, each shell computed here is checked at each
+!> through-thickness point. A point fails where its effective plastic strain
+!> reaches FAIL, or where at least NCS of *MAT_ADD_EROSION's criteria hold
+!> there: pressure -(sxx + syy)/3 at least MXPRES or at most MNPRES (a
+!> negative value, tension), the largest principal stress at least SIGP1,
+!> the von Mises stress at least SIGVM. The shell erodes when NUMFIP of its
+!> points have failed (default 1 with *MAT_ADD_EROSION; with FAIL alone,
+!> all of them: a crack through the thickness), or at FAILTM.
+!>
+!> An eroded shell is computed no more. Its forces and moments leave the
+!> assembly, its mass stays on its nodes, and its internal energy at erosion
+!> is booked as eroded internal energy (glstat, matsum). Its contact
+!> segments leave the contact (contact_erode), and the d3plot's deletion
+!> flag reads 0 from the next state.
+module xd_elements_erosion
+    use xd_kinds, only: wp, dp
+    use xd_model, only: material_t
+    use xd_elements_shell_bt, only: shells_t
+    implicit none
+    private
+    public :: shell_failures, erode_shells
+
+contains
+
+    !> The shells computed here that fail now (their indices in `newly`).
+    subroutine shell_failures(sh, mat, time, newly)
+        type(shells_t), intent(in) :: sh
+        type(material_t), intent(in) :: mat(:)
+        real(dp), intent(in) :: time
+        integer, allocatable, intent(out) :: newly(:)
+        integer :: i, e, ip, nfp, need
+        logical :: gone
+        allocate (newly(0))
+        if (.not. sh%erodible) return
+        do i = 1, size(sh%mine)
+            e = sh%mine(i)
+            associate (m => mat(sh%mix(e)))
+                if (.not. (m%fail > 0.0_wp .or. m%erosion)) cycle
+                gone = m%erosion .and. m%failtm > 0.0_wp .and. time >= m%failtm
+                if (.not. gone) then
+                    need = sh%nip(e)
+                    if (m%erosion) need = min(max(m%numfip, 1), sh%nip(e))
+                    nfp = 0
+                    do ip = 1, sh%nip(e)
+                        if (point_fails(m, sh%sig(:, ip, e), sh%epsp(ip, e), sh%plastic(e))) nfp = nfp + 1
+                    end do
+                    gone = nfp >= need
+                end if
+                if (gone) newly = [newly, e]
+            end associate
+        end do
+    end subroutine shell_failures
+
+    !> One point: FAIL on the effective plastic strain, or NCS of the
+    !> *MAT_ADD_EROSION criteria on its stress (plane stress, s = sxx syy
+    !> sxy syz szx).
+    pure logical function point_fails(m, s, epsp, plastic) result(f)
+        type(material_t), intent(in) :: m
+        real(wp), intent(in) :: s(5), epsp
+        logical, intent(in) :: plastic
+        real(wp) :: p, s1, vm
+        integer :: n
+        f = plastic .and. m%fail > 0.0_wp .and. epsp >= m%fail
+        if (f .or. .not. m%erosion) return
+        p = -(s(1) + s(2))/3
+        s1 = max(0.5_wp*(s(1) + s(2)) + sqrt((0.5_wp*(s(1) - s(2)))**2 + s(3)**2), 0.0_wp)
+        vm = sqrt(max(s(1)**2 - s(1)*s(2) + s(2)**2 + 3*(s(3)**2 + s(4)**2 + s(5)**2), 0.0_wp))
+        n = 0
+        if (m%mxpres > 0.0_wp .and. p >= m%mxpres) n = n + 1
+        if (m%mnpres < 0.0_wp .and. p <= m%mnpres) n = n + 1
+        if (m%sigp1 > 0.0_wp .and. s1 >= m%sigp1) n = n + 1
+        if (m%sigvm > 0.0_wp .and. vm >= m%sigvm) n = n + 1
+        f = n >= m%ncs .and. n > 0
+    end function point_fails
+
+    !> Erode the shells `gone` (on every rank alike): they leave the
+    !> elements computed here, and their force and moment slots are zeroed
+    !> for good.
+    subroutine erode_shells(sh, gone)
+        type(shells_t), intent(inout) :: sh
+        integer, intent(in) :: gone(:)
+        integer :: k, e
+        if (size(gone) == 0) return
+        do k = 1, size(gone)
+            e = gone(k)
+            if (sh%dead(e)) cycle
+            sh%dead(e) = .true.
+            sh%ndead = sh%ndead + 1
+            sh%fslot(:, 4*e - 3:4*e) = 0
+            sh%mslot(:, 4*e - 3:4*e) = 0
+            ! the work of its last forces is not to come
+            sh%pend_int(e) = 0
+            sh%pend_hg(e) = 0
+        end do
+        sh%mine = pack(sh%mine, .not. sh%dead(sh%mine))
+    end subroutine erode_shells
+
+end module xd_elements_erosion
