@@ -1651,6 +1651,15 @@ def test_erosion():
                crossings == 0 and blind > 0)
     else:
         record("erosion: the sphere run with d3plot.h5", False, p.stderr[-300:])
+    # *CONTACT_ERODING_SURFACE_TO_SURFACE (card 4 ISYM EROSOP IADJ): the
+    # automatic contact, which follows the erosion itself: the same run
+    text = open(path).read().replace("*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE\n         2         1         3         3\n",
+                                     "*CONTACT_ERODING_SURFACE_TO_SURFACE\n         2         1         3         3\n"
+                                     "\n\n         0         1         1\n")
+    p, eout, _ = run_text("erosion_sphere_eroding", text)
+    ok, msg = (False, p.stderr[-300:]) if p.returncode else same_histories(out, eout)
+    record("erosion: *CONTACT_ERODING_SURFACE_TO_SURFACE reads its card 4 and runs as the automatic contact (bitwise)",
+           ok, msg)
     if shutil.which("mpirun") is not None:
         q = mpirun(2, ["i=" + path, "outdir=" + out + "_mpi2"])
         ok, msg = (False, q.stderr[-300:]) if q.returncode else same_histories(out, out + "_mpi2")

@@ -169,6 +169,9 @@ module xd_input_keyword_table
         entry_t('CONTACT_AUTOMATIC_GENERAL', fam_contact, '', .true.), &
         entry_t('CONTACT_AUTOMATIC_NODES_TO_SURFACE', fam_contact, '', .true.), &
         entry_t('CONTACT_SINGLE_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTACT_ERODING_SINGLE_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTACT_ERODING_SURFACE_TO_SURFACE', fam_contact, '', .true.), &
+        entry_t('CONTACT_ERODING_NODES_TO_SURFACE', fam_contact, '', .true.), &
         entry_t('CONTACT_TIED_NODES_TO_SURFACE', fam_contact, '', .true.), &
         entry_t('CONTACT_TIED_SHELL_EDGE_TO_SURFACE', fam_contact, '', .true.), &
         entry_t('CONTACT_TIED_SURFACE_TO_SURFACE', fam_contact, '', .true.), &

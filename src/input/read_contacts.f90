@@ -47,13 +47,19 @@ contains
         type(contact_t) :: c
         integer :: ic, k, ibox(2), ival
         real(wp) :: rval
-        logical :: tied, tiebreak
+        logical :: tied, tiebreak, eroding
         character(len=:), allocatable :: at
 
         c%keyword = kw%name
         tiebreak = .false.
+        eroding = .false.
         select case (kw%name)
         case ('CONTACT_AUTOMATIC_SINGLE_SURFACE', 'CONTACT_SINGLE_SURFACE'); c%kind = ct_single
+        ! the eroding contacts: the automatic ones, which follow erosion
+        ! themselves (an eroded shell's segments leave the surface)
+        case ('CONTACT_ERODING_SINGLE_SURFACE'); c%kind = ct_single; eroding = .true.
+        case ('CONTACT_ERODING_SURFACE_TO_SURFACE'); c%kind = ct_surface_to_surface; eroding = .true.
+        case ('CONTACT_ERODING_NODES_TO_SURFACE'); c%kind = ct_nodes_to_surface; eroding = .true.
         case ('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE'); c%kind = ct_surface_to_surface
         case ('CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK'); c%kind = ct_surface_to_surface; tiebreak = .true.
         case ('CONTACT_AUTOMATIC_GENERAL'); c%kind = ct_general
@@ -214,6 +220,17 @@ contains
             end if
             call ignored_fields(model, card, [5, 6, 7, 8], 'the tiebreak''s rate and cohesive fields are not used '// &
                                 'by OPTION 1 and 2; ignored')
+            ic = ic + 1
+        end if
+        ! the eroding contacts' card 4: ISYM EROSOP IADJ
+        if (eroding .and. ic + 3 <= kw%ncard) then
+            call get_card(ctx, kw, ic + 3, 'ISYM EROSOP IADJ', 4, card, error)
+            if (allocated(error)) return
+            call get_int(card, 2, ival, 0, error); if (allocated(error)) return
+            if (ival == 0) call add_warning(model, at//' card 4 field EROSOP 0: xdyna''s contacts always follow '// &
+                                            'erosion (an eroded shell''s segments leave the surface)')
+            call ignored_fields(model, card, [1, 3], 'symmetry planes (ISYM) and adjacent-material treatment '// &
+                                '(IADJ) are not used; ignored')
             ic = ic + 1
         end if
         ! optional card A
