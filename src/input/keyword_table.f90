@@ -88,6 +88,7 @@ module xd_input_keyword_table
         entry_t('BOUNDARY_PRESCRIBED_MOTION_SET', fam_condition, '', .true.), &
         entry_t('BOUNDARY_PRESCRIBED_MOTION_RIGID', fam_condition, '', .true.), &
         entry_t('CONSTRAINED_NODAL_RIGID_BODY', fam_condition, '', .false.), &
+        entry_t('CONSTRAINED_NODAL_RIGID_BODY_INERTIA', fam_condition, '', .false.), &
         entry_t('CONSTRAINED_EXTRA_NODES_NODE', fam_condition, '', .false.), &
         entry_t('CONSTRAINED_EXTRA_NODES_SET', fam_condition, '', .false.), &
         entry_t('CONSTRAINED_GENERALIZED_WELD_SPOT', fam_condition, '', .true.), &

@@ -26,7 +26,7 @@ contains
             call read_spc(ctx, kw, model, error)
         case ('BOUNDARY_PRESCRIBED_MOTION_NODE', 'BOUNDARY_PRESCRIBED_MOTION_SET', 'BOUNDARY_PRESCRIBED_MOTION_RIGID')
             call read_prescribed(ctx, kw, model, error)
-        case ('CONSTRAINED_NODAL_RIGID_BODY', 'CONSTRAINED_GENERALIZED_WELD_SPOT')
+        case ('CONSTRAINED_NODAL_RIGID_BODY', 'CONSTRAINED_NODAL_RIGID_BODY_INERTIA', 'CONSTRAINED_GENERALIZED_WELD_SPOT')
             call read_nodal_rigid(ctx, kw, model, error)
         case ('CONSTRAINED_EXTRA_NODES_NODE', 'CONSTRAINED_EXTRA_NODES_SET')
             call read_extra_nodes(ctx, kw, model, error)
@@ -360,7 +360,7 @@ contains
         end if
         do while (ic <= kw%ncard)
             r = nodal_rigid_t(id=r%id, src=kw%card_line(ic))
-            if (kw%name == 'CONSTRAINED_NODAL_RIGID_BODY') then
+            if (kw%name == 'CONSTRAINED_NODAL_RIGID_BODY' .or. kw%name == 'CONSTRAINED_NODAL_RIGID_BODY_INERTIA') then
                 call get_card(ctx, kw, ic, 'PID CID NSID PNODE IPRT DRFLAG RRFLAG', 1, card, error)
                 if (allocated(error)) return
                 call ignored_fields(model, card, [4, 5, 6, 7], 'PNODE, printing and release flags are not used; ignored')
@@ -372,6 +372,46 @@ contains
                 call get_int(card, 2, cid, 0, error); if (allocated(error)) return
                 call get_int(card, 3, r%nsid, 0, error); if (allocated(error)) return
                 ic = ic + 1
+                if (kw%name == 'CONSTRAINED_NODAL_RIGID_BODY_INERTIA') then
+                    ! cards 2-4: XC YC ZC TM IRCS NODEID; IXX..IZZ; VTX..VRZ
+                    if (ic + 2 > kw%ncard) then
+                        call make_error(error, ctx%src%where(r%src)//': '//trim(kw%written)//' needs cards 2 to 4 '// &
+                                        '(XC YC ZC TM IRCS NODEID; IXX IXY IXZ IYY IYZ IZZ; VTX..VRZ)')
+                        return
+                    end if
+                    r%inertia = .true.
+                    call get_card(ctx, kw, ic, 'XC YC ZC TM IRCS NODEID', 2, card, error)
+                    if (allocated(error)) return
+                    do k = 1, 3
+                        call get_real(card, k, r%xc(k), 0.0_wp, error); if (allocated(error)) return
+                    end do
+                    call get_real(card, 4, r%tm, 0.0_wp, error); if (allocated(error)) return
+                    call get_int(card, 5, k, 0, error); if (allocated(error)) return
+                    if (k /= 0) then
+                        call card_error(card, 5, 'IRCS 1 (principal moments with orientation vectors) is not '// &
+                                        'supported; give the global tensor (IRCS 0)', error)
+                        return
+                    end if
+                    call get_int(card, 6, r%nodeid, 0, error); if (allocated(error)) return
+                    if (.not. (r%tm > 0.0_wp)) then
+                        call card_error(card, 4, 'the translational mass TM must be positive', error); return
+                    end if
+                    call get_card(ctx, kw, ic + 1, 'IXX IXY IXZ IYY IYZ IZZ', 3, card, error)
+                    if (allocated(error)) return
+                    do k = 1, 6
+                        call get_real(card, k, r%itens(k), 0.0_wp, error); if (allocated(error)) return
+                    end do
+                    if (.not. (r%itens(1) > 0.0_wp .and. r%itens(4) > 0.0_wp .and. r%itens(6) > 0.0_wp)) then
+                        call card_error(card, 1, 'IXX, IYY and IZZ must be positive', error); return
+                    end if
+                    call get_card(ctx, kw, ic + 2, 'VTX VTY VTZ VRX VRY VRZ', 4, card, error)
+                    if (allocated(error)) return
+                    do k = 1, 3
+                        call get_real(card, k, r%vt(k), 0.0_wp, error); if (allocated(error)) return
+                        call get_real(card, 3 + k, r%vr(k), 0.0_wp, error); if (allocated(error)) return
+                    end do
+                    ic = ic + 3
+                end if
             else
                 r%weld = .true.
                 call get_card(ctx, kw, ic, 'NSID CID FILTER WINDOW NPR NPRT', 1, card, error)

@@ -201,6 +201,11 @@ module xd_model
         logical :: weld = .false.
         real(wp) :: tfail = 1.0e20_wp
         integer :: src = 0
+        !> _INERTIA: the body's mass, centre (or node), global inertia tensor
+        !> (IXX IXY IXZ IYY IYZ IZZ) and initial velocities, as the deck gives
+        logical :: inertia = .false.
+        real(wp) :: tm = 0, xc(3) = 0, itens(6) = 0, vt(3) = 0, vr(3) = 0
+        integer :: nodeid = 0
     end type nodal_rigid_t
 
     !> *ELEMENT_MASS: a point mass on a node (its index once checked)

@@ -25,6 +25,11 @@ module xd_rigid_bodies
     type :: rigid_body_t
         integer :: part = 0                 !< *MAT_RIGID part, 0 for a node-set body
         logical :: from_part = .true.       !< mass properties from elements (else nodal masses)
+        !> its mass and inertia its own (a part, or *CONSTRAINED_NODAL_RIGID_BODY
+        !> _INERTIA): the energies take the body's, not its nodes'
+        logical :: own = .true.
+        logical :: v_given = .false.        !< _INERTIA: the initial velocities the deck gives
+        real(dp) :: vt0(3) = 0, vr0(3) = 0
         logical :: active = .true.
         real(dp) :: tfail = 1.0e20_dp       !< spot weld: released at this time
         integer, allocatable :: pres(:)     !< its *BOUNDARY_PRESCRIBED_MOTION_RIGID entries
@@ -292,6 +297,23 @@ contains
                     ! J += irot/2 1 in the second-moment form
                     if (st%rot) jt = jt + 0.5_dp*st%irot(k)*identity()
                 end do
+                b%own = r%inertia
+                if (r%inertia) then
+                    ! _INERTIA: the deck's mass, centre and global inertia tensor
+                    ! I replace the nodes' (J = tr(I)/2 1 - I); the energies take
+                    ! the body's
+                    b%mass = real(r%tm, dp)
+                    b%xc = real(r%xc, dp)
+                    if (r%nodeid /= 0) b%xc = real(st%x0(:, findloc(model%node_id, r%nodeid, 1)), dp)
+                    associate (it => real(r%itens, dp))
+                        jt = -reshape([it(1), it(2), it(3), it(2), it(4), it(5), it(3), it(5), it(6)], [3, 3])
+                        jt = jt + 0.5_dp*(it(1) + it(4) + it(6))*identity()
+                    end associate
+                    b%v_given = .true.
+                    b%vt0 = real(r%vt, dp)
+                    b%vr0 = real(r%vr, dp)
+                    rg%on = rg%on .or. mark
+                end if
             end associate
             call finish_body(rg%b(nb), jt, mark)
             if (allocated(error)) return
@@ -404,6 +426,10 @@ contains
                 b%omega = solve3(il, lm)
             else
                 b%omega = 0
+            end if
+            if (b%v_given .and. .not. model%irigid) then
+                b%vc = b%vt0
+                b%omega = b%vr0
             end if
             if (b%part > 0) then
                 ! *PART_INERTIA gives the body's initial motion itself, unless

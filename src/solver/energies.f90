@@ -117,12 +117,14 @@ contains
         end if
         ! rigid bodies: their own inertia, not the lumped nodal masses
         do e = 1, rg%n
-            if (.not. rg%b(e)%from_part) cycle
+            if (.not. (rg%b(e)%from_part .or. rg%b(e)%own)) cycle
             call rigid_energy(rg%b(e), ke_b, mom_b, dt_avg == 0.0_dp)
             p = rg%b(e)%part
-            en%part_ke(p) = en%part_ke(p) + ke_b
-            en%part_mom(:, p) = en%part_mom(:, p) + mom_b
-            en%part_mass(p) = en%part_mass(p) + rg%b(e)%mass
+            if (p > 0) then
+                en%part_ke(p) = en%part_ke(p) + ke_b
+                en%part_mom(:, p) = en%part_mom(:, p) + mom_b
+                en%part_mass(p) = en%part_mass(p) + rg%b(e)%mass
+            end if
             en%ke = en%ke + ke_b
             mom = mom + mom_b
         end do
