@@ -1345,6 +1345,25 @@ def sphere_plate_deck(v=300.0, fail=0.15, tend=2e-4, nsp=4, R=0.008):
     return "\n".join(l for l in L if l) + "\n"
 
 
+def crush_deck(erode=1):
+    """One 10 mm *MAT_024 shell squeezed flat in its plane (two nodes
+    driven at 10 m/s toward the two held ones), *CONTROL_TERMINATION DTMIN
+    0.1, *CONTROL_TIMESTEP ERODE as given."""
+    L = ["*KEYWORD", "*TITLE", "a shell squeezed flat in its plane", "*CONTROL_TERMINATION", " 1.200e-03         0       0.1",
+         "*CONTROL_TIMESTEP", f"       0.0       0.9         0       0.0       0.0         0{erode:10d}",
+         "*SECTION_SHELL", "         1         2         1         3", "     0.001     0.001     0.001     0.001",
+         "*MAT_PIECEWISE_LINEAR_PLASTICITY", "         1      7850     2e+11       0.3     3e+08     1e+09",
+         "*PART", "strip", "         1         1         1", "*NODE",
+         f"{1:8d}{0.0:16.9e}{0.0:16.9e}{0.0:16.9e}       1       7", f"{2:8d}{0.01:16.9e}{0.0:16.9e}{0.0:16.9e}       0       0",
+         f"{3:8d}{0.01:16.9e}{0.01:16.9e}{0.0:16.9e}       0       0", f"{4:8d}{0.0:16.9e}{0.01:16.9e}{0.0:16.9e}       1       7",
+         "*ELEMENT_SHELL", f"{1:8d}       1       1       2       3       4",
+         "*SET_NODE_LIST", "         1", "         2         3",
+         "*DEFINE_CURVE", "        50", f"{0.0:20.8e}{-10.0:20.8e}", f"{1.0:20.8e}{-10.0:20.8e}",
+         "*BOUNDARY_PRESCRIBED_MOTION_SET", "         1         1         0        50       1.0",
+         "*BOUNDARY_SPC_SET", "         1         0         0         0         1         1         1         1", "*END"]
+    return "\n".join(L) + "\n"
+
+
 def shape4(xi, eta):
     return 0.25 * np.array([(1 - xi) * (1 - eta), (1 + xi) * (1 - eta), (1 + xi) * (1 + eta), (1 - xi) * (1 + eta)])
 
@@ -1697,6 +1716,19 @@ def test_erosion():
         t = float(m.group(1)) if m else float("nan")
         record(f"erosion: *MAT_ADD_EROSION {crit}: the strip erodes at {t * 1e6:.3f} us against {want * 1e6:.3f} us "
                f"(5%)", m is not None and abs(t / want - 1) < 0.05, p.stderr[-300:])
+    # ERODE: the squeezed shell's step (its length along the squeeze, area
+    # over its longest side) falls to DTMIN 0.1 of the first when 1 mm of
+    # its 10 mm is left, at 0.9 ms: with ERODE 1 it erodes then (5%) and the
+    # run ends normally; with ERODE 0 the run stops there (exit 2)
+    p1, o1, _ = run_text("erosion_erode1", crush_deck(1))
+    p0, _, _ = run_text("erosion_erode0", crush_deck(0))
+    m = re.search(r"shell 1 of part 1 eroded at time\s+([^,\s]+)", open(os.path.join(o1, "d3hsp")).read()) \
+        if p1.returncode == 0 else None
+    t = float(m.group(1)) if m else float("nan")
+    record(f"erosion: ERODE 1 erodes the shell squeezed flat when its step reaches DTMIN x the first, at "
+           f"{t * 1e3:.4f} ms against 0.9 ms (5%), and the run ends normally; ERODE 0 stops it (exit {p0.returncode})",
+           p1.returncode == 0 and m is not None and abs(t / 9e-4 - 1) < 0.05 and p0.returncode == 2
+           and "fell below DTMIN" in p0.stderr, p1.stderr[-300:])
     # solids with a failure criterion: refused
     bad = open(os.path.join(ROOT, "input_decks/verify/taylor_bar_coarse.k")).read()
     p, _, _ = run_text("erosion_solid_bad", bad.replace("*END", "*MAT_ADD_EROSION\n" +

@@ -9,7 +9,9 @@
 !> negative value, tension), the largest principal stress at least SIGP1,
 !> the von Mises stress at least SIGVM. The shell erodes when NUMFIP of its
 !> points have failed (default 1 with *MAT_ADD_EROSION; with FAIL alone,
-!> all of them: a crack through the thickness), or at FAILTM.
+!> all of them: a crack through the thickness), or at FAILTM. With
+!> *CONTROL_TIMESTEP ERODE 1, a shell whose step falls below TSMIN (DTMIN of
+!> *CONTROL_TERMINATION times the first step) erodes too, and sets no step.
 !>
 !> An eroded shell is computed no more. Its forces and moments leave the
 !> assembly, its mass stays on its nodes, and its internal energy at erosion
@@ -38,6 +40,13 @@ contains
         if (.not. sh%erodible) return
         do i = 1, size(sh%mine)
             e = sh%mine(i)
+            ! ERODE: its step fell below the minimum
+            if (sh%tsmin > 0.0_wp) then
+                if (sh%low(e)) then
+                    newly = [newly, e]
+                    cycle
+                end if
+            end if
             associate (m => mat(sh%mix(e)))
                 if (.not. (m%fail > 0.0_wp .or. m%erosion)) cycle
                 gone = m%erosion .and. m%failtm > 0.0_wp .and. time >= m%failtm

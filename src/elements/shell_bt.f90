@@ -54,6 +54,10 @@ module xd_elements_shell_bt
         integer, allocatable :: model_ix(:)   !< index in the model's shell list
         logical, allocatable :: dead(:)       !< eroded
         logical :: erodible = .false.         !< some shell's material has a failure criterion
+        !> ERODE 1: an element step (before TSSFAC) below this marks the
+        !> shell to erode (0: off, until the first step is known)
+        real(wp) :: tsmin = 0
+        logical, allocatable :: low(:)        !< (n) marked this cycle: step below tsmin, or inverted
         integer :: ndead = 0
         ! mass scaling (*CONTROL_TIMESTEP DT2MS), allocated only when it is on:
         ! an element's mass is msf times its own, so its step sqrt(msf) times
@@ -153,6 +157,8 @@ contains
                   sh%nip(sh%n), sh%area0(sh%n), sh%msq(sh%n), sh%mix(sh%n), sh%model_ix(sh%n), sh%dead(sh%n))
         sh%msq = 1
         sh%dead = .false.
+        allocate (sh%low(sh%n))
+        sh%low = .false.
         call alloc(sh%fslot, 3, 4*sh%n, 'shell force slots')
         call alloc(sh%mslot, 3, 4*sh%n, 'shell moment slots')
         call alloc(sh%qhg, 5, sh%n, 'shell hourglass forces')
@@ -173,7 +179,8 @@ contains
             sh%model_ix(e) = ee
             sh%part(e) = p
             sh%mix(e) = model%part(p)%mat_ix
-            sh%erodible = sh%erodible .or. model%mat(sh%mix(e))%fail > 0.0_wp .or. model%mat(sh%mix(e))%erosion
+            sh%erodible = sh%erodible .or. model%mat(sh%mix(e))%fail > 0.0_wp .or. model%mat(sh%mix(e))%erosion .or. &
+                          (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)
             sh%h(e) = sum(model%shell_t(:, ee))/4
             associate (m => model%mat(model%part(p)%mat_ix), sec => model%sec_shell(model%part(p)%shell_sec_ix))
                 sh%e(e) = m%e
@@ -266,6 +273,7 @@ contains
         sh%dtmin = huge(1.0_wp)
         sh%crit = 0
         sh%bad = 0
+        if (sh%tsmin > 0.0_wp) sh%low = .false.
         !$omp parallel default(shared) private(e, ib, l, nb, i0, els, gm, gn, dte, dtb, tmin, tcrit, tbad)
         tmin = huge(1.0_wp)
         tcrit = 0
@@ -282,6 +290,14 @@ contains
             do l = 1, nb
                 e = els(l)
                 dte = dtb(l)
+                if (sh%tsmin > 0.0_wp) then
+                    ! ERODE: a shell whose step fell below the minimum (or that
+                    ! turned inside out) sets no step: it erodes after this pass
+                    if (.not. (dte*sh%msq(e) >= sh%tsmin)) then
+                        sh%low(e) = .true.
+                        cycle
+                    end if
+                end if
                 if (.not. (dte > 0.0_wp)) then
                     if (tbad == 0) tbad = e
                     cycle

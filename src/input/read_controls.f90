@@ -73,8 +73,10 @@ contains
                 end if
                 if (lctm /= 0) call add_warning(model, at//' field LCTM: time step limit curve '// &
                                                 'is not implemented; ignored')
-                if (erode /= 0) call add_warning(model, at//' field ERODE: erosion on minimum time '// &
-                                                 'step is not implemented; ignored')
+                if (erode /= 0 .and. erode /= 1) then
+                    call card_error(card, 7, 'ERODE must be 0 or 1', error); return
+                end if
+                c%erode = erode
             case ('CONTROL_HOURGLASS')
                 call get_card(ctx, kw, ic, 'IHQ QH', 1, card, error)
                 if (allocated(error)) return

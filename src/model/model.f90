@@ -367,6 +367,9 @@ module xd_model
         real(wp) :: endtim = 0
         integer :: endcyc = 0
         real(wp) :: dtmin = 0
+        !> *CONTROL_TIMESTEP ERODE 1: shells whose step falls below DTMIN
+        !> times the first erode (instead of the run stopping)
+        integer :: erode = 0
         real(wp) :: endeng = 0
         real(wp) :: dtinit = 0
         real(wp) :: tssfac = 0.9_wp

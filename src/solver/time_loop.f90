@@ -204,6 +204,10 @@ contains
             ! first, comes from elements turned inside out or a state gone
             ! bad (a curve of 1e30), not from physics
             if (st%cycle == cycle0) dt_ref = st%dt
+            ! ERODE: from the first step on, shells whose step falls below
+            ! DTMIN times it erode
+            if (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp .and. sh%n > 0 .and. sh%tsmin == 0.0_wp .and. &
+                st%dt_first > 0.0_wp) sh%tsmin = model%ctl%dtmin*st%dt_first/real(model%ctl%tssfac, wp)
             if (.not. (st%dt > 0.0_wp .and. st%dt <= huge(1.0_wp))) then
                 call fail('time step '//rtoa(real(st%dt, dp))//' is not a finite positive number; controlling '// &
                           controlling())
