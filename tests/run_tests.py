@@ -1364,6 +1364,34 @@ def crush_deck(erode=1):
     return "\n".join(L) + "\n"
 
 
+def cantilever_deck(n=20, elform=2, g=10.0, t_ramp=0.245, t_rel=0.37, tend=0.56):
+    """A 1 m steel cantilever of n beams (ELFORM 2: A 4e-4, ISS = ITT
+    1.3333e-8, J 2.25e-8, a 20 mm square; ELFORM 1: a 20 x 20 mm rectangle
+    TS1 x TT1), clamped at x = 0, its s axis along y (orientation node), its
+    weight ramped over four first periods to g along z, held, then
+    released at t_rel to ring freely."""
+    L = ["*KEYWORD", "*TITLE", "a cantilever of beams under its weight, then released", "*CONTROL_TERMINATION",
+         f"{tend:10.4g}", "*DATABASE_GLSTAT", " 1.000e-03", "*DATABASE_NODOUT", " 5.000e-04", "*DATABASE_HISTORY_NODE",
+         f"{n + 1:10d}"]
+    if elform == 2:
+        L += ["*SECTION_BEAM", "         1         2       1.0         2         0",
+              f"{4e-4:10.4g}{1.3333333e-8:10.4e}{1.3333333e-8:10.4e}{2.25e-8:10.4g}"]
+    else:
+        L += ["*SECTION_BEAM", "         1         1       1.0         2         0", f"{0.02:10.4g}{0.02:10.4g}{0.02:10.4g}{0.02:10.4g}"]
+    L += ["*MAT_ELASTIC", "         1      7850     2e+11       0.3", "*PART", "beam", "         1         1         1",
+          "*NODE"]
+    for i in range(n + 1):
+        L.append(f"{i + 1:8d}{i / n:16.9e}{0.0:16.9e}{0.0:16.9e}" + ("       7       7" if i == 0 else "       0       0"))
+    L.append(f"{n + 2:8d}{0.0:16.9e}{1.0:16.9e}{0.0:16.9e}       7       7")
+    L.append("*ELEMENT_BEAM")
+    for i in range(n):
+        L.append(f"{i + 1:8d}       1{i + 1:8d}{i + 2:8d}{n + 2:8d}")
+    L += ["*DEFINE_CURVE", "        50", f"{0.0:20.8e}{0.0:20.8e}", f"{t_ramp:20.8e}{g:20.8e}", f"{t_rel:20.8e}{g:20.8e}",
+          f"{t_rel + 1e-5:20.8e}{0.0:20.8e}", f"{10.0:20.8e}{0.0:20.8e}"]
+    L += ["*LOAD_BODY_Z", "        50       1.0", "*END"]
+    return "\n".join(L) + "\n"
+
+
 def shape4(xi, eta):
     return 0.25 * np.array([(1 - xi) * (1 - eta), (1 + xi) * (1 - eta), (1 + xi) * (1 + eta), (1 - xi) * (1 + eta)])
 
@@ -1820,6 +1848,71 @@ def test_nodal_rigid_inertia():
     record(f"nodal rigid body _INERTIA: kinetic energy {ke[-1]:.12g} J is the body's 2.5 J (1e-9 relative, "
            f"throughout), nodes on the rigid motion about the deck's centre within 1e-9 m ({err:.1e}) over "
            f"{w * t[-1]:.2f} rad", float(np.max(np.abs(ke / 2.5 - 1))) < 1e-9 and err < 1e-9 and w * t[-1] > 0.45)
+
+
+def test_beams():
+    """*ELEMENT_BEAM with *SECTION_BEAM ELFORM 2 (Belytschko-Schwer
+    resultant) and ELFORM 1 (Hughes-Liu: the same elastic resultant beam
+    from the section's dimensions), issue 33. A 1 m steel cantilever of 20
+    beams under its weight: the tip's mean deflection over the hold against
+    Euler-Bernoulli's q L^4 / (8 E I) within 1%, and, released, its ringing
+    at the first frequency 1.875^2/(2 pi) sqrt(E I / (rho A L^4)) within 1%
+    (the lumped beam converges from below: 20 elements give -0.14%); the
+    energy ratio within 1e-3 from 50 ms on. A 20 x 10 mm rectangle (ELFORM 1) bends about
+    its s axis (the orientation node's) with ISS = TS TT^3/12. A restart
+    and two MPI ranks give the serial histories bitwise; a plastic beam and
+    an orientation node on the axis are refused."""
+    E, rho, L, g = 2e11, 7850.0, 1.0, 10.0
+    cases = (("ELFORM 2, 20 mm square", cantilever_deck(elform=2), 4e-4, 1.3333333e-8),
+             ("ELFORM 1, 20 x 10 mm rectangle", cantilever_deck(elform=1).replace(
+                 f"{0.02:10.4g}{0.02:10.4g}{0.02:10.4g}{0.02:10.4g}", f"{0.02:10.4g}{0.02:10.4g}{0.01:10.4g}{0.01:10.4g}"),
+              2e-4, 0.02 * 0.01 ** 3 / 12))
+    for k, (label, text, A, I) in enumerate(cases):
+        p, out, path = run_text(f"beam_cantilever_{k}", text)
+        if p.returncode != 0:
+            record(f"beams ({label}) run", False, p.stderr[-300:])
+            return
+        with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+            t, z = f["nodout/time"][:], f["nodout/z_displacement"][:, 0]
+            # the ratio from 50 ms on (the ramp's first steps do little work,
+            # and their ratio is the start's)
+            ratio = f["glstat/energy_ratio"][:][f["glstat/time"][:] > 0.05]
+        d = rho * A * g * L ** 4 / (8 * E * I)
+        mean = -float(np.mean(z[(t > 0.245) & (t < 0.37)]))
+        tt, zz = t[t > 0.38], z[t > 0.38]
+        cr = [tt[i] - zz[i] * (tt[i + 1] - tt[i]) / (zz[i + 1] - zz[i]) for i in range(len(tt) - 1) if zz[i] * zz[i + 1] < 0]
+        f1 = 1 / (2 * float(np.mean(np.diff(cr)))) if len(cr) > 2 else float("nan")
+        f0 = 1.875 ** 2 / (2 * math.pi) * math.sqrt(E * I / (rho * A * L ** 4))
+        dev = float(np.max(np.abs(ratio - 1)))
+        record(f"beams ({label}): tip deflection {mean * 1e3:.4f} mm against q L^4/(8 E I) {d * 1e3:.4f} mm (1%: "
+               f"{mean / d - 1:+.2%}); first frequency {f1:.3f} Hz against {f0:.3f} (1%: {f1 / f0 - 1:+.2%}); energy "
+               f"ratio within 1e-3 ({dev:.1e})", abs(mean / d - 1) < 0.01 and abs(f1 / f0 - 1) < 0.01 and dev < 1e-3)
+        if k == 0:
+            first, first_path = out, path
+    rs = os.path.join(TMP, "beam_rs.k")
+    with open(rs, "w") as f:
+        f.write(open(first_path).read().replace("*END", "*DATABASE_BINARY_D3DUMP\n         0\n*END"))
+    full, part = os.path.join(TMP, "beam_rs_full"), os.path.join(TMP, "beam_rs_part")
+    q1 = run([XDYNA, "i=" + rs, "outdir=" + full, "endtim=0.3"])
+    q2 = run([XDYNA, "i=" + rs, "outdir=" + part, "endtim=0.15"])
+    q3 = run([XDYNA, "r=" + os.path.join(part, "d3dump.h5"), "endtim=0.3"])
+    ok, msg = ((False, (q1.stderr + q2.stderr + q3.stderr)[-300:]) if q1.returncode or q2.returncode or q3.returncode
+               else same_histories(full, part))
+    record("beams: a restart from mid-ramp ends as the uninterrupted run (bitwise)", ok, msg)
+    if shutil.which("mpirun") is not None:
+        q = mpirun(2, ["i=" + first_path, "outdir=" + first + "_mpi2"])
+        ok, msg = (False, q.stderr[-300:]) if q.returncode else same_histories(first, first + "_mpi2")
+        record("beams: mpirun -np 2 gives the serial histories bitwise", ok, msg)
+    bad = open(first_path).read().replace("*MAT_ELASTIC\n         1      7850     2e+11       0.3",
+                                          "*MAT_PLASTIC_KINEMATIC\n         1      7850     2e+11       0.3     3e+08")
+    p, _, _ = run_text("beam_plastic", bad)
+    record("beams: a plastic beam is refused (exit 1) naming the element and part",
+           p.returncode == 1 and "*ELEMENT_BEAM 1 field PID: part 1: beams take an elastic material" in p.stderr,
+           p.stderr[-300:])
+    bad = open(first_path).read().replace(f"{22:8d}{0.0:16.9e}{1.0:16.9e}", f"{22:8d}{2.0:16.9e}{0.0:16.9e}")
+    p, _, _ = run_text("beam_axis_node", bad)
+    record("beams: an orientation node on the beam's axis is refused (exit 1) naming it",
+           p.returncode == 1 and "field N3: the orientation node 22 lies on the beam's axis" in p.stderr, p.stderr[-300:])
 
 
 def test_shell_large_vibration():
@@ -4938,7 +5031,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_beams, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

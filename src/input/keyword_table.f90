@@ -54,9 +54,11 @@ module xd_input_keyword_table
         entry_t('PART', fam_geometry, '', .false.), &
         entry_t('PART_INERTIA', fam_geometry, '', .false.), &
         entry_t('ELEMENT_SHELL', fam_geometry, '', .false.), &
+        entry_t('ELEMENT_BEAM', fam_geometry, '', .false.), &
         entry_t('ELEMENT_SHELL_THICKNESS', fam_geometry, '', .false.), &
         entry_t('SECTION_SOLID', fam_section, '', .false.), &
         entry_t('SECTION_SHELL', fam_section, '', .false.), &
+        entry_t('SECTION_BEAM', fam_section, '', .false.), &
         entry_t('MAT_ELASTIC', fam_material, '', .false.), &
         entry_t('MAT_001', fam_material, 'MAT_ELASTIC', .false.), &
         entry_t('MAT_PLASTIC_KINEMATIC', fam_material, '', .false.), &

@@ -11,7 +11,8 @@ module xd_input_model_check
     use xd_input_check_contacts, only: check_contacts
     use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
                                 hex_regular, hex_wedge, hex_tet, hex_bad
-    use xd_model, only: model_t, find_set, mat_rigid, set_node, set_shell, pressure_t, set_part, iv_node_set, iv_node, &
+    use xd_model, only: model_t, find_set, mat_rigid, mat_elastic, set_node, set_shell, pressure_t, set_part, &
+        iv_node_set, iv_node, &
         iv_generation, find_box, find_coord, point_mass_t
     implicit none
     private
@@ -32,6 +33,7 @@ contains
         call check_parts(ctx, model, maps, error); if (allocated(error)) return
         call check_hexes(ctx, model, maps, error); if (allocated(error)) return
         call check_shells(ctx, model, maps, error); if (allocated(error)) return
+        call check_beams(ctx, model, maps, error); if (allocated(error)) return
         call check_rigid_mass(ctx, model, maps, error); if (allocated(error)) return
         call check_sets(ctx, model, maps, error); if (allocated(error)) return
         call apply_coordinate_systems(ctx, model, maps%node, error); if (allocated(error)) return
@@ -127,10 +129,13 @@ contains
                 p%sec_ix = maps%sec%find(p%secid)
                 p%shell_sec_ix = 0
                 if (p%sec_ix == 0) p%shell_sec_ix = findloc(model%sec_shell(1:model%nsec_shell)%id, p%secid, 1)
+                p%beam_sec_ix = 0
+                if (p%sec_ix == 0 .and. p%shell_sec_ix == 0) &
+                    p%beam_sec_ix = findloc(model%sec_beam(1:model%nsec_beam)%id, p%secid, 1)
                 p%mat_ix = maps%mat%find(p%mid)
                 p%hg_ix = 0
                 if (p%hgid /= 0) p%hg_ix = maps%hg%find(p%hgid)
-                if (p%sec_ix == 0 .and. p%shell_sec_ix == 0) then
+                if (p%sec_ix == 0 .and. p%shell_sec_ix == 0 .and. p%beam_sec_ix == 0) then
                     call make_error(error, ctx%src%where(p%src)//': *PART '//itoa(p%id)// &
                                     ' field SECID: section '//itoa(p%secid)//' is not defined')
                     return
@@ -271,6 +276,62 @@ contains
             end if
         end do
     end subroutine check_shells
+
+    !> *ELEMENT_BEAM: parts with a beam section and an elastic material (the
+    !> resultant beam's elastic response; plastic beams are not in xdyna),
+    !> nodes defined, N1 /= N2, an orientation node off the beam's axis.
+    subroutine check_beams(ctx, model, maps, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(model_t), intent(inout) :: model
+        type(id_maps_t), intent(in) :: maps
+        type(error_t), allocatable, intent(out) :: error
+        integer :: e, k, p, nid
+        real(wp) :: d1(3), d3(3)
+        character(len=:), allocatable :: at
+        if (model%nbeam == 0) return
+        allocate (model%beam_part(model%nbeam))
+        do e = 1, model%nbeam
+            at = ctx%src%where(model%beam_src(e))//': *ELEMENT_BEAM '//itoa(model%beam_id(e))
+            p = maps%part%find(model%beam_pid(e))
+            model%beam_part(e) = p
+            if (p == 0) then
+                call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//' is not defined')
+                return
+            end if
+            if (model%part(p)%beam_sec_ix == 0) then
+                call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//' has no beam section')
+                return
+            end if
+            if (model%mat(model%part(p)%mat_ix)%mtype /= mat_elastic) then
+                call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//': beams take an elastic '// &
+                                'material (*MAT_ELASTIC) in xdyna; plastic and rigid beams are not in xdyna')
+                return
+            end if
+            do k = 1, 3
+                nid = model%beam_conn(k, e)
+                if (k == 3 .and. nid == 0) cycle
+                model%beam_conn(k, e) = maps%node%find(nid)
+                if (model%beam_conn(k, e) == 0) then
+                    call make_error(error, at//' field N'//itoa(k)//': node '//itoa(nid)//' is not defined')
+                    return
+                end if
+            end do
+            d1 = model%x0(:, model%beam_conn(2, e)) - model%x0(:, model%beam_conn(1, e))
+            if (.not. (norm2(d1) > 0.0_wp)) then
+                call make_error(error, at//' has zero length (N1 and N2 coincide)')
+                return
+            end if
+            if (model%beam_conn(3, e) > 0) then
+                d3 = model%x0(:, model%beam_conn(3, e)) - model%x0(:, model%beam_conn(1, e))
+                if (norm2([d1(2)*d3(3) - d1(3)*d3(2), d1(3)*d3(1) - d1(1)*d3(3), d1(1)*d3(2) - d1(2)*d3(1)]) <= &
+                    1.0e-6_wp*norm2(d1)*norm2(d3)) then
+                    call make_error(error, at//' field N3: the orientation node '// &
+                                    itoa(model%node_id(model%beam_conn(3, e)))//' lies on the beam''s axis')
+                    return
+                end if
+            end if
+        end do
+    end subroutine check_beams
 
     !> *DEFINE_COORDINATE_...: the axes (from the nodes' positions at t = 0
     !> for _NODES), then what is given in them turned global: initial
@@ -897,13 +958,13 @@ contains
                             '(or ENDCYC > 0) is required')
             return
         end if
-        if (model%nhex + model%nshell == 0) then
+        if (model%nhex + model%nshell + model%nbeam == 0) then
             call make_error(error, model%deck_path//': the deck defines no elements')
             return
         end if
         if (all(model%mat(model%part(model%hex_part(1:model%nhex))%mat_ix)%mtype == mat_rigid) .and. &
             all(model%mat(model%part(model%shell_part(1:model%nshell))%mat_ix)%mtype == mat_rigid) .and. &
-            .not. model%ctl%dtinit > 0.0_wp) then
+            model%nbeam == 0 .and. .not. model%ctl%dtinit > 0.0_wp) then
             call make_error(error, model%deck_path//': *CONTROL_TIMESTEP field DTINIT: a model of rigid bodies '// &
                             'alone has no element time step; give DTINIT')
             return

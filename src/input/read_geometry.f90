@@ -29,6 +29,8 @@ contains
             call read_part(ctx, kw, model, error)
         case ('ELEMENT_SHELL', 'ELEMENT_SHELL_THICKNESS')
             call read_element_shell(ctx, kw, model, error)
+        case ('ELEMENT_BEAM')
+            call read_element_beam(ctx, kw, model, error)
         case ('ELEMENT_MASS', 'ELEMENT_MASS_NODE_SET')
             call read_element_mass(ctx, kw, model, error)
         case ('ELEMENT_MASS_PART', 'ELEMENT_MASS_PART_SET')
@@ -299,6 +301,54 @@ contains
             call move_alloc(tmp, model%shell_t)
         end subroutine grow_thick
     end subroutine read_element_shell
+
+    !> *ELEMENT_BEAM: EID PID N1 N2 N3 RT1 RR1 RT2 RR2 LOCAL (N3 the
+    !> orientation node, 0: none; the release codes are refused).
+    subroutine read_element_beam(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(card_format_t) :: fmt
+        integer :: ic, eid, pid, k, nodes(3), rel, e
+        fmt = card_format('EID:8 PID:8 N1:8 N2:8 N3:8 RT1:8 RR1:8 RT2:8 RR2:8 LOCAL:8', kw%width_mode)
+        do ic = 1, kw%ncard
+            call get_card(ctx, kw, ic, fmt, 1, card, error)
+            if (allocated(error)) return
+            if (card_blank(card)) cycle
+            call get_int(card, 1, eid, 0, error); if (allocated(error)) return
+            call get_int(card, 2, pid, 0, error); if (allocated(error)) return
+            do k = 1, 3
+                call get_int(card, 2 + k, nodes(k), 0, error); if (allocated(error)) return
+            end do
+            if (eid <= 0) then
+                call card_error(card, 1, 'element id must be a positive integer', error); return
+            end if
+            if (nodes(1) <= 0 .or. nodes(2) <= 0) then
+                call card_error(card, merge(3, 4, nodes(1) <= 0), 'node id must be a positive integer', error); return
+            end if
+            if (nodes(3) < 0) then
+                call card_error(card, 5, 'the orientation node N3 must not be negative', error); return
+            end if
+            do k = 6, 9
+                call get_int(card, k, rel, 0, error); if (allocated(error)) return
+                if (rel /= 0) then
+                    call card_error(card, k, 'release conditions (RT1 RR1 RT2 RR2) are not in xdyna', error); return
+                end if
+            end do
+            model%nbeam = model%nbeam + 1
+            e = model%nbeam
+            call grow(model%beam_id, e, 'beam ids')
+            call grow(model%beam_pid, e, 'beam parts')
+            call grow(model%beam_conn, 3, e, 'beam connectivity')
+            call grow(model%beam_src, e, 'beam lines')
+            model%beam_id(e) = eid
+            model%beam_pid(e) = pid
+            model%beam_conn(:, e) = nodes
+            model%beam_src(e) = kw%card_line(ic)
+        end do
+    end subroutine read_element_beam
 
     !> Pairs of cards: HEADING, then PID SECID MID EOSID HGID GRAV ADPOPT TMID.
     subroutine read_part(ctx, kw, model, error)

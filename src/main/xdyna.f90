@@ -21,6 +21,7 @@ program xdyna
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
     use xd_contact_rigidwall, only: walls_t, build_walls
     use xd_elements_erosion, only: erode_shells
+    use xd_elements_beam_bs, only: beams_t
     use xd_contact_tied, only: ties_t, place_ties, start_ties
     use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses, contact_erode
     use xd_contact_initial_penetration, only: initial_penetrations
@@ -59,6 +60,7 @@ program xdyna
     type(rigid_t) :: rg
     type(pressures_t) :: pl
     type(ties_t) :: td
+    type(beams_t) :: bm
     integer, allocatable :: dead_now(:)
     logical, allocatable :: dead_model(:)
     type(shells_t) :: sh
@@ -238,7 +240,7 @@ program xdyna
     ! penetrations (the moves named in d3hsp), and the mesh set up again
     ! from the moved nodes
     do i = 1, 2
-        call setup_run(model, maps%hex, st, solids, asm, rg, sh, asm_sh, nfree, error, step_note)
+        call setup_run(model, maps%hex, st, solids, asm, rg, sh, asm_sh, bm, nfree, error, step_note)
         if (allocated(error)) then
             call say(model%deck_path//': '//error%message)
             call log_line(lg, ' *** Error: '//model%deck_path//': '//error%message)
@@ -325,7 +327,7 @@ program xdyna
     if (endtim_cli > 0.0_dp) opts%endtim = endtim_cli
     if (opts%endtim <= 0.0_dp) opts%endtim = huge(1.0_dp)
     if (len(restart) > 0) then
-        call read_dump(restart, st, solids, sh, walls, rg, ct, td, hmarks, smarks, dump_error)
+        call read_dump(restart, st, solids, sh, bm, walls, rg, ct, td, hmarks, smarks, dump_error)
         if (allocated(dump_error)) then
             call say('xdyna: r='//restart//': cannot restart from this dump: '//dump_error)
             call finish(exit_input)
@@ -388,7 +390,7 @@ program xdyna
     call tm%stop(ph_init)
 
     opts%progress = env%rank == 0
-    call run_time_loop(model, dom, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, td, hist, states, lg, tm, opts, res)
+    call run_time_loop(model, dom, st, solids, asm, sh, asm_sh, bm, walls, ct, pn, rg, pl, td, hist, states, lg, tm, opts, res)
     if (env%rank == 0 .and. states%on) call log_line(lg, states_summary(states))
     call close_states(states)
     call close_histories(hist)

@@ -13,7 +13,7 @@ module xd_model
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
-    public :: ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface, ct_tiebreak
+    public :: ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface, ct_tiebreak, section_beam_t
     public :: extra_nodes_t, point_mass_t, part_mass_t, search_auto, search_fixed, search_adaptive, mnl_minimal, &
               mnl_closest1, mnl_closest3
     public :: styp_segment_set, styp_shell_set, styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but
@@ -29,6 +29,7 @@ module xd_model
         integer :: secid = 0, mid = 0, hgid = 0
         integer :: sec_ix = 0, mat_ix = 0, hg_ix = 0
         integer :: shell_sec_ix = 0         !< the section is a *SECTION_SHELL
+        integer :: beam_sec_ix = 0          !< the section is a *SECTION_BEAM
         integer :: src = 0                  !< deck line of its card
         !> *PART_INERTIA (rigid parts): mass, centre (or node), global inertia
         !> tensor about the centre, initial velocities of the body
@@ -51,6 +52,19 @@ module xd_model
         real(wp) :: t(4) = 0                !< nodal thicknesses
         integer :: src = 0
     end type section_shell_t
+
+    !> *SECTION_BEAM: ELFORM 2 (Belytschko-Schwer resultant) with A, ISS,
+    !> ITT, J, SA; ELFORM 1 (Hughes-Liu) with the section's dimensions, from
+    !> which the same properties are computed (elastic only)
+    type :: section_beam_t
+        integer :: id = 0
+        integer :: elform = 2
+        real(wp) :: shrf = 1.0_wp
+        integer :: cst = 0                  !< ELFORM 1: 0 rectangle, 1 tube
+        real(wp) :: a = 0, iss = 0, itt = 0, j = 0, sa = 0
+        real(wp) :: nsm = 0                 !< non-structural mass per length
+        integer :: src = 0
+    end type section_beam_t
 
     type :: material_t
         integer :: id = 0
@@ -438,6 +452,13 @@ module xd_model
         integer, allocatable :: shell_src(:)
         integer :: nsec_shell = 0
         type(section_shell_t), allocatable :: sec_shell(:)
+        integer :: nsec_beam = 0
+        type(section_beam_t), allocatable :: sec_beam(:)
+        !> *ELEMENT_BEAM: ids, parts, nodes N1 N2 and the orientation node N3
+        !> (0: none; ids, then indices once checked)
+        integer :: nbeam = 0
+        integer, allocatable :: beam_id(:), beam_pid(:), beam_part(:), beam_src(:)
+        integer, allocatable :: beam_conn(:, :)   !< (3, nbeam)
         ! tables
         integer :: npart = 0, nsec_solid = 0, nmat = 0, nhg = 0, nset = 0
         type(part_t), allocatable :: part(:)

@@ -149,6 +149,12 @@ contains
         else
             s = s//'   shell elements ............ off (none in the deck)'//nl
         end if
+        if (model%nbeam > 0) then
+            s = s//'   beam elements ............. on  (Belytschko-Schwer resultant, elastic, '//itoa(model%nbeam)// &
+                '; not written to the d3plot)'//nl
+        else
+            s = s//'   beam elements ............. off (none in the deck)'//nl
+        end if
         if (nrigid > 0) then
             s = s//'   rigid bodies .............. on  ('//itoa(nrigid)//')'//nl
         else

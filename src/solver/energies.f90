@@ -4,6 +4,7 @@ module xd_solver_energies
     use xd_kinds, only: wp, dp
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t
+    use xd_elements_beam_bs, only: beams_t
     use xd_elements_shell_bt, only: shells_t
     use xd_solver_state, only: state_t
     use xd_contact_rigidwall, only: walls_t, walls_kinetic
@@ -46,7 +47,7 @@ contains
     !> velocities use v(n) = (v(n-1/2) + v(n+1/2))/2. With shells, the
     !> angular velocities wminus, wplus give the rotational kinetic energy
     !> 1/2 I w(n-1/2).w(n+1/2).
-    subroutine compute_energies(model, st, solids, sh, walls, rg, vminus, vplus, wminus, wplus, dt_avg, en, slide, ke_fix)
+    subroutine compute_energies(model, st, solids, sh, walls, rg, vminus, vplus, wminus, wplus, dt_avg, en, slide, ke_fix, bm)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
@@ -62,6 +63,7 @@ contains
         !> slaves' mass as the dynamics move it, on their segments' nodes,
         !> instead of at the slaves' own velocities)
         real(dp), intent(in), optional :: ke_fix(:)
+        type(beams_t), intent(in), optional :: bm   !< beams (their internal energy and nodal masses)
         integer :: e, p, nd
         real(dp) :: mom(3), ke_b, mom_b(3), ker
         if (.not. allocated(en%part_ie)) then
@@ -70,7 +72,7 @@ contains
         end if
         en%part_ie = 0; en%part_ke = 0; en%part_hg = 0; en%part_mass = 0; en%part_mom = 0; en%part_added = 0
         en%nshell_scaled = 0
-        if (.not. allocated(en%np_ptr)) call node_part_masses(model, st, solids, sh, en)
+        if (.not. allocated(en%np_ptr)) call node_part_masses(model, st, solids, sh, en, bm)
         if (en%fixed_mass) then
             ! one pass over the nodes: each node's share, the whole model's
             ! kinetic energy, momentum and spin, and the parts' by the node
@@ -81,6 +83,11 @@ contains
             en%part_mass = en%part_mass0
             if (solids%n > 0) call ie_by_part(solids%part, solids%eint, solids%pend_int, solids%ehg, solids%pend_hg)
             if (sh%n > 0) call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg)
+            if (present(bm)) then
+                do e = 1, bm%n
+                    en%part_ie(bm%part(e)) = en%part_ie(bm%part(e)) + bm%eint(e)
+                end do
+            end if
             en%ie = sum(en%part_ie)
             en%hg = sum(en%part_hg)
         else
@@ -98,6 +105,12 @@ contains
                 end do
             end if
             call by_elements()
+            if (present(bm)) then
+                do e = 1, bm%n
+                    en%part_ie(bm%part(e)) = en%part_ie(bm%part(e)) + bm%eint(e)
+                end do
+                en%ie = sum(en%part_ie)
+            end if
             en%ke = 0
             mom = 0
             do nd = 1, st%nnode
@@ -332,12 +345,13 @@ contains
     !> fixed for the run: each node's incidences (the assembly's slot lists,
     !> solids then shells) with the shares of one part summed (a node has
     !> few).
-    subroutine node_part_masses(model, st, solids, sh, en)
+    subroutine node_part_masses(model, st, solids, sh, en, bm)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
         type(energies_t), intent(inout) :: en
+        type(beams_t), intent(in), optional :: bm
         type(assembly_t) :: as, ash
         integer, allocatable :: ip(:)
         real(dp), allocatable :: im(:), fp(:)
@@ -358,7 +372,9 @@ contains
             allocate (ash%ptr(st%nnode + 1), ash%slot(0))
             ash%ptr = 1
         end if
-        allocate (ip(size(as%slot) + size(ash%slot)), im(size(as%slot) + size(ash%slot)))
+        n = 0
+        if (present(bm)) n = 2*bm%n
+        allocate (ip(size(as%slot) + size(ash%slot) + n), im(size(as%slot) + size(ash%slot) + n))
         n = 0
         do nd = 1, st%nnode
             en%np_ptr(nd) = n + 1
@@ -373,6 +389,15 @@ contains
                 if (k == 4 .and. sh%conn(3, e) == sh%conn(4, e)) cycle
                 call add(sh%part(e), real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/merge(3, 4, sh%conn(3, e) == sh%conn(4, e)))
             end do
+            if (present(bm)) then
+                if (bm%n > 0) then
+                    do j = bm%ptr(nd), bm%ptr(nd + 1) - 1
+                        e = (bm%inc(j) - 1)/2 + 1
+                        call add(bm%part(e), real((bm%ro(e)*bm%a(e) + bm%nsm(e))* &
+                                                  norm2(st%x0(:, bm%conn(2, e)) - st%x0(:, bm%conn(1, e)))/2, dp))
+                    end do
+                end if
+            end if
         end do
         en%np_ptr(st%nnode + 1) = n + 1
         en%np_part = ip(1:n)

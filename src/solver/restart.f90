@@ -14,6 +14,7 @@ module xd_solver_restart
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa
     use xd_core_files, only: rename_file, delete_file, written_bytes, file_kind, fk_missing, fk_regular
+    use xd_elements_beam_bs, only: beams_t
     use xd_contact_tied, only: ties_t
     use xd_output_h5io, only: dput, dget, put_text, get_text
     use xd_solver_state, only: state_t
@@ -58,7 +59,7 @@ contains
         t = 'xdyna 0.1.0, real '//itoa(storage_size(1.0_wp))//' bits, '//compiler_version()
     end function build_tag
 
-    subroutine write_dump(path, meta, st, solids, sh, walls, rg, ct, td, hm, sm, ok)
+    subroutine write_dump(path, meta, st, solids, sh, bm, walls, rg, ct, td, hm, sm, ok)
         character(len=*), intent(in) :: path
         type(dump_meta_t), intent(in) :: meta
         type(state_t), intent(in) :: st
@@ -68,6 +69,7 @@ contains
         type(rigid_t), intent(in) :: rg
         type(contacts_t), intent(in) :: ct
         type(ties_t), intent(in) :: td          !< tied contacts (a tiebreak's state)
+        type(beams_t), intent(in) :: bm
         type(history_marks_t), intent(in) :: hm
         type(states_marks_t), intent(in) :: sm
         logical, intent(out) :: ok
@@ -209,6 +211,12 @@ contains
         ! eroded shells
         if (sh%n > 0) then
             if (sh%erodible) call dput(f, 'shell_dead', merge(1, 0, sh%dead), nf)
+        end if
+        ! beams: resultants, section axes, internal energy
+        if (bm%n > 0) then
+            call dput(f, 'beam_res', [bm%res], nf)
+            call dput(f, 'beam_e2', [bm%e2], nf)
+            call dput(f, 'beam_eint', bm%eint, nf)
         end if
         ! tiebreaks: which ties broke, the softening ones' state
         if (td%n > 0) then
@@ -389,7 +397,7 @@ contains
 
     !> Put the dump's state into structures the deck has just built;
     !> `error` names what does not fit (a dump of another model).
-    subroutine read_dump(path, st, solids, sh, walls, rg, ct, td, hm, sm, error)
+    subroutine read_dump(path, st, solids, sh, bm, walls, rg, ct, td, hm, sm, error)
         character(len=*), intent(in) :: path
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
@@ -398,6 +406,7 @@ contains
         type(rigid_t), intent(inout) :: rg
         type(contacts_t), intent(inout) :: ct
         type(ties_t), intent(inout) :: td
+        type(beams_t), intent(inout) :: bm
         type(history_marks_t), intent(out) :: hm
         type(states_marks_t), intent(out) :: sm
         character(len=:), allocatable, intent(out) :: error
@@ -526,6 +535,12 @@ contains
         end do
         call h5gclose_f(g, err)
 
+        if (bm%n > 0) then
+            call getw(f, 'beam_res', 6*bm%n); if (ok()) bm%res = reshape(bw, [6, bm%n])
+            call getw(f, 'beam_e2', 3*bm%n); if (ok()) bm%e2 = reshape(bw, [3, bm%n])
+            call getd(f, 'beam_eint', bm%n); if (ok()) bm%eint = bd
+            if (.not. ok()) return
+        end if
         if (sh%n > 0) then
             if (sh%erodible) then
                 call geti(f, 'shell_dead', sh%n)

@@ -13,6 +13,7 @@ module xd_solver_setup
     use xd_core_vectors, only: cross
     use xd_solver_assembly, only: assembly_t, build_assembly
     use xd_rigid_bodies, only: rigid_t, rigid_lumped_mass, build_rigid
+    use xd_elements_beam_bs, only: beams_t, build_beams, beam_masses
     use xd_elements_shell_bt, only: shells_t, build_shells, shell_masses
     use xd_solver_mass_scaling, only: mass_scaling_arrays
     use xd_core_errors, only: error_t, make_error
@@ -23,7 +24,7 @@ module xd_solver_setup
 
 contains
 
-    subroutine setup_run(model, hex_map, st, solids, asm, rg, sh, asm_sh, nfree_nodes, error, step_note)
+    subroutine setup_run(model, hex_map, st, solids, asm, rg, sh, asm_sh, bm, nfree_nodes, error, step_note)
         type(model_t), intent(in) :: model
         type(id_map_t), intent(in) :: hex_map
         type(state_t), intent(out) :: st
@@ -32,6 +33,7 @@ contains
         type(rigid_t), intent(out) :: rg
         type(shells_t), intent(out) :: sh
         type(assembly_t), intent(out) :: asm_sh
+        type(beams_t), intent(out) :: bm
         integer, intent(out) :: nfree_nodes
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable, intent(out) :: step_note   !< a scaled solid step, for d3hsp ('' if none)
@@ -53,15 +55,19 @@ contains
         call rigid_lumped_mass(model, st)
         call build_shells(model, sh, material_plastic_law)
         call mass_scaling_arrays(model%ctl, solids, sh)
-        if (sh%n > 0) then
+        call build_beams(model, bm)
+        if (sh%n > 0 .or. bm%n > 0) then
             st%rot = .true.
             call alloc(st%vr, 3, st%nnode, 'angular velocities')
             call alloc(st%mom, 3, st%nnode, 'nodal moments')
             call alloc(st%irot, st%nnode, 'rotational inertia')
             call alloc(st%free_r, 3, st%nnode, 'rotation masks')
+        end if
+        if (sh%n > 0) then
             call shell_masses(sh, st%x, st%mass, st%irot)
             call build_assembly(st%nnode, sh%conn, asm_sh)
         end if
+        if (bm%n > 0) call beam_masses(bm, st%x, st%mass, st%irot)
         ! *ELEMENT_MASS: point masses join their nodes' (and so a rigid
         ! body's, where the node is on one: the body takes a node's mass
         ! beyond its own elements' as a point mass)

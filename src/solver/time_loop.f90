@@ -27,6 +27,7 @@ module xd_solver_time_loop
     use xd_contact_rigidwall, only: walls_t, apply_walls
     use xd_contact_enforcement, only: body_response_t
     use xd_elements_erosion, only: shell_failures, erode_shells
+    use xd_elements_beam_bs, only: beams_t, beam_forces
     use xd_contact_tied, only: ties_t, tie_forces, tie_accelerations, tie_velocities, tie_kinetic, tie_break
     use xd_contact_contact, only: contacts_t, contact_search, contact_drift, contact_local_search, contact_enforce, &
                                   contact_work_end, contact_energy, contact_resultants, gather_contact_state, &
@@ -76,7 +77,7 @@ module xd_solver_time_loop
 
 contains
 
-    subroutine run_time_loop(model, dom, st, solids, asm, sh, asm_sh, walls, ct, pn, rg, pl, td, hist, states, lg, tm, &
+    subroutine run_time_loop(model, dom, st, solids, asm, sh, asm_sh, bm, walls, ct, pn, rg, pl, td, hist, states, lg, tm, &
                              opts, res)
         type(model_t), intent(in) :: model
         type(domain_t), intent(in) :: dom
@@ -85,6 +86,7 @@ contains
         type(assembly_t), intent(in) :: asm
         type(shells_t), intent(inout) :: sh
         type(assembly_t), intent(in) :: asm_sh
+        type(beams_t), intent(inout) :: bm
         type(walls_t), intent(inout) :: walls
         type(contacts_t), intent(inout) :: ct
         type(prescribed_nodes_t), intent(in) :: pn
@@ -113,6 +115,8 @@ contains
         logical :: done, energy_now, dumped_end, near_limit, status_now, state_asked, switch_gone
         integer :: nd, cycle0, stop_sig, switch
         character(len=:), allocatable :: switch_text, tie_events
+        integer :: beam_crit                   !< the beam that set the step (0: none)
+        real(wp) :: dtc_pass                   !< the beams' step, combined after the element pass
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
         ke_fix = 0
@@ -153,6 +157,16 @@ contains
             if (ms%on) call mass_scaling_targets(ms, st%cycle, solids, sh)
             call element_pass(st%dt_old, st%dt_avg_prev, dtc)
             if (res%status /= exit_normal) exit
+            if (bm%n > 0) then
+                ! a beam sets the step where it is the shortest
+                if (dtc_pass < dtc) then
+                    dtc = dtc_pass
+                    st%crit_elem = 0
+                    beam_crit = bm%crit
+                else
+                    beam_crit = 0
+                end if
+            end if
             if (sh%n > 0) then
                 ! failure: shells that fail erode (their forces already in
                 ! this cycle's; from the next on they are gone)
@@ -174,13 +188,13 @@ contains
                 if (dtc == ms%target) set_by = by_floor
             end if
             ! a model of rigid bodies alone has no element step: DTINIT sets it
-            if (solids%ngroup == 0 .and. sh%n == 0) then
+            if (solids%ngroup == 0 .and. sh%n == 0 .and. bm%n == 0) then
                 dtc = model%ctl%dtinit/model%ctl%tssfac
                 set_by = by_other
             end if
             ! every deformable element eroded (none sets a step): the last
             ! step goes on
-            if (solids%ngroup == 0 .and. sh%n > 0) then
+            if (solids%ngroup == 0 .and. sh%n > 0 .and. bm%n == 0) then
                 if (sh%ndead == sh%n .and. st%cycle > cycle0) then
                     dtc = st%dt_old/model%ctl%tssfac
                     set_by = by_other
@@ -346,7 +360,7 @@ contains
                     vn = vminus
                     if (td%n > 0) call tie_kinetic(td, st%mass, st%irot, vminus, vminus, vrminus, vrminus, ke_fix)
                     call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en, &
-                                          contact_energy(ct, 0.0_dp), ke_fix)
+                                          contact_energy(ct, 0.0_dp), ke_fix, bm)
                     st%e_initial = en%total
                     ! mass scaled at cycle 0 is in the initial energy
                     st%ms_work = 0
@@ -359,7 +373,7 @@ contains
                     vn = 0.5_wp*(vminus + st%v)
                     if (td%n > 0) call tie_kinetic(td, st%mass, st%irot, vminus, st%v, vrminus, st%vr, ke_fix)
                     call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
-                                          contact_energy(ct, dt_avg) + td%ework, ke_fix)
+                                          contact_energy(ct, dt_avg) + td%ework, ke_fix, bm)
                 end if
                 call tm%stop(ph_output)
                 call check_energy()
@@ -528,13 +542,27 @@ contains
                     call share_nodes(dom, st%f)
                 end if
                 call tm%stop(ph_comm)
+                call beams()
                 return
             end if
             call tm%start(ph_assembly)
             if (solids%n > 0 .or. sh%n == 0) call assemble(asm, solids%fslot, st%f)
             if (sh%n > 0) call assemble(asm_sh, sh%fslot, st%f, add=solids%n > 0, mslot=sh%mslot, m=st%mom)
             call tm%stop(ph_assembly)
+            call beams()
         end subroutine element_pass
+
+        !> The beams, on every rank alike, added to the shared forces; their
+        !> step joins the elements'.
+        subroutine beams()
+            beam_crit = 0
+            dtc_pass = huge(1.0_wp)
+            if (bm%n == 0) return
+            call tm%start(ph_elements)
+            call beam_forces(bm, st%x, st%v, st%vr, st%dt_old, st%f, st%mom, sh%n == 0)
+            call tm%stop(ph_elements)
+            dtc_pass = bm%dtmin
+        end subroutine beams
 
         !> MPI: the smallest step of all ranks (ties: solids before shells, then
         !> the lower element, as the serial scan finds it) and the first bad
@@ -595,6 +623,8 @@ contains
                                         itoa(model%part(solids%part(st%crit_elem))%id)
             if (st%crit_elem < 0) txt = 'shell '//itoa(sh%eid(-st%crit_elem))//' of part '// &
                                         itoa(model%part(sh%part(-st%crit_elem))%id)
+            if (st%crit_elem == 0 .and. beam_crit > 0) txt = 'beam '//itoa(bm%eid(beam_crit))//' of part '// &
+                                                             itoa(model%part(bm%part(beam_crit))%id)
         end function controlling
         !> The signals and the wall-clock limit, the same on every rank (MPI:
         !> the largest over the ranks, so all stop at the same cycle). The
@@ -797,7 +827,7 @@ contains
             call flush_histories(hist)
             ok = .true.
             if (dom%on) call gather_contact_state(ct)
-            if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, walls, rg, ct, td, &
+            if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, bm, walls, rg, ct, td, &
                                                history_marks(hist), states_marks(states), ok)
             if (dom%on) call scatter_contact_state(ct, dom%rank)
             ! rank 0 wrote it: every rank learns whether it could

@@ -1,0 +1,213 @@
+!> Beams: the Belytschko-Schwer resultant beam (*SECTION_BEAM ELFORM 2; and
+!> ELFORM 1, Hughes-Liu, whose elastic response for a given section is the
+!> same small-strain resultant beam: xdyna computes A, ISS, ITT and J from
+!> its dimensions), elastic.
+!>
+!> Co-rotational: each cycle the local frame is e1 along the chord N1 -> N2,
+!> e2 (the section's s axis, from the orientation node N3 at t = 0) kept
+!> normal to e1 by the least rotation and turned about e1 by the nodes' mean
+!> spin, e3 = e1 x e2. The resultants (axial force N, torque T, end moments
+!> about s and t) are updated from the deformation rates in that frame:
+!>
+!>   N += E A (v2 - v1).e1 / L dt,  T += G J (w2 - w1).e1 / L dt,
+!>   [M1; M2] += E I / L [4 2; 2 4] [r1; r2] dt   (about s with ISS, t with ITT)
+!>
+!> with r_i the node's rotation rate relative to the chord's, w_i - e1 x (v2 -
+!> v1) / L (Euler-Bernoulli bending). The nodal forces and moments are the
+!> virtual work's: f1 = N e1 - S, f2 = -N e1 + S with S = (M1 + M2) x e1 / L,
+!> m1 = -M1 + T e1, m2 = -M2 - T e1.
+!>
+!> Masses: (rho A + NSM) L / 2 at each node; rotary inertia rho L max(A L^2/24
+!> + I/2, 1.5 I) (I the larger of ISS and ITT): the element's rotations then
+!> are no faster than its axial mode. Step: the smaller of L / c and 2 / w of
+!> the transverse (shear) mode, w^2 = 48 E I / (rho A L^4), which governs short
+!> beams.
+!>
+!> Every rank computes every beam (they are few beside shells) and adds
+!> their forces after the element forces are shared: the sum is the serial
+!> run's on every rank.
+module xd_elements_beam_bs
+    use xd_kinds, only: wp, dp
+    use xd_model, only: model_t
+    use xd_core_vectors, only: cross
+    implicit none
+    private
+    public :: beams_t, build_beams, beam_masses, beam_forces
+
+    type :: beams_t
+        integer :: n = 0
+        integer, allocatable :: conn(:, :)    !< (2, n)
+        integer, allocatable :: eid(:), part(:)
+        real(wp), allocatable :: e(:), g(:), ro(:), a(:), iss(:), itt(:), j(:), nsm(:)
+        real(wp), allocatable :: e2(:, :)     !< (3, n) the section's s axis
+        real(wp), allocatable :: res(:, :)    !< (6, n) N, T, M_s at N1 and N2, M_t at N1 and N2
+        real(dp), allocatable :: eint(:)      !< internal energy
+        ! node -> beam-end incidences (CSR), for the sums in node order
+        integer, allocatable :: ptr(:), inc(:)
+        real(wp), allocatable :: fe(:, :), me(:, :)   !< (3, 2n) forces and moments at the ends
+        real(wp) :: dtmin = huge(1.0_wp)
+        integer :: crit = 0
+    end type beams_t
+
+contains
+
+    subroutine build_beams(model, bm)
+        type(model_t), intent(in) :: model
+        type(beams_t), intent(out) :: bm
+        integer :: e, p, k, nd
+        integer, allocatable :: fill(:)
+        real(wp) :: e1(3), v(3), s(3)
+        bm%n = model%nbeam
+        if (bm%n == 0) return
+        allocate (bm%conn(2, bm%n), bm%eid(bm%n), bm%part(bm%n), bm%e(bm%n), bm%g(bm%n), bm%ro(bm%n), &
+                  bm%a(bm%n), bm%iss(bm%n), bm%itt(bm%n), bm%j(bm%n), bm%nsm(bm%n), bm%e2(3, bm%n), &
+                  bm%res(6, bm%n), bm%eint(bm%n), bm%fe(3, 2*bm%n), bm%me(3, 2*bm%n))
+        bm%res = 0
+        bm%eint = 0
+        do e = 1, bm%n
+            p = model%beam_part(e)
+            bm%conn(:, e) = model%beam_conn(1:2, e)
+            bm%eid(e) = model%beam_id(e)
+            bm%part(e) = p
+            associate (m => model%mat(model%part(p)%mat_ix), sc => model%sec_beam(model%part(p)%beam_sec_ix))
+                bm%e(e) = m%e
+                bm%g(e) = m%e/(2*(1 + m%pr))
+                bm%ro(e) = m%ro
+                bm%a(e) = sc%a
+                bm%iss(e) = sc%iss
+                bm%itt(e) = sc%itt
+                bm%j(e) = sc%j
+                bm%nsm(e) = sc%nsm
+            end associate
+            ! s: toward the orientation node, normal to the axis (without one,
+            ! the normal to the axis nearest the global axis it is least along)
+            e1 = model%x0(:, bm%conn(2, e)) - model%x0(:, bm%conn(1, e))
+            e1 = e1/norm2(e1)
+            if (model%beam_conn(3, e) > 0) then
+                v = model%x0(:, model%beam_conn(3, e)) - model%x0(:, bm%conn(1, e))
+            else
+                v = 0
+                v(minloc(abs(e1), 1)) = 1
+            end if
+            s = v - dot_product(v, e1)*e1
+            bm%e2(:, e) = s/norm2(s)
+        end do
+        ! node -> ends
+        allocate (bm%ptr(model%nnode + 1), fill(model%nnode))
+        bm%ptr = 0
+        do e = 1, bm%n
+            do k = 1, 2
+                bm%ptr(bm%conn(k, e) + 1) = bm%ptr(bm%conn(k, e) + 1) + 1
+            end do
+        end do
+        bm%ptr(1) = 1
+        do nd = 1, model%nnode
+            bm%ptr(nd + 1) = bm%ptr(nd + 1) + bm%ptr(nd)
+        end do
+        allocate (bm%inc(2*bm%n))
+        fill = bm%ptr(1:model%nnode)
+        do e = 1, bm%n
+            do k = 1, 2
+                nd = bm%conn(k, e)
+                bm%inc(fill(nd)) = 2*(e - 1) + k
+                fill(nd) = fill(nd) + 1
+            end do
+        end do
+    end subroutine build_beams
+
+    !> Lumped masses and rotary inertia (see the module's note).
+    subroutine beam_masses(bm, x, mass, irot)
+        type(beams_t), intent(in) :: bm
+        real(wp), intent(in) :: x(:, :)
+        real(wp), intent(inout) :: mass(:), irot(:)
+        integer :: e, k
+        real(wp) :: l, m, j, imax
+        do e = 1, bm%n
+            l = norm2(x(:, bm%conn(2, e)) - x(:, bm%conn(1, e)))
+            m = (bm%ro(e)*bm%a(e) + bm%nsm(e))*l/2
+            imax = max(bm%iss(e), bm%itt(e))
+            j = bm%ro(e)*l*max(bm%a(e)*l**2/24 + imax/2, 1.5_wp*imax)
+            do k = 1, 2
+                mass(bm%conn(k, e)) = mass(bm%conn(k, e)) + m
+                irot(bm%conn(k, e)) = irot(bm%conn(k, e)) + j
+            end do
+        end do
+    end subroutine beam_masses
+
+    !> The beams' forces and moments at x(n) from v(n-1/2), w(n-1/2), added to
+    !> f and mom in node order (mom set, not added, where `set_mom`: no
+    !> shell wrote it this cycle); the smallest stable step.
+    subroutine beam_forces(bm, x, v, w, dt, f, mom, set_mom)
+        type(beams_t), intent(inout) :: bm
+        real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
+        real(wp), intent(inout) :: f(:, :), mom(:, :)
+        logical, intent(in) :: set_mom
+        integer :: e, n1, n2, nd, q, k
+        real(wp) :: l, e1(3), e2(3), e3(3), dv(3), wc(3), t1(3), t2(3), r(6), old(6), phi, c, s, ei, m1(3), m2(3), sh(3)
+        real(wp) :: dte, ro, imax
+        bm%dtmin = huge(1.0_wp)
+        bm%crit = 0
+        do e = 1, bm%n
+            n1 = bm%conn(1, e)
+            n2 = bm%conn(2, e)
+            e1 = x(:, n2) - x(:, n1)
+            l = norm2(e1)
+            e1 = e1/l
+            ! the s axis: kept normal to the chord, turned by the mean spin
+            e2 = bm%e2(:, e) - dot_product(bm%e2(:, e), e1)*e1
+            e2 = e2/norm2(e2)
+            phi = 0.5_wp*dot_product(w(:, n1) + w(:, n2), e1)*dt
+            c = cos(phi)
+            s = sin(phi)
+            e2 = c*e2 + s*cross(e1, e2)
+            bm%e2(:, e) = e2
+            e3 = cross(e1, e2)
+            ! rates: elongation, twist, the ends' rotations against the chord's
+            dv = v(:, n2) - v(:, n1)
+            wc = cross(e1, dv)/l
+            t1 = w(:, n1) - wc
+            t2 = w(:, n2) - wc
+            r = [dot_product(dv, e1), dot_product(w(:, n2) - w(:, n1), e1), &
+                 dot_product(t1, e2), dot_product(t2, e2), dot_product(t1, e3), dot_product(t2, e3)]
+            old = bm%res(:, e)
+            bm%res(1, e) = old(1) + bm%e(e)*bm%a(e)*r(1)/l*dt
+            bm%res(2, e) = old(2) + bm%g(e)*bm%j(e)*r(2)/l*dt
+            ei = bm%e(e)*bm%iss(e)/l
+            bm%res(3, e) = old(3) + ei*(4*r(3) + 2*r(4))*dt
+            bm%res(4, e) = old(4) + ei*(2*r(3) + 4*r(4))*dt
+            ei = bm%e(e)*bm%itt(e)/l
+            bm%res(5, e) = old(5) + ei*(4*r(5) + 2*r(6))*dt
+            bm%res(6, e) = old(6) + ei*(2*r(5) + 4*r(6))*dt
+            ! the work over the step, at the mean of the resultants before
+            ! and after it
+            bm%eint(e) = bm%eint(e) + 0.5_dp*dt*dot_product(real(old + bm%res(:, e), dp), real(r, dp))
+            ! forces and moments on the nodes
+            m1 = bm%res(3, e)*e2 + bm%res(5, e)*e3
+            m2 = bm%res(4, e)*e2 + bm%res(6, e)*e3
+            sh = cross(m1 + m2, e1)/l
+            bm%fe(:, 2*e - 1) = bm%res(1, e)*e1 - sh
+            bm%fe(:, 2*e) = -bm%res(1, e)*e1 + sh
+            bm%me(:, 2*e - 1) = -m1 + bm%res(2, e)*e1
+            bm%me(:, 2*e) = -m2 - bm%res(2, e)*e1
+            ! the step: the axial mode, and the transverse one of a short beam
+            ro = bm%ro(e) + bm%nsm(e)/bm%a(e)
+            imax = max(bm%iss(e), bm%itt(e))
+            dte = min(l/sqrt(bm%e(e)/ro), 2/sqrt(48*bm%e(e)*imax/(ro*bm%a(e)*l**4)))
+            if (dte < bm%dtmin) then
+                bm%dtmin = dte
+                bm%crit = e
+            end if
+        end do
+        ! the sums at the nodes, ends in element order
+        do nd = 1, size(bm%ptr) - 1
+            if (bm%ptr(nd + 1) == bm%ptr(nd)) cycle
+            if (set_mom) mom(:, nd) = 0
+            do q = bm%ptr(nd), bm%ptr(nd + 1) - 1
+                k = bm%inc(q)
+                f(:, nd) = f(:, nd) + bm%fe(:, k)
+                mom(:, nd) = mom(:, nd) + bm%me(:, k)
+            end do
+        end do
+    end subroutine beam_forces
+
+end module xd_elements_beam_bs
