@@ -39,7 +39,7 @@ module xd_contact_tied
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa, rtoa
     use xd_core_sorting, only: where_true
-    use xd_model, only: model_t, contact_t, styp_node_set, ct_tied_shell_edge, ct_tiebreak
+    use xd_model, only: model_t, contact_t, styp_node_set, styp_part, styp_part_set, ct_tied_shell_edge, ct_tiebreak
     use xd_contact_surface, only: faces_t, build_faces, segment_diagonals, seg_shell
     use xd_contact_segment_check, only: project_segment
     use xd_contact_contact, only: faces_of
@@ -142,6 +142,14 @@ contains
                     slaves = model%set(c%sref)%member_ix
                     on = .false.
                     on(slaves) = .true.
+                else if (c%keyword == 'CONTACT_SPOTWELD' .and. model%nbeam > 0) then
+                    ! the spot welds' beams of the slave parts: their nodes
+                    on = .false.
+                    do j = 1, model%nbeam
+                        if (beam_in(model%beam_part(j))) on(model%beam_conn(1:2, j)) = .true.
+                    end do
+                    slaves = where_true(on)
+                    in_s = .false.
                 else
                     call faces_of(model, faces, c, c%ssid, c%sstyp, c%sref, 'SSID', in_s, error)
                     if (allocated(error)) return
@@ -280,6 +288,22 @@ contains
         td%n = size(td%slave)
         td%spart = npart_of(td%slave)
     contains
+        !> part p on the slave side of the spot weld contact c (SSTYP 2 a part
+        !> set, 3 a part)
+        logical function beam_in(p)
+            integer, intent(in) :: p
+            associate (c => model%tied(i))
+                select case (c%sstyp)
+                case (styp_part)
+                    beam_in = p == c%sref
+                case (styp_part_set)
+                    beam_in = any(model%set(c%sref)%member_ix == p)
+                case default
+                    beam_in = .false.
+                end select
+            end associate
+        end function beam_in
+
         real(wp) function dmax_of(xq)
             real(wp), intent(in) :: xq(3, 4)
             real(wp) :: d1, d2

@@ -28,7 +28,7 @@
 !> run's on every rank.
 module xd_elements_beam_bs
     use xd_kinds, only: wp, dp
-    use xd_model, only: model_t
+    use xd_model, only: model_t, mat_spotweld
     use xd_core_vectors, only: cross
     implicit none
     private
@@ -47,6 +47,10 @@ module xd_elements_beam_bs
         real(wp), allocatable :: fe(:, :), me(:, :)   !< (3, 2n) forces and moments at the ends
         real(wp) :: dtmin = huge(1.0_wp)
         integer :: crit = 0
+        ! spot welds (*MAT_SPOTWELD): failure by time or resultants
+        logical, allocatable :: weld(:), dead(:)
+        real(wp), allocatable :: tfail(:), rfail(:, :)   !< (n), (6, n): NRR NRS NRT MRR MSS MTT (0: unused)
+        integer, allocatable :: newly(:)      !< the welds that failed this cycle
     end type beams_t
 
 contains
@@ -61,7 +65,9 @@ contains
         if (bm%n == 0) return
         allocate (bm%conn(2, bm%n), bm%eid(bm%n), bm%part(bm%n), bm%e(bm%n), bm%g(bm%n), bm%ro(bm%n), &
                   bm%a(bm%n), bm%iss(bm%n), bm%itt(bm%n), bm%j(bm%n), bm%nsm(bm%n), bm%e2(3, bm%n), &
-                  bm%res(6, bm%n), bm%eint(bm%n), bm%fe(3, 2*bm%n), bm%me(3, 2*bm%n))
+                  bm%res(6, bm%n), bm%eint(bm%n), bm%fe(3, 2*bm%n), bm%me(3, 2*bm%n), bm%weld(bm%n), &
+                  bm%dead(bm%n), bm%tfail(bm%n), bm%rfail(6, bm%n), bm%newly(0))
+        bm%dead = .false.
         bm%res = 0
         bm%eint = 0
         do e = 1, bm%n
@@ -78,6 +84,9 @@ contains
                 bm%itt(e) = sc%itt
                 bm%j(e) = sc%j
                 bm%nsm(e) = sc%nsm
+                bm%weld(e) = m%mtype == mat_spotweld
+                bm%tfail(e) = m%tfail
+                bm%rfail(:, e) = m%rfail
             end associate
             ! s: toward the orientation node, normal to the axis (without one,
             ! the normal to the axis nearest the global axis it is least along)
@@ -137,9 +146,10 @@ contains
     !> The beams' forces and moments at x(n) from v(n-1/2), w(n-1/2), added to
     !> f and mom in node order (mom set, not added, where `set_mom`: no
     !> shell wrote it this cycle); the smallest stable step.
-    subroutine beam_forces(bm, x, v, w, dt, f, mom, set_mom)
+    subroutine beam_forces(bm, x, v, w, dt, time, f, mom, set_mom)
         type(beams_t), intent(inout) :: bm
         real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
+        real(dp), intent(in) :: time
         real(wp), intent(inout) :: f(:, :), mom(:, :)
         logical, intent(in) :: set_mom
         integer :: e, n1, n2, nd, q, k
@@ -147,7 +157,14 @@ contains
         real(wp) :: dte, ro, imax
         bm%dtmin = huge(1.0_wp)
         bm%crit = 0
+        if (size(bm%newly) > 0) deallocate (bm%newly)
+        if (.not. allocated(bm%newly)) allocate (bm%newly(0))
         do e = 1, bm%n
+            if (bm%dead(e)) then
+                bm%fe(:, 2*e - 1:2*e) = 0
+                bm%me(:, 2*e - 1:2*e) = 0
+                cycle
+            end if
             n1 = bm%conn(1, e)
             n2 = bm%conn(2, e)
             e1 = x(:, n2) - x(:, n1)
@@ -181,6 +198,19 @@ contains
             ! the work over the step, at the mean of the resultants before
             ! and after it
             bm%eint(e) = bm%eint(e) + 0.5_dp*dt*dot_product(real(old + bm%res(:, e), dp), real(r, dp))
+            ! a spot weld fails at TFAIL, or on its resultants: sum (R_i /
+            ! R_iF)^2 >= 1 over the axial force in tension, the shears along s
+            ! and t (the end moments' sum over L), the torque and the larger
+            ! end moments about s and t; it carries nothing from then on
+            if (bm%weld(e)) then
+                if (weld_fails(e, l)) then
+                    bm%dead(e) = .true.
+                    bm%newly = [bm%newly, e]
+                    bm%fe(:, 2*e - 1:2*e) = 0
+                    bm%me(:, 2*e - 1:2*e) = 0
+                    cycle
+                end if
+            end if
             ! forces and moments on the nodes
             m1 = bm%res(3, e)*e2 + bm%res(5, e)*e3
             m2 = bm%res(4, e)*e2 + bm%res(6, e)*e3
@@ -208,6 +238,22 @@ contains
                 mom(:, nd) = mom(:, nd) + bm%me(:, k)
             end do
         end do
+    contains
+        logical function weld_fails(e, l)
+            integer, intent(in) :: e
+            real(wp), intent(in) :: l
+            real(wp) :: r(6), c
+            integer :: k
+            weld_fails = bm%tfail(e) > 0.0_wp .and. time >= bm%tfail(e)
+            if (weld_fails) return
+            r = [max(bm%res(1, e), 0.0_wp), abs(bm%res(5, e) + bm%res(6, e))/l, abs(bm%res(3, e) + bm%res(4, e))/l, &
+                 abs(bm%res(2, e)), max(abs(bm%res(3, e)), abs(bm%res(4, e))), max(abs(bm%res(5, e)), abs(bm%res(6, e)))]
+            c = 0
+            do k = 1, 6
+                if (bm%rfail(k, e) > 0.0_wp) c = c + (r(k)/bm%rfail(k, e))**2
+            end do
+            weld_fails = c >= 1.0_wp .and. any(bm%rfail(:, e) > 0.0_wp)
+        end function weld_fails
     end subroutine beam_forces
 
 end module xd_elements_beam_bs

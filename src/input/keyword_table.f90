@@ -67,6 +67,8 @@ module xd_input_keyword_table
         entry_t('MAT_024', fam_material, 'MAT_PIECEWISE_LINEAR_PLASTICITY', .false.), &
         entry_t('MAT_RIGID', fam_material, '', .false.), &
         entry_t('MAT_ADD_EROSION', fam_material, '', .false.), &
+        entry_t('MAT_SPOTWELD', fam_material, '', .false.), &
+        entry_t('MAT_100', fam_material, 'MAT_SPOTWELD', .false.), &
         entry_t('MAT_020', fam_material, 'MAT_RIGID', .false.), &
         entry_t('HOURGLASS', fam_material, '', .false.), &
         entry_t('SET_NODE_LIST', fam_set, '', .false.), &
@@ -182,6 +184,7 @@ module xd_input_keyword_table
         entry_t('CONTACT_TIED_SHELL_EDGE_TO_SURFACE_OFFSET', fam_contact, '', .true.), &
         entry_t('CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET', fam_contact, '', .true.), &
         entry_t('CONTACT_TIED_SURFACE_TO_SURFACE_OFFSET', fam_contact, '', .true.), &
+        entry_t('CONTACT_SPOTWELD', fam_contact, '', .true.), &
         entry_t('CONTROL_CONTACT', fam_contact, '', .false.), &
         entry_t('CONTROL_XDYNA_CONTACT', fam_contact, '', .false.) &
         ]

@@ -11,7 +11,7 @@ module xd_input_model_check
     use xd_input_check_contacts, only: check_contacts
     use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
                                 hex_regular, hex_wedge, hex_tet, hex_bad
-    use xd_model, only: model_t, find_set, mat_rigid, mat_elastic, set_node, set_shell, pressure_t, set_part, &
+    use xd_model, only: model_t, find_set, mat_rigid, mat_elastic, mat_spotweld, set_node, set_shell, pressure_t, set_part, &
         iv_node_set, iv_node, &
         iv_generation, find_box, find_coord, point_mass_t
     implicit none
@@ -302,9 +302,11 @@ contains
                 call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//' has no beam section')
                 return
             end if
-            if (model%mat(model%part(p)%mat_ix)%mtype /= mat_elastic) then
+            if (model%mat(model%part(p)%mat_ix)%mtype /= mat_elastic .and. &
+                model%mat(model%part(p)%mat_ix)%mtype /= mat_spotweld) then
                 call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//': beams take an elastic '// &
-                                'material (*MAT_ELASTIC) in xdyna; plastic and rigid beams are not in xdyna')
+                                'material (*MAT_ELASTIC, or *MAT_SPOTWELD) in xdyna; plastic and rigid beams are not '// &
+                                'in xdyna')
                 return
             end if
             do k = 1, 3

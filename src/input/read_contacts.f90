@@ -71,6 +71,9 @@ contains
         case ('CONTACT_TIED_SHELL_EDGE_TO_SURFACE_OFFSET', 'CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET')
             c%kind = ct_tied_shell_edge; c%tied_offset = .true.
         case ('CONTACT_TIED_SURFACE_TO_SURFACE_OFFSET'); c%kind = ct_tied_surface; c%tied_offset = .true.
+        ! spot welds: the beams' nodes (slave parts, or a node set) tied to
+        ! the shells with their rotations, at their gaps
+        case ('CONTACT_SPOTWELD'); c%kind = ct_tied_shell_edge; c%tied_offset = .true.
         end select
         tied = c%kind >= ct_tied_nodes
         if (kw%has_id) then

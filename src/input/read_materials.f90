@@ -1,11 +1,12 @@
 !> Readers for the material keywords and *HOURGLASS.
 module xd_input_read_materials
     use xd_kinds, only: wp
+    use xd_core_strings, only: itoa
     use xd_core_errors, only: error_t, make_error
     use xd_input_field_reader, only: card_t, get_int, get_real, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: read_ctx_t, get_card, first_card, no_more_cards, add_warning, ignored_fields
-    use xd_model, only: model_t, material_t, hourglass_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, &
+    use xd_model, only: mat_spotweld, model_t, material_t, hourglass_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, &
                         mat_rigid
     implicit none
     private
@@ -29,6 +30,8 @@ contains
             call read_mat_add_erosion(ctx, kw, model, error)
         case ('MAT_RIGID')
             call read_mat_rigid(ctx, kw, model, error)
+        case ('MAT_SPOTWELD')
+            call read_mat_spotweld(ctx, kw, model, error)
         case ('HOURGLASS')
             call read_hourglass(ctx, kw, model, error)
         end select
@@ -334,6 +337,55 @@ contains
         call push_material(model, m)
         call no_more_cards(ctx, kw, ic + 4, error)
     end subroutine read_mat_piecewise
+
+    !> *MAT_SPOTWELD: card 1 MID RO E PR SIGY ET DT TFAIL; card 2 EFAIL NRR NRS
+    !> NRT MRR MSS MTT NF. The weld is elastic (SIGY and ET named and not
+    !> used); it fails at TFAIL, or where sum (R_i / R_iF)^2 >= 1 over the
+    !> given resultants (the axial force in tension only); EFAIL (a plastic
+    !> strain) is refused.
+    subroutine read_mat_spotweld(ctx, kw, model, error)
+        type(read_ctx_t), intent(in) :: ctx
+        type(keyword_t), intent(in) :: kw
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        type(material_t) :: m
+        real(wp) :: v
+        integer :: ic, k
+        ic = first_card(kw)
+        if (ic > kw%ncard) return
+        call get_card(ctx, kw, ic, 'MID RO E PR SIGY ET DT TFAIL', 1, card, error)
+        if (allocated(error)) return
+        call read_elastic_constants(card, m, error); if (allocated(error)) return
+        call get_real(card, 5, m%sigy, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 8, m%tfail, 0.0_wp, error); if (allocated(error)) return
+        call ignored_fields(model, card, [7], 'DT (a time step for the weld''s own scaling) is not used; ignored')
+        if (m%sigy > 0.0_wp) call add_warning(model, ctx%src%where(kw%card_line(ic))//': *MAT_SPOTWELD '// &
+            itoa(m%id)//' fields SIGY/ET: the weld stays elastic in xdyna (no plasticity); it fails by TFAIL and '// &
+            'its resultant criterion')
+        m%src = kw%card_line(ic)
+        if (ic + 1 <= kw%ncard) then
+            call get_card(ctx, kw, ic + 1, 'EFAIL NRR NRS NRT MRR MSS MTT NF', 2, card, error)
+            if (allocated(error)) return
+            call get_real(card, 1, v, 0.0_wp, error); if (allocated(error)) return
+            if (v /= 0.0_wp) then
+                call card_error(card, 1, 'EFAIL (a plastic strain at failure) is not in xdyna: the weld is elastic', &
+                                error)
+                return
+            end if
+            do k = 1, 6
+                call get_real(card, 1 + k, m%rfail(k), 0.0_wp, error); if (allocated(error)) return
+                if (m%rfail(k) < 0.0_wp) then
+                    call card_error(card, 1 + k, 'the resultants at failure must not be negative', error); return
+                end if
+            end do
+            call ignored_fields(model, card, [8], 'NF (a filter on the resultants) is not used; ignored')
+        end if
+        m%mtype = mat_spotweld
+        m%keyword = 'MAT_SPOTWELD'
+        call push_material(model, m)
+        call no_more_cards(ctx, kw, ic + 2, error)
+    end subroutine read_mat_spotweld
 
     subroutine read_mat_elastic(ctx, kw, model, error)
         type(read_ctx_t), intent(in) :: ctx

@@ -85,9 +85,9 @@ contains
         if (s%id <= 0) then
             call card_error(card, 1, 'section id must be a positive integer', error); return
         end if
-        if (s%elform /= 1 .and. s%elform /= 2) then
+        if (s%elform /= 1 .and. s%elform /= 2 .and. s%elform /= 9) then
             call card_error(card, 2, 'beam formulation '//trim(card%f(2))//' is not supported (1: Hughes-Liu '// &
-                            'with an elastic material, 2: Belytschko-Schwer resultant)', error)
+                            'with an elastic material, 2: Belytschko-Schwer resultant, 9: spot weld)', error)
             return
         end if
         if (s%nsm < 0.0_wp) then
@@ -117,6 +117,12 @@ contains
                 call card_error(card, 2, 'a tapered beam (TS2 /= TS1 or TT2 /= TT1) is not in xdyna', error); return
             end if
             call ignored_fields(model, card, [5, 6], 'the reference surface offsets are not used; ignored')
+            if (s%elform == 9 .and. s%cst == 0) then
+                ! a spot weld: a round bar of diameter TS1 (LS-DYNA's CST 0
+                ! for ELFORM 9 means a circle too)
+                s%cst = 1
+                v(3) = 0
+            end if
             if (s%cst == 0) then
                 ! a rectangle TS1 wide along s and TT1 along t
                 if (.not. (v(1) > 0.0_wp .and. v(3) > 0.0_wp)) then

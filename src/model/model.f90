@@ -9,7 +9,7 @@ module xd_model
     public :: spc_t, init_vel_t, init_stress_t, controls_t, database_t, history_request_t
     public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, segment_set_t, pressure_t, curve_value
     public :: box_t, find_box, in_box, coord_t, find_coord, mark_part_nodes
-    public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear
+    public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear, mat_spotweld
     public :: set_node, set_part, set_shell, find_set, constraint_dirs
     public :: iv_node_set, iv_node, iv_generation
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
@@ -19,7 +19,7 @@ module xd_model
     public :: styp_segment_set, styp_shell_set, styp_part_set, styp_part, styp_node_set, styp_all, styp_all_but
 
     integer, parameter :: mat_elastic = 1, mat_plastic_kinematic = 3, mat_rigid = 20, &
-                          mat_piecewise_linear = 24
+                          mat_piecewise_linear = 24, mat_spotweld = 100
     integer, parameter :: set_node = 1, set_part = 2, set_shell = 3
     integer, parameter :: iv_node_set = 1, iv_node = 2, iv_generation = 3
 
@@ -89,6 +89,9 @@ module xd_model
         integer :: ncs = 1                    !< criteria a point must meet together
         logical :: erosion = .false.          !< *MAT_ADD_EROSION given
         integer :: add_src = 0
+        !> *MAT_SPOTWELD: TFAIL and the resultants at failure NRR NRS NRT MRR
+        !> MSS MTT (0: not in the criterion)
+        real(wp) :: tfail = 0, rfail(6) = 0
     end type material_t
 
     type :: hourglass_t

@@ -217,6 +217,7 @@ contains
             call dput(f, 'beam_res', [bm%res], nf)
             call dput(f, 'beam_e2', [bm%e2], nf)
             call dput(f, 'beam_eint', bm%eint, nf)
+            call dput(f, 'beam_dead', merge(1, 0, bm%dead), nf)
         end if
         ! tiebreaks: which ties broke, the softening ones' state
         if (td%n > 0) then
@@ -539,6 +540,7 @@ contains
             call getw(f, 'beam_res', 6*bm%n); if (ok()) bm%res = reshape(bw, [6, bm%n])
             call getw(f, 'beam_e2', 3*bm%n); if (ok()) bm%e2 = reshape(bw, [3, bm%n])
             call getd(f, 'beam_eint', bm%n); if (ok()) bm%eint = bd
+            call geti(f, 'beam_dead', bm%n); if (ok()) bm%dead = bi /= 0
             if (.not. ok()) return
         end if
         if (sh%n > 0) then

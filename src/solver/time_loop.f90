@@ -555,13 +555,21 @@ contains
         !> The beams, on every rank alike, added to the shared forces; their
         !> step joins the elements'.
         subroutine beams()
+            integer :: k
+            character(len=250) :: buf
             beam_crit = 0
             dtc_pass = huge(1.0_wp)
             if (bm%n == 0) return
             call tm%start(ph_elements)
-            call beam_forces(bm, st%x, st%v, st%vr, st%dt_old, st%f, st%mom, sh%n == 0)
+            call beam_forces(bm, st%x, st%v, st%vr, st%dt_old, st%time, st%f, st%mom, sh%n == 0)
             call tm%stop(ph_elements)
             dtc_pass = bm%dtmin
+            do k = 1, size(bm%newly)
+                write (buf, '(a,i0,a,i0,a,es12.5,a,6es11.3,a)') ' spot weld beam ', bm%eid(bm%newly(k)), ' of part ', &
+                    model%part(bm%part(bm%newly(k)))%id, ' failed at time ', st%time, ' (N, T, M at the ends: ', &
+                    bm%res(:, bm%newly(k)), ')'
+                call log_line(lg, trim(buf))
+            end do
         end subroutine beams
 
         !> MPI: the smallest step of all ranks (ties: solids before shells, then
