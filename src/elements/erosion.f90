@@ -24,7 +24,7 @@ module xd_elements_erosion
     use xd_elements_shell_bt, only: shells_t
     implicit none
     private
-    public :: shell_failures, erode_shells
+    public :: shell_failures, erode_shells, dead_model_shells
 
 contains
 
@@ -107,5 +107,15 @@ contains
         end do
         sh%mine = pack(sh%mine, .not. sh%dead(sh%mine))
     end subroutine erode_shells
+
+    !> The eroded shells over the model's shell list (index 0, a solid face:
+    !> never), as the contact's surfaces know them.
+    function dead_model_shells(sh, nshell) result(dead)
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: nshell
+        logical :: dead(0:nshell)
+        dead = .false.
+        dead(sh%model_ix) = sh%dead
+    end function dead_model_shells
 
 end module xd_elements_erosion

@@ -192,19 +192,9 @@ contains
         if (allocated(error)) return
         call get_int(card, 1, mid, 0, error); if (allocated(error)) return
         call get_real(card, 2, excl, 0.0_wp, error); if (allocated(error)) return
-        do k = 3, 6
-            call get_real(card, k, v(k), 0.0_wp, error); if (allocated(error)) return
-            if (v(k) == excl) v(k) = 0
-        end do
+        call given(3, 6); if (allocated(error)) return
         m%mxpres = v(3)
-        do k = 4, 6
-            if (v(k) /= 0.0_wp) then
-                call card_error(card, k, 'the strain criteria (MNEPS, EFFEPS, VOLEPS) are not in xdyna; give 0 '// &
-                                'or EXCL', error)
-                return
-            end if
-        end do
-        call get_real(card, 7, v(7), 0.0_wp, error); if (allocated(error)) return
+        call refuse(4, 6, 'the strain criteria (MNEPS, EFFEPS, VOLEPS)'); if (allocated(error)) return
         call get_int(card, 7, m%numfip, 1, error, zero_default=.true.); if (allocated(error)) return
         call get_int(card, 8, m%ncs, 1, error, zero_default=.true.); if (allocated(error)) return
         if (m%numfip < 0) then
@@ -218,21 +208,13 @@ contains
         if (ic + 1 <= kw%ncard) then
             call get_card(ctx, kw, ic + 1, 'MNPRES SIGP1 SIGVM MXEPS EPSSH SIGTH IMPULSE FAILTM', 2, card, error)
             if (allocated(error)) return
-            do k = 1, 8
-                call get_real(card, k, v(k), 0.0_wp, error); if (allocated(error)) return
-                if (v(k) == excl) v(k) = 0
-            end do
+            call given(1, 8); if (allocated(error)) return
             m%mnpres = v(1)
             m%sigp1 = v(2)
             m%sigvm = v(3)
             m%failtm = v(8)
-            do k = 4, 7
-                if (v(k) /= 0.0_wp) then
-                    call card_error(card, k, 'the strain, threshold and impulse criteria (MXEPS, EPSSH, SIGTH, '// &
-                                    'IMPULSE) are not in xdyna; give 0 or EXCL', error)
-                    return
-                end if
-            end do
+            call refuse(4, 7, 'the strain, threshold and impulse criteria (MXEPS, EPSSH, SIGTH, IMPULSE)')
+            if (allocated(error)) return
             if (m%sigp1 < 0.0_wp .or. m%sigvm < 0.0_wp .or. m%mxpres < 0.0_wp .or. m%failtm < 0.0_wp) then
                 call card_error(card, 2, 'SIGP1, SIGVM, MXPRES and FAILTM must not be negative', error)
                 return
@@ -247,6 +229,27 @@ contains
             model%erosion = [model%erosion, m]
         end if
         call no_more_cards(ctx, kw, ic + 2, error)
+    contains
+        !> fields k1..k2 of the card into v, a field equal to EXCL read as 0
+        subroutine given(k1, k2)
+            integer, intent(in) :: k1, k2
+            do k = k1, k2
+                call get_real(card, k, v(k), 0.0_wp, error); if (allocated(error)) return
+                if (v(k) == excl) v(k) = 0
+            end do
+        end subroutine given
+
+        !> fields k1..k2 (read by given) must not be given
+        subroutine refuse(k1, k2, what)
+            integer, intent(in) :: k1, k2
+            character(len=*), intent(in) :: what
+            do k = k1, k2
+                if (v(k) /= 0.0_wp) then
+                    call card_error(card, k, what//' are not in xdyna; give 0 or EXCL', error)
+                    return
+                end if
+            end do
+        end subroutine refuse
     end subroutine read_mat_add_erosion
 
     !> Card 1 MID RO E PR SIGY ETAN FAIL TDEL; card 2 C P LCSS LCSR VP;

@@ -20,7 +20,7 @@ program xdyna
     use xd_solver_setup, only: setup_run
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
     use xd_contact_rigidwall, only: walls_t, build_walls
-    use xd_elements_erosion, only: erode_shells
+    use xd_elements_erosion, only: erode_shells, dead_model_shells
     use xd_elements_beam_bs, only: beams_t
     use xd_contact_tied, only: ties_t, place_ties, start_ties
     use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses, contact_erode
@@ -62,7 +62,6 @@ program xdyna
     type(ties_t) :: td
     type(beams_t) :: bm
     integer, allocatable :: dead_now(:)
-    logical, allocatable :: dead_model(:)
     type(shells_t) :: sh
     type(assembly_t) :: asm_sh
     type(histories_t) :: hist
@@ -85,7 +84,7 @@ program xdyna
     character(len=:), allocatable :: bad_out
     !> the files a run writes in its output directory (besides d3hsp and
     !> the d3plot members)
-    character(len=12), parameter :: out_names(11) = [character(len=12) :: 'glstat', 'matsum', 'nodout', &
+    character(len=13), parameter :: out_names(11) = [character(len=13) :: 'glstat', 'matsum', 'nodout', &
         'rwforc', 'rcforc', 'thist.h5', 'd3plot', 'd3plot.h5', 'd3plot.xdmf', 'd3dump.h5', 'contact_debug']
     integer :: h5plot                !< h5plot= (or XDYNA_H5PLOT): 1 also d3plot.h5, 0 not, -1 the deck's
     integer :: xfactor               !< x=: d3plot member size in 262,144 words (0: the deck's)
@@ -341,12 +340,7 @@ program xdyna
                 sh%dead = .false.
                 sh%ndead = 0
                 call erode_shells(sh, dead_now)
-                if (ct%n > 0) then
-                    allocate (dead_model(0:model%nshell))
-                    dead_model = .false.
-                    dead_model(sh%model_ix) = sh%dead
-                    call contact_erode(ct, dead_model)
-                end if
+                if (ct%n > 0) call contact_erode(ct, dead_model_shells(sh, model%nshell))
             end if
         end if
         call open_histories(model, stem, rg, hist, ok, resume=hmarks, writer=env%rank == 0, rotating=st%rot)

@@ -26,7 +26,7 @@ module xd_solver_time_loop
                                pressure_power
     use xd_contact_rigidwall, only: walls_t, apply_walls
     use xd_contact_enforcement, only: body_response_t
-    use xd_elements_erosion, only: shell_failures, erode_shells
+    use xd_elements_erosion, only: shell_failures, erode_shells, dead_model_shells
     use xd_elements_beam_bs, only: beams_t, beam_forces
     use xd_contact_tied, only: ties_t, tie_forces, tie_accelerations, tie_velocities, tie_kinetic, tie_break
     use xd_contact_contact, only: contacts_t, contact_search, contact_drift, contact_local_search, contact_enforce, &
@@ -696,7 +696,6 @@ contains
         subroutine erosion()
             integer, allocatable :: newly(:)
             real(dp), allocatable :: flag(:)
-            logical, allocatable :: dead_model(:)
             integer :: k
             character(len=200) :: buf
             call shell_failures(sh, model%mat, st%time, newly)
@@ -717,12 +716,7 @@ contains
                     sh%eint(newly(k))
                 call log_line(lg, trim(buf))
             end do
-            if (ct%n > 0) then
-                allocate (dead_model(0:model%nshell))
-                dead_model = .false.
-                dead_model(sh%model_ix) = sh%dead
-                call contact_erode(ct, dead_model)
-            end if
+            if (ct%n > 0) call contact_erode(ct, dead_model_shells(sh, model%nshell))
         end subroutine erosion
 
         subroutine accelerations()
