@@ -113,6 +113,10 @@ contains
         s = s//trim(buf)//nl
         write (buf, '(a,i12)') '   shell elements ...................', model%nshell
         s = s//trim(buf)//nl
+        if (model%nbeam > 0) then
+            write (buf, '(a,i12)') '   beam elements ....................', model%nbeam
+            s = s//trim(buf)//nl
+        end if
         write (buf, '(a,i12)') '   solid element groups .............', solids%ngroup
         s = s//trim(buf)//nl
         write (buf, '(a,i12)') '   parts ............................', model%npart
@@ -123,6 +127,7 @@ contains
         do p = 1, model%npart
             ne = count(model%hex_part(1:model%nhex) == p)
             if (model%nshell > 0) ne = ne + count(model%shell_part(1:model%nshell) == p)
+            if (model%nbeam > 0) ne = ne + count(model%beam_part(1:model%nbeam) == p)
             m = model%part(p)%mat_ix
             write (buf, '(i7,i14,3x,a12,i10,2x,a)') model%part(p)%id, model%mat(m)%id, &
                 model%mat(m)%keyword(5:16), ne, trim(model%part(p)%heading)
@@ -131,8 +136,10 @@ contains
         s = s//nl//' subsystems in use (a deck pays only for these)'//nl
         if (solids%n > 0) then
             s = s//'   solid elements ............ on  (one-point hexahedron, Flanagan-Belytschko)'//nl
-        else
+        else if (model%nhex > 0) then
             s = s//'   solid elements ............ off (only rigid parts)'//nl
+        else
+            s = s//'   solid elements ............ off (none in the deck)'//nl
         end if
         if (solids%ngroup > 0) then
             if (any(solids%group%hg_form == hg_stiffness)) then
