@@ -352,9 +352,9 @@ program xdyna
         call finish_alone(exit_run)
     end if
     if (len(restart) > 0) then
-        call open_states(model, stem, opts%endtim, solids, sh, states, ok, resume=smarks, writer=env%rank == 0)
+        call open_states(model, stem, opts%endtim, solids, sh, states, ok, resume=smarks, writer=env%rank == 0, bm=bm)
     else
-        call open_states(model, stem, opts%endtim, solids, sh, states, ok, writer=env%rank == 0)
+        call open_states(model, stem, opts%endtim, solids, sh, states, ok, writer=env%rank == 0, bm=bm)
     end if
     ! restart dumps: every N cycles and at the end if the deck asks, and
     ! always on a stop signal or the wall-clock limit

@@ -158,7 +158,7 @@ contains
         end if
         if (model%nbeam > 0) then
             s = s//'   beam elements ............. on  (Belytschko-Schwer resultant, elastic, '//itoa(model%nbeam)// &
-                '; not written to the d3plot)'//nl
+                '; in the d3plot, not in d3plot.h5)'//nl
         else
             s = s//'   beam elements ............. off (none in the deck)'//nl
         end if

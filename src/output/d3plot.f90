@@ -9,8 +9,10 @@
 !> (VTK's, lasso-python's) label the parts with them. The states follow in
 !> the members after it; a state is the time, the global variables, current
 !> coordinates and velocities of every node, 7 words per hexahedron (stress
-!> xx yy zz xy yz zx, effective plastic strain), NV2D words per shell and
-!> one deletion flag per element (1: in the model). The first state opens
+!> xx yy zz xy yz zx, effective plastic strain), 6 per beam (axial force,
+!> shears along s and t, moments about s and t at mid-length, torque), NV2D
+!> words per shell and
+!> one deletion flag per element (1: in the model; solids, shells, beams). The first state opens
 !> `d3plot01`; `d3plot02`, ... follow when a state would take a member past its size
 !> (a state is never split); a member followed by another ends with the
 !> end-of-file marker -999999.0, the last one after its last state (VTK's
@@ -60,7 +62,10 @@ module xd_output_d3plot
         integer, allocatable :: solid_mat(:), solid_id(:)
         integer, allocatable :: shell_conn(:, :)      !< (4, nshell)
         integer, allocatable :: shell_mat(:), shell_id(:)
+        integer, allocatable :: beam_conn(:, :)       !< (3, nbeam) N1 N2 and the orientation node (N2 if none)
+        integer, allocatable :: beam_mat(:), beam_id(:)
         integer :: nmat_solid = 0, nmat_shell = 0     !< NUMMAT8, NUMMAT4
+        integer :: nmat_beam = 0                      !< NUMMAT2
         integer, allocatable :: part_id(:)            !< the deck's id of each material (NMMAT)
         character(len=70), allocatable :: part_title(:) !< the deck's heading of each (*PART's first card)
         integer :: maxint = 3
@@ -78,6 +83,7 @@ module xd_output_d3plot
         integer(int64) :: head_words = 0              !< control, geometry, ids and titles
         integer(int64) :: state_words = 0
         integer :: nnode = 0, nsolid = 0, nshell = 0, nmmat = 0, maxint = 3, nv2d = 0, nglbv = 0
+        integer :: nbeam = 0
         logical :: failed = .false.
         character(len=:), allocatable :: failed_file
     end type d3plot_t
@@ -117,14 +123,16 @@ contains
         d%nnode = size(mesh%node_id)
         d%nsolid = size(mesh%solid_id)
         d%nshell = size(mesh%shell_id)
+        d%nbeam = 0
+        if (allocated(mesh%beam_id)) d%nbeam = size(mesh%beam_id)
         d%nmmat = size(mesh%part_id)
         d%maxint = mesh%maxint
         d%nv2d = 7*d%maxint + 12
         d%nglbv = 6 + 7*d%nmmat
         call static_words(d, mesh, head)
         d%head_words = size(head, kind=int64)
-        d%state_words = 1 + d%nglbv + 6_int64*d%nnode + 7_int64*d%nsolid + int(d%nv2d, int64)*d%nshell &
-                        + d%nsolid + d%nshell
+        d%state_words = 1 + d%nglbv + 6_int64*d%nnode + 7_int64*d%nsolid + 6_int64*d%nbeam + &
+                        int(d%nv2d, int64)*d%nshell + d%nsolid + d%nshell + d%nbeam
         if (keep >= 0) then
             call cut_back(d, keep, ok)
             return
@@ -149,7 +157,7 @@ contains
         integer(int32) :: c(nhead)
         integer :: narbs, k, ngeo, p0, i
         character(len=40) :: title
-        narbs = 16 + d%nnode + d%nsolid + d%nshell + 3*d%nmmat
+        narbs = 16 + d%nnode + d%nsolid + d%nbeam + d%nshell + 3*d%nmmat
         c = 0
         title = mesh%title(1:40)
         do k = 1, 10
@@ -171,7 +179,8 @@ contains
         c(24) = d%nsolid               ! NEL8
         c(25) = mesh%nmat_solid        ! NUMMAT8
         c(28) = 7                      ! NV3D: six stresses and the plastic strain
-        c(29) = 0                      ! NEL2: no beams
+        c(29) = d%nbeam                ! NEL2: beams
+        c(30) = mesh%nmat_beam         ! NUMMAT2
         c(31) = 6                      ! NV1D
         c(32) = d%nshell               ! NEL4
         c(33) = mesh%nmat_shell        ! NUMMAT4
@@ -184,7 +193,7 @@ contains
         c(44:47) = 1000                ! IOSHL: stresses, plastic strain, resultants, thickness
         c(52) = d%nmmat                ! NMMAT
         ! geometry: coordinates, hexahedra (8 nodes, material), shells (4, material)
-        ngeo = 3*d%nnode + 9*d%nsolid + 5*d%nshell
+        ngeo = 3*d%nnode + 9*d%nsolid + 6*d%nbeam + 5*d%nshell
         allocate (w(nhead + ngeo + narbs + 3 + 19*d%nmmat + 19))
         w(1:nhead) = c
         k = nhead
@@ -194,6 +203,13 @@ contains
             w(k + 1:k + 8) = mesh%solid_conn(:, i)
             w(k + 9) = mesh%solid_mat(i)
             k = k + 9
+        end do
+        ! beams: N1 N2, the orientation node, two unused words, material
+        do i = 1, d%nbeam
+            w(k + 1:k + 3) = mesh%beam_conn(:, i)
+            w(k + 4:k + 5) = 0
+            w(k + 6) = mesh%beam_mat(i)
+            k = k + 6
         end do
         do i = 1, d%nshell
             w(k + 1:k + 4) = mesh%shell_conn(:, i)
@@ -206,11 +222,11 @@ contains
         w(k + 1) = -p0                             ! NSORT (< 0: material ids follow)
         w(k + 2) = p0 + d%nnode                    ! NSRH
         w(k + 3) = p0 + d%nnode + d%nsolid         ! NSRB
-        w(k + 4) = w(k + 3)                        ! NSRS (no beams)
+        w(k + 4) = w(k + 3) + d%nbeam              ! NSRS
         w(k + 5) = w(k + 4) + d%nshell             ! NSRT
         w(k + 6) = d%nnode                         ! NSORTD
         w(k + 7) = d%nsolid                        ! NSRHD
-        w(k + 8) = 0                               ! NSRBD
+        w(k + 8) = d%nbeam                         ! NSRBD
         w(k + 9) = d%nshell                        ! NSRSD
         w(k + 10) = 0                              ! NSRTD
         w(k + 11) = w(k + 5)                       ! NSRMA
@@ -224,6 +240,8 @@ contains
         k = k + d%nnode
         w(k + 1:k + d%nsolid) = mesh%solid_id
         k = k + d%nsolid
+        if (d%nbeam > 0) w(k + 1:k + d%nbeam) = mesh%beam_id
+        k = k + d%nbeam
         w(k + 1:k + d%nshell) = mesh%shell_id
         k = k + d%nshell
         w(k + 1:k + d%nmmat) = mesh%part_id          ! sorted as numbered
@@ -261,10 +279,10 @@ contains
     !> One state. glob: the NGLBV global variables; x, v: coordinates and
     !> velocities of every node; solid: (7, nsolid); shell: (nv2d, nshell);
     !> alive: one flag per element, hexahedra first.
-    subroutine d3plot_write(d, time, glob, x, v, solid, shell, alive)
+    subroutine d3plot_write(d, time, glob, x, v, solid, beam, shell, alive)
         type(d3plot_t), intent(inout) :: d
         real(kind(1.0d0)), intent(in) :: time
-        real(real32), intent(in) :: glob(:), x(:, :), v(:, :), solid(:, :), shell(:, :), alive(:)
+        real(real32), intent(in) :: glob(:), x(:, :), v(:, :), solid(:, :), beam(:, :), shell(:, :), alive(:)
         integer :: ios
         integer(int64) :: pos
         if (.not. d%on .or. d%failed) return
@@ -289,7 +307,7 @@ contains
             end if
         end if
         pos = 4*d%words + 1
-        write (d%u, pos=pos, iostat=ios) real(time, real32), glob, x, v, solid, shell, alive
+        write (d%u, pos=pos, iostat=ios) real(time, real32), glob, x, v, solid, beam, shell, alive
         if (ios == 0) flush (d%u, iostat=ios)
         if (ios /= 0) then
             call fail_member(d)

@@ -22,6 +22,7 @@ module xd_output_states
     use xd_model, only: model_t, mat_rigid
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
+    use xd_elements_beam_bs, only: beams_t
     use xd_elements_shell_bt, only: shells_t, shell_axes, point_weight, point_z
     use xd_solver_energies, only: energies_t
     use xd_output_d3plot, only: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_write, d3plot_close, member_unit
@@ -73,7 +74,7 @@ contains
     !> Create d3plot.h5 with the mesh, if the deck asks for states; with
     !> `resume` (a restart), open the run's file, drop the states written
     !> after the dump and go on.
-    subroutine open_states(model, outdir, endtim, solids, sh, s, ok, resume, writer)
+    subroutine open_states(model, outdir, endtim, solids, sh, s, ok, resume, writer, bm)
         type(model_t), intent(in) :: model
         character(len=*), intent(in) :: outdir
         real(dp), intent(in) :: endtim
@@ -83,6 +84,7 @@ contains
         logical, intent(out) :: ok
         type(states_marks_t), intent(in), optional :: resume
         logical, intent(in), optional :: writer   !< .false.: keep the schedule only (MPI ranks > 0)
+        type(beams_t), intent(in), optional :: bm   !< beams (the binary d3plot carries them)
         integer :: err, k, e
         integer(hid_t) :: g
         logical :: there
@@ -114,7 +116,7 @@ contains
         end if
         if (.not. s%writer) return
         if (model%db%d3plot_binary) then
-            call open_binary(model, outdir, solids, sh, rhex, rshell, s, ok, resume)
+            call open_binary(model, outdir, solids, sh, rhex, rshell, s, ok, resume, bm)
             if (.not. ok) return
         end if
         if (.not. s%h5) return
@@ -159,7 +161,7 @@ contains
 
     !> The binary d3plot family's first member (or, on a restart, the family
     !> cut back to the dump's states).
-    subroutine open_binary(model, outdir, solids, sh, rhex, rshell, s, ok, resume)
+    subroutine open_binary(model, outdir, solids, sh, rhex, rshell, s, ok, resume, bm)
         type(model_t), intent(in) :: model
         character(len=*), intent(in) :: outdir
         type(solids_t), intent(in) :: solids
@@ -168,10 +170,11 @@ contains
         type(states_t), intent(inout) :: s
         logical, intent(out) :: ok
         type(states_marks_t), intent(in), optional :: resume
+        type(beams_t), intent(in), optional :: bm
         type(d3plot_mesh_t) :: m
         integer, allocatable :: spart(:), hpart(:), dmat(:)
         logical, allocatable :: with_solid(:), with_shell(:)
-        integer :: p, k, keep
+        integer :: p, k, keep, e
         integer, allocatable :: hconn(:, :), hid(:)
         ! the deformable elements (a model without shells has none allocated),
         ! then the rigid ones
@@ -203,6 +206,22 @@ contains
             dmat(p) = k
         end do
         m%nmat_shell = k - m%nmat_solid
+        ! then parts with beams
+        if (present(bm)) then
+            if (bm%n > 0) then
+                do e = 1, bm%n
+                    p = bm%part(e)
+                    if (dmat(p) > 0) cycle
+                    k = k + 1
+                    dmat(p) = k
+                end do
+                m%nmat_beam = k - m%nmat_solid - m%nmat_shell
+                m%beam_conn = reshape([(bm%conn(:, e), merge(model%beam_conn(3, e), bm%conn(2, e), &
+                                        model%beam_conn(3, e) > 0), e=1, bm%n)], [3, bm%n])
+                m%beam_mat = dmat(bm%part)
+                m%beam_id = bm%eid
+            end if
+        end if
         allocate (s%dmat_part(k))
         do p = 1, model%npart
             if (dmat(p) > 0) s%dmat_part(dmat(p)) = p
@@ -233,7 +252,7 @@ contains
 
     !> One state at st%time: v is the velocity at that time, fc the contact
     !> force per node (absent: zero).
-    subroutine write_state(s, st, solids, sh, v, fc, en)
+    subroutine write_state(s, st, solids, sh, v, fc, en, bm)
         type(states_t), intent(inout) :: s
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
@@ -241,6 +260,7 @@ contains
         real(wp), intent(in) :: v(:, :)
         real(wp), intent(in), optional :: fc(:, :)
         type(energies_t), intent(in), optional :: en   !< the energies at st%time (absent: zero in the d3plot)
+        type(beams_t), intent(in), optional :: bm
         character(len=16) :: name
         integer(hid_t) :: g, sp, at
         integer(hsize_t) :: d1(1)
@@ -257,7 +277,7 @@ contains
         s%times = [s%times, st%time]
         if (.not. s%writer .or. s%failed) return
         if (s%bin%on) then
-            call write_binary(s, st, solids, sh, v, en)
+            call write_binary(s, st, solids, sh, v, en, bm)
             if (s%bin%failed) then
                 s%failed = .true.
                 s%failed_file = s%bin%failed_file
@@ -356,20 +376,23 @@ contains
     end subroutine write_state
 
     !> One state of the binary d3plot family.
-    subroutine write_binary(s, st, solids, sh, v, en)
+    subroutine write_binary(s, st, solids, sh, v, en, bm)
         type(states_t), intent(inout) :: s
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
         real(wp), intent(in) :: v(:, :)
         type(energies_t), intent(in), optional :: en
+        type(beams_t), intent(in), optional :: bm
         integer, parameter :: sp = kind(1.0e0)
+        real(sp), allocatable :: beam(:, :)
+        real(wp) :: lb
         real(sp), allocatable :: glob(:), solid(:, :), shell(:, :), alive(:)
         real(wp) :: r(3, 3), pt(5, 10), nr(5), mr(3), h, w, z
         integer :: e, nm, k, j, l, ip, ipx(3), nip, mx
         nm = size(s%dmat_part)
         mx = s%bin%maxint
-        allocate (glob(s%bin%nglbv), solid(7, s%nsolid), shell(s%bin%nv2d, s%nshell), alive(s%nsolid + s%nshell))
+        allocate (glob(s%bin%nglbv), solid(7, s%nsolid), shell(s%bin%nv2d, s%nshell))
         glob = 0
         if (present(en)) then
             glob(1:6) = real([en%ke, en%ie, en%total, en%vel], sp)
@@ -446,12 +469,31 @@ contains
         do e = 1, s%nrshell
             shell(7*mx + 9, sh%n + e) = real(s%rshell_t(e), sp)
         end do
+        ! beams: axial force, shears along s and t (the end moments' sum
+        ! over the length), moments about s and t at mid-length, torque
+        allocate (beam(6, s%bin%nbeam))
+        beam = 0
+        if (present(bm)) then
+            do e = 1, min(bm%n, s%bin%nbeam)
+                lb = norm2(st%x(:, bm%conn(2, e)) - st%x(:, bm%conn(1, e)))
+                beam(:, e) = real([bm%res(1, e), (bm%res(5, e) + bm%res(6, e))/lb, (bm%res(3, e) + bm%res(4, e))/lb, &
+                                   0.5_wp*(bm%res(3, e) - bm%res(4, e)), 0.5_wp*(bm%res(5, e) - bm%res(6, e)), &
+                                   bm%res(2, e)], sp)
+            end do
+        end if
+        allocate (alive(s%nsolid + s%nshell + s%bin%nbeam))
         alive = 1
+        if (present(bm)) then
+            do e = 1, min(bm%n, s%bin%nbeam)
+                if (bm%dead(e)) alive(s%nsolid + s%nshell + e) = 0
+            end do
+        end if
         ! eroded shells: deletion flag 0 (deformable shells come first)
         if (sh%n > 0) then
             if (sh%ndead > 0) where (sh%dead) alive(s%nsolid + 1:s%nsolid + sh%n) = 0
         end if
-        call d3plot_write(s%bin, st%time, glob, real(st%x(:, 1:s%nnode), sp), real(v(:, 1:s%nnode), sp), solid, shell, alive)
+        call d3plot_write(s%bin, st%time, glob, real(st%x(:, 1:s%nnode), sp), real(v(:, 1:s%nnode), sp), solid, beam, &
+                          shell, alive)
     end subroutine write_binary
 
     !> A shell layer's seven d3plot words: the local stress p (xx yy xy yz

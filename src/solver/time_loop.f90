@@ -913,9 +913,9 @@ contains
                 ! where this cycle computed the energies
                 call gather_element_state(dom, solids, sh, energies=.not. energy_now)
                 if (ct%n > 0) then
-                    call write_state(states, st, solids, sh, vn, ct%fnode, en=en)
+                    call write_state(states, st, solids, sh, vn, ct%fnode, en=en, bm=bm)
                 else
-                    call write_state(states, st, solids, sh, vn, en=en)
+                    call write_state(states, st, solids, sh, vn, en=en, bm=bm)
                 end if
                 state_asked = .false.
             end if
