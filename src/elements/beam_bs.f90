@@ -1,7 +1,11 @@
 !> Beams: the Belytschko-Schwer resultant beam (*SECTION_BEAM ELFORM 2; and
 !> ELFORM 1, Hughes-Liu, whose elastic response for a given section is the
 !> same small-strain resultant beam: xdyna computes A, ISS, ITT and J from
-!> its dimensions), elastic.
+!> its dimensions), elastic; with *MAT_003 or *MAT_024 on ELFORM 1, perfectly
+!> plastic in its resultants: each end's axial force, torque and moments are
+!> returned to the section's fully plastic surface (N/N_p)^2 + (T/T_p)^2 +
+!> (M_s/M_ps)^2 + (M_t/M_pt)^2 = 1 at the initial yield stress (hardening
+!> not used; LS-DYNA integrates Hughes-Liu's stresses over the section).
 !>
 !> Co-rotational: each cycle the local frame is e1 along the chord N1 -> N2,
 !> e2 (the section's s axis, from the orientation node N3 at t = 0) kept
@@ -28,7 +32,7 @@
 !> run's on every rank.
 module xd_elements_beam_bs
     use xd_kinds, only: wp, dp
-    use xd_model, only: model_t, mat_spotweld
+    use xd_model, only: model_t, mat_spotweld, mat_plastic_kinematic, mat_piecewise_linear
     use xd_core_vectors, only: cross
     implicit none
     private
@@ -51,6 +55,9 @@ module xd_elements_beam_bs
         logical, allocatable :: weld(:), dead(:)
         real(wp), allocatable :: tfail(:), rfail(:, :)   !< (n), (6, n): NRR NRS NRT MRR MSS MTT (0: unused)
         integer, allocatable :: newly(:)      !< the welds that failed this cycle
+        ! plastic beams (ELFORM 1 with *MAT_003 / *MAT_024): the fully plastic
+        ! resultants N_p, T_p, M_ps, M_pt (0: elastic)
+        real(wp), allocatable :: rp(:, :)     !< (4, n)
     end type beams_t
 
 contains
@@ -60,13 +67,14 @@ contains
         type(beams_t), intent(out) :: bm
         integer :: e, p, k, nd
         integer, allocatable :: fill(:)
-        real(wp) :: e1(3), v(3), s(3)
+        real(wp) :: e1(3), v(3), s(3), sy
         bm%n = model%nbeam
         if (bm%n == 0) return
         allocate (bm%conn(2, bm%n), bm%eid(bm%n), bm%part(bm%n), bm%e(bm%n), bm%g(bm%n), bm%ro(bm%n), &
                   bm%a(bm%n), bm%iss(bm%n), bm%itt(bm%n), bm%j(bm%n), bm%nsm(bm%n), bm%e2(3, bm%n), &
                   bm%res(6, bm%n), bm%eint(bm%n), bm%fe(3, 2*bm%n), bm%me(3, 2*bm%n), bm%weld(bm%n), &
-                  bm%dead(bm%n), bm%tfail(bm%n), bm%rfail(6, bm%n), bm%newly(0))
+                  bm%dead(bm%n), bm%tfail(bm%n), bm%rfail(6, bm%n), bm%newly(0), bm%rp(4, bm%n))
+        bm%rp = 0
         bm%dead = .false.
         bm%res = 0
         bm%eint = 0
@@ -85,6 +93,14 @@ contains
                 bm%j(e) = sc%j
                 bm%nsm(e) = sc%nsm
                 bm%weld(e) = m%mtype == mat_spotweld
+                ! plastic: the section's fully plastic resultants at the
+                ! initial yield stress (SIGY, or the curve's first point)
+                if (m%mtype == mat_plastic_kinematic .or. m%mtype == mat_piecewise_linear) then
+                    sy = m%sigy
+                    if (m%ntab > 0 .and. sy <= 0.0_wp) sy = m%es(1)
+                    if (m%lcss_ix > 0 .and. sy <= 0.0_wp) sy = model%curve(m%lcss_ix)%o(1)
+                    bm%rp(:, e) = [sy*sc%a, sy/sqrt(3.0_wp)*sc%zj, sy*sc%zs, sy*sc%zt]
+                end if
                 bm%tfail(e) = m%tfail
                 bm%rfail(:, e) = m%rfail
             end associate
@@ -195,6 +211,11 @@ contains
             ei = bm%e(e)*bm%itt(e)/l
             bm%res(5, e) = old(5) + ei*(4*r(5) + 2*r(6))*dt
             bm%res(6, e) = old(6) + ei*(2*r(5) + 4*r(6))*dt
+            ! plastic: each end's (N, T, M_s, M_t) returned radially to the
+            ! fully plastic surface (N/N_p)^2 + (T/T_p)^2 + (M_s/M_ps)^2 +
+            ! (M_t/M_pt)^2 = 1; N and T, shared by the ends, take the larger
+            ! reduction
+            if (bm%rp(1, e) > 0.0_wp) call plastic_return(e)
             ! the work over the step, at the mean of the resultants before
             ! and after it
             bm%eint(e) = bm%eint(e) + 0.5_dp*dt*dot_product(real(old + bm%res(:, e), dp), real(r, dp))
@@ -239,6 +260,24 @@ contains
             end do
         end do
     contains
+        subroutine plastic_return(e)
+            integer, intent(in) :: e
+            real(wp) :: f1, f2, c1, c2
+            associate (r => bm%res(:, e), p => bm%rp(:, e))
+                f1 = (r(1)/p(1))**2 + (r(2)/p(2))**2 + (r(3)/p(3))**2 + (r(5)/p(4))**2
+                f2 = (r(1)/p(1))**2 + (r(2)/p(2))**2 + (r(4)/p(3))**2 + (r(6)/p(4))**2
+                if (max(f1, f2) <= 1.0_wp) return
+                c1 = 1/sqrt(max(f1, 1.0_wp))
+                c2 = 1/sqrt(max(f2, 1.0_wp))
+                r(1) = r(1)*min(c1, c2)
+                r(2) = r(2)*min(c1, c2)
+                r(3) = r(3)*c1
+                r(5) = r(5)*c1
+                r(4) = r(4)*c2
+                r(6) = r(6)*c2
+            end associate
+        end subroutine plastic_return
+
         logical function weld_fails(e, l)
             integer, intent(in) :: e
             real(wp), intent(in) :: l

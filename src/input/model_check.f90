@@ -11,7 +11,8 @@ module xd_input_model_check
     use xd_input_check_contacts, only: check_contacts
     use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
                                 hex_regular, hex_wedge, hex_tet, hex_bad
-    use xd_model, only: model_t, find_set, mat_rigid, mat_elastic, mat_spotweld, set_node, set_shell, pressure_t, set_part, &
+    use xd_model, only: model_t, find_set, mat_rigid, mat_elastic, mat_spotweld, mat_plastic_kinematic, &
+        mat_piecewise_linear, set_node, set_shell, pressure_t, set_part, &
         iv_node_set, iv_node, &
         iv_generation, find_box, find_coord, point_mass_t
     implicit none
@@ -288,7 +289,9 @@ contains
         integer :: e, k, p, nid
         real(wp) :: d1(3), d3(3)
         character(len=:), allocatable :: at
+        integer, allocatable :: warned(:)
         if (model%nbeam == 0) return
+        allocate (warned(0))
         allocate (model%beam_part(model%nbeam))
         do e = 1, model%nbeam
             at = ctx%src%where(model%beam_src(e))//': *ELEMENT_BEAM '//itoa(model%beam_id(e))
@@ -302,13 +305,27 @@ contains
                 call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//' has no beam section')
                 return
             end if
-            if (model%mat(model%part(p)%mat_ix)%mtype /= mat_elastic .and. &
-                model%mat(model%part(p)%mat_ix)%mtype /= mat_spotweld) then
-                call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//': beams take an elastic '// &
-                                'material (*MAT_ELASTIC, or *MAT_SPOTWELD) in xdyna; plastic and rigid beams are not '// &
-                                'in xdyna')
+            select case (model%mat(model%part(p)%mat_ix)%mtype)
+            case (mat_elastic, mat_spotweld)
+            case (mat_plastic_kinematic, mat_piecewise_linear)
+                if (.not. any(warned == p)) then
+                    warned = [warned, p]
+                    call add_warning(model, at//': part '//itoa(model%beam_pid(e))//': a plastic beam is perfectly '// &
+                                     'plastic in its resultants (the section''s fully plastic axial force, torque '// &
+                                     'and moments at the initial yield stress); hardening (ETAN, the curve) is not '// &
+                                     'used for beams')
+                end if
+                if (model%sec_beam(model%part(p)%beam_sec_ix)%elform /= 1) then
+                    call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//': a plastic beam needs '// &
+                                    'the section''s dimensions (ELFORM 1) for its plastic resultants; ELFORM 2 and 9 '// &
+                                    'take an elastic material in xdyna')
+                    return
+                end if
+            case default
+                call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//': beams take *MAT_ELASTIC, '// &
+                                '*MAT_SPOTWELD, or (ELFORM 1) *MAT_003 / *MAT_024 in xdyna; rigid beams are not in xdyna')
                 return
-            end if
+            end select
             do k = 1, 3
                 nid = model%beam_conn(k, e)
                 if (k == 3 .and. nid == 0) cycle

@@ -134,6 +134,9 @@ contains
                 a = max(v(1), v(3))
                 b = min(v(1), v(3))
                 s%j = a*b**3*(1.0_wp/3 - 0.21_wp*(b/a)*(1 - b**4/(12*a**4)))
+                s%zs = v(1)*v(3)**2/4
+                s%zt = v(3)*v(1)**2/4
+                s%zj = b**2*(3*a - b)/6
             else if (s%cst == 1) then
                 if (.not. (v(1) > 0.0_wp .and. v(3) >= 0.0_wp .and. v(3) < v(1))) then
                     call card_error(card, 1, 'a tube needs its outer diameter TS1 above its inner TT1', error); return
@@ -142,6 +145,9 @@ contains
                 s%iss = pi/64*(v(1)**4 - v(3)**4)
                 s%itt = s%iss
                 s%j = 2*s%iss
+                s%zs = (v(1)**3 - v(3)**3)/6
+                s%zt = s%zs
+                s%zj = pi/12*(v(1)**3 - v(3)**3)
             else
                 call make_error(error, ctx%src%where(s%src)//': *SECTION_BEAM field CST: '//itoa(s%cst)// &
                                 ' is not 0 (rectangle) or 1 (tube)')

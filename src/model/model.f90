@@ -63,6 +63,10 @@ module xd_model
         integer :: cst = 0                  !< ELFORM 1: 0 rectangle, 1 tube
         real(wp) :: a = 0, iss = 0, itt = 0, j = 0, sa = 0
         real(wp) :: nsm = 0                 !< non-structural mass per length
+        !> ELFORM 1: the plastic section moduli about s and t and the torque's
+        !> (times the yield stress, resp. the shear yield: the fully plastic
+        !> resultants)
+        real(wp) :: zs = 0, zt = 0, zj = 0
         integer :: src = 0
     end type section_beam_t
 
