@@ -14,6 +14,10 @@
 !> stress-free start) and named in d3hsp with its segment and the distance
 !> moved; a slave with no segment within reach is named as not tied.
 !>
+!> The search tries, for each slave, the segments of its cell in a uniform
+!> grid of the segments' boxes grown by their tie distance (linear in the
+!> model's size).
+!>
 !> Each cycle, with N_j the segment's shape functions at the tie point
 !> (Hallquist's tied interface of DYNA3D):
 !>
@@ -49,6 +53,13 @@ module xd_contact_tied
 
     integer, parameter :: max_named = 2000   !< nodes named per interface (all counted)
     integer, parameter :: tie_held = 0, tie_softening = 1, tie_broken = 2
+
+    !> A uniform grid of the master segments for the set-up search.
+    type :: seg_grid_t
+        real(wp) :: lo(3) = 0, h = 1
+        integer :: n(3) = 1
+        integer, allocatable :: ptr(:), item(:)   !< cell -> segments (indices into the interface's list)
+    end type seg_grid_t
 
     !> The ties of every tied interface, one entry per tied slave.
     type :: ties_t
@@ -101,7 +112,9 @@ contains
         type(faces_t) :: faces
         logical, allocatable :: in_s(:), in_m(:), on(:)
         integer, allocatable :: slaves(:), segs(:), nd(:)
-        integer :: i, k, j, s, best, kind, nnamed, nfree, ntied, q, k0
+        integer :: i, k, j, s, best, kind, nnamed, nfree, ntied, q, k0, kc, qa, qb, qq
+        real(wp) :: hs_max
+        type(seg_grid_t) :: gr
         logical, allocatable :: tmark(:)
         real(wp) :: xm(3, 4), xi, eta, nsh(4), p(3), d, dbest, tol, dmin, dmax, moved, tbest, phib(4), en(3, 3), gp(3), sg
         real(wp), allocatable :: hnode(:), narea(:), nout(:, :)
@@ -178,6 +191,9 @@ contains
                 end if
                 txt = txt//' tied contact '//itoa(c%id)//' (*'//trim(c%keyword)//'): '
                 k0 = size(td%slave) + 1
+                hs_max = 0
+                if (size(slaves) > 0) hs_max = maxval(hnode(slaves))
+                call build_grid(segs, hs_max, c, gr)
                 nnamed = 0
                 nfree = 0
                 ntied = 0
@@ -187,7 +203,18 @@ contains
                     best = 0
                     dbest = huge(1.0_wp)
                     tbest = 0
-                    do q = 1, size(segs)
+                    ! the candidates: the segments whose box, grown by their tie
+                    ! distance, holds the slave's cell
+                    kc = cell_of(gr, p)
+                    if (kc == 0) then
+                        qa = 1
+                        qb = 0
+                    else
+                        qa = gr%ptr(kc)
+                        qb = gr%ptr(kc + 1) - 1
+                    end if
+                    do qq = qa, qb
+                        q = gr%item(qq)
                         j = segs(q)
                         nd = faces%node(:, j)
                         ! a node of the segment is not tied to it
@@ -288,6 +315,73 @@ contains
         td%n = size(td%slave)
         td%spart = npart_of(td%slave)
     contains
+        !> A uniform grid over the segments' boxes, each grown by the segment's
+        !> largest tie distance (its own half thickness and the thickest
+        !> slave's): any segment within a slave's tie distance holds the
+        !> slave's cell, so the search tries those alone (linear in the
+        !> model instead of slaves x segments). Cells about a segment wide,
+        !> at most 8 per segment.
+        subroutine build_grid(segs, hs_max, c, gr)
+            integer, intent(in) :: segs(:)
+            real(wp), intent(in) :: hs_max
+            type(contact_t), intent(in) :: c
+            type(seg_grid_t), intent(out) :: gr
+            real(wp), allocatable :: lo(:, :), hi(:, :)
+            real(wp) :: xm(3, 4), d1, d2, r, top(3)
+            integer :: q, n, i1(3), i2(3), a, b, cc, pass, kk
+            integer, allocatable :: fill(:)
+            n = size(segs)
+            allocate (lo(3, n), hi(3, n))
+            gr%h = 0
+            do q = 1, n
+                xm = model%x0(:, faces%node(:, segs(q)))
+                call segment_diagonals(xm, d1, d2)
+                r = tie_distance(c, faces, segs(q), hs_max, d1)
+                lo(:, q) = minval(xm, 2) - r
+                hi(:, q) = maxval(xm, 2) + r
+                gr%h = gr%h + d2/n
+            end do
+            gr%lo = minval(lo, 2)
+            top = maxval(hi, 2)
+            gr%h = max(gr%h, maxval(top - gr%lo)*1.0e-6_wp, tiny(1.0_wp))
+            do
+                gr%n = max(1, ceiling((top - gr%lo)/gr%h))
+                if (product(real(gr%n, dp)) <= 8.0_dp*n + 64) exit
+                gr%h = 1.5_wp*gr%h
+            end do
+            allocate (gr%ptr(product(gr%n) + 1), fill(product(gr%n)))
+            ! two passes: count, then fill
+            do pass = 1, 2
+                if (pass == 1) then
+                    gr%ptr = 0
+                else
+                    gr%ptr(1) = 1
+                    do cc = 1, product(gr%n)
+                        gr%ptr(cc + 1) = gr%ptr(cc + 1) + gr%ptr(cc)
+                    end do
+                    allocate (gr%item(gr%ptr(product(gr%n) + 1) - 1))
+                    fill = gr%ptr(1:product(gr%n))
+                end if
+                do q = 1, n
+                    i1 = min(gr%n, 1 + int((lo(:, q) - gr%lo)/gr%h))
+                    i2 = min(gr%n, 1 + int((hi(:, q) - gr%lo)/gr%h))
+                    do b = i1(3), i2(3)
+                        do a = i1(2), i2(2)
+                            do cc = i1(1), i2(1)
+                                kk = cc + gr%n(1)*((a - 1) + gr%n(2)*(b - 1))
+                                if (pass == 1) then
+                                    gr%ptr(kk + 1) = gr%ptr(kk + 1) + 1
+                                else
+                                    gr%item(fill(kk)) = q
+                                    fill(kk) = fill(kk) + 1
+                                end if
+                            end do
+                        end do
+                    end do
+                end do
+            end do
+        end subroutine build_grid
+
         !> part p on the slave side of the spot weld contact c (SSTYP 2 a part
         !> set, 3 a part)
         logical function beam_in(p)
@@ -353,6 +447,18 @@ contains
             end if
         end function phibest
     end subroutine place_ties
+
+    !> The cell of grid gr that holds point p (0: outside the grid).
+    pure integer function cell_of(gr, p) result(k)
+        type(seg_grid_t), intent(in) :: gr
+        real(wp), intent(in) :: p(3)
+        integer :: i(3)
+        k = 0
+        if (any(p < gr%lo)) return
+        i = 1 + int((p - gr%lo)/gr%h)
+        if (any(i > gr%n)) return
+        k = i(1) + gr%n(1)*((i(2) - 1) + gr%n(2)*(i(3) - 1))
+    end function cell_of
 
     !> The tie distance of slave (shell half thickness hs2*2 at the node)
     !> against face j: the half thicknesses (SST/MST, SFST/SFMT as the
