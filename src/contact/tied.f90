@@ -46,6 +46,7 @@ module xd_contact_tied
     use xd_model, only: model_t, contact_t, styp_node_set, styp_part, styp_part_set, ct_tied_shell_edge, ct_tiebreak
     use xd_contact_surface, only: faces_t, build_faces, segment_diagonals, seg_shell
     use xd_contact_segment_check, only: project_segment
+    use xd_core_vectors, only: cross
     use xd_contact_contact, only: faces_of
     implicit none
     private
@@ -64,7 +65,6 @@ module xd_contact_tied
     !> The ties of every tied interface, one entry per tied slave.
     type :: ties_t
         integer :: n = 0                      !< tied slave nodes
-        integer :: nifc = 0                   !< tied interfaces
         integer, allocatable :: slave(:)      !< (n) model node
         integer, allocatable :: mnode(:, :)   !< (4, n) the segment's model nodes (triangle: N4 = N3)
         real(wp), allocatable :: phi(:, :)    !< (4, n) shape functions at the tie point
@@ -76,7 +76,7 @@ module xd_contact_tied
         !> (n) the mass each of the segment's nodes adds for the gap's rotary
         !> inertia, m_s |r|^2 / sum |y_j|^2
         real(wp), allocatable :: mrot(:)
-        real(wp), allocatable :: death(:)     !< (nifc) DT: the ties end then
+        real(wp), allocatable :: death(:)     !< (tied interfaces) DT: the ties end then
         integer, allocatable :: master(:)     !< (nm) model nodes that carry a slave
         logical, allocatable :: m_rigid(:)    !< (nm) on a rigid body (the body takes the force)
         real(wp), allocatable :: madd(:)      !< (nm) slave mass carried (this cycle's ties)
@@ -84,7 +84,6 @@ module xd_contact_tied
         real(wp), allocatable :: mnodal(:)    !< (nnode) madd by model node (0 off the masters)
         real(wp), allocatable :: vold(:, :)   !< (3, n) the slave's velocity before this step's update
         integer, allocatable :: mpos(:, :)    !< (4, n) position of mnode in master
-        logical :: rot_any = .false.
         ! tiebreak (*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK)
         integer, allocatable :: state(:)      !< (n) tie_held, tie_softening (OPTION 2), tie_broken
         real(wp), allocatable :: area(:)      !< (n) the slave's share of its side's face area
@@ -93,8 +92,9 @@ module xd_contact_tied
         real(wp), allocatable :: f0(:, :)     !< (3, n) OPTION 2: the interface force at failure, segment frame
         real(wp), allocatable :: dmg(:)       !< (n) OPTION 2: damage, the separation over PARAM (0-1)
         real(wp), allocatable :: urel(:, :)   !< (3, n) OPTION 2: the slave's separation from its tie place
-        integer, allocatable :: opt(:)        !< (nifc) tiebreak OPTION (0: a tied contact)
-        real(wp), allocatable :: nfls(:), sfls(:), param(:)   !< (nifc)
+        integer, allocatable :: opt(:)        !< (tied interfaces) tiebreak OPTION (0: a tied contact)
+        logical :: tiebreak = .false.         !< some interface is a tiebreak
+        real(wp), allocatable :: nfls(:), sfls(:), param(:)   !< (tied interfaces)
         real(dp) :: ework = 0                 !< work the softening interfaces took (dissipated)
         integer :: nbroken = 0
     end type ties_t
@@ -121,7 +121,6 @@ contains
         integer, allocatable :: npart_of(:)
         character(len=300) :: buf
         txt = ''
-        td%nifc = model%ntied
         if (model%ntied == 0) then
             allocate (td%slave(0), td%mnode(4, 0), td%phi(4, 0), td%ifc(0), td%rot(0), td%death(0), &
                       td%offset(0), td%rloc(3, 0), td%spart(0), td%area(0), td%opt(0), td%nfls(0), td%sfls(0), &
@@ -272,7 +271,7 @@ contains
                     end if
                     td%sgn = [td%sgn, sg]
                     td%slave = [td%slave, s]
-                    td%area = [td%area, narea(s)]
+                    td%area = [td%area, 0.0_wp]   ! set once this interface's glued faces are known
                     td%ifc = [td%ifc, i]
                     td%rot = [td%rot, c%kind == ct_tied_shell_edge]
                     td%mnode = reshape([td%mnode, nd], [4, size(td%slave)])
@@ -314,6 +313,7 @@ contains
         end do
         td%n = size(td%slave)
         td%spart = npart_of(td%slave)
+        td%tiebreak = any(td%opt > 0)
     contains
         !> A uniform grid over the segments' boxes, each grown by the segment's
         !> largest tie distance (its own half thickness and the thickest
@@ -415,7 +415,7 @@ contains
             logical, intent(in) :: solid
             real(wp) :: a, an(3)
             integer :: q
-            an = 0.5_wp*cross3(model%x0(:, nd(3)) - model%x0(:, nd(1)), model%x0(:, nd(4)) - model%x0(:, nd(2)))
+            an = 0.5_wp*cross(model%x0(:, nd(3)) - model%x0(:, nd(1)), model%x0(:, nd(4)) - model%x0(:, nd(2)))
             a = norm2(an)
             ! a solid face's outward normal (its nodes run counter-clockwise
             ! seen from outside), summed at its nodes
@@ -553,7 +553,6 @@ contains
                 nlin = nlin + 1
             end if
         end do
-        td%rot_any = nrot > 0
         ! offset ties: the gap fixed in the segment's frame, its moment r x f_s
         ! passed as a couple of nodal forces, and m_s |r|^2 / sum |y|^2 added
         ! to each of the segment's nodes' mass: the gap's rotary inertia as
@@ -646,27 +645,19 @@ contains
     pure function seg_frame(xm) result(e)
         real(wp), intent(in) :: xm(3, 4)
         real(wp) :: e(3, 3)
-        e(:, 3) = cross3(xm(:, 3) - xm(:, 1), xm(:, 4) - xm(:, 2))
+        e(:, 3) = cross(xm(:, 3) - xm(:, 1), xm(:, 4) - xm(:, 2))
         e(:, 3) = e(:, 3)/norm2(e(:, 3))
         e(:, 1) = xm(:, 2) + xm(:, 3) - xm(:, 1) - xm(:, 4)
         e(:, 1) = e(:, 1) - dot_product(e(:, 1), e(:, 3))*e(:, 3)
         e(:, 1) = e(:, 1)/norm2(e(:, 1))
-        e(:, 2) = cross3(e(:, 3), e(:, 1))
+        e(:, 2) = cross(e(:, 3), e(:, 1))
     end function seg_frame
 
-    pure function cross3(a, b) result(c)
-        real(wp), intent(in) :: a(3), b(3)
-        real(wp) :: c(3)
-        c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-    end function cross3
-
-    !> Forces on the segment's nodes (4 entries, a triangle's N3 twice)
-    !> whose sum is zero and whose moment about any point is m: (J^-1 m) x
-    !> y_j, y_j from the nodes' centroid, J = sum (|y|^2 1 - y y^T). They
-    !> are the forces of a moment on the segment's best-fit rigid rotation.
-    pure function couple_forces(xm, m) result(fq)
-        real(wp), intent(in) :: xm(3, 4), m(3)
-        real(wp) :: fq(3, 4), y(3, 4), jm(3, 3), w(3)
+    !> The segment's nodes (4 entries, a triangle's N3 twice) from their
+    !> centroid, y, and their second moment J = sum (|y|^2 1 - y y^T).
+    pure subroutine seg_moment(xm, y, jm)
+        real(wp), intent(in) :: xm(3, 4)
+        real(wp), intent(out) :: y(3, 4), jm(3, 3)
         integer :: q, i
         y = xm - spread(sum(xm, 2)/4, 2, 4)
         jm = 0
@@ -676,9 +667,19 @@ contains
             end do
             jm = jm - spread(y(:, q), 2, 3)*spread(y(:, q), 1, 3)
         end do
+    end subroutine seg_moment
+
+    !> Forces on the segment's nodes whose sum is zero and whose moment
+    !> about any point is m: (J^-1 m) x y_j. They are the forces of a moment
+    !> on the segment's best-fit rigid rotation.
+    pure function couple_forces(xm, m) result(fq)
+        real(wp), intent(in) :: xm(3, 4), m(3)
+        real(wp) :: fq(3, 4), y(3, 4), jm(3, 3), w(3)
+        integer :: q
+        call seg_moment(xm, y, jm)
         w = solve3(jm, m)
         do q = 1, 4
-            fq(:, q) = cross3(w, y(:, q))
+            fq(:, q) = cross(w, y(:, q))
         end do
     end function couple_forces
 
@@ -687,17 +688,12 @@ contains
     pure function seg_spin(xm, vm) result(w)
         real(wp), intent(in) :: xm(3, 4), vm(3, 4)
         real(wp) :: w(3), y(3, 4), u(3, 4), jm(3, 3), h(3)
-        integer :: q, i
-        y = xm - spread(sum(xm, 2)/4, 2, 4)
+        integer :: q
+        call seg_moment(xm, y, jm)
         u = vm - spread(sum(vm, 2)/4, 2, 4)
-        jm = 0
         h = 0
         do q = 1, 4
-            do i = 1, 3
-                jm(i, i) = jm(i, i) + dot_product(y(:, q), y(:, q))
-            end do
-            jm = jm - spread(y(:, q), 2, 3)*spread(y(:, q), 1, 3)
-            h = h + cross3(y(:, q), u(:, q))
+            h = h + cross(y(:, q), u(:, q))
         end do
         w = solve3(jm, h)
     end function seg_spin
@@ -706,10 +702,10 @@ contains
     pure function solve3(a, b) result(x)
         real(wp), intent(in) :: a(3, 3), b(3)
         real(wp) :: x(3), det
-        det = dot_product(a(:, 1), cross3(a(:, 2), a(:, 3)))
-        x(1) = dot_product(b, cross3(a(:, 2), a(:, 3)))/det
-        x(2) = dot_product(a(:, 1), cross3(b, a(:, 3)))/det
-        x(3) = dot_product(a(:, 1), cross3(a(:, 2), b))/det
+        det = dot_product(a(:, 1), cross(a(:, 2), a(:, 3)))
+        x(1) = dot_product(b, cross(a(:, 2), a(:, 3)))/det
+        x(2) = dot_product(a(:, 1), cross(b, a(:, 3)))/det
+        x(3) = dot_product(a(:, 1), cross(a(:, 2), b))/det
     end function solve3
 
     !> Step 1: the slaves' forces (and tied moments) to their segments' nodes;
@@ -729,7 +725,7 @@ contains
             td%fs0(:, k) = f(:, s)
             if (td%offset(k)) then
                 xm = x(:, td%mnode(:, k))
-                fq = couple_forces(xm, cross3(x(:, s) - matmul(xm, td%phi(:, k)), f(:, s)))
+                fq = couple_forces(xm, cross(x(:, s) - matmul(xm, td%phi(:, k)), f(:, s)))
                 do q = 1, 4
                     f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) + fq(:, q)
                 end do
@@ -771,7 +767,7 @@ contains
             do q = 1, 4
                 f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) - td%phi(q, k)*fc
             end do
-            fq = couple_forces(xm, cross3(x(:, s) - matmul(xm, td%phi(:, k)), -fc))
+            fq = couple_forces(xm, cross(x(:, s) - matmul(xm, td%phi(:, k)), -fc))
             do q = 1, 4
                 f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) + fq(:, q)
             end do
@@ -797,6 +793,7 @@ contains
         integer :: k, s, i
         character(len=200) :: buf
         txt = ''
+        if (.not. td%tiebreak) return
         do k = 1, td%n
             i = td%ifc(k)
             if (td%opt(i) == 0 .or. .not. holds(td, k, time)) cycle
@@ -885,7 +882,7 @@ contains
                 ! spin times the gap
                 ym = x(:, td%mnode(:, k))
                 v(:, s) = matmul(v(:, td%mnode(:, k)), td%phi(:, k)) + &
-                          cross3(seg_spin(ym, v(:, td%mnode(:, k))), x(:, s) - matmul(ym, td%phi(:, k)))
+                          cross(seg_spin(ym, v(:, td%mnode(:, k))), x(:, s) - matmul(ym, td%phi(:, k)))
             else
                 v(:, s) = matmul(v(:, td%mnode(:, k)), td%phi(:, k))
             end if

@@ -229,11 +229,7 @@ program xdyna
     ! tied contacts: slave nodes placed on their master surfaces (model%x0)
     ! before the mesh is set up
     call place_ties(model, td, tie_note, error)
-    if (allocated(error)) then
-        call say(error%message)
-        call log_line(lg, ' *** Error: '//error%message)
-        call finish(exit_input)
-    end if
+    call stop_on_input_error()
     if (len(tie_note) > 0) call log_line(lg, tie_note)
     ! the mesh set up; then IGNORE 0: slave nodes moved out of initial
     ! penetrations (the moves named in d3hsp), and the mesh set up again
@@ -247,21 +243,13 @@ program xdyna
         end if
         if (i == 2) exit
         call initial_penetrations(model, st%v, st%mass, moved_note, nmoved, error)
-        if (allocated(error)) then
-            call say(error%message)
-            call log_line(lg, ' *** Error: '//error%message)
-            call finish(exit_input)
-        end if
+        call stop_on_input_error()
         if (len(moved_note) > 0) call log_line(lg, moved_note)
         if (nmoved == 0) exit
     end do
     if (len(step_note) > 0) call add_warning(model, step_note)
     call start_ties(model, td, rg%member, st%x0, st%mass, st%v, st%vr, st%irot, tie_note, error)
-    if (allocated(error)) then
-        call say(error%message)
-        call log_line(lg, ' *** Error: '//error%message)
-        call finish(exit_input)
-    end if
+    call stop_on_input_error()
     if (len(tie_note) > 0) call log_line(lg, tie_note)
     call build_walls(model, st%x0, walls, wall_notes)
     do while (len(wall_notes) > 0)
@@ -270,11 +258,7 @@ program xdyna
         wall_notes = wall_notes(i + 1:)
     end do
     call build_contacts(model, st%x0, ct, error)
-    if (allocated(error)) then
-        call say(error%message)
-        call log_line(lg, ' *** Error: '//error%message)
-        call finish(exit_input)
-    end if
+    call stop_on_input_error()
     if (ct%n > 0) call contact_masses(ct, st%mass)
     call build_prescribed(model, pn)
     call build_pressures(model, pl)
@@ -636,6 +620,14 @@ contains
 
     !> End: every rank comes here with the same code (all of them read the
     !> deck and run the same checks), so the ranks finish together.
+    !> A set-up error: the message to the terminal and d3hsp, exit 1.
+    subroutine stop_on_input_error()
+        if (.not. allocated(error)) return
+        call say(error%message)
+        call log_line(lg, ' *** Error: '//error%message)
+        call finish(exit_input)
+    end subroutine stop_on_input_error
+
     subroutine finish(code)
         integer, intent(in) :: code
         call log_close(lg)

@@ -83,11 +83,6 @@ contains
             en%part_mass = en%part_mass0
             if (solids%n > 0) call ie_by_part(solids%part, solids%eint, solids%pend_int, solids%ehg, solids%pend_hg)
             if (sh%n > 0) call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg)
-            if (present(bm)) then
-                do e = 1, bm%n
-                    en%part_ie(bm%part(e)) = en%part_ie(bm%part(e)) + bm%eint(e)
-                end do
-            end if
             en%ie = sum(en%part_ie)
             en%hg = sum(en%part_hg)
         else
@@ -105,12 +100,6 @@ contains
                 end do
             end if
             call by_elements()
-            if (present(bm)) then
-                do e = 1, bm%n
-                    en%part_ie(bm%part(e)) = en%part_ie(bm%part(e)) + bm%eint(e)
-                end do
-                en%ie = sum(en%part_ie)
-            end if
             en%ke = 0
             mom = 0
             do nd = 1, st%nnode
@@ -126,6 +115,15 @@ contains
                     end if
                     ker = ker + 0.5_dp*st%irot(nd)*dot_product(real(wminus(:, nd), dp), real(wplus(:, nd), dp))
                 end do
+            end if
+        end if
+        ! beams: their internal energy by part (either path)
+        if (present(bm)) then
+            if (bm%n > 0) then
+                do e = 1, bm%n
+                    en%part_ie(bm%part(e)) = en%part_ie(bm%part(e)) + bm%eint(e)
+                end do
+                en%ie = sum(en%part_ie)
             end if
         end if
         ! rigid bodies: their own inertia, not the lumped nodal masses

@@ -123,6 +123,7 @@ contains
         no_body = .false.
         if (st%rot) allocate (vrminus(3, st%nnode))
         ratio_limit = 1.5_dp
+        beam_crit = 0
         state_asked = .false.
         switch_gone = .true.
         if (model%ctl%endeng > 0.0_wp) ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
@@ -557,7 +558,6 @@ contains
         subroutine beams()
             integer :: k
             character(len=250) :: buf
-            beam_crit = 0
             dtc_pass = huge(1.0_wp)
             if (bm%n == 0) return
             call tm%start(ph_elements)
