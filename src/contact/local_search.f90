@@ -338,13 +338,30 @@ contains
                 better = h%dist < b%dist
                 if (general) then
                     ! the most negative v . n (Eq. 4); where v does not tell the
-                    ! two apart (v along both surfaces), the closest contact point
-                    vh = dot_product(cv, h%nhat)
-                    vb = dot_product(cv, b%nhat)
+                    ! two apart (v along both surfaces), the closest contact point.
+                    ! n is the normal on the slave's side (outside): a shell
+                    ! segment's nhat is its own normal whichever side the slave
+                    ! is on, so below it the outside is -nhat (issue 28: read
+                    ! as nhat, the rule favoured the face the slave did not
+                    ! press, and a node in a fold's corner under two faces
+                    ! switched between them every cycle)
+                    vh = dot_product(cv, outside(h))
+                    vb = dot_product(cv, outside(b))
                     if (abs(vh - vb) > 1.0e-6_wp*norm2(cv)) better = vh < vb
                 end if
             end if
         end function better
+
+        !> Contact h's normal on the slave's side: nhat, reversed for a
+        !> slave below a shell segment (d < 0) within its zone (a contact
+        !> found ahead of touching already has nhat turned to the slave's
+        !> side: segment_check).
+        function outside(h) result(n)
+            type(hit_t), intent(in) :: h
+            real(wp) :: n(3)
+            n = h%nhat
+            if (s%seg_kind(h%seg) == seg_shell .and. h%d < 0.0_wp .and. abs(h%d) < ts + h%tm) n = -n
+        end function outside
 
         !> +1 if h's push meets the slave's own solid faces more squarely
         !> than b's (by more than 0.1 in the cosine), -1 if less, 0 if
