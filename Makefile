@@ -42,7 +42,7 @@ TEST_SRC := $(sort $(wildcard tests/unit/test_*.f90))
 
 flat = $(subst /,_,$(patsubst src/%,%,$(patsubst tests/%,tests_%,$(basename $(1))))).o
 
-.PHONY: all deps check demo bench debug clean verify tests examples stability sweeps contact-suite public fuzz
+.PHONY: all deps check demo bench debug clean verify tests examples stability sweeps contact-suite public car6-designs fuzz
 all: bin/xdyna$(SUFFIX) bin/thdiff
 
 deps:
@@ -128,6 +128,10 @@ stability: deps
 public: deps
 	@$(MAKE) --no-print-directory all
 	@$(PY) tools/public_decks.py
+
+car6-designs: deps
+	@$(MAKE) --no-print-directory all
+	@$(PY) tools/car6_designs.py
 
 fuzz: deps
 	@$(MAKE) --no-print-directory all

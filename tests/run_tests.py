@@ -707,20 +707,23 @@ def test_shell_warped_spin():
            f"kinetic energy kept within 1e-3 ({dke:.1e})", hg < 1e-5 and ie < 1e-5 and dke < 1e-3)
 
 
-def hourglass_modes_deck(path, hourglass, endtim, tssfac=0.1):
+def hourglass_modes_deck(path, hourglass, endtim, tssfac=0.1, speeds=(0.01, 0.01, 1.0), material=None,
+                         controls=()):
     """Three free 10 mm steel shells, 1 mm thick, each started in one pure
-    hourglass mode (corner pattern h = 1, -1, 1, -1; 0.01 m/s): part 1
-    in-plane (x), part 2 out of plane (z), part 3 rotation about x (1 rad/s).
-    None of them strains the one point, so each mode answers to its own
-    hourglass coefficient alone. `hourglass` is the *HOURGLASS card (None:
-    no card, the parts take *CONTROL_HOURGLASS's defaults). TSSFAC 0.1
-    keeps the modes many steps long."""
-    L, h, v = 0.01, 0.001, 0.01
+    hourglass mode (corner pattern h = 1, -1, 1, -1; `speeds`, by default
+    0.01 m/s): part 1 in-plane (x), part 2 out of plane (z), part 3
+    rotation about x (1 rad/s). None of them strains the one point, so each
+    mode answers to its own hourglass coefficient alone. `hourglass` is the
+    *HOURGLASS card (None: no card, the parts take *CONTROL_HOURGLASS's
+    defaults); `material` the material card (material 1) instead of
+    *MAT_ELASTIC; `controls` further keyword lines. TSSFAC 0.1 keeps the
+    modes many steps long."""
+    L, h = 0.01, 0.001
     out = ["*KEYWORD", "*TITLE", "one shell per hourglass mode, free", "*CONTROL_TERMINATION",
            f"{endtim:10.4g}         0", "*CONTROL_TIMESTEP", f"         0{tssfac:10.3f}",
            "*DATABASE_GLSTAT", f"{endtim / 4000:10.4g}", "*DATABASE_MATSUM", f"{endtim / 4000:10.4g}",
            "*SECTION_SHELL", "         1         2         1         2", f"{h:10.4g}" * 4,
-           "*MAT_ELASTIC", "         1      7850     2e+11       0.3"]
+           *(material or ["*MAT_ELASTIC", "         1      7850     2e+11       0.3"]), *controls]
     if hourglass is not None:
         out += ["*HOURGLASS", hourglass]
     for p in (1, 2, 3):
@@ -733,9 +736,9 @@ def hourglass_modes_deck(path, hourglass, endtim, tssfac=0.1):
     out.append("*ELEMENT_SHELL")
     out += [f"{p:8d}{p:8d}" + "".join(f"{4 * (p - 1) + k + 1:8d}" for k in range(4)) for p in (1, 2, 3)]
     out.append("*INITIAL_VELOCITY_NODE")
-    out += [f"{k + 1:10d}{v * pat[k]:10.4g}{0:10d}{0:10d}" for k in range(4)]
-    out += [f"{k + 5:10d}{0:10d}{0:10d}{v * pat[k]:10.4g}" for k in range(4)]
-    out += [f"{k + 9:10d}{0:10d}{0:10d}{0:10d}{v / L * pat[k]:10.4g}" for k in range(4)]
+    out += [f"{k + 1:10d}{speeds[0] * pat[k]:10.4g}{0:10d}{0:10d}" for k in range(4)]
+    out += [f"{k + 5:10d}{0:10d}{0:10d}{speeds[1] * pat[k]:10.4g}" for k in range(4)]
+    out += [f"{k + 9:10d}{0:10d}{0:10d}{0:10d}{speeds[2] * pat[k]:10.4g}" for k in range(4)]
     out.append("*END")
     with open(path, "w") as f:
         f.write("\n".join(out) + "\n")
@@ -818,6 +821,77 @@ def test_shell_hourglass_forms():
             bal = np.max(abs(k + hg[:, i] - k[0])) / k[0]
             record(f"{form}, {names[i]} mode: no overshoot (kinetic energy falls every output), its loss booked "
                    f"as hourglass work within 1e-9 ({bal:.1e})", mono and bal < 1e-9)
+
+
+def test_shell_hourglass_plastic_bound():
+    """The stiffness form on a plastic material under *CONTROL_XDYNA_SHELL
+    HGBOUND 1 (issue 28): each mode's
+    generalized force is bounded at its coefficient times the mode's fully
+    plastic value, Q_c = q Q_p, with (one square shell of side L, flow
+    stress sy) Q_p = sy h L / 3 (membrane), sy h^2 / (2 sqrt 3) (warping),
+    sy h^2 L / 12 (bending). The shells of hourglass_modes_deck on *MAT_024
+    (elastic-perfectly plastic, sy 250 MPa; the modes leave the one point
+    unstrained, so sy stays the flow stress), each started with about four
+    times the energy its spring holds at the bound: the mode loads
+    elastically (stiffness q k1) to Q_c, flows at Q_c until it stops, and
+    then swings elastically between -Q_c and +Q_c, so its kinetic energy
+    peaks at Q_c^2 / (2 q k1) from then on (the elastic-perfectly plastic
+    oscillator). Within 2%: the central difference and the step's
+    clipping at the bound round each peak by about (omega dt)^2 and one
+    step's overshoot; the node moves 0.3% of L at most, so the geometry
+    hardly changes. The work cut off by the bound is hourglass energy:
+    kinetic + hourglass energy stays the initial kinetic energy within
+    1e-6. The same shells on *MAT_ELASTIC are test_shell_hourglass_forms's
+    free oscillators (no bound); without HGBOUND (the default, LS-DYNA's
+    elastic springs) the plastic shells' modes are free oscillators too:
+    their kinetic energy comes back to its start (no work cut off)."""
+    L, h, E, rho, nu, sy = 0.01, 0.001, 2e11, 7850.0, 0.3, 250e6
+    G, m = E / (2 * (1 + nu)), rho * h * L * L / 4
+    k1 = [E * h / 4, G * h ** 3 / (6 * L * L), E * h ** 3 / 96]
+    qp = [sy * h * L / 3, sy * h * h / (2 * math.sqrt(3)), sy * h * h * L / 12]
+    qs = [0.05, 0.08, 0.02]
+    names = ["membrane", "warping", "bending"]
+    inertia = [4 * m, 4 * m, 4 * m * (h * h + 3 * L * L) / 12]
+    held = [q * c * c / (2 * k) for q, c, k in zip(qs, qp, k1)]
+    speeds = [math.sqrt(2 * 4 * e / i) for e, i in zip(held, inertia)]
+    card = f"{1:10d}{4:10d}{0.05:10.3g}{0:10d}{0:10.1f}{0:10.1f}{0.02:10.3g}{0.08:10.3g}"
+    mat = ["*MAT_PIECEWISE_LINEAR_PLASTICITY", f"{1:10d}{rho:10.4g}{E:10.4g}{nu:10.4g}{sy:10.4g}{0.0:10.4g}"]
+    deck = os.path.join(TMP, "hg_plastic_free.k")
+    hourglass_modes_deck(deck, card, 2e-3, speeds=speeds, material=mat)
+    p, out = run_deck(deck, "hg_plastic_free")
+    record("hourglass modes on a plastic material, no HGBOUND, run (exit 0)", p.returncode == 0, p.stderr[-300:])
+    if p.returncode != 0:
+        return
+    t, ke, hg, dts = hourglass_mode_energies(out)
+    back = [float(np.max(ke[len(ke) // 2:, i]) / ke[0, i]) for i in range(3)]
+    record(f"without HGBOUND the plastic shells' hourglass springs stay elastic: each mode's kinetic energy "
+           f"peaks again at its start within 1% ({', '.join(f'{b - 1:+.1e}' for b in back)}; the outputs sample "
+           f"the membrane mode's period 56 times, so a peak is read up to 0.3% low; the bound would cut it to a "
+           f"quarter; above it by round-off of the half-step velocities only)", all(0.99 < b < 1 + 1e-4 for b in back))
+    deck = os.path.join(TMP, "hg_plastic.k")
+    hourglass_modes_deck(deck, card, 2e-3, speeds=speeds, material=mat,
+                         controls=["*CONTROL_XDYNA_SHELL", f"{1:10d}"])
+    p, out = run_deck(deck, "hg_plastic")
+    record("hourglass modes on a plastic material run (exit 0)", p.returncode == 0, p.stderr[-300:])
+    if p.returncode != 0:
+        return
+    t, ke, hg, dts = hourglass_mode_energies(out)
+    with open(os.path.join(out, "d3hsp")) as f:
+        log = f.read()
+    record("d3hsp names the bound on the stiffness form of the plastic parts and the shells it acted on",
+           "each mode bounded at its coefficient times its plastic capacity" in log
+           and "in 3 of 3 shells" in log, log[-600:])
+    for i in range(3):
+        k = ke[:, i]
+        first = next((j for j in range(1, len(k) - 1) if k[j] <= k[j - 1] and k[j] < k[j + 1]), None)
+        peaks = [k[j] for j in range(max(first or 0, 1), len(k) - 1) if k[j] >= k[j - 1] and k[j] > k[j + 1]]
+        got = float(np.median(peaks)) if first and len(peaks) > 2 else 0.0
+        record(f"plastic bound, {names[i]} mode at q {qs[i]}: after the first stop its kinetic energy peaks at "
+               f"{got:.5g} J against Q_c^2/(2 q k1) = {held[i]:.5g} J ({len(peaks)} peaks; within 2%), from "
+               f"{k[0]:.4g} J", abs(got / held[i] - 1) < 0.02, f"first minimum at output {first}")
+        bal = np.max(abs(k + hg[:, i] - k[0])) / k[0]
+        record(f"plastic bound, {names[i]} mode: kinetic + hourglass energy kept within 1e-6 ({bal:.1e})",
+               bal < 1e-6)
 
 
 def shell_grid(n, first, part, e0, shift=0.0, z=0.0):
@@ -5197,7 +5271,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -4,7 +4,7 @@
 contact and again with the contact card removed (what the contact adds).
 
     crush_family.py [--only NAME] [--jobs N] [--per-fold N] [--qm Q] [--dt2ms F]
-                    [--istupd 0|1] [--trigger A] [--length L] [--crush C]
+                    [--istupd 0|1] [--trigger A] [--length L] [--crush C] [--hgbound 0|1]
 
 --per-fold and --qm change the mesh (elements per half-fold, 3) and the
 shells' stiffness hourglass coefficient (0.02) for a mesh study; a run
@@ -14,7 +14,8 @@ element size, c the plate wave speed); --istupd 0 keeps the shells'
 thickness (the family sets *CONTROL_SHELL ISTUPD 1: it follows their
 strain); --trigger A the square tubes' imperfection amplitude in wall
 thicknesses (0.1; 0: the perfect tube); --length and --crush the tube's
-length in widths (3) and the crush as a fraction of it (0.6).
+length in widths (3) and the crush as a fraction of it (0.6); --hgbound 1
+the bounded stiffness-form hourglass (*CONTROL_XDYNA_SHELL HGBOUND 1).
 
 Tubes: square (side b, wall t) and circular (diameter D, wall t) on
 mid-surfaces, 40-100 mm across, walls 1-3 mm, b/t and D/t 20-60,
@@ -93,6 +94,9 @@ ISTUPD = 1
 TRIGGER = 0.1
 # tube length in widths and crush as a fraction of the length (--length, --crush)
 LENGTH, CRUSH = 3.0, 0.6
+# *CONTROL_XDYNA_SHELL HGBOUND (--hgbound 0|1): 1, the hourglass springs
+# bounded by the modes' plastic capacity (doc/theory.md)
+HGBOUND = 0
 
 # (name, shape, b or D, t), m
 TUBES = [("square_b40_t2", "square", 0.040, 2.0e-3),
@@ -178,6 +182,8 @@ def deck(name, shape, b, t, contact):
         lines[i + 1] = g.f10(0.0, 0.9, 0, 0.0, -MS_FRACTION * h / c)
     if ISTUPD:
         lines += ["*CONTROL_SHELL", g.f10(20.0, 0, -1, 1)]
+    if HGBOUND:
+        lines += ["*CONTROL_XDYNA_SHELL", g.f10(1)]
     lines += ["*CONTROL_HOURGLASS", g.f10(4, QM),
               "*SECTION_SHELL", g.f10(2, 2, 1.0, 5), g.f10(t, t, t, t),
               "*MAT_PIECEWISE_LINEAR_PLASTICITY", g.f10(1, RHO, E, 0.3, SIGMA0, 0.0)]
@@ -304,18 +310,19 @@ def markdown(rows):
 
 
 def main(argv):
-    global PER_FOLD, QM, OUT, MS_FRACTION, ISTUPD, LENGTH, CRUSH, TRIGGER
+    global PER_FOLD, QM, OUT, MS_FRACTION, ISTUPD, LENGTH, CRUSH, TRIGGER, HGBOUND
     jobs = int(argv[argv.index("--jobs") + 1]) if "--jobs" in argv else 2
     only = argv[argv.index("--only") + 1] if "--only" in argv else None
     opts = {"--per-fold": ("PER_FOLD", float), "--qm": ("QM", float), "--dt2ms": ("MS_FRACTION", float),
             "--istupd": ("ISTUPD", int), "--length": ("LENGTH", float), "--trigger": ("TRIGGER", float),
-            "--crush": ("CRUSH", float)}
+            "--crush": ("CRUSH", float), "--hgbound": ("HGBOUND", int)}
     for flag, (name, kind) in opts.items():
         if flag in argv:
             globals()[name] = kind(argv[argv.index(flag) + 1])
-    if (PER_FOLD, QM, MS_FRACTION, ISTUPD, LENGTH, CRUSH, TRIGGER) != (3.0, 0.02, 0.0, 1, 3.0, 0.6, 0.1):
+    if (PER_FOLD, QM, MS_FRACTION, ISTUPD, LENGTH, CRUSH, TRIGGER, HGBOUND) != (3.0, 0.02, 0.0, 1, 3.0, 0.6, 0.1, 0):
         OUT = OUT + f"-h{PER_FOLD:g}-qm{QM:g}" + (f"-ms{MS_FRACTION:g}" if MS_FRACTION else "") + \
-            f"-istupd{ISTUPD}-trig{TRIGGER:g}" + (f"-L{LENGTH:g}-c{CRUSH:g}" if (LENGTH, CRUSH) != (3.0, 0.6) else "")
+            f"-istupd{ISTUPD}-trig{TRIGGER:g}" + (f"-L{LENGTH:g}-c{CRUSH:g}" if (LENGTH, CRUSH) != (3.0, 0.6) else "") + \
+            ("-hgbound" if HGBOUND else "")
     rows = run_family(jobs, only)
     for r in rows:
         for tag, pr in (("with", r.get("partial_on")), ("without", r.get("partial_off"))):

@@ -10,9 +10,11 @@ module xd_elements_shell_bt
     use xd_core_memory, only: alloc, alloc_dp
     use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid
     use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
+    use xd_core_strings, only: itoa
+    use xd_core_sorting, only: sort_index
     implicit none
     private
-    public :: shells_t, build_shells, shell_forces, shell_masses, shell_axes, point_weight, point_z
+    public :: shells_t, build_shells, shell_forces, shell_masses, shell_axes, point_weight, point_z, hourglass_bound_lines
 
     ! iteration tolerances: 1e-10 and 1e-12 relative in double precision,
     ! ten round-offs in single (where 1e-12 cannot be reached and every
@@ -30,6 +32,11 @@ module xd_elements_shell_bt
         !> viscous form (IHQ 1-3) or stiffness form (IHQ 4-5)
         real(wp), allocatable :: qm(:), qb(:), qw(:)
         logical, allocatable :: hg_viscous(:)
+        !> *CONTROL_XDYNA_SHELL HGBOUND 1: the stiffness form of a plastic
+        !> shell bounded (bound_hourglass); ncap counts the cycles it acted,
+        !> this run
+        logical, allocatable :: hg_bound(:)
+        integer, allocatable :: ncap(:)
         integer, allocatable :: nip(:)
         real(wp), allocatable :: sig(:, :, :) !< (5, nip, n) stresses at the points (nip: the most of any shell)
         real(wp), allocatable :: qhg(:, :)    !< (5, n) hourglass generalized forces
@@ -157,6 +164,8 @@ contains
                   sh%nip(sh%n), sh%area0(sh%n), sh%msq(sh%n), sh%mix(sh%n), sh%model_ix(sh%n), sh%dead(sh%n))
         sh%msq = 1
         sh%dead = .false.
+        allocate (sh%ncap(sh%n), sh%hg_bound(sh%n))
+        sh%ncap = 0
         allocate (sh%low(sh%n))
         sh%low = .false.
         call alloc(sh%fslot, 3, 4*sh%n, 'shell force slots')
@@ -207,6 +216,7 @@ contains
                 sh%qw(e) = model%hg(k)%qw
                 if (model%hg(k)%ihq > 0) sh%hg_viscous(e) = model%hg(k)%ihq <= 3
             end if
+            sh%hg_bound(e) = model%ctl%hgbound == 1 .and. sh%plastic(e) .and. .not. sh%hg_viscous(e)
         end do
         ! the points' state, as many per shell as the most any shell has
         ! (each shell's in one run of memory: NIP 2 in 80 bytes, not 400);
@@ -248,6 +258,73 @@ contains
             end do
         end do
     end subroutine shell_masses
+
+    !> The stiffness form's hourglass on a plastic material, bounded as the
+    !> material is (*CONTROL_XDYNA_SHELL HGBOUND 1): each mode's generalized
+    !> force at most its coefficient (QM, QB, QW) times that mode's fully
+    !> plastic value in the fully integrated element (2 x 2 points, von Mises at the flow stress of the
+    !> element's most strained point), so that the mode, elastic at q k1,
+    !> yields near the material's yield strain (issue 28: without the bound
+    !> the springs of folds pressed flat by the contact kept growing
+    !> elastically and held the crush). Per unit flow stress sy, with A the
+    !> area and L = sqrt(2/B.B) (the side of a square): membrane (in-plane
+    !> u = a xi eta, strain and shear at the points) sy h A / (3 L) for the
+    !> pair; bending (the rotations' pattern, curvatures as the membrane's
+    !> strains, the plastic moment sy h^2/4 for the plastic force sy h)
+    !> sy h^2 A / (12 L); warping (w = a xi eta: a constant twist 2 q / L^2,
+    !> the plastic twisting moment sy h^2 / (4 sqrt 3)) sy h^2 A / (2 sqrt 3
+    !> L^2). The part cut off is dissipated, as plastic work is, and booked
+    !> with the hourglass energy; ncap counts the cycles it acted.
+    subroutine bound_hourglass(sh, e, a, h, bb)
+        type(shells_t), intent(inout) :: sh
+        integer, intent(in) :: e
+        real(wp), intent(in) :: a, h, bb
+        real(wp), parameter :: r3 = 1.7320508075688772_wp
+        real(wp) :: sy, hs, il, cm, cb, cw, qm, qb, qw
+        call yield_stress(sh%pp(sh%pmat(e)), maxval(sh%epsp(1:max(1, sh%nip(e)), e)), sy, hs)
+        il = sqrt(bb/2)
+        cm = sh%qm(e)*sy*h*a*il/3
+        cb = sh%qb(e)*sy*h*h*a*il/12
+        cw = sh%qw(e)*sy*h*h*a*il*il/(2*r3)
+        qm = norm2(sh%qhg(4:5, e))
+        qb = norm2(sh%qhg(1:2, e))
+        qw = abs(sh%qhg(3, e))
+        if (qm <= cm .and. qb <= cb .and. qw <= cw) return
+        if (qm > cm) sh%qhg(4:5, e) = sh%qhg(4:5, e)*(cm/qm)
+        if (qb > cb) sh%qhg(1:2, e) = sh%qhg(1:2, e)*(cb/qb)
+        if (qw > cw) sh%qhg(3, e) = sh%qhg(3, e)*(cw/qw)
+        sh%ncap(e) = sh%ncap(e) + 1
+    end subroutine bound_hourglass
+
+    !> d3hsp's lines on the hourglass bound (bound_hourglass) over the
+    !> ncycle cycles of this run: how many plastic shells it acted on, and
+    !> the ten it acted on longest with their part and share of the cycles;
+    !> empty where it never acted.
+    function hourglass_bound_lines(sh, part_id, ncycle) result(s)
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: part_id(:), ncycle
+        character(len=:), allocatable :: s
+        character(len=1), parameter :: nl = new_line('a')
+        integer, parameter :: named = 10
+        integer, allocatable :: perm(:)
+        integer :: i, k, nact
+        character(len=12) :: pc
+        s = ''
+        if (.not. allocated(sh%ncap) .or. ncycle <= 0) return
+        nact = count(sh%ncap > 0)
+        if (nact == 0) return
+        s = nl//' stiffness-form hourglass of plastic shells bounded at its coefficient times the mode''s '// &
+            'plastic capacity: in '//itoa(nact)//' of '//itoa(sh%n)//' shells over the '//itoa(ncycle)// &
+            ' cycles of this run (the cut-off work booked as hourglass energy); longest:'
+        call sort_index(-real(sh%ncap, dp), perm)
+        do i = 1, min(named, nact)
+            k = perm(i)
+            write (pc, '(f6.1)') 100.0_dp*sh%ncap(k)/ncycle
+            s = s//nl//'   shell '//itoa(sh%eid(k))//' of part '//itoa(part_id(sh%part(k)))//': '// &
+                itoa(sh%ncap(k))//' cycles ('//trim(adjustl(pc))//'%)'
+        end do
+        if (nact > named) s = s//nl//'   and '//itoa(nact - named)//' other shells'
+    end function hourglass_bound_lines
 
     pure real(wp) function area(xe, c)
         real(wp), intent(in) :: xe(3, 4)
@@ -481,6 +558,7 @@ contains
                 sh%qhg(1:2, e) = sh%qhg(1:2, e) + dt*sh%qb(e)*kb*qd(l, 1:2)
                 sh%qhg(3, e) = sh%qhg(3, e) + dt*sh%qw(e)*kw*qd(l, 3)
                 sh%qhg(4:5, e) = sh%qhg(4:5, e) + dt*sh%qm(e)*km*qd(l, 4:5)
+                if (sh%hg_bound(e)) call bound_hourglass(sh, e, a, hh(l), bb(l))
             end if
             ! the work of each step's forces over the velocities before and
             ! after them, as the central difference moves the nodes

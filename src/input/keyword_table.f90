@@ -106,6 +106,7 @@ module xd_input_keyword_table
         entry_t('CONTROL_BULK_VISCOSITY', fam_control, '', .false.), &
         entry_t('CONTROL_ENERGY', fam_control, '', .false.), &
         entry_t('CONTROL_SHELL', fam_control, '', .false.), &
+        entry_t('CONTROL_XDYNA_SHELL', fam_control, '', .false.), &
         entry_t('CONTROL_ACCURACY', fam_control, '', .false.), &
         entry_t('CONTROL_UNITS', fam_control, '', .false.), &
         entry_t('DEFINE_CURVE', fam_load, '', .false.), &

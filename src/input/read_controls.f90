@@ -94,6 +94,15 @@ contains
                 if (btype /= 1) call add_warning(model, at//' field TYPE: only the standard form (1) is implemented')
             case ('CONTROL_SHELL')
                 call read_control_shell()
+            case ('CONTROL_XDYNA_SHELL')
+                ! xdyna's own: HGBOUND 1 bounds the stiffness-form hourglass
+                ! of plastic shells by the modes' plastic capacity
+                call get_card(ctx, kw, ic, 'HGBOUND', 1, card, error)
+                if (allocated(error)) return
+                call get_int(card, 1, c%hgbound, 0, error); if (allocated(error)) return
+                if (c%hgbound /= 0 .and. c%hgbound /= 1) then
+                    call card_error(card, 1, 'HGBOUND '//trim(card%f(1))//' is not 0 or 1', error); return
+                end if
             case ('CONTROL_ACCURACY')
                 ! OSU (second-order objective stress update), INN (invariant
                 ! node numbering), PIDOSU, IACC: xdyna has neither; the

@@ -408,6 +408,9 @@ module xd_model
         real(wp) :: q1 = 1.5_wp, q2 = 0.06_wp
         integer :: hgen = 1, rwen = 2, slnten = 1, rylen = 1
         integer :: istupd = 0               !< *CONTROL_SHELL: shell thickness follows the strain
+        !> *CONTROL_XDYNA_SHELL HGBOUND: the stiffness-form hourglass of plastic shells bounded
+        !> by the modes' plastic capacity (0: off, LS-DYNA's elastic springs)
+        integer :: hgbound = 0
         !> *CONTROL_UNITS: indices in xd_output_units' lists of length, time
         !> and mass units (0: not given)
         integer :: unit_l = 0, unit_t = 0, unit_m = 0
