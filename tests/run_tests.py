@@ -878,6 +878,20 @@ def test_shell_hourglass_plastic_bound():
     t, ke, hg, dts = hourglass_mode_energies(out)
     with open(os.path.join(out, "d3hsp")) as f:
         log = f.read()
+    record("no warning where the bound acts", "it acts nowhere" not in log)
+    deck = os.path.join(TMP, "hg_elastic_bound.k")
+    hourglass_modes_deck(deck, card, 1e-4, speeds=speeds, controls=["*CONTROL_XDYNA_SHELL", f"{1:10d}"])
+    q, out_e = run_deck(deck, "hg_elastic_bound")
+    with open(os.path.join(out_e, "d3hsp")) as f:
+        elog = f.read()
+    record("HGBOUND 1 on elastic shells only: d3hsp warns that it acts nowhere (nothing accepted silently)",
+           q.returncode == 0 and "field HGBOUND 1: no shell has the stiffness-form hourglass" in elog, elog[-400:])
+    deck = os.path.join(TMP, "hg_bad_bound.k")
+    hourglass_modes_deck(deck, card, 1e-4, speeds=speeds, controls=["*CONTROL_XDYNA_SHELL", f"{2:10d}"])
+    q, _ = run_deck(deck, "hg_bad_bound")
+    record("HGBOUND 2: exit 1, the message names the file, line, keyword, field and value",
+           q.returncode == 1 and all(w in q.stderr for w in ("hg_bad_bound.k", "CONTROL_XDYNA_SHELL", "HGBOUND 2")),
+           q.stderr[-300:])
     record("d3hsp names the bound on the stiffness form of the plastic parts and the shells it acted on",
            "each mode bounded at its coefficient times its plastic capacity" in log
            and "in 3 of 3 shells" in log, log[-600:])

@@ -988,6 +988,23 @@ contains
                             'alone has no element time step; give DTINIT')
             return
         end if
+        if (model%ctl%hgbound == 1 .and. .not. any(bounded(model%shell_part(1:model%nshell)))) &
+            call add_warning(model, model%deck_path//': *CONTROL_XDYNA_SHELL field HGBOUND 1: no shell has the '// &
+                             'stiffness-form hourglass (IHQ 4-5) on a plastic material (*MAT_003, *MAT_024); '// &
+                             'it acts nowhere')
+    contains
+        !> Part p's shells take the bound: the stiffness form (its *HOURGLASS,
+        !> else *CONTROL_HOURGLASS) on *MAT_003 or *MAT_024.
+        elemental logical function bounded(p)
+            integer, intent(in) :: p
+            integer :: ihq, mt
+            ihq = model%ctl%ihq
+            if (model%part(p)%hg_ix > 0) then
+                if (model%hg(model%part(p)%hg_ix)%ihq > 0) ihq = model%hg(model%part(p)%hg_ix)%ihq
+            end if
+            mt = model%mat(model%part(p)%mat_ix)%mtype
+            bounded = ihq > 3 .and. (mt == mat_plastic_kinematic .or. mt == mat_piecewise_linear)
+        end function bounded
     end subroutine check_controls
 
     pure function styp_word(styp) result(w)
