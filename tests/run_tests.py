@@ -1235,6 +1235,32 @@ def tied_patch_deck(z2=0.9e-3, kind="NODES_TO_SURFACE", upper_mat=1):
     return "\n".join(L) + "\n"
 
 
+def grid_nodes(L, nid, ni, nj, at):
+    """*NODE lines (appended to L) of an ni x nj grid of nodes numbered on
+    from nid, at(i, j) the coordinates; returns the grid {(i, j): id} and
+    the last id."""
+    grid = {}
+    for j in range(nj):
+        for i in range(ni):
+            nid += 1
+            grid[i, j] = nid
+            x, y, z = at(i, j)
+            L.append(f"{nid:8d}{x:16.9e}{y:16.9e}{z:16.9e}       0       0")
+    return grid, nid
+
+
+def grid_shells(L, e, grid, ni, nj, part):
+    """*ELEMENT_SHELL lines (appended to L) of part `part` over a node grid
+    of ni x nj nodes, numbered on from e; returns their ids."""
+    ids = []
+    for j in range(nj - 1):
+        for i in range(ni - 1):
+            e += 1
+            ids.append(e)
+            L.append(f"{e:8d}{part:8d}{grid[i, j]:8d}{grid[i + 1, j]:8d}{grid[i + 1, j + 1]:8d}{grid[i, j + 1]:8d}")
+    return ids
+
+
 def tjoint_deck(kind="SHELL_EDGE_TO_SURFACE"):
     """A T-joint: a 1 mm web (20 mm wide, 50 mm tall, 4 x 10 shells, steel,
     nu 0) stands on a base plate (40 x 40 mm, 8 x 8 shells) held fixed in
@@ -1246,28 +1272,11 @@ def tjoint_deck(kind="SHELL_EDGE_TO_SURFACE"):
          "*SECTION_SHELL", "         1         2         1         3", "     0.001     0.001     0.001     0.001",
          "*MAT_ELASTIC", "         1      7850     2e+11       0.0",
          "*PART", "base", "         1         1         1", "*PART", "web", "         2         1         1", "*NODE"]
-    nid, base, web = 0, {}, {}
-    for j in range(9):
-        for i in range(9):
-            nid += 1
-            base[i, j] = nid
-            L.append(f"{nid:8d}{i * 0.005:16.9e}{j * 0.005:16.9e}{0.0:16.9e}       0       0")
-    for k in range(11):
-        for j in range(5):
-            nid += 1
-            web[j, k] = nid
-            L.append(f"{nid:8d}{0.0175:16.9e}{0.0125 + j * 0.005:16.9e}{0.0005 + k * 0.005:16.9e}       0       0")
+    base, nid = grid_nodes(L, 0, 9, 9, lambda i, j: (i * 0.005, j * 0.005, 0.0))
+    web, nid = grid_nodes(L, nid, 5, 11, lambda j, k: (0.0175, 0.0125 + j * 0.005, 0.0005 + k * 0.005))
     L.append("*ELEMENT_SHELL")
-    e, wl = 0, []
-    for j in range(8):
-        for i in range(8):
-            e += 1
-            L.append(f"{e:8d}       1{base[i, j]:8d}{base[i + 1, j]:8d}{base[i + 1, j + 1]:8d}{base[i, j + 1]:8d}")
-    for k in range(10):
-        for j in range(4):
-            e += 1
-            wl.append(e)
-            L.append(f"{e:8d}       2{web[j, k]:8d}{web[j + 1, k]:8d}{web[j + 1, k + 1]:8d}{web[j, k + 1]:8d}")
+    bl = grid_shells(L, 0, base, 9, 9, 1)
+    wl = grid_shells(L, len(bl), web, 5, 11, 2)
     L += ["*SET_NODE_LIST", "         1"] + [f"{v:10d}" for v in base.values()]
     L += ["*BOUNDARY_SPC_SET", "         1         0         1         1         1         1         1         1"]
     L += ["*SET_NODE_LIST", "         2"] + [f"{web[j, 0]:10d}" for j in range(5)]
@@ -1293,28 +1302,11 @@ def lever_deck(kind="NODES_TO_SURFACE_OFFSET", p=7.25e3):
          "*SECTION_SHELL", "         1         2         1         3", "     0.001     0.001     0.001     0.001",
          "*MAT_ELASTIC", "         1      7850     2e+11       0.0",
          "*PART", "plate", "         1         1         1", "*PART", "lever", "         2         1         1", "*NODE"]
-    nid, pl, lv = 0, {}, {}
-    for j in range(5):
-        for i in range(5):
-            nid += 1
-            pl[i, j] = nid
-            L.append(f"{nid:8d}{i * 0.01:16.9e}{j * 0.01:16.9e}{0.0:16.9e}       0       0")
-    for j in range(5):
-        for i in range(4):
-            nid += 1
-            lv[i, j] = nid
-            L.append(f"{nid:8d}{0.045 + i * 0.01:16.9e}{j * 0.01:16.9e}{0.0:16.9e}       0       0")
+    pl, nid = grid_nodes(L, 0, 5, 5, lambda i, j: (i * 0.01, j * 0.01, 0.0))
+    lv, nid = grid_nodes(L, nid, 4, 5, lambda i, j: (0.045 + i * 0.01, j * 0.01, 0.0))
     L.append("*ELEMENT_SHELL")
-    e, ls = 0, []
-    for j in range(4):
-        for i in range(4):
-            e += 1
-            L.append(f"{e:8d}       1{pl[i, j]:8d}{pl[i + 1, j]:8d}{pl[i + 1, j + 1]:8d}{pl[i, j + 1]:8d}")
-    for j in range(4):
-        for i in range(3):
-            e += 1
-            ls.append(e)
-            L.append(f"{e:8d}       2{lv[i, j]:8d}{lv[i + 1, j]:8d}{lv[i + 1, j + 1]:8d}{lv[i, j + 1]:8d}")
+    pls = grid_shells(L, 0, pl, 5, 5, 1)
+    ls = grid_shells(L, len(pls), lv, 4, 5, 2)
     L += ["*SET_NODE_LIST", "         1"] + [f"{pl[0, j]:10d}" for j in range(5)]
     L += ["*BOUNDARY_SPC_SET", "         1         0         1         1         1         1         1         1"]
     L += ["*SET_NODE_LIST", "         2"] + [f"{v:10d}" for v in lv.values()]

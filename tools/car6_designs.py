@@ -52,6 +52,15 @@ DESIGNS = [
 ]
 
 
+def post_force_and_node605(h5):
+    """car6's histories in thist.h5 `h5`: the x-force on the post (rwforc,
+    wall 2) and node 605's x-displacement (nodout), over the outputs."""
+    with h5py.File(h5, "r") as f:
+        rw, n = f["rwforc"], f["nodout"]
+        return (rw["x_force"][:, list(rw["ids"][:]).index(2)],
+                n["x_displacement"][:, list(n["ids"][:]).index(605)])
+
+
 def design_deck(i, bound):
     """Design i's main deck (the four parameters changed; HGBOUND 1 added
     where `bound`), written in OUT, including the published crash deck."""
@@ -79,11 +88,7 @@ def run(i, bound):
                        env=dict(os.environ, OMP_NUM_THREADS="1"))
     if p.returncode != 0:
         return None
-    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
-        rw = f["rwforc"]
-        fx = rw["x_force"][:, list(rw["ids"][:]).index(2)]
-        n = f["nodout"]
-        ux = n["x_displacement"][:, list(n["ids"][:]).index(605)]
+    fx, ux = post_force_and_node605(os.path.join(out, "thist.h5"))
     return float(ux.min()), float(fx.max())
 
 

@@ -18,9 +18,10 @@ import sys
 import time
 
 import h5py
-import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+from car6_designs import post_force_and_node605  # noqa: E402
 # the runs' states also in d3plot.h5, which this tool reads (the d3plot
 # family in LS-DYNA's layout is written as well)
 os.environ.setdefault("XDYNA_H5PLOT", "1")
@@ -67,11 +68,9 @@ def main(argv):
         rows.append(row)
         print(json.dumps(row), flush=True)
         if deck == "car6_main.k" and p.returncode == 0:
+            fx, ux = post_force_and_node605(os.path.join(out, "thist.h5"))
+            ux = ux[-1]
             with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
-                rw = f["rwforc"]
-                fx = rw["x_force"][:, list(rw["ids"][:]).index(2)]
-                n = f["nodout"]
-                ux = n["x_displacement"][-1, list(n["ids"][:]).index(605)]
                 m = f["matsum"]
                 k = list(m["ids"][:]).index(1)
                 vx = m["x_momentum"][-1, k] / m["mass"][-1, k]

@@ -504,21 +504,24 @@ contains
         do k = 1, td%n
             is_m(td%mnode(:, k)) = .true.
         end do
+        ! (pos counts each node's ties here, before it holds positions)
+        pos = 0
+        do k = 1, td%n
+            pos(td%slave(k)) = pos(td%slave(k)) + 1
+        end do
         do k = 1, td%n
             s = td%slave(k)
             if (member(s)) then
-                call make_error(error, trim(model%tied(td%ifc(k))%at)//': *'//trim(model%tied(td%ifc(k))%keyword)// &
-                                ' '//itoa(model%tied(td%ifc(k))%id)//': slave node '//itoa(model%node_id(s))// &
-                                ' is on a rigid body (use *CONSTRAINED_EXTRA_NODES to join a node to a body)')
+                call make_error(error, tie_slave(k)//' is on a rigid body (use *CONSTRAINED_EXTRA_NODES to join a '// &
+                                'node to a body)')
                 return
             end if
             if (is_m(s)) then
-                call make_error(error, trim(model%tied(td%ifc(k))%at)//': *'//trim(model%tied(td%ifc(k))%keyword)// &
-                                ' '//itoa(model%tied(td%ifc(k))%id)//': slave node '//itoa(model%node_id(s))// &
-                                ' is also a node of a tied segment (a chain of ties is not supported)')
+                call make_error(error, tie_slave(k)//' is also a node of a tied segment (a chain of ties is not '// &
+                                'supported)')
                 return
             end if
-            if (count(td%slave == s) > 1) then
+            if (pos(s) > 1) then
                 call make_error(error, 'slave node '//itoa(model%node_id(s))//' is tied by more than one '// &
                                 '*CONTACT_TIED_... (tie it once)')
                 return
@@ -596,6 +599,15 @@ contains
         end do
         if (dv > 1.0e-12_wp*max(vmax, tiny(1.0_wp))) txt = txt//' tied slaves: initial velocities set to their '// &
             'segments'' (largest change '//rtoa(real(dv, dp))//')'//new_line('a')
+    contains
+        !> Tie k's place and slave, as the set-up errors name them.
+        function tie_slave(k) result(t)
+            integer, intent(in) :: k
+            character(len=:), allocatable :: t
+            associate (c => model%tied(td%ifc(k)))
+                t = trim(c%at)//': *'//trim(c%keyword)//' '//itoa(c%id)//': slave node '//itoa(model%node_id(td%slave(k)))
+            end associate
+        end function tie_slave
     end subroutine start_ties
 
     !> Whether tie k holds its slave now (before its DT, not broken).

@@ -8,13 +8,11 @@
 module xd_elements_shell_bt
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc, alloc_dp
-    use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid
+    use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid, hg_bounded
     use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
-    use xd_core_strings, only: itoa
-    use xd_core_sorting, only: sort_index
     implicit none
     private
-    public :: shells_t, build_shells, shell_forces, shell_masses, shell_axes, point_weight, point_z, hourglass_bound_lines
+    public :: shells_t, build_shells, shell_forces, shell_masses, shell_axes, point_weight, point_z
 
     ! iteration tolerances: 1e-10 and 1e-12 relative in double precision,
     ! ten round-offs in single (where 1e-12 cannot be reached and every
@@ -216,7 +214,7 @@ contains
                 sh%qw(e) = model%hg(k)%qw
                 if (model%hg(k)%ihq > 0) sh%hg_viscous(e) = model%hg(k)%ihq <= 3
             end if
-            sh%hg_bound(e) = model%ctl%hgbound == 1 .and. sh%plastic(e) .and. .not. sh%hg_viscous(e)
+            sh%hg_bound(e) = hg_bounded(model, p)
         end do
         ! the points' state, as many per shell as the most any shell has
         ! (each shell's in one run of memory: NIP 2 in 80 bytes, not 400);
@@ -295,36 +293,6 @@ contains
         if (qw > cw) sh%qhg(3, e) = sh%qhg(3, e)*(cw/qw)
         sh%ncap(e) = sh%ncap(e) + 1
     end subroutine bound_hourglass
-
-    !> d3hsp's lines on the hourglass bound (bound_hourglass) over the
-    !> ncycle cycles of this run: how many plastic shells it acted on, and
-    !> the ten it acted on longest with their part and share of the cycles;
-    !> empty where it never acted.
-    function hourglass_bound_lines(sh, part_id, ncycle) result(s)
-        type(shells_t), intent(in) :: sh
-        integer, intent(in) :: part_id(:), ncycle
-        character(len=:), allocatable :: s
-        character(len=1), parameter :: nl = new_line('a')
-        integer, parameter :: named = 10
-        integer, allocatable :: perm(:)
-        integer :: i, k, nact
-        character(len=12) :: pc
-        s = ''
-        if (.not. allocated(sh%ncap) .or. ncycle <= 0) return
-        nact = count(sh%ncap > 0)
-        if (nact == 0) return
-        s = nl//' stiffness-form hourglass of plastic shells bounded at its coefficient times the mode''s '// &
-            'plastic capacity: in '//itoa(nact)//' of '//itoa(sh%n)//' shells over the '//itoa(ncycle)// &
-            ' cycles of this run (the cut-off work booked as hourglass energy); longest:'
-        call sort_index(-real(sh%ncap, dp), perm)
-        do i = 1, min(named, nact)
-            k = perm(i)
-            write (pc, '(f6.1)') 100.0_dp*sh%ncap(k)/ncycle
-            s = s//nl//'   shell '//itoa(sh%eid(k))//' of part '//itoa(part_id(sh%part(k)))//': '// &
-                itoa(sh%ncap(k))//' cycles ('//trim(adjustl(pc))//'%)'
-        end do
-        if (nact > named) s = s//nl//'   and '//itoa(nact - named)//' other shells'
-    end function hourglass_bound_lines
 
     pure real(wp) function area(xe, c)
         real(wp), intent(in) :: xe(3, 4)

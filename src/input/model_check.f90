@@ -11,7 +11,7 @@ module xd_input_model_check
     use xd_input_check_contacts, only: check_contacts
     use xd_elements_hex8, only: hex_volume_operator, hex_corner_jacobians, hex_shape_kind, &
                                 hex_regular, hex_wedge, hex_tet, hex_bad
-    use xd_model, only: model_t, find_set, mat_rigid, mat_elastic, mat_spotweld, mat_plastic_kinematic, &
+    use xd_model, only: model_t, find_set, hg_bounded, mat_rigid, mat_elastic, mat_spotweld, mat_plastic_kinematic, &
         mat_piecewise_linear, set_node, set_shell, pressure_t, set_part, &
         iv_node_set, iv_node, &
         iv_generation, find_box, find_coord, point_mass_t
@@ -971,6 +971,7 @@ contains
     subroutine check_controls(model, error)
         type(model_t), intent(inout) :: model
         type(error_t), allocatable, intent(out) :: error
+        integer :: e
         if (.not. model%ctl%termination_given .or. &
             (model%ctl%endtim <= 0.0_wp .and. model%ctl%endcyc <= 0)) then
             call make_error(error, model%deck_path//': *CONTROL_TERMINATION with ENDTIM > 0 '// &
@@ -988,23 +989,12 @@ contains
                             'alone has no element time step; give DTINIT')
             return
         end if
-        if (model%ctl%hgbound == 1 .and. .not. any(bounded(model%shell_part(1:model%nshell)))) &
-            call add_warning(model, model%deck_path//': *CONTROL_XDYNA_SHELL field HGBOUND 1: no shell has the '// &
-                             'stiffness-form hourglass (IHQ 4-5) on a plastic material (*MAT_003, *MAT_024); '// &
-                             'it acts nowhere')
-    contains
-        !> Part p's shells take the bound: the stiffness form (its *HOURGLASS,
-        !> else *CONTROL_HOURGLASS) on *MAT_003 or *MAT_024.
-        elemental logical function bounded(p)
-            integer, intent(in) :: p
-            integer :: ihq, mt
-            ihq = model%ctl%ihq
-            if (model%part(p)%hg_ix > 0) then
-                if (model%hg(model%part(p)%hg_ix)%ihq > 0) ihq = model%hg(model%part(p)%hg_ix)%ihq
-            end if
-            mt = model%mat(model%part(p)%mat_ix)%mtype
-            bounded = ihq > 3 .and. (mt == mat_plastic_kinematic .or. mt == mat_piecewise_linear)
-        end function bounded
+        if (model%ctl%hgbound == 1) then
+            if (.not. any([(hg_bounded(model, model%shell_part(e)), e=1, model%nshell)])) &
+                call add_warning(model, model%deck_path//': *CONTROL_XDYNA_SHELL field HGBOUND 1: no shell has the '// &
+                                 'stiffness-form hourglass (IHQ 4-5) on a plastic material (*MAT_003, *MAT_024); '// &
+                                 'it acts nowhere')
+        end if
     end subroutine check_controls
 
     pure function styp_word(styp) result(w)

@@ -5,7 +5,7 @@ module xd_output_d3hsp
     use xd_core_strings, only: itoa, join_path, out_path
     use xd_core_timers, only: timers_t, nphase, phase_name, ph_elements, ph_assembly, ph_integrate, &
                               ph_contact, ph_rigid, ph_output, ph_search, ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
-    use xd_model, only: model_t, mat_plastic_kinematic, mat_piecewise_linear
+    use xd_model, only: model_t, part_ihq, hg_bounded
     use xd_elements_solid_groups, only: solids_t, hg_stiffness
     use xd_output_histories, only: version_line
     implicit none
@@ -78,11 +78,10 @@ contains
         s = ''
         do p = 1, model%npart
             if (count(model%shell_part(1:model%nshell) == p) == 0) cycle
-            ihq = model%ctl%ihq
+            ihq = part_ihq(model, p)
             qm = model%ctl%qh; qb = qm; qw = qm
             k = model%part(p)%hg_ix
             if (k > 0) then
-                if (model%hg(k)%ihq > 0) ihq = model%hg(k)%ihq
                 qm = model%hg(k)%qm; qb = model%hg(k)%qb; qw = model%hg(k)%qw
             end if
             if (ihq <= 3) then
@@ -92,11 +91,8 @@ contains
                 s = s//'     part '//itoa(model%part(p)%id)//' shell hourglass: stiffness (IHQ '//itoa(ihq)//')'
             end if
             s = s//' QM '//trim(fmt(qm))//' QB '//trim(fmt(qb))//' QW '//trim(fmt(qw))
-            associate (mt => model%mat(model%part(p)%mat_ix)%mtype)
-                if (ihq > 3 .and. model%ctl%hgbound == 1 .and. &
-                    (mt == mat_plastic_kinematic .or. mt == mat_piecewise_linear)) &
-                    s = s//', each mode bounded at its coefficient times its plastic capacity (flow stress)'
-            end associate
+            if (hg_bounded(model, p)) s = s//', each mode bounded at its coefficient times its plastic capacity '// &
+                                             '(flow stress)'
             s = s//nl
         end do
     end function shell_hourglass_lines

@@ -13,7 +13,7 @@ module xd_solver_step_control
     use xd_output_d3hsp, only: log_t, log_line
     implicit none
     private
-    public :: step_stats_t, step_stats_init, step_stats_count, step_stats_report
+    public :: step_stats_t, step_stats_init, step_stats_count, step_stats_report, hourglass_bound_report
     public :: by_element, by_contact, by_floor, by_other
 
     integer, parameter :: by_element = 1, by_contact = 2, by_floor = 3, by_other = 4
@@ -61,9 +61,10 @@ contains
         if (ss%ncycle == 0) return
         call log_line(lg, '')
         call log_line(lg, ' time step over the '//itoa(ss%ncycle)//' cycles of this run: set by an element in '// &
-                      share(ss%nkind(by_element))//', by the contact springs'' bound in '//share(ss%nkind(by_contact))// &
-                      ', by the mass-scaling floor TSSFAC x |DT2MS| in '//share(ss%nkind(by_floor))// &
-                      ', otherwise (DTINIT, no element) in '//share(ss%nkind(by_other)))
+                      share(ss%nkind(by_element), ss%ncycle)//', by the contact springs'' bound in '// &
+                      share(ss%nkind(by_contact), ss%ncycle)//', by the mass-scaling floor TSSFAC x |DT2MS| in '// &
+                      share(ss%nkind(by_floor), ss%ncycle)//', otherwise (DTINIT, no element) in '// &
+                      share(ss%nkind(by_other), ss%ncycle))
         ns = size(ss%solid)
         cnt = [ss%solid, ss%shell]
         if (count(cnt > 0) == 0) return
@@ -72,22 +73,51 @@ contains
             k = perm(i)
             if (k <= ns) then
                 call log_line(lg, '   solid '//itoa(solids%eid(k))//' of part '//itoa(model%part(solids%part(k))%id)// &
-                              ': '//share(cnt(k)))
+                              ': '//share(cnt(k), ss%ncycle))
             else
                 call log_line(lg, '   shell '//itoa(sh%eid(k - ns))//' of part '// &
-                              itoa(model%part(sh%part(k - ns))%id)//': '//share(cnt(k)))
+                              itoa(model%part(sh%part(k - ns))%id)//': '//share(cnt(k), ss%ncycle))
             end if
         end do
         if (count(cnt > 0) > named) call log_line(lg, '   and '//itoa(count(cnt > 0) - named)// &
-                                                  ' other elements: '//share(sum(cnt(perm(named + 1:)))))
-    contains
-        function share(n) result(s)
-            integer, intent(in) :: n
-            character(len=:), allocatable :: s
-            character(len=8) :: pc
-            write (pc, '(f6.1)') 100.0_dp*n/ss%ncycle
-            s = itoa(n)//' cycles ('//trim(adjustl(pc))//'%)'
-        end function share
+                                                  ' other elements: '//share(sum(cnt(perm(named + 1:))), ss%ncycle))
     end subroutine step_stats_report
+
+    !> d3hsp's lines on the bounded shell hourglass (*CONTROL_XDYNA_SHELL
+    !> HGBOUND 1) over the cycles of this run: how many shells the bound
+    !> acted on (sh%ncap, summed over the ranks by the caller), and the
+    !> ten it acted on longest; nothing where it never acted.
+    subroutine hourglass_bound_report(ss, model, sh, lg)
+        type(step_stats_t), intent(in) :: ss
+        type(model_t), intent(in) :: model
+        type(shells_t), intent(in) :: sh
+        type(log_t), intent(in) :: lg
+        integer, parameter :: longest = 10
+        integer, allocatable :: perm(:)
+        integer :: i, k, nact
+        if (ss%ncycle == 0 .or. .not. allocated(sh%ncap)) return
+        nact = count(sh%ncap > 0)
+        if (nact == 0) return
+        call log_line(lg, '')
+        call log_line(lg, ' stiffness-form hourglass of plastic shells bounded at its coefficient times the mode''s '// &
+                      'plastic capacity: in '//itoa(nact)//' of '//itoa(sh%n)//' shells over the '//itoa(ss%ncycle)// &
+                      ' cycles of this run (the cut-off work booked as hourglass energy); longest:')
+        call sort_index(-real(sh%ncap, dp), perm)
+        do i = 1, min(longest, nact)
+            k = perm(i)
+            call log_line(lg, '   shell '//itoa(sh%eid(k))//' of part '//itoa(model%part(sh%part(k))%id)//': '// &
+                          share(sh%ncap(k), ss%ncycle))
+        end do
+        if (nact > longest) call log_line(lg, '   and '//itoa(nact - longest)//' other shells')
+    end subroutine hourglass_bound_report
+
+    !> n cycles of ncycle, as d3hsp's reports give them: "n cycles (x%)".
+    function share(n, ncycle) result(s)
+        integer, intent(in) :: n, ncycle
+        character(len=:), allocatable :: s
+        character(len=8) :: pc
+        write (pc, '(f6.1)') 100.0_dp*n/ncycle
+        s = itoa(n)//' cycles ('//trim(adjustl(pc))//'%)'
+    end function share
 
 end module xd_solver_step_control

@@ -35,11 +35,11 @@ module xd_solver_time_loop
                                   scatter_contact_state, contact_events
     use xd_solver_prescribed, only: prescribed_nodes_t, apply_prescribed
     use xd_rigid_bodies, only: rigid_t, rigid_step, rigid_response
-    use xd_elements_shell_bt, only: shells_t, shell_forces, hourglass_bound_lines
+    use xd_elements_shell_bt, only: shells_t, shell_forces
     use xd_solver_domain, only: domain_t, share_slots, share_nodes, gather_energy_state, gather_element_state
     use xd_core_comm, only: comm_gather_small, comm_max, comm_sum_int
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, by_element, &
-                                      by_contact, by_floor, by_other
+                                      by_contact, by_floor, by_other, hourglass_bound_report
     use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
                                       mass_scaling_summary
     implicit none
@@ -114,7 +114,7 @@ contains
         real(wp) :: dt_ref
         logical :: done, energy_now, dumped_end, near_limit, status_now, state_asked, switch_gone
         integer :: nd, cycle0, stop_sig, switch
-        character(len=:), allocatable :: switch_text, tie_events, hg_text
+        character(len=:), allocatable :: switch_text, tie_events
         integer :: beam_crit                   !< the beam that set the step (0: none)
         real(wp) :: dtc_pass                   !< the beams' step, combined after the element pass
 
@@ -446,8 +446,7 @@ contains
         call step_stats_report(ss, model, solids, sh, lg)
         if (allocated(sh%ncap)) then
             if (dom%on) call comm_sum_int(sh%ncap, sh%n)
-            hg_text = hourglass_bound_lines(sh, model%part(:)%id, ss%ncycle)
-            if (len(hg_text) > 0) call log_line(lg, hg_text)
+            call hourglass_bound_report(ss, model, sh, lg)
         end if
         call mass_scaling_summary(ms, model, solids, sh, st, lg)
         if (res%status == exit_normal) then
