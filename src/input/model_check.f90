@@ -989,7 +989,7 @@ contains
                             'alone has no element time step; give DTINIT')
             return
         end if
-        if (model%ctl%hgbound == 1) then
+        if (model%ctl%hgbound == 1 .and. model%ctl%hgbound_given) then
             if (.not. any([(hg_bounded(model, model%shell_part(e)), e=1, model%nshell)])) &
                 call add_warning(model, model%deck_path//': *CONTROL_XDYNA_SHELL field HGBOUND 1: no shell has the '// &
                                  'stiffness-form hourglass (IHQ 4-5) on a plastic material (*MAT_003, *MAT_024); '// &

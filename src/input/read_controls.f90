@@ -95,11 +95,13 @@ contains
             case ('CONTROL_SHELL')
                 call read_control_shell()
             case ('CONTROL_XDYNA_SHELL')
-                ! xdyna's own: HGBOUND 1 bounds the stiffness-form hourglass
-                ! of plastic shells by the modes' plastic capacity
+                ! xdyna's own: HGBOUND 1 (the default) bounds the
+                ! stiffness-form hourglass of plastic shells by the modes'
+                ! plastic capacity; 0 leaves the springs elastic
                 call get_card(ctx, kw, ic, 'HGBOUND', 1, card, error)
                 if (allocated(error)) return
-                call get_int(card, 1, c%hgbound, 0, error); if (allocated(error)) return
+                call get_int(card, 1, c%hgbound, 1, error); if (allocated(error)) return
+                c%hgbound_given = .true.
                 if (c%hgbound /= 0 .and. c%hgbound /= 1) then
                     call card_error(card, 1, 'HGBOUND '//trim(card%f(1))//' is not 0 or 1', error); return
                 end if

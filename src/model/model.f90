@@ -409,8 +409,10 @@ module xd_model
         integer :: hgen = 1, rwen = 2, slnten = 1, rylen = 1
         integer :: istupd = 0               !< *CONTROL_SHELL: shell thickness follows the strain
         !> *CONTROL_XDYNA_SHELL HGBOUND: the stiffness-form hourglass of plastic shells bounded
-        !> by the modes' plastic capacity (0: off, LS-DYNA's elastic springs)
-        integer :: hgbound = 0
+        !> by the modes' plastic capacity (1, the default; 0: elastic springs without limit)
+        integer :: hgbound = 1
+        !> HGBOUND was given in the deck (a 1 that acts nowhere is then warned)
+        logical :: hgbound_given = .false.
         !> *CONTROL_UNITS: indices in xd_output_units' lists of length, time
         !> and mass units (0: not given)
         integer :: unit_l = 0, unit_t = 0, unit_m = 0

@@ -91,8 +91,12 @@ contains
                 s = s//'     part '//itoa(model%part(p)%id)//' shell hourglass: stiffness (IHQ '//itoa(ihq)//')'
             end if
             s = s//' QM '//trim(fmt(qm))//' QB '//trim(fmt(qb))//' QW '//trim(fmt(qw))
-            if (hg_bounded(model, p)) s = s//', each mode bounded at its coefficient times its plastic capacity '// &
-                                             '(flow stress)'
+            if (hg_bounded(model, p)) then
+                s = s//', each mode bounded at its coefficient times its plastic capacity (flow stress; '// &
+                    '*CONTROL_XDYNA_SHELL HGBOUND 1, the default)'
+            else if (ihq > 3 .and. model%ctl%hgbound == 0) then
+                s = s//', elastic springs without bound (*CONTROL_XDYNA_SHELL HGBOUND 0)'
+            end if
             s = s//nl
         end do
     end function shell_hourglass_lines
