@@ -35,10 +35,12 @@ whose signed distance to a shell segment changes sign between two states
 while its projection lies inside the segment in both (it crossed the
 mid-surface), and by no more than 1.5 times the node's motion against the
 segment's nodes (a larger change is the closest point leaping from one
-side to the other, not a crossing). Nodes under prescribed motion: in
-the DECK THIST_H5 form, the figures are given again for the pairs free
-of them (no contact force stops such a node, nor a segment it drives). With a few dozen states, pass-throughs between two states
-that come back are not seen; the overlap check is the stricter of the two.
+side to the other, not a crossing). With a few dozen states,
+pass-throughs between two states that come back are not seen; the
+overlap check is the stricter of the two. Nodes under prescribed motion:
+in the DECK THIST_H5 form, the figures are given again for the pairs
+free of them (no contact force stops such a node, nor a segment it
+drives).
 
 Candidate pairs come from a uniform grid of cells one segment size plus
 one thickness wide, so the cost is linear in the model size.
@@ -368,9 +370,9 @@ def check_run(run, parts=None, growth=False):
     return worst, crossings, len(names), t_worst
 
 
-def read_shells(deck):
-    """Shell connectivity (ids), part of each shell, and thickness per part."""
-    shells, sec_t, part_sec = [], {}, {}
+def deck_cards(deck):
+    """The data lines of DECK (comments left out), each as (keyword, its
+    card number under that keyword from 1, line)."""
     kw, card = None, 0
     for raw in open(deck):
         line = raw.rstrip("\n")
@@ -380,6 +382,13 @@ def read_shells(deck):
             kw, card = line.split()[0].upper(), 0
             continue
         card += 1
+        yield kw, card, line
+
+
+def read_shells(deck):
+    """Shell connectivity (ids), part of each shell, and thickness per part."""
+    shells, sec_t, part_sec = [], {}, {}
+    for kw, card, line in deck_cards(deck):
         if kw == "*ELEMENT_SHELL":
             v = [int(line[i:i + 8]) for i in range(0, 48, 8)]
             shells.append(v)
@@ -398,16 +407,8 @@ def read_shells(deck):
 def prescribed_nodes(deck):
     """Ids of the nodes under *BOUNDARY_PRESCRIBED_MOTION_NODE or _SET
     (through *SET_NODE_LIST) in DECK."""
-    sets, driven, set_ids = {}, set(), []
-    kw, card, cur = None, 0, None
-    for raw in open(deck):
-        line = raw.rstrip("\n")
-        if line.startswith("$"):
-            continue
-        if line.startswith("*"):
-            kw, card = line.split()[0].upper(), 0
-            continue
-        card += 1
+    sets, driven, set_ids, cur = {}, set(), [], None
+    for kw, card, line in deck_cards(deck):
         if kw == "*SET_NODE_LIST":
             if card == 1:
                 cur = int(line[0:10])
