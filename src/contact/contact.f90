@@ -79,6 +79,8 @@ module xd_contact_contact
         real(wp) :: plate = 0                 !< the deepest of them
         integer :: nback = 0                  !< of those, back under the segment the node held last
         real(wp) :: pback = 0                 !< the deepest of them
+        integer :: nwithin = 0                !< deep in a shell's zone the node lay in at the search: held there
+        real(wp) :: pwithin = 0               !< the deepest of them
         real(wp) :: pinit = 0                 !< the deepest initial penetration
         integer :: nrel = 0                   !< contacts lost while deeper than one step can undo
         real(wp) :: prel = 0                  !< the deepest of them
@@ -125,13 +127,14 @@ module xd_contact_contact
     !> shrinking, as LS-DYNA's IGNORE = 1); a missed contact, found or
     !> moved deeper than one step's approach in a zone the slave entered
     !> since the last search (the excess allowed the same way); a contact
-    !> released while deep; a deep contact refused, in a zone the slave was
-    !> already in at the last search (a face it never crossed: no contact;
-    !> named once per slave and segment while it lasts); a contact released
-    !> beyond PENMAX times the segment's thickness (counted with the deep
-    !> releases).
+    !> released while deep; a deep contact refused, in a solid's zone the
+    !> slave was already in at the last search (a face it never crossed: no
+    !> contact; named once per slave and segment while it lasts); the same
+    !> in a shell's zone, held at the depth found (its depth allowed); a
+    !> contact released beyond PENMAX times the segment's thickness (counted
+    !> with the deep releases).
     integer, parameter :: ev_none = 0, ev_initial = 1, ev_late = 2, ev_released = 3, ev_refused = 4, ev_penmax = 5, &
-                          ev_back = 6
+                          ev_back = 6, ev_within = 7
     integer, parameter :: max_named = 200   !< late and released events named per interface (all counted)
     integer, parameter :: default_interval = 100   !< SEARCH 1: longest cycles between global searches when none is given
     real(wp), parameter :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
@@ -988,12 +991,18 @@ contains
             ! where it was: the old allowance plus the excess (dropping the
             ! old allowance would push the node out by it at once, the
             ! spring energy k p0^2 / 2 created).
+            ! A shell contact in a zone the node lay in at the search
+            ! (within) is held where it is found: its compression stays
+            ! last cycle's, without the step's approach (none to speak of:
+            ! the node did not come in).
             reach = 2.0_wp*abs(dot_product(vrel, it%hit(k)%nhat))*dt + 1.0e-3_wp*it%hit(k)%tm
+            if (it%hit(k)%within) reach = 0
             if (it%cseg(k) /= 0) reach = reach + it%aeff(k) + it%p0(k)
             if (abs(it%hit(k)%a) > reach) then
                 ! (back under the segment it held last: named apart, the
                 ! local search let it through without the came-in test)
                 it%evk(k) = merge(ev_back, ev_late, m == it%held(k))
+                if (it%hit(k)%within) it%evk(k) = ev_within
                 it%evd(k) = abs(it%hit(k)%a) - reach
                 it%p0(k) = it%p0(k) + it%evd(k)
             end if
@@ -1059,6 +1068,10 @@ contains
             it%nback = it%nback + 1
             it%pback = max(it%pback, it%evd(k))
             named = it%nback <= max_named
+        case (ev_within)
+            it%nwithin = it%nwithin + 1
+            it%pwithin = max(it%pwithin, it%evd(k))
+            named = it%nwithin <= max_named
         case (ev_refused)
             it%nref = it%nref + 1
             it%pref = max(it%pref, it%evd(k))
@@ -1099,6 +1112,7 @@ contains
                         case (ev_late); what = 'missed contact (entered since the search) deeper than a step: excess allowed'
                         case (ev_refused); what = 'deep under a face it did not cross since the search: no contact'
                         case (ev_back); what = 'back under the segment it held last, deeper than a step: excess allowed'
+                        case (ev_within); what = 'deep in a shell''s zone it lay in at the search: held at that depth'
                         case (ev_penmax); what = 'contact released beyond PENMAX times the thickness'
                         case default; what = 'contact released deep'
                         end select
@@ -1428,8 +1442,10 @@ contains
                     'than one step''s approach (largest excess ', it%plate, ') allowed like initial penetrations')//nl
                 if (it%nback > 0) txt = txt//count_line(it%id, it%nback, ' contacts back under the segment the '// &
                     'node held last, deeper than a step (largest excess ', it%pback, ') allowed')//nl
-                if (it%nref > 0) txt = txt//count_line(it%id, it%nref, ' deep contacts refused, under faces the '// &
-                    'node did not cross since the search (deepest ', it%pref, ')')//nl
+                if (it%nref > 0) txt = txt//count_line(it%id, it%nref, ' deep contacts refused, under solid faces '// &
+                    'the node did not cross since the search (deepest ', it%pref, ')')//nl
+                if (it%nwithin > 0) txt = txt//count_line(it%id, it%nwithin, ' contacts deep in a shell''s zone '// &
+                    'the node lay in at the search, held at that depth (deepest ', it%pwithin, ' allowed)')//nl
                 if (it%energy < -0.01_dp*abs(e_ref)) then
                     ! the ratio books this work as (negative) sliding energy, so
                     ! it stays at 1 while the contact creates energy

@@ -74,10 +74,13 @@ contains
     !> search (`xs`, surface numbering) it lay outside the zone. Such a
     !> missed contact (the slave was held by another segment, or came
     !> through an edge) is kept; one that lay inside the zone already is a
-    !> face the slave never crossed (a node near a fold's hinge under the
-    !> other flank, a node inside a body's corner under the far face): no
-    !> contact. The deepest refused segment and its depth come back in
-    !> `refused` and `refused_depth` (0: none).
+    !> face the slave never crossed. A solid face's is no contact (a node
+    !> inside a body's corner under the far face); the deepest refused
+    !> segment and its depth come back in `refused` and `refused_depth` (0:
+    !> none). A shell's is held where it is found (best%within: the depth
+    !> allowed, a force only deeper): a node in a shell's thickness band
+    !> that goes on reaches the mid-surface and passes, and refusing it
+    !> let the last nodes through the demo tube's folds and car6's.
     !>
     !> With PENMAX (ls%penmax > 0), a segment that holds the slave deeper than
     !> penmax times its thickness (less `allow`, the slave's allowance, on
@@ -255,15 +258,25 @@ contains
             if (h%found) then
                 if (in_plane_own(m, h) .or. too_deep(h)) return
                 ! deeper than the slave can have gone since last cycle, in a
-                ! zone it did not enter since the search: not its contact
+                ! zone it did not enter since the search: a solid face's is
+                ! not its contact (a node inside a body's corner under the
+                ! far face); a shell's holds it at that depth (h%within:
+                ! allowed, no force until it goes deeper), for a node inside
+                ! a shell's thickness band that moves on reaches its
+                ! mid-surface and passes (refused, the demo tube's and
+                ! car6's last pass-throughs did)
                 if (.not. ls%first .and. m /= oldseg .and. m /= held_seg .and. h%gap == 0.0_wp) then
                     if (.not. reachable(h)) then
                         if (.not. came_in(m)) then
-                            if (abs(h%a) > rdep) then
-                                rdep = abs(h%a)
-                                rseg = m
+                            if (s%seg_kind(m) == seg_shell) then
+                                h%within = .true.
+                            else
+                                if (abs(h%a) > rdep) then
+                                    rdep = abs(h%a)
+                                    rseg = m
+                                end if
+                                return
                             end if
-                            return
                         end if
                     end if
                 end if

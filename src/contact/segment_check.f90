@@ -38,6 +38,10 @@ module xd_contact_segment_check
         real(wp) :: border = 0            !< distance of the contact point to the segment border
         real(wp) :: gap = 0               !< found ahead of touching (Lagrangian lead): the open gap, a = 0
         logical :: converged = .true.     !< the Newton iteration of Eqs. (5)-(6) converged
+        !> set by the local search: a shell contact deeper than a step in a
+        !> zone the slave already lay in at the last search (it never
+        !> crossed into it): held at the depth it is found
+        logical :: within = .false.
     end type hit_t
 
 contains

@@ -52,11 +52,17 @@ contains
     !> of another body whose node sits at z = 0.02: 0.12 deep in the
     !> plate's contact zone (half thicknesses 0.05 + 0.1), at rest, in no
     !> contact last cycle. Where the node lay there already at the last
-    !> search it never crossed into the zone: no contact, the plate named
-    !> as refused with depth 0.12; unless the plate is the segment the node
-    !> held last (a contact that slid off and came back). Where it lay outside at the search (z =
-    !> 0.5) it came in since (a missed contact): found. At the first cycle
-    !> every contact is an initial penetration: found.
+    !> search it never crossed into the zone: a shell's zone is its
+    !> thickness band, so the contact is held where it is found (found,
+    !> flagged `within`: slave_force allows its whole depth), nothing
+    !> refused; as the segment the node held last (a contact that slid off
+    !> and came back) it is found unflagged. Where it lay outside at the
+    !> search (z = 0.5) it came in since (a missed contact): found,
+    !> unflagged. At the first cycle every contact is an initial
+    !> penetration: found. The same node 0.12 below a block's top face
+    !> (inside the face's window, the element's depth), lying there at the
+    !> search, is refused: no contact, the face and the depth 0.17 (with
+    !> its half thickness 0.05) named.
     subroutine refused_deep()
         type(model_t) :: m
         type(surface_t) :: s
@@ -78,24 +84,38 @@ contains
         xs = ls%xl
         ls%first = .false.
         call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep)
-        call check(.not. h%found .and. rseg > 0 .and. abs(rdep - 0.12_wp) < 1.0e-9_wp, &
-                   'local search: a node 0.12 deep in a shell''s zone it lay in at the last search is refused '// &
-                   '(no contact; the segment and depth named)')
+        call check(h%found .and. h%within .and. rseg == 0 .and. abs(abs(h%a) - 0.12_wp) < 1.0e-9_wp, &
+                   'local search: a node 0.12 deep in a shell''s zone it lay in at the last search is held there '// &
+                   '(found, flagged within, nothing refused)')
         ! the node held that plate earlier (released when it slid off,
         ! back under it now): on its contact side then, so a contact again
-        plate = rseg
+        plate = h%seg
         call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep, &
                           held=plate)
-        call check(h%found .and. rseg == 0 .and. abs(abs(h%a) - 0.12_wp) < 1.0e-9_wp, &
+        call check(h%found .and. .not. h%within .and. rseg == 0 .and. abs(abs(h%a) - 0.12_wp) < 1.0e-9_wp, &
                    'local search: the same node deep under the segment it held last (released, back) is found')
         xs(3, s%slave(k)) = 0.5_wp
         call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep)
-        call check(h%found .and. rseg == 0 .and. abs(abs(h%a) - 0.12_wp) < 1.0e-9_wp, &
+        call check(h%found .and. .not. h%within .and. rseg == 0 .and. abs(abs(h%a) - 0.12_wp) < 1.0e-9_wp, &
                    'local search: the same node outside the zone at the last search came in since: a missed contact, found')
         xs = ls%xl
         ls%first = .true.
         call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep)
         call check(h%found .and. rseg == 0, 'local search: at the first cycle the same node is an initial penetration, found')
+        ! a block's top face instead of the plate: refused
+        call empty_model(m, 2)
+        call add_block(m, [2, 2, 1], [0.0_wp, 0.0_wp, -1.0_wp], [0.5_wp, 0.5_wp, 1.0_wp], 1, .false.)
+        q = [node_at(m, [0.4_wp, 0.4_wp, -0.12_wp], .false.), node_at(m, [0.3_wp, 0.4_wp, 0.3_wp], .false.), &
+             node_at(m, [0.3_wp, 0.3_wp, 0.3_wp], .false.), node_at(m, [0.4_wp, 0.3_wp, 0.3_wp], .false.)]
+        call add_shell(m, q, 0.1_wp, 2)
+        call prepare(m, s, l, ls)
+        k = slave_of(s, q(1))
+        xs = ls%xl
+        ls%first = .false.
+        call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep)
+        call check(.not. h%found .and. rseg > 0 .and. abs(rdep - 0.17_wp) < 1.0e-9_wp, &
+                   'local search: a node 0.12 under a block''s top face it lay under at the last search is refused '// &
+                   '(no contact; the face and the depth 0.17 named)')
     end subroutine refused_deep
 
     !> Position in s%slave of model node nd.
