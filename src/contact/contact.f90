@@ -1001,8 +1001,11 @@ contains
             if (abs(it%hit(k)%a) > reach) then
                 ! (back under the segment it held last: named apart, the
                 ! local search let it through without the came-in test)
-                it%evk(k) = merge(ev_back, ev_late, m == it%held(k))
-                if (it%hit(k)%within) it%evk(k) = ev_within
+                if (it%hit(k)%within) then
+                    it%evk(k) = ev_within
+                else
+                    it%evk(k) = merge(ev_back, ev_late, m == it%held(k))
+                end if
                 it%evd(k) = abs(it%hit(k)%a) - reach
                 it%p0(k) = it%p0(k) + it%evd(k)
             end if

@@ -203,6 +203,20 @@ contains
             end if
         end subroutine report_refused
 
+        !> Contact h with segment m is deeper than the slave can have gone
+        !> since last cycle, in m's zone that it did not enter since the
+        !> last search (not at the first cycle, nor on the segment it held
+        !> or holds, nor a contact found ahead of touching). came_in, the
+        !> dearer test, only where the others leave it open.
+        logical function never_entered(m, h)
+            integer, intent(in) :: m
+            type(hit_t), intent(in) :: h
+            never_entered = .false.
+            if (ls%first .or. m == oldseg .or. m == held_seg .or. h%gap /= 0.0_wp) return
+            if (reachable(h)) return
+            never_entered = .not. came_in(m)
+        end function never_entered
+
         !> At the last global search the slave lay outside segment m's
         !> contact zone (beyond a shell's half thicknesses on either side,
         !> or on the outer side of a solid face): it came in since.
@@ -265,20 +279,15 @@ contains
                 ! a shell's thickness band that moves on reaches its
                 ! mid-surface and passes (refused, the demo tube's and
                 ! car6's last pass-throughs did)
-                if (.not. ls%first .and. m /= oldseg .and. m /= held_seg .and. h%gap == 0.0_wp) then
-                    if (.not. reachable(h)) then
-                        if (.not. came_in(m)) then
-                            if (s%seg_kind(m) == seg_shell) then
-                                h%within = .true.
-                            else
-                                if (abs(h%a) > rdep) then
-                                    rdep = abs(h%a)
-                                    rseg = m
-                                end if
-                                return
-                            end if
+                if (never_entered(m, h)) then
+                    if (s%seg_kind(m) /= seg_shell) then
+                        if (abs(h%a) > rdep) then
+                            rdep = abs(h%a)
+                            rseg = m
                         end if
+                        return
                     end if
+                    h%within = .true.
                 end if
             end if
             if (.not. h%found) then

@@ -30,9 +30,9 @@ module xd_elements_shell_bt
         !> viscous form (IHQ 1-3) or stiffness form (IHQ 4-5)
         real(wp), allocatable :: qm(:), qb(:), qw(:)
         logical, allocatable :: hg_viscous(:)
-        !> *CONTROL_XDYNA_SHELL HGBOUND 1: the stiffness form of a plastic
-        !> shell bounded (bound_hourglass); ncap counts the cycles it acted,
-        !> this run
+        !> *CONTROL_XDYNA_SHELL HGBOUND 1 (the default): the stiffness form of
+        !> a plastic shell bounded (bound_hourglass); ncap counts the cycles
+        !> it acted, this run
         logical, allocatable :: hg_bound(:)
         integer, allocatable :: ncap(:)
         integer, allocatable :: nip(:)
@@ -258,10 +258,11 @@ contains
     end subroutine shell_masses
 
     !> The stiffness form's hourglass on a plastic material, bounded as the
-    !> material is (*CONTROL_XDYNA_SHELL HGBOUND 1): each mode's generalized
-    !> force at most its coefficient (QM, QB, QW) times that mode's fully
-    !> plastic value in the fully integrated element (2 x 2 points, von Mises at the flow stress of the
-    !> element's most strained point), so that the mode, elastic at q k1,
+    !> material is (*CONTROL_XDYNA_SHELL HGBOUND 1, the default): each
+    !> mode's generalized force at most its coefficient (QM, QB, QW) times
+    !> that mode's fully plastic value in the fully integrated element (2 x
+    !> 2 points, von Mises at the flow stress of the element's most strained
+    !> point), so that the mode, elastic at q k1,
     !> yields near the material's yield strain (issue 28: without the bound
     !> the springs of folds pressed flat by the contact kept growing
     !> elastically and held the crush). Per unit flow stress sy, with A the

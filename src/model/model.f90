@@ -10,7 +10,7 @@ module xd_model
     public :: curve_t, body_load_t, rigidwall_t, prescribed_t, nodal_rigid_t, segment_set_t, pressure_t, curve_value
     public :: box_t, find_box, in_box, coord_t, find_coord, mark_part_nodes
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear, mat_spotweld
-    public :: set_node, set_part, set_shell, find_set, constraint_dirs, part_ihq, hg_bounded
+    public :: set_node, set_part, set_shell, find_set, constraint_dirs, part_ihq, hg_bounded, hg_boundable
     public :: iv_node_set, iv_node, iv_generation
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
     public :: ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface, ct_tiebreak, section_beam_t
@@ -546,16 +546,22 @@ contains
         end if
     end function part_ihq
 
-    !> Part index p's shells take the bounded stiffness-form hourglass
-    !> (*CONTROL_XDYNA_SHELL HGBOUND 1): the stiffness form (IHQ 4-5) on
-    !> *MAT_003 or *MAT_024.
-    pure logical function hg_bounded(model, p)
+    !> Part index p's shells have what the hourglass bound acts on: the
+    !> stiffness form (IHQ 4-5) on *MAT_003 or *MAT_024.
+    pure logical function hg_boundable(model, p)
         type(model_t), intent(in) :: model
         integer, intent(in) :: p
         integer :: mt
         mt = model%mat(model%part(p)%mat_ix)%mtype
-        hg_bounded = model%ctl%hgbound == 1 .and. part_ihq(model, p) > 3 .and. &
-                     (mt == mat_plastic_kinematic .or. mt == mat_piecewise_linear)
+        hg_boundable = part_ihq(model, p) > 3 .and. (mt == mat_plastic_kinematic .or. mt == mat_piecewise_linear)
+    end function hg_boundable
+
+    !> Part index p's shells take the bounded stiffness-form hourglass
+    !> (*CONTROL_XDYNA_SHELL HGBOUND 1, the default).
+    pure logical function hg_bounded(model, p)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: p
+        hg_bounded = model%ctl%hgbound == 1 .and. hg_boundable(model, p)
     end function hg_bounded
 
     !> Index of the set of `kind` with id `id`, 0 if none.

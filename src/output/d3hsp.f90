@@ -5,7 +5,7 @@ module xd_output_d3hsp
     use xd_core_strings, only: itoa, join_path, out_path
     use xd_core_timers, only: timers_t, nphase, phase_name, ph_elements, ph_assembly, ph_integrate, &
                               ph_contact, ph_rigid, ph_output, ph_search, ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
-    use xd_model, only: model_t, part_ihq, hg_bounded
+    use xd_model, only: model_t, part_ihq, hg_bounded, hg_boundable
     use xd_elements_solid_groups, only: solids_t, hg_stiffness
     use xd_output_histories, only: version_line
     implicit none
@@ -94,7 +94,7 @@ contains
             if (hg_bounded(model, p)) then
                 s = s//', each mode bounded at its coefficient times its plastic capacity (flow stress; '// &
                     '*CONTROL_XDYNA_SHELL HGBOUND 1, the default)'
-            else if (ihq > 3 .and. model%ctl%hgbound == 0) then
+            else if (hg_boundable(model, p)) then
                 s = s//', elastic springs without bound (*CONTROL_XDYNA_SHELL HGBOUND 0)'
             end if
             s = s//nl

@@ -69,21 +69,14 @@ contains
         type(master_lists_t) :: l
         type(local_search_t) :: ls
         type(hit_t) :: h
-        integer :: p(4), q(4), k, rseg, plate
+        integer :: p(4), k, rseg, plate
         real(wp) :: rdep
         real(wp), allocatable :: xs(:, :)
         call empty_model(m, 2)
         p = [node_at(m, [0.0_wp, 0.0_wp, 0.05_wp], .false.), node_at(m, [1.0_wp, 0.0_wp, 0.05_wp], .false.), &
              node_at(m, [1.0_wp, 1.0_wp, 0.05_wp], .false.), node_at(m, [0.0_wp, 1.0_wp, 0.05_wp], .false.)]
         call add_shell(m, p, 0.2_wp, 1)
-        q = [node_at(m, [0.4_wp, 0.4_wp, 0.02_wp], .false.), node_at(m, [0.3_wp, 0.4_wp, -0.2_wp], .false.), &
-             node_at(m, [0.3_wp, 0.3_wp, -0.2_wp], .false.), node_at(m, [0.4_wp, 0.3_wp, -0.2_wp], .false.)]
-        call add_shell(m, q, 0.1_wp, 2)
-        call prepare(m, s, l, ls)
-        k = slave_of(s, q(1))
-        xs = ls%xl
-        ls%first = .false.
-        call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep)
+        call probe_at_rest(m, 0.02_wp, -0.2_wp, s, l, ls, k, xs, h, rseg, rdep)
         call check(h%found .and. h%within .and. rseg == 0 .and. abs(abs(h%a) - 0.12_wp) < 1.0e-9_wp, &
                    'local search: a node 0.12 deep in a shell''s zone it lay in at the last search is held there '// &
                    '(found, flagged within, nothing refused)')
@@ -105,18 +98,36 @@ contains
         ! a block's top face instead of the plate: refused
         call empty_model(m, 2)
         call add_block(m, [2, 2, 1], [0.0_wp, 0.0_wp, -1.0_wp], [0.5_wp, 0.5_wp, 1.0_wp], 1, .false.)
-        q = [node_at(m, [0.4_wp, 0.4_wp, -0.12_wp], .false.), node_at(m, [0.3_wp, 0.4_wp, 0.3_wp], .false.), &
-             node_at(m, [0.3_wp, 0.3_wp, 0.3_wp], .false.), node_at(m, [0.4_wp, 0.3_wp, 0.3_wp], .false.)]
+        call probe_at_rest(m, -0.12_wp, 0.3_wp, s, l, ls, k, xs, h, rseg, rdep)
+        call check(.not. h%found .and. rseg > 0 .and. abs(rdep - 0.17_wp) < 1.0e-9_wp, &
+                   'local search: a node 0.12 under a block''s top face it lay under at the last search is refused '// &
+                   '(no contact; the face and the depth 0.17 named)')
+    end subroutine refused_deep
+
+    !> A small shell (t 0.1, part 2) added to m, its first node (the slave
+    !> k) at (0.4, 0.4, z), the others at height zo; the surface prepared
+    !> and the slave's local search run at rest, not at the first cycle,
+    !> with the positions now as the last search's (xs).
+    subroutine probe_at_rest(m, z, zo, s, l, ls, k, xs, h, rseg, rdep)
+        type(model_t), intent(inout) :: m
+        real(wp), intent(in) :: z, zo
+        type(surface_t), intent(out) :: s
+        type(master_lists_t), intent(out) :: l
+        type(local_search_t), intent(out) :: ls
+        integer, intent(out) :: k, rseg
+        real(wp), allocatable, intent(out) :: xs(:, :)
+        type(hit_t), intent(out) :: h
+        real(wp), intent(out) :: rdep
+        integer :: q(4)
+        q = [node_at(m, [0.4_wp, 0.4_wp, z], .false.), node_at(m, [0.3_wp, 0.4_wp, zo], .false.), &
+             node_at(m, [0.3_wp, 0.3_wp, zo], .false.), node_at(m, [0.4_wp, 0.3_wp, zo], .false.)]
         call add_shell(m, q, 0.1_wp, 2)
         call prepare(m, s, l, ls)
         k = slave_of(s, q(1))
         xs = ls%xl
         ls%first = .false.
         call find_contact(s, l, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h, xs, rseg, rdep)
-        call check(.not. h%found .and. rseg > 0 .and. abs(rdep - 0.17_wp) < 1.0e-9_wp, &
-                   'local search: a node 0.12 under a block''s top face it lay under at the last search is refused '// &
-                   '(no contact; the face and the depth 0.17 named)')
-    end subroutine refused_deep
+    end subroutine probe_at_rest
 
     !> Position in s%slave of model node nd.
     integer function slave_of(s, nd)
