@@ -322,14 +322,15 @@ def shell_on_block(c):
     rng = random.Random(c["seed"])
     us = {"node": lin(0, W, kb), "half": shifted(0, W, kb), "rand": jittered(0, W, kb, rng)}[c["align"]]
     hb = t  # a block as heavy as the plate
-    A = shell_grid(us, us, lambda u, v: (u, v, hb + 0.5 * t + 2.0e-5))
+    gap = c.get("gap", 2.0e-5)   # the plate's contact surface this far above the block
+    A = shell_grid(us, us, lambda u, v: (u, v, hb + 0.5 * t + gap))
     B = hex_block(lin(0, W, k), lin(0, W, k), lin(0, hb, 1))
     if c.get("rot"):
         z0 = A.x[:, 2].min()
         A = A.moved(rot(c["rot"][0], c["rot"][1]))
         A = A.moved(shift=(0, 0, z0 - A.x[:, 2].min()))   # its lowest point as high as before
     v = c["v"]
-    T = 2.0e-5 / v + 2.0 * spring_time(RHO * t * W * W, W / max(k, kb), W * W)
+    T = gap / v + 2.0 * spring_time(RHO * t * W * W, W / max(k, kb), W * W)
     if c.get("rot"):
         T += W / v  # edge first: the plate turns flat before it leaves
     lines = deck(c, [A, B], [("el", t), ("rigid_free", "solid")], [(0, 0, -v), (0, 0, 0)], 2 * T,
@@ -641,23 +642,19 @@ EXCEPTIONS = [
                                              "node (SLSFAC 0.1) cannot carry the plates' rho c v within the "
                                              "thickness; the edges overlap by 1.6-2.9 thicknesses, are turned back "
                                              "on their own sides and part (at the node-aligned crossing the hand-over "
-                                             "between node and edge springs at that depth creates 3.8% of the energy)"),
+                                             "between node and edge springs at that depth creates 4.0% of the energy)"),
     (r"^bars_single_lag_node_1to1_k2_v1000", "1000 m/s is 20% strain (v / c = 0.2): the bar leaves the linear 1-D "
                                               "answer (large strain, the hexahedra's geometry)"),
     (r"^(plates|shell_on_block)_.*_(1to3|3to1)_", "non-matching meshes: node-to-segment forces are not uniform "
                                                    "(the patch test's corner excess), so the plates bend and keep "
                                                    "vibration energy"),
-    (r"^plates_(s2s_pen_rand_1to1_k4_v10_t0.1mm|single_pen_node_1to1_k4_v10_t1mm_rotz15)$",
-     "the contact creates 2.3-2.8% of the impact energy at overhanging corners and tube contacts (open)"),
     (r"^bars_single_lag_rand_1to1_k2_v10_n40$", "5.5% against 5%: the Lagrangian bar's own error at 40 elements is "
                                                  "3.4%, the random mesh adds 2 points"),
-    (r"^shell_on_block_single_lag_node_1to1_k4_v(100|1000)_t1mm$", "Lagrangian projection against a free rigid "
-                                                                   "body at 100 and 1000 m/s: the bodies end at the "
-                                                                   "common velocity (-50 and -50, -500 and -500 m/s, "
-                                                                   "exact), but the parts' total momentum in matsum "
-                                                                   "departs from its initial value by 14-17% during "
-                                                                   "the one or two steps of the impact (open: not "
-                                                                   "understood; at 1 and 10 m/s it holds to round-off)"),
+    (r"^crossed_edges_single_pen_node_1to1_k4_v10_t0.5mm$",
+     "0.19% of the impact energy created at the release of the node-aligned crossing (open): the crossing node's "
+     "contact is handed from the tube of one segment of the other edge (radial depth 5.9 um) to the interior of "
+     "the next (depth through the thickness 3.4 um, where the tube's would be -0.4 um); the two segments' depth "
+     "measures differ there, and the spring pushes 3.8 um deeper than the path it came in on"),
 ]
 
 
@@ -752,11 +749,20 @@ def evaluate(c, ans, d, rc, wall):
     if res["ratio"] > 0.05:
         res["fails"].append(f"energy ratio off by {res['ratio']:.3f} (band 0.05)")
     # the energy ratio counts the contact's work as sliding energy, so it
-    # cannot see a contact that creates energy: frictionless springs that
-    # have let go hold none, and a negative end value is energy created
-    res["created"] = float(-slide[-1] / ke0)
-    if res["created"] > 0.02:
-        res["fails"].append(f"the contact created {res['created']:.3f} of the initial kinetic energy (band 0.02)")
+    # cannot see a contact that creates energy: the sliding energy is the
+    # work the bodies did on the springs, never negative for a frictionless
+    # penalty contact (what its springs hold, less what they gave back).
+    # Band: -0.1% of the initial kinetic energy at every output (issue 28);
+    # the central difference's own error of a bounce whose spring is swept
+    # over the step is below 1e-4 of its energy at the contact's step
+    # bound, so 1e-3 leaves room for ten such bounces of the whole energy
+    # (with the spring taken at x(n) alone, single impacts created up to
+    # 2.8%; ke0 is never 0 here: every case starts from motion)
+    ref = max(ke0, 1e-300)
+    res["created"] = float(max(0.0, -slide.min()) / ref)
+    if res["created"] > 1e-3:
+        res["fails"].append(f"the contact created {res['created']:.4f} of the initial kinetic energy at its worst "
+                            f"output (band 0.001)")
     if worst > 1.0 + 1e-9:
         res["fails"].append(f"max 4u/delta {worst:.3f} > 1")
     # every allowance event held to physics. A missed contact is a node that
@@ -1001,17 +1007,23 @@ def write_report(results, crush=None):
            "So is a contact deep in a shell's zone the node already lay in at the search (it never crossed",
            "into it): held at the depth found, no force until it goes deeper; its case's pass-through and",
            "energy checks hold it.", "",
-           "| pair | cases | pass | exceptions | worst rebound error (passing cases) | worst overlap | contacts deeper "
+           "Energy: a frictionless contact never does net positive work, so every case's sliding energy",
+           "(glstat) must stay above -0.1% of the initial kinetic energy at every output; the table gives",
+           "the worst energy created over the passing cases (the lowest sliding energy, as a share of the",
+           "initial kinetic energy; 0 where it never went below zero).", "",
+           "| pair | cases | pass | exceptions | worst rebound error (passing cases) | worst overlap | energy created, "
+           "worst (passing cases) | contacts deeper "
            "than a step (excess allowed) | checked | worst excess / bound (passing cases) | back under the segment held "
            "last (cases with pass-throughs) | held deep in a shell's zone (cases with pass-throughs) | contacts "
            "released deep |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for fam, lst in fams.items():
         errs = [abs(r["err"]) for r in lst if r["answer"].startswith("rebound") and not r["fails"]]
         ov = [r.get("overlap", 0) for r in lst if r.get("overlap", 0) == r.get("overlap", 0) and not r["fails"]]
         out.append(f"| {PAIR[fam]} | {len(lst)} | {sum(1 for r in lst if not r['fails'])} | "
                    f"{sum(1 for r in lst if r['exception'])} | "
                    f"{max(errs) if errs else float('nan'):.4f} | {max(ov) if ov else 0:.3f} | "
+                   f"{max([r.get('created', 0) for r in lst if not r['fails']] or [0]):.1e} | "
                    f"{sum(r.get('late', 0) for r in lst)} | {sum(r.get('missed_checked', 0) for r in lst)} | "
                    f"{max([r.get('missed_worst', 0) for r in lst if not r['fails']] or [0]):.3f} | "
                    f"{sum(r.get('back', 0) for r in lst)} "
@@ -1029,13 +1041,14 @@ def write_report(results, crush=None):
         out.append(f"| `{pat}` | {n} | {why} |")
     if crush is not None:
         out += [""] + crush_family.markdown(crush)
-    out += ["", "## Cases", "", "| case | answer | error | overlap | 4u/delta | wall (s) | result |",
-            "|---|---|---|---|---|---|---|"]
+    out += ["", "## Cases", "", "| case | answer | error | overlap | energy created | 4u/delta | wall (s) | result |",
+            "|---|---|---|---|---|---|---|---|"]
     for r in results:
         res = "pass" if not r["fails"] else ("exception: " if r["exception"] else "FAIL: ") + "; ".join(r["fails"])
         if "end_overlap" in r:
             res += f" (facing ends overlap {r['end_overlap']:.1e} of an element)"
         out.append(f"| {r['name']} | {r['answer']} | {r['err']:+.4f} | {r.get('overlap', float('nan')):.3f} | "
+                   f"{r.get('created', float('nan')):.1e} | "
                    f"{r.get('search', float('nan')):.3f} | {r['wall']:.2f} | {res} |")
     with open(REPORT, "w") as f:
         f.write("\n".join(out) + "\n")

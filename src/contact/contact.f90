@@ -656,10 +656,15 @@ contains
                 ! Lagrangian projection: pairs that one step's approach (two
                 ! nodes at the largest speed) could close are found before
                 ! they touch, so that none penetrates (section 6)
-                it%ls%lead = 0
+                ! Penalty: pairs within half a step's approach of touching
+                ! (a node at the largest speed against a segment at it: dt
+                ! v_max) are found too, so that the spring's onset is swept
+                ! over the step (penalty_force)
+                v2 = maxval(sum(it%ls%vl**2, 1))
                 if (ct%lagrange) then
-                    v2 = maxval(sum(it%ls%vl**2, 1))
                     it%ls%lead = 2.0_wp*dt*sqrt(v2)
+                else
+                    it%ls%lead = dt*sqrt(v2)
                 end if
                 ! segments may have stretched by 2u since the search; a master
                 ! surface lies up to t_c off its segment
@@ -1023,7 +1028,11 @@ contains
         it%aeff(k) = abs(it%hit(k)%a)
         mm = dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
         meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
-        call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, k), it%fk(:, k))
+        ! the spring swept over the step where it starts at the surface; one
+        ! under an allowance starts at the allowed depth, which follows the
+        ! node out (no force there either side of it): taken at x(n)
+        call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, k), it%fk(:, k), &
+                           swept=it%p0(k) <= 0.0_wp, start=.not. it%started)
     end subroutine slave_force
 
     !> Slave k's deepest refused segment this cycle (rseg) differs from the

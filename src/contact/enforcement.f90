@@ -37,24 +37,50 @@ contains
     !> less the contact point's; meff: the pair's effective mass (for VDC);
     !> dt: the step; ft: the tangential (friction) force, carried from cycle
     !> to cycle (in: last cycle's, out: this cycle's).
-    pure subroutine penalty_force(hit, k, vrel, meff, fr, dt, ft, f)
+    pure subroutine penalty_force(hit, k, vrel, meff, fr, dt, ft, f, swept, start)
         type(hit_t), intent(in) :: hit
         real(wp), intent(in) :: k, vrel(3), meff, dt
         type(friction_t), intent(in) :: fr
         real(wp), intent(inout) :: ft(3)
         real(wp), intent(out) :: f(3)
-        real(wp) :: fn(3), vn, vt(3), c, mu, fmax, fnorm, ftn
+        !> the spring swept over the step (the caller's search finds pairs
+        !> up to half a step's approach before they touch)
+        logical, intent(in), optional :: swept
+        !> the first cycle: the force acts over the half step from t = 0
+        !> (v(1/2) = v(0) + a(0) dt/2), the depth going from p to p + dt/2
+        !> times its rate
+        logical, intent(in), optional :: start
+        real(wp) :: fn(3), e(3), vn, vt(3), c, mu, fmax, fnorm, ftn, p, q
+        logical :: sw
+        sw = .false.
+        if (present(swept)) sw = swept
         ! Eq. (12): f = K a n, a < 0 in penetration (a positive multiple of
-        ! the return direction pushes the slave back)
-        fn = -k*hit%a*hit%nhat
-        fnorm = abs(k*hit%a)
+        ! the return direction pushes the slave back; a shell's slave below
+        ! it has a > 0 and is pushed along -nhat): e the push direction
+        e = pdir(hit%a)*hit%nhat
         vn = dot_product(vrel, hit%nhat)
-        if (fr%vdc > 0.0_wp) then
-            ! viscous damping VDC % of critical on the normal relative velocity;
-            ! it may cancel the normal force but never pull the surfaces together
+        ! the depth (negative: the open gap of a pair found ahead)
+        p = abs(hit%a)
+        if (hit%a == 0.0_wp) p = -hit%gap
+        if (sw) then
+            q = 0.5_wp*dt*abs(vn)
+            fnorm = k*swept_depth(p - q, p + q)
+            if (present(start)) then
+                ! the half step's path: the depth's rate is -vrel . e
+                q = -0.5_wp*dt*dot_product(vrel, e)
+                if (start) fnorm = k*swept_depth(min(p, p + q), max(p, p + q))
+            end if
+        else
+            fnorm = k*max(p, 0.0_wp)
+        end if
+        fn = fnorm*e
+        if (fr%vdc > 0.0_wp .and. p > 0.0_wp) then
+            ! viscous damping VDC % of critical on the normal relative velocity
+            ! (in penetration only: not ahead of touching); it may cancel the
+            ! normal force but never pull the surfaces together
             c = 0.01_wp*fr%vdc*2.0_wp*sqrt(k*meff)
-            fnorm = max(0.0_wp, fnorm - c*vn)
-            fn = fnorm*hit%nhat
+            fnorm = max(0.0_wp, fnorm - c*dot_product(vrel, e))
+            fn = fnorm*e
         end if
         if (fr%fs > 0.0_wp .or. fr%fd > 0.0_wp) then
             ! elastic trial: last cycle's tangential force, turned into the
@@ -312,6 +338,31 @@ contains
     !> The side -K a n pushes the slave to: +1 along the return direction
     !> when a <= 0 (solids, shells from the normal side), -1 when a > 0
     !> (a shell approached from behind). Not sign(1, -a): a = -0.0 must give +1.
+    !> The spring's depth averaged over the slave's path across the step:
+    !> the central difference applies the force at x(n) over the step from
+    !> t(n-1/2) to t(n+1/2), in which the depth goes from p - h to p + h
+    !> (h half the step's approach; at the start, over the half step from t
+    !> = 0, from p to p plus that half step's approach). The mean of max(0,
+    !> s) over the interval [lo, hi] the depth sweeps, k times it, is the
+    !> impulse the spring gives on that path: the mean depth where the path
+    !> lies in contact, 0 where it lies outside, the positive part's share
+    !> where it crosses the surface. Taken at x(n) alone, the spring's
+    !> onset and release fall at whatever phase of the step the surface is
+    !> crossed, and an impact leaves with up to (omega dt)^2 / 10 more or
+    !> less energy than it brought (1.7% for a thin plate on a rigid block
+    !> at the contact's step bound, issue 28); swept, a bounce at omega dt
+    !> = 0.45 loses up to 0.2% and gains at most 1e-4.
+    pure real(wp) function swept_depth(lo, hi) result(pe)
+        real(wp), intent(in) :: lo, hi
+        if (hi <= 0.0_wp) then
+            pe = 0
+        else if (lo >= 0.0_wp) then
+            pe = 0.5_wp*(lo + hi)
+        else
+            pe = hi**2/(2.0_wp*(hi - lo))
+        end if
+    end function swept_depth
+
     pure real(wp) function pdir(a)
         real(wp), intent(in) :: a
         pdir = 1.0_wp
