@@ -3521,6 +3521,44 @@ def test_contact_bars_lagrange():
            abs(va + 5) < 0.1 and abs(vb - 5) < 0.1)
 
 
+def test_lagrange_step():
+    """The Lagrangian projection has no springs, so no contact time-step
+    bound (issue 28, deliverable 6): an elastic cube of 2 x 2 x 2
+    hexahedra dropped at 10 m/s onto a fixed rigid block with the
+    projection (the contact suite's corner_on_face k2 rotx0 case) runs at
+    its elements' step (d3hsp: the contact springs' bound set it in 0
+    cycles, and no warning that the contact sets the step) and to its end:
+    the block's corner node rings in the mesh's highest mode, and a step
+    that follows that ringing (shorter in the cycles the element
+    compresses: the bulk viscosity's linear term) pumped it until the run
+    stopped at cycle 479; the step now grows by 0.1% a cycle at most, and
+    d3hsp counts the cycles that limit held it. Bands: the suite's own for
+    the case (the cube bounces off, the energy ratio within 5%, no
+    pass-through, overlap under half the window), and the same cube with
+    penalty contact still bound (its springs set the step)."""
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
+    import contact_suite as cs
+    cs.OUT = os.path.join(TMP, "lagrange_step")
+    sel = {c["name"]: c for c in cs.cases()}
+    for name, lag in (("corner_on_face_single_lag_node_1to1_k2_v10_rotx0", True),
+                      ("corner_on_face_single_pen_node_1to1_k2_v10_rotx0", False)):
+        r = cs.run_case(sel[name])
+        log = open(os.path.join(cs.OUT, name, "d3hsp")).read() if r["rc"] == 0 else ""
+        m = re.search(r"by the contact springs' bound in (\d+) cycles.*held to 0\.1% growth a cycle in (\d+) cycles", log)
+        bound = int(m.group(1)) if m else -1
+        held = int(m.group(2)) if m else -1
+        warned = "the contact sets the time step" in log
+        if lag:
+            record(f"contact: the Lagrangian projection runs at its elements' step, not the contact's bound (set by the "
+                   f"bound in {bound} cycles, warned {warned}), to the end of a cube's corner impact ({r['answer']}: "
+                   f"{'pass' if not r['fails'] else '; '.join(r['fails'])}); step held by the 0.1% growth limit in "
+                   f"{held} cycles", r["rc"] == 0 and not r["fails"] and bound == 0 and not warned and held >= 0,
+                   f"rc {r['rc']}")
+        else:
+            record(f"contact: the same cube with penalty contact keeps the springs' bound (set by it in {bound} cycles)",
+                   r["rc"] == 0 and not r["fails"] and bound > 0, f"rc {r['rc']}")
+
+
 def test_shell_fold():
     """A U-shaped 1 mm steel strip, its upper leg pushed down by pressure
     onto its clamped lower leg (one part: shell self-contact, two-sided
@@ -5377,7 +5415,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -642,9 +642,13 @@ EXCEPTIONS = [
                                              "node (SLSFAC 0.1) cannot carry the plates' rho c v within the "
                                              "thickness; the edges overlap by 1.6-2.9 thicknesses, are turned back "
                                              "on their own sides and part (at the node-aligned crossing the hand-over "
-                                             "between node and edge springs at that depth creates 4.0% of the energy)"),
+                                             "between node and edge springs at that depth creates 4.1% of the energy)"),
     (r"^bars_single_lag_node_1to1_k2_v1000", "1000 m/s is 20% strain (v / c = 0.2): the bar leaves the linear 1-D "
-                                              "answer (large strain, the hexahedra's geometry)"),
+                                              "answer (large strain, the hexahedra's geometry); since the projection "
+                                              "runs at the elements' step (no contact step bound: it has no springs, "
+                                              "issue 28) a node moves 18% of an element a step, the ends overlap by "
+                                              "1.04 of the window and one missed contact is found 1.29e-3 deep "
+                                              "against the search's bound of 9.26e-4 (open)"),
     (r"^(plates|shell_on_block)_.*_(1to3|3to1)_", "non-matching meshes: node-to-segment forces are not uniform "
                                                    "(the patch test's corner excess), so the plates bend and keep "
                                                    "vibration energy"),

@@ -595,7 +595,9 @@ contains
     !> the whole impact energy in the central difference's onset and
     !> release (a 1 mm shell plate at SLSFAC 1 left its impact with 135%
     !> more energy), so the step is held to omega dt <= 0.5, omega =
-    !> sqrt(2 k / m): dt < 0.35 sqrt(m / k) (contact_step_scale).
+    !> sqrt(2 k / m): dt < 0.35 sqrt(m / k) (contact_step_scale). Under the
+    !> Lagrangian projection there are no springs and no bound (issue 28),
+    !> except on an interface with shell edge pairs (their penalty springs).
     subroutine contact_masses(ct, mass)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: mass(:)
@@ -628,6 +630,9 @@ contains
                 it%fprev = 0
                 it%ft = 0
                 allocate (it%ls%xl(3, s%nnode), it%ls%vl(3, s%nnode))
+                ! the Lagrangian projection has no springs to bound (the edge
+                ! pairs of AUTOMATIC_GENERAL keep theirs)
+                if (ct%lagrange .and. it%ed%ne == 0) cycle
                 do k = 1, s%nnode
                     if (s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp .or. s%node_rigid(k)) cycle
                     dtk = contact_step_scale*sqrt(it%ms(k)/s%node_k(k))

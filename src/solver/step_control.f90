@@ -4,7 +4,7 @@
 !> set it most often by name, so that a user sees whether one crushed
 !> element held the whole run back.
 module xd_solver_step_control
-    use xd_kinds, only: dp
+    use xd_kinds, only: dp, wp
     use xd_core_strings, only: itoa
     use xd_core_sorting, only: sort_index
     use xd_model, only: model_t
@@ -14,14 +14,28 @@ module xd_solver_step_control
     implicit none
     private
     public :: step_stats_t, step_stats_init, step_stats_count, step_stats_report, hourglass_bound_report
-    public :: by_element, by_contact, by_floor, by_other
+    public :: by_element, by_contact, by_floor, by_other, by_growth, dt_growth
 
-    integer, parameter :: by_element = 1, by_contact = 2, by_floor = 3, by_other = 4
+    integer, parameter :: by_element = 1, by_contact = 2, by_floor = 3, by_other = 4, by_growth = 5
+    !> The step may fall at once but grows by at most this factor a cycle.
+    !> An element's step is shorter while it compresses (the bulk
+    !> viscosity's linear term enters it only then, 6% at Q2 0.06), so an
+    !> element ringing in its highest mode compresses and expands on
+    !> alternate cycles, and a step taken from it follows the mode's phase:
+    !> shorter in one half of the swing, longer in the other. That feedback
+    !> pumps the mode parametrically: one mode under the central difference
+    !> at omega dt 1.6-1.8 (TSSFAC 0.9 reaches that) grows without bound
+    !> (1e12 in 4,000 cycles at 1.6), where a fixed step, or one alternating
+    !> without regard to the phase, stays bounded. Growth held to 1% a cycle
+    !> still grows at 1.8 (130 times); 0.1% does not. (A cube dropped on its
+    !> corner with the Lagrangian projection and no contact step bound went
+    !> up this way in 480 cycles, issue 28.)
+    real(wp), parameter :: dt_growth = 1.001_wp
     integer, parameter :: named = 5   !< elements named in the report
 
     type :: step_stats_t
         integer :: ncycle = 0
-        integer :: nkind(4) = 0             !< cycles set by each of by_*
+        integer :: nkind(5) = 0             !< cycles set by each of by_*
         integer, allocatable :: solid(:), shell(:)   !< cycles each element set the step
     end type step_stats_t
 
@@ -64,7 +78,8 @@ contains
                       share(ss%nkind(by_element), ss%ncycle)//', by the contact springs'' bound in '// &
                       share(ss%nkind(by_contact), ss%ncycle)//', by the mass-scaling floor TSSFAC x |DT2MS| in '// &
                       share(ss%nkind(by_floor), ss%ncycle)//', otherwise (DTINIT, no element) in '// &
-                      share(ss%nkind(by_other), ss%ncycle))
+                      share(ss%nkind(by_other), ss%ncycle)//'; held to 0.1% growth a cycle in '// &
+                      share(ss%nkind(by_growth), ss%ncycle))
         ns = size(ss%solid)
         cnt = [ss%solid, ss%shell]
         if (count(cnt > 0) == 0) return

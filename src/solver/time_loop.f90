@@ -39,7 +39,8 @@ module xd_solver_time_loop
     use xd_solver_domain, only: domain_t, share_slots, share_nodes, gather_energy_state, gather_element_state
     use xd_core_comm, only: comm_gather_small, comm_max, comm_sum_int
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, by_element, &
-                                      by_contact, by_floor, by_other, hourglass_bound_report
+                                      by_contact, by_floor, by_other, by_growth, dt_growth, &
+                                      hourglass_bound_report
     use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
                                       mass_scaling_summary
     implicit none
@@ -214,6 +215,14 @@ contains
                 end if
             end if
             st%dt = real(model%ctl%tssfac, wp)*dtc
+            ! falls at once, grows by 0.1% a cycle at most (dt_growth: a step
+            ! that follows an element's ringing pumps it)
+            if (st%cycle > cycle0 .and. st%dt_old > 0.0_wp) then
+                if (st%dt > dt_growth*st%dt_old) then
+                    st%dt = dt_growth*st%dt_old
+                    set_by = by_growth
+                end if
+            end if
             ! the step of an intact mesh changes slowly: one that is not a
             ! finite positive number, or grew a hundredfold over this run's
             ! first, comes from elements turned inside out or a state gone
