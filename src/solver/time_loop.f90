@@ -216,8 +216,9 @@ contains
             end if
             st%dt = real(model%ctl%tssfac, wp)*dtc
             ! falls at once, grows by 0.1% a cycle at most (dt_growth: a step
-            ! that follows an element's ringing pumps it)
-            if (st%cycle > cycle0 .and. st%dt_old > 0.0_wp) then
+            ! that follows an element's ringing pumps it); from the step
+            ! before the dump on a restart, as the uninterrupted run does
+            if (st%cycle > 0 .and. st%dt_old > 0.0_wp) then
                 if (st%dt > dt_growth*st%dt_old) then
                     st%dt = dt_growth*st%dt_old
                     set_by = by_growth
