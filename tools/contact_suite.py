@@ -641,8 +641,7 @@ EXCEPTIONS = [
     (r"^crossed_edges_general_pen_.*_v100_", "200 m/s closing on one point of two 1 mm edges: the spring of one "
                                              "node (SLSFAC 0.1) cannot carry the plates' rho c v within the "
                                              "thickness; the edges overlap by 1.6-2.9 thicknesses, are turned back "
-                                             "on their own sides and part (at the node-aligned crossing the hand-over "
-                                             "between node and edge springs at that depth creates 4.1% of the energy)"),
+                                             "on their own sides and part"),
     (r"^bars_single_lag_node_1to1_k2_v1000", "1000 m/s is 20% strain (v / c = 0.2): the bar leaves the linear 1-D "
                                               "answer (large strain, the hexahedra's geometry); since the projection "
                                               "runs at the elements' step (no contact step bound: it has no springs, "
@@ -652,13 +651,8 @@ EXCEPTIONS = [
     (r"^(plates|shell_on_block)_.*_(1to3|3to1)_", "non-matching meshes: node-to-segment forces are not uniform "
                                                    "(the patch test's corner excess), so the plates bend and keep "
                                                    "vibration energy"),
-    (r"^bars_single_lag_rand_1to1_k2_v10_n40$", "5.5% against 5%: the Lagrangian bar's own error at 40 elements is "
-                                                 "3.4%, the random mesh adds 2 points"),
-    (r"^crossed_edges_single_pen_node_1to1_k4_v10_t0.5mm$",
-     "0.19% of the impact energy created at the release of the node-aligned crossing (open): the crossing node's "
-     "contact is handed from the tube of one segment of the other edge (radial depth 5.9 um) to the interior of "
-     "the next (depth through the thickness 3.4 um, where the tube's would be -0.4 um); the two segments' depth "
-     "measures differ there, and the spring pushes 3.8 um deeper than the path it came in on"),
+    (r"^bars_single_lag_rand_1to1_k2_v10_n40$", "5.9% against 5%: the Lagrangian bar's own error at 40 elements is "
+                                                 "3.4%, the random mesh adds 2.5 points"),
 ]
 
 
@@ -704,7 +698,8 @@ def read_d3hsp(path):
     rel = sum(int(x) for x in re.findall(r": (\d+) contacts released", txt))
     back = sum(int(x) for x in re.findall(r": (\d+) contacts back under the segment", txt))
     within = sum(int(x) for x in re.findall(r": (\d+) contacts deep in a shell's zone", txt))
-    return worst, late, rel, back, within
+    hand = sum(int(x) for x in re.findall(r": (\d+) contacts moved to a segment deeper", txt))
+    return worst, late, rel, back, within, hand
 
 
 def read_events(path):
@@ -746,9 +741,9 @@ def evaluate(c, ans, d, rc, wall):
         res["momentum"] = float(np.abs(tot - tot[0]).max() / scale)
         if res["momentum"] > 1e-9:
             res["fails"].append(f"momentum changed by {res['momentum']:.1e} of the initial (band 1e-9)")
-    worst, late, rel, back, within = read_d3hsp(os.path.join(d, "d3hsp"))
+    worst, late, rel, back, within, hand = read_d3hsp(os.path.join(d, "d3hsp"))
     res["search"] = worst
-    res["late"], res["rel"], res["back"], res["within"] = late, rel, back, within
+    res["late"], res["rel"], res["back"], res["within"], res["hand"] = late, rel, back, within, hand
     res["ratio"] = float(np.max(np.abs(ratio - 1.0)))
     if res["ratio"] > 0.05:
         res["fails"].append(f"energy ratio off by {res['ratio']:.3f} (band 0.05)")
@@ -1010,7 +1005,9 @@ def write_report(results, crush=None):
            "counted apart; its case's pass-through check holds it (such a node must not have crossed).",
            "So is a contact deep in a shell's zone the node already lay in at the search (it never crossed",
            "into it): held at the depth found, no force until it goes deeper; its case's pass-through and",
-           "energy checks hold it.", "",
+           "energy checks hold it. So is a contact moved to another segment deeper than the old segment's",
+           "spring would be at the node's place (two segments measure depth differently where they meet):",
+           "the excess is allowed, so the move neither adds nor takes spring energy.", "",
            "Energy: a frictionless contact never does net positive work, so every case's sliding energy",
            "(glstat) must stay above -0.1% of the initial kinetic energy at every output; the table gives",
            "the worst energy created over the passing cases (the lowest sliding energy, as a share of the",
@@ -1018,9 +1015,9 @@ def write_report(results, crush=None):
            "| pair | cases | pass | exceptions | worst rebound error (passing cases) | worst overlap | energy created, "
            "worst (passing cases) | contacts deeper "
            "than a step (excess allowed) | checked | worst excess / bound (passing cases) | back under the segment held "
-           "last (cases with pass-throughs) | held deep in a shell's zone (cases with pass-throughs) | contacts "
-           "released deep |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "last (cases with pass-throughs) | held deep in a shell's zone (cases with pass-throughs) | moved to a "
+           "segment deeper than the old one's spring (cases with pass-throughs) | contacts released deep |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for fam, lst in fams.items():
         errs = [abs(r["err"]) for r in lst if r["answer"].startswith("rebound") and not r["fails"]]
         ov = [r.get("overlap", 0) for r in lst if r.get("overlap", 0) == r.get("overlap", 0) and not r["fails"]]
@@ -1034,6 +1031,8 @@ def write_report(results, crush=None):
                    f"({sum(1 for r in lst if r.get('back', 0) and r.get('cross', 0) != 0)}) | "
                    f"{sum(r.get('within', 0) for r in lst)} "
                    f"({sum(1 for r in lst if r.get('within', 0) and r.get('cross', 0) != 0)}) | "
+                   f"{sum(r.get('hand', 0) for r in lst)} "
+                   f"({sum(1 for r in lst if r.get('hand', 0) and r.get('cross', 0) != 0)}) | "
                    f"{sum(r.get('rel', 0) for r in lst)} |")
     npass = sum(1 for r in results if not r["fails"])
     nexc = sum(1 for r in results if r["exception"])
