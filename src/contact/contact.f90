@@ -1110,29 +1110,17 @@ contains
             it%pinit = max(it%pinit, it%evd(k))
             named = .true.
         case (ev_late)
-            it%nlate = it%nlate + 1
-            it%plate = max(it%plate, it%evd(k))
-            named = it%nlate <= max_named
+            call tally(it%nlate, it%plate)
         case (ev_back)
-            it%nback = it%nback + 1
-            it%pback = max(it%pback, it%evd(k))
-            named = it%nback <= max_named
+            call tally(it%nback, it%pback)
         case (ev_within)
-            it%nwithin = it%nwithin + 1
-            it%pwithin = max(it%pwithin, it%evd(k))
-            named = it%nwithin <= max_named
+            call tally(it%nwithin, it%pwithin)
         case (ev_handover)
-            it%nhand = it%nhand + 1
-            it%phand = max(it%phand, it%evd(k))
-            named = it%nhand <= max_named
+            call tally(it%nhand, it%phand)
         case (ev_refused)
-            it%nref = it%nref + 1
-            it%pref = max(it%pref, it%evd(k))
-            named = it%nref <= max_named
+            call tally(it%nref, it%pref)
         case default
-            it%nrel = it%nrel + 1
-            it%prel = max(it%prel, it%evd(k))
-            named = it%nrel <= max_named
+            call tally(it%nrel, it%prel)
         end select
         if (.not. named) return
         if (it%nev == size(it%ev)) then
@@ -1144,6 +1132,16 @@ contains
         it%ev(it%nev) = contact_event_t(kind=it%evk(k), slave=it%surf%slave(k), &
                                         seg=merge(it%rseg(k), it%hit(k)%seg, it%evk(k) == ev_refused), &
                                         time=time, depth=it%evd(k))
+    contains
+        !> One more event of a kind counted (n), its depth kept if the
+        !> deepest (p); named while the kind has max_named or fewer.
+        subroutine tally(n, p)
+            integer, intent(inout) :: n
+            real(wp), intent(inout) :: p
+            n = n + 1
+            p = max(p, it%evd(k))
+            named = n <= max_named
+        end subroutine tally
     end subroutine add_event
 
     !> The events booked since the last call, one line each, for d3hsp (and

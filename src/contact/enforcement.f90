@@ -62,14 +62,13 @@ contains
         ! the depth (negative: the open gap of a pair found ahead)
         p = abs(hit%a)
         if (hit%a == 0.0_wp) p = -hit%gap
-        if (sw) then
+        if (sw .and. at_start()) then
+            ! the half step's path: the depth's rate is -vrel . e
+            q = -0.5_wp*dt*dot_product(vrel, e)
+            fnorm = k*swept_depth(min(p, p + q), max(p, p + q))
+        else if (sw) then
             q = 0.5_wp*dt*abs(vn)
             fnorm = k*swept_depth(p - q, p + q)
-            if (present(start)) then
-                ! the half step's path: the depth's rate is -vrel . e
-                q = -0.5_wp*dt*dot_product(vrel, e)
-                if (start) fnorm = k*swept_depth(min(p, p + q), max(p, p + q))
-            end if
         else
             fnorm = k*max(p, 0.0_wp)
         end if
@@ -97,6 +96,11 @@ contains
             ft = 0
         end if
         f = fn + ft
+    contains
+        pure logical function at_start()
+            at_start = .false.
+            if (present(start)) at_start = start
+        end function at_start
     end subroutine penalty_force
 
 
