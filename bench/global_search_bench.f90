@@ -5,9 +5,11 @@
 !> uniform twins: a flat plate of 10 mm shells alone and 5 mm above one
 !> 20 m ground shell; a square tube of 5 mm shells under a plate of 5 mm
 !> shells and under one of 10 mm; a 1 mm patch in an 8 mm plate against
-!> the patch alone (what the patch adds per patch node and search). Prints
-!> nanoseconds per slave node per
-!> search (median of the repeats), master nodes and pool per slave.
+!> the patch alone (what the patch adds per patch node and search, the
+!> plate's and the patched plate's searches timed in turns so that the
+!> machine's drift cancels in their difference). Prints nanoseconds per
+!> slave node per search (median of the repeats), master nodes and pool
+!> per slave.
 !> Usage: search_bench [N ...]  (sizes of the crumpled sheet; "mixed" alone
 !> runs the mixed cases only)
 program global_search_bench
@@ -15,14 +17,24 @@ program global_search_bench
     use xd_model, only: model_t, part_t, material_t, mat_elastic, mnl_minimal
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t, &
-                                        typical_length
+                                        typical_length, pool_margins, margin_classes
     use xd_core_sorting, only: small_sort
     implicit none
     integer :: k, nargs
     character(len=32) :: arg
     integer, allocatable :: sizes(:)
     logical :: mixed_only
-    real(dp) :: ns(4), ms(4), nsp(3), msp(3), nnp(3), dlp(3), add
+    real(dp) :: ns(4), ms(4)
+
+    !> One prepared search: the surface of the shells, its coordinates,
+    !> characteristic lengths and pool margins, the slaves' margin classes.
+    type :: prepared_t
+        type(surface_t) :: s
+        real(wp), allocatable :: xl(:, :), lc(:), dl(:), cmin(:), lcodo(:)
+        integer, allocatable :: cls(:)
+        type(master_lists_t) :: l
+        type(search_counts_t) :: cnt
+    end type prepared_t
 
     nargs = command_argument_count()
     mixed_only = .false.
@@ -60,19 +72,7 @@ program global_search_bench
         ms(4)/ms(3), 'x the masters per slave of the tube under a plate of its own size'
     ! a fine patch in a coarse plate: what the patch adds to a search, per
     ! patch node, against the patch searched alone
-    call patch_case(0, nsp(1), msp(1), nnp(1), dlp(1))
-    call patch_case(1, nsp(2), msp(2), nnp(2), dlp(2))
-    call patch_case(2, nsp(3), msp(3), nnp(3), dlp(3))
-    add = (nsp(2)*nnp(2) - nsp(1)*nnp(1))/nnp(3)
-    write (*, '(a,f8.1,a,f8.1,a,f6.1,a)') '  mixed sizes: 1 mm patch in an 8 mm plate adds ', &
-        add, ' ns per patch node and search, alone ', nsp(3), ' (', add/nsp(3), 'x)'
-    ! the search runs when the motion could have used up the margin (4u >
-    ! delta): what a run pays per unit of motion is the cost of a search
-    ! over delta/4, and the patch alone, with its own smaller margin,
-    ! searches as much more often
-    write (*, '(a,f9.0,a,f9.0,a,f6.2,a,2(f6.3,a))') '  mixed sizes: per patch node and mm of motion, in the plate ', &
-        add/(250*dlp(2)), ' ns, alone ', nsp(3)/(250*dlp(3)), ' (', add/dlp(2)/(nsp(3)/dlp(3)), &
-        'x; margins delta ', 1000*dlp(2), ' and ', 1000*dlp(3), ' mm)'
+    call patch_cases()
 
 contains
 
@@ -131,18 +131,84 @@ contains
         end if
     end subroutine plate_case
 
-    !> kind 0: a 2.08 m square plate of 8 mm shells (260 x 260, 68,121
-    !> nodes); 1: the same with its central 64 mm (8 x 8 shells) replaced by
-    !> 64 x 64 shells of 1 mm (4,225 nodes; the patch's border nodes apart
-    !> from the coarse ones, as a non-conforming refinement); 2: that patch
-    !> alone. 1 mm thick. t: ns per slave per search, mm: masters per slave,
-    !> nn: nodes, dl: the pool margin delta (m).
-    subroutine patch_case(kind, t, mm, nn, dl)
+    !> A 2.08 m square plate of 8 mm shells (260 x 260, 68,121 nodes); the
+    !> same with its central 64 mm (8 x 8 shells) replaced by 64 x 64
+    !> shells of 1 mm (4,225 nodes; the patch's border nodes apart from the
+    !> coarse ones, as a non-conforming refinement); that patch alone. 1 mm
+    !> thick. The three searched in turns, 31 times: the patch's added cost
+    !> per patch node is the median over the turns of (patched plate -
+    !> plate) / patch nodes, against the median of the patch alone. The
+    !> search interval follows the smallest margins that move: the patch's
+    !> nodes keep their own margins in the plate (printed), so what a run
+    !> pays per unit of the patch's motion is in the same ratio.
+    subroutine patch_cases()
+        integer, parameter :: nrep = 31
+        type(prepared_t) :: c(0:2)
+        real(dp) :: t(nrep, 0:3), add(nrep), np, nm
+        integer :: kind, r, fine
+        do kind = 0, 2
+            call patch_surface(kind, c(kind))
+        end do
+        do kind = 0, 2
+            t(1, kind) = one_search(c(kind))    ! warm-up
+        end do
+        ! the patch's own margin class in the patched plate (timed after,
+        ! in turns with the patch alone): what a run searches at the pace
+        ! of the patch's motion
+        fine = minloc(c(1)%cmin, 1)
+        do r = 1, nrep
+            do kind = 0, 2
+                t(r, kind) = one_search(c(kind))
+            end do
+        end do
+        np = real(c(2)%s%nslave, dp)
+        add = (t(:, 1) - t(:, 0))/np
+        call small_sort(add)
+        do kind = 0, 2
+            call small_sort(t(:, kind))
+            write (*, '(2x,a28,i15,i11,f18.1,f16.2,f13.2)') label(kind), c(kind)%s%nnode, nrep, &
+                1.0e9_dp*t((nrep + 1)/2, kind)/c(kind)%s%nslave, real(c(kind)%cnt%masters, dp)/c(kind)%s%nslave, &
+                real(c(kind)%cnt%pool, dp)/c(kind)%s%nslave
+        end do
+        write (*, '(a,f8.1,a,f8.1,a,f6.2,a)') '  mixed sizes: 1 mm patch in an 8 mm plate adds ', &
+            1.0e9_dp*add((nrep + 1)/2), ' ns per patch node and search, alone ', 1.0e9_dp*t((nrep + 1)/2, 2)/np, &
+            ' (', add((nrep + 1)/2)/(t((nrep + 1)/2, 2)/np), 'x)'
+        ! the master nodes the local search checks at every cycle
+        nm = 0
+        do r = 1, c(1)%s%nslave
+            if (c(1)%s%node(c(1)%s%slave(r)) > (260 + 1)**2) nm = nm + c(1)%l%last(r) - c(1)%l%ptr(r) + 1
+        end do
+        write (*, '(a,f7.2,a,f7.2,a,f6.2,a)') '  mixed sizes: master nodes per patch slave in the plate ', nm/np, &
+            ', alone ', c(2)%cnt%masters/np, ' (', nm/real(c(2)%cnt%masters, dp), 'x)'
+        do r = 1, nrep
+            t(r, 3) = one_search(c(1), fine)
+            t(r, 2) = one_search(c(2))
+        end do
+        call small_sort(t(:, 2))
+        call small_sort(t(:, 3))
+        write (*, '(a,i0,a,f8.1,a,f8.1,a,f6.2,a)') '  mixed sizes: the patch''s margin class (', &
+            count(c(1)%cls == fine), ' slaves) searched in the plate ', 1.0e9_dp*t((nrep + 1)/2, 3)/np, &
+            ' ns per patch node, alone ', 1.0e9_dp*t((nrep + 1)/2, 2)/np, ' (', t((nrep + 1)/2, 3)/t((nrep + 1)/2, 2), 'x)'
+        write (*, '(a,f6.3,a,f6.3,a,f6.3,a)') '  mixed sizes: the patch''s least pool margin in the plate ', &
+            1000*minval(c(1)%dl), ' mm, alone ', 1000*minval(c(2)%dl), ' mm (the plate''s ', 1000*maxval(c(0)%dl), ' mm)'
+    end subroutine patch_cases
+
+    character(len=28) function label(k)
+        integer, intent(in) :: k
+        select case (k)
+        case (0); label = '8 mm plate (260 x 260)'
+        case (1); label = 'the same, a 1 mm patch in it'
+        case default; label = 'the 1 mm patch alone'
+        end select
+    end function label
+
+    !> kind 0: the plate; 1: the plate with the patch; 2: the patch alone.
+    subroutine patch_surface(kind, pc)
         integer, intent(in) :: kind
-        real(dp), intent(out) :: t, mm, nn, dl
+        type(prepared_t), intent(out) :: pc
+        integer, parameter :: nc = 260, nf = 64, i0 = 126
         real(wp), allocatable :: x(:, :)
         integer, allocatable :: conn(:, :)
-        integer, parameter :: nc = 260, nf = 64, i0 = 126
         integer :: i, j, k, e, nnc, nnf
         logical :: hole
         nnc = 0
@@ -162,7 +228,8 @@ contains
                     hole = kind == 1 .and. i >= i0 .and. i < i0 + 8 .and. j >= i0 .and. j < i0 + 8
                     if (hole) cycle
                     e = e + 1
-                    conn(:, e) = [1 + i + (nc + 1)*j, 2 + i + (nc + 1)*j, 2 + i + (nc + 1)*(j + 1), 1 + i + (nc + 1)*(j + 1)]
+                    conn(:, e) = [1 + i + (nc + 1)*j, 2 + i + (nc + 1)*j, 2 + i + (nc + 1)*(j + 1), &
+                                  1 + i + (nc + 1)*(j + 1)]
                 end do
             end do
         end if
@@ -183,12 +250,8 @@ contains
                 end do
             end do
         end if
-        select case (kind)
-        case (0); call time_search('8 mm plate (260 x 260)', x, conn(:, 1:e), 0.001_wp, t, mm, nn, dl)
-        case (1); call time_search('the same, a 1 mm patch in it', x, conn(:, 1:e), 0.001_wp, t, mm, nn, dl)
-        case default; call time_search('the 1 mm patch alone', x, conn(:, 1:e), 0.001_wp, t, mm, nn, dl)
-        end select
-    end subroutine patch_case
+        call prepare(x, conn(:, 1:e), 0.001_wp, pc)
+    end subroutine patch_surface
 
     !> A square tube (50 mm side, 150 mm long, 5 mm shells, 1,200 shells)
     !> with a 220 mm square plate of shells of size hp 2 mm above its top.
@@ -266,27 +329,18 @@ contains
     end subroutine grid_shells
 
     !> One whole-model single surface of the shells conn on the nodes x,
-    !> thickness th; the search as the run makes it (reach = thickness,
-    !> margin 0.25 x the median characteristic length), timed. Prints the
-    !> row; t: ns per slave per search, mm: master nodes per slave.
-    subroutine time_search(label, x, conn, th, t, mm, nsl, dl)
-        character(len=*), intent(in) :: label
+    !> thickness th, prepared for the search as the run makes it (reach =
+    !> thickness, margins 0.25 x the local characteristic length).
+    subroutine prepare(x, conn, th, pc)
         real(wp), intent(in) :: x(:, :), th
         integer, intent(in) :: conn(:, :)
-        real(dp), intent(out) :: t, mm
-        real(dp), intent(out), optional :: nsl   !< slave nodes
-        real(dp), intent(out), optional :: dl    !< the pool margin delta
+        type(prepared_t), intent(out) :: pc
         type(model_t) :: m
         type(faces_t) :: f
-        type(surface_t) :: s
-        type(master_lists_t) :: l
-        type(search_counts_t) :: cnt
-        real(wp), allocatable :: xl(:, :), lc(:)
-        real(dp), allocatable :: tr(:)
+        real(wp), allocatable :: dmin(:)
         logical, allocatable :: in_a(:), in_b(:)
-        integer :: i, nrep, r
-        integer(i8) :: c0, c1, rate
-        real(wp) :: margin
+        integer :: i, nraised
+        real(wp) :: typ
 
         m%nnode = size(x, 2)
         m%x0 = x
@@ -316,29 +370,59 @@ contains
         in_a = .true.
         in_b = .false.
         call build_surface(f, m%nnode, in_a, in_b, [integer ::], .false., &
-                           [0.0_wp, 0.0_wp, 1.0_wp, 1.0_wp], [0.1_wp, 1.0_wp, 1.0_wp], s)
-        allocate (xl(3, s%nnode), lc(s%nnode))
-        xl = m%x0(:, s%node)
-        call characteristic_lengths(s, xl, lc)
-        margin = 0.25_wp*typical_length(pack(lc, lc > 0.0_wp), 0.5_wp)
-        nrep = max(3, min(50, 2000000/s%nnode))
+                           [0.0_wp, 0.0_wp, 1.0_wp, 1.0_wp], [0.1_wp, 1.0_wp, 1.0_wp], pc%s)
+        allocate (pc%xl(3, pc%s%nnode), pc%lc(pc%s%nnode))
+        pc%xl = m%x0(:, pc%s%node)
+        call characteristic_lengths(pc%s, pc%xl, pc%lc)
+        typ = 0.25_wp*typical_length(pack(pc%lc, pc%lc > 0.0_wp), 0.5_wp)
+        call pool_margins(pc%s, pc%lc, 0.25_wp, typ, pc%dl, dmin, nraised)
+        call margin_classes(pc%s, pc%dl, pc%cls, pc%cmin)
+        allocate (pc%lcodo(pc%s%nnode))
+        pc%lcodo = 0
+    end subroutine prepare
+
+    !> Seconds of one search of pc (characteristic lengths included: a
+    !> search takes them, of the nodes it buckets); with cls, of that margin
+    !> class's slaves only (the others keep their lists), as a run makes it.
+    real(dp) function one_search(pc, cls) result(t)
+        type(prepared_t), intent(inout) :: pc
+        integer, intent(in), optional :: cls
+        integer(i8) :: c0, c1, rate
+        call system_clock(c0, rate)
+        if (present(cls)) then
+            call build_master_lists(pc%s, pc%xl, pc%lc, pc%s%max_thick, pc%dl, mnl_minimal, pc%l, pc%cnt, pc%cls == cls, &
+                                    1, 0.0_wp, pc%lcodo)
+        else
+            call build_master_lists(pc%s, pc%xl, pc%lc, pc%s%max_thick, pc%dl, mnl_minimal, pc%l, pc%cnt, &
+                                    odo=0.0_wp, lcodo=pc%lcodo)
+        end if
+        call system_clock(c1)
+        t = real(c1 - c0, dp)/real(rate, dp)
+    end function one_search
+
+    !> The search of the shells conn on the nodes x, thickness th
+    !> (prepare), timed. Prints the row; t: ns per slave per search, mm:
+    !> master nodes per slave.
+    subroutine time_search(label, x, conn, th, t, mm)
+        character(len=*), intent(in) :: label
+        real(wp), intent(in) :: x(:, :), th
+        integer, intent(in) :: conn(:, :)
+        real(dp), intent(out) :: t, mm
+        type(prepared_t) :: pc
+        real(dp), allocatable :: tr(:)
+        real(dp) :: t0
+        integer :: nrep, r
+        call prepare(x, conn, th, pc)
+        nrep = max(3, min(50, 2000000/pc%s%nnode))
         allocate (tr(nrep))
-        ! one search to warm up, then the timed ones (characteristic lengths
-        ! included: a search recomputes them)
-        call build_master_lists(s, xl, lc, s%max_thick, margin, mnl_minimal, l, cnt)
+        t0 = one_search(pc)      ! warm-up
         do r = 1, nrep
-            call system_clock(c0, rate)
-            call characteristic_lengths(s, xl, lc)
-            call build_master_lists(s, xl, lc, s%max_thick, margin, mnl_minimal, l, cnt)
-            call system_clock(c1)
-            tr(r) = real(c1 - c0, dp)/real(rate, dp)
+            tr(r) = one_search(pc)
         end do
         call small_sort(tr)
-        t = 1.0e9_dp*tr((nrep + 1)/2)/s%nslave
-        mm = real(cnt%masters, dp)/s%nslave
-        if (present(nsl)) nsl = real(s%nslave, dp)
-        if (present(dl)) dl = real(margin, dp)
-        write (*, '(2x,a28,i15,i11,f18.1,f16.2,f13.2)') label, s%nnode, nrep, t, mm, real(cnt%pool, dp)/s%nslave
+        t = 1.0e9_dp*tr((nrep + 1)/2)/pc%s%nslave
+        mm = real(pc%cnt%masters, dp)/pc%s%nslave
+        write (*, '(2x,a28,i15,i11,f18.1,f16.2,f13.2)') label, pc%s%nnode, nrep, t, mm, real(pc%cnt%pool, dp)/pc%s%nslave
     end subroutine time_search
 
 end program global_search_bench

@@ -3483,6 +3483,57 @@ def test_contact_search_interval():
            "global search on the motion alone" in logd and nd == na and interface_line(logd, 8) <= 1.0 and same)
 
 
+def test_contact_fine_patch_classes():
+    """A fine patch meeting a coarse plate (issue 28, deliverable 7): a 2 mm
+    square of 8 x 8 shells of 0.25 mm falls at 10 m/s from 1 mm onto a free
+    20 mm plate of 10 x 10 shells of 2 mm, both 0.1 mm thick, single
+    surface. The
+    pool margins follow the local size (0.25 times each node's length, the
+    plate's nodes the majority), so the patch's slaves are a margin class of
+    their own, searched at their own pace, and the plate's at theirs. Held to
+    what the search's bound promises: d3hsp names two margin classes and
+    searches of some classes only; every cycle within its margins (max
+    4u/delta <= 1); no missed contact allowed and no pass-through (the
+    independent checker, overlap under half the thickness); the contact
+    creates no energy (sliding energy not below -1e-3 of the initial kinetic
+    energy, the suite's band); the patch leaves upward (it bounced)."""
+    sys.path.insert(0, os.path.join(ROOT, "tools"))
+    import contact_suite as cs
+    import penetration
+    t, v = 1.0e-4, 10.0
+    gap = 1.0e-3      # the patch falls through many of its own margins first
+    A = cs.shell_grid(cs.lin(0, 0.02, 10), cs.lin(0, 0.02, 10), lambda a, b: (a, b, 0.0))
+    B = cs.shell_grid(cs.lin(0.009, 0.011, 8), cs.lin(0.009, 0.011, 8), lambda a, b: (a, b, gap))
+    T = (gap - t) / v + 2.0 * cs.spring_time(cs.RHO * t * 4.0e-6, 2.5e-4, 4.0e-6)
+    c = {"name": "fine_patch_classes"}
+    lines = cs.deck(c, [A, B], [("el", t), ("el", t)], [(0, 0, 0), (0, 0, -v)], 1.5 * T, ("single", False))
+    out = os.path.join(TMP, "contact_fine_patch_classes")
+    os.makedirs(out, exist_ok=True)
+    cs.g.write(os.path.join(out, "deck.k"), lines)
+    p = run([XDYNA, "i=deck.k"], cwd=out)
+    if p.returncode != 0:
+        record("contact fine patch on a coarse plate runs", False, p.stderr[-300:])
+        return
+    log = open(os.path.join(out, "d3hsp")).read()
+    m = re.search(r"(\d+) margin classes", log)
+    ncls = int(m.group(1)) if m else 0
+    m = re.search(r": (\d+) of the (\d+) searches of some margin classes only", log)
+    npart, nsearch = (int(m.group(1)), int(m.group(2))) if m else (0, 0)
+    worst = interface_line(log, 8)
+    missed = len(re.findall(r"missed contact \(entered since the search\)", log))
+    over, cross, _, _ = penetration.check_run(out)
+    e = glstat(out)
+    created = max(0.0, -e["sliding_interface_energy"].min()) / e["kinetic_energy"][0]
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        vz = f["matsum/z_momentum"][-1, 1] / f["matsum/mass"][-1, 1]
+    record(f"contact: a fine patch on a coarse plate, searched by margin class ({ncls} classes, {npart} of "
+           f"{nsearch} searches of some classes only): 4u/delta {worst:.3f} <= 1, {missed} missed contacts, "
+           f"{cross} pass-throughs, overlap {over:.2f} of the thickness (< 0.5), energy created {created:.1e} "
+           f"(<= 1e-3), the patch leaves at {vz:+.2f} m/s (> 0)",
+           ncls >= 2 and npart > 0 and worst <= 1.0 and missed == 0 and cross == 0 and over < 0.5
+           and created <= 1e-3 and vz > 0)
+
+
 def bars_histories(out):
     """Time, the facing end nodes' x, the parts' x momentum and mass, and the
     energy ratio of a two-bars run."""
@@ -5444,7 +5495,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -708,7 +708,10 @@ def read_events(path):
     every missed contact named, and the initial penetrations left at the
     first cycle."""
     txt = open(path).read() if os.path.exists(path) else ""
-    m = re.search(r"pool margin delta +(\S+)", txt)
+    # (the typical margin, the largest a node has: the margins follow the
+    # local size below it, and each node's motion since the last search is
+    # held to a quarter of the least margin around it)
+    m = re.search(r"pool margins delta min/median/max +\S+ +(\S+)", txt)
     delta = float(m.group(1)) if m else float("nan")
     m = re.search(r"segment thickness min/max +\S+ +(\S+)", txt)
     tmax = float(m.group(1)) if m else 0.0
@@ -767,9 +770,11 @@ def evaluate(c, ans, d, rc, wall):
     # every allowance event held to physics. A missed contact is a node that
     # lay outside the segment's zone at the last global search (within 1%
     # of the thickness or window) and is found in it now: every point of the
-    # segment and the node each moved at most u since, and the search runs
-    # again before 4u exceeds delta, so its depth, and the excess allowed,
-    # cannot exceed 2u + 1% of the thickness <= delta / 2 + 1%. A larger
+    # segment and the node each moved, relative to the surface's mean
+    # motion, at most u since, and the search runs again before 4u exceeds
+    # the least margin around a node (at most delta, the typical one), so its
+    # depth, and the excess allowed, cannot exceed 2u + 1% of the thickness
+    # <= delta / 2 + 1%. A larger
     # excess is a node that never crossed that face (a false contact). The
     # decks take IGNORE 0 (nodes moved out before the run), so no initial
     # penetration may be left at the first cycle.

@@ -2,17 +2,32 @@
 !> searches (step 2), and the diagnostics the log reports. Steps 3 and 4
 !> (local search and enforcement) work from the master node lists kept here.
 !>
-!> Search interval. Fixed: at most N cycles apart (BSORT, else NSRCH of
-!> *CONTROL_XDYNA_CONTACT, else NSBCS, else 100), and also whenever 4u > delta
-!> as below, so the bound holds for every policy. Adaptive: the interface
-!> keeps u, a bound on how far any of its nodes has moved since the last
-!> search (the sum over cycles of dt x the largest nodal speed), and
-!> searches again at the start of any cycle where 4u > delta, the pool
-!> margin. The bound this guarantees: at every cycle, every slave node that
-!> lies within contact reach t_c of a segment at master node m had m in its
-!> reduced pool at the last search. (A point of a segment at m lies within
-!> L_m + 2u of m; the slave moved at most u and m at most u, so at the
-!> search they were at most L_m + t_c + 4u <= L_m + t_c + delta apart.)
+!> Search interval. Each surface node i keeps U_i, a bound on how far it
+!> has moved since t = 0 relative to a motion common to the whole surface
+!> (the sum over cycles of dt x its speed relative to the surface's mean
+!> velocity: the pools rest on relative positions alone). The slaves fall
+!> in classes by their own pool margin (margin_classes: bands a factor of
+!> two wide), Delta_c the least margin of class c, t_c its last search.
+!> Class c is searched again at the start of any cycle where, at some
+!> node i, 4 (U_i - U_i(t_c)) > max(Delta_c, delta_min,i), delta_min,i the
+!> least margin of i and the nodes sharing a segment with it. Fixed
+!> interval: every class at most N cycles apart (BSORT, else NSRCH of
+!> *CONTROL_XDYNA_CONTACT, else NSBCS, else 100), and sooner as above.
+!>
+!> The bound this guarantees: at every cycle, every slave node s of class
+!> c that lies within contact reach t_c of a segment at master node m had
+!> m in its reduced pool at its last search, when the pool's radius was
+!> L_m + t_c + max(delta_s, delta_m) (xd_contact_global_search). Since t_c
+!> s moved at most max(Delta_c, delta_min,s) / 4 <= delta_s / 4, m at most
+!> max(Delta_c, delta_min,m) / 4 <= max(delta_s, delta_m) / 4, and a point
+!> of a segment at m moved relative to m at most twice that of its nodes,
+!> each sharing a segment with m, so at most max(delta_s, delta_m) / 4:
+!> in all at most max(delta_s, delta_m). A fine region's slaves are thus
+!> searched at the pace their own small margins ask, and the rest at
+!> theirs: a fine minority costs its own size. The interface also keeps
+!> its odometer, the sum of dt x the largest speed of any of its nodes,
+!> which bounds any node's displacement over any time: the local search's
+!> clearances use it.
 module xd_contact_contact
     use xd_kinds, only: wp, dp, i8
     use xd_core_errors, only: error_t, make_error
@@ -24,7 +39,7 @@ module xd_contact_contact
                                   follow_thickness
     use xd_core_vectors, only: cross
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t, &
-                                        typical_length
+                                        typical_length, pool_margins, margin_floor, margin_classes
     use xd_contact_segment_check, only: hit_t, contact_interior, segment_check
     use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t, clearance_t, &
                                        reset_clearance, fresh_clearance
@@ -49,13 +64,25 @@ module xd_contact_contact
         type(edges_t) :: ed                   !< exterior shell edges and their pairs (AUTOMATIC_GENERAL)
         real(wp), allocatable :: xl(:, :)     !< surface coordinates at the last search
         real(wp), allocatable :: lc(:)        !< characteristic lengths at the last search
-        real(wp) :: margin = 0                !< pool margin delta
+        real(wp) :: margin = 0                !< typical pool margin (pmarg x the median L at t = 0)
+        real(wp), allocatable :: dl(:)        !< pool margin delta_i of each surface node (its local size)
+        real(wp), allocatable :: dmin(:)      !< delta_min,i (xd_contact_global_search's pool_margins)
+        real(wp), allocatable :: un(:)        !< U_i: each surface node's relative motion bound since t = 0
+        integer, allocatable :: cls(:)        !< per slave: its class by margin (margin_classes)
+        real(wp), allocatable :: cmin(:)      !< per class: the least margin Delta_c of its slaves
+        real(wp), allocatable :: uc(:, :)     !< (nnode, class): U_i at the class's last search
+        real(wp), allocatable :: cbud(:, :)   !< (nnode, class): 4 / max(Delta_c, delta_min,i)
+        real(wp), allocatable :: cused(:)     !< per class: max over the nodes of 4 (U_i - U_i,c) / max(Delta_c, delta_min,i)
+        real(wp) :: used = 0                  !< the largest of cused
+        real(wp) :: odo = 0                   !< the sum over cycles of dt x the largest speed since t = 0
+        integer :: nraised = 0                !< nodes whose margin was raised to the floor
+        integer :: npartial = 0               !< searches of some classes only
+        integer(i8) :: nsearched = 0          !< slaves searched, summed over the searches
         real(wp) :: reach = 0                 !< contact reach t_c (largest shell thickness)
         integer :: interval = 10
         logical :: adaptive = .false.
         real(wp) :: bt = 0, dt = 1.0e20_wp
-        real(wp) :: drift = 0                 !< u: motion bound since the last search
-        real(wp) :: worst = 0                 !< largest 4u / delta of a cycle that used old lists
+        real(wp) :: worst = 0                 !< largest part of a margin used on a cycle with old lists
         integer :: last_cycle = -huge(1)
         integer :: nsearch = 0
         type(search_counts_t) :: total        !< summed over searches
@@ -178,7 +205,7 @@ contains
         real(wp), intent(in) :: x0(:, :)
         type(contacts_t), intent(out) :: ct
         type(error_t), allocatable, intent(out) :: error
-        integer :: i, interval, sset, k
+        integer :: i, interval, sset, k, ic
         logical :: given
         logical, allocatable :: in_a(:), in_b(:), dumped(:)
         integer, allocatable :: slaves(:)
@@ -235,12 +262,23 @@ contains
                 ! AUTOMATIC_GENERAL: shell edges against shell edges as well
                 if (c%kind == ct_general) call build_edges(it%surf, it%ed)
                 call pair_parts(it)
-                ! pool margin from the median characteristic length at t = 0 (a
-                ! typical length: a few large segments must not widen every pool)
+                ! pool margins from the local characteristic lengths at t = 0;
+                ! the typical one from the median (a node without a segment
+                ! takes it; none falls below a fraction of it)
                 allocate (xl(3, it%surf%nnode), lc(it%surf%nnode))
                 xl = x0(:, it%surf%node)
                 call characteristic_lengths(it%surf, xl, lc)
                 it%margin = model%ctl%contact%pmarg*typical_length(pack(lc, lc > 0.0_wp), 0.5_wp)
+                call pool_margins(it%surf, lc, model%ctl%contact%pmarg, it%margin, it%dl, it%dmin, it%nraised)
+                call margin_classes(it%surf, it%dl, it%cls, it%cmin)
+                allocate (it%un(it%surf%nnode), it%uc(it%surf%nnode, size(it%cmin)), it%cused(size(it%cmin)), &
+                          it%cbud(it%surf%nnode, size(it%cmin)))
+                it%un = 0
+                it%uc = 0
+                it%cused = 0
+                do ic = 1, size(it%cmin)
+                    it%cbud(:, ic) = 4.0_wp/max(it%cmin(ic), it%dmin, tiny(1.0_wp))
+                end do
                 it%reach = it%surf%max_thick
                 deallocate (xl, lc)
                 ! no interval given (BSORT, NSRCH, NSBCS all 0): LS-DYNA then
@@ -457,50 +495,74 @@ contains
         end do
     end subroutine contact_erode
 
-    !> Step 2 where due: at cycle 0, then every `interval` cycles (fixed) or
-    !> when 4u > delta (adaptive). Returns the seconds spent.
+    !> Step 2 where due: at cycle 0 every slave; then every `interval`
+    !> cycles every slave (fixed), and the slaves of each class whose
+    !> margins the motion could have used up (cused > 1). The master nodes
+    !> are all bucketed at their positions now, whatever the slaves
+    !> searched. Returns the seconds spent.
     subroutine contact_search(ct, x, node_id, cycle, time)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: x(:, :)
         integer, intent(in) :: node_id(:), cycle
         real(dp), intent(in) :: time
-        integer :: i
-        logical :: due
+        integer :: i, c
+        logical, allocatable :: due(:), todo(:)
         type(search_counts_t) :: cnt
         real(dp) :: t0
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (time < it%bt .or. time > it%dt) cycle
+                allocate (due(size(it%cmin)))
                 if (it%nsearch == 0) then
                     due = .true.
-                else if (it%adaptive) then
-                    due = 4.0_wp*it%drift > it%margin
+                else if (.not. it%adaptive .and. cycle - it%last_cycle >= it%interval) then
+                    ! the fixed interval is the longest; a class is also
+                    ! searched as soon as the motion could have used up its
+                    ! margins
+                    due = .true.
                 else
-                    ! the fixed interval is the longest: a search also runs as
-                    ! soon as the motion could have used up the pool margin
-                    due = cycle - it%last_cycle >= it%interval .or. 4.0_wp*it%drift > it%margin
+                    due = it%cused > 1.0_wp
                 end if
-                if (.not. due) then
-                    ! the lists of the last search serve this cycle: how much
-                    ! of the margin has the motion used?
-                    it%worst = max(it%worst, 4.0_wp*it%drift/max(it%margin, tiny(1.0_wp)))
+                if (.not. any(due)) then
+                    ! the lists of the last searches serve this cycle: how much
+                    ! of the margins has the motion used?
+                    it%worst = max(it%worst, it%used)
+                    deallocate (due)
                     cycle
                 end if
                 t0 = wtime()
-                if (.not. allocated(it%xl)) allocate (it%xl(3, it%surf%nnode), it%lc(it%surf%nnode))
+                if (.not. allocated(it%xl)) then
+                    allocate (it%xl(3, it%surf%nnode), it%lc(it%surf%nnode))
+                    it%lc = 0
+                end if
+                if (.not. allocated(it%ls%lcodo)) then
+                    allocate (it%ls%lcodo(it%surf%nnode))
+                    it%ls%lcodo = 0
+                end if
                 it%xl = x(:, it%surf%node)
-                call characteristic_lengths(it%surf, it%xl, it%lc)
+                todo = it%owned .and. due(it%cls)
+                ! (the characteristic lengths taken there, of the nodes bucketed)
+                call build_master_lists(it%surf, it%xl, it%lc, it%reach, it%dl, ct%mnl, it%lists, cnt, todo, &
+                                        it%nsearch + 1, it%odo, it%ls%lcodo)
                 it%ls%lc = it%lc
-                call build_master_lists(it%surf, it%xl, it%lc, it%reach, it%margin, ct%mnl, it%lists, cnt, it%owned)
-                if (it%ed%ne > 0) call edge_search(it%ed, it%surf, it%xl, it%margin)
+                if (it%ed%ne > 0) call edge_search(it%ed, it%surf, it%xl, it%dl)
                 it%nsearch = it%nsearch + 1
+                if (.not. all(due)) it%npartial = it%npartial + 1
+                it%nsearched = it%nsearched + count(todo)
                 it%last_cycle = cycle
-                it%drift = 0
+                do c = 1, size(due)
+                    if (.not. due(c)) cycle
+                    it%uc(:, c) = it%un
+                    it%cused(c) = 0
+                end do
+                it%used = 0
+                if (size(it%cused) > 0) it%used = maxval(it%cused)
                 it%total%pool = it%total%pool + cnt%pool
                 it%total%reduced = it%total%reduced + cnt%reduced
                 it%total%masters = it%total%masters + cnt%masters
                 it%wall = it%wall + (wtime() - t0)
                 if (size(it%dump) > 0 .and. ct%dump_unit /= 0) call dump_lists(ct%dump_unit, it, node_id, cycle, time)
+                deallocate (due)
             end associate
         end do
     end subroutine contact_search
@@ -546,19 +608,42 @@ contains
         end do
     end subroutine contact_thickness
 
-    !> After the position update: u += dt x (largest speed of a surface node).
+    !> After the position update: u_i += dt x the speed of each surface node
+    !> relative to the surface's mean velocity, u += dt x the largest
+    !> speed, and the part of the margins used. (The pools rest on the
+    !> nodes' positions relative to each other, so a motion common to all
+    !> of them, a vehicle's travel, uses up no margin.)
     subroutine contact_drift(ct, v, dt)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: v(:, :), dt
-        integer :: i, k
-        real(wp) :: v2
+        integer :: i, k, n, c
+        real(wp) :: vk, vmax, used, vbar(3)
         do i = 1, ct%n
             associate (it => ct%ifc(i))
-                v2 = 0
+                if (it%surf%nnode == 0) cycle
+                vmax = 0
+                vbar = 0
                 do k = 1, it%surf%nnode
-                    v2 = max(v2, v(1, it%surf%node(k))**2 + v(2, it%surf%node(k))**2 + v(3, it%surf%node(k))**2)
+                    n = it%surf%node(k)
+                    vbar = vbar + v(:, n)
+                    vmax = max(vmax, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
                 end do
-                it%drift = it%drift + dt*sqrt(v2)
+                vbar = vbar/it%surf%nnode
+                do k = 1, it%surf%nnode
+                    n = it%surf%node(k)
+                    vk = sqrt((v(1, n) - vbar(1))**2 + (v(2, n) - vbar(2))**2 + (v(3, n) - vbar(3))**2)
+                    it%un(k) = it%un(k) + dt*vk
+                end do
+                do c = 1, size(it%cmin)
+                    used = 0
+                    do k = 1, it%surf%nnode
+                        used = max(used, (it%un(k) - it%uc(k, c))*it%cbud(k, c))
+                    end do
+                    it%cused(c) = used
+                end do
+                it%used = 0
+                if (size(it%cused) > 0) it%used = maxval(it%cused)
+                it%odo = it%odo + dt*sqrt(vmax)
             end associate
         end do
     end subroutine contact_drift
@@ -576,8 +661,8 @@ contains
             sn = it%surf%slave(sl)
             write (u, '(a,i0,a,i0,a,i0,a,es16.8,a,i0,a,3es16.8,a,i0)') 'search ', it%nsearch, ' interface ', it%id, &
                 ' cycle ', cycle, ' time ', time, ' slave ', node_id(it%surf%node(sn)), ' at ', it%xl(:, sn), &
-                ' masters ', it%lists%ptr(sl + 1) - it%lists%ptr(sl)
-            do j = it%lists%ptr(sl), it%lists%ptr(sl + 1) - 1
+                ' masters ', it%lists%last(sl) - it%lists%ptr(sl) + 1
+            do j = it%lists%ptr(sl), it%lists%last(sl)
                 m = it%lists%node(j)
                 tag = 'N'
                 if (it%lists%trackable(j)) tag = 'T'
@@ -673,14 +758,15 @@ contains
                 else
                     it%ls%lead = dt*sqrt(v2)
                 end if
-                ! segments may have stretched by 2u since the search; a master
-                ! surface lies up to t_c off its segment
-                it%ls%grow = 2.0_wp*it%drift + it%reach + it%ls%lead
+                ! a master surface lies up to t_c off its segment (and the
+                ! segments may have stretched since their lengths were taken:
+                ! local_search_t%lcodo)
+                it%ls%grow = it%reach + it%ls%lead
                 it%ls%dt = dt
-                it%ls%drift = it%drift
+                it%ls%odo = it%odo
                 it%ls%first = .not. it%started
                 if (it%cl%search /= it%nsearch .and. allocated(it%lists%gap)) &
-                    call reset_clearance(s, it%lists, it%xl, it%nsearch, it%cl)
+                    call reset_clearance(s, it%lists, it%nsearch, it%cl)
                 call find_contacts(s, it%lists, it%ls, it%cl, it%cseg, it%held, it%fprev, it%aeff + it%p0, ct%sw, &
                                    it%mine, it%hit, it%found, it%xl, it%rseg, it%rdep, it%p0, it%deep)
             end associate
@@ -739,7 +825,7 @@ contains
         logical :: clear_skip, refresh
         clear_skip = sw%screens .and. cl%search >= 0
         refresh = clear_skip .and. allocated(lists%pool_ptr)
-        if (refresh) refresh = size(lists%pool_ptr) == s%nslave + 1
+        if (refresh) refresh = size(lists%pool_ptr) == s%nslave
         !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k)
         do i = 1, size(mine)
             k = mine(i)
@@ -748,11 +834,13 @@ contains
                     call no_contact(k)
                     cycle
                 end if
-                if (refresh) then
+                ! (a slave without a pool, read back from a restart dump and
+                ! not searched since, takes no fresh clearance)
+                if (refresh .and. lists%pool_last(k) >= lists%pool_ptr(k) - 1) then
                     if (cl%wait(k) == 0) then
                         cl%g(k) = fresh_clearance(s, lists, ls, k)
                         cl%x(:, k) = ls%xl(:, s%slave(k))
-                        cl%u(k) = ls%drift
+                        cl%u(k) = ls%odo
                         if (cl%g(k) > 2.0_wp*ls%lead) then
                             call no_contact(k)
                             cycle
@@ -776,7 +864,7 @@ contains
         logical function clear(k)
             integer, intent(in) :: k
             real(wp) :: du
-            du = ls%drift - cl%u(k)
+            du = ls%odo - cl%u(k)
             clear = cl%g(k) > 2.0_wp*du + 2.0_wp*ls%lead
             if (clear) return
             clear = cl%g(k) > norm2(ls%xl(:, s%slave(k)) - cl%x(:, k)) + du + 2.0_wp*ls%lead
@@ -1275,7 +1363,10 @@ contains
                 call comm_sum_wp(it%kp, ns)
                 call comm_sum_wp(it%aeff, ns)
                 if (allocated(it%lists%ptr)) then
-                    cnt = it%lists%ptr(2:ns + 1) - it%lists%ptr(1:ns)
+                    ! (a slave another rank owns may hold the lists of the last
+                    ! gathering here: they count on their owner alone)
+                    cnt = it%lists%last - it%lists%ptr + 1
+                    where (.not. it%owned) cnt = 0
                     call comm_sum_int(cnt, ns)
                     allocate (ptr(ns + 1))
                     ptr(1) = 1
@@ -1293,13 +1384,24 @@ contains
                     end do
                     call comm_sum_int(ib, size(ib))
                     call comm_sum_int(tb, size(tb))
-                    it%lists%ptr = ptr
+                    it%lists%ptr = ptr(1:ns)
+                    it%lists%last = ptr(2:ns + 1) - 1
                     it%lists%node = ib
                     it%lists%trackable = tb /= 0
+                    it%lists%nused = size(ib)
+                    it%lists%ndead = 0
                     deallocate (ptr, ib, tb)
                     if (allocated(it%lists%gap)) then
                         where (.not. it%owned) it%lists%gap = 0
                         call comm_sum_wp(it%lists%gap, ns)
+                        where (.not. it%owned) it%lists%og = 0
+                        call comm_sum_wp(it%lists%og, ns)
+                        where (.not. it%owned) it%lists%at = 0
+                        call comm_sum_int(it%lists%at, ns)
+                        do k = 1, ns
+                            if (.not. it%owned(k)) it%lists%xg(:, k) = 0
+                        end do
+                        call comm_sum_wp(it%lists%xg, 3*ns)
                     end if
                 end if
                 call sum_i8(it%total%pool)
@@ -1446,14 +1548,25 @@ contains
                     txt = txt//trim(buf)//nl
                 end if
                 if (it%adaptive) then
-                    write (buf, '(a,es11.3,a,es11.3,a)') '     global search on the motion alone, when 4u > delta; '// &
-                        'pool margin delta ', it%margin, ' (reach t_c ', it%reach, ')'
+                    write (buf, '(a)') '     global search on the motion alone: the slaves of a margin class when '// &
+                        'a node''s motion since could have used up their margins'
                 else
-                    write (buf, '(a,i0,a,es11.3,a,es11.3,a)') '     global search every ', it%interval, &
-                        ' cycles at the longest, sooner when 4u > delta; pool margin delta ', it%margin, &
-                        ' (reach t_c ', it%reach, ')'
+                    write (buf, '(a,i0,a)') '     global search every ', it%interval, &
+                        ' cycles at the longest, a margin class sooner when the motion could have used up its margins'
                 end if
                 txt = txt//trim(buf)//nl
+                write (buf, '(a,3es11.3,a,es11.3,a,i0,a)') '     pool margins delta min/median/max', minval(it%dl), &
+                    it%margin, maxval(it%dl), ' (', model%ctl%contact%pmarg, ' x the local characteristic length); ', &
+                    size(it%cmin), ' margin classes'
+                txt = txt//trim(buf)//nl
+                write (buf, '(a,es11.3)') '     contact reach t_c', it%reach
+                txt = txt//trim(buf)//nl
+                if (it%nraised > 0) then
+                    write (buf, '(a,i0,a,es11.3,a)') '     pool margin raised at ', it%nraised, ' nodes to ', &
+                        margin_floor*it%margin, ' (their segments shorter than 1/32 of the median: '// &
+                        'larger pools there, the same bound)'
+                    txt = txt//trim(buf)//nl
+                end if
             end associate
         end do
         select case (model%ctl%contact%mnl)
@@ -1478,13 +1591,20 @@ contains
               '   ns/slave/search   max 4u/delta'//nl
         do i = 1, ct%n
             associate (it => ct%ifc(i))
-                per = real(max(1, it%surf%nslave), dp)*max(1, it%nsearch)
+                ! (per slave searched: a search of some classes searches fewer)
+                per = real(max(1_i8, it%nsearched), dp)
                 avg_m = real(it%total%masters, dp)/per
                 avg_p = real(it%total%pool, dp)/per
                 avg_r = real(it%total%reduced, dp)/per
                 write (buf, '(i12,i9,i10,f15.2,f12.2,f15.2,f13.4,f18.1,f15.3)') it%id, it%surf%nslave, it%nsearch, &
                     avg_m, avg_p, avg_r, it%wall, 1.0e9_dp*it%wall/per, it%worst
                 txt = txt//trim(buf)//nl
+                if (it%npartial > 0) then
+                    write (buf, '(a,i0,a,i0,a,i0,a,i0,a,f8.1,a)') '   interface ', it%id, ': ', it%npartial, ' of the ', &
+                        it%nsearch, ' searches of some margin classes only (', size(it%cmin), &
+                        ' classes); slaves searched ', per/max(1, it%surf%nslave), ' times on average'
+                    txt = txt//trim(buf)//nl
+                end if
                 if (it%ninit > 0) then
                     write (buf, '(a,i0,a,i0,a,es10.3,a)') '   interface ', it%id, ': ', it%ninit, &
                         ' initial penetrations (deepest ', it%pinit, &

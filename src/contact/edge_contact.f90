@@ -8,8 +8,9 @@
 !> The exterior edges of the surface's shells (edges of one shell segment
 !> only; LS-DYNA's AUTOMATIC_GENERAL checks those) are paired at each
 !> global search: pairs whose edges lie within both half-thicknesses plus
-!> the pool margin delta of each other, so that the search's bound (4u <=
-!> delta) holds for edges as for nodes. Each cycle a pair whose closest
+!> the largest pool margin delta of their four nodes of each other, so
+!> that the search's bound (4u <= delta at every node) holds for edges as
+!> for nodes. Each cycle a pair whose closest
 !> points lie inside both edges is in contact when the edges' distance
 !> along their common normal m = e_a x e_b / |e_a x e_b| is below the sum
 !> of the half-thicknesses; the spring pushes along m to the side edge a
@@ -140,20 +141,23 @@ contains
     !> the longest edge plus both reaches and delta, so that such a pair
     !> lies in neighbouring cells). A pair that was already listed keeps
     !> its side and contact state.
-    subroutine edge_search(ed, s, xl, margin)
+    subroutine edge_search(ed, s, xl, dl)
         type(edges_t), intent(inout) :: ed
         type(surface_t), intent(in) :: s
-        real(wp), intent(in) :: xl(:, :), margin
+        real(wp), intent(in) :: xl(:, :)
+        real(wp), intent(in) :: dl(:)      !< the surface nodes' pool margins
         real(wp), allocatable :: mid(:, :)
         real(dp), allocatable :: ckey(:), ukey(:), pkey(:)
         integer, allocatable :: perm(:), ustart(:), na(:), nb(:), order(:)
-        real(wp) :: lo(3), hc, rmax, lmax
+        real(wp) :: lo(3), hc, rmax, lmax, margin
         integer :: e, f, n, nu, c(3), nc(3), dx, dy, dz, lo_i, hi_i, u, q, j, np
         if (ed%ne == 0) return
         allocate (mid(3, ed%ne))
         lmax = 0
         rmax = 0
+        margin = 0
         do e = 1, ed%ne
+            margin = max(margin, dl(ed%en(1, e)), dl(ed%en(2, e)))
             mid(:, e) = 0.5_wp*(xl(:, ed%en(1, e)) + xl(:, ed%en(2, e)))
             lmax = max(lmax, norm2(xl(:, ed%en(2, e)) - xl(:, ed%en(1, e))))
             rmax = max(rmax, s%seg_r(ed%eseg(e)))
@@ -240,7 +244,8 @@ contains
             if (any(ed%en(:, e1) == ed%en(1, e2)) .or. any(ed%en(:, e1) == ed%en(2, e2))) return
             if (ed%eseg(e1) == ed%eseg(e2)) return
             candidate = segment_distance(xl(:, ed%en(1, e1)), xl(:, ed%en(2, e1)), xl(:, ed%en(1, e2)), &
-                                         xl(:, ed%en(2, e2))) <= s%seg_r(ed%eseg(e1)) + s%seg_r(ed%eseg(e2)) + margin
+                                         xl(:, ed%en(2, e2))) <= s%seg_r(ed%eseg(e1)) + s%seg_r(ed%eseg(e2)) + &
+                        max(dl(ed%en(1, e1)), dl(ed%en(2, e1)), dl(ed%en(1, e2)), dl(ed%en(2, e2)))
         end function candidate
     end subroutine edge_search
 

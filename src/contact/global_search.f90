@@ -5,21 +5,26 @@
 !> trackable and nontrackable master nodes. Closest-1 and closest-3 lists
 !> are there for the paper's comparison.
 !>
-!> The reduced pool keeps a node m when |x_s - x_m| <= L_m + t_c + delta:
-!> L_m the characteristic length (Fig. 3), t_c the largest shell thickness
-!> on the surface (a contact surface lies up to a half-thickness off each
-!> segment) and delta the pool margin that lets the list stay valid while
+!> The reduced pool of slave s keeps a node m when
+!> |x_s - x_m| <= L_m + t_c + max(delta_s, delta_m): L_m the characteristic
+!> length (Fig. 3), t_c the largest shell thickness on the surface (a
+!> contact surface lies up to a half-thickness off each segment) and
+!> delta_i the pool margin of node i, which lets the list stay valid while
 !> nodes move between searches (see xd_contact_contact for the bound).
+!> The margins follow the local size (a fixed fraction of each node's
+!> L at t = 0), so a fine region's pools are as narrow as its own mesh
+!> asks, whatever the rest of the surface.
 !>
-!> Mixed sizes (a coarse barrier or ground next to a fine crush zone): the
-!> master nodes are bucketed in levels by their radius. A level takes the
-!> nodes up to 1.5 times the median radius of the nodes not yet placed and
-!> gets its own grid of buckets half its largest radius wide; what is left
-!> goes to the next level; a level of at most 32 nodes is one bucket
-!> (checked node by node). Each level holds at least half of what is left,
-!> so there are at most log2(n) of them, and a slave scans 125 buckets of
-!> each: the search stays linear whatever the sizes (one large segment no
-!> longer widens every bucket). A uniform mesh is one level, as before.
+!> Mixed sizes (a coarse barrier or ground next to a fine crush zone, a
+!> fine patch in a coarse panel): the master nodes are bucketed in levels
+!> by their own radius L_m + t_c + delta_m, in classes a factor of two
+!> apart from the smallest up (a class of at most 32 nodes joins the next
+!> one up); each level gets its own grid of buckets half its largest
+!> radius wide, and a level of at most 32 nodes is one bucket (checked
+!> node by node). A slave scans, of each level whose box it can reach,
+!> the buckets within its radius there: fine nodes are never scanned
+!> through coarse buckets, nor one large segment widens every bucket. A
+!> uniform mesh is one or two levels.
 !>
 !> Slave nodes are independent: the lists are built in blocks of slaves,
 !> each block with its own work arrays, and concatenated in slave order, so
@@ -36,18 +41,22 @@ module xd_contact_global_search
     public :: buckets_t, bucket_sort, bucket_radii, node_pool, levels_t, sort_levels, level_pool, typical_length
     public :: characteristic_lengths, master_lists_t, build_master_lists
     public :: search_work_t, new_search_work, mark_none, mark_trackable, mark_nontrackable, search_counts_t
-    public :: separating_axes, reach_factor
+    public :: compact_lists
+    public :: separating_axes, reach_factor, pool_margins, margin_floor, margin_classes
 
     integer(int8), parameter :: mark_none = 0, mark_trackable = 1, mark_nontrackable = 2
+    integer, parameter :: axes_cache = 1024
 
     !> Nodes sorted into a grid of buckets at least `w` wide in each direction.
     type :: buckets_t
         integer :: nb(3) = 1
-        integer :: reach(3) = 1             !< buckets to scan on each side: ceiling(rmax / w)
-        real(wp) :: lo(3) = 0, w(3) = 1
+        real(wp) :: lo(3) = 0, hi(3) = 0, w(3) = 1   !< the nodes' box and the buckets' widths
+        real(wp) :: base = 0                !< the largest base radius (bucket_radii) of its nodes
+        real(wp) :: dmax = 0                !< the largest margin of its nodes
         integer, allocatable :: start(:)    !< (ncell + 1) first position of each cell in item
         integer, allocatable :: item(:)     !< node numbers, cell by cell
-        real(wp), allocatable :: xr(:, :)   !< (4, n) x, y, z and squared radius of item(q), for a streaming scan
+        !> (5, n) x, y, z, base radius and margin of item(q), for a streaming scan
+        real(wp), allocatable :: xr(:, :)
     end type buckets_t
 
     !> Bucket grids of the master nodes by size (see the module's notes).
@@ -57,13 +66,17 @@ module xd_contact_global_search
     end type levels_t
 
     integer, parameter :: few_nodes = 32     !< a level this small is one bucket
-    real(wp), parameter :: level_ratio = 1.5_wp
 
-    !> Master node lists of all slaves (CSR in slave order), closest first.
+    !> Master node lists of all slaves, closest first: slave k's in
+    !> node(ptr(k):last(k)). A search of some slaves rewrites their lists in
+    !> place where they fit, else at the end of the store, and compacts the
+    !> store when half of it is dead, so it costs about what it searched.
     type :: master_lists_t
-        integer, allocatable :: ptr(:)      !< (nslave + 1)
+        integer, allocatable :: ptr(:)      !< (nslave) where each slave's list starts
+        integer, allocatable :: last(:)     !< (nslave) and ends (ptr - 1: empty)
         integer, allocatable :: node(:)     !< local node numbers
         logical, allocatable :: trackable(:)
+        integer :: nused = 0, ndead = 0     !< entries of node in use, and dead among them
         !> (nslave) the slave's clearance at the search: the least distance
         !> from it to the bounding box of any segment at a node of its pool
         !> (its own segments and sides it does not look at left out), less
@@ -77,13 +90,20 @@ module xd_contact_global_search
         !> not above zero only says there is no clearance (the search of it
         !> stops there)
         real(wp), allocatable :: gap(:)
-        !> (CSR in slave order) the slave's node pool less itself: by the
-        !> search's bound, the segments at these nodes are the only ones it
-        !> can reach before the next search (the local search refreshes its
-        !> clearance over them)
-        integer, allocatable :: pool_ptr(:), pool_node(:)
+        !> the slave's node pool less itself, in pool_node(pool_ptr(k):
+        !> pool_last(k)) (kept as the lists are): by the search's bound, the
+        !> segments at these nodes are the only ones it can reach before its
+        !> next search (the local search refreshes its clearance over them)
+        integer, allocatable :: pool_ptr(:), pool_last(:), pool_node(:)
+        integer :: pused = 0, pdead = 0
         !> the largest segment part of a clearance's reach (see one_slave)
         real(wp) :: cmax = 0
+        !> (3, nslave) where the slave was at its search (its gap's origin)
+        real(wp), allocatable :: xg(:, :)
+        !> (nslave) the interface's motion bound (its odometer) at the slave's
+        !> search, and the number of that search
+        real(wp), allocatable :: og(:)
+        integer, allocatable :: at(:)
     end type master_lists_t
 
     !> Sizes summed over the slaves of one search.
@@ -102,6 +122,11 @@ module xd_contact_global_search
         integer, allocatable :: pool(:)
         real(wp), allocatable :: dist(:)
         integer :: npool = 0
+        !> the separating axes of the segments met last (a direct-mapped
+        !> cache by segment number: neighbouring slaves meet the same
+        !> segments, and a search takes the axes only where it needs them)
+        integer :: ctag(0:axes_cache - 1) = 0
+        real(wp) :: cax(4, 6, 0:axes_cache - 1) = 0
     end type search_work_t
 
     !> Growable output of one block of slaves.
@@ -115,6 +140,12 @@ module xd_contact_global_search
     end type block_out_t
 
     integer, parameter :: block_size = 256
+
+    !> No node's margin below this fraction of the typical one: a node whose
+    !> segments are all that small (a collapsed or sliver shell) would have
+    !> the whole surface searched at each step it moves. Larger pools there
+    !> cost time only; the search's bound holds with any margin.
+    real(wp), parameter :: margin_floor = 1.0_wp/32
 
 contains
 
@@ -131,6 +162,92 @@ contains
         w%stamp = 0
         w%excluded = 0
     end subroutine new_search_work
+
+    !> The pool margins of the surface's nodes from their characteristic
+    !> lengths lc: delta_i = pmarg L_i, at most typ (pmarg times the median
+    !> L: a few large segments must not widen the pools around them); typ
+    !> for a node without a segment and as the floor's unit (margin_floor;
+    !> nraised: the nodes so raised). dmin(i): the least margin of i and the nodes
+    !> sharing a segment with it, what i's motion may use up of the margins
+    !> it bounds (xd_contact_contact).
+    subroutine pool_margins(s, lc, pmarg, typ, dl, dmin, nraised)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: lc(:), pmarg, typ
+        real(wp), allocatable, intent(out) :: dl(:), dmin(:)
+        integer, intent(out) :: nraised
+        integer :: i, j
+        real(wp) :: d
+        allocate (dl(s%nnode), dmin(s%nnode))
+        nraised = 0
+        do i = 1, s%nnode
+            if (lc(i) > 0.0_wp) then
+                dl(i) = min(pmarg*lc(i), typ)
+                if (dl(i) < margin_floor*typ) then
+                    dl(i) = margin_floor*typ
+                    nraised = nraised + 1
+                end if
+            else
+                dl(i) = typ
+            end if
+        end do
+        do i = 1, s%nnode
+            d = dl(i)
+            do j = s%nn_ptr(i), s%nn_ptr(i + 1) - 1
+                d = min(d, dl(s%nn_list(j)))
+            end do
+            dmin(i) = d
+        end do
+    end subroutine pool_margins
+
+    !> The slaves' classes by their own pool margin: the largest margin (the
+    !> typical one, which most nodes have) a class of its own; below it
+    !> bands a factor of two wide down to the least margin (wider bands, by
+    !> whole factors of two, where that would make more than max_classes);
+    !> numbered from 1 without gaps; cmin(c): the least margin in class c.
+    !> Each class is searched at the pace its own margins ask
+    !> (xd_contact_contact): the typical nodes as with one margin for all.
+    subroutine margin_classes(s, dl, cls, cmin)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: dl(:)
+        integer, allocatable, intent(out) :: cls(:)
+        real(wp), allocatable, intent(out) :: cmin(:)
+        integer, parameter :: max_classes = 8
+        integer, allocatable :: band(:), map(:)
+        real(wp) :: d0
+        integer :: k, nb, width, nc
+        allocate (cls(s%nslave), band(s%nslave))
+        if (s%nslave == 0) then
+            allocate (cmin(0))
+            return
+        end if
+        d0 = maxval(dl(s%slave))
+        do k = 1, s%nslave
+            band(k) = 0
+            ! (within round-off of the largest: the same class)
+            if (dl(s%slave(k)) < d0*(1 - 1.0e-9_wp)) band(k) = exponent(d0/max(dl(s%slave(k)), tiny(1.0_wp)))
+        end do
+        nb = maxval(band)
+        width = max(1, (nb + max_classes - 2)/(max_classes - 1))
+        where (band > 0) band = (band - 1)/width + 1
+        band = band + 1
+        allocate (map(maxval(band)))
+        map = 0
+        do k = 1, s%nslave
+            map(band(k)) = 1
+        end do
+        nc = 0
+        do k = 1, size(map)
+            if (map(k) == 0) cycle
+            nc = nc + 1
+            map(k) = nc
+        end do
+        allocate (cmin(nc))
+        cmin = huge(1.0_wp)
+        do k = 1, s%nslave
+            cls(k) = map(band(k))
+            cmin(cls(k)) = min(cmin(cls(k)), dl(s%slave(k)))
+        end do
+    end subroutine margin_classes
 
     !> Nodal characteristic length (section 4): the largest diagonal of the
     !> segments at each node, in the coordinates xl (3, nnode) of the surface.
@@ -152,23 +269,34 @@ contains
     !> Three nested one-dimensional bucket sorts (Benson & Hallquist 1990):
     !> the nodes with active(i) by x slab, each slab by y column, each column
     !> by z cell. Buckets are about rmax/2 wide and a point's pool is scanned
-    !> over `reach` buckets on each side, so every node within rmax of it is
-    !> seen (half-width buckets scan 5^3 = 125 small buckets, 58% of the
-    !> volume of 27 buckets rmax wide). Their number is kept below about
-    !> twice the number of nodes so memory stays linear.
+    !> over the buckets within its radius, so every node within it is seen
+    !> (half-width buckets scan 5^3 = 125 small buckets, 58% of the volume
+    !> of 27 buckets rmax wide). Their number is kept below about twice the
+    !> number of nodes so memory stays linear.
     subroutine bucket_sort(xl, active, rmax, bk, single)
         real(wp), intent(in) :: xl(:, :)
         logical, intent(in) :: active(:)
         real(wp), intent(in) :: rmax
         type(buckets_t), intent(out) :: bk
         logical, intent(in), optional :: single   !< one bucket: every node checked
-        integer :: n, nact, i, d, a, b, ncell, cap
-        integer, allocatable :: key(:, :), xs(:), ys(:), zs(:)
+        logical :: one
+        one = .false.
+        if (present(single)) one = single
+        call bucket_items(xl, where_true(active), rmax, one, bk)
+    end subroutine bucket_sort
+
+    !> bucket_sort of the nodes `items`.
+    subroutine bucket_items(xl, items, rmax, single, bk)
+        real(wp), intent(in) :: xl(:, :)
+        integer, intent(in) :: items(:)
+        real(wp), intent(in) :: rmax
+        logical, intent(in) :: single
+        type(buckets_t), intent(out) :: bk
+        integer :: nact, i, d, ncell, cap, c(3)
+        integer, allocatable :: key(:), tmp(:)
         real(wp) :: hi(3), ext(3), f
-        n = size(active)
-        nact = count(active)
-        allocate (bk%item(nact))
-        bk%item = where_true(active)
+        nact = size(items)
+        bk%item = items
         if (nact == 0) then
             allocate (bk%start(2))
             bk%start = 1
@@ -178,87 +306,66 @@ contains
             bk%lo(d) = minval(xl(d, bk%item))
             hi(d) = maxval(xl(d, bk%item))
         end do
+        bk%hi = hi
         ext = hi - bk%lo
         do d = 1, 3
             bk%nb(d) = max(1, int(min(ext(d)/max(0.5_wp*rmax, tiny(1.0_wp)), 1.0e6_wp)))
         end do
-        if (present(single)) then
-            if (single) bk%nb = 1
-        end if
+        if (single) bk%nb = 1
         cap = max(8, 2*nact)
         do while (product(real(bk%nb, wp)) > real(cap, wp))
             f = (product(real(bk%nb, wp))/cap)**(1.0_wp/3.0_wp)
             bk%nb = max(1, int(bk%nb/max(f, 1.01_wp)))
         end do
         bk%w = max(ext/bk%nb, 0.5_wp*rmax, tiny(1.0_wp))
-        bk%reach = ceiling(rmax/bk%w)
         ncell = product(bk%nb)
-        allocate (key(3, n), xs(bk%nb(1) + 1), ys(bk%nb(2) + 1), zs(bk%nb(3) + 1), bk%start(ncell + 1))
+        ! one stable counting sort by the cell's number, x slowest and z
+        ! fastest: the order the three nested sorts give
+        allocate (key(nact), tmp(nact), bk%start(ncell + 1))
         do i = 1, nact
-            key(:, bk%item(i)) = cell_of(bk, xl(:, bk%item(i)))
+            c = cell_of(bk, xl(:, bk%item(i)))
+            key(i) = c(3) + bk%nb(3)*((c(2) - 1) + bk%nb(2)*(c(1) - 1))
         end do
         bk%start = 0
-        call counting_sort(bk%item, key(1, :), bk%nb(1), xs)
-        do a = 1, bk%nb(1)
-            if (xs(a + 1) == xs(a)) cycle
-            call counting_sort(bk%item(xs(a):xs(a + 1) - 1), key(2, :), bk%nb(2), ys)
-            ys = ys + xs(a) - 1
-            do b = 1, bk%nb(2)
-                if (ys(b + 1) == ys(b)) cycle
-                call counting_sort(bk%item(ys(b):ys(b + 1) - 1), key(3, :), bk%nb(3), zs)
-                zs = zs + ys(b) - 1
-                i = 1 + bk%nb(3)*((b - 1) + bk%nb(2)*(a - 1))
-                bk%start(i:i + bk%nb(3) - 1) = zs(1:bk%nb(3))
-            end do
+        do i = 1, nact
+            bk%start(key(i) + 1) = bk%start(key(i) + 1) + 1
         end do
-        ! empty columns and slabs: a cell starts where the next non-empty one does
-        bk%start(ncell + 1) = nact + 1
-        do i = ncell, 1, -1
-            if (bk%start(i) == 0) bk%start(i) = bk%start(i + 1)
+        bk%start(1) = 1
+        do i = 2, ncell + 1
+            bk%start(i) = bk%start(i) + bk%start(i - 1)
         end do
-        allocate (bk%xr(4, nact))
+        do i = 1, nact
+            tmp(bk%start(key(i))) = bk%item(i)
+            bk%start(key(i)) = bk%start(key(i)) + 1
+        end do
+        ! (each start now points past its cell: shift back by one cell)
+        bk%start(2:ncell + 1) = bk%start(1:ncell)
+        bk%start(1) = 1
+        bk%item = tmp
+        allocate (bk%xr(5, nact))
         do i = 1, nact
             bk%xr(1:3, i) = xl(:, bk%item(i))
         end do
-        bk%xr(4, :) = 0
-    end subroutine bucket_sort
+        bk%xr(4:5, :) = 0
+    end subroutine bucket_items
 
-    !> Squared search radius r(m)^2 of each bucketed node, in bucket order.
-    subroutine bucket_radii(bk, r)
+    !> The radius of each bucketed node m, in bucket order: a point p with
+    !> margin d_p has m in its pool when |p - x_m| <= base(m) + max(d_p,
+    !> dl(m)) (base: L_m + t_c; dl: the node's pool margin).
+    subroutine bucket_radii(bk, base, dl)
         type(buckets_t), intent(inout) :: bk
-        real(wp), intent(in) :: r(:)
+        real(wp), intent(in) :: base(:), dl(:)
         integer :: q
         do q = 1, size(bk%item)
-            bk%xr(4, q) = r(bk%item(q))**2
+            bk%xr(4, q) = base(bk%item(q))
+            bk%xr(5, q) = dl(bk%item(q))
         end do
+        bk%base = 0
+        bk%dmax = 0
+        if (size(bk%item) == 0) return
+        bk%base = maxval(bk%xr(4, :))
+        bk%dmax = maxval(bk%xr(5, :))
     end subroutine bucket_radii
-
-    !> Stable counting sort of `items` by key(items) in 1..nkey; start(k) is
-    !> the position of bucket k in items (start(nkey + 1) = size + 1).
-    subroutine counting_sort(items, key, nkey, start)
-        integer, intent(inout) :: items(:)
-        integer, intent(in) :: key(:), nkey
-        integer, intent(out) :: start(:)
-        integer, allocatable :: tmp(:), pos(:)
-        integer :: i, k
-        allocate (tmp(size(items)), pos(nkey + 1))
-        start = 0
-        do i = 1, size(items)
-            k = key(items(i))
-            start(k + 1) = start(k + 1) + 1
-        end do
-        start(1) = 1
-        do k = 2, nkey + 1
-            start(k) = start(k) + start(k - 1)
-        end do
-        pos = start
-        do i = 1, size(items)
-            k = key(items(i))
-            tmp(pos(k)) = items(i)
-            pos(k) = pos(k) + 1
-        end do
-        items = tmp
-    end subroutine counting_sort
 
     pure function cell_of(bk, p) result(c)
         type(buckets_t), intent(in) :: bk
@@ -267,95 +374,150 @@ contains
         c = min(bk%nb, max(1, 1 + int((p - bk%lo)/bk%w)))
     end function cell_of
 
-    !> Node pool of a point p: the nodes of its bucket and the neighbouring
-    !> ones that lie within their own radius of p (bucket_radii sets them;
-    !> they must not exceed reach times the bucket width).
-    subroutine node_pool(bk, p, w)
+    !> Node pool of a point p with margin dlp: the nodes m of the grid that
+    !> lie within base(m) + max(dlp, dl(m)) of it (bucket_radii).
+    subroutine node_pool(bk, p, dlp, w)
         type(buckets_t), intent(in) :: bk
-        real(wp), intent(in) :: p(3)
+        real(wp), intent(in) :: p(3), dlp
         type(search_work_t), intent(inout) :: w
         w%npool = 0
-        call scan_buckets(bk, p, w)
+        call scan_buckets(bk, p, dlp, w)
         w%dist(1:w%npool) = sqrt(w%dist(1:w%npool))
     end subroutine node_pool
 
-    !> Node pool of a point p over every level of bucket grids.
-    subroutine level_pool(lev, p, w)
+    !> Node pool of a point p with margin dlp over every level of bucket grids.
+    subroutine level_pool(lev, p, dlp, w)
         type(levels_t), intent(in) :: lev
-        real(wp), intent(in) :: p(3)
+        real(wp), intent(in) :: p(3), dlp
         type(search_work_t), intent(inout) :: w
         integer :: k
         w%npool = 0
         do k = 1, lev%n
-            call scan_buckets(lev%lv(k), p, w)
+            call scan_buckets(lev%lv(k), p, dlp, w)
         end do
         w%dist(1:w%npool) = sqrt(w%dist(1:w%npool))
     end subroutine level_pool
 
     !> Append to the pool the nodes of bk within their radius of p (squared
-    !> distances). The cells along z of a column are contiguous, so each
-    !> column is one streaming scan.
-    subroutine scan_buckets(bk, p, w)
+    !> distances): the buckets within the grid's largest radius for p, none
+    !> if p lies that far outside the nodes' box. The cells along z of a
+    !> column are contiguous, so each column is one streaming scan.
+    subroutine scan_buckets(bk, p, dlp, w)
         type(buckets_t), intent(in) :: bk
-        real(wp), intent(in) :: p(3)
+        real(wp), intent(in) :: p(3), dlp
         type(search_work_t), intent(inout) :: w
-        integer :: c(3), i, j, cell, q, q0, q1, n
-        real(wp) :: d2
-        c = cell_of(bk, p)
-        do i = max(1, c(1) - bk%reach(1)), min(bk%nb(1), c(1) + bk%reach(1))
-            do j = max(1, c(2) - bk%reach(2)), min(bk%nb(2), c(2) + bk%reach(2))
+        integer :: c0(3), c1(3), i, j, cell, q, q0, q1, n
+        real(wp) :: d2, rq, rmax
+        if (size(bk%item) == 0) return
+        rmax = bk%base + max(dlp, bk%dmax)
+        if (any(p + rmax < bk%lo) .or. any(p - rmax > bk%hi)) return
+        c0 = max(1, 1 + int(max((p - rmax - bk%lo)/bk%w, 0.0_wp)))
+        c1 = min(bk%nb, 1 + int(min((p + rmax - bk%lo)/bk%w, real(bk%nb, wp))))
+        do i = c0(1), c1(1)
+            do j = c0(2), c1(2)
                 cell = bk%nb(3)*((j - 1) + bk%nb(2)*(i - 1))
-                q0 = bk%start(cell + max(1, c(3) - bk%reach(3)))
-                q1 = bk%start(cell + min(bk%nb(3), c(3) + bk%reach(3)) + 1) - 1
+                q0 = bk%start(cell + c0(3))
+                q1 = bk%start(cell + c1(3) + 1) - 1
                 if (w%npool + q1 - q0 + 1 > size(w%pool)) call grow_pool(w, w%npool + q1 - q0 + 1)
                 ! branch-free compaction: write every candidate, keep those inside
                 n = w%npool
                 do q = q0, q1
                     d2 = (bk%xr(1, q) - p(1))**2 + (bk%xr(2, q) - p(2))**2 + (bk%xr(3, q) - p(3))**2
+                    rq = bk%xr(4, q) + max(dlp, bk%xr(5, q))
                     w%pool(n + 1) = bk%item(q)
                     w%dist(n + 1) = d2
-                    n = n + merge(1, 0, d2 <= bk%xr(4, q))
+                    n = n + merge(1, 0, d2 <= rq*rq)
                 end do
                 w%npool = n
             end do
         end do
     end subroutine scan_buckets
 
-    !> The levels of bucket grids of the nodes with active(i), radius r(i).
-    subroutine sort_levels(xl, active, r, lev)
-        real(wp), intent(in) :: xl(:, :), r(:)
+    !> The levels of bucket grids of the nodes with active(i): base radius
+    !> base(i) and margin dl(i) (bucket_radii), own radius base + dl. The
+    !> nodes fall in classes of radius a factor of two apart from the
+    !> smallest up; a level gathers classes from the smallest up to the
+    !> first where it holds more than few_nodes nodes; what is left at the
+    !> end (the few largest) is one level, one bucket if few enough.
+    subroutine sort_levels(xl, active, base, dl, lev)
+        real(wp), intent(in) :: xl(:, :), base(:), dl(:)
         logical, intent(in) :: active(:)
         type(levels_t), intent(inout) :: lev
-        logical, allocatable :: left(:), sel(:)
-        type(buckets_t), allocatable :: tmp(:)
-        integer :: nleft
-        real(wp) :: cut
-        if (allocated(lev%lv)) deallocate (lev%lv)
-        allocate (lev%lv(4))
-        lev%n = 0
-        left = active
-        allocate (sel(size(active)))
-        do
-            nleft = count(left)
-            if (nleft == 0) exit
-            if (lev%n == size(lev%lv)) then
-                allocate (tmp(2*lev%n))
-                tmp(1:lev%n) = lev%lv
-                call move_alloc(tmp, lev%lv)
-            end if
-            lev%n = lev%n + 1
-            if (nleft <= few_nodes) then
-                sel = left
-                call bucket_sort(xl, sel, maxval(r, mask=sel), lev%lv(lev%n), single=.true.)
-            else
-                cut = level_ratio*typical_length(pack(r, left), 0.5_wp)
-                sel = left .and. r <= cut
-                call bucket_sort(xl, sel, maxval(r, mask=sel), lev%lv(lev%n))
-            end if
-            call bucket_radii(lev%lv(lev%n), r)
-            left = left .and. .not. sel
-        end do
+        call sort_level_items(xl, where_true(active), base, dl, lev)
     end subroutine sort_levels
+
+    !> sort_levels of the nodes `nodes`.
+    subroutine sort_level_items(xl, nodes, base, dl, lev)
+        real(wp), intent(in) :: xl(:, :), base(:), dl(:)
+        integer, intent(in) :: nodes(:)
+        type(levels_t), intent(inout) :: lev
+        integer, allocatable :: cls(:), cnt(:), lvl(:), first(:), items(:)
+        real(wp), allocatable :: rmax(:)
+        real(wp) :: rmin
+        integer :: i, j, k, kmax, nl, acc
+        if (allocated(lev%lv)) deallocate (lev%lv)
+        lev%n = 0
+        if (size(nodes) == 0) then
+            allocate (lev%lv(0))
+            return
+        end if
+        rmin = huge(1.0_wp)
+        do j = 1, size(nodes)
+            rmin = min(rmin, base(nodes(j)) + dl(nodes(j)))
+        end do
+        rmin = max(rmin, tiny(1.0_wp))
+        ! class k: radii in [2^(k-1), 2^k) rmin
+        allocate (cls(size(nodes)))
+        do j = 1, size(nodes)
+            i = nodes(j)
+            cls(j) = exponent(max(base(i) + dl(i), rmin)/rmin)
+        end do
+        kmax = maxval(cls)
+        allocate (cnt(kmax), lvl(kmax))
+        cnt = 0
+        do j = 1, size(nodes)
+            cnt(cls(j)) = cnt(cls(j)) + 1
+        end do
+        ! the classes' levels, from the smallest up
+        nl = 1
+        acc = 0
+        do k = 1, kmax
+            lvl(k) = nl
+            acc = acc + cnt(k)
+            if (acc > few_nodes .and. k < kmax) then
+                nl = nl + 1
+                acc = 0
+            end if
+        end do
+        ! the nodes level by level (a counting sort), each level's largest radius
+        allocate (first(nl + 1), rmax(nl), items(size(nodes)))
+        first = 0
+        rmax = 0
+        do j = 1, size(nodes)
+            k = lvl(cls(j))
+            first(k + 1) = first(k + 1) + 1
+            rmax(k) = max(rmax(k), base(nodes(j)) + dl(nodes(j)))
+        end do
+        first(1) = 1
+        do k = 2, nl + 1
+            first(k) = first(k) + first(k - 1)
+        end do
+        do j = 1, size(nodes)
+            k = lvl(cls(j))
+            items(first(k)) = nodes(j)
+            first(k) = first(k) + 1
+        end do
+        first(2:nl + 1) = first(1:nl)
+        first(1) = 1
+        allocate (lev%lv(nl))
+        do k = 1, nl
+            if (first(k + 1) == first(k)) cycle
+            lev%n = lev%n + 1
+            call bucket_items(xl, items(first(k):first(k + 1) - 1), rmax(k), first(k + 1) - first(k) <= few_nodes, &
+                              lev%lv(lev%n))
+            call bucket_radii(lev%lv(lev%n), base, dl)
+        end do
+    end subroutine sort_level_items
 
     !> The value below which a fraction frac of a lies (the median for 0.5):
     !> a selection in O(n) on a copy.
@@ -417,37 +579,111 @@ contains
         call move_alloc(rd, w%dist)
     end subroutine grow_pool
 
-    !> Master node lists of every slave node (section 4). xl: surface
+    !> Master node lists of the slave nodes (section 4). xl: surface
     !> coordinates; lc: characteristic lengths; reach: the contact reach t_c;
-    !> margin: the pool margin delta; mnl: the list policy.
-    subroutine build_master_lists(s, xl, lc, reach, margin, mnl, lists, counts, owned)
+    !> dl: the pool margins delta of the surface nodes; mnl: the list policy.
+    !> search: the slaves to search (all if absent); the others keep the
+    !> lists they have (none if they have none). Where only some are
+    !> searched, only the master nodes that can lie in their pools are
+    !> bucketed (within the box of their positions grown by the largest
+    !> radius), so a search of a small region costs about its own size.
+    !> stamp and odo: the search's number and the interface's motion bound
+    !> then, kept with the searched slaves' lists (at, og). With lcodo, the
+    !> characteristic lengths lc are taken here, of every node or (where
+    !> some slaves only are searched) of the bucketed ones, lcodo(m) = odo
+    !> for those (a segment at m lies within lc(m) + 2 (odometer - lcodo(m))
+    !> of m at any time after); without it lc is given.
+    subroutine build_master_lists(s, xl, lc, reach, dl, mnl, lists, counts, search, stamp, odo, lcodo)
         type(surface_t), intent(in) :: s
-        real(wp), intent(in) :: xl(:, :), lc(:), reach, margin
+        real(wp), intent(in) :: xl(:, :), reach, dl(:)
+        real(wp), intent(inout) :: lc(:)
+        real(wp), intent(inout), optional :: lcodo(:)
         integer, intent(in) :: mnl
         type(master_lists_t), intent(inout) :: lists
         type(search_counts_t), intent(out) :: counts
-        logical, intent(in), optional :: owned(:)   !< the slaves to search for (others get empty lists)
+        logical, intent(in), optional :: search(:)
+        integer, intent(in), optional :: stamp
+        real(wp), intent(in), optional :: odo
         type(levels_t) :: lev
         type(search_work_t) :: w
         type(block_out_t), allocatable :: blk(:)
-        real(wp), allocatable :: r(:), box(:, :), axes(:, :, :)
-        real(wp) :: cmax
-        logical, allocatable :: master(:)
-        integer :: nblk, ib, i, first, last, pos
+        real(wp), allocatable :: base(:), box(:, :)
+        real(wp) :: cmax, lo(3), hi(3), grow
+        logical, allocatable :: master(:), todo(:)
+        integer :: nblk, ib, i, first, last, q, k, m
+        integer, allocatable :: mnodes(:)
+        real(wp), allocatable :: dmax(:)
+        real(wp) :: r, dmin
         integer(i8) :: npool, nred
 
-        allocate (r(s%nnode), master(s%nnode))
+        allocate (base(s%nnode), master(s%nnode), todo(s%nslave), box(6, s%nseg))
+        todo = .true.
+        if (present(search)) todo = search
         master = iand(s%node_side, ior(side_a, side_b)) /= 0
-        r = lc + reach + margin
-        call sort_levels(xl, master, r, lev)
-        ! every segment's bounding box and separating axes (for the slaves'
-        ! clearances)
-        allocate (box(6, s%nseg), axes(4, 6, s%nseg))
-        do i = 1, s%nseg
-            box(1:3, i) = min(xl(:, s%seg(1, i)), xl(:, s%seg(2, i)), xl(:, s%seg(3, i)), xl(:, s%seg(4, i)))
-            box(4:6, i) = max(xl(:, s%seg(1, i)), xl(:, s%seg(2, i)), xl(:, s%seg(3, i)), xl(:, s%seg(4, i)))
-            call separating_axes(xl(:, s%seg(:, i)), axes(:, :, i))
-        end do
+        if (all(todo)) then
+            if (present(lcodo)) then
+                call characteristic_lengths(s, xl, lc)
+                lcodo = odo
+            end if
+            mnodes = where_true(master)
+            ! the bounding box of each segment (the slaves' clearances; their
+            ! separating axes are taken where needed, one_slave)
+            do i = 1, s%nseg
+                call seg_box(i)
+            end do
+        else
+            ! only the master nodes that can lie in a searched slave's pool:
+            ! those within the box of the searched slaves grown by the
+            ! largest radius (each node's characteristic length bounded as
+            ! local_search_t%lcodo says)
+            grow = 0
+            lo = huge(1.0_wp)
+            hi = -huge(1.0_wp)
+            do i = 1, s%nslave
+                if (.not. todo(i)) cycle
+                lo = min(lo, xl(:, s%slave(i)))
+                hi = max(hi, xl(:, s%slave(i)))
+                grow = max(grow, dl(s%slave(i)))
+            end do
+            r = 0
+            do i = 1, s%nnode
+                if (.not. master(i)) cycle
+                if (present(lcodo)) then
+                    r = max(r, lc(i) + 2*(odo - lcodo(i)) + dl(i))
+                else
+                    r = max(r, lc(i) + dl(i))
+                end if
+            end do
+            lo = lo - (grow + r + reach)
+            hi = hi + (grow + r + reach)
+            do i = 1, s%nnode
+                if (master(i)) master(i) = all(xl(:, i) >= lo) .and. all(xl(:, i) <= hi)
+            end do
+            mnodes = where_true(master)
+            ! the segments at those nodes: their boxes, and the nodes'
+            ! characteristic lengths now
+            allocate (dmax(s%nseg))
+            dmax = -1
+            do q = 1, size(mnodes)
+                do k = s%seg_ptr(mnodes(q)), s%seg_ptr(mnodes(q) + 1) - 1
+                    m = s%seg_list(k)
+                    if (dmax(m) >= 0.0_wp) cycle
+                    call seg_box(m)
+                    call segment_diagonals(xl(:, s%seg(:, m)), dmin, dmax(m))
+                end do
+            end do
+            if (present(lcodo)) then
+                do q = 1, size(mnodes)
+                    lc(mnodes(q)) = 0
+                    do k = s%seg_ptr(mnodes(q)), s%seg_ptr(mnodes(q) + 1) - 1
+                        lc(mnodes(q)) = max(lc(mnodes(q)), dmax(s%seg_list(k)))
+                    end do
+                    lcodo(mnodes(q)) = odo
+                end do
+            end if
+        end if
+        base = lc + reach
+        call sort_level_items(xl, mnodes, base, dl, lev)
         cmax = 0
         do i = 1, s%nseg
             cmax = max(cmax, reach_factor(s, i)*s%seg_r(i))
@@ -462,67 +698,231 @@ contains
         do ib = 1, nblk
             first = (ib - 1)*block_size + 1
             last = min(s%nslave, ib*block_size)
+            if (.not. any(todo(first:last))) then
+                ! (nothing searched here: the merge passes the block by)
+                allocate (blk(ib)%cnt(0), blk(ib)%pcnt(0), blk(ib)%gap(0))
+                cycle
+            end if
             allocate (blk(ib)%cnt(last - first + 1), blk(ib)%node(8*(last - first + 1)), &
                       blk(ib)%trk(8*(last - first + 1)), blk(ib)%gap(last - first + 1), &
                       blk(ib)%pcnt(last - first + 1), blk(ib)%pool(32*(last - first + 1)))
             blk(ib)%gap = -huge(1.0_wp)
             blk(ib)%pcnt = 0
+            blk(ib)%cnt = 0
             do i = first, last
-                if (present(owned)) then
-                    if (.not. owned(i)) then
-                        blk(ib)%cnt(i - first + 1) = 0
-                        cycle
-                    end if
-                end if
-                call one_slave(s, lev, xl, lc, box, axes, cmax, reach + margin, mnl, s%slave(i), w, blk(ib), i - first + 1, &
+                if (.not. todo(i)) cycle
+                call one_slave(s, lev, xl, lc, dl, box, cmax, reach, mnl, s%slave(i), w, blk(ib), i - first + 1, &
                                npool, nred)
             end do
         end do
         !$omp end do
         !$omp end parallel
-
-        if (allocated(lists%ptr)) deallocate (lists%ptr, lists%node, lists%trackable)
-        if (allocated(lists%gap)) deallocate (lists%gap)
-        if (allocated(lists%pool_ptr)) deallocate (lists%pool_ptr, lists%pool_node)
-        allocate (lists%ptr(s%nslave + 1), lists%gap(s%nslave), lists%pool_ptr(s%nslave + 1))
-        lists%ptr(1) = 1
-        lists%pool_ptr(1) = 1
-        do ib = 1, nblk
-            first = (ib - 1)*block_size + 1
-            do i = 1, size(blk(ib)%cnt)
-                lists%ptr(first + i) = lists%ptr(first + i - 1) + blk(ib)%cnt(i)
-                lists%pool_ptr(first + i) = lists%pool_ptr(first + i - 1) + blk(ib)%pcnt(i)
-                lists%gap(first + i - 1) = blk(ib)%gap(i)
-            end do
-        end do
-        allocate (lists%pool_node(lists%pool_ptr(s%nslave + 1) - 1))
-        do ib = 1, nblk
-            pos = lists%pool_ptr((ib - 1)*block_size + 1)
-            lists%pool_node(pos:pos + blk(ib)%npool - 1) = blk(ib)%pool(1:blk(ib)%npool)
-        end do
-        lists%cmax = cmax
-        allocate (lists%node(lists%ptr(s%nslave + 1) - 1), lists%trackable(lists%ptr(s%nslave + 1) - 1))
-        do ib = 1, nblk
-            pos = lists%ptr((ib - 1)*block_size + 1)
-            lists%node(pos:pos + blk(ib)%n - 1) = blk(ib)%node(1:blk(ib)%n)
-            lists%trackable(pos:pos + blk(ib)%n - 1) = blk(ib)%trk(1:blk(ib)%n)
-        end do
         counts%pool = npool
         counts%reduced = nred
-        counts%masters = size(lists%node)
+        call merge_lists(s, todo, blk, lists)
+        lists%cmax = cmax
+        do i = 1, s%nslave
+            if (.not. todo(i)) cycle
+            lists%xg(:, i) = xl(:, s%slave(i))
+            lists%og(i) = 0
+            if (present(odo)) lists%og(i) = odo
+            lists%at(i) = 0
+            if (present(stamp)) lists%at(i) = stamp
+        end do
+        counts%masters = 0
+        do i = 1, s%nslave
+            if (todo(i)) counts%masters = counts%masters + (lists%last(i) - lists%ptr(i) + 1)
+        end do
+    contains
+        subroutine seg_box(m)
+            integer, intent(in) :: m
+            box(1:3, m) = min(xl(:, s%seg(1, m)), xl(:, s%seg(2, m)), xl(:, s%seg(3, m)), xl(:, s%seg(4, m)))
+            box(4:6, m) = max(xl(:, s%seg(1, m)), xl(:, s%seg(2, m)), xl(:, s%seg(3, m)), xl(:, s%seg(4, m)))
+        end subroutine seg_box
     end subroutine build_master_lists
 
+    !> The lists of the searched slaves (todo) from the blocks' output, the
+    !> others' as they were (none where there were none): in place where a
+    !> new list fits its slave's old one, else at the end of the store;
+    !> the store compacted in slave order when half of it is dead.
+    subroutine merge_lists(s, todo, blk, lists)
+        type(surface_t), intent(in) :: s
+        logical, intent(in) :: todo(:)
+        type(block_out_t), intent(in) :: blk(:)
+        type(master_lists_t), intent(inout) :: lists
+        integer :: ib, i, k, first, qb, pb, c, pc
+        if (allocated(lists%ptr)) then
+            if (size(lists%ptr) /= s%nslave) deallocate (lists%ptr)
+        end if
+        if (.not. allocated(lists%ptr)) then
+            if (allocated(lists%last)) deallocate (lists%last)
+            if (allocated(lists%pool_ptr)) deallocate (lists%pool_ptr, lists%pool_last)
+            if (allocated(lists%gap)) deallocate (lists%gap)
+            if (allocated(lists%xg)) deallocate (lists%xg, lists%og, lists%at)
+            allocate (lists%ptr(s%nslave), lists%last(s%nslave), lists%pool_ptr(s%nslave), &
+                      lists%pool_last(s%nslave), lists%gap(s%nslave), lists%xg(3, s%nslave), lists%og(s%nslave), &
+                      lists%at(s%nslave))
+            lists%ptr = 1
+            lists%last = 0
+            lists%pool_ptr = 1
+            lists%pool_last = -1
+            lists%gap = -huge(1.0_wp)
+            lists%xg = 0
+            lists%og = 0
+            lists%at = 0
+            lists%nused = 0
+            lists%ndead = 0
+            lists%pused = 0
+            lists%pdead = 0
+            if (.not. allocated(lists%node)) allocate (lists%node(0), lists%trackable(0))
+        end if
+        ! (lists read back from a restart dump come without pools: until its
+        ! next search a slave has none, pool_last = pool_ptr - 2, and its
+        ! clearance is not taken afresh)
+        if (.not. allocated(lists%pool_ptr)) then
+            allocate (lists%pool_ptr(s%nslave), lists%pool_last(s%nslave))
+            lists%pool_ptr = 1
+            lists%pool_last = -1
+            lists%pused = 0
+            lists%pdead = 0
+        end if
+        if (.not. allocated(lists%pool_node)) allocate (lists%pool_node(0))
+        if (.not. allocated(lists%gap)) then
+            allocate (lists%gap(s%nslave))
+            lists%gap = -huge(1.0_wp)
+        end if
+        if (.not. allocated(lists%xg)) then
+            allocate (lists%xg(3, s%nslave), lists%og(s%nslave), lists%at(s%nslave))
+            lists%xg = 0
+            lists%og = 0
+            lists%at = 0
+        end if
+        do ib = 1, size(blk)
+            first = (ib - 1)*block_size + 1
+            qb = 0
+            pb = 0
+            do i = 1, size(blk(ib)%cnt)
+                k = first + i - 1
+                if (.not. todo(k)) cycle
+                c = blk(ib)%cnt(i)
+                pc = blk(ib)%pcnt(i)
+                lists%gap(k) = blk(ib)%gap(i)
+                ! the master nodes
+                if (c > lists%last(k) - lists%ptr(k) + 1) then
+                    lists%ndead = lists%ndead + (lists%last(k) - lists%ptr(k) + 1)
+                    call room(lists%node, lists%trackable, lists%nused + c)
+                    lists%ptr(k) = lists%nused + 1
+                    lists%nused = lists%nused + c
+                else
+                    lists%ndead = lists%ndead + (lists%last(k) - lists%ptr(k) + 1 - c)
+                end if
+                lists%last(k) = lists%ptr(k) + c - 1
+                lists%node(lists%ptr(k):lists%last(k)) = blk(ib)%node(qb + 1:qb + c)
+                lists%trackable(lists%ptr(k):lists%last(k)) = blk(ib)%trk(qb + 1:qb + c)
+                qb = qb + c
+                ! the pool
+                if (pc > lists%pool_last(k) - lists%pool_ptr(k) + 1) then
+                    lists%pdead = lists%pdead + max(0, lists%pool_last(k) - lists%pool_ptr(k) + 1)
+                    call room_int(lists%pool_node, lists%pused + pc)
+                    lists%pool_ptr(k) = lists%pused + 1
+                    lists%pused = lists%pused + pc
+                else
+                    lists%pdead = lists%pdead + (lists%pool_last(k) - lists%pool_ptr(k) + 1 - pc)
+                end if
+                lists%pool_last(k) = lists%pool_ptr(k) + pc - 1
+                lists%pool_node(lists%pool_ptr(k):lists%pool_last(k)) = blk(ib)%pool(pb + 1:pb + pc)
+                pb = pb + pc
+            end do
+        end do
+        if (2*lists%ndead > lists%nused) call compact_lists(lists)
+        if (2*lists%pdead > lists%pused) call compact_pools(lists)
+    contains
+        !> node and trk with room for n entries (grown by half again).
+        subroutine room(node, trk, n)
+            integer, allocatable, intent(inout) :: node(:)
+            logical, allocatable, intent(inout) :: trk(:)
+            integer, intent(in) :: n
+            integer, allocatable :: ni(:)
+            logical, allocatable :: nt(:)
+            if (n <= size(node)) return
+            allocate (ni(max(n, size(node) + size(node)/2 + 64)), nt(max(n, size(node) + size(node)/2 + 64)))
+            ni(1:lists%nused) = node(1:lists%nused)
+            nt(1:lists%nused) = trk(1:lists%nused)
+            call move_alloc(ni, node)
+            call move_alloc(nt, trk)
+        end subroutine room
+
+        subroutine room_int(a, n)
+            integer, allocatable, intent(inout) :: a(:)
+            integer, intent(in) :: n
+            integer, allocatable :: ni(:)
+            if (n <= size(a)) return
+            allocate (ni(max(n, size(a) + size(a)/2 + 64)))
+            ni(1:lists%pused) = a(1:lists%pused)
+            call move_alloc(ni, a)
+        end subroutine room_int
+    end subroutine merge_lists
+
+    !> The master node lists' store in slave order, nothing dead.
+    subroutine compact_lists(lists)
+        type(master_lists_t), intent(inout) :: lists
+        integer, allocatable :: ni(:)
+        logical, allocatable :: nt(:)
+        integer :: k, n, c
+        n = sum(max(0, lists%last - lists%ptr + 1))
+        allocate (ni(n + n/4 + 64), nt(n + n/4 + 64))
+        n = 0
+        do k = 1, size(lists%ptr)
+            c = lists%last(k) - lists%ptr(k) + 1
+            ni(n + 1:n + c) = lists%node(lists%ptr(k):lists%last(k))
+            nt(n + 1:n + c) = lists%trackable(lists%ptr(k):lists%last(k))
+            lists%ptr(k) = n + 1
+            lists%last(k) = n + c
+            n = n + c
+        end do
+        call move_alloc(ni, lists%node)
+        call move_alloc(nt, lists%trackable)
+        lists%nused = n
+        lists%ndead = 0
+    end subroutine compact_lists
+
+    !> The pools' store in slave order, nothing dead.
+    subroutine compact_pools(lists)
+        type(master_lists_t), intent(inout) :: lists
+        integer, allocatable :: ni(:)
+        integer :: k, n, c
+        n = sum(max(0, lists%pool_last - lists%pool_ptr + 1))
+        allocate (ni(n + n/4 + 64))
+        n = 0
+        do k = 1, size(lists%pool_ptr)
+            c = lists%pool_last(k) - lists%pool_ptr(k) + 1
+            if (c < 0) then
+                ! (no pool: kept so)
+                lists%pool_ptr(k) = n + 1
+                lists%pool_last(k) = n - 1
+                cycle
+            end if
+            ni(n + 1:n + c) = lists%pool_node(lists%pool_ptr(k):lists%pool_last(k))
+            lists%pool_ptr(k) = n + 1
+            lists%pool_last(k) = n + c
+            n = n + c
+        end do
+        call move_alloc(ni, lists%pool_node)
+        lists%pused = n
+        lists%pdead = 0
+    end subroutine compact_pools
+
     !> One slave node: node pool, reduced pool, master node list.
-    subroutine one_slave(s, lev, xl, lc, box, axes, cmax, extra, mnl, sn, w, out, iloc, npool, nred)
+    subroutine one_slave(s, lev, xl, lc, dl, box, cmax, reach, mnl, sn, w, out, iloc, npool, nred)
         type(surface_t), intent(in) :: s
         type(levels_t), intent(in) :: lev
-        real(wp), intent(in) :: xl(:, :), lc(:), box(:, :), axes(:, :, :), extra
+        real(wp), intent(in) :: xl(:, :), lc(:), dl(:), box(:, :), reach
         real(wp), intent(in) :: cmax     !< the largest segment part of a clearance's c (below)
         integer, intent(in) :: mnl, sn, iloc
         type(search_work_t), intent(inout) :: w
         type(block_out_t), intent(inout) :: out
         integer(i8), intent(inout) :: npool, nred
-        integer :: want, i, m, n0, nkeep, q, sg, k
+        integer :: want, i, j, m, n0, nkeep, q, sg, k
         logical :: keep
         real(wp) :: ts, g, d2, e(3), c, sep, xs(3)
 
@@ -530,7 +930,7 @@ contains
         ! surfaces each side against the other; nodes-to-surface against B
         want = wanted_side(s, sn)
 
-        call level_pool(lev, xl(:, sn), w)
+        call level_pool(lev, xl(:, sn), dl(sn), w)
         npool = npool + w%npool
         ! closest first (the reduced pool below keeps this order); the pool
         ! is kept so for the local search's clearance, which then meets the
@@ -566,9 +966,14 @@ contains
                 d2 = sqrt(e(1)**2 + e(2)**2 + e(3)**2)
                 c = reach_factor(s, sg)*(ts + s%seg_r(sg))
                 if (d2 - c >= g) cycle      ! the box alone keeps it farther
+                k = mod(sg, axes_cache)
+                if (w%ctag(k) /= sg) then
+                    call separating_axes(xl(:, s%seg(:, sg)), w%cax(:, :, k))
+                    w%ctag(k) = sg
+                end if
                 sep = d2
-                do k = 1, 6
-                    sep = max(sep, axes(1, k, sg)*xs(1) + axes(2, k, sg)*xs(2) + axes(3, k, sg)*xs(3) - axes(4, k, sg))
+                do j = 1, 6
+                    sep = max(sep, w%cax(1, j, k)*xs(1) + w%cax(2, j, k)*xs(2) + w%cax(3, j, k)*xs(3) - w%cax(4, j, k))
                 end do
                 g = min(g, sep - c)
             end do
@@ -616,7 +1021,7 @@ contains
                 case (mark_nontrackable)
                     ! C2/C3: an adjacent region; keep it only within L_m (here
                     ! always true: the pool test used the same radius)
-                    if (w%dist(i) > lc(m) + extra) cycle
+                    if (w%dist(i) > lc(m) + reach + max(dl(sn), dl(m))) cycle
                     call emit(m, .false.)
                     call mark_around(m, mark_nontrackable)
                 case (mark_trackable)

@@ -29,11 +29,14 @@ module xd_contact_local_search
     type :: local_search_t
         real(wp), allocatable :: xl(:, :)    !< surface coordinates now (3, nnode)
         real(wp), allocatable :: vl(:, :)    !< surface velocities now (3, nnode)
-        real(wp), allocatable :: lc(:)       !< characteristic lengths at the last global search
-        real(wp) :: grow = 0                 !< how far segments may have stretched since: 2u, plus the reach
+        real(wp), allocatable :: lc(:)       !< characteristic lengths, as the last global search took them
+        !> the interface's odometer when lc(m) was taken: every point of a
+        !> segment at m lies within lc(m) + 2 (odo - lcodo(m)) of m
+        real(wp), allocatable :: lcodo(:)
+        real(wp) :: grow = 0                 !< the reach t_c plus the lead
         real(wp) :: lead = 0                 !< Lagrangian projection: contacts found this far before they touch
         real(wp) :: dt = 0                   !< this cycle's step (how deep a new contact can be)
-        real(wp) :: drift = 0                !< u: how far any surface node may have moved since the search
+        real(wp) :: odo = 0                  !< the interface's motion bound since t = 0 (its odometer)
         !> the first active cycle: every contact found is an initial
         !> penetration (no depth is refused)
         logical :: first = .false.
@@ -45,15 +48,16 @@ module xd_contact_local_search
     !> Per slave, a lower bound of its clearance (as master_lists_t%gap:
     !> the least distance to a segment it can reach before the next search,
     !> less the distance at which that segment's check finds a contact),
-    !> taken at the search or refreshed since, with the slave's position and
-    !> the motion bound u at that moment. Every point of a segment moves at
-    !> most u - u_ref after it, the slave |x - x_ref|: while their sum plus
-    !> twice the lead stays below the bound, the slave has no contact.
+    !> taken at the slave's search or refreshed since, with the slave's
+    !> position and the interface's motion bound since t = 0 (its odometer)
+    !> at that moment. Every point of a segment moves at most the odometer's
+    !> growth after it, the slave |x - x_ref|: while their sum plus twice
+    !> the lead stays below the bound, the slave has no contact.
     type :: clearance_t
-        integer :: search = -1               !< the global search the bounds belong to
+        integer :: search = -1               !< the last global search whose bounds were taken in
         real(wp), allocatable :: g(:)        !< (nslave) the bound
         real(wp), allocatable :: x(:, :)     !< (3, nslave) the slave's position when it was taken
-        real(wp), allocatable :: u(:)        !< (nslave) u when it was taken
+        real(wp), allocatable :: u(:)        !< (nslave) the odometer when it was taken
         integer, allocatable :: wait(:)      !< (nslave) local searches before a refresh is tried again
     end type clearance_t
 
@@ -171,14 +175,14 @@ contains
         ! v . n
         have_v = any(fprev /= 0.0_wp)
         cv = -fprev
-        do j = lists%ptr(i), lists%ptr(i + 1) - 1
+        do j = lists%ptr(i), lists%last(i)
             mn = lists%node(j)
             if (.not. have_v) cv = ls%vl(:, sn) - ls%vl(:, mn)      ! Eq. (4)
             if (lists%trackable(j) .and. sw%tracking) mn = track(mn)
             ! every point of a segment at mn lies within L_m of it (grown by
             ! the motion since the search): a slave farther away than that
             ! plus the thicknesses cannot touch one (the test of Fig. 3)
-            if (sum((ls%xl(:, mn) - ls%xl(:, sn))**2) > (ls%lc(mn) + ls%grow + ts)**2) cycle
+            if (sum((ls%xl(:, mn) - ls%xl(:, sn))**2) > (ls%lc(mn) + 2.0_wp*(ls%odo - ls%lcodo(mn)) + ls%grow + ts)**2) cycle
             if (sw%screens) then
                 if (.not. screened_in(mn)) cycle
             end if
@@ -639,19 +643,27 @@ contains
         end function screened_in
     end subroutine find_contact
 
-    !> The clearances at the search: lists%gap at the slaves' positions xl
-    !> then (surface coordinates), u = 0.
-    subroutine reset_clearance(s, lists, xl, nsearch, cl)
+    !> The clearances of the slaves searched since the bounds were last
+    !> taken in (lists%at beyond cl%search; all at the first call):
+    !> lists%gap at the slave's position then (lists%xg) and the odometer
+    !> then (lists%og). Search number nsearch is the last.
+    subroutine reset_clearance(s, lists, nsearch, cl)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
-        real(wp), intent(in) :: xl(:, :)
         integer, intent(in) :: nsearch
         type(clearance_t), intent(inout) :: cl
-        if (.not. allocated(cl%g)) allocate (cl%g(s%nslave), cl%x(3, s%nslave), cl%u(s%nslave), cl%wait(s%nslave))
-        cl%g = lists%gap
-        cl%x = xl(:, s%slave)
-        cl%u = 0
-        cl%wait = 0
+        integer :: k
+        if (.not. allocated(cl%g)) then
+            allocate (cl%g(s%nslave), cl%x(3, s%nslave), cl%u(s%nslave), cl%wait(s%nslave))
+            cl%search = -1
+        end if
+        do k = 1, s%nslave
+            if (lists%at(k) <= cl%search) cycle
+            cl%g(k) = lists%gap(k)
+            cl%x(:, k) = lists%xg(:, k)
+            cl%u(k) = lists%og(k)
+            cl%wait(k) = 0
+        end do
         cl%search = nsearch
     end subroutine reset_clearance
 
@@ -676,11 +688,11 @@ contains
         reach_max = 2.0_wp*ts + lists%cmax
         g = huge(1.0_wp)
         nseen = 0
-        do j = lists%pool_ptr(i), lists%pool_ptr(i + 1) - 1
+        do j = lists%pool_ptr(i), lists%pool_last(i)
             m = lists%pool_node(j)
             ! every point of a segment at m lay within L_m of m at the
             ! search, and now within L_m + 2u
-            if (norm2(ls%xl(:, m) - xs) - ls%lc(m) - 2.0_wp*ls%drift - reach_max >= g) cycle
+            if (norm2(ls%xl(:, m) - xs) - ls%lc(m) - 2.0_wp*(ls%odo - ls%lcodo(m)) - reach_max >= g) cycle
             do q = s%seg_ptr(m), s%seg_ptr(m + 1) - 1
                 sg = s%seg_list(q)
                 if (iand(s%seg_side(sg), want) == 0) cycle

@@ -74,7 +74,8 @@ contains
         type(states_marks_t), intent(in) :: sm
         logical, intent(out) :: ok
         integer(hid_t) :: f, g, r, fapl
-        integer :: err, k, nf
+        integer :: err, k, nf, j
+        integer, allocatable :: csr(:), packed(:), ptrk(:)
         nf = 0
         call h5open_f(err)
         call h5eset_auto_f(0, err)
@@ -164,15 +165,35 @@ contains
             associate (it => ct%ifc(k))
                 call h5gcreate_f(g, 'i'//itoa(k), r, err)
                 if (allocated(it%lists%ptr)) then
-                    call dput(r, 'list_ptr', it%lists%ptr, nf)
-                    call dput(r, 'list_node', it%lists%node, nf)
-                    call dput(r, 'list_trackable', merge(1, 0, it%lists%trackable), nf)
+                    ! the lists packed in slave order (CSR)
+                    allocate (csr(size(it%lists%ptr) + 1))
+                    csr(1) = 1
+                    do j = 1, size(it%lists%ptr)
+                        csr(j + 1) = csr(j) + it%lists%last(j) - it%lists%ptr(j) + 1
+                    end do
+                    allocate (packed(csr(size(csr)) - 1), ptrk(csr(size(csr)) - 1))
+                    do j = 1, size(it%lists%ptr)
+                        packed(csr(j):csr(j + 1) - 1) = it%lists%node(it%lists%ptr(j):it%lists%last(j))
+                        ptrk(csr(j):csr(j + 1) - 1) = merge(1, 0, it%lists%trackable(it%lists%ptr(j):it%lists%last(j)))
+                    end do
+                    call dput(r, 'list_ptr', csr, nf)
+                    call dput(r, 'list_node', packed, nf)
+                    call dput(r, 'list_trackable', ptrk, nf)
+                    deallocate (csr, packed, ptrk)
                     call dput(r, 'list_gap', it%lists%gap, nf)
+                    call dput(r, 'list_xg', [it%lists%xg], nf)
+                    call dput(r, 'list_og', it%lists%og, nf)
+                    call dput(r, 'list_at', it%lists%at, nf)
                     call dput(r, 'xl', [it%xl], nf)
                     call dput(r, 'lc', it%lc, nf)
                 end if
                 call dput(r, 'ls_lc', it%ls%lc, nf)
-                call dput(r, 'reals', [it%margin, it%reach, it%drift, it%worst, it%pinit], nf)
+                if (allocated(it%ls%lcodo)) call dput(r, 'ls_lcodo', it%ls%lcodo, nf)
+                call dput(r, 'reals', [it%margin, it%reach, it%worst, it%pinit, it%used, it%odo], nf)
+                call dput(r, 'node_drift', it%un, nf)
+                call dput(r, 'class_drift', [it%uc], nf)
+                call dput(r, 'class_used', it%cused, nf)
+                call dput(r, 'searched', [int(it%nsearched), it%npartial], nf)
                 call dput(r, 'ints', [it%last_cycle, it%nsearch, it%ninit, merge(1, 0, it%started)], nf)
                 call dput(r, 'counts', [it%total%pool, it%total%reduced, it%total%masters, it%ncontact_total], nf)
                 call dput(r, 'energy', [it%energy], nf)
@@ -581,25 +602,56 @@ contains
                 end if
                 call h5lexists_f(r, 'list_ptr', there, err)
                 if (there) then
-                    call geti(r, 'list_ptr', -1); if (ok()) it%lists%ptr = bi
-                    call geti(r, 'list_node', -1); if (ok()) it%lists%node = bi
+                    call geti(r, 'list_ptr', -1)
+                    if (ok()) then
+                        if (size(bi) /= s%nslave + 1) call fail('contact interface '//itoa(k)// &
+                                                                ' has another number of slave nodes')
+                    end if
+                    if (ok()) then
+                        it%lists%ptr = bi(1:s%nslave)
+                        it%lists%last = bi(2:s%nslave + 1) - 1
+                    end if
+                    call geti(r, 'list_node', -1)
+                    if (ok()) then
+                        it%lists%node = bi
+                        it%lists%nused = size(bi)
+                        it%lists%ndead = 0
+                    end if
                     call geti(r, 'list_trackable', -1); if (ok()) it%lists%trackable = bi /= 0
                     call getw(r, 'list_gap', s%nslave); if (ok()) it%lists%gap = bw
+                    call getw(r, 'list_xg', 3*s%nslave); if (ok()) it%lists%xg = reshape(bw, [3, s%nslave])
+                    call getw(r, 'list_og', s%nslave); if (ok()) it%lists%og = bw
+                    call geti(r, 'list_at', s%nslave); if (ok()) it%lists%at = bi
                     if (.not. allocated(it%xl)) allocate (it%xl(3, s%nnode), it%lc(s%nnode))
                     call getw(r, 'xl', size(it%xl)); if (ok()) it%xl = reshape(bw, shape(it%xl))
                     call getw(r, 'lc', size(it%lc)); if (ok()) it%lc = bw
-                    if (size(it%lists%ptr) /= s%nslave + 1) call fail('contact interface '//itoa(k)// &
-                                                                       ' has another number of slave nodes')
                 end if
                 call getw(r, 'ls_lc', -1)
                 if (ok()) it%ls%lc = bw
-                call getw(r, 'reals', 5)
+                call h5lexists_f(r, 'ls_lcodo', there, err)
+                if (there) then
+                    call getw(r, 'ls_lcodo', -1)
+                    if (ok()) it%ls%lcodo = bw
+                end if
+                call getw(r, 'reals', 6)
                 if (ok()) then
                     it%margin = bw(1)
                     it%reach = bw(2)
-                    it%drift = bw(3)
-                    it%worst = bw(4)
-                    it%pinit = bw(5)
+                    it%worst = bw(3)
+                    it%pinit = bw(4)
+                    it%used = bw(5)
+                    it%odo = bw(6)
+                end if
+                call getw(r, 'node_drift', s%nnode)
+                if (ok()) it%un = bw
+                call getw(r, 'class_drift', size(it%uc))
+                if (ok()) it%uc = reshape(bw, shape(it%uc))
+                call getw(r, 'class_used', size(it%cused))
+                if (ok()) it%cused = bw
+                call geti(r, 'searched', 2)
+                if (ok()) then
+                    it%nsearched = bi(1)
+                    it%npartial = bi(2)
                 end if
                 call geti(r, 'ints', 4)
                 if (ok()) then

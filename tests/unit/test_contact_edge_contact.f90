@@ -125,7 +125,7 @@ contains
         call build_edges(s, ed)
         call check(ed%ne == 1600, '400 lone quads: 1600 exterior edges')
         xl = m%x0(:, s%node)
-        call edge_search(ed, s, xl, 0.02_wp)
+        call edge_search(ed, s, xl, spread(0.02_wp, 1, s%nnode))
         allocate (bp(2, 0))
         do e1 = 1, ed%ne
             do e2 = e1 + 1, ed%ne
@@ -171,7 +171,7 @@ contains
         xl = m%x0(:, s%node)
         vl = 0
         ms = 1
-        call edge_search(ed, s, xl, 1.0_wp)
+        call edge_search(ed, s, xl, spread(1.0_wp, 1, s%nnode))
         ! the pair of the two leading edges (x = 0 and x = 0.5 at the start)
         qa = 0
         do q = 1, ed%np
@@ -210,7 +210,7 @@ contains
         call check_close(real(-ed%fa(1, qa)/ed%kp(qa), dp), 0.13_dp, 1.0e-12_dp, 'crossed: force = k x 0.13')
         ! a pair first seen crossed (a fresh list): no side, no force, named
         ed%np = 0
-        call edge_search(ed, s, xl, 1.0_wp)
+        call edge_search(ed, s, xl, spread(1.0_wp, 1, s%nnode))
         call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp, .false.)
         call check(ed%nact == 0 .and. ed%nunknown == 1 .and. ed%nev == 1, &
                    'a pair first seen within reach: no contact, named once')
@@ -218,7 +218,7 @@ contains
         ! initial penetration, allowed whole (no force), named
         call move_b(s, m, b, xl, 0.07_wp)
         ed%np = 0
-        call edge_search(ed, s, xl, 1.0_wp)
+        call edge_search(ed, s, xl, spread(1.0_wp, 1, s%nnode))
         call edge_forces(ed, s, xl, vl, ms, friction_t(), 1.0e-3_wp, 0.0_dp, .true.)
         call check(ed%nact == 1 .and. ed%ninit == 1 .and. ed%nev == 2 .and. all(abs(ed%fa(:, ed%act(1))) < 1.0e-12_wp), &
                    'an edge pair in reach at the first cycle: allowed as an initial penetration, no force, named')

@@ -4,8 +4,13 @@
 !> paper's Fig. 4 is the one the paper's walk-through gives; the closest-1
 !> and closest-3 lists; the lists do not depend on the thread count. Mixed
 !> sizes: the levels of bucket grids give the brute-force pools when radii
-!> span four orders of magnitude, and one huge node does not widen the
-!> fine level. The slaves' clearances are lower bounds of the distance to
+!> span four orders of magnitude and each node and query has its own
+!> margin, one huge node does not widen the fine level, and a fine patch's
+!> nodes are bucketed apart from a coarse majority. Local margins: after a
+!> motion of each node up to the bound the search keeps (4 u_i <=
+!> delta_min,i), every segment within reach of a slave has all its nodes in
+!> the slave's pool from the search (a fine patch on a coarse plate). The
+!> slaves' clearances are lower bounds of the distance to
 !> every segment they can reach (a finely sampled distance, on the
 !> crumpled sheet) and are not all trivial; so are the clearances the local
 !> search takes afresh over the search's pools after the sheet has moved.
@@ -16,7 +21,7 @@ program test_contact_global_search
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface
     use xd_contact_global_search, only: buckets_t, bucket_sort, bucket_radii, node_pool, search_work_t, new_search_work, &
                                         characteristic_lengths, master_lists_t, build_master_lists, search_counts_t, &
-                                        levels_t, sort_levels, level_pool, typical_length
+                                        levels_t, sort_levels, level_pool, typical_length, pool_margins, margin_classes
     use xd_contact_surface, only: wanted_side
     use xd_contact_local_search, only: local_search_t, fresh_clearance
     use xd_core_strings, only: ftoa
@@ -28,6 +33,10 @@ program test_contact_global_search
     call random_cloud(10000, 0.001_wp, 0.03_wp, 'random cloud, 1e4 points, radii 0.001-0.03')
     call random_cloud(3000, 0.2_wp, 0.2_wp, 'random cloud, 3000 points, one bucket per axis')
     call mixed_cloud()
+    call margins_cloud()
+    call fine_patch_levels()
+    call local_margin_bound()
+    call class_search_bound()
     call crumpled_sheet()
     call figure4()
     call figure4_paper()
@@ -50,44 +59,50 @@ contains
         r = rmin + (rmax - rmin)*r
         call random_number(q)
         q = 1.4_wp*q - 0.2_wp          ! query points inside and outside the cloud's box
-        call compare_pools(x, r, x, 'bucket search = brute force: '//name//' (queries at the points)')
-        call compare_pools(x, r, q, 'bucket search = brute force: '//name//' (queries in and around the box)')
+        call compare_pools(x, r, 0*r, x, 'bucket search = brute force: '//name//' (queries at the points)')
+        call compare_pools(x, r, 0*r, q, 'bucket search = brute force: '//name//' (queries in and around the box)')
     end subroutine random_cloud
 
     !> levels: the levels of bucket grids by size (sort_levels, level_pool)
-    !> instead of one grid as wide as the largest radius.
-    subroutine compare_pools(x, r, q, name, levels)
-        real(wp), intent(in) :: x(:, :), r(:), q(:, :)
+    !> instead of one grid as wide as the largest radius. Node m is in the
+    !> pool of query point i when |q_i - x_m| <= r_m + max(dq_i, dl_m)
+    !> (dq: each query's margin, 0 without it).
+    subroutine compare_pools(x, r, dl, q, name, levels, dq)
+        real(wp), intent(in) :: x(:, :), r(:), dl(:), q(:, :)
         character(len=*), intent(in) :: name
         logical, intent(in), optional :: levels
+        real(wp), intent(in), optional :: dq(:)
         type(buckets_t) :: bk
         type(levels_t) :: lev
         logical :: by_level
         type(search_work_t) :: w
         logical, allocatable :: active(:), hit(:), want(:)
         integer :: i, nbad, npairs
+        real(wp) :: di
         call new_search_work(size(r), w)
         allocate (active(size(r)), hit(size(r)), want(size(r)))
         active = .true.
         by_level = .false.
         if (present(levels)) by_level = levels
         if (by_level) then
-            call sort_levels(x, active, r, lev)
+            call sort_levels(x, active, r, dl, lev)
         else
-            call bucket_sort(x, active, maxval(r), bk)
-            call bucket_radii(bk, r)
+            call bucket_sort(x, active, maxval(r + dl), bk)
+            call bucket_radii(bk, r, dl)
         end if
         nbad = 0
         npairs = 0
         do i = 1, size(q, 2)
+            di = 0
+            if (present(dq)) di = dq(i)
             if (by_level) then
-                call level_pool(lev, q(:, i), w)
+                call level_pool(lev, q(:, i), di, w)
             else
-                call node_pool(bk, q(:, i), w)
+                call node_pool(bk, q(:, i), di, w)
             end if
             hit = .false.
             hit(w%pool(1:w%npool)) = .true.
-            want = (x(1, :) - q(1, i))**2 + (x(2, :) - q(2, i))**2 + (x(3, :) - q(3, i))**2 <= r**2
+            want = (x(1, :) - q(1, i))**2 + (x(2, :) - q(2, i))**2 + (x(3, :) - q(3, i))**2 <= (r + max(di, dl))**2
             nbad = nbad + count(hit .neqv. want)
             if (count(hit) /= w%npool) nbad = nbad + 1      ! no node twice
             npairs = npairs + w%npool
@@ -113,17 +128,284 @@ contains
         r(5:200) = 0.05_wp + 0.05_wp*r(5:200)         ! ... and a coarse part
         call random_number(q)
         q = 1.4_wp*q - 0.2_wp
-        call compare_pools(x, r, q, 'levels of buckets = brute force: radii 1e-3 to 1 in one cloud', levels=.true.)
+        call compare_pools(x, r, 0*r, q, 'levels of buckets = brute force: radii 1e-3 to 1 in one cloud', levels=.true.)
         active = .true.
-        call sort_levels(x, active, r, lev)
+        call sort_levels(x, active, r, 0*r, lev)
         ! one grid for all would scan 1.0 (the largest radius) around every
         ! point; the fine level scans what its own nodes and the cell cap need
-        call check(lev%n >= 2 .and. maxval(lev%lv(1)%w*lev%lv(1)%reach) < 0.2_wp, &
+        call check(lev%n >= 2 .and. lev%lv(1)%base + lev%lv(1)%dmax < 0.2_wp, &
                    'levels: the fine level''s scan is not widened by the huge radii', &
-                   'levels '//itoa(lev%n)//' fine scan reach '//ftoa(maxval(lev%lv(1)%w*lev%lv(1)%reach)))
+                   'levels '//itoa(lev%n)//' fine scan radius '//ftoa(lev%lv(1)%base + lev%lv(1)%dmax))
         call check(abs(typical_length([5.0_wp, 1.0_wp, 4.0_wp, 2.0_wp, 3.0_wp], 0.5_wp) - 3.0_wp) < 1.0e-12_wp, &
                    'typical_length: the median of 5 values')
     end subroutine mixed_cloud
+
+    !> Each node and each query point with its own margin (0 to 0.02 on
+    !> radii 0.005 to 0.03): the pools of one grid and of the levels equal
+    !> brute force with the radius r_m + max(dq, dl_m).
+    subroutine margins_cloud()
+        integer, parameter :: n = 3000, nq = 300
+        real(wp), allocatable :: x(:, :), r(:), dl(:), q(:, :), dq(:)
+        integer :: k
+        allocate (x(3, n), r(n), dl(n), q(3, nq), dq(nq))
+        call random_seed(put=[(523 + k, k=1, 64)])
+        call random_number(x)
+        call random_number(r)
+        r = 0.005_wp + 0.025_wp*r
+        call random_number(dl)
+        dl = 0.02_wp*dl
+        call random_number(q)
+        q = 1.4_wp*q - 0.2_wp
+        call random_number(dq)
+        dq = 0.02_wp*dq
+        call compare_pools(x, r, dl, q, 'bucket search = brute force: own margins of nodes and queries (one grid)', &
+                           dq=dq)
+        call compare_pools(x, r, dl, q, 'bucket search = brute force: own margins of nodes and queries (levels)', &
+                           levels=.true., dq=dq)
+    end subroutine margins_cloud
+
+    !> A fine patch (radii about 0.003, 10% of the nodes) in a coarse cloud
+    !> (radii about 0.03): the levels keep the patch's nodes apart, in a
+    !> level no wider than twice their own largest radius, so a fine
+    !> query's scan is not that of the coarse buckets. (The median rule of
+    !> before put every node in one level here.)
+    subroutine fine_patch_levels()
+        integer, parameter :: n = 6000, nf = 600
+        real(wp), allocatable :: x(:, :), r(:), q(:, :)
+        type(levels_t) :: lev
+        logical, allocatable :: active(:)
+        integer :: k, kf
+        real(wp) :: rf
+        allocate (x(3, n), r(n), q(3, 200), active(n))
+        call random_seed(put=[(733 + k, k=1, 64)])
+        call random_number(x)
+        call random_number(r)
+        r = 0.025_wp + 0.01_wp*r
+        x(:, 1:nf) = 0.45_wp + 0.1_wp*x(:, 1:nf)
+        r(1:nf) = 0.0025_wp + 0.001_wp*r(1:nf)/0.01_wp
+        call random_number(q)
+        q = 0.42_wp + 0.16_wp*q
+        call compare_pools(x, r, 0*r, q, 'levels of buckets = brute force: a fine patch in a coarse cloud', &
+                           levels=.true.)
+        active = .true.
+        call sort_levels(x, active, r, 0*r, lev)
+        rf = maxval(r(1:nf))
+        kf = 0
+        do k = 1, lev%n
+            if (any(lev%lv(k)%item <= nf)) kf = k
+        end do
+        call check(kf > 0 .and. lev%n >= 2, 'levels: a fine patch and a coarse majority are two levels or more', &
+                   'levels '//itoa(lev%n))
+        if (kf > 0) call check(all(lev%lv(kf)%item <= nf) .and. lev%lv(kf)%base + lev%lv(kf)%dmax <= 2*rf, &
+                               'levels: the fine patch''s level holds no coarse node, its radius within 2x its own', &
+                               'radius '//ftoa(lev%lv(kf)%base + lev%lv(kf)%dmax)//' fine '//ftoa(rf))
+    end subroutine fine_patch_levels
+
+    !> The search's bound with margins that follow the local size: a 1 mm
+    !> patch (20 x 20 shells) 2 mm above a 10 mm plate (40 x 40 shells),
+    !> 1 mm thick, margins pool_margins(0.25). Each node then moves by
+    !> u_i = delta_min,i / 4 in a random direction (the most the adaptive
+    !> search allows). Every segment that the slave can now be within
+    !> reach t_c of (sampled distance) has all its nodes in the slave's pool
+    !> from the search. Also: the patch's margins are its own (0.25 x its
+    !> L), not the plate's. (Pools of radius L_m + t_c + delta_m alone, the
+    !> slave's margin left out, fail here at coarse slaves.)
+    subroutine local_margin_bound()
+        type(model_t) :: m
+        type(faces_t) :: f
+        type(surface_t) :: s
+        type(master_lists_t) :: l
+        type(search_counts_t) :: cnt
+        integer, parameter :: nc = 40, nf = 20
+        real(wp), allocatable :: x(:, :), xl(:, :), lc(:), dl(:), dlmin(:), xn(:, :), rnd(:, :)
+        integer, allocatable :: conn(:, :)
+        integer :: i, j, nnc, sn, sg, a, b, nbad, nmiss, nraised, nnear
+        real(wp) :: typ, dmin, p(3), xm(3, 4), dir(3), reach
+        logical, allocatable :: inpool(:)
+        nnc = (nc + 1)**2
+        allocate (x(3, nnc + (nf + 1)**2), conn(4, nc*nc + nf*nf))
+        do j = 0, nc
+            do i = 0, nc
+                x(:, 1 + i + (nc + 1)*j) = [0.01_wp*i, 0.01_wp*j, 0.0_wp]
+            end do
+        end do
+        do j = 0, nf
+            do i = 0, nf
+                x(:, nnc + 1 + i + (nf + 1)*j) = [0.195_wp + 0.001_wp*i, 0.195_wp + 0.001_wp*j, 0.002_wp]
+            end do
+        end do
+        conn(:, 1:nc*nc) = grid_quads(nc)
+        conn(:, nc*nc + 1:) = nnc + grid_quads(nf)
+        call empty_model(m, 1)
+        call set_sheet(m, x, conn, 0.001_wp, 1)
+        call build_faces(m, m%x0, f)
+        call build_surface(f, m%nnode, [(.true., i=1, f%n)], [(.false., i=1, f%n)], [integer ::], .false., &
+                           [0.0_wp, 0.0_wp, 1.0_wp, 1.0_wp], [0.1_wp, 1.0_wp, 1.0_wp], s)
+        allocate (xl(3, s%nnode), lc(s%nnode), xn(3, s%nnode), rnd(3, s%nnode), inpool(s%nnode))
+        xl = m%x0(:, s%node)
+        call characteristic_lengths(s, xl, lc)
+        typ = 0.25_wp*typical_length(pack(lc, lc > 0.0_wp), 0.5_wp)
+        call pool_margins(s, lc, 0.25_wp, typ, dl, dlmin, nraised)
+        reach = s%max_thick
+        call build_master_lists(s, xl, lc, reach, dl, mnl_minimal, l, cnt)
+        call check(abs(minval(dl) - 0.25_wp*sqrt(2.0_wp)*0.001_wp) < 1.0e-9_wp .and. &
+                   abs(maxval(dl) - 0.25_wp*sqrt(2.0_wp)*0.01_wp) < 1.0e-9_wp .and. nraised == 0, &
+                   'pool margins: 0.25 x the local L, 1 mm patch and 10 mm plate each their own', &
+                   'min '//ftoa(minval(dl))//' max '//ftoa(maxval(dl)))
+        call random_seed(put=[(199 + i, i=1, 64)])
+        call random_number(rnd)
+        do i = 1, s%nnode
+            dir = rnd(:, i) - 0.5_wp
+            dir = dir/max(norm2(dir), 1.0e-12_wp)
+            xn(:, i) = xl(:, i) + 0.25_wp*dlmin(i)*dir
+        end do
+        nbad = 0
+        nmiss = 0
+        nnear = 0
+        do i = 1, s%nslave
+            sn = s%slave(i)
+            inpool = .false.
+            inpool(l%pool_node(l%pool_ptr(i):l%pool_last(i))) = .true.
+            do sg = 1, s%nseg
+                if (any(s%seg(:, sg) == sn)) cycle
+                if (any(abs(xn(:, s%seg(1, sg)) - xn(:, sn)) > 0.03_wp)) cycle
+                xm = xn(:, s%seg(:, sg))
+                dmin = huge(1.0_wp)
+                do a = 0, 10
+                    do b = 0, 10
+                        p = (1 - a/10.0_wp)*(1 - b/10.0_wp)*xm(:, 1) + a/10.0_wp*(1 - b/10.0_wp)*xm(:, 2) + &
+                            a/10.0_wp*b/10.0_wp*xm(:, 3) + (1 - a/10.0_wp)*b/10.0_wp*xm(:, 4)
+                        dmin = min(dmin, norm2(p - xn(:, sn)))
+                    end do
+                end do
+                if (dmin > reach) cycle
+                nnear = nnear + 1
+                if (.not. all(inpool(s%seg(:, sg)))) then
+                    nbad = nbad + 1
+                    nmiss = nmiss + count(.not. inpool(s%seg(:, sg)))
+                end if
+            end do
+        end do
+        call check(nbad == 0 .and. nnear > 500, 'local margins: every segment within reach after the largest '// &
+                   'motion the search allows has its nodes in the slave''s pool', &
+                   'segments within reach '//itoa(nnear)//', missed '//itoa(nbad)//' ('//itoa(nmiss)//' nodes)')
+    end subroutine local_margin_bound
+
+    !> The searches by margin class (xd_contact_contact): the 1 mm patch 2
+    !> mm above the 10 mm plate of local_margin_bound, all searched at t0.
+    !> Then every node moves 0.9 of max(Delta_coarse, delta_min,i) / 4
+    !> (the coarse class's budget, not due; the patch's class is) and the
+    !> patch's class alone is searched; then each node moves again, by as
+    !> much as both classes' budgets still allow. Every slave, with the
+    !> lists of its own last search (the plate's from t0), has every segment
+    !> now within reach in its pool; without the patch's search some patch
+    !> slave misses one (the test can fail).
+    subroutine class_search_bound()
+        type(model_t) :: m
+        type(faces_t) :: f
+        type(surface_t) :: s
+        type(master_lists_t) :: l, l0
+        type(search_counts_t) :: cnt
+        integer, parameter :: nc = 40, nf = 20
+        real(wp), allocatable :: x(:, :), xl(:, :), lc(:), dl(:), dlmin(:), x1(:, :), x2(:, :), rnd(:, :), cmin(:)
+        integer, allocatable :: conn(:, :), cls(:)
+        integer :: i, j, nnc, nraised, fine, coarse, nnear, nbad, nbad0
+        real(wp) :: typ, dir(3), b1, bf, bc
+        nnc = (nc + 1)**2
+        allocate (x(3, nnc + (nf + 1)**2), conn(4, nc*nc + nf*nf))
+        do j = 0, nc
+            do i = 0, nc
+                x(:, 1 + i + (nc + 1)*j) = [0.01_wp*i, 0.01_wp*j, 0.0_wp]
+            end do
+        end do
+        do j = 0, nf
+            do i = 0, nf
+                x(:, nnc + 1 + i + (nf + 1)*j) = [0.195_wp + 0.001_wp*i, 0.195_wp + 0.001_wp*j, 0.002_wp]
+            end do
+        end do
+        conn(:, 1:nc*nc) = grid_quads(nc)
+        conn(:, nc*nc + 1:) = nnc + grid_quads(nf)
+        call empty_model(m, 1)
+        call set_sheet(m, x, conn, 0.001_wp, 1)
+        call build_faces(m, m%x0, f)
+        call build_surface(f, m%nnode, [(.true., i=1, f%n)], [(.false., i=1, f%n)], [integer ::], .false., &
+                           [0.0_wp, 0.0_wp, 1.0_wp, 1.0_wp], [0.1_wp, 1.0_wp, 1.0_wp], s)
+        allocate (xl(3, s%nnode), lc(s%nnode), x1(3, s%nnode), x2(3, s%nnode), rnd(3, s%nnode))
+        xl = m%x0(:, s%node)
+        call characteristic_lengths(s, xl, lc)
+        typ = 0.25_wp*typical_length(pack(lc, lc > 0.0_wp), 0.5_wp)
+        call pool_margins(s, lc, 0.25_wp, typ, dl, dlmin, nraised)
+        call margin_classes(s, dl, cls, cmin)
+        fine = minloc(cmin, 1)
+        coarse = maxloc(cmin, 1)
+        call check(size(cmin) == 2 .and. all(cls(pack([(i, i=1, s%nslave)], s%node(s%slave) > nnc)) == fine), &
+                   'margin classes: the patch''s slaves one class, the plate''s another', 'classes '//itoa(size(cmin)))
+        call build_master_lists(s, xl, lc, s%max_thick, dl, mnl_minimal, l, cnt)
+        l0 = l
+        call random_seed(put=[(421 + i, i=1, 64)])
+        call random_number(rnd)
+        do i = 1, s%nnode
+            dir = rnd(:, i) - 0.5_wp
+            dir = dir/max(norm2(dir), 1.0e-12_wp)
+            x1(:, i) = xl(:, i) + 0.9_wp*0.25_wp*max(cmin(coarse), dlmin(i))*dir
+        end do
+        call characteristic_lengths(s, x1, lc)
+        call build_master_lists(s, x1, lc, s%max_thick, dl, mnl_minimal, l, cnt, cls == fine, 2)
+        call check(cnt%masters > 0 .and. all(l%at(pack([(i, i=1, s%nslave)], cls == coarse)) == 0) .and. &
+                   all(l%at(pack([(i, i=1, s%nslave)], cls == fine)) == 2), &
+                   'class search: the patch''s slaves searched again, the plate''s keep their lists')
+        call random_number(rnd)
+        do i = 1, s%nnode
+            dir = rnd(:, i) - 0.5_wp
+            dir = dir/max(norm2(dir), 1.0e-12_wp)
+            b1 = 0.9_wp*0.25_wp*max(cmin(coarse), dlmin(i))
+            bf = 0.25_wp*max(cmin(fine), dlmin(i))
+            bc = 0.25_wp*max(cmin(coarse), dlmin(i)) - b1
+            x2(:, i) = x1(:, i) + min(bf, bc)*dir
+        end do
+        call count_misses(s, l, x2, nnear, nbad)
+        call count_misses(s, l0, x2, nnear, nbad0)
+        call check(nbad == 0 .and. nnear > 500, 'class search: every segment within reach is in the pool of '// &
+                   'each slave''s own last search', 'segments within reach '//itoa(nnear)//', missed '//itoa(nbad))
+        call check(nbad0 > 0, 'class search: without the patch''s search some patch slave misses a segment', &
+                   'missed '//itoa(nbad0))
+    end subroutine class_search_bound
+
+    !> Slave-segment pairs within reach at xn (sampled distance) and
+    !> those with a node outside the slave's pool in lists ll.
+    subroutine count_misses(s, ll, xn, nnear, nbad)
+        type(surface_t), intent(in) :: s
+        type(master_lists_t), intent(in) :: ll
+        real(wp), intent(in) :: xn(:, :)
+        integer, intent(out) :: nnear, nbad
+        logical, allocatable :: inpool(:)
+        integer :: k, sn, sg, a, b
+        real(wp) :: xm(3, 4), p(3), dmin
+        allocate (inpool(s%nnode))
+        nnear = 0
+        nbad = 0
+        do k = 1, s%nslave
+            sn = s%slave(k)
+            inpool = .false.
+            inpool(ll%pool_node(ll%pool_ptr(k):ll%pool_last(k))) = .true.
+            do sg = 1, s%nseg
+                if (any(s%seg(:, sg) == sn)) cycle
+                if (any(abs(xn(:, s%seg(1, sg)) - xn(:, sn)) > 0.03_wp)) cycle
+                xm = xn(:, s%seg(:, sg))
+                dmin = huge(1.0_wp)
+                do a = 0, 10
+                    do b = 0, 10
+                        p = (1 - a/10.0_wp)*(1 - b/10.0_wp)*xm(:, 1) + a/10.0_wp*(1 - b/10.0_wp)*xm(:, 2) + &
+                            a/10.0_wp*b/10.0_wp*xm(:, 3) + (1 - a/10.0_wp)*b/10.0_wp*xm(:, 4)
+                        dmin = min(dmin, norm2(p - xn(:, sn)))
+                    end do
+                end do
+                if (dmin > s%max_thick) cycle
+                nnear = nnear + 1
+                if (.not. all(inpool(s%seg(:, sg)))) nbad = nbad + 1
+            end do
+        end do
+    end subroutine count_misses
 
     !> The clearance of each slave of the surface s (coordinates xl) against a
     !> sampled distance to every segment it can reach before the next
@@ -198,13 +480,15 @@ contains
         call characteristic_lengths(s, xl, lc)
         r = lc + 0.003_wp
         call check(s%nnode == 10000, 'crumpled sheet has 1e4 surface nodes')
-        call compare_pools(xl, r, xl, 'bucket search = brute force: crumpled sheet of 1e4 nodes')
+        call compare_pools(xl, r, 0*r, xl, 'bucket search = brute force: crumpled sheet of 1e4 nodes')
         ! thread count does not change the lists (blocks of slaves, fixed order)
         !$ call omp_set_num_threads(1)
-        call build_master_lists(s, xl, lc, 0.001_wp, 0.002_wp, mnl_minimal, l1, cnt)
+        call build_master_lists(s, xl, lc, 0.001_wp, spread(0.002_wp, 1, s%nnode), mnl_minimal, l1, cnt)
         !$ call omp_set_num_threads(2)
-        call build_master_lists(s, xl, lc, 0.001_wp, 0.002_wp, mnl_minimal, l2, cnt)
-        call check(all(l1%ptr == l2%ptr) .and. all(l1%node == l2%node) .and. all(l1%trackable .eqv. l2%trackable), &
+        call build_master_lists(s, xl, lc, 0.001_wp, spread(0.002_wp, 1, s%nnode), mnl_minimal, l2, cnt)
+        call check(all(l1%ptr == l2%ptr) .and. all(l1%last == l2%last) .and. l1%nused == l2%nused .and. &
+                   all(l1%node(1:l1%nused) == l2%node(1:l1%nused)) .and. &
+                   all(l1%trackable(1:l1%nused) .eqv. l2%trackable(1:l1%nused)), &
                    'master node lists: identical with 1 and 2 threads')
         call check(cnt%masters > 0 .and. cnt%masters <= cnt%reduced .and. cnt%reduced <= cnt%pool, &
                    'master node lists: masters <= reduced pool <= pool')
@@ -232,7 +516,8 @@ contains
             ls%xl(:, i) = xl(:, i) + u/sqrt(3.0_wp)*[sin(40*xl(2, i)), cos(30*xl(1, i)), sin(50*xl(3, i) + 1)]
         end do
         ls%lc = lc
-        ls%drift = u
+        ls%lcodo = 0*lc
+        ls%odo = u
         ls%lead = 0
         nbad = 0
         npos = 0
@@ -328,20 +613,20 @@ contains
         call characteristic_lengths(s, xl, lc)
         sl = findloc(s%node(s%slave), 1, 1)
 
-        call build_master_lists(s, xl, lc, 0.0_wp, 1.1_wp, mnl_minimal, l, cnt)
-        got = s%node(l%node(l%ptr(sl):l%ptr(sl + 1) - 1))
+        call build_master_lists(s, xl, lc, 0.0_wp, spread(1.1_wp, 1, s%nnode), mnl_minimal, l, cnt)
+        got = s%node(l%node(l%ptr(sl):l%last(sl)))
         call check(size(got) == 4, 'Fig. 4: four master nodes', 'got '//list(got))
         if (size(got) == 4) then
             call check(all(got == [9, 17, 3, 7]), 'Fig. 4: master nodes 9, 17, 3, 7 in order of distance', list(got))
-            call check(all(l%trackable(l%ptr(sl):l%ptr(sl + 1) - 1) .eqv. [.true., .true., .false., .false.]), &
+            call check(all(l%trackable(l%ptr(sl):l%last(sl)) .eqv. [.true., .true., .false., .false.]), &
                        'Fig. 4: 9 and 17 trackable (closest on each opposite region), 3 and 7 nontrackable')
         end if
-        call build_master_lists(s, xl, lc, 0.0_wp, 1.1_wp, mnl_closest1, l, cnt)
-        got = s%node(l%node(l%ptr(sl):l%ptr(sl + 1) - 1))
+        call build_master_lists(s, xl, lc, 0.0_wp, spread(1.1_wp, 1, s%nnode), mnl_closest1, l, cnt)
+        got = s%node(l%node(l%ptr(sl):l%last(sl)))
         call check(size(got) == 1, 'closest-1: one master node', list(got))
         if (size(got) == 1) call check(got(1) == 9, 'closest-1: node 9', list(got))
-        call build_master_lists(s, xl, lc, 0.0_wp, 1.1_wp, mnl_closest3, l, cnt)
-        got = s%node(l%node(l%ptr(sl):l%ptr(sl + 1) - 1))
+        call build_master_lists(s, xl, lc, 0.0_wp, spread(1.1_wp, 1, s%nnode), mnl_closest3, l, cnt)
+        got = s%node(l%node(l%ptr(sl):l%last(sl)))
         call check(size(got) == 3, 'closest-3: three master nodes', list(got))
         if (size(got) == 3) call check(all(got == [9, 17, 10]), 'closest-3: nodes 9, 17, 10', list(got))
     end subroutine figure4
@@ -389,9 +674,9 @@ contains
         xl = m%x0(:, s%node)
         call characteristic_lengths(s, xl, lc)
         sl = findloc(s%node(s%slave), is(5), 1)
-        call build_master_lists(s, xl, lc, 0.0_wp, 0.05_wp, mnl_minimal, l, cnt)
-        got = s%node(l%node(l%ptr(sl):l%ptr(sl + 1) - 1))
-        trk = l%trackable(l%ptr(sl):l%ptr(sl + 1) - 1)
+        call build_master_lists(s, xl, lc, 0.0_wp, spread(0.05_wp, 1, s%nnode), mnl_minimal, l, cnt)
+        got = s%node(l%node(l%ptr(sl):l%last(sl)))
+        trk = l%trackable(l%ptr(sl):l%last(sl))
         ! m1, m1', m2, m3, m5, m5', m6, m6' in order of distance
         want = [is(3), js(3), ip(3), iq(3), is(7), js(7), is(2), js(2)]
         call check(size(got) == size(want), 'Fig. 4 (paper): eight master nodes (m1, m2, m3, m5, m6 and the twins '// &

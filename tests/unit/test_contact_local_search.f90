@@ -39,13 +39,14 @@ contains
         call build_faces(m, m%x0, f)
         call build_surface(f, m%nnode, [(.true., j=1, f%n)], [(.false., j=1, f%n)], [integer ::], .false., &
                            [0.0_wp, 0.0_wp, 1.0_wp, 1.0_wp], [0.1_wp, 1.0_wp, 1.0_wp], s, m%hex_conn(:, 1:m%nhex))
-        allocate (ls%xl(3, s%nnode), ls%vl(3, s%nnode), ls%lc(s%nnode))
+        allocate (ls%xl(3, s%nnode), ls%vl(3, s%nnode), ls%lc(s%nnode), ls%lcodo(s%nnode))
+        ls%lcodo = 0
         ls%xl = m%x0(:, s%node)
         ls%vl = 0
         call characteristic_lengths(s, ls%xl, ls%lc)
         ls%grow = s%max_thick
         ls%dt = 1.0e-6_wp
-        call build_master_lists(s, ls%xl, ls%lc, s%max_thick, 0.05_wp, mnl_minimal, l, cnt)
+        call build_master_lists(s, ls%xl, ls%lc, s%max_thick, spread(0.05_wp, 1, s%nnode), mnl_minimal, l, cnt)
     end subroutine prepare
 
     !> A shell plate (t 0.2, mid-surface z = 0.05) and a small shell (t 0.1)
@@ -272,15 +273,15 @@ contains
         start = findloc(s%node, a(0), 1)
         ! the list of every slave as the search made it, slave k's replaced by
         ! the one far trackable node
-        allocate (l1%ptr(s%nslave + 1))
-        l1%ptr(1) = 1
+        allocate (l1%ptr(s%nslave), l1%last(s%nslave))
         allocate (l1%node(0), l1%trackable(0))
         do j = 1, s%nslave
+            l1%ptr(j) = size(l1%node) + 1
             if (j == k) then
                 l1%node = [l1%node, start]
                 l1%trackable = [l1%trackable, .true.]
             end if
-            l1%ptr(j + 1) = size(l1%node) + 1
+            l1%last(j) = size(l1%node)
         end do
         ls%lc = 20.0_wp     ! the far node's reach covers the slave (the search's premise)
         call find_contact(s, l1, ls, k, 0, [0.0_wp, 0.0_wp, 0.0_wp], 0.0_wp, search_switches_t(), h)
