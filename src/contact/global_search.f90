@@ -751,29 +751,22 @@ contains
         type(block_out_t), intent(in) :: blk(:)
         type(master_lists_t), intent(inout) :: lists
         integer :: ib, i, k, first, qb, pb, c, pc
+        ! (another number of slaves: the lists start afresh)
         if (allocated(lists%ptr)) then
-            if (size(lists%ptr) /= s%nslave) deallocate (lists%ptr)
+            if (size(lists%ptr) /= s%nslave) then
+                deallocate (lists%ptr)
+                if (allocated(lists%pool_ptr)) deallocate (lists%pool_ptr, lists%pool_last)
+                if (allocated(lists%gap)) deallocate (lists%gap)
+                if (allocated(lists%xg)) deallocate (lists%xg, lists%og, lists%at)
+            end if
         end if
         if (.not. allocated(lists%ptr)) then
             if (allocated(lists%last)) deallocate (lists%last)
-            if (allocated(lists%pool_ptr)) deallocate (lists%pool_ptr, lists%pool_last)
-            if (allocated(lists%gap)) deallocate (lists%gap)
-            if (allocated(lists%xg)) deallocate (lists%xg, lists%og, lists%at)
-            allocate (lists%ptr(s%nslave), lists%last(s%nslave), lists%pool_ptr(s%nslave), &
-                      lists%pool_last(s%nslave), lists%gap(s%nslave), lists%xg(3, s%nslave), lists%og(s%nslave), &
-                      lists%at(s%nslave))
+            allocate (lists%ptr(s%nslave), lists%last(s%nslave))
             lists%ptr = 1
             lists%last = 0
-            lists%pool_ptr = 1
-            lists%pool_last = -1
-            lists%gap = -huge(1.0_wp)
-            lists%xg = 0
-            lists%og = 0
-            lists%at = 0
             lists%nused = 0
             lists%ndead = 0
-            lists%pused = 0
-            lists%pdead = 0
             if (.not. allocated(lists%node)) allocate (lists%node(0), lists%trackable(0))
         end if
         ! (lists read back from a restart dump come without pools: until its
