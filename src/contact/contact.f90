@@ -63,7 +63,6 @@ module xd_contact_contact
         type(master_lists_t) :: lists
         type(edges_t) :: ed                   !< exterior shell edges and their pairs (AUTOMATIC_GENERAL)
         real(wp), allocatable :: xl(:, :)     !< surface coordinates at the last search
-        real(wp), allocatable :: lc(:)        !< characteristic lengths at the last search
         real(wp) :: margin = 0                !< typical pool margin (pmarg x the median L at t = 0)
         real(wp), allocatable :: dl(:)        !< pool margin delta_i of each surface node (its local size)
         real(wp), allocatable :: dmin(:)      !< delta_min,i (xd_contact_global_search's pool_margins)
@@ -73,7 +72,6 @@ module xd_contact_contact
         real(wp), allocatable :: uc(:, :)     !< (nnode, class): U_i at the class's last search
         real(wp), allocatable :: cbud(:, :)   !< (nnode, class): 4 / max(Delta_c, delta_min,i)
         real(wp), allocatable :: cused(:)     !< per class: max over the nodes of 4 (U_i - U_i,c) / max(Delta_c, delta_min,i)
-        real(wp) :: used = 0                  !< the largest of cused
         real(wp) :: odo = 0                   !< the sum over cycles of dt x the largest speed since t = 0
         integer :: nraised = 0                !< nodes whose margin was raised to the floor
         integer :: npartial = 0               !< searches of some classes only
@@ -526,14 +524,15 @@ contains
                 if (.not. any(due)) then
                     ! the lists of the last searches serve this cycle: how much
                     ! of the margins has the motion used?
-                    it%worst = max(it%worst, it%used)
+                    it%worst = max(it%worst, maxval(it%cused))
                     deallocate (due)
                     cycle
                 end if
                 t0 = wtime()
-                if (.not. allocated(it%xl)) then
-                    allocate (it%xl(3, it%surf%nnode), it%lc(it%surf%nnode))
-                    it%lc = 0
+                if (.not. allocated(it%xl)) allocate (it%xl(3, it%surf%nnode))
+                if (.not. allocated(it%ls%lc)) then
+                    allocate (it%ls%lc(it%surf%nnode))
+                    it%ls%lc = 0
                 end if
                 if (.not. allocated(it%ls%lcodo)) then
                     allocate (it%ls%lcodo(it%surf%nnode))
@@ -542,9 +541,8 @@ contains
                 it%xl = x(:, it%surf%node)
                 todo = it%owned .and. due(it%cls)
                 ! (the characteristic lengths taken there, of the nodes bucketed)
-                call build_master_lists(it%surf, it%xl, it%lc, it%reach, it%dl, ct%mnl, it%lists, cnt, todo, &
+                call build_master_lists(it%surf, it%xl, it%ls%lc, it%reach, it%dl, ct%mnl, it%lists, cnt, todo, &
                                         it%nsearch + 1, it%odo, it%ls%lcodo)
-                it%ls%lc = it%lc
                 if (it%ed%ne > 0) call edge_search(it%ed, it%surf, it%xl, it%dl)
                 it%nsearch = it%nsearch + 1
                 if (.not. all(due)) it%npartial = it%npartial + 1
@@ -555,8 +553,6 @@ contains
                     it%uc(:, c) = it%un
                     it%cused(c) = 0
                 end do
-                it%used = 0
-                if (size(it%cused) > 0) it%used = maxval(it%cused)
                 it%total%pool = it%total%pool + cnt%pool
                 it%total%reduced = it%total%reduced + cnt%reduced
                 it%total%masters = it%total%masters + cnt%masters
@@ -641,8 +637,6 @@ contains
                     end do
                     it%cused(c) = used
                 end do
-                it%used = 0
-                if (size(it%cused) > 0) it%used = maxval(it%cused)
                 it%odo = it%odo + dt*sqrt(vmax)
             end associate
         end do

@@ -721,17 +721,18 @@ contains
         counts%reduced = nred
         call merge_lists(s, todo, blk, lists)
         lists%cmax = cmax
+        ! where and when each searched slave's gap was taken, and its list
+        r = 0
+        if (present(odo)) r = odo
+        k = 0
+        if (present(stamp)) k = stamp
+        counts%masters = 0
         do i = 1, s%nslave
             if (.not. todo(i)) cycle
             lists%xg(:, i) = xl(:, s%slave(i))
-            lists%og(i) = 0
-            if (present(odo)) lists%og(i) = odo
-            lists%at(i) = 0
-            if (present(stamp)) lists%at(i) = stamp
-        end do
-        counts%masters = 0
-        do i = 1, s%nslave
-            if (todo(i)) counts%masters = counts%masters + (lists%last(i) - lists%ptr(i) + 1)
+            lists%og(i) = r
+            lists%at(i) = k
+            counts%masters = counts%masters + (lists%last(i) - lists%ptr(i) + 1)
         end do
     contains
         subroutine seg_box(m)
@@ -801,28 +802,14 @@ contains
                 pc = blk(ib)%pcnt(i)
                 lists%gap(k) = blk(ib)%gap(i)
                 ! the master nodes
-                if (c > lists%last(k) - lists%ptr(k) + 1) then
-                    lists%ndead = lists%ndead + (lists%last(k) - lists%ptr(k) + 1)
-                    call room(lists%node, lists%trackable, lists%nused + c)
-                    lists%ptr(k) = lists%nused + 1
-                    lists%nused = lists%nused + c
-                else
-                    lists%ndead = lists%ndead + (lists%last(k) - lists%ptr(k) + 1 - c)
-                end if
-                lists%last(k) = lists%ptr(k) + c - 1
+                call slot(lists%ptr(k), lists%last(k), lists%nused, lists%ndead, c)
+                call room(lists%node, lists%trackable, lists%nused)
                 lists%node(lists%ptr(k):lists%last(k)) = blk(ib)%node(qb + 1:qb + c)
                 lists%trackable(lists%ptr(k):lists%last(k)) = blk(ib)%trk(qb + 1:qb + c)
                 qb = qb + c
                 ! the pool
-                if (pc > lists%pool_last(k) - lists%pool_ptr(k) + 1) then
-                    lists%pdead = lists%pdead + max(0, lists%pool_last(k) - lists%pool_ptr(k) + 1)
-                    call room_int(lists%pool_node, lists%pused + pc)
-                    lists%pool_ptr(k) = lists%pused + 1
-                    lists%pused = lists%pused + pc
-                else
-                    lists%pdead = lists%pdead + (lists%pool_last(k) - lists%pool_ptr(k) + 1 - pc)
-                end if
-                lists%pool_last(k) = lists%pool_ptr(k) + pc - 1
+                call slot(lists%pool_ptr(k), lists%pool_last(k), lists%pused, lists%pdead, pc)
+                call room_int(lists%pool_node, lists%pused)
                 lists%pool_node(lists%pool_ptr(k):lists%pool_last(k)) = blk(ib)%pool(pb + 1:pb + pc)
                 pb = pb + pc
             end do
@@ -830,6 +817,24 @@ contains
         if (2*lists%ndead > lists%nused) call compact_lists(lists)
         if (2*lists%pdead > lists%pused) call compact_pools(lists)
     contains
+        !> A list of c entries in place of the one in a(p:l) (none where
+        !> l < p - 1): there if it fits, else at the end of the store's used
+        !> entries (used); dead counts the entries left behind.
+        subroutine slot(p, l, used, dead, c)
+            integer, intent(inout) :: p, l, used, dead
+            integer, intent(in) :: c
+            integer :: old
+            old = max(0, l - p + 1)
+            if (c > old) then
+                p = used + 1
+                used = used + c
+                dead = dead + old
+            else
+                dead = dead + old - c
+            end if
+            l = p + c - 1
+        end subroutine slot
+
         !> node and trk with room for n entries (grown by half again).
         subroutine room(node, trk, n)
             integer, allocatable, intent(inout) :: node(:)
@@ -839,8 +844,8 @@ contains
             logical, allocatable :: nt(:)
             if (n <= size(node)) return
             allocate (ni(max(n, size(node) + size(node)/2 + 64)), nt(max(n, size(node) + size(node)/2 + 64)))
-            ni(1:lists%nused) = node(1:lists%nused)
-            nt(1:lists%nused) = trk(1:lists%nused)
+            ni(1:size(node)) = node
+            nt(1:size(trk)) = trk
             call move_alloc(ni, node)
             call move_alloc(nt, trk)
         end subroutine room
@@ -851,7 +856,7 @@ contains
             integer, allocatable :: ni(:)
             if (n <= size(a)) return
             allocate (ni(max(n, size(a) + size(a)/2 + 64)))
-            ni(1:lists%pused) = a(1:lists%pused)
+            ni(1:size(a)) = a
             call move_alloc(ni, a)
         end subroutine room_int
     end subroutine merge_lists

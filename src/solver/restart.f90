@@ -185,17 +185,16 @@ contains
                     call dput(r, 'list_og', it%lists%og, nf)
                     call dput(r, 'list_at', it%lists%at, nf)
                     call dput(r, 'xl', [it%xl], nf)
-                    call dput(r, 'lc', it%lc, nf)
                 end if
                 call dput(r, 'ls_lc', it%ls%lc, nf)
                 if (allocated(it%ls%lcodo)) call dput(r, 'ls_lcodo', it%ls%lcodo, nf)
-                call dput(r, 'reals', [it%margin, it%reach, it%worst, it%pinit, it%used, it%odo], nf)
+                call dput(r, 'reals', [it%margin, it%reach, it%worst, it%pinit, it%odo], nf)
                 call dput(r, 'node_drift', it%un, nf)
                 call dput(r, 'class_drift', [it%uc], nf)
                 call dput(r, 'class_used', it%cused, nf)
-                call dput(r, 'searched', [int(it%nsearched), it%npartial], nf)
-                call dput(r, 'ints', [it%last_cycle, it%nsearch, it%ninit, merge(1, 0, it%started)], nf)
-                call dput(r, 'counts', [it%total%pool, it%total%reduced, it%total%masters, it%ncontact_total], nf)
+                call dput(r, 'ints', [it%last_cycle, it%nsearch, it%ninit, merge(1, 0, it%started), it%npartial], nf)
+                call dput(r, 'counts', [it%total%pool, it%total%reduced, it%total%masters, it%ncontact_total, &
+                                        it%nsearched], nf)
                 call dput(r, 'energy', [it%energy], nf)
                 call dput(r, 'cseg', it%cseg, nf)
                 call dput(r, 'held', it%held, nf)
@@ -622,9 +621,8 @@ contains
                     call getw(r, 'list_xg', 3*s%nslave); if (ok()) it%lists%xg = reshape(bw, [3, s%nslave])
                     call getw(r, 'list_og', s%nslave); if (ok()) it%lists%og = bw
                     call geti(r, 'list_at', s%nslave); if (ok()) it%lists%at = bi
-                    if (.not. allocated(it%xl)) allocate (it%xl(3, s%nnode), it%lc(s%nnode))
+                    if (.not. allocated(it%xl)) allocate (it%xl(3, s%nnode))
                     call getw(r, 'xl', size(it%xl)); if (ok()) it%xl = reshape(bw, shape(it%xl))
-                    call getw(r, 'lc', size(it%lc)); if (ok()) it%lc = bw
                 end if
                 call getw(r, 'ls_lc', -1)
                 if (ok()) it%ls%lc = bw
@@ -633,14 +631,13 @@ contains
                     call getw(r, 'ls_lcodo', -1)
                     if (ok()) it%ls%lcodo = bw
                 end if
-                call getw(r, 'reals', 6)
+                call getw(r, 'reals', 5)
                 if (ok()) then
                     it%margin = bw(1)
                     it%reach = bw(2)
                     it%worst = bw(3)
                     it%pinit = bw(4)
-                    it%used = bw(5)
-                    it%odo = bw(6)
+                    it%odo = bw(5)
                 end if
                 call getw(r, 'node_drift', s%nnode)
                 if (ok()) it%un = bw
@@ -648,24 +645,21 @@ contains
                 if (ok()) it%uc = reshape(bw, shape(it%uc))
                 call getw(r, 'class_used', size(it%cused))
                 if (ok()) it%cused = bw
-                call geti(r, 'searched', 2)
-                if (ok()) then
-                    it%nsearched = bi(1)
-                    it%npartial = bi(2)
-                end if
-                call geti(r, 'ints', 4)
+                call geti(r, 'ints', 5)
                 if (ok()) then
                     it%last_cycle = bi(1)
                     it%nsearch = bi(2)
                     it%ninit = bi(3)
                     it%started = bi(4) /= 0
+                    it%npartial = bi(5)
                 end if
-                call getl(r, 'counts', 4)
+                call getl(r, 'counts', 5)
                 if (ok()) then
                     it%total%pool = bl(1)
                     it%total%reduced = bl(2)
                     it%total%masters = bl(3)
                     it%ncontact_total = bl(4)
+                    it%nsearched = bl(5)
                 end if
                 call getd(r, 'energy', 1); if (ok()) it%energy = bd(1)
                 call geti(r, 'cseg', size(it%cseg)); if (ok()) it%cseg = bi
