@@ -31,7 +31,7 @@ module xd_elements_shell_bt
         real(wp), allocatable :: qm(:), qb(:), qw(:)
         logical, allocatable :: hg_viscous(:)
         !> *CONTROL_XDYNA_SHELL HGBOUND 1 (the default): the stiffness form of
-        !> a plastic shell bounded (bound_hourglass); ncap counts the cycles
+        !> a plastic shell bounded (block_forces); ncap counts the cycles
         !> it acted, this run
         logical, allocatable :: hg_bound(:)
         integer, allocatable :: ncap(:)
@@ -257,44 +257,6 @@ contains
         end do
     end subroutine shell_masses
 
-    !> The stiffness form's hourglass on a plastic material, bounded as the
-    !> material is (*CONTROL_XDYNA_SHELL HGBOUND 1, the default): each
-    !> mode's generalized force at most its coefficient (QM, QB, QW) times
-    !> that mode's fully plastic value in the fully integrated element (2 x
-    !> 2 points, von Mises at the flow stress of the element's most strained
-    !> point), so that the mode, elastic at q k1,
-    !> yields near the material's yield strain (issue 28: without the bound
-    !> the springs of folds pressed flat by the contact kept growing
-    !> elastically and held the crush). Per unit flow stress sy, with A the
-    !> area and L = sqrt(2/B.B) (the side of a square): membrane (in-plane
-    !> u = a xi eta, strain and shear at the points) sy h A / (3 L) for the
-    !> pair; bending (the rotations' pattern, curvatures as the membrane's
-    !> strains, the plastic moment sy h^2/4 for the plastic force sy h)
-    !> sy h^2 A / (12 L); warping (w = a xi eta: a constant twist 2 q / L^2,
-    !> the plastic twisting moment sy h^2 / (4 sqrt 3)) sy h^2 A / (2 sqrt 3
-    !> L^2). The part cut off is dissipated, as plastic work is, and booked
-    !> with the hourglass energy; ncap counts the cycles it acted.
-    subroutine bound_hourglass(sh, e, a, h, bb)
-        type(shells_t), intent(inout) :: sh
-        integer, intent(in) :: e
-        real(wp), intent(in) :: a, h, bb
-        real(wp), parameter :: r3 = 1.7320508075688772_wp
-        real(wp) :: sy, hs, il, cm, cb, cw, qm, qb, qw
-        call yield_stress(sh%pp(sh%pmat(e)), maxval(sh%epsp(1:max(1, sh%nip(e)), e)), sy, hs)
-        il = sqrt(bb/2)
-        cm = sh%qm(e)*sy*h*a*il/3
-        cb = sh%qb(e)*sy*h*h*a*il/12
-        cw = sh%qw(e)*sy*h*h*a*il*il/(2*r3)
-        qm = norm2(sh%qhg(4:5, e))
-        qb = norm2(sh%qhg(1:2, e))
-        qw = abs(sh%qhg(3, e))
-        if (qm <= cm .and. qb <= cb .and. qw <= cw) return
-        if (qm > cm) sh%qhg(4:5, e) = sh%qhg(4:5, e)*(cm/qm)
-        if (qb > cb) sh%qhg(1:2, e) = sh%qhg(1:2, e)*(cb/qb)
-        if (qw > cw) sh%qhg(3, e) = sh%qhg(3, e)*(cw/qw)
-        sh%ncap(e) = sh%ncap(e) + 1
-    end subroutine bound_hourglass
-
     pure real(wp) function area(xe, c)
         real(wp), intent(in) :: xe(3, 4)
         integer, intent(in) :: c(4)
@@ -308,19 +270,24 @@ contains
     !> Forces and moments of every shell at x(n) with v(n-1/2), w(n-1/2).
     !> Threaded over elements: each writes only its own slots and state; the
     !> smallest step and the first bad element are combined by element
-    !> number, so the result does not depend on the threads.
-    subroutine shell_forces(sh, x, v, w, dt, dt_avg_prev)
+    !> number, so the result does not depend on the threads. With f and m
+    !> (one thread, the caller's promise) the forces and moments are added
+    !> to them directly, in the order the assembly sums the slots (element
+    !> by element, node by node: the same sums bit for bit), and the slots
+    !> are left as they are.
+    subroutine shell_forces(sh, x, v, w, dt, dt_avg_prev, f, m)
         type(shells_t), intent(inout) :: sh
         real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
         real(dp), intent(in) :: dt_avg_prev
+        real(wp), intent(inout), optional :: f(:, :), m(:, :)
         integer :: e, ib, l, nb, i0, tcrit, tbad, els(nblk)
-        real(wp) :: dte, tmin, dtb(nblk)
+        real(wp) :: dte, tmin, dtb(nblk), fs(nblk, 3, 4), ms(nblk, 3, 4)
         type(block_geom_t) :: gm, gn
         sh%dtmin = huge(1.0_wp)
         sh%crit = 0
         sh%bad = 0
         if (sh%tsmin > 0.0_wp) sh%low = .false.
-        !$omp parallel default(shared) private(e, ib, l, nb, i0, els, gm, gn, dte, dtb, tmin, tcrit, tbad)
+        !$omp parallel default(shared) private(e, ib, l, nb, i0, els, gm, gn, dte, dtb, fs, ms, tmin, tcrit, tbad)
         tmin = huge(1.0_wp)
         tcrit = 0
         tbad = 0
@@ -332,7 +299,12 @@ contains
             ! the rates on the mid-step geometry, the forces on x(n)
             call block_geometry(sh, els, nb, x, v, 0.5_wp*dt, .true., gm)
             call block_geometry(sh, els, nb, x, v, 0.0_wp, .false., gn)
-            call block_forces(sh, els, nb, gm, gn, v, w, dt, dt_avg_prev, dtb)
+            call block_forces(sh, els, nb, gm, gn, v, w, dt, dt_avg_prev, dtb, fs, ms)
+            if (present(f) .and. present(m)) then
+                call block_add(sh, els, nb, dtb, fs, ms, f, m)
+            else
+                call block_slots(sh, els, nb, dtb, fs, ms)
+            end if
             do l = 1, nb
                 e = els(l)
                 dte = dtb(l)
@@ -386,21 +358,28 @@ contains
     !> hourglass and the forces; the points' stress update per element (a
     !> yielding point's return is its own iteration). dte(l) = -1 for an
     !> element collapsed or inverted (the mid-step one is not updated).
-    subroutine block_forces(sh, els, nb, gm, gn, v, w, dt, dt_avg_prev, dte)
+    subroutine block_forces(sh, els, nb, gm, gn, v, w, dt, dt_avg_prev, dte, fs, ms)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: els(:), nb
         type(block_geom_t), intent(in) :: gm, gn
         real(wp), intent(in) :: v(:, :), w(:, :), dt
         real(dp), intent(in) :: dt_avg_prev
         real(wp), intent(out) :: dte(:)
+        !> the nodal forces and moments (global) of the block's elements
+        real(wp), intent(out) :: fs(nblk, 3, 4), ms(nblk, 3, 4)
         real(wp), parameter :: quarter = 0.25_wp
         real(wp) :: vg(nblk, 3, 4), wg(nblk, 3, 4), vl(nblk, 3, 4), wl(nblk, 3, 4), r(nblk, 8)
         real(wp) :: nres(nblk, 3), mres(nblk, 3), qres(nblk, 2), qd(nblk, 5), hq(nblk, 5)
-        real(wp) :: fs(nblk, 3, 4), ms(nblk, 3, 4), bb(nblk), gg(nblk), gamz(nblk), wsp(nblk)
+        real(wp) :: bb(nblk), gg(nblk), gamz(nblk), wsp(nblk)
         real(wp) :: hh(nblk), ym(nblk), nu(nblk), ro(nblk), ge(nblk), tf(nblk)
         real(wp) :: wx, wy, f1, f2, f3, m1, m2, b1k, b2k, gk, a, q1, q2, q3, q4, q5, b, g
-        real(wp) :: kb, kw, km, cb, cw, cm, mn, jn
-        real(dp) :: pold, pnew
+        real(wp) :: cb, cw, cm, mn, jn, il, hs
+        real(wp) :: qc(nblk, 3), sr(nblk), mf(nblk), sy(nblk)
+        real(wp), parameter :: r3 = 1.7320508075688772_wp
+        real(wp) :: vq(nblk, 5), sq(nblk, 5), bq(nblk, 5), kq(nblk, 3)
+        real(wp) :: cap(nblk)
+        logical :: visc(nblk), bnd(nblk), capped(nblk)
+        real(dp) :: pold(nblk), pnew(nblk)
         integer :: l, k, e, nd
         ! gather: the nodes' velocities, the elements' data
         do l = 1, nb
@@ -499,42 +478,127 @@ contains
         ! the fraction q (QB, QW, QM) of critical against the stiffness k1
         ! the stiffness form has at coefficient 1 (the element's own), m the
         ! mode's mass, a node's share over gamma.gamma (rotary for bending)
+        ! (in loops over the block, the element data gathered first: the
+        ! update and the bound vectorise; one element at a time, the bound's
+        ! chain of roots and divisions was 8% of car6's run)
         do l = 1, nb
             e = els(l)
-            if (.not. gm%ok(l)) then
-                hq(l, :) = 0
-                cycle
-            end if
-            a = gm%a(l)
-            kb = ym(l)*hh(l)**3*a/192*bb(l)
-            kw = sh%shrf(e)*ge(l)*hh(l)**3/12*bb(l)
-            km = ym(l)*hh(l)*a/8*bb(l)
-            pold = dot_product(real(sh%qhg(:, e), dp), real(qd(l, :), dp))
-            if (sh%hg_viscous(e)) then
-                ! the modes' masses: a node's mass and rotary inertia (as
-                ! shell_masses gives them, a third on a triangle's nodes;
-                ! times the mass-scaling factor) over gamma.gamma
-                mn = ro(l)*hh(l)*a/merge(3, 4, sh%conn(3, e) == sh%conn(4, e))/gg(l)
-                if (allocated(sh%msf)) mn = mn*sh%msf(e)
-                jn = mn*(hh(l)**2 + 3*a)/12
-                cb = 2*sh%qb(e)*sqrt(kb*jn)
-                cw = 2*sh%qw(e)*sqrt(kw*mn)
-                cm = 2*sh%qm(e)*sqrt(km*mn)
-                sh%qhg(1:2, e) = cb*qd(l, 1:2)
-                sh%qhg(3, e) = cw*qd(l, 3)
-                sh%qhg(4:5, e) = cm*qd(l, 4:5)
-            else
-                sh%qhg(1:2, e) = sh%qhg(1:2, e) + dt*sh%qb(e)*kb*qd(l, 1:2)
-                sh%qhg(3, e) = sh%qhg(3, e) + dt*sh%qw(e)*kw*qd(l, 3)
-                sh%qhg(4:5, e) = sh%qhg(4:5, e) + dt*sh%qm(e)*km*qd(l, 4:5)
-                if (sh%hg_bound(e)) call bound_hourglass(sh, e, a, hh(l), bb(l))
-            end if
-            ! the work of each step's forces over the velocities before and
-            ! after them, as the central difference moves the nodes
-            pnew = dot_product(real(sh%qhg(:, e), dp), real(qd(l, :), dp))
-            sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold)
-            sh%pend_hg(e) = 0.5_dp*pnew
             hq(l, :) = sh%qhg(:, e)
+            qc(l, 1) = sh%qb(e)
+            qc(l, 2) = sh%qw(e)
+            qc(l, 3) = sh%qm(e)
+            sr(l) = sh%shrf(e)
+            visc(l) = sh%hg_viscous(e)
+            bnd(l) = sh%hg_bound(e)
+            ! the modes' masses' factor: a node's share of the element mass
+            ! (as shell_masses gives it: a third on a triangle's nodes; times
+            ! the mass-scaling factor)
+            mf(l) = 1.0_wp/merge(3, 4, sh%conn(3, e) == sh%conn(4, e))
+            if (allocated(sh%msf)) mf(l) = mf(l)*sh%msf(e)
+        end do
+        ! the flow stress of the most strained point, where the bound acts
+        do l = 1, nb
+            sy(l) = 0
+            if (.not. bnd(l)) cycle
+            e = els(l)
+            call yield_stress(sh%pp(sh%pmat(e)), maxval(sh%epsp(1:max(1, sh%nip(e)), e)), sy(l), hs)
+        end do
+        ! The stiffness form's hourglass on a plastic material, bounded as the
+        ! material is (*CONTROL_XDYNA_SHELL HGBOUND 1, the default): each
+        ! mode's generalized force at most its coefficient (QM, QB, QW) times
+        ! that mode's fully plastic value in the fully integrated element (2 x
+        ! 2 points, von Mises at the flow stress of the element's most strained
+        ! point), so that the mode, elastic at q k1,
+        ! yields near the material's yield strain (issue 28: without the bound
+        ! the springs of folds pressed flat by the contact kept growing
+        ! elastically and held the crush). Per unit flow stress sy, with A the
+        ! area and L = sqrt(2/B.B) (the side of a square): membrane (in-plane
+        ! u = a xi eta, strain and shear at the points) sy h A / (3 L) for the
+        ! pair; bending (the rotations' pattern, curvatures as the membrane's
+        ! strains, the plastic moment sy h^2/4 for the plastic force sy h)
+        ! sy h^2 A / (12 L); warping (w = a xi eta: a constant twist 2 q / L^2,
+        ! the plastic twisting moment sy h^2 / (4 sqrt 3)) sy h^2 A / (2 sqrt 3
+        ! L^2). The part cut off is dissipated, as plastic work is, and booked
+        ! with the hourglass energy; ncap counts the cycles it acted.
+        ! Both forms and the bound are taken for every element in loops over
+        ! the block and the element's own picked, so that the loops
+        ! vectorise; the caps compared as squares.
+        do l = 1, nb
+            a = max(gm%a(l), 0.0_wp)
+            kq(l, 1) = ym(l)*hh(l)**3*a/192*bb(l)
+            kq(l, 2) = sr(l)*ge(l)*hh(l)**3/12*bb(l)
+            kq(l, 3) = ym(l)*hh(l)*a/8*bb(l)
+            pold(l) = (((real(hq(l, 1), dp)*qd(l, 1) + real(hq(l, 2), dp)*qd(l, 2)) + real(hq(l, 3), dp)*qd(l, 3)) + &
+                       real(hq(l, 4), dp)*qd(l, 4)) + real(hq(l, 5), dp)*qd(l, 5)
+        end do
+        ! viscous: the modes' masses, a node's mass and rotary inertia over
+        ! gamma.gamma
+        do l = 1, nb
+            a = max(gm%a(l), 0.0_wp)
+            mn = ro(l)*hh(l)*a*mf(l)/gg(l)
+            jn = mn*(hh(l)**2 + 3*a)/12
+            cb = 2*qc(l, 1)*sqrt(kq(l, 1)*jn)
+            cw = 2*qc(l, 2)*sqrt(kq(l, 2)*mn)
+            cm = 2*qc(l, 3)*sqrt(kq(l, 3)*mn)
+            vq(l, 1) = cb*qd(l, 1)
+            vq(l, 2) = cb*qd(l, 2)
+            vq(l, 3) = cw*qd(l, 3)
+            vq(l, 4) = cm*qd(l, 4)
+            vq(l, 5) = cm*qd(l, 5)
+        end do
+        ! stiffness
+        do l = 1, nb
+            sq(l, 1) = hq(l, 1) + dt*qc(l, 1)*kq(l, 1)*qd(l, 1)
+            sq(l, 2) = hq(l, 2) + dt*qc(l, 1)*kq(l, 1)*qd(l, 2)
+            sq(l, 3) = hq(l, 3) + dt*qc(l, 2)*kq(l, 2)*qd(l, 3)
+            sq(l, 4) = hq(l, 4) + dt*qc(l, 3)*kq(l, 3)*qd(l, 4)
+            sq(l, 5) = hq(l, 5) + dt*qc(l, 3)*kq(l, 3)*qd(l, 5)
+        end do
+        ! the bound (sy 0 where it does not act: caps of 0 scale to 0, so
+        ! the caps' flags select)
+        do l = 1, nb
+            a = max(gm%a(l), 0.0_wp)
+            il = sqrt(bb(l)/2)
+            cm = qc(l, 3)*sy(l)*hh(l)*a*il/3
+            cb = qc(l, 1)*sy(l)*hh(l)*hh(l)*a*il/12
+            cw = qc(l, 2)*sy(l)*hh(l)*hh(l)*a*il*il/(2*r3)
+            q1 = sq(l, 1)**2 + sq(l, 2)**2
+            q4 = sq(l, 4)**2 + sq(l, 5)**2
+            ! (as min and max, not selects on comparisons: a comparison
+            ! may trap, and the compiler keeps a select on one as a branch)
+            f1 = min(1.0_wp, cm/sqrt(max(q4, tiny(1.0_wp))))
+            f2 = min(1.0_wp, cb/sqrt(max(q1, tiny(1.0_wp))))
+            f3 = abs(sq(l, 3))
+            cap(l) = ((1.0_wp - f1) + (1.0_wp - f2)) + max(f3 - cw, 0.0_wp)
+            bq(l, 1) = sq(l, 1)*f2
+            bq(l, 2) = sq(l, 2)*f2
+            bq(l, 3) = sign(min(f3, cw), sq(l, 3))
+            bq(l, 4) = sq(l, 4)*f1
+            bq(l, 5) = sq(l, 5)*f1
+        end do
+        ! each element's own form
+        do l = 1, nb
+            capped(l) = bnd(l) .and. .not. visc(l) .and. gm%ok(l) .and. cap(l) > 0.0_wp
+            if (visc(l)) then
+                hq(l, :) = vq(l, :)
+            else if (bnd(l)) then
+                hq(l, :) = bq(l, :)
+            else
+                hq(l, :) = sq(l, :)
+            end if
+            if (.not. gm%ok(l)) hq(l, :) = 0
+            pnew(l) = (((real(hq(l, 1), dp)*qd(l, 1) + real(hq(l, 2), dp)*qd(l, 2)) + real(hq(l, 3), dp)*qd(l, 3)) + &
+                       real(hq(l, 4), dp)*qd(l, 4)) + real(hq(l, 5), dp)*qd(l, 5)
+        end do
+        ! the work of each step's forces over the velocities before and
+        ! after them, as the central difference moves the nodes
+        do l = 1, nb
+            if (.not. gm%ok(l)) cycle
+            e = els(l)
+            sh%qhg(:, e) = hq(l, :)
+            if (capped(l)) sh%ncap(e) = sh%ncap(e) + 1
+            sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold(l))
+            sh%pend_hg(e) = 0.5_dp*pnew(l)
         end do
         ! the forces: on x(n); nodal forces and moments (local) are minus the
         ! derivatives of the power, the hourglass's and the warping
@@ -575,11 +639,25 @@ contains
         else
             call step_options(sh, els, nb, gn, ym, ro, nu, wsp, dte)
         end if
-        ! into the elements' slots (a triangle's fourth node is its third)
+        do l = 1, nb
+            if (.not. (gm%ok(l) .and. gn%ok(l))) dte(l) = -1
+        end do
+    end subroutine block_forces
+
+    !> The block's forces and moments into the elements' slots (a
+    !> triangle's fourth node is its third); zeros from an element collapsed
+    !> or inverted (dte -1: the run stops, or ERODE removes it after this
+    !> pass), as block_add adds none.
+    subroutine block_slots(sh, els, nb, dte, fs, ms)
+        type(shells_t), intent(inout) :: sh
+        integer, intent(in) :: els(:), nb
+        real(wp), intent(in) :: dte(:), fs(nblk, 3, 4), ms(nblk, 3, 4)
+        integer :: l, k, e
         do l = 1, nb
             e = els(l)
-            if (.not. (gm%ok(l) .and. gn%ok(l))) then
-                dte(l) = -1
+            if (.not. (dte(l) > 0.0_wp)) then
+                sh%fslot(:, 4*e - 3:4*e) = 0
+                sh%mslot(:, 4*e - 3:4*e) = 0
                 cycle
             end if
             do k = 1, 4
@@ -587,7 +665,30 @@ contains
                 sh%mslot(:, 4*(e - 1) + k) = ms(l, :, k)
             end do
         end do
-    end subroutine block_forces
+    end subroutine block_slots
+
+    !> The block's forces and moments added to the nodes' f and m, element
+    !> by element and node by node: the order in which the assembly sums the
+    !> slots (one thread only).
+    subroutine block_add(sh, els, nb, dte, fs, ms, f, m)
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: els(:), nb
+        real(wp), intent(in) :: dte(:), fs(nblk, 3, 4), ms(nblk, 3, 4)
+        real(wp), intent(inout) :: f(:, :), m(:, :)
+        integer :: l, k, nd
+        do l = 1, nb
+            if (.not. (dte(l) > 0.0_wp)) cycle
+            do k = 1, 4
+                nd = sh%conn(k, els(l))
+                f(1, nd) = f(1, nd) + fs(l, 1, k)
+                f(2, nd) = f(2, nd) + fs(l, 2, k)
+                f(3, nd) = f(3, nd) + fs(l, 3, k)
+                m(1, nd) = m(1, nd) + ms(l, 1, k)
+                m(2, nd) = m(2, nd) + ms(l, 2, k)
+                m(3, nd) = m(3, nd) + ms(l, 3, k)
+            end do
+        end do
+    end subroutine block_add
 
     !> ISDO 1: area over the longest diagonal (a triangle: its shortest
     !> altitude, as 0); 2: the bar wave speed and the larger of the shortest

@@ -4,6 +4,7 @@
 module xd_solver_time_loop
     use, intrinsic :: iso_fortran_env, only: output_unit
     use xd_kinds, only: wp, dp
+    !$ use omp_lib, only: omp_get_max_threads
     use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run, exit_signal
     use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid, &
@@ -118,8 +119,14 @@ contains
         character(len=:), allocatable :: switch_text, tie_events
         integer :: beam_crit                   !< the beam that set the step (0: none)
         real(wp) :: dtc_pass                   !< the beams' step, combined after the element pass
+        !> one thread, one rank: the shells add their forces to the nodes
+        !> directly, in the order the assembly sums their slots (the same
+        !> sums, without writing and reading the slots)
+        logical :: shells_direct
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
+        shells_direct = sh%n > 0 .and. .not. dom%on
+        !$ shells_direct = shells_direct .and. omp_get_max_threads() == 1
         ke_fix = 0
         no_body = .false.
         if (st%rot) allocate (vrminus(3, st%nnode))
@@ -500,10 +507,26 @@ contains
                     st%crit_elem = solids%gcrit(g)
                 end if
             end do
-            if (sh%n > 0) then
+            if (shells_direct) then
+                ! the nodes' sums start from the solids' (as the assembly's
+                ! add), then the shells' forces in slot order
+                call tm%start(ph_assembly)
+                if (solids%n > 0) then
+                    call assemble(asm, solids%fslot, st%f)
+                else
+                    st%f = 0
+                end if
+                st%mom = 0
+                call tm%stop(ph_assembly)
+                call tm%start(ph_elements)
+                call shell_forces(sh, st%x, st%v, st%vr, dt, dt_avg_prev, st%f, st%mom)
+                call tm%stop(ph_elements)
+            else if (sh%n > 0) then
                 call tm%start(ph_elements)
                 call shell_forces(sh, st%x, st%v, st%vr, dt, dt_avg_prev)
                 call tm%stop(ph_elements)
+            end if
+            if (sh%n > 0) then
                 if (sh%bad /= 0 .and. bad_kind == 0) then
                     bad_kind = 3
                     bad = sh%bad
@@ -560,10 +583,12 @@ contains
                 call beams()
                 return
             end if
-            call tm%start(ph_assembly)
-            if (solids%n > 0 .or. sh%n == 0) call assemble(asm, solids%fslot, st%f)
-            if (sh%n > 0) call assemble(asm_sh, sh%fslot, st%f, add=solids%n > 0, mslot=sh%mslot, m=st%mom)
-            call tm%stop(ph_assembly)
+            if (.not. shells_direct) then
+                call tm%start(ph_assembly)
+                if (solids%n > 0 .or. sh%n == 0) call assemble(asm, solids%fslot, st%f)
+                if (sh%n > 0) call assemble(asm_sh, sh%fslot, st%f, add=solids%n > 0, mslot=sh%mslot, m=st%mom)
+                call tm%stop(ph_assembly)
+            end if
             call beams()
         end subroutine element_pass
 
