@@ -21,7 +21,7 @@
 module xd_elements_erosion
     use xd_kinds, only: wp, dp
     use xd_model, only: material_t
-    use xd_elements_shell_bt, only: shells_t
+    use xd_elements_shell_bt, only: shells_t, shell_blocks
     implicit none
     private
     public :: shell_failures, erode_shells, dead_model_shells
@@ -106,6 +106,7 @@ contains
             sh%pend_hg(e) = 0
         end do
         sh%mine = pack(sh%mine, .not. sh%dead(sh%mine))
+        call shell_blocks(sh)
     end subroutine erode_shells
 
     !> The eroded shells over the model's shell list (index 0, a solid face:

@@ -12,7 +12,7 @@ module xd_elements_shell_bt
     use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
     implicit none
     private
-    public :: shells_t, build_shells, shell_forces, shell_masses, shell_axes, point_weight, point_z
+    public :: shells_t, build_shells, shell_forces, shell_masses, shell_axes, shell_blocks, point_weight, point_z
 
     ! iteration tolerances: 1e-10 and 1e-12 relative in double precision,
     ! ten round-offs in single (where 1e-12 cannot be reached and every
@@ -40,6 +40,11 @@ module xd_elements_shell_bt
         real(wp), allocatable :: qhg(:, :)    !< (5, n) hourglass generalized forces
         logical, allocatable :: plastic(:)
         integer, allocatable :: pmat(:)       !< index into pp
+        !> the plastic law per element, for the points' loops (pp's fields
+        !> one gather away): the bilinear law's sigy and beta ep (ycurve
+        !> false), a curve's (true); rated: Cowper-Symonds scales the yield
+        real(wp), allocatable :: sy0(:), hk(:)
+        logical, allocatable :: ycurve(:), rated(:)
         type(plastic_params_t), allocatable :: pp(:)  !< plastic laws of the shell materials
         real(wp), allocatable :: epsp(:, :)   !< (nip, n) effective plastic strain per point
         real(wp), allocatable :: alpha(:, :, :)  !< (6, nip, n) back stress per point (n 0: no shell has one)
@@ -54,6 +59,10 @@ module xd_elements_shell_bt
         logical :: thickness_update = .false.   !< *CONTROL_SHELL ISTUPD
         integer :: isdo = 0                     !< *CONTROL_TIMESTEP ISDO: the step's length
         integer, allocatable :: mine(:)       !< the elements computed here (MPI: this rank's; eroded ones left out)
+        !> the element loop's blocks: runs of consecutive elements of mine,
+        !> at most nblk each (shell_blocks, whenever mine changes), so that
+        !> a block's element data are read at unit stride
+        integer, allocatable :: bfirst(:), bcount(:)
         ! failure and erosion
         integer, allocatable :: mix(:)        !< material index
         integer, allocatable :: model_ix(:)   !< index in the model's shell list
@@ -154,6 +163,7 @@ contains
                     [(model%mat(model%part(model%shell_part(e))%mat_ix)%mtype /= mat_rigid, e=1, model%nshell)])
         sh%n = size(keep)
         sh%mine = [(e, e=1, sh%n)]
+        call shell_blocks(sh)
         if (sh%n == 0) return
         sh%thickness_update = model%ctl%istupd /= 0
         sh%isdo = model%ctl%isdo
@@ -174,6 +184,7 @@ contains
         call alloc_dp(sh%pend_int, sh%n, 'shell energies')
         call alloc_dp(sh%pend_hg, sh%n, 'shell energies')
         allocate (sh%plastic(sh%n), sh%backstress(sh%n), sh%pmat(sh%n), sh%pp(model%nmat))
+        allocate (sh%sy0(sh%n), sh%hk(sh%n), sh%ycurve(sh%n), sh%rated(sh%n))
         do mix = 1, model%nmat
             if (model%mat(mix)%mtype == mat_plastic_kinematic .or. model%mat(mix)%mtype == mat_piecewise_linear) &
                 call plastic_law(model, mix, sh%pp(mix))
@@ -198,6 +209,18 @@ contains
                 sh%plastic(e) = m%mtype == mat_plastic_kinematic .or. m%mtype == mat_piecewise_linear
                 sh%pmat(e) = model%part(p)%mat_ix
             end associate
+            sh%sy0(e) = huge(1.0_wp)
+            sh%hk(e) = 0
+            sh%ycurve(e) = .false.
+            sh%rated(e) = .false.
+            if (sh%plastic(e)) then
+                associate (pp => sh%pp(sh%pmat(e)))
+                    sh%sy0(e) = pp%sigy
+                    sh%hk(e) = pp%beta*pp%ep
+                    sh%ycurve(e) = pp%ncurve /= 0
+                    sh%rated(e) = pp%c > 0.0_wp .and. pp%p > 0.0_wp
+                end associate
+            end if
             sh%backstress(e) = .false.
             if (sh%plastic(e)) sh%backstress(e) = sh%pp(sh%pmat(e))%ncurve == 0 .and. &
                                                   sh%pp(sh%pmat(e))%beta < 1.0_wp .and. sh%pp(sh%pmat(e))%ep /= 0.0_wp
@@ -267,6 +290,28 @@ contains
         area = 0.5_wp*norm2([d1(2)*d2(3) - d1(3)*d2(2), d1(3)*d2(1) - d1(1)*d2(3), d1(1)*d2(2) - d1(2)*d2(1)])
     end function area
 
+    !> The element loop's blocks from sh%mine (ascending): each a run of
+    !> consecutive element numbers, at most nblk long.
+    subroutine shell_blocks(sh)
+        type(shells_t), intent(inout) :: sh
+        integer :: i, nbk
+        integer :: first(size(sh%mine)), count(size(sh%mine))
+        nbk = 0
+        do i = 1, size(sh%mine)
+            if (nbk > 0) then
+                if (sh%mine(i) == first(nbk) + count(nbk) .and. count(nbk) < nblk) then
+                    count(nbk) = count(nbk) + 1
+                    cycle
+                end if
+            end if
+            nbk = nbk + 1
+            first(nbk) = sh%mine(i)
+            count(nbk) = 1
+        end do
+        sh%bfirst = first(1:nbk)
+        sh%bcount = count(1:nbk)
+    end subroutine shell_blocks
+
     !> Forces and moments of every shell at x(n) with v(n-1/2), w(n-1/2).
     !> Threaded over elements: each writes only its own slots and state; the
     !> smallest step and the first bad element are combined by element
@@ -280,33 +325,34 @@ contains
         real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
         real(dp), intent(in) :: dt_avg_prev
         real(wp), intent(inout), optional :: f(:, :), m(:, :)
-        integer :: e, ib, l, nb, i0, tcrit, tbad, els(nblk)
+        integer :: e, ib, l, nb, e0, tcrit, tbad
         real(wp) :: dte, tmin, dtb(nblk), fs(nblk, 3, 4), ms(nblk, 3, 4)
+        real(wp) :: xg(nblk, 3, 4), vg(nblk, 3, 4), wg(nblk, 3, 4)
         type(block_geom_t) :: gm, gn
         sh%dtmin = huge(1.0_wp)
         sh%crit = 0
         sh%bad = 0
         if (sh%tsmin > 0.0_wp) sh%low = .false.
-        !$omp parallel default(shared) private(e, ib, l, nb, i0, els, gm, gn, dte, dtb, fs, ms, tmin, tcrit, tbad)
+        !$omp parallel default(shared) private(e, ib, l, nb, e0, gm, gn, dte, dtb, fs, ms, xg, vg, wg, tmin, tcrit, tbad)
         tmin = huge(1.0_wp)
         tcrit = 0
         tbad = 0
         !$omp do schedule(static)
-        do ib = 1, (size(sh%mine) + nblk - 1)/nblk
-            i0 = (ib - 1)*nblk
-            nb = min(nblk, size(sh%mine) - i0)
-            els(1:nb) = sh%mine(i0 + 1:i0 + nb)
+        do ib = 1, size(sh%bfirst)
+            e0 = sh%bfirst(ib) - 1
+            nb = sh%bcount(ib)
             ! the rates on the mid-step geometry, the forces on x(n)
-            call block_geometry(sh, els, nb, x, v, 0.5_wp*dt, .true., gm)
-            call block_geometry(sh, els, nb, x, v, 0.0_wp, .false., gn)
-            call block_forces(sh, els, nb, gm, gn, v, w, dt, dt_avg_prev, dtb, fs, ms)
+            call block_gather(sh, e0, nb, x, v, w, xg, vg, wg)
+            call block_geometry(sh, e0, nb, xg, vg, 0.5_wp*dt, .true., gm)
+            call block_geometry(sh, e0, nb, xg, vg, 0.0_wp, .false., gn)
+            call block_forces(sh, e0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dtb, fs, ms)
             if (present(f) .and. present(m)) then
-                call block_add(sh, els, nb, dtb, fs, ms, f, m)
+                call block_add(sh, e0, nb, dtb, fs, ms, f, m)
             else
-                call block_slots(sh, els, nb, dtb, fs, ms)
+                call block_slots(sh, e0, nb, dtb, fs, ms)
             end if
             do l = 1, nb
-                e = els(l)
+                e = e0 + l
                 dte = dtb(l)
                 if (sh%tsmin > 0.0_wp) then
                     ! ERODE: a shell whose step fell below the minimum (or that
@@ -352,23 +398,25 @@ contains
         dte = sh%ms_target
     end subroutine ask_mass
 
-    !> Forces, moments, stresses and steps of the nb shells els(1:nb) of a
+    !> Forces, moments, stresses and steps of the nb shells e0 + 1 .. e0 + nb of a
     !> block, gm their geometry at mid-step, gn at x(n): loops over the
     !> block's elements (structure of arrays, vectorised) for the rates, the
     !> hourglass and the forces; the points' stress update per element (a
     !> yielding point's return is its own iteration). dte(l) = -1 for an
     !> element collapsed or inverted (the mid-step one is not updated).
-    subroutine block_forces(sh, els, nb, gm, gn, v, w, dt, dt_avg_prev, dte, fs, ms)
+    subroutine block_forces(sh, e0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dte, fs, ms)
         type(shells_t), intent(inout) :: sh
-        integer, intent(in) :: els(:), nb
+        integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
         type(block_geom_t), intent(in) :: gm, gn
-        real(wp), intent(in) :: v(:, :), w(:, :), dt
+        !> the nodes' velocities and angular velocities (block_gather)
+        real(wp), intent(in) :: vg(nblk, 3, 4), wg(nblk, 3, 4)
+        real(wp), intent(in) :: dt
         real(dp), intent(in) :: dt_avg_prev
         real(wp), intent(out) :: dte(:)
         !> the nodal forces and moments (global) of the block's elements
         real(wp), intent(out) :: fs(nblk, 3, 4), ms(nblk, 3, 4)
         real(wp), parameter :: quarter = 0.25_wp
-        real(wp) :: vg(nblk, 3, 4), wg(nblk, 3, 4), vl(nblk, 3, 4), wl(nblk, 3, 4), r(nblk, 8)
+        real(wp) :: vl(nblk, 3, 4), wl(nblk, 3, 4), r(nblk, 8)
         real(wp) :: nres(nblk, 3), mres(nblk, 3), qres(nblk, 2), qd(nblk, 5), hq(nblk, 5)
         real(wp) :: bb(nblk), gg(nblk), gamz(nblk), wsp(nblk)
         real(wp) :: hh(nblk), ym(nblk), nu(nblk), ro(nblk), ge(nblk), tf(nblk)
@@ -380,15 +428,10 @@ contains
         real(wp) :: cap(nblk)
         logical :: visc(nblk), bnd(nblk), capped(nblk)
         real(dp) :: pold(nblk), pnew(nblk)
-        integer :: l, k, e, nd
-        ! gather: the nodes' velocities, the elements' data
+        integer :: l, k, e
+        ! gather: the elements' data
         do l = 1, nb
-            e = els(l)
-            do k = 1, 4
-                nd = sh%conn(k, e)
-                vg(l, :, k) = v(:, nd)
-                wg(l, :, k) = w(:, nd)
-            end do
+            e = e0 + l
             hh(l) = sh%h(e)
             ym(l) = sh%e(e)
             nu(l) = sh%nu(e)
@@ -441,7 +484,7 @@ contains
                        gm%b2(l, 4)*vl(l, 3, 4)) - quarter*(((wl(l, 1, 1) + wl(l, 1, 2)) + wl(l, 1, 3)) + wl(l, 1, 4))
         end do
         ! the points' stresses, the resultants and the internal energy
-        call block_points(sh, els, nb, r, gm%a, gm%ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
+        call block_points(sh, e0, nb, r, gm%a, gm%ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
         ! Belytschko-Tsay hourglass: gamma = h - (h.x) b1 - (h.y) b2; stiffness
         ! form on the out-of-plane rotations and displacement and the membrane
         ! rates of a warped element (nodes zl off its mean plane) less the
@@ -482,7 +525,7 @@ contains
         ! update and the bound vectorise; one element at a time, the bound's
         ! chain of roots and divisions was 8% of car6's run)
         do l = 1, nb
-            e = els(l)
+            e = e0 + l
             hq(l, :) = sh%qhg(:, e)
             qc(l, 1) = sh%qb(e)
             qc(l, 2) = sh%qw(e)
@@ -500,8 +543,12 @@ contains
         do l = 1, nb
             sy(l) = 0
             if (.not. bnd(l)) cycle
-            e = els(l)
-            call yield_stress(sh%pp(sh%pmat(e)), maxval(sh%epsp(1:max(1, sh%nip(e)), e)), sy(l), hs)
+            e = e0 + l
+            if (sh%ycurve(e)) then
+                call yield_stress(sh%pp(sh%pmat(e)), maxval(sh%epsp(1:max(1, sh%nip(e)), e)), sy(l), hs)
+            else
+                sy(l) = sh%sy0(e) + sh%hk(e)*maxval(sh%epsp(1:max(1, sh%nip(e)), e))
+            end if
         end do
         ! The stiffness form's hourglass on a plastic material, bounded as the
         ! material is (*CONTROL_XDYNA_SHELL HGBOUND 1, the default): each
@@ -594,7 +641,7 @@ contains
         ! after them, as the central difference moves the nodes
         do l = 1, nb
             if (.not. gm%ok(l)) cycle
-            e = els(l)
+            e = e0 + l
             sh%qhg(:, e) = hq(l, :)
             if (capped(l)) sh%ncap(e) = sh%ncap(e) + 1
             sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold(l))
@@ -637,7 +684,7 @@ contains
                 dte(l) = tf(l)*gn%a(l)/gn%ls(l)/wsp(l)
             end do
         else
-            call step_options(sh, els, nb, gn, ym, ro, nu, wsp, dte)
+            call step_options(sh, e0, nb, gn, ym, ro, nu, wsp, dte)
         end if
         do l = 1, nb
             if (.not. (gm%ok(l) .and. gn%ok(l))) dte(l) = -1
@@ -648,13 +695,13 @@ contains
     !> triangle's fourth node is its third); zeros from an element collapsed
     !> or inverted (dte -1: the run stops, or ERODE removes it after this
     !> pass), as block_add adds none.
-    subroutine block_slots(sh, els, nb, dte, fs, ms)
+    subroutine block_slots(sh, e0, nb, dte, fs, ms)
         type(shells_t), intent(inout) :: sh
-        integer, intent(in) :: els(:), nb
+        integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
         real(wp), intent(in) :: dte(:), fs(nblk, 3, 4), ms(nblk, 3, 4)
         integer :: l, k, e
         do l = 1, nb
-            e = els(l)
+            e = e0 + l
             if (.not. (dte(l) > 0.0_wp)) then
                 sh%fslot(:, 4*e - 3:4*e) = 0
                 sh%mslot(:, 4*e - 3:4*e) = 0
@@ -670,16 +717,16 @@ contains
     !> The block's forces and moments added to the nodes' f and m, element
     !> by element and node by node: the order in which the assembly sums the
     !> slots (one thread only).
-    subroutine block_add(sh, els, nb, dte, fs, ms, f, m)
+    subroutine block_add(sh, e0, nb, dte, fs, ms, f, m)
         type(shells_t), intent(in) :: sh
-        integer, intent(in) :: els(:), nb
+        integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
         real(wp), intent(in) :: dte(:), fs(nblk, 3, 4), ms(nblk, 3, 4)
         real(wp), intent(inout) :: f(:, :), m(:, :)
         integer :: l, k, nd
         do l = 1, nb
             if (.not. (dte(l) > 0.0_wp)) cycle
             do k = 1, 4
-                nd = sh%conn(k, els(l))
+                nd = sh%conn(k, e0 + l)
                 f(1, nd) = f(1, nd) + fs(l, 1, k)
                 f(2, nd) = f(2, nd) + fs(l, 2, k)
                 f(3, nd) = f(3, nd) + fs(l, 3, k)
@@ -696,9 +743,9 @@ contains
     !> On the end-of-step geometry gn, as ISDO 0. (A module procedure, not
     !> one contained in block_forces: a contained one slowed the whole
     !> element loop by 4%.)
-    subroutine step_options(sh, els, nb, gn, ym, ro, nu, wsp, dte)
+    subroutine step_options(sh, e0, nb, gn, ym, ro, nu, wsp, dte)
         type(shells_t), intent(in) :: sh
-        integer, intent(in) :: els(:), nb
+        integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
         type(block_geom_t), intent(in) :: gn
         real(wp), intent(in) :: ym(:), ro(:), nu(:)
         real(wp), intent(out) :: wsp(:)
@@ -707,7 +754,7 @@ contains
         real(wp) :: sd(4), d13, d24, len
         logical :: tri
         do l = 1, nb
-            tri = sh%conn(3, els(l)) == sh%conn(4, els(l))
+            tri = sh%conn(3, e0 + l) == sh%conn(4, e0 + l)
             do k = 1, 4
                 sd(k) = norm2(gn%xe(l, :, mod(k, 4) + 1) - gn%xe(l, :, k))
             end do
@@ -741,9 +788,9 @@ contains
     !> that yield, each on its own; the resultants (membrane n, bending m,
     !> shear q per unit length), the thickness change (ISTUPD) and the
     !> internal energy.
-    subroutine block_points(sh, els, nb, r, a, ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
+    subroutine block_points(sh, e0, nb, r, a, ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
         type(shells_t), intent(inout) :: sh
-        integer, intent(in) :: els(:), nb
+        integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
         real(wp), intent(in) :: r(nblk, 8), a(nblk), dt
         !> the elements' thickness, Young's modulus, Poisson's ratio and shear modulus
         real(wp), intent(in) :: hh(nblk), ym(nblk), nu(nblk), ge(nblk)
@@ -756,7 +803,7 @@ contains
         integer :: nip(nblk), l, e, ip, mix, maxnip
         maxnip = 0
         do l = 1, nb
-            e = els(l)
+            e = e0 + l
             qe(l) = ym(l)/(1 - nu(l)**2)
             ! the transverse shear factor of an elastic shell (the plastic
             ! return takes the full shear modulus)
@@ -771,7 +818,7 @@ contains
         dzm(1:nb) = 0
         do ip = 1, maxnip
             do l = 1, nb
-                e = els(l)
+                e = e0 + l
                 if (ip > nip(l)) then
                     wf(l) = 0; zf(l) = 0; so(l, :) = 0; al(l, :) = 0; sy(l) = huge(1.0_wp)
                     cycle
@@ -783,11 +830,10 @@ contains
                 if (sh%backstress(e)) al(l, :) = sh%alpha(:, ip, e)
                 sy(l) = huge(1.0_wp)
                 if (sh%plastic(e)) then
-                    mix = sh%pmat(e)
-                    if (sh%pp(mix)%ncurve == 0) then
-                        sy(l) = sh%pp(mix)%sigy + sh%pp(mix)%beta*sh%pp(mix)%ep*sh%epsp(ip, e)
+                    if (.not. sh%ycurve(e)) then
+                        sy(l) = sh%sy0(e) + sh%hk(e)*sh%epsp(ip, e)
                     else
-                        call yield_stress(sh%pp(mix), sh%epsp(ip, e), sy(l), h)
+                        call yield_stress(sh%pp(sh%pmat(e)), sh%epsp(ip, e), sy(l), h)
                     end if
                 end if
             end do
@@ -814,11 +860,11 @@ contains
             ! by the rate)
             do l = 1, nb
                 if (ip > nip(l) .or. dt <= 0.0_wp) cycle
-                e = els(l)
+                e = e0 + l
                 if (.not. sh%plastic(e)) cycle
                 mix = sh%pmat(e)
                 fac = 1
-                if (sh%pp(mix)%c > 0.0_wp .and. sh%pp(mix)%p > 0.0_wp) &
+                if (sh%rated(e)) &
                     fac = rate_factor(sh%pp(mix), [dd(l, 1), dd(l, 2), dzz(l), 0.5_wp*dd(l, 3), 0.5_wp*dd(l, 4), &
                                                    0.5_wp*dd(l, 5)])
                 if (xeq2(l) <= (fac*sy(l))**2) cycle
@@ -835,7 +881,7 @@ contains
             end do
             do l = 1, nb
                 if (ip > nip(l)) cycle
-                sh%sig(:, ip, els(l)) = t(l, :)
+                sh%sig(:, ip, e0 + l) = t(l, :)
             end do
             ! powers per unit area with the old and the new stresses,
             ! resultants, the mean thickness strain rate
@@ -857,7 +903,7 @@ contains
         end do
         do l = 1, nb
             if (.not. ok(l)) cycle
-            e = els(l)
+            e = e0 + l
             ! thickness change (ISTUPD): the mean thickness strain rate of the points
             if (sh%thickness_update) sh%h(e) = sh%h(e)*exp(dt*dzm(l))
             ! internal energy: the rule of the solids (work f(n).(v- + v+)/2 dt_avg)
@@ -866,31 +912,47 @@ contains
         end do
     end subroutine block_points
 
-    !> The geometry of the nb shells els(1:nb) on the coordinates x - hdt v
+    !> The nodes' coordinates, velocities and angular velocities of the
+    !> block's shells, gathered once for the geometries and the rates.
+    subroutine block_gather(sh, e0, nb, x, v, w, xg, vg, wg)
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
+        real(wp), intent(in) :: x(:, :), v(:, :), w(:, :)
+        real(wp), intent(out) :: xg(nblk, 3, 4), vg(nblk, 3, 4), wg(nblk, 3, 4)
+        integer :: l, k, nd
+        do k = 1, 4
+            do l = 1, nb
+                nd = sh%conn(k, e0 + l)
+                xg(l, :, k) = x(:, nd)
+                vg(l, :, k) = v(:, nd)
+                wg(l, :, k) = w(:, nd)
+            end do
+        end do
+    end subroutine block_gather
+
+    !> The geometry of the nb shells e0 + 1 .. e0 + nb on the coordinates x - hdt v
     !> (mid: hdt = dt/2) or x (not mid), in g: the arithmetic of shell_frame
     !> and of the local coordinates, written out per component so that the
     !> loops over the block's elements carry no calls.
-    subroutine block_geometry(sh, els, nb, x, v, hdt, mid, g)
+    subroutine block_geometry(sh, e0, nb, xg, vg, hdt, mid, g)
         type(shells_t), intent(in) :: sh
-        integer, intent(in) :: els(:), nb
-        real(wp), intent(in) :: x(:, :), v(:, :), hdt
+        integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
+        !> the nodes' coordinates and velocities (block_gather)
+        real(wp), intent(in) :: xg(nblk, 3, 4), vg(nblk, 3, 4), hdt
         logical, intent(in) :: mid
         type(block_geom_t), intent(inout) :: g
         real(wp) :: pd(nblk, 3), qd(nblk, 3), nlen(nblk)
         real(wp) :: p1, p2, p3, c1, c2, c3, n3, d, r1, r2, r3, aa, hx, hy, s12, s23, s34, s41
-        integer :: l, k, nd
+        integer :: l, k
+        if (mid) then
+            g%xe(1:nb, :, :) = xg(1:nb, :, :) - hdt*vg(1:nb, :, :)
+        else
+            g%xe(1:nb, :, :) = xg(1:nb, :, :)
+        end if
         do l = 1, nb
-            do k = 1, 4
-                nd = sh%conn(k, els(l))
-                if (mid) then
-                    g%xe(l, :, k) = x(:, nd) - hdt*v(:, nd)
-                else
-                    g%xe(l, :, k) = x(:, nd)
-                end if
-            end do
             ! the diagonals (a triangle's sides 1-2, 1-3), whose cross
             ! product is the normal
-            if (sh%conn(3, els(l)) == sh%conn(4, els(l))) then
+            if (sh%conn(3, e0 + l) == sh%conn(4, e0 + l)) then
                 pd(l, :) = g%xe(l, :, 2) - g%xe(l, :, 1)
                 qd(l, :) = g%xe(l, :, 3) - g%xe(l, :, 1)
             else
@@ -1112,7 +1174,12 @@ contains
         real(wp), intent(in) :: x(:, :)
         real(wp), intent(out) :: r(3, 3)
         type(block_geom_t) :: g
-        call block_geometry(sh, [e], 1, x, x, 0.0_wp, .false., g)
+        real(wp) :: xg(nblk, 3, 4)
+        integer :: k
+        do k = 1, 4
+            xg(1, :, k) = x(:, sh%conn(k, e))
+        end do
+        call block_geometry(sh, e - 1, 1, xg, xg, 0.0_wp, .false., g)
         r(:, 1) = g%e1(1, :)
         r(:, 2) = g%e2(1, :)
         r(:, 3) = g%e3(1, :)

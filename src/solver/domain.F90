@@ -26,7 +26,7 @@ module xd_solver_domain
     use xd_core_partition, only: rcb_partition
     use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp
     use xd_elements_solid_groups, only: solids_t
-    use xd_elements_shell_bt, only: shells_t
+    use xd_elements_shell_bt, only: shells_t, shell_blocks
     use xd_solver_assembly, only: assembly_t
     use xd_contact_contact, only: contacts_t
     use xd_core_sorting, only: where_true
@@ -112,6 +112,7 @@ contains
         end do
         dom%shell_mine = shrank == rank
         sh%mine = where_true(dom%shell_mine)
+        call shell_blocks(sh)
 
         ! each node's assembling rank: that of its first slot; nodes of no
         ! deformable element (rigid bodies, free nodes) go to rank 0
