@@ -26,6 +26,10 @@ module xd_elements_shell_bt
         integer, allocatable :: eid(:), part(:)
         real(wp), allocatable :: h(:)         !< thickness (mean of the nodal values)
         real(wp), allocatable :: e(:), nu(:), ro(:), shrf(:)
+        !> the moduli's combinations, per element once: G = E / 2(1 + nu),
+        !> E / (1 - nu^2), nu / (1 - nu), and the plate wave speed
+        !> sqrt(E / rho (1 - nu^2))
+        real(wp), allocatable :: ge(:), qe(:), nuf(:), wsp(:)
         !> hourglass coefficients: membrane (QM), bending (QB), warping (QW);
         !> viscous form (IHQ 1-3) or stiffness form (IHQ 4-5)
         real(wp), allocatable :: qm(:), qb(:), qw(:)
@@ -42,7 +46,9 @@ module xd_elements_shell_bt
         integer, allocatable :: pmat(:)       !< index into pp
         !> the plastic law per element, for the points' loops (pp's fields
         !> one gather away): the bilinear law's sigy and beta ep (ycurve
-        !> false), a curve's (true); rated: Cowper-Symonds scales the yield
+        !> false), a curve's (true); huge and 0 where the shell is not
+        !> plastic (its yield never reached); rated: Cowper-Symonds scales
+        !> the yield
         real(wp), allocatable :: sy0(:), hk(:)
         logical, allocatable :: ycurve(:), rated(:)
         type(plastic_params_t), allocatable :: pp(:)  !< plastic laws of the shell materials
@@ -172,7 +178,7 @@ contains
                   sh%nip(sh%n), sh%area0(sh%n), sh%msq(sh%n), sh%mix(sh%n), sh%model_ix(sh%n), sh%dead(sh%n))
         sh%msq = 1
         sh%dead = .false.
-        allocate (sh%ncap(sh%n), sh%hg_bound(sh%n))
+        allocate (sh%ncap(sh%n), sh%hg_bound(sh%n), sh%ge(sh%n), sh%qe(sh%n), sh%nuf(sh%n), sh%wsp(sh%n))
         sh%ncap = 0
         allocate (sh%low(sh%n))
         sh%low = .false.
@@ -239,6 +245,10 @@ contains
             end if
             sh%hg_bound(e) = hg_bounded(model, p)
         end do
+        sh%ge = sh%e/(2*(1 + sh%nu))
+        sh%qe = sh%e/(1 - sh%nu**2)
+        sh%nuf = sh%nu/(1 - sh%nu)
+        sh%wsp = sqrt(sh%e/(sh%ro*(1 - sh%nu**2)))
         ! the points' state, as many per shell as the most any shell has
         ! (each shell's in one run of memory: NIP 2 in 80 bytes, not 400);
         ! back stresses only where a material moves them
@@ -436,7 +446,7 @@ contains
             ym(l) = sh%e(e)
             nu(l) = sh%nu(e)
             ro(l) = sh%ro(e)
-            ge(l) = ym(l)/(2*(1 + nu(l)))
+            ge(l) = sh%ge(e)
             ! the step length's factor: a triangle's shortest altitude is
             ! twice its area over its longest side
             tf(l) = merge(2.0_wp, 1.0_wp, sh%conn(3, e) == sh%conn(4, e))
@@ -680,7 +690,7 @@ contains
         ! that (the longest side is the altitude's base)
         if (sh%isdo == 0) then
             do l = 1, nb
-                wsp(l) = sqrt(ym(l)/(ro(l)*(1 - nu(l)**2)))
+                wsp(l) = sh%wsp(e0 + l)
                 dte(l) = tf(l)*gn%a(l)/gn%ls(l)/wsp(l)
             end do
         else
@@ -800,11 +810,16 @@ contains
         real(wp) :: qe(nblk), sf(nblk), zf(nblk), wf(nblk), sy(nblk), al(nblk, 6)
         real(wp) :: dd(nblk, 5), so(nblk, 5), t(nblk, 5), dzz(nblk), dzm(nblk), xeq2(nblk), pm, fac, h, sl(5)
         real(dp) :: pold(nblk), pnew(nblk)
+        real(wp) :: nuf(nblk)
         integer :: nip(nblk), l, e, ip, mix, maxnip
+        !> every shell of the block has maxnip points; some moves a back
+        !> stress; some takes a yield curve
+        logical :: uniform, anyback, anycurve
         maxnip = 0
         do l = 1, nb
             e = e0 + l
-            qe(l) = ym(l)/(1 - nu(l)**2)
+            qe(l) = sh%qe(e)
+            nuf(l) = sh%nuf(e)
             ! the transverse shear factor of an elastic shell (the plastic
             ! return takes the full shear modulus)
             sf(l) = sh%shrf(e)
@@ -816,27 +831,58 @@ contains
         nres(1:nb, :) = 0; mres(1:nb, :) = 0; qres(1:nb, :) = 0
         pold(1:nb) = 0; pnew(1:nb) = 0
         dzm(1:nb) = 0
+        uniform = all(nip(1:nb) == maxnip)
+        anyback = any(sh%backstress(e0 + 1:e0 + nb))
+        anycurve = any(sh%ycurve(e0 + 1:e0 + nb))
         do ip = 1, maxnip
-            do l = 1, nb
-                e = e0 + l
-                if (ip > nip(l)) then
-                    wf(l) = 0; zf(l) = 0; so(l, :) = 0; al(l, :) = 0; sy(l) = huge(1.0_wp)
-                    cycle
+            if (uniform) then
+                ! (the common block: one section and law, no branch per
+                ! element; a shell that is not plastic has sy0 huge and hk 0)
+                do l = 1, nb
+                    e = e0 + l
+                    wf(l) = real(gw(ip, maxnip), wp)/2
+                    zf(l) = real(gz(ip, maxnip), wp)*hh(l)/2
+                    so(l, 1) = sh%sig(1, ip, e)
+                    so(l, 2) = sh%sig(2, ip, e)
+                    so(l, 3) = sh%sig(3, ip, e)
+                    so(l, 4) = sh%sig(4, ip, e)
+                    so(l, 5) = sh%sig(5, ip, e)
+                    sy(l) = sh%sy0(e) + sh%hk(e)*sh%epsp(ip, e)
+                end do
+                al(1:nb, :) = 0
+                if (anyback) then
+                    do l = 1, nb
+                        if (sh%backstress(e0 + l)) al(l, :) = sh%alpha(:, ip, e0 + l)
+                    end do
                 end if
-                wf(l) = real(gw(ip, nip(l)), wp)/2
-                zf(l) = real(gz(ip, nip(l)), wp)*hh(l)/2
-                so(l, :) = sh%sig(:, ip, e)
-                al(l, :) = 0
-                if (sh%backstress(e)) al(l, :) = sh%alpha(:, ip, e)
-                sy(l) = huge(1.0_wp)
-                if (sh%plastic(e)) then
-                    if (.not. sh%ycurve(e)) then
-                        sy(l) = sh%sy0(e) + sh%hk(e)*sh%epsp(ip, e)
-                    else
-                        call yield_stress(sh%pp(sh%pmat(e)), sh%epsp(ip, e), sy(l), h)
+                if (anycurve) then
+                    do l = 1, nb
+                        e = e0 + l
+                        if (sh%plastic(e) .and. sh%ycurve(e)) call yield_stress(sh%pp(sh%pmat(e)), sh%epsp(ip, e), sy(l), h)
+                    end do
+                end if
+            else
+                do l = 1, nb
+                    e = e0 + l
+                    if (ip > nip(l)) then
+                        wf(l) = 0; zf(l) = 0; so(l, :) = 0; al(l, :) = 0; sy(l) = huge(1.0_wp)
+                        cycle
                     end if
-                end if
-            end do
+                    wf(l) = real(gw(ip, nip(l)), wp)/2
+                    zf(l) = real(gz(ip, nip(l)), wp)*hh(l)/2
+                    so(l, :) = sh%sig(:, ip, e)
+                    al(l, :) = 0
+                    if (sh%backstress(e)) al(l, :) = sh%alpha(:, ip, e)
+                    sy(l) = huge(1.0_wp)
+                    if (sh%plastic(e)) then
+                        if (.not. sh%ycurve(e)) then
+                            sy(l) = sh%sy0(e) + sh%hk(e)*sh%epsp(ip, e)
+                        else
+                            call yield_stress(sh%pp(sh%pmat(e)), sh%epsp(ip, e), sy(l), h)
+                        end if
+                    end if
+                end do
+            end if
             ! the elastic plane-stress trial (s_zz stays 0 with the elastic
             ! d_zz) and the von Mises value of its deviator less the back
             ! stress, squared (no root on the elastic path, the common one)
@@ -846,7 +892,7 @@ contains
                 dd(l, 3) = r(l, 3) + zf(l)*r(l, 6)
                 dd(l, 4) = r(l, 8)     ! engineering shears
                 dd(l, 5) = r(l, 7)
-                dzz(l) = -nu(l)/(1 - nu(l))*(dd(l, 1) + dd(l, 2))
+                dzz(l) = -nuf(l)*(dd(l, 1) + dd(l, 2))
                 t(l, 1) = so(l, 1) + dt*qe(l)*(dd(l, 1) + nu(l)*dd(l, 2))
                 t(l, 2) = so(l, 2) + dt*qe(l)*(dd(l, 2) + nu(l)*dd(l, 1))
                 t(l, 3) = so(l, 3) + dt*ge(l)*dd(l, 3)
