@@ -341,13 +341,13 @@ contains
         real(wp), intent(inout), optional :: f(:, :), m(:, :)
         integer :: e, ib, l, nb, e0, tcrit, tbad
         real(wp) :: dte, tmin, dtb(nblk), fs(nblk, 3, 4), ms(nblk, 3, 4)
-        real(wp) :: xg(nblk, 3, 4), vg(nblk, 3, 4), wg(nblk, 3, 4)
+        real(wp) :: vg(nblk, 3, 4), wg(nblk, 3, 4)
         type(block_geom_t) :: gm, gn
         sh%dtmin = huge(1.0_wp)
         sh%crit = 0
         sh%bad = 0
         if (sh%tsmin > 0.0_wp) sh%low = .false.
-        !$omp parallel default(shared) private(e, ib, l, nb, e0, gm, gn, dte, dtb, fs, ms, xg, vg, wg, tmin, tcrit, tbad)
+        !$omp parallel default(shared) private(e, ib, l, nb, e0, gm, gn, dte, dtb, fs, ms, vg, wg, tmin, tcrit, tbad)
         tmin = huge(1.0_wp)
         tcrit = 0
         tbad = 0
@@ -356,9 +356,10 @@ contains
             e0 = sh%bfirst(ib) - 1
             nb = sh%bcount(ib)
             ! the rates on the mid-step geometry, the forces on x(n)
-            call block_gather(sh, e0, nb, x, v, w, xg, vg, wg)
-            call block_geometry(sh, e0, nb, xg, vg, 0.5_wp*dt, .true., gm)
-            call block_geometry(sh, e0, nb, xg, vg, 0.0_wp, .false., gn)
+            call block_gather(sh, e0, nb, x, v, w, gn%xe, vg, wg)
+            gm%xe(1:nb, :, :) = gn%xe(1:nb, :, :) - 0.5_wp*dt*vg(1:nb, :, :)
+            call block_geometry(sh, e0, nb, gm)
+            call block_geometry(sh, e0, nb, gn)
             call block_forces(sh, e0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dtb, fs, ms)
             if (present(f) .and. present(m)) then
                 call block_add(sh, e0, nb, dtb, fs, ms, f, m)
@@ -963,7 +964,8 @@ contains
     end subroutine block_points
 
     !> The nodes' coordinates, velocities and angular velocities of the
-    !> block's shells, gathered once for the geometries and the rates.
+    !> block's shells, gathered once for the geometries and the rates (the
+    !> coordinates into the end-of-step geometry's xe).
     subroutine block_gather(sh, e0, nb, x, v, w, xg, vg, wg)
         type(shells_t), intent(in) :: sh
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
@@ -980,25 +982,18 @@ contains
         end do
     end subroutine block_gather
 
-    !> The geometry of the nb shells e0 + 1 .. e0 + nb on the coordinates x - hdt v
-    !> (mid: hdt = dt/2) or x (not mid), in g: the arithmetic of shell_frame
-    !> and of the local coordinates, written out per component so that the
-    !> loops over the block's elements carry no calls.
-    subroutine block_geometry(sh, e0, nb, xg, vg, hdt, mid, g)
+    !> The geometry of the nb shells e0 + 1 .. e0 + nb on their nodes'
+    !> coordinates g%xe (the element loop's: x(n) - dt/2 v(n-1/2), the
+    !> mid-step's, and x(n)), in g: the frame and the local coordinates,
+    !> written out per component so that the loops over the block's
+    !> elements carry no calls.
+    subroutine block_geometry(sh, e0, nb, g)
         type(shells_t), intent(in) :: sh
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
-        !> the nodes' coordinates and velocities (block_gather)
-        real(wp), intent(in) :: xg(nblk, 3, 4), vg(nblk, 3, 4), hdt
-        logical, intent(in) :: mid
-        type(block_geom_t), intent(inout) :: g
+        type(block_geom_t), intent(inout) :: g   !< in: the nodes' coordinates xe
         real(wp) :: pd(nblk, 3), qd(nblk, 3), nlen(nblk)
         real(wp) :: p1, p2, p3, c1, c2, c3, n3, d, r1, r2, r3, aa, hx, hy, s12, s23, s34, s41
         integer :: l, k
-        if (mid) then
-            g%xe(1:nb, :, :) = xg(1:nb, :, :) - hdt*vg(1:nb, :, :)
-        else
-            g%xe(1:nb, :, :) = xg(1:nb, :, :)
-        end if
         do l = 1, nb
             ! the diagonals (a triangle's sides 1-2, 1-3), whose cross
             ! product is the normal
@@ -1224,12 +1219,11 @@ contains
         real(wp), intent(in) :: x(:, :)
         real(wp), intent(out) :: r(3, 3)
         type(block_geom_t) :: g
-        real(wp) :: xg(nblk, 3, 4)
         integer :: k
         do k = 1, 4
-            xg(1, :, k) = x(:, sh%conn(k, e))
+            g%xe(1, :, k) = x(:, sh%conn(k, e))
         end do
-        call block_geometry(sh, e - 1, 1, xg, xg, 0.0_wp, .false., g)
+        call block_geometry(sh, e - 1, 1, g)
         r(:, 1) = g%e1(1, :)
         r(:, 2) = g%e2(1, :)
         r(:, 3) = g%e3(1, :)
