@@ -77,7 +77,7 @@ def parse_d3hsp(path):
     """Timing table, contact share, cycles and search summary of a log."""
     txt = open(path).read()
     res = {"phases": {}}
-    for m in re.finditer(r"^\s{3}([a-z][a-z ]+?)\s{2,}([0-9.]+)\s+([0-9.]+)\s+([0-9.]+)\s*$", txt, re.M):
+    for m in re.finditer(r"^\s{3}([a-z][a-z ]+?)\s{2,}([0-9.]+)\s+([0-9.]+)\s*$", txt, re.M):
         res["phases"][m.group(1).strip()] = float(m.group(2))
     m = re.search(r"^\s+total\s+([0-9.]+)\s*$", txt, re.M)
     res["total"] = float(m.group(1)) if m else float("nan")

@@ -243,7 +243,8 @@ contains
         end function onoff
     end function model_summary
 
-    !> Wall and CPU seconds per phase, contact share, time per zone cycle.
+    !> Wall seconds per phase, the run's processor seconds, contact share,
+    !> time per zone cycle.
     subroutine timing_table(lg, tm, ncycle, nelem, total_wall)
         type(log_t), intent(in) :: lg
         type(timers_t), intent(in) :: tm
@@ -255,13 +256,16 @@ contains
         call log_line(lg, '')
         call log_line(lg, ' t i m i n g   i n f o r m a t i o n')
         call log_line(lg, '')
-        call log_line(lg, '   phase                        wall (s)     cpu (s)    % wall')
+        call log_line(lg, '   phase                        wall (s)    % wall')
         do k = 1, nphase
-            write (buf, '(3x,a24,2f13.3,f9.1)') phase_name(k), tm%wall(k), tm%cpu(k), &
+            write (buf, '(3x,a24,f13.3,f10.1)') phase_name(k), tm%wall(k), &
                 100.0_dp*tm%wall(k)/max(total_wall, 1.0e-12_dp)
             call log_line(lg, trim(buf))
         end do
         write (buf, '(3x,a24,f13.3)') 'total', total_wall
+        call log_line(lg, trim(buf))
+        write (buf, '(a,f0.3,a,f0.2,a)') '   processor time, all threads ......... ', tm%cpu(), ' s (', &
+            tm%cpu()/max(total_wall, 1.0e-12_dp), ' x the wall time)'
         call log_line(lg, trim(buf))
         loop_wall = tm%wall(ph_elements) + tm%wall(ph_assembly) + tm%wall(ph_integrate) + tm%wall(ph_rigid) + &
                     tm%wall(ph_contact) + tm%wall(ph_search) + tm%wall(ph_local) + tm%wall(ph_enforce) + &
