@@ -264,7 +264,7 @@ contains
         end do
         write (buf, '(3x,a24,f13.3)') 'total', total_wall
         call log_line(lg, trim(buf))
-        write (buf, '(a,f0.3,a,f0.2,a)') '   processor time, all threads ......... ', tm%cpu(), ' s (', &
+        write (buf, '(a,f0.3,a,f4.2,a)') '   processor time, all threads ......... ', tm%cpu(), ' s (', &
             tm%cpu()/max(total_wall, 1.0e-12_dp), ' x the wall time)'
         call log_line(lg, trim(buf))
         loop_wall = tm%wall(ph_elements) + tm%wall(ph_assembly) + tm%wall(ph_integrate) + tm%wall(ph_rigid) + &
