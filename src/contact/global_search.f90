@@ -1134,14 +1134,15 @@ contains
 
     !> Sort the pool by distance, ties by node number (a total order, so the
     !> result is deterministic): insertion for short pools, heapsort (O(k log k))
-    !> beyond 32.
+    !> beyond 96 (car6's pools hold 28 nodes on average, many past 32: the
+    !> heap's calls cost more there than insertion's moves).
     subroutine sort_pool(p, d)
         integer, intent(inout) :: p(:)
         real(wp), intent(inout) :: d(:)
         integer :: i, j, tp, n
         real(wp) :: td
         n = size(p)
-        if (n <= 32) then
+        if (n <= 96) then
             do i = 2, n
                 tp = p(i)
                 td = d(i)
