@@ -123,6 +123,7 @@ contains
         !> directly, in the order the assembly sums their slots (the same
         !> sums, without writing and reading the slots)
         logical :: shells_direct
+        real(wp) :: ri, on                    !< the rotations' update, per node
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
         shells_direct = sh%n > 0 .and. .not. dom%on
@@ -321,13 +322,15 @@ contains
             !$omp end parallel do
             if (st%rot) then
                 if (energy_now) vrminus = st%vr
-                ! (as a select over all nodes, so that the loop vectorises: a
-                ! node without rotary inertia divides by 1 and keeps its vr)
-                !$omp parallel do schedule(static)
+                ! (a node without rotary inertia divides by 1 and adds 0 times
+                ! that: no select, so that the loop vectorises)
+                !$omp parallel do schedule(static) private(ri, on)
                 do nd = 1, st%nnode
-                    st%vr(:, nd) = merge(st%vr(:, nd) + real(dt_avg, wp)*st%mom(:, nd)/ &
-                                         merge(st%irot(nd), 1.0_wp, st%irot(nd) > 0.0_wp)*st%free_r(:, nd), &
-                                         st%vr(:, nd), st%irot(nd) > 0.0_wp)
+                    on = merge(1.0_wp, 0.0_wp, st%irot(nd) > 0.0_wp)
+                    ri = st%irot(nd) + (1.0_wp - on)
+                    st%vr(1, nd) = st%vr(1, nd) + real(dt_avg, wp)*st%mom(1, nd)/ri*st%free_r(1, nd)*on
+                    st%vr(2, nd) = st%vr(2, nd) + real(dt_avg, wp)*st%mom(2, nd)/ri*st%free_r(2, nd)*on
+                    st%vr(3, nd) = st%vr(3, nd) + real(dt_avg, wp)*st%mom(3, nd)/ri*st%free_r(3, nd)*on
                 end do
                 !$omp end parallel do
             end if
@@ -760,13 +763,17 @@ contains
 
         subroutine accelerations()
             integer :: i
-            !$omp parallel do schedule(static)
+            real(wp) :: on, mi
+            ! (the quotients taken for every node, a massless one's over 1
+            ! and then times 0, without a select: the loop vectorises; the
+            ! same quotients)
+            !$omp parallel do schedule(static) private(on, mi)
             do i = 1, st%nnode
-                if (st%mass(i) > 0.0_wp) then
-                    st%a(:, i) = st%f(:, i)/st%mass(i)*st%free(:, i)
-                else
-                    st%a(:, i) = 0.0_wp
-                end if
+                on = merge(1.0_wp, 0.0_wp, st%mass(i) > 0.0_wp)
+                mi = st%mass(i) + (1.0_wp - on)
+                st%a(1, i) = st%f(1, i)/mi*st%free(1, i)*on
+                st%a(2, i) = st%f(2, i)/mi*st%free(2, i)*on
+                st%a(3, i) = st%f(3, i)/mi*st%free(3, i)*on
             end do
             !$omp end parallel do
         end subroutine accelerations
