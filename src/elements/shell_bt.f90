@@ -594,20 +594,22 @@ contains
                        real(hq(l, 4), dp)*qd(l, 4)) + real(hq(l, 5), dp)*qd(l, 5)
         end do
         ! viscous: the modes' masses, a node's mass and rotary inertia over
-        ! gamma.gamma
-        do l = 1, nb
-            a = max(gm%a(l), 0.0_wp)
-            mn = ro(l)*hh(l)*a*mf(l)/gg(l)
-            jn = mn*(hh(l)**2 + 3*a)/12
-            cb = 2*qc(l, 1)*sqrt(kq(l, 1)*jn)
-            cw = 2*qc(l, 2)*sqrt(kq(l, 2)*mn)
-            cm = 2*qc(l, 3)*sqrt(kq(l, 3)*mn)
-            vq(l, 1) = cb*qd(l, 1)
-            vq(l, 2) = cb*qd(l, 2)
-            vq(l, 3) = cw*qd(l, 3)
-            vq(l, 4) = cm*qd(l, 4)
-            vq(l, 5) = cm*qd(l, 5)
-        end do
+        ! gamma.gamma (only in a block that has a viscous shell)
+        if (any(visc(1:nb))) then
+            do l = 1, nb
+                a = max(gm%a(l), 0.0_wp)
+                mn = ro(l)*hh(l)*a*mf(l)/gg(l)
+                jn = mn*(hh(l)**2 + 3*a)/12
+                cb = 2*qc(l, 1)*sqrt(kq(l, 1)*jn)
+                cw = 2*qc(l, 2)*sqrt(kq(l, 2)*mn)
+                cm = 2*qc(l, 3)*sqrt(kq(l, 3)*mn)
+                vq(l, 1) = cb*qd(l, 1)
+                vq(l, 2) = cb*qd(l, 2)
+                vq(l, 3) = cw*qd(l, 3)
+                vq(l, 4) = cm*qd(l, 4)
+                vq(l, 5) = cm*qd(l, 5)
+            end do
+        end if
         ! stiffness
         do l = 1, nb
             sq(l, 1) = hq(l, 1) + dt*qc(l, 1)*kq(l, 1)*qd(l, 1)
@@ -618,26 +620,28 @@ contains
         end do
         ! the bound (sy 0 where it does not act: caps of 0 scale to 0, so
         ! the caps' flags select)
-        do l = 1, nb
-            a = max(gm%a(l), 0.0_wp)
-            il = sqrt(bb(l)/2)
-            cm = qc(l, 3)*sy(l)*hh(l)*a*il/3
-            cb = qc(l, 1)*sy(l)*hh(l)*hh(l)*a*il/12
-            cw = qc(l, 2)*sy(l)*hh(l)*hh(l)*a*il*il/(2*r3)
-            q1 = sq(l, 1)**2 + sq(l, 2)**2
-            q4 = sq(l, 4)**2 + sq(l, 5)**2
-            ! (as min and max, not selects on comparisons: a comparison
-            ! may trap, and the compiler keeps a select on one as a branch)
-            f1 = min(1.0_wp, cm/sqrt(max(q4, tiny(1.0_wp))))
-            f2 = min(1.0_wp, cb/sqrt(max(q1, tiny(1.0_wp))))
-            f3 = abs(sq(l, 3))
-            cap(l) = ((1.0_wp - f1) + (1.0_wp - f2)) + max(f3 - cw, 0.0_wp)
-            bq(l, 1) = sq(l, 1)*f2
-            bq(l, 2) = sq(l, 2)*f2
-            bq(l, 3) = sign(min(f3, cw), sq(l, 3))
-            bq(l, 4) = sq(l, 4)*f1
-            bq(l, 5) = sq(l, 5)*f1
-        end do
+        if (any(bnd(1:nb))) then
+            do l = 1, nb
+                a = max(gm%a(l), 0.0_wp)
+                il = sqrt(bb(l)/2)
+                cm = qc(l, 3)*sy(l)*hh(l)*a*il/3
+                cb = qc(l, 1)*sy(l)*hh(l)*hh(l)*a*il/12
+                cw = qc(l, 2)*sy(l)*hh(l)*hh(l)*a*il*il/(2*r3)
+                q1 = sq(l, 1)**2 + sq(l, 2)**2
+                q4 = sq(l, 4)**2 + sq(l, 5)**2
+                ! (as min and max, not selects on comparisons: a comparison
+                ! may trap, and the compiler keeps a select on one as a branch)
+                f1 = min(1.0_wp, cm/sqrt(max(q4, tiny(1.0_wp))))
+                f2 = min(1.0_wp, cb/sqrt(max(q1, tiny(1.0_wp))))
+                f3 = abs(sq(l, 3))
+                cap(l) = ((1.0_wp - f1) + (1.0_wp - f2)) + max(f3 - cw, 0.0_wp)
+                bq(l, 1) = sq(l, 1)*f2
+                bq(l, 2) = sq(l, 2)*f2
+                bq(l, 3) = sign(min(f3, cw), sq(l, 3))
+                bq(l, 4) = sq(l, 4)*f1
+                bq(l, 5) = sq(l, 5)*f1
+            end do
+        end if
         ! each element's own form
         do l = 1, nb
             capped(l) = bnd(l) .and. .not. visc(l) .and. gm%ok(l) .and. cap(l) > 0.0_wp
@@ -994,16 +998,15 @@ contains
         real(wp) :: pd(nblk, 3), qd(nblk, 3), nlen(nblk)
         real(wp) :: p1, p2, p3, c1, c2, c3, n3, d, r1, r2, r3, aa, hx, hy, s12, s23, s34, s41
         integer :: l, k
-        do l = 1, nb
-            ! the diagonals (a triangle's sides 1-2, 1-3), whose cross
-            ! product is the normal
-            if (sh%conn(3, e0 + l) == sh%conn(4, e0 + l)) then
-                pd(l, :) = g%xe(l, :, 2) - g%xe(l, :, 1)
-                qd(l, :) = g%xe(l, :, 3) - g%xe(l, :, 1)
-            else
-                pd(l, :) = g%xe(l, :, 3) - g%xe(l, :, 1)
-                qd(l, :) = g%xe(l, :, 4) - g%xe(l, :, 2)
-            end if
+        logical :: tri
+        ! the diagonals (a triangle's sides 1-2, 1-3), whose cross product
+        ! is the normal (both taken, the element's selected: no branch)
+        do k = 1, 3
+            do l = 1, nb
+                tri = sh%conn(3, e0 + l) == sh%conn(4, e0 + l)
+                pd(l, k) = merge(g%xe(l, k, 2) - g%xe(l, k, 1), g%xe(l, k, 3) - g%xe(l, k, 1), tri)
+                qd(l, k) = merge(g%xe(l, k, 3) - g%xe(l, k, 1), g%xe(l, k, 4) - g%xe(l, k, 2), tri)
+            end do
         end do
         do l = 1, nb
             ! the normal (straight-line code: the loop vectorises)
