@@ -824,6 +824,11 @@ contains
         !> every shell of the block has maxnip points; some moves a back
         !> stress; some takes a yield curve
         logical :: uniform, anyback, anycurve
+        !> the layer's points that yield without a back stress (their
+        !> elements' index in the block), and their rate factors
+        integer :: ny, iy(nblk)
+        real(wp) :: fy(nblk)
+        ny = 0
         maxnip = 0
         do l = 1, nb
             e = e0 + l
@@ -923,17 +928,24 @@ contains
                     fac = rate_factor(sh%pp(mix), [dd(l, 1), dd(l, 2), dzz(l), 0.5_wp*dd(l, 3), 0.5_wp*dd(l, 4), &
                                                    0.5_wp*dd(l, 5)])
                 if (xeq2(l) <= (fac*sy(l))**2) cycle
-                sl = so(l, :)
                 if (.not. sh%backstress(e)) then
                     ! isotropic hardening, or none (kinematic is then the
-                    ! same law, its back stress stays 0)
-                    call plane_stress_return(sh%e(e), nu(l), sh%pp(mix), fac, t(l, :), sl, sh%epsp(ip, e), dzz(l))
-                    dzz(l) = dzz(l)/dt
-                else
-                    call mixed_return(sh, e, ip, dd(l, :), dt, sl, dzz(l))
+                    ! same law, its back stress stays 0): the layer's
+                    ! returns taken together below
+                    ny = ny + 1
+                    iy(ny) = l
+                    fy(ny) = fac
+                    cycle
                 end if
+                sl = so(l, :)
+                call mixed_return(sh, e, ip, dd(l, :), dt, sl, dzz(l))
                 t(l, :) = sl
             end do
+            if (ny > 0) then
+                call plane_stress_returns(sh, e0, ip, ny, iy, fy, nu, so, t, dzz)
+                dzz(iy(1:ny)) = dzz(iy(1:ny))/dt
+                ny = 0
+            end if
             do l = 1, nb
                 if (ip > nip(l)) cycle
                 sh%sig(:, ip, e0 + l) = t(l, :)
@@ -1147,7 +1159,7 @@ contains
     end subroutine mixed_return
 
     !> Plane-stress J2 return with isotropic hardening (Simo & Taylor 1986):
-    !> from the elastic trial st (xx yy xy yz zx) to the stress s on the yield
+    !> from the elastic trial (xx yy xy yz zx) to the stress on the yield
     !> surface fac x sy(epsp). In the eigenbasis of the plane-stress
     !> projection P the backward-Euler return scales each mode by a closed
     !> form of the plastic multiplier dg: the equal-biaxial mode by
@@ -1155,63 +1167,100 @@ contains
     !> 1/(1 + 2 G dg); dg solves 1/2 phi^2 = 1/3 (fac sy(epsp + de))^2 with
     !> phi^2 = xi.P.xi and de = sqrt(2/3) dg phi (Newton on one scalar). The
     !> same state as the 3-D radial return with s_zz = 0 imposed, at a
-    !> fraction of the cost. dezz: the thickness strain increment (elastic
-    !> and plastic). s on entry: the stress before the step.
-    pure subroutine plane_stress_return(ym, nu, pp, fac, st, s, epsp, dezz)
-        real(wp), intent(in) :: ym, nu, fac, st(5)
-        type(plastic_params_t), intent(in) :: pp
-        real(wp), intent(inout) :: s(5), epsp
-        real(wp), intent(out) :: dezz
+    !> fraction of the cost.
+    !> The ny points iy(1:ny) of layer ip of a block (elements e0 + iy),
+    !> rate factors fy, taken together, one Newton step of each in turn, so
+    !> that the processor overlaps their chains of divisions and roots (one
+    !> return after the other, each waited on itself: half of the crushing
+    !> tubes' run). t: the trial stresses in, the returned ones out; so the
+    !> stresses before the step; dzz the thickness strain increments.
+    subroutine plane_stress_returns(sh, e0, ip, ny, iy, fy, nu, so, t, dzz)
+        type(shells_t), intent(inout) :: sh
+        integer, intent(in) :: e0, ip, ny, iy(:)
+        real(wp), intent(in) :: fy(:), nu(nblk), so(nblk, 5)
+        real(wp), intent(inout) :: t(nblk, 5), dzz(nblk)
         real(wp), parameter :: r2 = sqrt(2.0_wp), c23 = sqrt(2.0_wp/3.0_wp)
-        real(wp) :: a1, a2, c1, c2, q1, rr, dg, u1, u2, phi2, phi, dphi2, dphi, de, sy, h, f, fp, sold
-        integer :: it
-        c1 = ym/(3.0_wp*(1.0_wp - nu))
-        c2 = ym/(1.0_wp + nu)
-        a1 = (st(1) + st(2))/r2
-        a2 = (st(2) - st(1))/r2
-        q1 = a1*a1/3.0_wp
-        rr = a2*a2 + 2.0_wp*(st(3)**2 + st(4)**2 + st(5)**2)
-        sold = s(1) + s(2)
-        dg = 0
-        do it = 1, 40
-            u1 = 1.0_wp/(1.0_wp + c1*dg)
-            u2 = 1.0_wp/(1.0_wp + c2*dg)
-            phi2 = q1*u1*u1 + rr*u2*u2
-            phi = sqrt(phi2)
-            de = c23*dg*phi
-            if (pp%ncurve == 0) then
-                ! the bilinear law in line (the call cost as much as the rest)
-                sy = pp%sigy + pp%beta*pp%ep*(epsp + de)
-                h = pp%beta*pp%ep
-            else
-                call yield_stress(pp, epsp + de, sy, h)
-            end if
-            f = 0.5_wp*phi2 - (fac*sy)**2/3.0_wp
-            if (abs(f) <= tol12*phi2) exit
-            if (it == 1) then
-                ! the first step from the 3-D radial return: the equivalent
-                ! stress sqrt(3/2) phi falls by 3 G de to the yield stress
-                ! (Newton from dg = 0 took several steps to get there)
-                de = (sqrt(1.5_wp)*phi - fac*sy)/(1.5_wp*c2 + fac*h)
-                dg = de/(c23*phi)
-                cycle
-            end if
-            dphi2 = -2.0_wp*(q1*c1*u1**3 + rr*c2*u2**3)
-            dphi = dphi2/(2.0_wp*phi)
-            fp = 0.5_wp*dphi2 - 2.0_wp/3.0_wp*fac*sy*fac*h*c23*(phi + dg*dphi)
-            if (fp >= 0.0_wp) exit
-            dg = max(dg - f/fp, 0.5_wp*dg)
+        real(wp) :: c1(nblk), c2(nblk), a1(nblk), a2(nblk), q1(nblk), rr(nblk), dg(nblk), u1(nblk), u2(nblk)
+        real(wp) :: de(nblk), ep0(nblk), sy0(nblk), hk(nblk), ym(nblk)
+        real(wp) :: phi2, phi, dphi2, dphi, sy, h, f, fp, fac, s1, s2, sold
+        logical :: active(nblk), cur(nblk)
+        integer :: pm(nblk)
+        integer :: j, l, e, it, nact
+        do j = 1, ny
+            l = iy(j)
+            e = e0 + l
+            ym(j) = sh%e(e)
+            sy0(j) = sh%sy0(e)
+            hk(j) = sh%hk(e)
+            cur(j) = sh%ycurve(e)
+            pm(j) = sh%pmat(e)
+            ep0(j) = sh%epsp(ip, e)
+            c1(j) = ym(j)/(3.0_wp*(1.0_wp - nu(l)))
+            c2(j) = ym(j)/(1.0_wp + nu(l))
+            a1(j) = (t(l, 1) + t(l, 2))/r2
+            a2(j) = (t(l, 2) - t(l, 1))/r2
+            q1(j) = a1(j)*a1(j)/3.0_wp
+            rr(j) = a2(j)*a2(j) + 2.0_wp*(t(l, 3)**2 + t(l, 4)**2 + t(l, 5)**2)
+            dg(j) = 0
+            active(j) = .true.
         end do
-        a1 = a1*u1
-        a2 = a2*u2
-        s(1) = (a1 - a2)/r2
-        s(2) = (a1 + a2)/r2
-        s(3:5) = st(3:5)*u2
-        epsp = epsp + de
-        ! thickness: elastic -nu/E (the in-plane stress sum's change) and
-        ! plastic -(de_xx + de_yy) = -dg (s_xx + s_yy)/3 (incompressible)
-        dezz = -nu/ym*(s(1) + s(2) - sold) - dg*(s(1) + s(2))/3.0_wp
-    end subroutine plane_stress_return
+        do it = 1, 40
+            nact = 0
+            do j = 1, ny
+                if (.not. active(j)) cycle
+                fac = fy(j)
+                u1(j) = 1.0_wp/(1.0_wp + c1(j)*dg(j))
+                u2(j) = 1.0_wp/(1.0_wp + c2(j)*dg(j))
+                phi2 = q1(j)*u1(j)*u1(j) + rr(j)*u2(j)*u2(j)
+                phi = sqrt(phi2)
+                de(j) = c23*dg(j)*phi
+                if (cur(j)) then
+                    call yield_stress(sh%pp(pm(j)), ep0(j) + de(j), sy, h)
+                else
+                    ! the bilinear law in line (the call cost as much as the rest)
+                    sy = sy0(j) + hk(j)*(ep0(j) + de(j))
+                    h = hk(j)
+                end if
+                f = 0.5_wp*phi2 - (fac*sy)**2/3.0_wp
+                if (abs(f) <= tol12*phi2) then
+                    active(j) = .false.
+                    cycle
+                end if
+                nact = nact + 1
+                if (it == 1) then
+                    de(j) = (sqrt(1.5_wp)*phi - fac*sy)/(1.5_wp*c2(j) + fac*h)
+                    dg(j) = de(j)/(c23*phi)
+                    cycle
+                end if
+                dphi2 = -2.0_wp*(q1(j)*c1(j)*u1(j)**3 + rr(j)*c2(j)*u2(j)**3)
+                dphi = dphi2/(2.0_wp*phi)
+                fp = 0.5_wp*dphi2 - 2.0_wp/3.0_wp*fac*sy*fac*h*c23*(phi + dg(j)*dphi)
+                if (fp >= 0.0_wp) then
+                    active(j) = .false.
+                    nact = nact - 1
+                    cycle
+                end if
+                dg(j) = max(dg(j) - f/fp, 0.5_wp*dg(j))
+            end do
+            if (nact == 0) exit
+        end do
+        do j = 1, ny
+            l = iy(j)
+            e = e0 + l
+            a1(j) = a1(j)*u1(j)
+            a2(j) = a2(j)*u2(j)
+            s1 = (a1(j) - a2(j))/r2
+            s2 = (a1(j) + a2(j))/r2
+            sold = so(l, 1) + so(l, 2)
+            t(l, 1) = s1
+            t(l, 2) = s2
+            t(l, 3) = t(l, 3)*u2(j)
+            t(l, 4) = t(l, 4)*u2(j)
+            t(l, 5) = t(l, 5)*u2(j)
+            sh%epsp(ip, e) = ep0(j) + de(j)
+            dzz(l) = -nu(l)/ym(j)*(s1 + s2 - sold) - dg(j)*(s1 + s2)/3.0_wp
+        end do
+    end subroutine plane_stress_returns
 
     !> The corotational frame of shell e on coordinates x, as the element
     !> loop takes it (block_geometry): the columns of r are e1 (along side
