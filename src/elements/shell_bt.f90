@@ -1191,10 +1191,13 @@ contains
         real(wp), intent(inout) :: t(nblk, 5), dzz(nblk)
         real(wp), parameter :: r2 = sqrt(2.0_wp), c23 = sqrt(2.0_wp/3.0_wp)
         real(wp) :: c1(nblk), c2(nblk), a1(nblk), a2(nblk), q1(nblk), rr(nblk), dg(nblk), u1(nblk), u2(nblk)
-        real(wp) :: de(nblk), ep0(nblk), ym(nblk), sy0(nblk), hk(nblk)
-        real(wp) :: phi2, phi, dphi2, dphi, sy, h, f, fp, fac, s1, s2, sold
-        logical :: active(nblk), cur(nblk)
-        integer :: j, l, it, nact
+        real(wp) :: de(nblk), ep0(nblk), ym(nblk), sy0(nblk), hk(nblk), phi2(nblk), phi(nblk), sy(nblk), h(nblk)
+        !> 1 while a point iterates, 0 once it has converged (or its
+        !> Newton step would climb: f' >= 0)
+        real(wp) :: go(nblk)
+        real(wp) :: f, fp, fac, dphi2, dphi, dgn, s1, s2, sold
+        logical :: cur(nblk), anycur
+        integer :: j, l, it
         do j = 1, ny
             l = iy(j)
             ym(j) = sh%e(e0 + l)
@@ -1211,47 +1214,59 @@ contains
             a2(j) = (t(l, 2) - t(l, 1))/r2
             q1(j) = a1(j)*a1(j)/3.0_wp
             rr(j) = a2(j)*a2(j) + 2.0_wp*(t(l, 3)**2 + t(l, 4)**2 + t(l, 5)**2)
-            dg(j) = 0
-            active(j) = .true.
         end do
-        do it = 1, 40
-            nact = 0
+        anycur = any(cur(1:ny))
+        ! the first step: the radial return's estimate at dg = 0
+        do j = 1, ny
+            u1(j) = 1
+            u2(j) = 1
+            phi2(j) = q1(j) + rr(j)
+            phi(j) = sqrt(phi2(j))
+            de(j) = 0
+            sy(j) = sy0(j) + hk(j)*ep0(j)
+            h(j) = hk(j)
+        end do
+        if (anycur) call curve_points()
+        do j = 1, ny
+            fac = fy(j)
+            f = 0.5_wp*phi2(j) - (fac*sy(j))**2/3.0_wp
+            go(j) = 0.5_wp + sign(0.5_wp, abs(f) - tol12*phi2(j))
+            de(j) = (sqrt(1.5_wp)*phi(j) - fac*sy(j))/(1.5_wp*c2(j) + fac*h(j))
+            dg(j) = go(j)*(de(j)/(c23*phi(j)))
+            de(j) = 0
+        end do
+        ! Newton on f(dg) = phi^2/2 - (fy sy)^2/3, every point in one
+        ! loop that vectorises (no branch: a point that has converged takes
+        ! go = 0 and keeps its dg, and its u1, u2 and de come out the same
+        ! from the same dg); the layer's points together, so that the
+        ! chains of divisions and roots overlap (one return after the
+        ! other, each waited on itself, had been half of the crushing
+        ! tubes' run)
+        do it = 2, 40
+            if (sum(go(1:ny)) == 0) exit
             do j = 1, ny
-                if (.not. active(j)) cycle
-                fac = fy(j)
                 u1(j) = 1.0_wp/(1.0_wp + c1(j)*dg(j))
                 u2(j) = 1.0_wp/(1.0_wp + c2(j)*dg(j))
-                phi2 = q1(j)*u1(j)*u1(j) + rr(j)*u2(j)*u2(j)
-                phi = sqrt(phi2)
-                de(j) = c23*dg(j)*phi
-                if (cur(j)) then
-                    call flow_stress(sh, e0 + iy(j), ep0(j) + de(j), sy, h)
-                else
-                    sy = sy0(j) + hk(j)*(ep0(j) + de(j))
-                    h = hk(j)
-                end if
-                f = 0.5_wp*phi2 - (fac*sy)**2/3.0_wp
-                if (abs(f) <= tol12*phi2) then
-                    active(j) = .false.
-                    cycle
-                end if
-                if (it == 1) then
-                    de(j) = (sqrt(1.5_wp)*phi - fac*sy)/(1.5_wp*c2(j) + fac*h)
-                    dg(j) = de(j)/(c23*phi)
-                    nact = nact + 1
-                    cycle
-                end if
-                dphi2 = -2.0_wp*(q1(j)*c1(j)*u1(j)**3 + rr(j)*c2(j)*u2(j)**3)
-                dphi = dphi2/(2.0_wp*phi)
-                fp = 0.5_wp*dphi2 - 2.0_wp/3.0_wp*fac*sy*fac*h*c23*(phi + dg(j)*dphi)
-                if (fp >= 0.0_wp) then
-                    active(j) = .false.
-                    cycle
-                end if
-                dg(j) = max(dg(j) - f/fp, 0.5_wp*dg(j))
-                nact = nact + 1
+                phi2(j) = q1(j)*u1(j)*u1(j) + rr(j)*u2(j)*u2(j)
+                phi(j) = sqrt(phi2(j))
+                de(j) = c23*dg(j)*phi(j)
+                sy(j) = sy0(j) + hk(j)*(ep0(j) + de(j))
+                h(j) = hk(j)
             end do
-            if (nact == 0) exit
+            if (anycur) call curve_points()
+            do j = 1, ny
+                fac = fy(j)
+                f = 0.5_wp*phi2(j) - (fac*sy(j))**2/3.0_wp
+                dphi2 = -2.0_wp*(q1(j)*c1(j)*u1(j)**3 + rr(j)*c2(j)*u2(j)**3)
+                dphi = dphi2/(2.0_wp*phi(j))
+                fp = 0.5_wp*dphi2 - 2.0_wp/3.0_wp*fac*sy(j)*fac*h(j)*c23*(phi(j) + dg(j)*dphi)
+                ! go stays 1 while |f| > tol12 phi^2 and f' < 0 (the
+                ! signs' factors: a comparison would be a branch; f' = -0
+                ! stops too)
+                go(j) = go(j)*(0.5_wp + sign(0.5_wp, abs(f) - tol12*phi2(j)))*(0.5_wp - sign(0.5_wp, fp + tiny(1.0_wp)))
+                dgn = max(dg(j) - f/min(fp, -tiny(1.0_wp)), 0.5_wp*dg(j))
+                dg(j) = go(j)*dgn + (1.0_wp - go(j))*dg(j)
+            end do
         end do
         do j = 1, ny
             l = iy(j)
@@ -1268,6 +1283,14 @@ contains
             sh%epsp(ip, e0 + l) = ep0(j) + de(j)
             dzz(l) = -nu(l)/ym(j)*(s1 + s2 - sold) - dg(j)*(s1 + s2)/3.0_wp
         end do
+    contains
+        !> The flow stress and slope of the points whose law is a curve.
+        subroutine curve_points()
+            integer :: k
+            do k = 1, ny
+                if (cur(k)) call flow_stress(sh, e0 + iy(k), ep0(k) + de(k), sy(k), h(k))
+            end do
+        end subroutine curve_points
     end subroutine plane_stress_returns
 
     !> The corotational frame of shell e on coordinates x, as the element
