@@ -612,29 +612,51 @@ contains
     subroutine contact_drift(ct, v, dt)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: v(:, :), dt
-        integer :: i, k, n, c
-        real(wp) :: vk, vmax, used, vbar(3)
+        !> the mean velocity's sum in chunks of this many nodes, the chunks'
+        !> sums then in order: the same sum for any number of threads
+        integer, parameter :: chunk = 1024
+        integer :: i, k, n, c, ic, nchunk
+        real(wp) :: vk, vmax, used, vbar(3), s1, s2, s3
+        real(wp), allocatable :: part(:, :)
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (it%surf%nnode == 0) cycle
+                nchunk = (it%surf%nnode + chunk - 1)/chunk
+                allocate (part(3, nchunk))
                 vmax = 0
-                vbar = 0
-                do k = 1, it%surf%nnode
-                    n = it%surf%node(k)
-                    vbar = vbar + v(:, n)
-                    vmax = max(vmax, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
+                !$omp parallel do schedule(static) private(k, n, s1, s2, s3) reduction(max:vmax)
+                do ic = 1, nchunk
+                    s1 = 0; s2 = 0; s3 = 0
+                    do k = (ic - 1)*chunk + 1, min(ic*chunk, it%surf%nnode)
+                        n = it%surf%node(k)
+                        s1 = s1 + v(1, n)
+                        s2 = s2 + v(2, n)
+                        s3 = s3 + v(3, n)
+                        vmax = max(vmax, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
+                    end do
+                    part(:, ic) = [s1, s2, s3]
                 end do
+                !$omp end parallel do
+                vbar = 0
+                do ic = 1, nchunk
+                    vbar = vbar + part(:, ic)
+                end do
+                deallocate (part)
                 vbar = vbar/it%surf%nnode
+                !$omp parallel do schedule(static) private(n, vk)
                 do k = 1, it%surf%nnode
                     n = it%surf%node(k)
                     vk = sqrt((v(1, n) - vbar(1))**2 + (v(2, n) - vbar(2))**2 + (v(3, n) - vbar(3))**2)
                     it%un(k) = it%un(k) + dt*vk
                 end do
+                !$omp end parallel do
                 do c = 1, size(it%cmin)
                     used = 0
+                    !$omp parallel do schedule(static) reduction(max:used)
                     do k = 1, it%surf%nnode
                         used = max(used, (it%un(k) - it%uc(k, c))*it%cbud(k, c))
                     end do
+                    !$omp end parallel do
                     it%cused(c) = used
                 end do
                 it%odo = it%odo + dt*sqrt(vmax)
@@ -738,7 +760,7 @@ contains
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%active = time >= it%bt .and. time <= it%dt
                 if (.not. it%active) cycle
-                call gather_nodes(x, v, s%node, it%ls%xl, it%ls%vl)
+                call gather_nodes(x, v, s%node, it%ls%xl, it%ls%vl, v2)
                 ! Lagrangian projection: pairs that one step's approach (two
                 ! nodes at the largest speed) could close are found before
                 ! they touch, so that none penetrates (section 6)
@@ -746,7 +768,6 @@ contains
                 ! (a node at the largest speed against a segment at it: dt
                 ! v_max) are found too, so that the spring's onset is swept
                 ! over the step (penalty_force)
-                v2 = maxval(sum(it%ls%vl**2, 1))
                 if (ct%lagrange) then
                     it%ls%lead = 2.0_wp*dt*sqrt(v2)
                 else
@@ -767,12 +788,16 @@ contains
         end do
     end subroutine contact_local_search
 
-    !> The surface's coordinates and velocities (nodes `node` of x and v).
-    pure subroutine gather_nodes(x, v, node, xl, vl)
+    !> The surface's coordinates and velocities (nodes `node` of x and v),
+    !> and the largest speed squared (threaded: a maximum is the same in
+    !> any order).
+    subroutine gather_nodes(x, v, node, xl, vl, v2)
         real(wp), intent(in) :: x(:, :), v(:, :)
         integer, intent(in) :: node(:)
-        real(wp), intent(out) :: xl(:, :), vl(:, :)
+        real(wp), intent(out) :: xl(:, :), vl(:, :), v2
         integer :: k, n
+        v2 = 0
+        !$omp parallel do schedule(static) private(n) reduction(max:v2)
         do k = 1, size(node)
             n = node(k)
             xl(1, k) = x(1, n)
@@ -781,7 +806,9 @@ contains
             vl(1, k) = v(1, n)
             vl(2, k) = v(2, n)
             vl(3, k) = v(3, n)
+            v2 = max(v2, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
         end do
+        !$omp end parallel do
     end subroutine gather_nodes
 
     !> The local search of every slave, threaded: a slave's search reads the
@@ -892,7 +919,11 @@ contains
         real(wp) :: vrel(3), fs(3)
         real(dp) :: t0
         logical :: first
-        ct%fnode = 0
+        !$omp parallel do schedule(static)
+        do k = 1, size(ct%fnode, 2)
+            ct%fnode(:, k) = 0
+        end do
+        !$omp end parallel do
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%npair = 0

@@ -10,6 +10,7 @@ module xd_elements_shell_bt
     use xd_core_memory, only: alloc, alloc_dp
     use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid, hg_bounded
     use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
+    !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private
     public :: shells_t, build_shells, shell_forces, shell_masses, shell_axes, shell_blocks, point_weight, point_z
@@ -69,6 +70,13 @@ module xd_elements_shell_bt
         !> at most nblk each (shell_blocks, whenever mine changes), so that
         !> a block's element data are read at unit stride
         integer, allocatable :: bfirst(:), bcount(:)
+        !> the blocks' parts, one a thread (shell_blocks): blocks pfirst(p)
+        !> .. plast(p), runs of mine of nearly equal length. A node whose
+        !> shells all lie in one part is that part's (direct(k, e): node k
+        !> of shell e is), and its thread adds their forces to it directly;
+        !> the others, `shared`, take theirs through the slots
+        integer, allocatable :: pfirst(:), plast(:), shared(:)
+        logical, allocatable :: direct(:, :)
         ! failure and erosion
         integer, allocatable :: mix(:)        !< material index
         integer, allocatable :: model_ix(:)   !< index in the model's shell list
@@ -173,8 +181,10 @@ contains
                     [(model%mat(model%part(model%shell_part(e))%mat_ix)%mtype /= mat_rigid, e=1, model%nshell)])
         sh%n = size(keep)
         sh%mine = [(e, e=1, sh%n)]
-        call shell_blocks(sh)
-        if (sh%n == 0) return
+        if (sh%n == 0) then
+            call shell_blocks(sh)
+            return
+        end if
         sh%thickness_update = model%ctl%istupd /= 0
         sh%isdo = model%ctl%isdo
         allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%e(sh%n), sh%nu(sh%n), &
@@ -249,6 +259,7 @@ contains
             end if
             sh%hg_bound(e) = hg_bounded(model, p)
         end do
+        call shell_blocks(sh)
         sh%ge = sh%e/(2*(1 + sh%nu))
         sh%qe = sh%e/(1 - sh%nu**2)
         sh%nuf = sh%nu/(1 - sh%nu)
@@ -322,41 +333,87 @@ contains
     end subroutine flow_stress
 
     !> The element loop's blocks from sh%mine (ascending): each a run of
-    !> consecutive element numbers, at most nblk long.
+    !> consecutive element numbers, at most nblk long, within one of the
+    !> parts (one a thread: runs of mine of nearly equal length); then the
+    !> nodes each part holds alone (direct) and those it shares (shared).
     subroutine shell_blocks(sh)
         type(shells_t), intent(inout) :: sh
-        integer :: i, nbk
-        integer :: first(size(sh%mine)), count(size(sh%mine))
+        integer :: i, nbk, p, np, i0, i1, ib, l, k, e, nd, nnode
+        integer :: first(size(sh%mine) + 1), count(size(sh%mine) + 1)
+        integer, allocatable :: owner(:)
+        np = 1
+        !$ np = omp_get_max_threads()
+        np = max(1, min(np, size(sh%mine)))
+        if (allocated(sh%pfirst)) deallocate (sh%pfirst, sh%plast)
+        allocate (sh%pfirst(np), sh%plast(np))
         nbk = 0
-        do i = 1, size(sh%mine)
-            if (nbk > 0) then
-                if (sh%mine(i) == first(nbk) + count(nbk) .and. count(nbk) < nblk) then
-                    count(nbk) = count(nbk) + 1
-                    cycle
+        do p = 1, np
+            i0 = int((int(p - 1, 8)*size(sh%mine))/np) + 1
+            i1 = int((int(p, 8)*size(sh%mine))/np)
+            sh%pfirst(p) = nbk + 1
+            do i = i0, i1
+                if (nbk >= sh%pfirst(p)) then
+                    if (sh%mine(i) == first(nbk) + count(nbk) .and. count(nbk) < nblk) then
+                        count(nbk) = count(nbk) + 1
+                        cycle
+                    end if
                 end if
-            end if
-            nbk = nbk + 1
-            first(nbk) = sh%mine(i)
-            count(nbk) = 1
+                nbk = nbk + 1
+                first(nbk) = sh%mine(i)
+                count(nbk) = 1
+            end do
+            sh%plast(p) = nbk
         end do
         sh%bfirst = first(1:nbk)
         sh%bcount = count(1:nbk)
+        ! each node's part: 0 none yet, -1 shared by two or more
+        nnode = 0
+        if (sh%n > 0) nnode = maxval(sh%conn)
+        allocate (owner(nnode))
+        owner = 0
+        do p = 1, np
+            do ib = sh%pfirst(p), sh%plast(p)
+                do l = 1, sh%bcount(ib)
+                    e = sh%bfirst(ib) + l - 1
+                    do k = 1, 4
+                        nd = sh%conn(k, e)
+                        if (owner(nd) == 0) then
+                            owner(nd) = p
+                        else if (owner(nd) /= p) then
+                            owner(nd) = -1
+                        end if
+                    end do
+                end do
+            end do
+        end do
+        if (.not. allocated(sh%direct)) allocate (sh%direct(4, sh%n))
+        sh%direct = .false.
+        do p = 1, np
+            do ib = sh%pfirst(p), sh%plast(p)
+                do l = 1, sh%bcount(ib)
+                    e = sh%bfirst(ib) + l - 1
+                    sh%direct(:, e) = owner(sh%conn(:, e)) > 0
+                end do
+            end do
+        end do
+        sh%shared = pack([(nd, nd=1, nnode)], owner < 0)
     end subroutine shell_blocks
 
     !> Forces and moments of every shell at x(n) with v(n-1/2), w(n-1/2).
     !> Threaded over elements: each writes only its own slots and state; the
     !> smallest step and the first bad element are combined by element
     !> number, so the result does not depend on the threads. With f and m
-    !> (one thread, the caller's promise) the forces and moments are added
-    !> to them directly, in the order the assembly sums the slots (element
-    !> by element, node by node: the same sums bit for bit), and the slots
-    !> are left as they are.
+    !> (one rank) the forces and moments on the nodes a thread's part holds
+    !> alone are added to them directly, in the order the assembly sums the
+    !> slots (element by element, node by node: the same sums bit for bit),
+    !> and those on the shared nodes go to the slots, for the caller to sum
+    !> (assemble over sh%shared, adding to f).
     subroutine shell_forces(sh, x, v, w, dt, dt_avg_prev, f, m)
         type(shells_t), intent(inout) :: sh
         real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
         real(dp), intent(in) :: dt_avg_prev
         real(wp), intent(inout), optional :: f(:, :), m(:, :)
-        integer :: e, ib, l, nb, e0, tcrit, tbad
+        integer :: e, ib, p, l, nb, e0, tcrit, tbad
         real(wp) :: dte, tmin, dtb(nblk), fs(nblk, 3, 4), ms(nblk, 3, 4)
         real(wp) :: vg(nblk, 3, 4), wg(nblk, 3, 4)
         type(block_geom_t) :: gm, gn
@@ -364,12 +421,15 @@ contains
         sh%crit = 0
         sh%bad = 0
         if (sh%tsmin > 0.0_wp) sh%low = .false.
-        !$omp parallel default(shared) private(e, ib, l, nb, e0, gm, gn, dte, dtb, fs, ms, vg, wg, tmin, tcrit, tbad)
+        !$omp parallel default(shared) private(e, ib, p, l, nb, e0, gm, gn, dte, dtb, fs, ms, vg, wg, tmin, tcrit, tbad)
         tmin = huge(1.0_wp)
         tcrit = 0
         tbad = 0
-        !$omp do schedule(static)
-        do ib = 1, size(sh%bfirst)
+        ! a part a thread (with fewer threads, one takes several: each
+        ! part's own nodes are still written by one thread alone)
+        !$omp do schedule(static, 1)
+        do p = 1, size(sh%pfirst)
+        do ib = sh%pfirst(p), sh%plast(p)
             e0 = sh%bfirst(ib) - 1
             nb = sh%bcount(ib)
             ! the rates on the mid-step geometry, the forces on x(n)
@@ -408,6 +468,7 @@ contains
                     tcrit = e
                 end if
             end do
+        end do
         end do
         !$omp end do
         !$omp critical (shell_step)
@@ -747,26 +808,55 @@ contains
         end do
     end subroutine block_slots
 
-    !> The block's forces and moments added to the nodes' f and m, element
-    !> by element and node by node: the order in which the assembly sums the
-    !> slots (one thread only).
+    !> The block's forces and moments added to the nodes' f and m where the
+    !> block's part holds the node alone (direct), element by element and
+    !> node by node: the order in which the assembly sums the slots; into
+    !> the slots for the shared nodes, which the assembly sums after the
+    !> pass (the same sums, bit for bit, for any number of threads).
     subroutine block_add(sh, e0, nb, dte, fs, ms, f, m)
-        type(shells_t), intent(in) :: sh
+        type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
         real(wp), intent(in) :: dte(:), fs(nblk, 3, 4), ms(nblk, 3, 4)
         real(wp), intent(inout) :: f(:, :), m(:, :)
-        integer :: l, k, nd
+        integer :: l, k, nd, e, j
+        real(wp) :: on
         do l = 1, nb
-            if (.not. (dte(l) > 0.0_wp)) cycle
-            do k = 1, 4
-                nd = sh%conn(k, e0 + l)
-                f(1, nd) = f(1, nd) + fs(l, 1, k)
-                f(2, nd) = f(2, nd) + fs(l, 2, k)
-                f(3, nd) = f(3, nd) + fs(l, 3, k)
-                m(1, nd) = m(1, nd) + ms(l, 1, k)
-                m(2, nd) = m(2, nd) + ms(l, 2, k)
-                m(3, nd) = m(3, nd) + ms(l, 3, k)
-            end do
+            e = e0 + l
+            if (all(sh%direct(:, e))) then
+                if (.not. (dte(l) > 0.0_wp)) cycle
+                do k = 1, 4
+                    nd = sh%conn(k, e)
+                    f(1, nd) = f(1, nd) + fs(l, 1, k)
+                    f(2, nd) = f(2, nd) + fs(l, 2, k)
+                    f(3, nd) = f(3, nd) + fs(l, 3, k)
+                    m(1, nd) = m(1, nd) + ms(l, 1, k)
+                    m(2, nd) = m(2, nd) + ms(l, 2, k)
+                    m(3, nd) = m(3, nd) + ms(l, 3, k)
+                end do
+            else
+                ! (an element collapsed or inverted: zeros in its slots,
+                ! as block_slots writes)
+                on = merge(1.0_wp, 0.0_wp, dte(l) > 0.0_wp)
+                do k = 1, 4
+                    nd = sh%conn(k, e)
+                    if (sh%direct(k, e)) then
+                        if (on == 0.0_wp) cycle
+                        f(1, nd) = f(1, nd) + fs(l, 1, k)
+                        f(2, nd) = f(2, nd) + fs(l, 2, k)
+                        f(3, nd) = f(3, nd) + fs(l, 3, k)
+                        m(1, nd) = m(1, nd) + ms(l, 1, k)
+                        m(2, nd) = m(2, nd) + ms(l, 2, k)
+                        m(3, nd) = m(3, nd) + ms(l, 3, k)
+                    else
+                        j = 4*(e - 1) + k
+                        sh%fslot(:, j) = 0
+                        sh%mslot(:, j) = 0
+                        if (on == 0.0_wp) cycle
+                        sh%fslot(:, j) = fs(l, :, k)
+                        sh%mslot(:, j) = ms(l, :, k)
+                    end if
+                end do
+            end if
         end do
     end subroutine block_add
 

@@ -4,7 +4,6 @@
 module xd_solver_time_loop
     use, intrinsic :: iso_fortran_env, only: output_unit
     use xd_kinds, only: wp, dp
-    !$ use omp_lib, only: omp_get_max_threads
     use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run, exit_signal
     use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid, &
@@ -119,15 +118,15 @@ contains
         character(len=:), allocatable :: switch_text, tie_events
         integer :: beam_crit                   !< the beam that set the step (0: none)
         real(wp) :: dtc_pass                   !< the beams' step, combined after the element pass
-        !> one thread, one rank: the shells add their forces to the nodes
-        !> directly, in the order the assembly sums their slots (the same
-        !> sums, without writing and reading the slots)
+        !> one rank: the shells add their forces to the nodes each thread's
+        !> part holds alone directly, in the order the assembly sums their
+        !> slots (the same sums, without writing and reading the slots); the
+        !> nodes the parts share are summed from the slots after the pass
         logical :: shells_direct
         real(wp) :: ri, on                    !< the rotations' update, per node
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
         shells_direct = sh%n > 0 .and. .not. dom%on
-        !$ shells_direct = shells_direct .and. omp_get_max_threads() == 1
         ke_fix = 0
         no_body = .false.
         if (st%rot) allocate (vrminus(3, st%nnode))
@@ -516,14 +515,19 @@ contains
                 call tm%start(ph_assembly)
                 if (solids%n > 0) then
                     call assemble(asm, solids%fslot, st%f)
+                    call zero_nodes(st%mom)
                 else
-                    st%f = 0
+                    call zero_nodes(st%f, st%mom)
                 end if
-                st%mom = 0
                 call tm%stop(ph_assembly)
                 call tm%start(ph_elements)
                 call shell_forces(sh, st%x, st%v, st%vr, dt, dt_avg_prev, st%f, st%mom)
                 call tm%stop(ph_elements)
+                if (size(sh%shared) > 0) then
+                    call tm%start(ph_assembly)
+                    call assemble(asm_sh, sh%fslot, st%f, add=.true., nodes=sh%shared, mslot=sh%mslot, m=st%mom)
+                    call tm%stop(ph_assembly)
+                end if
             else if (sh%n > 0) then
                 call tm%start(ph_elements)
                 call shell_forces(sh, st%x, st%v, st%vr, dt, dt_avg_prev)
@@ -594,6 +598,19 @@ contains
             end if
             call beams()
         end subroutine element_pass
+
+        !> Zeros in the nodes' a (and b), threaded.
+        subroutine zero_nodes(a, b)
+            real(wp), intent(inout) :: a(:, :)
+            real(wp), intent(inout), optional :: b(:, :)
+            integer :: i
+            !$omp parallel do schedule(static)
+            do i = 1, size(a, 2)
+                a(:, i) = 0
+                if (present(b)) b(:, i) = 0
+            end do
+            !$omp end parallel do
+        end subroutine zero_nodes
 
         !> The beams, on every rank alike, added to the shared forces; their
         !> step joins the elements'.
