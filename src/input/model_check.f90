@@ -164,15 +164,13 @@ contains
         type(error_t), allocatable, intent(out) :: error
         integer :: e, k, nid, kind, nwedge, ntet
         real(wp) :: xe(8, 3), b(8, 3), vol, cj(8)
-        character(len=:), allocatable :: at
         allocate (model%hex_part(model%nhex))
         nwedge = 0
         ntet = 0
         do e = 1, model%nhex
-            at = ctx%src%where(model%hex_src(e))//': *ELEMENT_SOLID '//itoa(model%hex_id(e))
             model%hex_part(e) = maps%part%find(model%hex_pid(e))
             if (model%hex_part(e) == 0) then
-                call make_error(error, at//' field PID: part '//itoa(model%hex_pid(e))//' is not defined')
+                call make_error(error, at()//' field PID: part '//itoa(model%hex_pid(e))//' is not defined')
                 return
             end if
             associate (mt => model%mat(model%part(model%hex_part(e))%mat_ix))
@@ -184,20 +182,20 @@ contains
                 end if
             end associate
             if (model%part(model%hex_part(e))%sec_ix == 0) then
-                call make_error(error, at//' field PID: part '//itoa(model%hex_pid(e))//' has a shell section')
+                call make_error(error, at()//' field PID: part '//itoa(model%hex_pid(e))//' has a shell section')
                 return
             end if
             do k = 1, 8
                 nid = model%hex_conn(k, e)
                 model%hex_conn(k, e) = maps%node%find(nid)
                 if (model%hex_conn(k, e) == 0) then
-                    call make_error(error, at//' field N'//itoa(k)//': node '//itoa(nid)//' is not defined')
+                    call make_error(error, at()//' field N'//itoa(k)//': node '//itoa(nid)//' is not defined')
                     return
                 end if
             end do
             kind = hex_shape_kind(model%hex_conn(:, e))
             if (kind == hex_bad) then
-                call make_error(error, at//' is degenerate: repeated nodes other than the wedge '// &
+                call make_error(error, at()//' is degenerate: repeated nodes other than the wedge '// &
                                 '(N5=N6, N7=N8) or tetrahedron (N4=...=N8) patterns')
                 return
             end if
@@ -208,14 +206,14 @@ contains
             end do
             call hex_volume_operator(xe, b, vol)
             if (.not. (vol > 0.0_wp)) then
-                call make_error(error, at//' is inverted (volume '//trim(rtoa_short(vol))// &
+                call make_error(error, at()//' is inverted (volume '//trim(rtoa_short(vol))// &
                                 '): number its nodes counter-clockwise seen from outside the N1-N4 face')
                 return
             end if
             if (kind == hex_regular) then
                 call hex_corner_jacobians(xe, cj)
                 if (any(cj <= 0.0_wp)) then
-                    call make_error(error, at//' is distorted: its corner at node '// &
+                    call make_error(error, at()//' is distorted: its corner at node '// &
                                     itoa(model%node_id(model%hex_conn(minloc(cj, 1), e)))// &
                                     ' is inverted (non-positive corner Jacobian)')
                     return
@@ -226,6 +224,13 @@ contains
                                          '(treated as one-point hexahedra)')
         if (ntet > 0) call add_warning(model, itoa(ntet)//' solid elements are degenerate tetrahedra '// &
                                        '(treated as one-point hexahedra)')
+    contains
+        !> where element e is (made only for a message: one string per
+        !> element had been a tenth of a large deck's set-up)
+        function at() result(w)
+            character(len=:), allocatable :: w
+            w = ctx%src%where(model%hex_src(e))//': *ELEMENT_SOLID '//itoa(model%hex_id(e))
+        end function at
     end subroutine check_hexes
 
     !> Shell elements: parts with shell sections, nodes, thickness, area.
@@ -236,32 +241,30 @@ contains
         type(error_t), allocatable, intent(out) :: error
         integer :: e, k, nid, p
         real(wp) :: an(3), d1(3), d2(3)
-        character(len=:), allocatable :: at
         if (model%nshell == 0) return
         allocate (model%shell_part(model%nshell))
         do e = 1, model%nshell
-            at = ctx%src%where(model%shell_src(e))//': *ELEMENT_SHELL '//itoa(model%shell_id(e))
             p = maps%part%find(model%shell_pid(e))
             model%shell_part(e) = p
             if (p == 0) then
-                call make_error(error, at//' field PID: part '//itoa(model%shell_pid(e))//' is not defined')
+                call make_error(error, at()//' field PID: part '//itoa(model%shell_pid(e))//' is not defined')
                 return
             end if
             if (model%part(p)%shell_sec_ix == 0) then
-                call make_error(error, at//' field PID: part '//itoa(model%shell_pid(e))//' has no shell section')
+                call make_error(error, at()//' field PID: part '//itoa(model%shell_pid(e))//' has no shell section')
                 return
             end if
             do k = 1, 4
                 nid = model%shell_conn(k, e)
                 model%shell_conn(k, e) = maps%node%find(nid)
                 if (model%shell_conn(k, e) == 0) then
-                    call make_error(error, at//' field N'//itoa(k)//': node '//itoa(nid)//' is not defined')
+                    call make_error(error, at()//' field N'//itoa(k)//': node '//itoa(nid)//' is not defined')
                     return
                 end if
             end do
             where (model%shell_t(:, e) <= 0.0_wp) model%shell_t(:, e) = model%sec_shell(model%part(p)%shell_sec_ix)%t
             if (any(model%shell_t(:, e) <= 0.0_wp) .and. model%mat(model%part(p)%mat_ix)%mtype /= mat_rigid) then
-                call make_error(error, at//': zero thickness at a node (neither the element nor section '// &
+                call make_error(error, at()//': zero thickness at a node (neither the element nor section '// &
                                 itoa(model%part(p)%secid)//' of part '//itoa(model%part(p)%id)// &
                                 ' gives one); a deformable shell needs a positive thickness')
                 return
@@ -272,10 +275,17 @@ contains
                 d2 = model%x0(:, model%shell_conn(3, e)) - model%x0(:, model%shell_conn(2, e))
             an = [d1(2)*d2(3) - d1(3)*d2(2), d1(3)*d2(1) - d1(1)*d2(3), d1(1)*d2(2) - d1(2)*d2(1)]
             if (.not. (norm2(an) > 0.0_wp)) then
-                call make_error(error, at//' is degenerate (zero area)')
+                call make_error(error, at()//' is degenerate (zero area)')
                 return
             end if
         end do
+    contains
+        !> where element e is (made only for a message: one string per
+        !> element had been a tenth of a large deck's set-up)
+        function at() result(w)
+            character(len=:), allocatable :: w
+            w = ctx%src%where(model%shell_src(e))//': *ELEMENT_SHELL '//itoa(model%shell_id(e))
+        end function at
     end subroutine check_shells
 
     !> *ELEMENT_BEAM: parts with a beam section and an elastic material (the
@@ -288,21 +298,19 @@ contains
         type(error_t), allocatable, intent(out) :: error
         integer :: e, k, p, nid
         real(wp) :: d1(3), d3(3)
-        character(len=:), allocatable :: at
         integer, allocatable :: warned(:)
         if (model%nbeam == 0) return
         allocate (warned(0))
         allocate (model%beam_part(model%nbeam))
         do e = 1, model%nbeam
-            at = ctx%src%where(model%beam_src(e))//': *ELEMENT_BEAM '//itoa(model%beam_id(e))
             p = maps%part%find(model%beam_pid(e))
             model%beam_part(e) = p
             if (p == 0) then
-                call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//' is not defined')
+                call make_error(error, at()//' field PID: part '//itoa(model%beam_pid(e))//' is not defined')
                 return
             end if
             if (model%part(p)%beam_sec_ix == 0) then
-                call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//' has no beam section')
+                call make_error(error, at()//' field PID: part '//itoa(model%beam_pid(e))//' has no beam section')
                 return
             end if
             select case (model%mat(model%part(p)%mat_ix)%mtype)
@@ -310,19 +318,19 @@ contains
             case (mat_plastic_kinematic, mat_piecewise_linear)
                 if (.not. any(warned == p)) then
                     warned = [warned, p]
-                    call add_warning(model, at//': part '//itoa(model%beam_pid(e))//': a plastic beam is perfectly '// &
+                    call add_warning(model, at()//': part '//itoa(model%beam_pid(e))//': a plastic beam is perfectly '// &
                                      'plastic in its resultants (the section''s fully plastic axial force, torque '// &
                                      'and moments at the initial yield stress); hardening (ETAN, the curve) is not '// &
                                      'used for beams')
                 end if
                 if (model%sec_beam(model%part(p)%beam_sec_ix)%elform /= 1) then
-                    call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//': a plastic beam needs '// &
+                    call make_error(error, at()//' field PID: part '//itoa(model%beam_pid(e))//': a plastic beam needs '// &
                                     'the section''s dimensions (ELFORM 1) for its plastic resultants; ELFORM 2 and 9 '// &
                                     'take an elastic material in xdyna')
                     return
                 end if
             case default
-                call make_error(error, at//' field PID: part '//itoa(model%beam_pid(e))//': beams take *MAT_ELASTIC, '// &
+                call make_error(error, at()//' field PID: part '//itoa(model%beam_pid(e))//': beams take *MAT_ELASTIC, '// &
                                 '*MAT_SPOTWELD, or (ELFORM 1) *MAT_003 / *MAT_024 in xdyna; rigid beams are not in xdyna')
                 return
             end select
@@ -331,25 +339,32 @@ contains
                 if (k == 3 .and. nid == 0) cycle
                 model%beam_conn(k, e) = maps%node%find(nid)
                 if (model%beam_conn(k, e) == 0) then
-                    call make_error(error, at//' field N'//itoa(k)//': node '//itoa(nid)//' is not defined')
+                    call make_error(error, at()//' field N'//itoa(k)//': node '//itoa(nid)//' is not defined')
                     return
                 end if
             end do
             d1 = model%x0(:, model%beam_conn(2, e)) - model%x0(:, model%beam_conn(1, e))
             if (.not. (norm2(d1) > 0.0_wp)) then
-                call make_error(error, at//' has zero length (N1 and N2 coincide)')
+                call make_error(error, at()//' has zero length (N1 and N2 coincide)')
                 return
             end if
             if (model%beam_conn(3, e) > 0) then
                 d3 = model%x0(:, model%beam_conn(3, e)) - model%x0(:, model%beam_conn(1, e))
                 if (norm2([d1(2)*d3(3) - d1(3)*d3(2), d1(3)*d3(1) - d1(1)*d3(3), d1(1)*d3(2) - d1(2)*d3(1)]) <= &
                     1.0e-6_wp*norm2(d1)*norm2(d3)) then
-                    call make_error(error, at//' field N3: the orientation node '// &
+                    call make_error(error, at()//' field N3: the orientation node '// &
                                     itoa(model%node_id(model%beam_conn(3, e)))//' lies on the beam''s axis')
                     return
                 end if
             end if
         end do
+    contains
+        !> where element e is (made only for a message: one string per
+        !> element had been a tenth of a large deck's set-up)
+        function at() result(w)
+            character(len=:), allocatable :: w
+            w = ctx%src%where(model%beam_src(e))//': *ELEMENT_BEAM '//itoa(model%beam_id(e))
+        end function at
     end subroutine check_beams
 
     !> *DEFINE_COORDINATE_...: the axes (from the nodes' positions at t = 0
