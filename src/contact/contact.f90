@@ -538,7 +538,7 @@ contains
                     allocate (it%ls%lcodo(it%surf%nnode))
                     it%ls%lcodo = 0
                 end if
-                it%xl = x(:, it%surf%node)
+                call gather_x(x, it%surf%node, it%xl)
                 todo = it%owned .and. due(it%cls)
                 ! (the characteristic lengths taken there, of the nodes bucketed)
                 call build_master_lists(it%surf, it%xl, it%ls%lc, it%reach, it%dl, ct%mnl, it%lists, cnt, todo, &
@@ -787,6 +787,19 @@ contains
             end associate
         end do
     end subroutine contact_local_search
+
+    !> The surface's coordinates (nodes `node` of x), threaded.
+    subroutine gather_x(x, node, xl)
+        real(wp), intent(in) :: x(:, :)
+        integer, intent(in) :: node(:)
+        real(wp), intent(out) :: xl(:, :)
+        integer :: k
+        !$omp parallel do schedule(static)
+        do k = 1, size(node)
+            xl(:, k) = x(:, node(k))
+        end do
+        !$omp end parallel do
+    end subroutine gather_x
 
     !> The surface's coordinates and velocities (nodes `node` of x and v),
     !> and the largest speed squared (threaded: a maximum is the same in

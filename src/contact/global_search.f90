@@ -255,15 +255,26 @@ contains
         type(surface_t), intent(in) :: s
         real(wp), intent(in) :: xl(:, :)
         real(wp), intent(out) :: lc(:)
-        integer :: m, k
-        real(wp) :: dmin, dmax
-        lc = 0
+        integer :: m, k, i
+        real(wp) :: dmin
+        real(wp), allocatable :: dmax(:)
+        allocate (dmax(s%nseg))
+        ! (each segment's, then each node's largest over its segments:
+        ! threaded, a maximum is the same in any order)
+        !$omp parallel do schedule(static) private(dmin)
         do m = 1, s%nseg
-            call segment_diagonals(xl(:, s%seg(:, m)), dmin, dmax)
-            do k = 1, 4
-                lc(s%seg(k, m)) = max(lc(s%seg(k, m)), dmax)
+            call segment_diagonals(xl(:, s%seg(:, m)), dmin, dmax(m))
+        end do
+        !$omp end parallel do
+        !$omp parallel do schedule(static) private(k)
+        do i = 1, size(lc)
+            lc(i) = 0
+            if (i > s%nnode) cycle
+            do k = s%seg_ptr(i), s%seg_ptr(i + 1) - 1
+                lc(i) = max(lc(i), dmax(s%seg_list(k)))
             end do
         end do
+        !$omp end parallel do
     end subroutine characteristic_lengths
 
     !> Three nested one-dimensional bucket sorts (Benson & Hallquist 1990):
@@ -614,7 +625,7 @@ contains
         integer, allocatable :: mnodes(:)
         real(wp), allocatable :: dmax(:)
         real(wp) :: r, dmin
-        integer(i8) :: npool, nred
+        integer(i8) :: npool, nred, nm
 
         allocate (base(s%nnode), master(s%nnode), todo(s%nslave), box(6, s%nseg))
         todo = .true.
@@ -628,9 +639,11 @@ contains
             mnodes = where_true(master)
             ! the bounding box of each segment (the slaves' clearances; their
             ! separating axes are taken where needed, one_slave)
+            !$omp parallel do schedule(static)
             do i = 1, s%nseg
                 call seg_box(i)
             end do
+            !$omp end parallel do
         else
             ! only the master nodes that can lie in a searched slave's pool:
             ! those within the box of the searched slaves grown by the
@@ -685,9 +698,11 @@ contains
         base = lc + reach
         call sort_level_items(xl, mnodes, base, dl, lev)
         cmax = 0
+        !$omp parallel do schedule(static) reduction(max:cmax)
         do i = 1, s%nseg
             cmax = max(cmax, reach_factor(s, i)*s%seg_r(i))
         end do
+        !$omp end parallel do
         nblk = (s%nslave + block_size - 1)/block_size
         allocate (blk(nblk))
         npool = 0
@@ -726,14 +741,17 @@ contains
         if (present(odo)) r = odo
         k = 0
         if (present(stamp)) k = stamp
-        counts%masters = 0
+        nm = 0
+        !$omp parallel do schedule(static) reduction(+:nm)
         do i = 1, s%nslave
             if (.not. todo(i)) cycle
             lists%xg(:, i) = xl(:, s%slave(i))
             lists%og(i) = r
             lists%at(i) = k
-            counts%masters = counts%masters + (lists%last(i) - lists%ptr(i) + 1)
+            nm = nm + (lists%last(i) - lists%ptr(i) + 1)
         end do
+        !$omp end parallel do
+        counts%masters = nm
     contains
         subroutine seg_box(m)
             integer, intent(in) :: m
