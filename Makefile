@@ -32,7 +32,11 @@ else
   ARCH := x86-64-v3
   RTAG := $(SUFFIX)
 endif
-RELEASE_FLAGS := -O3 -g -march=$(ARCH) -funroll-loops -fstack-arrays $(COMMON)
+# -fno-tree-loop-distribute-patterns: short copy and zeroing loops stay
+# loops instead of calls to memcpy and memset (a shell block's gathers of 64
+# values were a call each: 6% of the shell plate's run in perf; the plate
+# and car6 3% faster, the same results bit for bit)
+RELEASE_FLAGS := -O3 -g -march=$(ARCH) -funroll-loops -fstack-arrays -fno-tree-loop-distribute-patterns $(COMMON)
 DEBUG_FLAGS := -O0 -g -fcheck=all,no-array-temps -ffpe-trap=invalid,zero,overflow -finit-real=snan -finit-integer=-77777 \
                -fbacktrace $(COMMON)
 
