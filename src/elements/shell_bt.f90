@@ -928,7 +928,9 @@ contains
         integer :: nip(nblk), l, e, ip, mix, maxnip
         !> every shell of the block has maxnip points; some moves a back
         !> stress; some takes a yield curve
-        logical :: uniform, anyback, anycurve
+        logical :: uniform, anyback, anycurve, anyrated
+        !> the largest excess of a layer's trial over its yield, squared
+        real(wp) :: over
         !> the layer's points that yield without a back stress (their
         !> elements' index in the block), and their rate factors
         integer :: ny, iy(nblk)
@@ -953,6 +955,7 @@ contains
         uniform = all(nip(1:nb) == maxnip)
         anyback = any(sh%backstress(e0 + 1:e0 + nb))
         anycurve = any(sh%ycurve(e0 + 1:e0 + nb))
+        anyrated = any(sh%rated(e0 + 1:e0 + nb))
         do ip = 1, maxnip
             if (uniform) then
                 ! (the common block: one section and law, no branch per
@@ -1017,8 +1020,18 @@ contains
                                   2.0_wp*((t(l, 3) - al(l, 4))**2 + (t(l, 4) - al(l, 5))**2 + (t(l, 5) - al(l, 6))**2))
             end do
             ! the points beyond the yield surface (Cowper-Symonds scales it
-            ! by the rate)
+            ! by the rate); a layer with none, the common case outside a
+            ! crush, is told by a loop that vectorises (the loop below
+            ! branches per element: 3% of the shell plate's run)
+            over = 1
+            if (.not. anyrated) then
+                over = -huge(1.0_wp)
+                do l = 1, nb
+                    over = max(over, xeq2(l) - sy(l)**2)
+                end do
+            end if
             do l = 1, nb
+                if (.not. (over > 0.0_wp)) exit
                 if (ip > nip(l) .or. dt <= 0.0_wp) cycle
                 e = e0 + l
                 if (.not. sh%plastic(e)) cycle
