@@ -976,13 +976,7 @@ contains
                     call gather_contacts(it, ct%nranks)
                     ct%wall_gather = ct%wall_gather + (wtime() - t0)
                 end if
-                do k = 1, s%nslave
-                    if (it%evk(k) /= ev_none) call add_event(it, k, time)
-                    if (.not. it%found(k)) cycle
-                    it%npair = it%npair + 1
-                    it%pair(it%npair) = k
-                    it%fpair(:, it%npair) = it%fk(:, k)
-                end do
+                call list_pairs(it, s%nslave, time)
                 if (ct%lagrange .and. it%npair > 0) call lagrange_projection(s, it%npair, it%pair, it%hit, it%fpair, &
                                                                       it%ls%xl, it%ls%vl, it%fr, f, mass, free, dt, &
                                                                       dt_avg, br)
@@ -1013,6 +1007,52 @@ contains
             end associate
         end do
     end subroutine contact_enforce
+
+    !> The cycle's events booked and its pairs listed, both in slave order:
+    !> the slaves in chunks of a fixed size, each chunk's pairs counted and
+    !> then written at its offset (threaded; the same list for any number
+    !> of threads); the events (rare) one after the other.
+    subroutine list_pairs(it, nslave, time)
+        type(interface_t), intent(inout) :: it
+        integer, intent(in) :: nslave
+        real(dp), intent(in) :: time
+        integer, parameter :: chunk = 4096
+        integer :: nch, c, k, q
+        integer, allocatable :: cnt(:)
+        logical, allocatable :: evc(:)
+        nch = (nslave + chunk - 1)/chunk
+        allocate (cnt(nch + 1), evc(nch))
+        !$omp parallel do schedule(static) private(k)
+        do c = 1, nch
+            cnt(c + 1) = 0
+            evc(c) = .false.
+            do k = (c - 1)*chunk + 1, min(c*chunk, nslave)
+                if (it%found(k)) cnt(c + 1) = cnt(c + 1) + 1
+                if (it%evk(k) /= ev_none) evc(c) = .true.
+            end do
+        end do
+        !$omp end parallel do
+        cnt(1) = 0
+        do c = 1, nch
+            cnt(c + 1) = cnt(c + 1) + cnt(c)
+            if (.not. evc(c)) cycle
+            do k = (c - 1)*chunk + 1, min(c*chunk, nslave)
+                if (it%evk(k) /= ev_none) call add_event(it, k, time)
+            end do
+        end do
+        !$omp parallel do schedule(static) private(k, q)
+        do c = 1, nch
+            q = cnt(c)
+            do k = (c - 1)*chunk + 1, min(c*chunk, nslave)
+                if (.not. it%found(k)) cycle
+                q = q + 1
+                it%pair(q) = k
+                it%fpair(:, q) = it%fk(:, k)
+            end do
+        end do
+        !$omp end parallel do
+        it%npair = cnt(nch + 1)
+    end subroutine list_pairs
 
     !> Steps 3-4 for the pairs of exterior shell edges (AUTOMATIC_GENERAL):
     !> their penalty forces, spread linearly to each edge's two nodes (edge
