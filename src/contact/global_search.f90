@@ -255,7 +255,7 @@ contains
         type(surface_t), intent(in) :: s
         real(wp), intent(in) :: xl(:, :)
         real(wp), intent(out) :: lc(:)
-        integer :: m, k, i
+        integer :: m, i
         real(wp) :: dmin
         real(wp), allocatable :: dmax(:)
         allocate (dmax(s%nseg))
@@ -266,16 +266,26 @@ contains
             call segment_diagonals(xl(:, s%seg(:, m)), dmin, dmax(m))
         end do
         !$omp end parallel do
-        !$omp parallel do schedule(static) private(k)
-        do i = 1, size(lc)
-            lc(i) = 0
-            if (i > s%nnode) cycle
-            do k = s%seg_ptr(i), s%seg_ptr(i + 1) - 1
-                lc(i) = max(lc(i), dmax(s%seg_list(k)))
-            end do
+        lc = 0
+        !$omp parallel do schedule(static)
+        do i = 1, s%nnode
+            lc(i) = node_length(s, dmax, i)
         end do
         !$omp end parallel do
     end subroutine characteristic_lengths
+
+    !> Node i's characteristic length: the largest dmax of its segments (0
+    !> without one).
+    pure real(wp) function node_length(s, dmax, i) result(l)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: dmax(:)
+        integer, intent(in) :: i
+        integer :: k
+        l = 0
+        do k = s%seg_ptr(i), s%seg_ptr(i + 1) - 1
+            l = max(l, dmax(s%seg_list(k)))
+        end do
+    end function node_length
 
     !> Three nested one-dimensional bucket sorts (Benson & Hallquist 1990):
     !> the nodes with active(i) by x slab, each slab by y column, each column
@@ -687,10 +697,7 @@ contains
             end do
             if (present(lcodo)) then
                 do q = 1, size(mnodes)
-                    lc(mnodes(q)) = 0
-                    do k = s%seg_ptr(mnodes(q)), s%seg_ptr(mnodes(q) + 1) - 1
-                        lc(mnodes(q)) = max(lc(mnodes(q)), dmax(s%seg_list(k)))
-                    end do
+                    lc(mnodes(q)) = node_length(s, dmax, mnodes(q))
                     lcodo(mnodes(q)) = odo
                 end do
             end if

@@ -339,8 +339,8 @@ contains
     subroutine shell_blocks(sh)
         type(shells_t), intent(inout) :: sh
         integer :: i, nbk, p, np, i0, i1, ib, l, k, e, nd, nnode
-        integer :: first(size(sh%mine) + 1), count(size(sh%mine) + 1)
-        integer, allocatable :: owner(:)
+        integer, allocatable :: first(:), count(:), owner(:)
+        allocate (first(size(sh%mine)), count(size(sh%mine)))
         np = 1
         !$ np = omp_get_max_threads()
         np = max(1, min(np, size(sh%mine)))
@@ -819,44 +819,31 @@ contains
         real(wp), intent(in) :: dte(:), fs(nblk, 3, 4), ms(nblk, 3, 4)
         real(wp), intent(inout) :: f(:, :), m(:, :)
         integer :: l, k, nd, e, j
-        real(wp) :: on
+        logical :: ok
         do l = 1, nb
             e = e0 + l
-            if (all(sh%direct(:, e))) then
-                if (.not. (dte(l) > 0.0_wp)) cycle
-                do k = 1, 4
-                    nd = sh%conn(k, e)
+            ! (an element collapsed or inverted adds nothing, and leaves
+            ! zeros in its shared nodes' slots, as block_slots writes)
+            ok = dte(l) > 0.0_wp
+            do k = 1, 4
+                nd = sh%conn(k, e)
+                if (sh%direct(k, e)) then
+                    if (.not. ok) cycle
                     f(1, nd) = f(1, nd) + fs(l, 1, k)
                     f(2, nd) = f(2, nd) + fs(l, 2, k)
                     f(3, nd) = f(3, nd) + fs(l, 3, k)
                     m(1, nd) = m(1, nd) + ms(l, 1, k)
                     m(2, nd) = m(2, nd) + ms(l, 2, k)
                     m(3, nd) = m(3, nd) + ms(l, 3, k)
-                end do
-            else
-                ! (an element collapsed or inverted: zeros in its slots,
-                ! as block_slots writes)
-                on = merge(1.0_wp, 0.0_wp, dte(l) > 0.0_wp)
-                do k = 1, 4
-                    nd = sh%conn(k, e)
-                    if (sh%direct(k, e)) then
-                        if (on == 0.0_wp) cycle
-                        f(1, nd) = f(1, nd) + fs(l, 1, k)
-                        f(2, nd) = f(2, nd) + fs(l, 2, k)
-                        f(3, nd) = f(3, nd) + fs(l, 3, k)
-                        m(1, nd) = m(1, nd) + ms(l, 1, k)
-                        m(2, nd) = m(2, nd) + ms(l, 2, k)
-                        m(3, nd) = m(3, nd) + ms(l, 3, k)
-                    else
-                        j = 4*(e - 1) + k
-                        sh%fslot(:, j) = 0
-                        sh%mslot(:, j) = 0
-                        if (on == 0.0_wp) cycle
-                        sh%fslot(:, j) = fs(l, :, k)
-                        sh%mslot(:, j) = ms(l, :, k)
-                    end if
-                end do
-            end if
+                else
+                    j = 4*(e - 1) + k
+                    sh%fslot(:, j) = 0
+                    sh%mslot(:, j) = 0
+                    if (.not. ok) cycle
+                    sh%fslot(:, j) = fs(l, :, k)
+                    sh%mslot(:, j) = ms(l, :, k)
+                end if
+            end do
         end do
     end subroutine block_add
 
@@ -1282,11 +1269,11 @@ contains
     !> same state as the 3-D radial return with s_zz = 0 imposed, at a
     !> fraction of the cost.
     !> The ny points iy(1:ny) of layer ip of a block (elements e0 + iy),
-    !> rate factors fy, taken together, one Newton step of each in turn, so
-    !> that the processor overlaps their chains of divisions and roots (one
-    !> return after the other, each waited on itself: half of the crushing
-    !> tubes' run). t: the trial stresses in, the returned ones out; so the
-    !> stresses before the step; dzz the thickness strain increments.
+    !> rate factors fy, taken together: each Newton step of all of them in
+    !> loops that vectorise (one return after the other, each waited on
+    !> itself, had been half of the crushing tubes' run). t: the trial
+    !> stresses in, the returned ones out; so the stresses before the step;
+    !> dzz the thickness strain increments.
     subroutine plane_stress_returns(sh, e0, ip, ny, iy, fy, nu, so, t, dzz)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e0, ip, ny, iy(:)
