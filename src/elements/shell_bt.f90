@@ -1265,7 +1265,9 @@ contains
     !> form of the plastic multiplier dg: the equal-biaxial mode by
     !> 1/(1 + E dg/(3(1 - nu))), the shear modes (in-plane and transverse) by
     !> 1/(1 + 2 G dg); dg solves 1/2 phi^2 = 1/3 (fac sy(epsp + de))^2 with
-    !> phi^2 = xi.P.xi and de = sqrt(2/3) dg phi (Newton on one scalar). The
+    !> phi^2 = xi.P.xi and de = sqrt(2/3) dg phi (Newton on one scalar, in
+    !> the form 1/phi = 1/(sqrt(2/3) fac sy), from a first step that takes
+    !> both modes' moduli in). The
     !> same state as the 3-D radial return with s_zz = 0 imposed, at a
     !> fraction of the cost.
     !> The ny points iy(1:ny) of layer ip of a block (elements e0 + iy),
@@ -1285,7 +1287,7 @@ contains
         !> 1 while a point iterates, 0 once it has converged (or its
         !> Newton step would climb: f' >= 0)
         real(wp) :: go(nblk)
-        real(wp) :: f, fp, fac, dphi2, dphi, dgn, s1, s2, sold
+        real(wp) :: f, fac, dphi2, dphi, dgn, s1, s2, sold, ce, p1, p2, pq, ip1, ys, gg, gp
         logical :: cur(nblk), anycur
         integer :: j, l, it
         do j = 1, ny
@@ -1321,11 +1323,15 @@ contains
             fac = fy(j)
             f = 0.5_wp*phi2(j) - (fac*sy(j))**2/3.0_wp
             go(j) = 0.5_wp + sign(0.5_wp, abs(f) - tol12*phi2(j))
-            de(j) = (sqrt(1.5_wp)*phi(j) - fac*sy(j))/(1.5_wp*c2(j) + fac*h(j))
-            dg(j) = go(j)*(de(j)/(c23*phi(j)))
-            de(j) = 0
+            ! phi taken as phi_tr / (1 + ce dg), ce the modes' moduli
+            ! weighted by their shares of the trial (exact for one mode, to
+            ! first order in dg for both): the yield condition is then linear
+            ! in ce dg
+            ce = (q1(j)*c1(j) + rr(j)*c2(j))/phi2(j)
+            dg(j) = go(j)*((phi(j) - c23*fac*sy(j))/(c23*fac*sy(j)*ce + c23*c23*fac*h(j)*phi(j)))
         end do
-        ! Newton on f(dg) = phi^2/2 - (fy sy)^2/3, every point in one
+        ! Newton on the root of f(dg) = phi^2/2 - (fy sy)^2/3 (taken on
+        ! G below, converged on f), every point in one
         ! loop that vectorises (no branch: a point that has converged takes
         ! go = 0 and keeps its dg, and its u1, u2 and de come out the same
         ! from the same dg); the layer's points together, so that the
@@ -1335,8 +1341,12 @@ contains
         do it = 2, 40
             if (sum(go(1:ny)) == 0) exit
             do j = 1, ny
-                u1(j) = 1.0_wp/(1.0_wp + c1(j)*dg(j))
-                u2(j) = 1.0_wp/(1.0_wp + c2(j)*dg(j))
+                ! (both factors from one division)
+                p1 = 1.0_wp + c1(j)*dg(j)
+                p2 = 1.0_wp + c2(j)*dg(j)
+                pq = 1.0_wp/(p1*p2)
+                u1(j) = p2*pq
+                u2(j) = p1*pq
                 phi2(j) = q1(j)*u1(j)*u1(j) + rr(j)*u2(j)*u2(j)
                 phi(j) = sqrt(phi2(j))
                 de(j) = c23*dg(j)*phi(j)
@@ -1348,13 +1358,20 @@ contains
                 fac = fy(j)
                 f = 0.5_wp*phi2(j) - (fac*sy(j))**2/3.0_wp
                 dphi2 = -2.0_wp*(q1(j)*c1(j)*u1(j)**3 + rr(j)*c2(j)*u2(j)**3)
-                dphi = dphi2/(2.0_wp*phi(j))
-                fp = 0.5_wp*dphi2 - 2.0_wp/3.0_wp*fac*sy(j)*fac*h(j)*c23*(phi(j) + dg(j)*dphi)
-                ! go stays 1 while |f| > tol12 phi^2 and f' < 0 (the
-                ! signs' factors: a comparison would be a branch; f' = -0
+                ip1 = 1.0_wp/phi(j)
+                dphi = 0.5_wp*dphi2*ip1
+                ys = 1.0_wp/(c23*fac*sy(j))
+                ! Newton on G = 1/phi - 1/(c23 fy sy), nearly linear in dg
+                ! (1/phi is linear in it where one family of modes carries
+                ! the stress): three steps where f's took four. G' > 0
+                ! where f' < 0
+                gg = ip1 - ys
+                gp = -dphi*ip1*ip1 + ys*ys*c23*fac*h(j)*c23*(phi(j) + dg(j)*dphi)
+                ! go stays 1 while |f| > tol12 phi^2 and G' > 0 (the
+                ! signs' factors: a comparison would be a branch; G' = +0
                 ! stops too)
-                go(j) = go(j)*(0.5_wp + sign(0.5_wp, abs(f) - tol12*phi2(j)))*(0.5_wp - sign(0.5_wp, fp + tiny(1.0_wp)))
-                dgn = max(dg(j) - f/min(fp, -tiny(1.0_wp)), 0.5_wp*dg(j))
+                go(j) = go(j)*(0.5_wp + sign(0.5_wp, abs(f) - tol12*phi2(j)))*(0.5_wp + sign(0.5_wp, gp - tiny(1.0_wp)))
+                dgn = max(dg(j) - gg/max(gp, tiny(1.0_wp)), 0.5_wp*dg(j))
                 dg(j) = go(j)*dgn + (1.0_wp - go(j))*dg(j)
             end do
         end do
