@@ -3340,6 +3340,48 @@ def test_cli():
     record("parts=0 is an input error (exit 1)", p.returncode == 1 and "parts=0" in p.stderr)
 
 
+def test_part_sizes():
+    """What each rank would hold with its own nodes and a halo (issue 32,
+    `--check parts=N`), on a plate whose answer is counted by hand: 40 x 40
+    shells of 2 mm, 41 x 41 nodes, cut by coordinate bisection into four
+    quadrants of 20 x 20 shells. Each quadrant touches 21 x 21 = 441 nodes.
+    The halo, summed over the ranks, counts each node once for each rank
+    beyond its assembler that touches it: the 80 nodes of the cross but the
+    centre, touched by two ranks, and the centre, by four: 80 + 3 = 83. A
+    rank exchanges with the assembler of each node it touches and with
+    each rank touching a node it assembles: the four pairs across the cuts
+    and the diagonal pair through the centre's assembler (the other
+    diagonal pair shares nothing else): 2 or 3 a rank, 10 in all. With
+    single-surface contact each rank's ghosts are the other ranks'
+    segments along its two cuts and the diagonal's corner (20 + 20 + 1 =
+    41), the pool margin and the reach (0.7 + 1 mm) being below a shell's
+    width (2 mm); their nodes beyond the cuts, the row along each and the
+    corner (21 + 21 + 1 = 43). Exact counts: no tolerance."""
+    here = os.path.join(TMP, "part_sizes")
+    os.makedirs(here, exist_ok=True)
+    n = 41
+    nodes, elems = shell_grid(n, 1, 1, 0)
+    lines = ["*KEYWORD", "*TITLE", "plate for the partition's sizes", "*CONTROL_TERMINATION", "  1.0e-5",
+             "*SECTION_SHELL", "         1         2         1         2", "     0.001     0.001     0.001     0.001",
+             "*MAT_ELASTIC", "         1      7850 2.000e+11       0.3", "*PART", "plate", "         1         1         1",
+             "*CONTACT_AUTOMATIC_SINGLE_SURFACE", "         0", "0.0", "0.0", "*NODE"] + nodes + ["*ELEMENT_SHELL"] + elems
+    lines.append("*END")
+    deck = write_lines(os.path.join(here, "plate.k"), lines)
+    p = run([XDYNA, "--check", "i=" + deck, "parts=4"], cwd=here)
+    rows = re.findall(r"^\s+(\d)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+([0-9.]+)$", p.stdout, re.M)
+    m = re.search(r"halo nodes over all ranks (\d+)", p.stdout)
+    ok = p.returncode == 0 and len(rows) == 4 and m is not None
+    got = ""
+    if ok:
+        v = [[int(x) for x in r[:8]] for r in rows]
+        got = (f"shells {[r[2] for r in v]}, nodes {[r[3] for r in v]}, halo {int(m.group(1))}, neighbours "
+               f"{[r[5] for r in v]}, ghost segments {[r[6] for r in v]}, ghost nodes {[r[7] for r in v]}")
+        ok = (all(r[1] == 0 and r[2] == 400 and r[3] == 441 and r[5] in (2, 3) and r[6] == 41 and r[7] == 43
+                  for r in v) and int(m.group(1)) == 83 and sum(r[5] for r in v) == 10)
+    record(f"--check parts=4: a 40 x 40 plate's quadrants hold 400 shells and 441 nodes each, the halo 83 nodes, "
+           f"10 neighbour links, 41 ghost segments and 43 ghost nodes each ({got})", ok, p.stdout[-900:] + p.stderr[-300:])
+
+
 def contact_dump(out):
     """Blocks of contact_debug: (search, cycle, time, slave id, z, [(master id, trackable)])."""
     blocks = []
@@ -5495,7 +5537,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_part_sizes, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

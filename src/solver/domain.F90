@@ -29,6 +29,7 @@ module xd_solver_domain
     use xd_elements_shell_bt, only: shells_t, shell_blocks
     use xd_solver_assembly, only: assembly_t
     use xd_contact_contact, only: contacts_t
+    use xd_contact_surface, only: surface_t, seg_nodes
     use xd_core_sorting, only: where_true
     use xd_core_strings, only: itoa
     use xd_model, only: model_t
@@ -52,6 +53,13 @@ module xd_solver_domain
         integer :: nhalo = 0                  !< nodes with elements on more than one rank
         real(dp), allocatable :: cost(:)      !< element cost per rank
         integer, allocatable :: nslave(:)     !< slave nodes per rank (all interfaces)
+        !> per rank, what an owned-node layout would hold (issue 32; only
+        !> with more than one rank): its solids, shells, the nodes its
+        !> elements touch, of which those another rank assembles (the halo),
+        !> the ranks it shares a node with, and over the contact interfaces
+        !> the ghosts: other ranks' segments within reach of its slaves'
+        !> box grown by the pool margin, and their nodes it does not touch
+        integer, allocatable :: psolid(:), pshell(:), ptouch(:), phalo(:), pnbr(:), pgseg(:), pgnode(:)
         character(len=:), allocatable :: parts_text(:)   !< per rank: the part ids of its elements
     end type domain_t
 
@@ -72,6 +80,7 @@ contains
         real(wp), allocatable :: xc(:, :), w(:)
         integer, allocatable :: part(:), arank(:), spart(:), grank(:), shrank(:)
         logical, allocatable :: multi(:)
+        logical, allocatable :: touch(:, :)   !< (node, rank): the rank's elements touch the node
         integer :: ni, g, e, k, nd, j, r, i, nnode
         dom%rank = rank
         dom%nranks = nranks
@@ -149,10 +158,15 @@ contains
             allocate (dom%bshell(0), dom%bshell_mine(0))
         end if
 
+        if (nranks > 1) call part_sizes()
+
         ! contact: each interface's slaves by coordinate bisection (slaves
         ! whose lists go to the debug dump stay on rank 0, which writes it)
         allocate (dom%nslave(nranks))
         dom%nslave = 0
+        allocate (dom%pgseg(nranks), dom%pgnode(nranks))
+        dom%pgseg = 0
+        dom%pgnode = 0
         ct%distributed = dom%on
         ct%nranks = nranks
         do i = 1, ct%n
@@ -172,9 +186,99 @@ contains
                 do r = 1, nranks
                     dom%nslave(r) = dom%nslave(r) + count(spart == r - 1)
                 end do
+                if (nranks > 1) call ghosts(it%surf, it%dl, it%reach, spart)
             end associate
         end do
+        if (allocated(touch)) deallocate (touch)
     contains
+        !> Per rank: its elements, the nodes they touch (touch, kept for the
+        !> ghosts), the halo, and the ranks it shares a node with: those
+        !> that assemble a node it touches or touch a node it assembles.
+        subroutine part_sizes()
+            logical, allocatable :: nbr(:, :)
+            integer :: q, a
+            allocate (touch(nnode, nranks), nbr(nranks, nranks))
+            allocate (dom%psolid(nranks), dom%pshell(nranks), dom%ptouch(nranks), dom%phalo(nranks), dom%pnbr(nranks))
+            touch = .false.
+            dom%psolid = 0
+            dom%pshell = 0
+            do q = 1, solids%n
+                a = grank(solids%group_of(q)) + 1
+                dom%psolid(a) = dom%psolid(a) + 1
+                touch(solids%conn(:, q), a) = .true.
+            end do
+            do q = 1, sh%n
+                a = shrank(q) + 1
+                dom%pshell(a) = dom%pshell(a) + 1
+                touch(sh%conn(:, q), a) = .true.
+            end do
+            nbr = .false.
+            do q = 1, nranks
+                dom%ptouch(q) = count(touch(:, q))
+                dom%phalo(q) = count(touch(:, q) .and. arank /= q - 1)
+                do nd = 1, nnode
+                    if (touch(nd, q) .and. arank(nd) /= q - 1) then
+                        nbr(q, arank(nd) + 1) = .true.
+                        nbr(arank(nd) + 1, q) = .true.
+                    end if
+                end do
+            end do
+            do q = 1, nranks
+                dom%pnbr(q) = count(nbr(:, q))
+            end do
+        end subroutine part_sizes
+
+        !> The ghosts of surface s for each rank: the segments whose box (at
+        !> x0) meets the box of the rank's part of the surface (its slaves and
+        !> the surface nodes its elements touch) grown by their largest pool
+        !> margin dl and the reach, less those whose nodes the rank's
+        !> elements all touch; their nodes it does not touch.
+        subroutine ghosts(s, dl, reach, spart)
+            type(surface_t), intent(in) :: s
+            real(wp), intent(in) :: dl(:), reach
+            integer, intent(in) :: spart(:)
+            real(wp) :: lo(3), hi(3), g, blo(3), bhi(3)
+            logical, allocatable :: gn(:)
+            integer :: q, k, m, nn, c
+            allocate (gn(nnode))
+            do q = 1, nranks
+                lo = huge(1.0_wp)
+                hi = -huge(1.0_wp)
+                g = 0
+                do k = 1, s%nslave
+                    if (spart(k) /= q - 1) cycle
+                    lo = min(lo, x0(:, s%node(s%slave(k))))
+                    hi = max(hi, x0(:, s%node(s%slave(k))))
+                    g = max(g, dl(s%slave(k)))
+                end do
+                do k = 1, s%nnode
+                    if (.not. touch(s%node(k), q)) cycle
+                    lo = min(lo, x0(:, s%node(k)))
+                    hi = max(hi, x0(:, s%node(k)))
+                    g = max(g, dl(k))
+                end do
+                lo = lo - (g + reach)
+                hi = hi + (g + reach)
+                gn = .false.
+                do m = 1, s%nseg
+                    nn = seg_nodes(s%seg(:, m))
+                    if (all(touch(s%node(s%seg(1:nn, m)), q))) cycle
+                    blo = huge(1.0_wp)
+                    bhi = -huge(1.0_wp)
+                    do c = 1, nn
+                        blo = min(blo, x0(:, s%node(s%seg(c, m))))
+                        bhi = max(bhi, x0(:, s%node(s%seg(c, m))))
+                    end do
+                    if (any(blo > hi) .or. any(bhi < lo)) cycle
+                    dom%pgseg(q) = dom%pgseg(q) + 1
+                    do c = 1, nn
+                        if (.not. touch(s%node(s%seg(c, m)), q)) gn(s%node(s%seg(c, m))) = .true.
+                    end do
+                end do
+                dom%pgnode(q) = dom%pgnode(q) + count(gn)
+            end do
+        end subroutine ghosts
+
         !> Per rank, the ids of the parts it has elements of.
         subroutine list_parts()
             logical :: on(model%npart, nranks)
@@ -245,6 +349,23 @@ contains
         write (buf, '(a,i0,a)') '   halo exchange a cycle: ', size(dom%bslot) + size(dom%bshell), &
             ' force slots, then every rank''s nodal forces to all (the nodal state is on every rank)'
         txt = txt//trim(buf)
+        if (.not. allocated(dom%ptouch)) return
+        txt = txt//new_line('a')//new_line('a')// &
+              '   what each rank would hold with its own nodes and a halo (issue 32): its elements; the nodes'// &
+              new_line('a')//'   they touch, of which another rank assembles the halo; the ranks it exchanges with;'// &
+              new_line('a')//'   the contact ghosts: other ranks'' segments within the box of its slaves and surface'// &
+              new_line('a')//'   grown by the pool margin and the reach, and their nodes it does not touch; and the'// &
+              new_line('a')//'   share of the model''s nodes its nodal arrays would hold (touched and ghost nodes)'// &
+              new_line('a')//'   rank   solids   shells    nodes     halo  neighbours  ghost segs  ghost nodes  nodal share'
+        do r = 1, dom%nranks
+            write (buf, '(i7,3i9,i9,i12,i12,i13,f12.3)') r - 1, dom%psolid(r), dom%pshell(r), dom%ptouch(r), &
+                dom%phalo(r), dom%pnbr(r), dom%pgseg(r), dom%pgnode(r), &
+                real(dom%ptouch(r) + dom%pgnode(r), dp)/max(size(dom%node_mine), 1)
+            txt = txt//new_line('a')//trim(buf)
+        end do
+        write (buf, '(a,i0,a)') '   halo nodes over all ranks ', sum(dom%phalo), &
+            ' (a node counts once for each rank beyond its assembler whose elements touch it)'
+        txt = txt//new_line('a')//trim(buf)
     end function domain_summary
 
     !> Halo exchange: the force (and moment) slots that other ranks' nodes
