@@ -46,7 +46,7 @@ TEST_SRC := $(sort $(wildcard tests/unit/test_*.f90))
 
 flat = $(subst /,_,$(patsubst src/%,%,$(patsubst tests/%,tests_%,$(basename $(1))))).o
 
-.PHONY: all deps check demo bench debug clean verify tests examples stability sweeps contact-suite public car6-designs fuzz
+.PHONY: all deps check demo bench bench-mpi debug clean verify tests examples stability sweeps contact-suite public car6-designs fuzz
 all: bin/xdyna$(SUFFIX) bin/thdiff
 
 deps:
@@ -145,6 +145,12 @@ bench: deps
 	@$(MAKE) --no-print-directory all bin/search_bench$(SUFFIX)
 	@$(MAKE) --no-print-directory PRECISION=single bin/xdyna_single
 	@sh bench/run_bench.sh
+
+# the tubes array on 1, 2, 4 MPI ranks: memory per rank, halo bytes, MPI
+# phases (bench/run_bench_mpi.sh; BENCH_MPI_TUBES, _CYCLES, _RANKS)
+bench-mpi: deps
+	@$(MAKE) --no-print-directory all
+	@sh bench/run_bench_mpi.sh
 
 clean:
 	rm -rf build bin out

@@ -3356,7 +3356,9 @@ def test_part_sizes():
     segments along its two cuts and the diagonal's corner (20 + 20 + 1 =
     41), the pool margin and the reach (0.7 + 1 mm) being below a shell's
     width (2 mm); their nodes beyond the cuts, the row along each and the
-    corner (21 + 21 + 1 = 43). Exact counts: no tolerance."""
+    corner (21 + 21 + 1 = 43). The halo's bytes a cycle: each halo node's
+    force and moment out and its motion back, 2 x 8 x 6 bytes a node.
+    Exact counts: no tolerance."""
     here = os.path.join(TMP, "part_sizes")
     os.makedirs(here, exist_ok=True)
     n = 41
@@ -3368,7 +3370,8 @@ def test_part_sizes():
     lines.append("*END")
     deck = write_lines(os.path.join(here, "plate.k"), lines)
     p = run([XDYNA, "--check", "i=" + deck, "parts=4"], cwd=here)
-    rows = re.findall(r"^\s+(\d)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+([0-9.]+)$", p.stdout, re.M)
+    rows = re.findall(r"^\s+(\d)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+([0-9.]+)\s+(\d+)$", p.stdout,
+                      re.M)
     m = re.search(r"halo nodes over all ranks (\d+)", p.stdout)
     ok = p.returncode == 0 and len(rows) == 4 and m is not None
     got = ""
@@ -3376,8 +3379,11 @@ def test_part_sizes():
         v = [[int(x) for x in r[:8]] for r in rows]
         got = (f"shells {[r[2] for r in v]}, nodes {[r[3] for r in v]}, halo {int(m.group(1))}, neighbours "
                f"{[r[5] for r in v]}, ghost segments {[r[6] for r in v]}, ghost nodes {[r[7] for r in v]}")
+        hb = [int(r[9]) for r in rows]
+        got += f", halo bytes {hb}"
         ok = (all(r[1] == 0 and r[2] == 400 and r[3] == 441 and r[5] in (2, 3) and r[6] == 41 and r[7] == 43
-                  for r in v) and int(m.group(1)) == 83 and sum(r[5] for r in v) == 10)
+                  for r in v) and int(m.group(1)) == 83 and sum(r[5] for r in v) == 10
+              and all(b == 2 * 8 * 6 * r[4] for b, r in zip(hb, v)))
     record(f"--check parts=4: a 40 x 40 plate's quadrants hold 400 shells and 441 nodes each, the halo 83 nodes, "
            f"10 neighbour links, 41 ghost segments and 43 ghost nodes each ({got})", ok, p.stdout[-900:] + p.stderr[-300:])
 

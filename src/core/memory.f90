@@ -7,7 +7,7 @@ module xd_core_memory
     use, intrinsic :: iso_fortran_env, only: error_unit
     implicit none
     private
-    public :: alloc, alloc_dp, grow
+    public :: alloc, alloc_dp, grow, peak_memory_kb
 
     interface alloc
         module procedure alloc_r1, alloc_r2, alloc_r3, alloc_i1, alloc_i2
@@ -150,5 +150,25 @@ contains
         tmp(:, 1:size(a, 2)) = a
         call move_alloc(tmp, a)
     end subroutine grow_i2
+
+    !> This process's peak resident memory in kB (VmHWM of /proc/self/status,
+    !> Linux); -1 where it cannot be read.
+    integer(i8) function peak_memory_kb() result(kb)
+        integer :: u, ios
+        character(len=256) :: line
+        kb = -1
+        open (newunit=u, file='/proc/self/status', status='old', action='read', iostat=ios)
+        if (ios /= 0) return
+        do
+            read (u, '(a)', iostat=ios) line
+            if (ios /= 0) exit
+            if (line(1:6) == 'VmHWM:') then
+                read (line(7:), *, iostat=ios) kb
+                if (ios /= 0) kb = -1
+                exit
+            end if
+        end do
+        close (u)
+    end function peak_memory_kb
 
 end module xd_core_memory

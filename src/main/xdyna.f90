@@ -37,7 +37,8 @@ program xdyna
     use xd_solver_restart, only: dump_meta_t, read_dump_meta, read_dump, build_tag, dump_format
     use xd_output_h5io, only: h5_no_exit_handler
     use xd_core_signals, only: signals_install, stop_signal, hold_for_signal
-    use xd_core_comm, only: comm_max
+    use xd_core_comm, only: comm_max, comm_gather_small
+    use xd_core_memory, only: peak_memory_kb
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     use xd_solver_domain, only: domain_t, build_domain, domain_summary
     use xd_contact_contact, only: gather_contact_state, scatter_contact_state
@@ -375,6 +376,7 @@ program xdyna
     if (dom%on .and. ct%n > 0) call gather_contact_state(ct)
     if (ct%n > 0) call log_line(lg, contact_report(ct, max(abs(st%e_initial), res%e_scale)))
     if (ct%dump_unit /= 0) close (ct%dump_unit)
+    call memory_line()
     call timing_table(lg, tm, res%ncycle, solids%n + sh%n, tm%elapsed())
     if (res%status == exit_signal) then
         call say('xdyna: '//res%message)
@@ -389,6 +391,29 @@ program xdyna
     call finish(exit_normal)
 
 contains
+
+    !> d3hsp's line on the peak resident memory (VmHWM) of each rank: the
+    !> smallest and the largest, with their ranks (a collective: every rank
+    !> calls it).
+    subroutine memory_line()
+        real(dp) :: rec(1), all(1, env%nranks)
+        integer :: lo, hi
+        rec(1) = real(peak_memory_kb(), dp)
+        if (env%nranks > 1) then
+            call comm_gather_small(rec, all)
+        else
+            all(1, 1) = rec(1)
+        end if
+        if (any(all(1, :) < 0.0_dp)) return
+        lo = minloc(all(1, :), 1)
+        hi = maxloc(all(1, :), 1)
+        if (env%nranks == 1) then
+            call log_line(lg, ' peak memory (VmHWM) ................. '//ftoa(all(1, 1)/1024.0_dp)//' MB')
+        else
+            call log_line(lg, ' peak memory per rank (VmHWM) ........ '//ftoa(all(1, lo)/1024.0_dp)//' MB (rank '// &
+                          itoa(lo - 1)//') to '//ftoa(all(1, hi)/1024.0_dp)//' MB (rank '//itoa(hi - 1)//')')
+        end if
+    end subroutine memory_line
 
     !> `path` when it exists and is not a regular file, else ''.
     function not_a_file(path) result(t)

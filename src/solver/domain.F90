@@ -51,6 +51,7 @@ module xd_solver_domain
         integer, allocatable :: bshell(:)     !< halo: shell slots likewise
         logical, allocatable :: bshell_mine(:)
         integer :: nhalo = 0                  !< nodes with elements on more than one rank
+        integer :: width = 3                  !< values a node's force carries: 3, or 6 with shells' moments
         real(dp), allocatable :: cost(:)      !< element cost per rank
         integer, allocatable :: nslave(:)     !< slave nodes per rank (all interfaces)
         !> per rank, what an owned-node layout would hold (issue 32; only
@@ -86,6 +87,7 @@ contains
         dom%nranks = nranks
         dom%on = nranks > 1
         nnode = asm%nnode
+        if (sh%n > 0) dom%width = 6
 
         ! work items: the solid groups, then the shells
         ni = solids%ngroup + sh%n
@@ -346,8 +348,9 @@ contains
             maxval(dom%cost)/max(sum(dom%cost)/dom%nranks, tiny(1.0_dp)), '; nodes on rank boundaries ', &
             dom%nhalo, ' of ', size(dom%node_mine), ' (the halo)'
         txt = txt//trim(buf)//new_line('a')
-        write (buf, '(a,i0,a)') '   halo exchange a cycle: ', size(dom%bslot) + size(dom%bshell), &
-            ' force slots, then every rank''s nodal forces to all (the nodal state is on every rank)'
+        write (buf, '(a,i0,a,i0,a,i0,a)') '   halo exchange a cycle: ', size(dom%bslot) + size(dom%bshell), &
+            ' force slots (', 8*(3*size(dom%bslot) + 6*size(dom%bshell)), ' bytes summed over the ranks), then every '// &
+            'rank''s nodal forces to all (', 8*dom%width*size(dom%node_mine), ' bytes a rank)'
         txt = txt//trim(buf)
         if (.not. allocated(dom%ptouch)) return
         txt = txt//new_line('a')//new_line('a')// &
@@ -355,12 +358,14 @@ contains
               new_line('a')//'   they touch, of which another rank assembles the halo; the ranks it exchanges with;'// &
               new_line('a')//'   the contact ghosts: other ranks'' segments within the box of its slaves and surface'// &
               new_line('a')//'   grown by the pool margin and the reach, and their nodes it does not touch; and the'// &
-              new_line('a')//'   share of the model''s nodes its nodal arrays would hold (touched and ghost nodes)'// &
-              new_line('a')//'   rank   solids   shells    nodes     halo  neighbours  ghost segs  ghost nodes  nodal share'
+              new_line('a')//'   share of the model''s nodes its nodal arrays would hold (touched and ghost nodes);'// &
+              new_line('a')//'   halo bytes: its halo nodes'' forces out and their motion back, a cycle'// &
+              new_line('a')//'   rank   solids   shells    nodes     halo  neighbours  ghost segs  ghost nodes  nodal share'// &
+              '  halo bytes'
         do r = 1, dom%nranks
-            write (buf, '(i7,3i9,i9,i12,i12,i13,f12.3)') r - 1, dom%psolid(r), dom%pshell(r), dom%ptouch(r), &
+            write (buf, '(i7,3i9,i9,i12,i12,i13,f13.3,i12)') r - 1, dom%psolid(r), dom%pshell(r), dom%ptouch(r), &
                 dom%phalo(r), dom%pnbr(r), dom%pgseg(r), dom%pgnode(r), &
-                real(dom%ptouch(r) + dom%pgnode(r), dp)/max(size(dom%node_mine), 1)
+                real(dom%ptouch(r) + dom%pgnode(r), dp)/max(size(dom%node_mine), 1), 2*8*dom%width*dom%phalo(r)
             txt = txt//new_line('a')//trim(buf)
         end do
         write (buf, '(a,i0,a)') '   halo nodes over all ranks ', sum(dom%phalo), &

@@ -1,0 +1,59 @@
+#!/bin/sh
+# make bench-mpi (issue 32): the array of crushing tubes (tools/gen_decks.py
+# --bench-tubes: 1,200 shells a tube, NIP 5, *MAT_024, whole-model
+# single-surface contact) on 1, 2, 4 ... MPI ranks of one thread each: wall
+# time of the time loop, ns per element-cycle, the MPI phases' shares
+# (halo exchange, contact exchange, the wait for the slowest rank), the
+# contact's share, the peak memory per rank (VmHWM, smallest and largest)
+# and the halo's bytes a cycle (now: the slots summed over the ranks and
+# every node's forces to every rank; with each rank's own nodes: its halo
+# nodes' share, from the decomposition table). Results are bitwise the same
+# for any rank count (make check holds that); here the ranks share this
+# machine's cores (oversubscribed beyond them): memory and bytes are
+# figures, times are not scaling.
+#   BENCH_MPI_TUBES="10 10" BENCH_MPI_CYCLES=100 BENCH_MPI_RANKS="1 2 4" sh bench/run_bench_mpi.sh
+# (10 x 10 tubes: 120,000 shells; 29 x 29: about 1e6)
+set -e
+size=${BENCH_MPI_TUBES:-10 10}
+set -- $size
+ntx=$1
+nty=$2
+cycles=${BENCH_MPI_CYCLES:-100}
+ranks=${BENCH_MPI_RANKS:-1 2 4}
+dir=build/bench_mpi
+mkdir -p $dir
+deck=$dir/tubes_${ntx}x${nty}.k
+/usr/bin/python3 tools/gen_decks.py --bench-tubes $ntx $nty $deck --cycles $cycles
+nel=$((ntx * nty * 1200))
+echo "bench-mpi: $ntx x $nty tubes, $nel shells, $cycles cycles, one thread a rank, $(nproc) cores here ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'))"
+printf '%6s %9s %10s %8s %9s %8s %9s %17s %16s %16s\n' ranks "wall (s)" "ns/el-cyc" "halo %" "contact%" "wait %" "c.share" "peak MB/rank" "halo B/cycle" "own-node halo B"
+for r in $ranks; do
+    out=$dir/r$r
+    rm -rf $out
+    if [ "$r" -eq 1 ]; then
+        OMP_NUM_THREADS=1 ./bin/xdyna i=$deck outdir=$out > /dev/null
+    else
+        mpirun --allow-run-as-root --oversubscribe -np $r -x OMP_NUM_THREADS=1 ./bin/xdyna i=$deck outdir=$out > /dev/null
+    fi
+    awk -v r=$r '
+        /  total/ {tot = $NF}
+        /time per zone cycle/ {ns = $NF}
+        /MPI halo exchange/ {halo = $4}
+        /MPI contact exchange/ {ghost = $4}
+        /MPI wait/ {wait = $4}
+        /contact share of the time loop/ {cs = $(NF - 1)}
+        /peak memory \(VmHWM\)/ {mem = sprintf("%.0f", $(NF - 1))}
+        /peak memory per rank/ {lo = $7; hi = $12; mem = sprintf("%.0f-%.0f", lo, hi)}
+        /halo exchange a cycle:/ {
+            s = $0; sub(/.*force slots \(/, "", s); split(s, a, " "); slots = a[1]
+            t = $0; sub(/.*to all \(/, "", t); split(t, b, " "); nodes = b[1]
+            hb = slots + r * nodes
+        }
+        /^ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9]+$/ {own += $NF}
+        END {
+            if (r == 1) {hb = 0; own = 0}
+            printf "%6d %9.2f %10.1f %8.1f %9.1f %8.1f %8.1f%% %17s %16d %16d\n", r, tot, ns, 100 * halo / tot,
+                100 * ghost / tot, 100 * wait / tot, cs, mem, hb, own
+        }' $out/d3hsp
+done
+echo "bench-mpi: halo B/cycle now: the force slots summed over the ranks plus every node's forces to every rank (O(nodes x ranks)); own-node halo: each rank's halo nodes' forces out and motion back (O(partition surfaces), the layout issue 32 aims at)"
