@@ -64,12 +64,17 @@ contains
         end if
     end subroutine step_stats_count
 
-    subroutine step_stats_report(ss, model, solids, sh, lg)
+    !> d3hsp's account of what set the step over the run: the share of
+    !> cycles of each kind, the elements that set it longest, and the node
+    !> whose contact spring sets the springs' bound (contact_node, a model
+    !> node; 0: none).
+    subroutine step_stats_report(ss, model, solids, sh, lg, contact_node)
         type(step_stats_t), intent(in) :: ss
         type(model_t), intent(in) :: model
         type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
         type(log_t), intent(in) :: lg
+        integer, intent(in) :: contact_node
         integer, allocatable :: perm(:), cnt(:)
         integer :: i, k, ns
         if (ss%ncycle == 0) return
@@ -80,6 +85,10 @@ contains
                       share(ss%nkind(by_floor), ss%ncycle)//', otherwise (DTINIT, no element) in '// &
                       share(ss%nkind(by_other), ss%ncycle)//'; held to 0.1% growth a cycle in '// &
                       share(ss%nkind(by_growth), ss%ncycle))
+        if (ss%nkind(by_contact) > 0 .and. contact_node > 0) &
+            call log_line(lg, '   the contact springs'' bound: the stiffest spring, at node '// &
+                          itoa(model%node_id(contact_node))//' (0.35 sqrt(m / k)): '// &
+                          share(ss%nkind(by_contact), ss%ncycle))
         ns = size(ss%solid)
         cnt = [ss%solid, ss%shell]
         if (count(cnt > 0) == 0) return

@@ -267,7 +267,7 @@ contains
             if (.not. (st%time <= opts%endtim + 1.000001_dp*real(st%dt_old, dp))) &
                 call fail('time '//rtoa(st%time)//' is past the end time '//rtoa(opts%endtim)//' by more than a step')
         end if
-        call step_stats_report(ss, model, solids, sh, lg)
+        call step_stats_report(ss, model, solids, sh, lg, merge(ct%dt_node, 0, ct%n > 0))
         if (allocated(sh%ncap)) then
             if (dom%on) call comm_sum_int(sh%ncap, sh%n)
             call hourglass_bound_report(ss, model, sh, lg)
