@@ -1,9 +1,10 @@
 !> The explicit time loop: central differences with a variable step, one
 !> cycle as the list of its phases (xd_solver_phases: element forces, the
 !> step, loads, contact, velocities, constraints and rigid bodies,
-!> energies, the advance), and what holds the run's options and result
-!> here: output, restart dumps, signals and sense switches, and the checks
-!> that stop a run gone bad (exit 2) with a diagnostic.
+!> energies, the advance), and, here with the run's options and result,
+!> the phases that use them: the energy checks that stop a run gone bad
+!> (exit 2) with a diagnostic, output, restart dumps, and the batch control
+!> (signals, sense switches, the wall-clock limit).
 module xd_solver_time_loop
     use, intrinsic :: iso_fortran_env, only: output_unit
     use xd_kinds, only: wp, dp
@@ -75,6 +76,21 @@ module xd_solver_time_loop
         real(dp) :: e_scale = 0.0_dp
     end type run_result_t
 
+    !> What the time loop keeps between cycles for its output, checks and
+    !> batch control.
+    type :: loop_t
+        integer :: cycle0 = 0                 !< the run's first cycle (a restart's)
+        real(dp) :: t0_wall = 0               !< wall clock at the loop's start
+        real(dp) :: t_dump = 0                !< wall seconds the last dump took
+        real(dp) :: t_last_progress = 0
+        real(dp) :: ratio_limit = 1.5_dp      !< energy ratio beyond which the run stops (ENDENG)
+        logical :: energy_now = .false.       !< this cycle computes the energies
+        logical :: state_asked = .false.      !< a state asked by sense switch sw4, at this cycle's end
+        logical :: switch_gone = .true.       !< d3kil could be deleted (sense switches are read)
+        logical :: dumped_end = .false.       !< the end-of-run dump is written
+        character(len=:), allocatable :: switch_text
+    end type loop_t
+
 contains
 
     subroutine run_time_loop(model, dom, st, solids, asm, sh, asm_sh, bm, walls, ct, pn, rg, pl, td, hist, states, lg, tm, &
@@ -99,6 +115,7 @@ contains
         type(timers_t), intent(inout) :: tm
         type(run_options_t), intent(in) :: opts
         type(run_result_t), intent(out) :: res
+        type(loop_t) :: lp
         type(energies_t) :: en
         type(mass_scaling_t) :: ms
         type(step_stats_t) :: ss
@@ -110,12 +127,10 @@ contains
         logical, allocatable :: no_body(:)   !< no node is a rigid body's (models without rigid bodies)
         real(wp) :: dtc, g_new(3)
         real(dp) :: dt_avg
-        real(dp) :: t_last_progress, ratio_limit, t0_wall, t_dump
         real(wp) :: dt_ref
-        logical :: done, energy_now, dumped_end, near_limit, status_now, state_asked, switch_gone
-        integer :: cycle0, stop_sig, switch
+        logical :: done
         integer :: bad_kind, bad                !< the first bad element (element_phase)
-        character(len=:), allocatable :: switch_text, failure
+        character(len=:), allocatable :: failure
         integer :: beam_crit                   !< the beam that set the step (0: none)
         !> one rank: the shells add their forces to the nodes each thread's
         !> part holds alone directly, in the order the assembly sums their
@@ -128,18 +143,13 @@ contains
         ke_fix = 0
         no_body = .false.
         if (st%rot) allocate (vrminus(3, st%nnode))
-        ratio_limit = 1.5_dp
         beam_crit = 0
-        state_asked = .false.
-        switch_gone = .true.
-        if (model%ctl%endeng > 0.0_wp) ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
-        t0_wall = tm%elapsed()
-        cycle0 = st%cycle
+        if (model%ctl%endeng > 0.0_wp) lp%ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
+        lp%t0_wall = tm%elapsed()
+        lp%cycle0 = st%cycle
+        lp%t_last_progress = lp%t0_wall
         call mass_scaling_begin(ms, model%ctl, lg)
         call step_stats_init(ss, solids%n, sh%n)
-        dumped_end = .false.
-        t_dump = 0
-        t_last_progress = t0_wall
 
         ! cycle n: forces at t(n) on x(n) with v(n-1/2); v(n+1/2) with the
         ! constraints; output at t(n); then x(n+1)
@@ -147,11 +157,11 @@ contains
             ! the end-of-run restart dump: the state at the start of the last
             ! cycle (a restart with a later end time goes on from there as
             ! the longer run would have, writing the outputs of t(n) again)
-            if (opts%dump_every >= 0 .and. .not. dumped_end) then
+            if (opts%dump_every >= 0 .and. .not. lp%dumped_end) then
                 if (st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp) .or. &
                     (model%ctl%endcyc > 0 .and. st%cycle >= model%ctl%endcyc)) then
-                    call dump()
-                    dumped_end = .true.
+                    call dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
+                    lp%dumped_end = .true.
                     if (res%status /= exit_normal) exit
                 end if
             end if
@@ -165,7 +175,7 @@ contains
             call element_phase(st, solids, asm, sh, tm, shells_direct, dtc, bad_kind, bad)
             call exchange_phase(dom, st, solids, asm, sh, asm_sh, tm, shells_direct, dtc, bad_kind, bad)
             if (bad_kind /= 0) then
-                call fail(bad_element(model, st, solids, sh, bad_kind, bad))
+                call fail(res, st, lg, bad_element(model, st, solids, sh, bad_kind, bad))
                 exit
             end if
             if (bm%n > 0) call beam_phase(model, st, sh, bm, lg, tm, dtc, beam_crit)
@@ -181,13 +191,13 @@ contains
                 call mass_scaling_step(ms, model, dom, solids, sh, st, rg, lg, ms_stop)
                 call tm%stop(ph_elements)
                 if (allocated(ms_stop)) then
-                    call fail(ms_stop)
+                    call fail(res, st, lg, ms_stop)
                     exit
                 end if
             end if
-            call step_phase(model, ms, solids, sh, bm, ct, lg, cycle0, beam_crit, dtc, st, dt_ref, set_by, failure)
+            call step_phase(model, ms, solids, sh, bm, ct, lg, lp%cycle0, beam_crit, dtc, st, dt_ref, set_by, failure)
             if (len(failure) > 0) then
-                call fail(failure)
+                call fail(res, st, lg, failure)
                 exit
             end if
             call step_stats_count(ss, set_by, st%crit_elem)
@@ -202,70 +212,46 @@ contains
             if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
             ! energies where histories or states are due (the d3plot's global
             ! variables carry them), or every energy_check_every cycles
-            energy_now = histories_due(hist, st%time) .or. done .or. st%cycle == 0 .or. &
-                         mod(st%cycle, opts%energy_check_every) == 0 .or. states_due(states, st%time) .or. &
-                         state_asked
+            lp%energy_now = histories_due(hist, st%time) .or. done .or. st%cycle == 0 .or. &
+                            mod(st%cycle, opts%energy_check_every) == 0 .or. states_due(states, st%time) .or. &
+                            lp%state_asked
             call tm%start(ph_integrate)
-            call velocity_phase(st, td, dt_avg, energy_now, vminus, vrminus)
+            call velocity_phase(st, td, dt_avg, lp%energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
             call constraint_phase(model, walls, pn, rg, td, pl, st, lg, tm, dt_avg, g_new, no_body)
 
-            if (energy_now) then
+            if (lp%energy_now) then
                 call energy_phase(model, dom, st, solids, sh, walls, rg, ct, td, bm, tm, vminus, vrminus, dt_avg, &
                                   ke_fix, vn, en)
-                call check_energy()
+                call energy_check(lp, model, st, solids, sh, rg, ct, pn, en, vn, res, lg)
                 if (res%status /= exit_normal) exit
                 if (histories_due(hist, st%time) .or. states_due(states, st%time) .or. done .or. st%cycle == 0 &
-                    .or. state_asked) call output(force=done .or. st%cycle == 0)
+                    .or. lp%state_asked) call output_phase(lp, done .or. st%cycle == 0, model, dom, st, solids, sh, &
+                                                           bm, walls, rg, ct, hist, states, en, vn, vrminus, tm, res, &
+                                                           lg)
                 if (res%status /= exit_normal) exit
             end if
             ! the contact forces' work with v(n+1/2), after the energies at t(n)
             if (ct%n > 0) call contact_work_end(ct, st%v, dt_avg)
-            if (opts%progress .and. (tm%elapsed() - t_last_progress >= opts%progress_every .or. done &
+            if (opts%progress .and. (tm%elapsed() - lp%t_last_progress >= opts%progress_every .or. done &
                                      .or. st%cycle == 0)) then
-                t_last_progress = tm%elapsed()
-                call progress()
+                lp%t_last_progress = tm%elapsed()
+                call progress_line(lp, model, st, opts, tm, en)
             end if
             if (done) exit
 
             call advance_phase(st, ct, hist, tm, dt_avg)
-            ! batch: a status line on SIGUSR2; a dump every N cycles; on SIGTERM
-            ! or SIGUSR1, or near the wall-clock limit, a dump and exit 3
-            if (allocated(opts%hold_cycles)) then
-                if (any(opts%hold_cycles == st%cycle)) call flush_histories(hist)
-                if (any(opts%hold_cycles == st%cycle)) call hold_for_signal(' held at cycle '//itoa(st%cycle)// &
-                                                                   ' (XDYNA_HOLD_AT): waiting for a signal', 120.0, opts%progress)
-            end if
-            call stop_flags(stop_sig, near_limit, status_now, switch)
-            if (status_now) call progress()
-            if (switch /= sw_none) then
-                call sense_switch(switch)
-                if (res%status /= exit_normal) exit
-            end if
-            if (opts%dump_every > 0) then
-                if (mod(st%cycle, opts%dump_every) == 0) call dump()
-                if (res%status /= exit_normal) exit
-            end if
-            if (stop_sig /= 0) then
-                call dump()
-                if (res%status == exit_normal) &
-                    call stop_run('stopped by signal '//itoa(stop_sig)//'; restart dump '//opts%dump_path)
-                exit
-            end if
-            if (near_limit) then
-                call dump()
-                if (res%status == exit_normal) call stop_run('wall-clock limit of '//ftoa(opts%wallclock)// &
-                                                             ' s near; restart dump '//opts%dump_path)
-                exit
-            end if
+            call batch_phase(lp, opts, model, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, en, lg, tm, res)
+            if (res%status /= exit_normal) exit
         end do
 
         res%ncycle = st%cycle
-        res%loop_wall = tm%elapsed() - t0_wall
+        res%loop_wall = tm%elapsed() - lp%t0_wall
         ! the end reached in one step at most past ENDTIM
         if (res%status == exit_normal .and. opts%endtim < huge(1.0_dp)) then
             if (.not. (st%time <= opts%endtim + 1.000001_dp*real(st%dt_old, dp))) &
-                call fail('time '//rtoa(st%time)//' is past the end time '//rtoa(opts%endtim)//' by more than a step')
+                call fail(res, st, lg, 'time '//rtoa(st%time)//' is past the end time '//rtoa(opts%endtim)// &
+                          ' by more than a step')
         end if
         call step_stats_report(ss, model, solids, sh, lg, merge(ct%dt_node, 0, ct%n > 0))
         if (allocated(sh%ncap)) then
@@ -278,132 +264,203 @@ contains
             call log_line(lg, ' N o r m a l    t e r m i n a t i o n   at time '//rtoa(st%time)// &
                           ', cycle '//itoa(st%cycle))
         end if
+    end subroutine run_time_loop
 
-    contains
-
-        !> The signals and the wall-clock limit, the same on every rank (MPI:
-        !> the largest over the ranks, so all stop at the same cycle). The
-        !> wall-clock margin: 10 cycles, 5% of the allowance, twice the last
-        !> dump's time, and 0.5 s for the dump, closing the files and the
-        !> parallel shutdown.
-        subroutine stop_flags(sig, limit, status, sw)
-            integer, intent(out) :: sig
-            logical, intent(out) :: limit, status
-            integer, intent(out) :: sw       !< a sense switch of d3kil (rank 0 reads it; sw_none: none)
-            real(dp) :: fl(4)
-            limit = .false.
-            sw = sw_none
-            if (dom%rank == 0 .and. switch_gone .and. mod(st%cycle, opts%switch_every) == 0) then
-                call read_sense_switch(opts%kill_path, 'd3kil', sw, switch_text, switch_gone)
-                if (sw /= sw_none) call log_line(lg, ' sense switch "'//switch_text//'" read from d3kil at time '// &
-                                                 rtoa(st%time)//', cycle '//itoa(st%cycle)//': '//switch_name(sw))
-                if (.not. switch_gone) call log_line(lg, ' *** Warning: d3kil could not be deleted; sense '// &
-                                                     'switches are no longer read')
-                if (sw == sw_unknown) sw = sw_none
-            end if
-            if (opts%wallclock > 0.0_dp) then
-                limit = tm%elapsed() + max(10.0_dp*(tm%elapsed() - t0_wall)/max(st%cycle - cycle0, 1), &
-                                           0.05_dp*opts%wallclock, 2.0_dp*t_dump) + 0.5_dp >= opts%wallclock
-            end if
-            fl = [real(stop_signal(), dp), merge(1.0_dp, 0.0_dp, limit), merge(1.0_dp, 0.0_dp, status_signal()), &
-                  real(sw, dp)]
-            if (dom%on) call comm_max(fl)
-            sig = nint(fl(1))
-            limit = fl(2) > 0
-            status = fl(3) > 0
-            sw = nint(fl(4))
-        end subroutine stop_flags
-
-        !> What a sense switch asks, at the end of this cycle (every rank).
-        subroutine sense_switch(sw)
-            integer, intent(in) :: sw
-            select case (sw)
-            case (sw_stop)
-                call dump()
-                if (res%status == exit_normal) &
-                    call stop_run('stopped by sense switch sw1 (d3kil); restart dump '//opts%dump_path)
-            case (sw_status)
-                call progress()
-            case (sw_dump)
-                call dump()
-            case (sw_state)
-                ! the state at the next cycle's end, where its energies are computed
-                if (states%on) then
-                    state_asked = .true.
-                else
-                    call log_line(lg, ' *** Warning: sense switch sw4: this run writes no states')
-                end if
-            case (sw_flush)
-                call flush_histories(hist)
-            end select
-        end subroutine sense_switch
-
-        subroutine check_energy()
-            integer :: i, k
-            ! a rigid body turning a radian or more in one step: no motion the
-            ! step resolves (the rotation of a step is the Cayley transform of
-            ! omega dt, good for small angles); a prescribed spin of 1e30 rad/s
-            ! ran to "normal termination" with nodes at 1e28 m/s
-            do k = 1, rg%n
-                if (.not. rg%b(k)%active) cycle
-                if (norm2(rg%b(k)%omega)*real(st%dt_old, dp) >= 1.0_dp) then
-                    call fail('impossible state: rigid body '//rigid_name(k)//' turns '// &
-                              rtoa(norm2(rg%b(k)%omega)*real(st%dt_old, dp))//' rad in one step (angular '// &
-                              'velocity '//rtoa(norm2(rg%b(k)%omega))//'); node '// &
-                              node_where(rg%b(k)%node(1))//'; a prescribed rotation far beyond its curve''s intent?')
-                    return
-                end if
-            end do
-            res%e_scale = max(res%e_scale, abs(st%e_initial + en%ext))
-            if (en%total /= en%total .or. abs(en%total) > huge(1.0_wp)) then
-                do i = 1, st%nnode
-                    if (any(st%v(:, i) /= st%v(:, i)) .or. any(abs(st%v(:, i)) > huge(1.0_wp))) exit
-                end do
-                if (i > st%nnode) i = 1
-                call fail('energy is NaN or infinite; first bad node '//node_where(i))
-            else if ((en%ratio < 0.0_dp .or. (en%ratio < 1.0_dp/ratio_limit .and. st%cycle - cycle0 >= 10)) &
-                     .and. abs(st%e_initial + en%ext) > 0.0_dp) then
-                ! energy lost beyond the margin, or a negative total against a
-                ! positive input: no physical state, since walls, contact,
-                ! hourglass and damping work are all in the total. The lower
-                ! margin holds from the tenth cycle: before, a run loaded from
-                ! rest has energies of a few steps' work, whose ratio the
-                ! first-order start (v(1/2) = v(0) + a(0) dt/2) sets to
-                ! anything (0.50 at cycle 2 of a velocity ramp, 0 at cycle 1
-                ! of the contact patch test)
-                i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
-                call fail('energy lost: total energy ratio '//ftoa(en%ratio)//' is below '// &
-                          ftoa(1.0_dp/ratio_limit)//' (total '//ftoa(en%total)//' against initial energy plus '// &
-                          'external work '//ftoa(st%e_initial + en%ext)//'); fastest node '//node_where(i))
-            else if (en%ratio > ratio_limit) then
-                i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
-                call fail('energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
-                          ftoa(ratio_limit)//'; fastest node '//node_where(i))
-            else if (en%ke < -(ratio_limit - 1.0_dp)*abs(st%e_initial + en%ext)) then
-                ! 1/2 m v(n-1/2).v(n+1/2) strongly negative: velocities turn
-                ! round within a step, by more than the energy ratio's margin
-                ! (slightly negative values are normal where nodes turn round).
-                ! No physical state: a step beyond the stable limit, a contact
-                ! spring too stiff for the step, or a prescribed motion that
-                ! reverses within a step at a speed beyond reason. (This was
-                ! let pass twice in a row for a stiff block bouncing off a
-                ! wall; that block was running beyond its stable step.)
-                i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
-                call fail('impossible state: kinetic energy 1/2 m v(n-1/2).v(n+1/2) is '//ftoa(en%ke)// &
-                          ', below minus '//ftoa(ratio_limit - 1.0_dp)//' times the initial energy plus '// &
-                          'external work ('//ftoa(st%e_initial + en%ext)//'): velocities reverse within a '// &
-                          'step; fastest node '//node_where(i)//'; '//cause_hint())
-            end if
-        end subroutine check_energy
-
-        !> A rigid body as the deck names it: its part, or its node set's body.
-        function rigid_name(k) result(t)
-            integer, intent(in) :: k
-            character(len=:), allocatable :: t
-            if (rg%b(k)%part > 0) then
-                t = 'of part '//itoa(model%part(rg%b(k)%part)%id)
+    !> Batch control at the end of a cycle: a status line on SIGUSR2; the
+    !> sense switches of d3kil; a dump every opts%dump_every cycles; on
+    !> SIGTERM or SIGUSR1, or near the wall-clock limit, a dump and the run
+    !> stopped (exit 3). The loop ends where res%status is no longer normal.
+    subroutine batch_phase(lp, opts, model, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, en, lg, tm, res)
+        type(loop_t), intent(inout) :: lp
+        type(run_options_t), intent(in) :: opts
+        type(model_t), intent(in) :: model
+        type(domain_t), intent(in) :: dom
+        type(state_t), intent(inout) :: st
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        type(beams_t), intent(in) :: bm
+        type(walls_t), intent(in) :: walls
+        type(rigid_t), intent(in) :: rg
+        type(contacts_t), intent(inout) :: ct
+        type(ties_t), intent(in) :: td
+        type(histories_t), intent(inout) :: hist
+        type(states_t), intent(inout) :: states
+        type(energies_t), intent(in) :: en
+        type(log_t), intent(in) :: lg
+        type(timers_t), intent(inout) :: tm
+        type(run_result_t), intent(inout) :: res
+        integer :: sig, sw
+        logical :: limit, status
+        if (allocated(opts%hold_cycles)) then
+            if (any(opts%hold_cycles == st%cycle)) call flush_histories(hist)
+            if (any(opts%hold_cycles == st%cycle)) call hold_for_signal(' held at cycle '//itoa(st%cycle)// &
+                                                               ' (XDYNA_HOLD_AT): waiting for a signal', 120.0, opts%progress)
+        end if
+        call stop_flags(lp, opts, dom, st, lg, tm, sig, limit, status, sw)
+        if (status) call progress_line(lp, model, st, opts, tm, en)
+        ! what a sense switch asks, at the end of this cycle (every rank)
+        select case (sw)
+        case (sw_stop)
+            call dump()
+            if (res%status == exit_normal) &
+                call end_run(res, st, lg, exit_signal, 'stopped', 'stopped by sense switch sw1 (d3kil); restart dump '// &
+                             opts%dump_path)
+        case (sw_status)
+            call progress_line(lp, model, st, opts, tm, en)
+        case (sw_dump)
+            call dump()
+        case (sw_state)
+            ! the state at the next cycle's end, where its energies are computed
+            if (states%on) then
+                lp%state_asked = .true.
             else
-                t = itoa(k)//' (a node set)'
+                call log_line(lg, ' *** Warning: sense switch sw4: this run writes no states')
+            end if
+        case (sw_flush)
+            call flush_histories(hist)
+        end select
+        if (res%status /= exit_normal) return
+        if (opts%dump_every > 0) then
+            if (mod(st%cycle, opts%dump_every) == 0) call dump()
+            if (res%status /= exit_normal) return
+        end if
+        if (sig /= 0) then
+            call dump()
+            if (res%status == exit_normal) call end_run(res, st, lg, exit_signal, 'stopped', 'stopped by signal '// &
+                                                        itoa(sig)//'; restart dump '//opts%dump_path)
+        else if (limit) then
+            call dump()
+            if (res%status == exit_normal) call end_run(res, st, lg, exit_signal, 'stopped', 'wall-clock limit of '// &
+                                                        ftoa(opts%wallclock)//' s near; restart dump '//opts%dump_path)
+        end if
+    contains
+        subroutine dump()
+            call dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
+        end subroutine dump
+    end subroutine batch_phase
+
+    !> The signals and the wall-clock limit, the same on every rank (MPI:
+    !> the largest over the ranks, so all stop at the same cycle). The
+    !> wall-clock margin: 10 cycles, 5% of the allowance, twice the last
+    !> dump's time, and 0.5 s for the dump, closing the files and the
+    !> parallel shutdown. sw: a sense switch of d3kil (rank 0 reads it
+    !> every opts%switch_every cycles; sw_none: none).
+    subroutine stop_flags(lp, opts, dom, st, lg, tm, sig, limit, status, sw)
+        type(loop_t), intent(inout) :: lp
+        type(run_options_t), intent(in) :: opts
+        type(domain_t), intent(in) :: dom
+        type(state_t), intent(in) :: st
+        type(log_t), intent(in) :: lg
+        type(timers_t), intent(in) :: tm
+        integer, intent(out) :: sig
+        logical, intent(out) :: limit, status
+        integer, intent(out) :: sw
+        real(dp) :: fl(4)
+        limit = .false.
+        sw = sw_none
+        if (dom%rank == 0 .and. lp%switch_gone .and. mod(st%cycle, opts%switch_every) == 0) then
+            call read_sense_switch(opts%kill_path, 'd3kil', sw, lp%switch_text, lp%switch_gone)
+            if (sw /= sw_none) call log_line(lg, ' sense switch "'//lp%switch_text//'" read from d3kil at time '// &
+                                             rtoa(st%time)//', cycle '//itoa(st%cycle)//': '//switch_name(sw))
+            if (.not. lp%switch_gone) call log_line(lg, ' *** Warning: d3kil could not be deleted; sense '// &
+                                                    'switches are no longer read')
+            if (sw == sw_unknown) sw = sw_none
+        end if
+        if (opts%wallclock > 0.0_dp) then
+            limit = tm%elapsed() + max(10.0_dp*(tm%elapsed() - lp%t0_wall)/max(st%cycle - lp%cycle0, 1), &
+                                       0.05_dp*opts%wallclock, 2.0_dp*lp%t_dump) + 0.5_dp >= opts%wallclock
+        end if
+        fl = [real(stop_signal(), dp), merge(1.0_dp, 0.0_dp, limit), merge(1.0_dp, 0.0_dp, status_signal()), &
+              real(sw, dp)]
+        if (dom%on) call comm_max(fl)
+        sig = nint(fl(1))
+        limit = fl(2) > 0
+        status = fl(3) > 0
+        sw = nint(fl(4))
+    end subroutine stop_flags
+
+    !> The checks that stop a run gone bad (exit 2), on the energies at
+    !> t(n): a rigid body turning a radian or more in a step; NaN or
+    !> infinite energy; energy lost or gained beyond the ratio's margin;
+    !> velocities reversing within a step. Each names a node.
+    subroutine energy_check(lp, model, st, solids, sh, rg, ct, pn, en, vn, res, lg)
+        type(loop_t), intent(in) :: lp
+        type(model_t), intent(in) :: model
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        type(rigid_t), intent(in) :: rg
+        type(contacts_t), intent(in) :: ct
+        type(prescribed_nodes_t), intent(in) :: pn
+        type(energies_t), intent(in) :: en
+        real(wp), intent(in) :: vn(:, :)
+        type(run_result_t), intent(inout) :: res
+        type(log_t), intent(in) :: lg
+        integer :: i, k
+        ! a rigid body turning a radian or more in one step: no motion the
+        ! step resolves (the rotation of a step is the Cayley transform of
+        ! omega dt, good for small angles); a prescribed spin of 1e30 rad/s
+        ! ran to "normal termination" with nodes at 1e28 m/s
+        do k = 1, rg%n
+            if (.not. rg%b(k)%active) cycle
+            if (norm2(rg%b(k)%omega)*real(st%dt_old, dp) >= 1.0_dp) then
+                call fail(res, st, lg, 'impossible state: rigid body '//rigid_name(k)//' turns '// &
+                          rtoa(norm2(rg%b(k)%omega)*real(st%dt_old, dp))//' rad in one step (angular '// &
+                          'velocity '//rtoa(norm2(rg%b(k)%omega))//'); node '// &
+                          node_where(model, solids, sh, rg%b(k)%node(1))//'; a prescribed rotation far beyond its '// &
+                          'curve''s intent?')
+                return
+            end if
+        end do
+        res%e_scale = max(res%e_scale, abs(st%e_initial + en%ext))
+        if (en%total /= en%total .or. abs(en%total) > huge(1.0_wp)) then
+            do i = 1, st%nnode
+                if (any(st%v(:, i) /= st%v(:, i)) .or. any(abs(st%v(:, i)) > huge(1.0_wp))) exit
+            end do
+            if (i > st%nnode) i = 1
+            call fail(res, st, lg, 'energy is NaN or infinite; first bad node '//node_where(model, solids, sh, i))
+        else if ((en%ratio < 0.0_dp .or. (en%ratio < 1.0_dp/lp%ratio_limit .and. st%cycle - lp%cycle0 >= 10)) &
+                 .and. abs(st%e_initial + en%ext) > 0.0_dp) then
+            ! energy lost beyond the margin, or a negative total against a
+            ! positive input: no physical state, since walls, contact,
+            ! hourglass and damping work are all in the total. The lower
+            ! margin holds from the tenth cycle: before, a run loaded from
+            ! rest has energies of a few steps' work, whose ratio the
+            ! first-order start (v(1/2) = v(0) + a(0) dt/2) sets to
+            ! anything (0.50 at cycle 2 of a velocity ramp, 0 at cycle 1
+            ! of the contact patch test)
+            i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
+            call fail(res, st, lg, 'energy lost: total energy ratio '//ftoa(en%ratio)//' is below '// &
+                      ftoa(1.0_dp/lp%ratio_limit)//' (total '//ftoa(en%total)//' against initial energy plus '// &
+                      'external work '//ftoa(st%e_initial + en%ext)//'); fastest node '//node_where(model, solids, sh, i))
+        else if (en%ratio > lp%ratio_limit) then
+            i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
+            call fail(res, st, lg, 'energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
+                      ftoa(lp%ratio_limit)//'; fastest node '//node_where(model, solids, sh, i))
+        else if (en%ke < -(lp%ratio_limit - 1.0_dp)*abs(st%e_initial + en%ext)) then
+            ! 1/2 m v(n-1/2).v(n+1/2) strongly negative: velocities turn
+            ! round within a step, by more than the energy ratio's margin
+            ! (slightly negative values are normal where nodes turn round).
+            ! No physical state: a step beyond the stable limit, a contact
+            ! spring too stiff for the step, or a prescribed motion that
+            ! reverses within a step at a speed beyond reason. (This was
+            ! let pass twice in a row for a stiff block bouncing off a
+            ! wall; that block was running beyond its stable step.)
+            i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
+            call fail(res, st, lg, 'impossible state: kinetic energy 1/2 m v(n-1/2).v(n+1/2) is '//ftoa(en%ke)// &
+                      ', below minus '//ftoa(lp%ratio_limit - 1.0_dp)//' times the initial energy plus '// &
+                      'external work ('//ftoa(st%e_initial + en%ext)//'): velocities reverse within a '// &
+                      'step; fastest node '//node_where(model, solids, sh, i)//'; '//cause_hint())
+        end if
+    contains
+        !> A rigid body as the deck names it: its part, or its node set's body.
+        function rigid_name(kb) result(t)
+            integer, intent(in) :: kb
+            character(len=:), allocatable :: t
+            if (rg%b(kb)%part > 0) then
+                t = 'of part '//itoa(model%part(rg%b(kb)%part)%id)
+            else
+                t = itoa(kb)//' (a node set)'
             end if
         end function rigid_name
 
@@ -414,134 +471,187 @@ contains
             if (ct%n > 0) t = 'a contact penalty scale (SLSFAC, SFS, SFM) too high for the time step, or '//t
             if (pn%n > 0 .or. rg%n > 0) t = t//', or a prescribed motion reversing within a step'
         end function cause_hint
+    end subroutine energy_check
 
-        !> The restart dump of the state at the end of this cycle.
-        subroutine dump()
-            logical :: ok
-            real(dp) :: t1
-            t1 = tm%elapsed()
-            call tm%start(ph_output)
-            call gather_element_state(dom, solids, sh, energies=.true.)
-            ! the dump's history marks count the rows in thist.h5
-            call flush_histories(hist)
-            ok = .true.
-            if (dom%on) call gather_contact_state(ct)
-            if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, bm, walls, rg, ct, td, &
-                                               history_marks(hist), states_marks(states), ok)
-            if (dom%on) call scatter_contact_state(ct, dom%rank)
-            ! rank 0 wrote it: every rank learns whether it could
-            ok = .not. any_rank(dom, .not. ok)
-            call tm%stop(ph_output)
-            t_dump = tm%elapsed() - t1
-            if (ok) then
-                call log_line(lg, ' restart dump at cycle '//itoa(st%cycle)//', time '//rtoa(st%time)//': '// &
-                              opts%dump_path)
-            else
-                ! a full disk or a quota: the last good dump stays, and the run
-                ! stops rather than go on without a way back
-                call fail('cannot write the restart dump '//opts%dump_path//write_failed// &
-                          '; the last good dump, if any, is kept')
-            end if
-        end subroutine dump
+    !> The restart dump of the state at the end of this cycle (rank 0
+    !> writes it, every rank learns whether it could); a dump that cannot
+    !> be written stops the run, the last good one kept.
+    subroutine dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
+        type(loop_t), intent(inout) :: lp
+        type(run_options_t), intent(in) :: opts
+        type(domain_t), intent(in) :: dom
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        type(beams_t), intent(in) :: bm
+        type(walls_t), intent(in) :: walls
+        type(rigid_t), intent(in) :: rg
+        type(contacts_t), intent(inout) :: ct
+        type(ties_t), intent(in) :: td
+        type(histories_t), intent(inout) :: hist
+        type(states_t), intent(in) :: states
+        type(log_t), intent(in) :: lg
+        type(timers_t), intent(inout) :: tm
+        type(run_result_t), intent(inout) :: res
+        logical :: ok
+        real(dp) :: t1
+        t1 = tm%elapsed()
+        call tm%start(ph_output)
+        call gather_element_state(dom, solids, sh, energies=.true.)
+        ! the dump's history marks count the rows in thist.h5
+        call flush_histories(hist)
+        ok = .true.
+        if (dom%on) call gather_contact_state(ct)
+        if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, bm, walls, rg, ct, td, &
+                                           history_marks(hist), states_marks(states), ok)
+        if (dom%on) call scatter_contact_state(ct, dom%rank)
+        ! rank 0 wrote it: every rank learns whether it could
+        ok = .not. any_rank(dom, .not. ok)
+        call tm%stop(ph_output)
+        lp%t_dump = tm%elapsed() - t1
+        if (ok) then
+            call log_line(lg, ' restart dump at cycle '//itoa(st%cycle)//', time '//rtoa(st%time)//': '// &
+                          opts%dump_path)
+        else
+            ! a full disk or a quota: the last good dump stays, and the run
+            ! stops rather than go on without a way back
+            call fail(res, st, lg, 'cannot write the restart dump '//opts%dump_path//write_failed// &
+                      '; the last good dump, if any, is kept')
+        end if
+    end subroutine dump_phase
 
-        subroutine stop_run(text)
-            character(len=*), intent(in) :: text
-            call end_run(exit_signal, 'stopped', text)
-        end subroutine stop_run
-
-        !> 'node 12 (part 3)': a node and the part of an element on it.
-        function node_where(i) result(txt)
-            integer, intent(in) :: i
-            character(len=:), allocatable :: txt
-            integer :: e
-            txt = itoa(model%node_id(i))
-            do e = 1, solids%n
-                if (any(solids%conn(:, e) == i)) then
-                    txt = txt//' (part '//itoa(model%part(solids%part(e))%id)//')'
-                    return
-                end if
-            end do
-            do e = 1, sh%n
-                if (any(sh%conn(:, e) == i)) then
-                    txt = txt//' (part '//itoa(model%part(sh%part(e))%id)//')'
-                    return
-                end if
-            end do
-        end function node_where
-
-        subroutine fail(text)
-            character(len=*), intent(in) :: text
-            call end_run(exit_run, 'error termination', text)
-        end subroutine fail
-
-        !> The run ends early with exit status `code`: the message, with the
-        !> time and cycle, for the caller and the log.
-        subroutine end_run(code, what, text)
-            integer, intent(in) :: code
-            character(len=*), intent(in) :: what, text
-            res%status = code
-            res%message = what//' at time '//rtoa(st%time)//', cycle '//itoa(st%cycle)//': '//text
-            call log_line(lg, '')
-            call log_line(lg, ' *** '//res%message)
-        end subroutine end_run
-
-        subroutine output(force)
-            logical, intent(in) :: force
-            integer :: crit(3)
-            real(dp) :: ns
-            character(len=:), allocatable :: failed_file
-            call tm%start(ph_output)
-            crit = 0
-            if (st%crit_elem > 0) then
-                crit = [1, solids%eid(st%crit_elem), model%part(solids%part(st%crit_elem))%id]
-            else if (st%crit_elem < 0) then
-                crit = [2, sh%eid(-st%crit_elem), model%part(sh%part(-st%crit_elem))%id]
-            end if
-            ns = 0
-            if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - t0_wall)/(real(st%cycle, dp)*max(solids%n + sh%n, 1))
+    !> The histories due at t(n) and the state where due (or forced: the
+    !> run's first and last cycle, or asked by sense switch sw4); a write
+    !> that fails (a full disk, a quota, the directory gone) stops the run,
+    !> every file keeping its complete records.
+    subroutine output_phase(lp, force, model, dom, st, solids, sh, bm, walls, rg, ct, hist, states, en, vn, vrminus, tm, &
+                            res, lg)
+        type(loop_t), intent(inout) :: lp
+        logical, intent(in) :: force
+        type(model_t), intent(in) :: model
+        type(domain_t), intent(in) :: dom
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        type(beams_t), intent(in) :: bm
+        type(walls_t), intent(in) :: walls
+        type(rigid_t), intent(in) :: rg
+        type(contacts_t), intent(in) :: ct
+        type(histories_t), intent(inout) :: hist
+        type(states_t), intent(inout) :: states
+        type(energies_t), intent(in) :: en
+        real(wp), intent(in) :: vn(:, :)
+        real(wp), intent(in), allocatable :: vrminus(:, :)
+        type(timers_t), intent(inout) :: tm
+        type(run_result_t), intent(inout) :: res
+        type(log_t), intent(in) :: lg
+        integer :: crit(3)
+        real(dp) :: ns
+        character(len=:), allocatable :: failed_file
+        call tm%start(ph_output)
+        crit = 0
+        if (st%crit_elem > 0) then
+            crit = [1, solids%eid(st%crit_elem), model%part(solids%part(st%crit_elem))%id]
+        else if (st%crit_elem < 0) then
+            crit = [2, sh%eid(-st%crit_elem), model%part(sh%part(-st%crit_elem))%id]
+        end if
+        ns = 0
+        if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - lp%t0_wall)/(real(st%cycle, dp)*max(solids%n + sh%n, 1))
+        if (ct%n > 0) then
+            call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, contact_resultants(ct), &
+                                 ct%fnode, wminus=vrminus)
+        else
+            call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, wminus=vrminus)
+        end if
+        if (states_due(states, st%time) .or. (force .and. states%on) .or. lp%state_asked) then
+            ! the energies (and shell thicknesses) are gathered already
+            ! where this cycle computed the energies
+            call gather_element_state(dom, solids, sh, energies=.not. lp%energy_now)
             if (ct%n > 0) then
-                call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, contact_resultants(ct), &
-                                     ct%fnode, wminus=vrminus)
+                call write_state(states, st, solids, sh, vn, ct%fnode, en=en, bm=bm)
             else
-                call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, wminus=vrminus)
+                call write_state(states, st, solids, sh, vn, en=en, bm=bm)
             end if
-            if (states_due(states, st%time) .or. (force .and. states%on) .or. state_asked) then
-                ! the energies (and shell thicknesses) are gathered already
-                ! where this cycle computed the energies
-                call gather_element_state(dom, solids, sh, energies=.not. energy_now)
-                if (ct%n > 0) then
-                    call write_state(states, st, solids, sh, vn, ct%fnode, en=en, bm=bm)
-                else
-                    call write_state(states, st, solids, sh, vn, en=en, bm=bm)
-                end if
-                state_asked = .false.
+            lp%state_asked = .false.
+        end if
+        call tm%stop(ph_output)
+        ! a failed write (a full disk, a quota, the directory gone) stops
+        ! the run; every file keeps its complete records
+        failed_file = history_failure(hist)
+        if (len(failed_file) == 0) failed_file = states_failure(states)
+        ! rank 0 writes the files: every rank stops with it
+        if (any_rank(dom, len(failed_file) > 0) .and. len(failed_file) == 0) failed_file = 'an output file (on rank 0)'
+        if (len(failed_file) > 0) call fail(res, st, lg, 'cannot write '//failed_file//write_failed// &
+                                            '; the output files keep every complete record written before')
+    end subroutine output_phase
+
+    !> The progress line on standard output: cycle, time, step, share
+    !> done, energy ratio, wall time spent and left.
+    subroutine progress_line(lp, model, st, opts, tm, en)
+        type(loop_t), intent(in) :: lp
+        type(model_t), intent(in) :: model
+        type(state_t), intent(in) :: st
+        type(run_options_t), intent(in) :: opts
+        type(timers_t), intent(in) :: tm
+        type(energies_t), intent(in) :: en
+        real(dp) :: frac, el, left
+        character(len=200) :: buf
+        el = tm%elapsed() - lp%t0_wall
+        frac = min(1.0_dp, st%time/max(opts%endtim, tiny(1.0_dp)))
+        if (model%ctl%endcyc > 0) frac = max(frac, min(1.0_dp, real(st%cycle, dp)/model%ctl%endcyc))
+        left = 0
+        if (frac > 0) left = el*(1.0_dp - frac)/frac
+        write (buf, '(a,i9,a,es11.4,a,es10.3,a,f6.1,a,f8.5,a,f9.1,a,f9.1,a)') ' cycle', st%cycle, &
+            '  t', st%time, '  dt', st%dt, '  ', 100*frac, '%  ratio', en%ratio, '  elapsed', el, &
+            's  left', left, 's'
+        write (output_unit, '(a)') trim(buf)
+        flush (output_unit)
+    end subroutine progress_line
+
+    !> 'node 12 (part 3)': a node and the part of an element on it.
+    function node_where(model, solids, sh, i) result(txt)
+        type(model_t), intent(in) :: model
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: i
+        character(len=:), allocatable :: txt
+        integer :: e
+        txt = itoa(model%node_id(i))
+        do e = 1, solids%n
+            if (any(solids%conn(:, e) == i)) then
+                txt = txt//' (part '//itoa(model%part(solids%part(e))%id)//')'
+                return
             end if
-            call tm%stop(ph_output)
-            ! a failed write (a full disk, a quota, the directory gone) stops
-            ! the run; every file keeps its complete records
-            failed_file = history_failure(hist)
-            if (len(failed_file) == 0) failed_file = states_failure(states)
-            ! rank 0 writes the files: every rank stops with it
-            if (any_rank(dom, len(failed_file) > 0) .and. len(failed_file) == 0) failed_file = 'an output file (on rank 0)'
-            if (len(failed_file) > 0) call fail('cannot write '//failed_file//write_failed// &
-                '; the output files keep every complete record written before')
-        end subroutine output
+        end do
+        do e = 1, sh%n
+            if (any(sh%conn(:, e) == i)) then
+                txt = txt//' (part '//itoa(model%part(sh%part(e))%id)//')'
+                return
+            end if
+        end do
+    end function node_where
 
-        subroutine progress()
-            real(dp) :: frac, el, left
-            character(len=200) :: buf
-            el = tm%elapsed() - t0_wall
-            frac = min(1.0_dp, st%time/max(opts%endtim, tiny(1.0_dp)))
-            if (model%ctl%endcyc > 0) frac = max(frac, min(1.0_dp, real(st%cycle, dp)/model%ctl%endcyc))
-            left = 0
-            if (frac > 0) left = el*(1.0_dp - frac)/frac
-            write (buf, '(a,i9,a,es11.4,a,es10.3,a,f6.1,a,f8.5,a,f9.1,a,f9.1,a)') ' cycle', st%cycle, &
-                '  t', st%time, '  dt', st%dt, '  ', 100*frac, '%  ratio', en%ratio, '  elapsed', el, &
-                's  left', left, 's'
-            write (output_unit, '(a)') trim(buf)
-            flush (output_unit)
-        end subroutine progress
+    !> The run stops in error (exit 2) with `text`.
+    subroutine fail(res, st, lg, text)
+        type(run_result_t), intent(inout) :: res
+        type(state_t), intent(in) :: st
+        type(log_t), intent(in) :: lg
+        character(len=*), intent(in) :: text
+        call end_run(res, st, lg, exit_run, 'error termination', text)
+    end subroutine fail
 
-    end subroutine run_time_loop
+    !> The run ends early with exit status `code`: the message, with the
+    !> time and cycle, for the caller and the log.
+    subroutine end_run(res, st, lg, code, what, text)
+        type(run_result_t), intent(inout) :: res
+        type(state_t), intent(in) :: st
+        type(log_t), intent(in) :: lg
+        integer, intent(in) :: code
+        character(len=*), intent(in) :: what, text
+        res%status = code
+        res%message = what//' at time '//rtoa(st%time)//', cycle '//itoa(st%cycle)//': '//text
+        call log_line(lg, '')
+        call log_line(lg, ' *** '//res%message)
+    end subroutine end_run
 
 end module xd_solver_time_loop
