@@ -54,8 +54,8 @@ module xd_solver_domain
         integer :: width = 3                  !< values a node's force carries: 3, or 6 with shells' moments
         real(dp), allocatable :: cost(:)      !< element cost per rank
         integer, allocatable :: nslave(:)     !< slave nodes per rank (all interfaces)
-        !> per rank, what an owned-node layout would hold (issue 32; only
-        !> with more than one rank): its solids, shells, the nodes its
+        !> per rank, what an owned-node layout would hold (issue 32; on rank
+        !> 0, which logs it, with more than one rank): its solids, shells, the nodes its
         !> elements touch, of which those another rank assembles (the halo),
         !> the ranks it shares a node with, and over the contact interfaces
         !> the ghosts: other ranks' segments within reach of its slaves'
@@ -160,7 +160,7 @@ contains
             allocate (dom%bshell(0), dom%bshell_mine(0))
         end if
 
-        if (nranks > 1) call part_sizes()
+        if (nranks > 1 .and. rank == 0) call part_sizes()
 
         ! contact: each interface's slaves by coordinate bisection (slaves
         ! whose lists go to the debug dump stay on rank 0, which writes it)
@@ -188,7 +188,7 @@ contains
                 do r = 1, nranks
                     dom%nslave(r) = dom%nslave(r) + count(spart == r - 1)
                 end do
-                if (nranks > 1) call ghosts(it%surf, it%dl, it%reach, spart)
+                if (nranks > 1 .and. rank == 0) call ghosts(it%surf, it%dl, it%reach, spart)
             end associate
         end do
         if (allocated(touch)) deallocate (touch)
