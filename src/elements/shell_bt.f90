@@ -31,6 +31,10 @@ module xd_elements_shell_bt
         !> E / (1 - nu^2), nu / (1 - nu), and the plate wave speed
         !> sqrt(E / rho (1 - nu^2))
         real(wp), allocatable :: ge(:), qe(:), nuf(:), wsp(:)
+        !> the plane-stress return's mode moduli, per element once: the
+        !> equal-biaxial mode's E / 3(1 - nu), the shear modes' E / (1 + nu)
+        !> (plane_stress_returns), and -nu / E (its thickness strain)
+        real(wp), allocatable :: cbi(:), csh(:), nue(:)
         !> hourglass coefficients: membrane (QM), bending (QB), warping (QW);
         !> viscous form (IHQ 1-3) or stiffness form (IHQ 4-5)
         real(wp), allocatable :: qm(:), qb(:), qw(:)
@@ -193,6 +197,7 @@ contains
         sh%msq = 1
         sh%dead = .false.
         allocate (sh%ncap(sh%n), sh%hg_bound(sh%n), sh%ge(sh%n), sh%qe(sh%n), sh%nuf(sh%n), sh%wsp(sh%n))
+        allocate (sh%cbi(sh%n), sh%csh(sh%n), sh%nue(sh%n))
         sh%ncap = 0
         allocate (sh%low(sh%n))
         sh%low = .false.
@@ -264,6 +269,9 @@ contains
         sh%qe = sh%e/(1 - sh%nu**2)
         sh%nuf = sh%nu/(1 - sh%nu)
         sh%wsp = sqrt(sh%e/(sh%ro*(1 - sh%nu**2)))
+        sh%cbi = sh%e/(3*(1 - sh%nu))
+        sh%csh = sh%e/(1 + sh%nu)
+        sh%nue = -sh%nu/sh%e
         ! the points' state, as many per shell as the most any shell has
         ! (each shell's in one run of memory: NIP 2 in 80 bytes, not 400);
         ! back stresses only where a material moves them
@@ -1042,7 +1050,7 @@ contains
                 t(l, :) = sl
             end do
             if (ny > 0) then
-                call plane_stress_returns(sh, e0, ip, ny, iy, fy, nu, so, t, dzz)
+                call plane_stress_returns(sh, e0, ip, ny, iy, fy, so, t, dzz)
                 dzz(iy(1:ny)) = dzz(iy(1:ny))/dt
                 ny = 0
             end if
@@ -1276,14 +1284,14 @@ contains
     !> itself, had been half of the crushing tubes' run). t: the trial
     !> stresses in, the returned ones out; so the stresses before the step;
     !> dzz the thickness strain increments.
-    subroutine plane_stress_returns(sh, e0, ip, ny, iy, fy, nu, so, t, dzz)
+    subroutine plane_stress_returns(sh, e0, ip, ny, iy, fy, so, t, dzz)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e0, ip, ny, iy(:)
-        real(wp), intent(in) :: fy(:), nu(nblk), so(nblk, 5)
+        real(wp), intent(in) :: fy(:), so(nblk, 5)
         real(wp), intent(inout) :: t(nblk, 5), dzz(nblk)
-        real(wp), parameter :: r2 = sqrt(2.0_wp), c23 = sqrt(2.0_wp/3.0_wp)
+        real(wp), parameter :: rr2 = 1.0_wp/sqrt(2.0_wp), c23 = sqrt(2.0_wp/3.0_wp), third = 1.0_wp/3.0_wp
         real(wp) :: c1(nblk), c2(nblk), a1(nblk), a2(nblk), q1(nblk), rr(nblk), dg(nblk), u1(nblk), u2(nblk)
-        real(wp) :: de(nblk), ep0(nblk), ym(nblk), sy0(nblk), hk(nblk), phi2(nblk), phi(nblk), sy(nblk), h(nblk)
+        real(wp) :: de(nblk), ep0(nblk), sy0(nblk), hk(nblk), phi2(nblk), phi(nblk), sy(nblk), h(nblk)
         !> 1 while a point iterates, 0 once it has converged (or its
         !> Newton step would climb: f' >= 0)
         real(wp) :: go(nblk)
@@ -1292,7 +1300,6 @@ contains
         integer :: j, l, it
         do j = 1, ny
             l = iy(j)
-            ym(j) = sh%e(e0 + l)
             ep0(j) = sh%epsp(ip, e0 + l)
             ! flow_stress's law, its constants held per point for the
             ! iteration (read through sh at every step, the tubes' run took
@@ -1300,11 +1307,14 @@ contains
             sy0(j) = sh%sy0(e0 + l)
             hk(j) = sh%hk(e0 + l)
             cur(j) = sh%ycurve(e0 + l)
-            c1(j) = ym(j)/(3.0_wp*(1.0_wp - nu(l)))
-            c2(j) = ym(j)/(1.0_wp + nu(l))
-            a1(j) = (t(l, 1) + t(l, 2))/r2
-            a2(j) = (t(l, 2) - t(l, 1))/r2
-            q1(j) = a1(j)*a1(j)/3.0_wp
+            c1(j) = sh%cbi(e0 + l)
+            c2(j) = sh%csh(e0 + l)
+            ! (constant divisions as products: a quotient is a division
+            ! instruction even by a constant, and a yielding point's
+            ! return had twenty of them)
+            a1(j) = (t(l, 1) + t(l, 2))*rr2
+            a2(j) = (t(l, 2) - t(l, 1))*rr2
+            q1(j) = a1(j)*a1(j)*third
             rr(j) = a2(j)*a2(j) + 2.0_wp*(t(l, 3)**2 + t(l, 4)**2 + t(l, 5)**2)
         end do
         anycur = any(cur(1:ny))
@@ -1321,7 +1331,7 @@ contains
         if (anycur) call curve_points()
         do j = 1, ny
             fac = fy(j)
-            f = 0.5_wp*phi2(j) - (fac*sy(j))**2/3.0_wp
+            f = 0.5_wp*phi2(j) - (fac*sy(j))**2*third
             go(j) = 0.5_wp + sign(0.5_wp, abs(f) - tol12*phi2(j))
             ! phi taken as phi_tr / (1 + ce dg), ce the modes' moduli
             ! weighted by their shares of the trial (exact for one mode, to
@@ -1356,7 +1366,7 @@ contains
             if (anycur) call curve_points()
             do j = 1, ny
                 fac = fy(j)
-                f = 0.5_wp*phi2(j) - (fac*sy(j))**2/3.0_wp
+                f = 0.5_wp*phi2(j) - (fac*sy(j))**2*third
                 dphi2 = -2.0_wp*(q1(j)*c1(j)*u1(j)**3 + rr(j)*c2(j)*u2(j)**3)
                 ip1 = 1.0_wp/phi(j)
                 dphi = 0.5_wp*dphi2*ip1
@@ -1379,8 +1389,8 @@ contains
             l = iy(j)
             a1(j) = a1(j)*u1(j)
             a2(j) = a2(j)*u2(j)
-            s1 = (a1(j) - a2(j))/r2
-            s2 = (a1(j) + a2(j))/r2
+            s1 = (a1(j) - a2(j))*rr2
+            s2 = (a1(j) + a2(j))*rr2
             sold = so(l, 1) + so(l, 2)
             t(l, 1) = s1
             t(l, 2) = s2
@@ -1388,7 +1398,7 @@ contains
             t(l, 4) = t(l, 4)*u2(j)
             t(l, 5) = t(l, 5)*u2(j)
             sh%epsp(ip, e0 + l) = ep0(j) + de(j)
-            dzz(l) = -nu(l)/ym(j)*(s1 + s2 - sold) - dg(j)*(s1 + s2)/3.0_wp
+            dzz(l) = sh%nue(e0 + l)*(s1 + s2 - sold) - dg(j)*(s1 + s2)*third
         end do
     contains
         !> The flow stress and slope of the points whose law is a curve.
