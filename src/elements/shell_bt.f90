@@ -31,10 +31,10 @@ module xd_elements_shell_bt
         !> E / (1 - nu^2), nu / (1 - nu), and the plate wave speed
         !> sqrt(E / rho (1 - nu^2))
         real(wp), allocatable :: ge(:), qe(:), nuf(:), wsp(:)
-        !> the plane-stress return's mode moduli, per element once: the
-        !> equal-biaxial mode's E / 3(1 - nu), the shear modes' E / (1 + nu)
-        !> (plane_stress_returns), and -nu / E (its thickness strain)
-        real(wp), allocatable :: cbi(:), csh(:), nue(:)
+        !> the plane-stress return's, per element once: the equal-biaxial
+        !> mode's modulus E / 3(1 - nu) (the shear modes' is 2 G), and -nu / E
+        !> (its thickness strain)
+        real(wp), allocatable :: cbi(:), nue(:)
         !> hourglass coefficients: membrane (QM), bending (QB), warping (QW);
         !> viscous form (IHQ 1-3) or stiffness form (IHQ 4-5)
         real(wp), allocatable :: qm(:), qb(:), qw(:)
@@ -197,7 +197,7 @@ contains
         sh%msq = 1
         sh%dead = .false.
         allocate (sh%ncap(sh%n), sh%hg_bound(sh%n), sh%ge(sh%n), sh%qe(sh%n), sh%nuf(sh%n), sh%wsp(sh%n))
-        allocate (sh%cbi(sh%n), sh%csh(sh%n), sh%nue(sh%n))
+        allocate (sh%cbi(sh%n), sh%nue(sh%n))
         sh%ncap = 0
         allocate (sh%low(sh%n))
         sh%low = .false.
@@ -270,7 +270,6 @@ contains
         sh%nuf = sh%nu/(1 - sh%nu)
         sh%wsp = sqrt(sh%e/(sh%ro*(1 - sh%nu**2)))
         sh%cbi = sh%e/(3*(1 - sh%nu))
-        sh%csh = sh%e/(1 + sh%nu)
         sh%nue = -sh%nu/sh%e
         ! the points' state, as many per shell as the most any shell has
         ! (each shell's in one run of memory: NIP 2 in 80 bytes, not 400);
@@ -1308,7 +1307,7 @@ contains
             hk(j) = sh%hk(e0 + l)
             cur(j) = sh%ycurve(e0 + l)
             c1(j) = sh%cbi(e0 + l)
-            c2(j) = sh%csh(e0 + l)
+            c2(j) = 2*sh%ge(e0 + l)     ! E / (1 + nu), exactly
             ! (constant divisions as products: a quotient is a division
             ! instruction even by a constant, and a yielding point's
             ! return had twenty of them)

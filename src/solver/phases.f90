@@ -182,18 +182,14 @@ contains
         case (1)
             if (solids%vol(bad) /= solids%vol(bad) .or. any(st%x(:, solids%conn(:, bad)) /= &
                                                           st%x(:, solids%conn(:, bad)))) then
-                txt = 'NaN in the coordinates of solid '//itoa(solids%eid(bad))//' of part '// &
-                      itoa(model%part(solids%part(bad))%id)
+                txt = 'NaN in the coordinates of '//solid_name(model, solids, bad)
             else
-                txt = 'negative volume in solid '//itoa(solids%eid(bad))//' of part '// &
-                      itoa(model%part(solids%part(bad))%id)
+                txt = 'negative volume in '//solid_name(model, solids, bad)
             end if
         case (2)
-            txt = 'NaN in solid '//itoa(solids%eid(bad))//' of part '// &
-                  itoa(model%part(solids%part(bad))%id)//' (its nodes'' velocities)'
+            txt = 'NaN in '//solid_name(model, solids, bad)//' (its nodes'' velocities)'
         case (3)
-            txt = 'shell '//itoa(sh%eid(bad))//' of part '//itoa(model%part(sh%part(bad))%id)// &
-                  ' has collapsed (zero or negative area)'
+            txt = shell_name(model, sh, bad)//' has collapsed (zero or negative area)'
         case default
             txt = ''
         end select
@@ -309,13 +305,29 @@ contains
         integer, intent(in) :: beam_crit
         character(len=:), allocatable :: txt
         txt = 'element unknown'
-        if (st%crit_elem > 0) txt = 'solid '//itoa(solids%eid(st%crit_elem))//' of part '// &
-                                    itoa(model%part(solids%part(st%crit_elem))%id)
-        if (st%crit_elem < 0) txt = 'shell '//itoa(sh%eid(-st%crit_elem))//' of part '// &
-                                    itoa(model%part(sh%part(-st%crit_elem))%id)
+        if (st%crit_elem > 0) txt = solid_name(model, solids, st%crit_elem)
+        if (st%crit_elem < 0) txt = shell_name(model, sh, -st%crit_elem)
         if (st%crit_elem == 0 .and. beam_crit > 0) txt = 'beam '//itoa(bm%eid(beam_crit))//' of part '// &
                                                          itoa(model%part(bm%part(beam_crit))%id)
     end function step_element_name
+
+    !> 'solid 12 of part 3': solid e as the deck names it.
+    function solid_name(model, solids, e) result(txt)
+        type(model_t), intent(in) :: model
+        type(solids_t), intent(in) :: solids
+        integer, intent(in) :: e
+        character(len=:), allocatable :: txt
+        txt = 'solid '//itoa(solids%eid(e))//' of part '//itoa(model%part(solids%part(e))%id)
+    end function solid_name
+
+    !> 'shell 7 of part 2': shell e as the deck names it.
+    function shell_name(model, sh, e) result(txt)
+        type(model_t), intent(in) :: model
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: e
+        character(len=:), allocatable :: txt
+        txt = 'shell '//itoa(sh%eid(e))//' of part '//itoa(model%part(sh%part(e))%id)
+    end function shell_name
 
     !> Whether `flag` holds on any rank (the rank itself when not parallel).
     logical function any_rank(dom, flag)

@@ -84,7 +84,6 @@ module xd_solver_time_loop
         real(dp) :: t_dump = 0                !< wall seconds the last dump took
         real(dp) :: t_last_progress = 0
         real(dp) :: ratio_limit = 1.5_dp      !< energy ratio beyond which the run stops (ENDENG)
-        logical :: energy_now = .false.       !< this cycle computes the energies
         logical :: state_asked = .false.      !< a state asked by sense switch sw4, at this cycle's end
         logical :: switch_gone = .true.       !< d3kil could be deleted (sense switches are read)
         logical :: dumped_end = .false.       !< the end-of-run dump is written
@@ -129,6 +128,7 @@ contains
         real(dp) :: dt_avg
         real(wp) :: dt_ref
         logical :: done
+        logical :: energy_now                  !< this cycle computes the energies (and so may write output)
         integer :: bad_kind, bad                !< the first bad element (element_phase)
         character(len=:), allocatable :: failure
         integer :: beam_crit                   !< the beam that set the step (0: none)
@@ -212,15 +212,15 @@ contains
             if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
             ! energies where histories or states are due (the d3plot's global
             ! variables carry them), or every energy_check_every cycles
-            lp%energy_now = histories_due(hist, st%time) .or. done .or. st%cycle == 0 .or. &
+            energy_now = histories_due(hist, st%time) .or. done .or. st%cycle == 0 .or. &
                             mod(st%cycle, opts%energy_check_every) == 0 .or. states_due(states, st%time) .or. &
                             lp%state_asked
             call tm%start(ph_integrate)
-            call velocity_phase(st, td, dt_avg, lp%energy_now, vminus, vrminus)
+            call velocity_phase(st, td, dt_avg, energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
             call constraint_phase(model, walls, pn, rg, td, pl, st, lg, tm, dt_avg, g_new, no_body)
 
-            if (lp%energy_now) then
+            if (energy_now) then
                 call energy_phase(model, dom, st, solids, sh, walls, rg, ct, td, bm, tm, vminus, vrminus, dt_avg, &
                                   ke_fix, vn, en)
                 call energy_check(lp, model, st, solids, sh, rg, ct, pn, en, vn, res, lg)
@@ -564,9 +564,9 @@ contains
             call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, wminus=vrminus)
         end if
         if (states_due(states, st%time) .or. (force .and. states%on) .or. lp%state_asked) then
-            ! the energies (and shell thicknesses) are gathered already
-            ! where this cycle computed the energies
-            call gather_element_state(dom, solids, sh, energies=.not. lp%energy_now)
+            ! (the energies and shell thicknesses were gathered with this
+            ! cycle's energies, which every output follows)
+            call gather_element_state(dom, solids, sh, energies=.false.)
             if (ct%n > 0) then
                 call write_state(states, st, solids, sh, vn, ct%fnode, en=en, bm=bm)
             else
