@@ -865,21 +865,25 @@ contains
             k = mine(i)
             if (clear_skip .and. cseg(k) == 0) then
                 if (clear(k)) then
-                    call no_contact(k)
-                    cycle
-                end if
+                    if (near_clear(k)) then
+                        call no_contact(k)
+                        cycle
+                    end if
                 ! (a slave without a pool, read back from a restart dump and
                 ! not searched since, takes no fresh clearance)
-                if (refresh .and. lists%pool_last(k) >= lists%pool_ptr(k) - 1) then
+                else if (refresh .and. lists%pool_last(k) >= lists%pool_ptr(k) - 1) then
                     if (cl%wait(k) == 0) then
-                        cl%g(k) = fresh_clearance(s, lists, ls, k)
+                        cl%g(k) = fresh_clearance(s, lists, ls, k, cl%near(:, k), cl%nnear(k))
                         cl%x(:, k) = ls%xl(:, s%slave(k))
                         cl%u(k) = ls%odo
                         if (cl%g(k) > 2.0_wp*ls%lead) then
-                            call no_contact(k)
-                            cycle
+                            if (near_clear(k)) then
+                                call no_contact(k)
+                                cycle
+                            end if
+                        else
+                            cl%wait(k) = back_off
                         end if
-                        cl%wait(k) = back_off
                     else
                         cl%wait(k) = cl%wait(k) - 1
                     end if
@@ -903,6 +907,21 @@ contains
             if (clear) return
             clear = cl%g(k) > norm2(ls%xl(:, s%slave(k)) - cl%x(:, k)) + du + 2.0_wp*ls%lead
         end function clear
+
+        !> Slave k's near set (clearance_t) holds no contact: none, or the
+        !> check of its segments alone finds none and refuses none.
+        logical function near_clear(k)
+            integer, intent(in) :: k
+            type(hit_t) :: h
+            integer :: rs
+            real(wp) :: rd, dp_
+            logical :: effect
+            near_clear = .true.
+            if (cl%nnear(k) == 0) return
+            call find_contact(s, lists, ls, k, 0, fprev(:, k), aprev(k), sw, h, xs, rs, rd, allow(k), dp_, held(k), &
+                              near=cl%near(1:cl%nnear(k), k), near_effect=effect)
+            near_clear = .not. effect
+        end function near_clear
 
         !> (A slave already without contact keeps its record untouched.)
         subroutine no_contact(k)

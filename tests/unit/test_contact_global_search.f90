@@ -23,7 +23,7 @@ program test_contact_global_search
                                         characteristic_lengths, master_lists_t, build_master_lists, search_counts_t, &
                                         levels_t, sort_levels, level_pool, typical_length, pool_margins, margin_classes
     use xd_contact_surface, only: wanted_side
-    use xd_contact_local_search, only: local_search_t, fresh_clearance
+    use xd_contact_local_search, only: local_search_t, fresh_clearance, max_near
     use xd_core_strings, only: ftoa
     use xd_test_fixtures, only: empty_model, add_shell, node_at, set_sheet, grid_quads
     !$ use omp_lib, only: omp_set_num_threads
@@ -470,7 +470,8 @@ contains
         type(master_lists_t), intent(in) :: l
         type(local_search_t) :: ls
         real(wp), parameter :: u = 2.0e-4_wp
-        integer :: i, sn, m, a, b, nbad, npos, want
+        integer :: i, sn, m, a, b, nbad, npos, want, nn, nwith, nnbad
+        integer :: near(max_near)
         real(wp) :: ts, c, dmin, p(3), xm(3, 4), uu, vv, g
         ls%xl = xl
         do i = 1, size(xl, 2)
@@ -480,17 +481,29 @@ contains
         ls%lc = lc
         ls%lcodo = 0*lc
         ls%odo = u
-        ls%lead = 0
+        ! (a lead of 1e-5: the near sets take the segments within 16 leads)
+        ls%lead = 1.0e-5_wp
         nbad = 0
         npos = 0
+        nwith = 0
+        nnbad = 0
         do i = 1, s%nslave
             sn = s%slave(i)
             want = wanted_side(s, sn)
             ts = 0.5_wp*s%node_t(sn)
-            g = fresh_clearance(s, l, ls, i)
+            g = fresh_clearance(s, l, ls, i, near, nn)
             if (g > 0.0_wp) npos = npos + 1
+            if (nn > 0) nwith = nwith + 1
+            ! a near set only with a bound (above twice the lead), of the
+            ! slave's pool's segments, its own and those facing away left out
+            if (nn > 0 .and. g <= 2*ls%lead) nnbad = nnbad + 1
+            do a = 1, nn
+                if (any(s%seg(:, near(a)) == sn) .or. iand(s%seg_side(near(a)), want) == 0) nnbad = nnbad + 1
+            end do
             do m = 1, s%nseg
                 if (any(s%seg(:, m) == sn) .or. iand(s%seg_side(m), want) == 0) cycle
+                ! (the bound is that of the segments outside the near set)
+                if (any(near(1:nn) == m)) cycle
                 xm = ls%xl(:, s%seg(:, m))
                 if (minval(norm2(xm - spread(ls%xl(:, sn), 2, 4), 1)) > 0.05_wp) cycle    ! far: no need to sample
                 c = ts + 0.5_wp*maxval(s%seg_tn(:, m))
@@ -511,6 +524,10 @@ contains
                    'segment the search covers', 'violations '//itoa(nbad))
         call check(npos > s%nslave/4, 'fresh clearance: positive for more than a quarter of the slaves', &
                    itoa(npos)//' of '//itoa(s%nslave))
+        ! the crumpled sheet's layers lie close: some slaves keep a bound
+        ! only by leaving their nearest segments to the near set
+        call check(nwith > 0 .and. nnbad == 0, 'fresh clearance: near sets taken (of segments the slave may meet, '// &
+                   'with a bound above twice the lead)', itoa(nwith)//' slaves with one, '//itoa(nnbad)//' wrong')
     end subroutine check_fresh_clearances
 
     !> A sheet folded over itself twice across its length, so that layers
