@@ -3353,10 +3353,11 @@ def test_part_sizes():
     and the diagonal pair through the centre's assembler (the other
     diagonal pair shares nothing else): 2 or 3 a rank, 10 in all. With
     single-surface contact each rank's ghosts are the other ranks'
-    segments along its two cuts and the diagonal's corner (20 + 20 + 1 =
-    41), the pool margin and the reach (0.7 + 1 mm) being below a shell's
-    width (2 mm); their nodes beyond the cuts, the row along each and the
-    corner (21 + 21 + 1 = 43). The halo's bytes a cycle: each halo node's
+    segments within the pool margin and the reach of its box (1.41 mm, half
+    the 2.83 mm diagonal, + 1 mm: past one shell's width of 2 mm, short of
+    two): two rows along each of its two cuts and the diagonal's 2 x 2
+    corner (40 + 40 + 4 = 84); their nodes beyond the cuts, two rows of 21
+    along each and the corner's four (42 + 42 + 4 = 88). The halo's bytes a cycle: each halo node's
     force and moment out and its motion back, 2 x 8 x 6 bytes a node.
     Exact counts: no tolerance."""
     here = os.path.join(TMP, "part_sizes")
@@ -3381,11 +3382,11 @@ def test_part_sizes():
                f"{[r[5] for r in v]}, ghost segments {[r[6] for r in v]}, ghost nodes {[r[7] for r in v]}")
         hb = [int(r[9]) for r in rows]
         got += f", halo bytes {hb}"
-        ok = (all(r[1] == 0 and r[2] == 400 and r[3] == 441 and r[5] in (2, 3) and r[6] == 41 and r[7] == 43
+        ok = (all(r[1] == 0 and r[2] == 400 and r[3] == 441 and r[5] in (2, 3) and r[6] == 84 and r[7] == 88
                   for r in v) and int(m.group(1)) == 83 and sum(r[5] for r in v) == 10
               and all(b == 2 * 8 * 6 * r[4] for b, r in zip(hb, v)))
     record(f"--check parts=4: a 40 x 40 plate's quadrants hold 400 shells and 441 nodes each, the halo 83 nodes, "
-           f"10 neighbour links, 41 ghost segments and 43 ghost nodes each ({got})", ok, p.stdout[-900:] + p.stderr[-300:])
+           f"10 neighbour links, 84 ghost segments and 88 ghost nodes each ({got})", ok, p.stdout[-900:] + p.stderr[-300:])
 
 
 def contact_dump(out):
@@ -3536,7 +3537,7 @@ def test_contact_fine_patch_classes():
     square of 8 x 8 shells of 0.25 mm falls at 10 m/s from 1 mm onto a free
     20 mm plate of 10 x 10 shells of 2 mm, both 0.1 mm thick, single
     surface. The
-    pool margins follow the local size (0.25 times each node's length, the
+    pool margins follow the local size (0.5 times each node's length, the
     plate's nodes the majority), so the patch's slaves are a margin class of
     their own, searched at their own pace, and the plate's at theirs. Held to
     what the search's bound promises: d3hsp names two margin classes and

@@ -1134,10 +1134,12 @@ contains
             c3 = pd(l, 1)*qd(l, 2) - pd(l, 2)*qd(l, 1)
             n3 = sqrt(c1**2 + c2**2 + c3**2)
             nlen(l) = n3
-            n3 = max(n3, tiny(1.0_wp))
-            c1 = c1/n3
-            c2 = c2/n3
-            c3 = c3/n3
+            ! (one division and products: a quotient is a division
+            ! instruction each, several times a product's cost)
+            n3 = 1.0_wp/max(n3, tiny(1.0_wp))
+            c1 = c1*n3
+            c2 = c2*n3
+            c3 = c3*n3
             ! e1 along side 1-2, less its normal part
             p1 = g%xe(l, 1, 2) - g%xe(l, 1, 1)
             p2 = g%xe(l, 2, 2) - g%xe(l, 2, 1)
@@ -1147,10 +1149,10 @@ contains
             p2 = p2 - d*c2
             p3 = p3 - d*c3
             d = sqrt(p1**2 + p2**2 + p3**2)
-            d = max(d, tiny(1.0_wp))
-            p1 = p1/d
-            p2 = p2/d
-            p3 = p3/d
+            d = 1.0_wp/max(d, tiny(1.0_wp))
+            p1 = p1*d
+            p2 = p2*d
+            p3 = p3*d
             g%e3(l, 1) = c1
             g%e3(l, 2) = c2
             g%e3(l, 3) = c3
@@ -1177,15 +1179,15 @@ contains
                              (g%xl(l, 2) - g%xl(l, 4))*(g%yl(l, 3) - g%yl(l, 1)))
             ! (a collapsed or inverted element's derivatives are finite
             ! nonsense: ok below says so)
-            aa = max(2*g%a(l), tiny(1.0_wp))
-            g%b1(l, 1) = (g%yl(l, 2) - g%yl(l, 4))/aa
-            g%b1(l, 2) = (g%yl(l, 3) - g%yl(l, 1))/aa
-            g%b1(l, 3) = (g%yl(l, 4) - g%yl(l, 2))/aa
-            g%b1(l, 4) = (g%yl(l, 1) - g%yl(l, 3))/aa
-            g%b2(l, 1) = (g%xl(l, 4) - g%xl(l, 2))/aa
-            g%b2(l, 2) = (g%xl(l, 1) - g%xl(l, 3))/aa
-            g%b2(l, 3) = (g%xl(l, 2) - g%xl(l, 4))/aa
-            g%b2(l, 4) = (g%xl(l, 3) - g%xl(l, 1))/aa
+            aa = 1.0_wp/max(2*g%a(l), tiny(1.0_wp))
+            g%b1(l, 1) = (g%yl(l, 2) - g%yl(l, 4))*aa
+            g%b1(l, 2) = (g%yl(l, 3) - g%yl(l, 1))*aa
+            g%b1(l, 3) = (g%yl(l, 4) - g%yl(l, 2))*aa
+            g%b1(l, 4) = (g%yl(l, 1) - g%yl(l, 3))*aa
+            g%b2(l, 1) = (g%xl(l, 4) - g%xl(l, 2))*aa
+            g%b2(l, 2) = (g%xl(l, 1) - g%xl(l, 3))*aa
+            g%b2(l, 3) = (g%xl(l, 2) - g%xl(l, 4))*aa
+            g%b2(l, 4) = (g%xl(l, 3) - g%xl(l, 1))*aa
         end do
         do l = 1, nb
             ! the hourglass shape vector, h = (1, -1, 1, -1)

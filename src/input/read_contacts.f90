@@ -487,7 +487,7 @@ contains
             case default
                 call card_error(card, 6, 'ENFORCE '//itoa(ival)//' is not 1 (penalty) or 2 (Lagrangian projection)', error); return
             end select
-            call get_real(card, 7, cc%pmarg, 0.25_wp, error, zero_default=.true.); if (allocated(error)) return
+            call get_real(card, 7, cc%pmarg, 0.5_wp, error, zero_default=.true.); if (allocated(error)) return
             if (cc%pmarg < 0.0_wp) then
                 call card_error(card, 7, 'PMARG must be positive', error); return
             end if

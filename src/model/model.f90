@@ -380,7 +380,7 @@ module xd_model
         integer :: mnl = mnl_minimal              !< master node list policy
         logical :: tracking = .true., screens = .true.
         logical :: lagrange = .false.             !< enforcement: penalty or Lagrangian projection
-        real(wp) :: pmarg = 0.25_wp               !< pool margin / median characteristic length
+        real(wp) :: pmarg = 0.5_wp                !< pool margin / median characteristic length
         integer :: dump_nsid = 0                  !< node set whose master node lists are dumped
     end type contact_controls_t
 
