@@ -864,6 +864,14 @@ contains
         do i = 1, size(mine)
             k = mine(i)
             if (clear_skip .and. cseg(k) == 0) then
+                ! the common case in line: clear on the growth of u alone,
+                ! no near set, and nothing to reset (as clear and no_contact)
+                if (cl%nnear(k) == 0) then
+                    if (cl%g(k) > 2.0_wp*(ls%odo - cl%u(k)) + 2.0_wp*ls%lead) then
+                        if (found(k) .or. rseg(k) /= 0 .or. deep(k) /= 0.0_wp) call no_contact(k)
+                        cycle
+                    end if
+                end if
                 if (clear(k)) then
                     if (near_clear(k)) then
                         call no_contact(k)

@@ -417,9 +417,10 @@ contains
     !> (assemble over sh%shared, adding to f).
     subroutine shell_forces(sh, x, v, w, dt, dt_avg_prev, f, m)
         type(shells_t), intent(inout) :: sh
-        real(wp), intent(in) :: x(:, :), v(:, :), w(:, :), dt
+        real(wp), intent(in) :: dt
+        real(wp), intent(in), contiguous :: x(:, :), v(:, :), w(:, :)
         real(dp), intent(in) :: dt_avg_prev
-        real(wp), intent(inout), optional :: f(:, :), m(:, :)
+        real(wp), intent(inout), optional, contiguous :: f(:, :), m(:, :)
         integer :: e, ib, p, l, nb, e0, tcrit, tbad
         real(wp) :: dte, tmin, dtb(nblk), fs(nblk, 3, 4), ms(nblk, 3, 4)
         real(wp) :: vg(nblk, 3, 4), wg(nblk, 3, 4)
@@ -824,7 +825,7 @@ contains
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
         real(wp), intent(in) :: dte(:), fs(nblk, 3, 4), ms(nblk, 3, 4)
-        real(wp), intent(inout) :: f(:, :), m(:, :)
+        real(wp), intent(inout), contiguous :: f(:, :), m(:, :)
         integer :: l, k, nd, e, j
         logical :: ok
         do l = 1, nb
@@ -1092,7 +1093,7 @@ contains
     subroutine block_gather(sh, e0, nb, x, v, w, xg, vg, wg)
         type(shells_t), intent(in) :: sh
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
-        real(wp), intent(in) :: x(:, :), v(:, :), w(:, :)
+        real(wp), intent(in), contiguous :: x(:, :), v(:, :), w(:, :)
         real(wp), intent(out) :: xg(nblk, 3, 4), vg(nblk, 3, 4), wg(nblk, 3, 4)
         integer :: l, k, nd
         do k = 1, 4
