@@ -122,7 +122,6 @@ module xd_elements_shell_bt
         real(wp) :: xl(nblk, 4), yl(nblk, 4), zl(nblk, 4)
         real(wp) :: a(nblk), b1(nblk, 4), b2(nblk, 4)
         real(wp) :: gam(nblk, 4)   !< hourglass shape vector h - (h.x) b1 - (h.y) b2
-        real(wp) :: ls(nblk)       !< longest side
         logical :: ok(nblk)
     end type block_geom_t
 
@@ -521,7 +520,7 @@ contains
         real(wp) :: nres(nblk, 3), mres(nblk, 3), qres(nblk, 2), qd(nblk, 5), hq(nblk, 5)
         real(wp) :: bb(nblk), gg(nblk), gamz(nblk), wsp(nblk)
         real(wp) :: hh(nblk), ym(nblk), nu(nblk), ro(nblk), ge(nblk), tf(nblk)
-        real(wp) :: wx, wy, f1, f2, f3, m1, m2, b1k, b2k, gk, a, q1, q2, q3, q4, q5, b, g
+        real(wp) :: wx, wy, f1, f2, f3, m1, m2, b1k, b2k, gk, a, q1, q2, q3, q4, q5, b, g, s12, s23, s34, s41
         real(wp) :: cb, cw, cm, mn, jn, il, hs
         real(wp) :: qc(nblk, 3), sr(nblk), mf(nblk), sy(nblk)
         real(wp), parameter :: r3 = 1.7320508075688772_wp
@@ -781,9 +780,19 @@ contains
         ! area over the longest side; a triangle's shortest altitude, twice
         ! that (the longest side is the altitude's base)
         if (sh%isdo == 0) then
+            ! (the longest side on x(n) here, not in block_geometry: the
+            ! mid-step geometry needs none)
             do l = 1, nb
+                s12 = (gn%xe(l, 1, 2) - gn%xe(l, 1, 1))**2 + (gn%xe(l, 2, 2) - gn%xe(l, 2, 1))**2 + &
+                      (gn%xe(l, 3, 2) - gn%xe(l, 3, 1))**2
+                s23 = (gn%xe(l, 1, 3) - gn%xe(l, 1, 2))**2 + (gn%xe(l, 2, 3) - gn%xe(l, 2, 2))**2 + &
+                      (gn%xe(l, 3, 3) - gn%xe(l, 3, 2))**2
+                s34 = (gn%xe(l, 1, 4) - gn%xe(l, 1, 3))**2 + (gn%xe(l, 2, 4) - gn%xe(l, 2, 3))**2 + &
+                      (gn%xe(l, 3, 4) - gn%xe(l, 3, 3))**2
+                s41 = (gn%xe(l, 1, 1) - gn%xe(l, 1, 4))**2 + (gn%xe(l, 2, 1) - gn%xe(l, 2, 4))**2 + &
+                      (gn%xe(l, 3, 1) - gn%xe(l, 3, 4))**2
                 wsp(l) = sh%wsp(e0 + l)
-                dte(l) = tf(l)*gn%a(l)/gn%ls(l)/wsp(l)
+                dte(l) = tf(l)*gn%a(l)/sqrt(max(s12, s23, s34, s41))/wsp(l)
             end do
         else
             call step_options(sh, e0, nb, gn, ym, ro, nu, wsp, dte)
@@ -1116,7 +1125,7 @@ contains
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
         type(block_geom_t), intent(inout) :: g   !< in: the nodes' coordinates xe
         real(wp) :: pd(nblk, 3), qd(nblk, 3), nlen(nblk)
-        real(wp) :: p1, p2, p3, c1, c2, c3, n3, d, r1, r2, r3, aa, hx, hy, s12, s23, s34, s41
+        real(wp) :: p1, p2, p3, c1, c2, c3, n3, d, r1, r2, r3, aa, hx, hy
         integer :: l, k
         logical :: tri
         ! the diagonals (a triangle's sides 1-2, 1-3), whose cross product
@@ -1198,16 +1207,6 @@ contains
             g%gam(l, 2) = (-1.0_wp - hx*g%b1(l, 2)) - hy*g%b2(l, 2)
             g%gam(l, 3) = (1.0_wp - hx*g%b1(l, 3)) - hy*g%b2(l, 3)
             g%gam(l, 4) = (-1.0_wp - hx*g%b1(l, 4)) - hy*g%b2(l, 4)
-            ! the longest side (the step's length: area over it)
-            s12 = (g%xe(l, 1, 2) - g%xe(l, 1, 1))**2 + (g%xe(l, 2, 2) - g%xe(l, 2, 1))**2 + &
-                  (g%xe(l, 3, 2) - g%xe(l, 3, 1))**2
-            s23 = (g%xe(l, 1, 3) - g%xe(l, 1, 2))**2 + (g%xe(l, 2, 3) - g%xe(l, 2, 2))**2 + &
-                  (g%xe(l, 3, 3) - g%xe(l, 3, 2))**2
-            s34 = (g%xe(l, 1, 4) - g%xe(l, 1, 3))**2 + (g%xe(l, 2, 4) - g%xe(l, 2, 3))**2 + &
-                  (g%xe(l, 3, 4) - g%xe(l, 3, 3))**2
-            s41 = (g%xe(l, 1, 1) - g%xe(l, 1, 4))**2 + (g%xe(l, 2, 1) - g%xe(l, 2, 4))**2 + &
-                  (g%xe(l, 3, 1) - g%xe(l, 3, 4))**2
-            g%ls(l) = sqrt(max(s12, s23, s34, s41))
         end do
         do l = 1, nb
             g%ok(l) = nlen(l) > 0.0_wp .and. g%a(l) > 0.0_wp
