@@ -1296,7 +1296,7 @@ contains
         !> 1 while a point iterates, 0 once it has converged (or its
         !> Newton step would climb: f' >= 0)
         real(wp) :: go(nblk)
-        real(wp) :: f, fac, dphi2, dphi, dgn, s1, s2, sold, ce, p1, p2, pq, ip1, ys, gg, gp
+        real(wp) :: f, fac, dphi2, dgn, s1, s2, sold, ce, p1, p2, pq, ys, gg, gp
         logical :: cur(nblk), anycur
         integer :: j, l, it
         do j = 1, ny
@@ -1369,15 +1369,17 @@ contains
                 fac = fy(j)
                 f = 0.5_wp*phi2(j) - (fac*sy(j))**2*third
                 dphi2 = -2.0_wp*(q1(j)*c1(j)*u1(j)**3 + rr(j)*c2(j)*u2(j)**3)
-                ip1 = 1.0_wp/phi(j)
-                dphi = 0.5_wp*dphi2*ip1
-                ys = 1.0_wp/(c23*fac*sy(j))
-                ! Newton on G = 1/phi - 1/(c23 fy sy), nearly linear in dg
-                ! (1/phi is linear in it where one family of modes carries
-                ! the stress): three steps where f's took four. G' > 0
-                ! where f' < 0
-                gg = ip1 - ys
-                gp = -dphi*ip1*ip1 + ys*ys*c23*fac*h(j)*c23*(phi(j) + dg(j)*dphi)
+                ! Newton on G = 1/phi - 1/Y, Y = c23 fy sy, nearly linear in
+                ! dg (1/phi is linear in it where one family of modes
+                ! carries the stress): three steps where f's took four. G'
+                ! > 0 where f' < 0. G and G' both times 2 phi^3 Y^2 > 0
+                ! (with phi' = phi2' / (2 phi)), so that the step G / G' is
+                ! one division, not four:
+                !   G K = 2 phi^2 Y (Y - phi)
+                !   G' K = (2/3) fy h phi^2 (2 phi^2 + dg phi2') - phi2' Y^2
+                ys = c23*fac*sy(j)
+                gg = 2.0_wp*phi2(j)*ys*(ys - phi(j))
+                gp = c23*c23*fac*h(j)*phi2(j)*(2.0_wp*phi2(j) + dg(j)*dphi2) - dphi2*ys*ys
                 ! go stays 1 while |f| > tol12 phi^2 and G' > 0 (the
                 ! signs' factors: a comparison would be a branch; G' = +0
                 ! stops too)
