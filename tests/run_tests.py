@@ -4466,6 +4466,46 @@ def test_tube_crush(full=False):
            f"{paj / 1e3:.1f} kN ({pm / paj - 1:+.0%}; band 0.5x-2.5x, see the test)", 0.5 < pm / paj < 2.5)
 
 
+def test_near_sets_exact():
+    """The local search's shortcuts give the general search's results, bit
+    for bit: the clearance skip, the near sets (a slave whose fresh
+    clearance leaves its nearest segments out is checked against them
+    alone, and searched in full only where one finds or refuses a
+    contact) and the tetrahedron screens. The tube crush's first 2 ms
+    (folds forming, nodes lying near segments they do not touch) with the
+    screens on and with SCREEN 2 of *CONTROL_XDYNA_CONTACT (every slave
+    searched in full every cycle): glstat and nodout the same bit for bit
+    (no tolerance: the shortcuts only leave out checks that find nothing),
+    and the first run's d3hsp counts its near-set checks (more than 1,000:
+    the path is taken)."""
+    deck = os.path.join(ROOT, "input_decks/contact/tube_crush.k")
+    p1, out1 = run_deck("input_decks/contact/tube_crush.k", "near_sets_on", extra=("endtim=2.0e-3",))
+    text = ("*KEYWORD\n*CONTROL_XDYNA_CONTACT\n"
+            "         0         0         0         0         2         0         0         0\n"
+            f"*INCLUDE\n{deck}\n*END\n")
+    path = os.path.join(TMP, "near_sets_off.k")
+    with open(path, "w") as f:
+        f.write(text)
+    out2 = os.path.join(TMP, "near_sets_off")
+    shutil.rmtree(out2, ignore_errors=True)
+    p2 = run([XDYNA, "i=" + path, "outdir=" + out2, "endtim=2.0e-3"])
+    if p1.returncode != 0 or p2.returncode != 0:
+        record("near sets: the tube crush runs with the screens on and off", False, (p1.stderr + p2.stderr)[-300:])
+        return
+    log = open(os.path.join(out1, "d3hsp")).read()
+    m = re.search(r": (\d+) slave-cycles checked by their near sets alone \(.*?\), (\d+) of them searched in full", log)
+    nn, nf = (int(m.group(1)), int(m.group(2))) if m else (0, 0)
+    same = True
+    with h5py.File(os.path.join(out1, "thist.h5"), "r") as a, h5py.File(os.path.join(out2, "thist.h5"), "r") as b:
+        for g in ("glstat", "nodout"):
+            for k in a[g]:
+                same = same and np.array_equal(a[g][k][()], b[g][k][()])
+    off_log = open(os.path.join(out2, "d3hsp")).read()
+    record(f"near sets: the tube crush's first 2 ms, screens on ({nn} near-set checks, {nf} then searched in full) "
+           f"and off (every slave searched every cycle): glstat and nodout bitwise the same",
+           same and nn > 1000 and "near sets alone" not in off_log)
+
+
 def test_penetration_checker():
     """The penetration checker (tools/penetration.py) measured on made-up
     states, so that the checks that lean on it can fail: a node pushed
@@ -5544,7 +5584,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_part_sizes, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_near_sets_exact, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_part_sizes, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

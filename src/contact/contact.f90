@@ -76,6 +76,10 @@ module xd_contact_contact
         integer :: nraised = 0                !< nodes whose margin was raised to the floor
         integer :: npartial = 0               !< searches of some classes only
         integer(i8) :: nsearched = 0          !< slaves searched, summed over the searches
+        !> slave-cycles whose near set alone was checked (clearance_t), and
+        !> of them those searched in full after (the near set found or
+        !> refused a contact)
+        integer(i8) :: nnear = 0, nnear_full = 0
         real(wp) :: reach = 0                 !< contact reach t_c (largest shell thickness)
         integer :: interval = 10
         logical :: adaptive = .false.
@@ -783,7 +787,8 @@ contains
                 if (it%cl%search /= it%nsearch .and. allocated(it%lists%gap)) &
                     call reset_clearance(s, it%lists, it%nsearch, it%cl)
                 call find_contacts(s, it%lists, it%ls, it%cl, it%cseg, it%held, it%fprev, it%aeff + it%p0, ct%sw, &
-                                   it%mine, it%hit, it%found, it%xl, it%rseg, it%rdep, it%p0, it%deep)
+                                   it%mine, it%hit, it%found, it%xl, it%rseg, it%rdep, it%p0, it%deep, it%nnear, &
+                                   it%nnear_full)
             end associate
         end do
     end subroutine contact_local_search
@@ -837,7 +842,7 @@ contains
     !> fresh bound for the next `back_off` cycles (its clearance would rarely
     !> have grown).
     subroutine find_contacts(s, lists, ls, cl, cseg, held, fprev, aprev, sw, mine, hit, found, xs, rseg, rdep, allow, &
-                             deep)
+                             deep, nnear, nnear_full)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
@@ -854,13 +859,23 @@ contains
         real(wp), intent(inout) :: rdep(:)
         real(wp), intent(in) :: allow(:)     !< per slave: its allowance (initial or missed penetration)
         real(wp), intent(inout) :: deep(:)   !< per slave: the depth of a contact dropped beyond PENMAX (0: none)
+        !> slave-cycles checked by their near sets alone, and of them those
+        !> searched in full after (added to)
+        integer(i8), intent(inout) :: nnear, nnear_full
         integer, parameter :: back_off = 8
+        integer(i8) :: nn, nf
+        integer :: nc
+        logical :: clean
         integer :: i, k
         logical :: clear_skip, refresh
         clear_skip = sw%screens .and. cl%search >= 0
         refresh = clear_skip .and. allocated(lists%pool_ptr)
         if (refresh) refresh = size(lists%pool_ptr) == s%nslave
-        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k)
+        nn = 0
+        nf = 0
+        ! (the counts in the loop's own text: a reduction's variable must
+        ! not be reached through the host from a procedure it calls)
+        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k, nc, clean) reduction(+:nn, nf)
         do i = 1, size(mine)
             k = mine(i)
             if (clear_skip .and. cseg(k) == 0) then
@@ -873,10 +888,13 @@ contains
                     end if
                 end if
                 if (clear(k)) then
-                    if (near_clear(k)) then
+                    clean = near_clear(k, nc)
+                    nn = nn + nc
+                    if (clean) then
                         call no_contact(k)
                         cycle
                     end if
+                    nf = nf + nc
                 ! (a slave without a pool, read back from a restart dump and
                 ! not searched since, takes no fresh clearance)
                 else if (refresh .and. lists%pool_last(k) >= lists%pool_ptr(k) - 1) then
@@ -885,10 +903,13 @@ contains
                         cl%x(:, k) = ls%xl(:, s%slave(k))
                         cl%u(k) = ls%odo
                         if (cl%g(k) > 2.0_wp*ls%lead) then
-                            if (near_clear(k)) then
+                            clean = near_clear(k, nc)
+                            nn = nn + nc
+                            if (clean) then
                                 call no_contact(k)
                                 cycle
                             end if
+                            nf = nf + nc
                         else
                             cl%wait(k) = back_off
                         end if
@@ -902,6 +923,8 @@ contains
             found(k) = hit(k)%found
         end do
         !$omp end parallel do
+        nnear = nnear + nn
+        nnear_full = nnear_full + nf
     contains
         !> Slave k's clearance bound exceeds what the motion can have closed
         !> since it was taken. Its own displacement is at most the growth of
@@ -918,14 +941,17 @@ contains
 
         !> Slave k's near set (clearance_t) holds no contact: none, or the
         !> check of its segments alone finds none and refuses none.
-        logical function near_clear(k)
+        logical function near_clear(k, checked)
             integer, intent(in) :: k
+            integer, intent(out) :: checked   !< 1 if there was a near set to check, else 0
             type(hit_t) :: h
             integer :: rs
             real(wp) :: rd, dp_
             logical :: effect
             near_clear = .true.
+            checked = 0
             if (cl%nnear(k) == 0) return
+            checked = 1
             call find_contact(s, lists, ls, k, 0, fprev(:, k), aprev(k), sw, h, xs, rs, rd, allow(k), dp_, held(k), &
                               near=cl%near(1:cl%nnear(k), k), near_effect=effect)
             near_clear = .not. effect
@@ -1708,6 +1734,12 @@ contains
                     write (buf, '(a,i0,a,i0,a,i0,a,i0,a,f8.1,a)') '   interface ', it%id, ': ', it%npartial, ' of the ', &
                         it%nsearch, ' searches of some margin classes only (', size(it%cmin), &
                         ' classes); slaves searched ', per/max(1, it%surf%nslave), ' times on average'
+                    txt = txt//trim(buf)//nl
+                end if
+                if (it%nnear > 0) then
+                    write (buf, '(a,i0,a,i0,a,i0,a)') '   interface ', it%id, ': ', it%nnear, &
+                        ' slave-cycles checked by their near sets alone (the segments a fresh clearance left out), ', &
+                        it%nnear_full, ' of them searched in full after (a near segment found or refused a contact)'
                     txt = txt//trim(buf)//nl
                 end if
                 if (it%ninit > 0) then
