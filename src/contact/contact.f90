@@ -887,7 +887,23 @@ contains
                         cycle
                     end if
                 end if
-                if (clear(k)) then
+                ! clear on the bound kept, or on one taken afresh: only the
+                ! near set (if any) can then hold a contact
+                clean = clear(k)
+                ! (a slave without a pool, read back from a restart dump and
+                ! not searched since, takes no fresh clearance)
+                if (.not. clean .and. refresh .and. lists%pool_last(k) >= lists%pool_ptr(k) - 1) then
+                    if (cl%wait(k) == 0) then
+                        cl%g(k) = fresh_clearance(s, lists, ls, k, cl%near(:, k), cl%nnear(k))
+                        cl%x(:, k) = ls%xl(:, s%slave(k))
+                        cl%u(k) = ls%odo
+                        clean = cl%g(k) > 2.0_wp*ls%lead
+                        if (.not. clean) cl%wait(k) = back_off
+                    else
+                        cl%wait(k) = cl%wait(k) - 1
+                    end if
+                end if
+                if (clean) then
                     clean = near_clear(k, nc)
                     nn = nn + nc
                     if (clean) then
@@ -895,27 +911,6 @@ contains
                         cycle
                     end if
                     nf = nf + nc
-                ! (a slave without a pool, read back from a restart dump and
-                ! not searched since, takes no fresh clearance)
-                else if (refresh .and. lists%pool_last(k) >= lists%pool_ptr(k) - 1) then
-                    if (cl%wait(k) == 0) then
-                        cl%g(k) = fresh_clearance(s, lists, ls, k, cl%near(:, k), cl%nnear(k))
-                        cl%x(:, k) = ls%xl(:, s%slave(k))
-                        cl%u(k) = ls%odo
-                        if (cl%g(k) > 2.0_wp*ls%lead) then
-                            clean = near_clear(k, nc)
-                            nn = nn + nc
-                            if (clean) then
-                                call no_contact(k)
-                                cycle
-                            end if
-                            nf = nf + nc
-                        else
-                            cl%wait(k) = back_off
-                        end if
-                    else
-                        cl%wait(k) = cl%wait(k) - 1
-                    end if
                 end if
             end if
             call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k), xs, rseg(k), rdep(k), &

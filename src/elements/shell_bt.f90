@@ -8,12 +8,14 @@
 module xd_elements_shell_bt
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc, alloc_dp
+    use xd_core_strings, only: itoa
     use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid, hg_bounded
     use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private
     public :: shells_t, build_shells, shell_forces, shell_masses, shell_axes, shell_blocks, point_weight, point_z
+    public :: shell_name
 
     ! iteration tolerances: 1e-10 and 1e-12 relative in double precision,
     ! ten round-offs in single (where 1e-12 cannot be reached and every
@@ -1447,5 +1449,14 @@ contains
         z = real(gz(ip, nip), wp)
     end function point_z
 
+
+    !> 'shell 7 of part 2': shell e as the deck names it.
+    function shell_name(model, sh, e) result(txt)
+        type(model_t), intent(in) :: model
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: e
+        character(len=:), allocatable :: txt
+        txt = 'shell '//itoa(sh%eid(e))//' of part '//itoa(model%part(sh%part(e))%id)
+    end function shell_name
 
 end module xd_elements_shell_bt

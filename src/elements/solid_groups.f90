@@ -7,6 +7,7 @@ module xd_elements_solid_groups
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc, alloc_dp
     use xd_core_sorting, only: sort_index
+    use xd_core_strings, only: itoa
     use xd_model, only: model_t, material_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid
     use xd_elements_hex8, only: hex_b_matrix, hex_velocity_gradient, hex_stress_forces, &
                                 hex_hourglass_modes, hex_hourglass_forces, hex_char_length
@@ -15,7 +16,7 @@ module xd_elements_solid_groups
     implicit none
     private
     public :: solids_t, solid_group_t, build_solids, solid_forces, group_size, hg_viscous, hg_stiffness
-    public :: material_plastic_law, stiff_volume_parts
+    public :: material_plastic_law, stiff_volume_parts, solid_name
 
     integer, parameter :: group_size = 128
     integer, parameter :: hg_viscous = 1, hg_stiffness = 2
@@ -445,5 +446,14 @@ contains
             s%gcrit(g) = a + findloc(dte /= dte, .true., 1) - 1
         end if
     end subroutine group_block
+
+    !> 'solid 12 of part 3': solid e as the deck names it.
+    function solid_name(model, solids, e) result(txt)
+        type(model_t), intent(in) :: model
+        type(solids_t), intent(in) :: solids
+        integer, intent(in) :: e
+        character(len=:), allocatable :: txt
+        txt = 'solid '//itoa(solids%eid(e))//' of part '//itoa(model%part(solids%part(e))%id)
+    end function solid_name
 
 end module xd_elements_solid_groups

@@ -21,8 +21,8 @@ module xd_solver_mass_scaling
     use xd_core_sorting, only: sort_index
     use xd_core_comm, only: comm_gather_records
     use xd_model, only: model_t, controls_t
-    use xd_elements_solid_groups, only: solids_t
-    use xd_elements_shell_bt, only: shells_t
+    use xd_elements_solid_groups, only: solids_t, solid_name
+    use xd_elements_shell_bt, only: shells_t, shell_name
     use xd_solver_state, only: state_t
     use xd_solver_domain, only: domain_t
     use xd_rigid_bodies, only: rigid_t
@@ -199,12 +199,10 @@ contains
             if (ms%named >= max_named) return
             ms%named = ms%named + 1
             if (kind == 1) then
-                call log_line(lg, ' mass scaling: solid '//itoa(solids%eid(e))//' of part '// &
-                              itoa(model%part(solids%part(e))%id)//' at time '//rtoa(st%time)//', cycle '// &
+                call log_line(lg, ' mass scaling: '//solid_name(model, solids, e)//' at time '//rtoa(st%time)//', cycle '// &
                               itoa(st%cycle)//': its mass x '//rtoa(real(f1, dp))//' (+'//rtoa(real(nn*dm, dp))//')')
             else
-                call log_line(lg, ' mass scaling: shell '//itoa(sh%eid(e))//' of part '// &
-                              itoa(model%part(sh%part(e))%id)//' at time '//rtoa(st%time)//', cycle '// &
+                call log_line(lg, ' mass scaling: '//shell_name(model, sh, e)//' at time '//rtoa(st%time)//', cycle '// &
                               itoa(st%cycle)//': its mass x '//rtoa(real(f1, dp))//' (+'//rtoa(real(nn*dm, dp))//')')
             end if
             if (ms%named == max_named) call log_line(lg, ' mass scaling: further elements are counted, '// &

@@ -16,8 +16,8 @@ module xd_solver_phases
                               ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
     use xd_core_comm, only: comm_gather_small, comm_max
     use xd_model, only: model_t
-    use xd_elements_solid_groups, only: solids_t, solid_forces
-    use xd_elements_shell_bt, only: shells_t, shell_forces
+    use xd_elements_solid_groups, only: solids_t, solid_forces, solid_name
+    use xd_elements_shell_bt, only: shells_t, shell_forces, shell_name
     use xd_elements_beam_bs, only: beams_t, beam_forces
     use xd_elements_erosion, only: shell_failures, erode_shells, dead_model_shells
     use xd_solver_state, only: state_t
@@ -310,24 +310,6 @@ contains
         if (st%crit_elem == 0 .and. beam_crit > 0) txt = 'beam '//itoa(bm%eid(beam_crit))//' of part '// &
                                                          itoa(model%part(bm%part(beam_crit))%id)
     end function step_element_name
-
-    !> 'solid 12 of part 3': solid e as the deck names it.
-    function solid_name(model, solids, e) result(txt)
-        type(model_t), intent(in) :: model
-        type(solids_t), intent(in) :: solids
-        integer, intent(in) :: e
-        character(len=:), allocatable :: txt
-        txt = 'solid '//itoa(solids%eid(e))//' of part '//itoa(model%part(solids%part(e))%id)
-    end function solid_name
-
-    !> 'shell 7 of part 2': shell e as the deck names it.
-    function shell_name(model, sh, e) result(txt)
-        type(model_t), intent(in) :: model
-        type(shells_t), intent(in) :: sh
-        integer, intent(in) :: e
-        character(len=:), allocatable :: txt
-        txt = 'shell '//itoa(sh%eid(e))//' of part '//itoa(model%part(sh%part(e))%id)
-    end function shell_name
 
     !> Whether `flag` holds on any rank (the rank itself when not parallel).
     logical function any_rank(dom, flag)

@@ -8,8 +8,8 @@ module xd_solver_step_control
     use xd_core_strings, only: itoa
     use xd_core_sorting, only: sort_index
     use xd_model, only: model_t
-    use xd_elements_solid_groups, only: solids_t
-    use xd_elements_shell_bt, only: shells_t
+    use xd_elements_solid_groups, only: solids_t, solid_name
+    use xd_elements_shell_bt, only: shells_t, shell_name
     use xd_output_d3hsp, only: log_t, log_line
     implicit none
     private
@@ -96,11 +96,9 @@ contains
         do i = 1, min(named, count(cnt > 0))
             k = perm(i)
             if (k <= ns) then
-                call log_line(lg, '   solid '//itoa(solids%eid(k))//' of part '//itoa(model%part(solids%part(k))%id)// &
-                              ': '//share(cnt(k), ss%ncycle))
+                call log_line(lg, '   '//solid_name(model, solids, k)//': '//share(cnt(k), ss%ncycle))
             else
-                call log_line(lg, '   shell '//itoa(sh%eid(k - ns))//' of part '// &
-                              itoa(model%part(sh%part(k - ns))%id)//': '//share(cnt(k), ss%ncycle))
+                call log_line(lg, '   '//shell_name(model, sh, k - ns)//': '//share(cnt(k), ss%ncycle))
             end if
         end do
         if (count(cnt > 0) > named) call log_line(lg, '   and '//itoa(count(cnt > 0) - named)// &
@@ -129,8 +127,7 @@ contains
         call sort_index(-real(sh%ncap, dp), perm)
         do i = 1, min(longest, nact)
             k = perm(i)
-            call log_line(lg, '   shell '//itoa(sh%eid(k))//' of part '//itoa(model%part(sh%part(k))%id)//': '// &
-                          share(sh%ncap(k), ss%ncycle))
+            call log_line(lg, '   '//shell_name(model, sh, k)//': '//share(sh%ncap(k), ss%ncycle))
         end do
         if (nact > longest) call log_line(lg, '   and '//itoa(nact - longest)//' other shells')
     end subroutine hourglass_bound_report
