@@ -480,7 +480,10 @@ contains
                             within_rings = .true.
                             return
                         end if
-                        if (nx < size(next)) then
+                        ! (the last ring's nodes are not walked on: no
+                        ! front to build, whose deduplication had been
+                        ! most of this function's time)
+                        if (r < rings .and. nx < size(next)) then
                             if (.not. any(next(1:nx) == b)) then
                                 nx = nx + 1
                                 next(nx) = b
