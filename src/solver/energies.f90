@@ -186,11 +186,13 @@ contains
         !> the whole model, the parts' kinetic energy and momentum).
         subroutine node_pass()
             integer :: nd, k, p, pc
-            real(dp) :: kn, vn(3), ake, amom(3)
+            real(dp) :: kn, vn(3), ake, amom(3), ke_s, m1, m2, m3, kr
             logical :: on_body
-            en%ke = 0
-            mom = 0
-            ker = 0
+            ! (the sums in locals, in node order as before: summed through
+            ! en, each node's term waited on a store and a load of the sum)
+            ke_s = 0
+            m1 = 0; m2 = 0; m3 = 0
+            kr = 0
             pc = 0
             ake = 0; amom = 0
             do nd = 1, st%nnode
@@ -207,13 +209,15 @@ contains
                     kn = 0
                     vn = 0
                 end if
-                en%ke = en%ke + st%mass(nd)*kn
-                mom = mom + st%mass(nd)*vn
+                ke_s = ke_s + st%mass(nd)*kn
+                m1 = m1 + st%mass(nd)*vn(1)
+                m2 = m2 + st%mass(nd)*vn(2)
+                m3 = m3 + st%mass(nd)*vn(3)
                 ! a rigid body's nodes spin with it: their inertia is in the body's
                 if (st%rot .and. .not. on_body) &
-                    ker = ker + 0.5_dp*st%irot(nd)*(real(wminus(1, nd), dp)*wplus(1, nd) + &
-                                                    real(wminus(2, nd), dp)*wplus(2, nd) + &
-                                                    real(wminus(3, nd), dp)*wplus(3, nd))
+                    kr = kr + 0.5_dp*st%irot(nd)*(real(wminus(1, nd), dp)*wplus(1, nd) + &
+                                                  real(wminus(2, nd), dp)*wplus(2, nd) + &
+                                                  real(wminus(3, nd), dp)*wplus(3, nd))
                 do k = en%np_ptr(nd), en%np_ptr(nd + 1) - 1
                     p = en%np_part(k)
                     if (p /= pc) then
@@ -232,6 +236,9 @@ contains
                 en%part_ke(pc) = en%part_ke(pc) + ake
                 en%part_mom(:, pc) = en%part_mom(:, pc) + amom
             end if
+            en%ke = ke_s
+            mom = [m1, m2, m3]
+            ker = kr
         end subroutine node_pass
 
         !> Internal and hourglass energy by part: the work booked so far and
