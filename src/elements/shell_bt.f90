@@ -45,6 +45,9 @@ module xd_elements_shell_bt
         !> a plastic shell bounded (block_forces); ncap counts the cycles
         !> it acted, this run
         logical, allocatable :: hg_bound(:)
+        !> 1 for a triangle (nodes 3 and 4 the same), 0 for a
+        !> quadrilateral: the blocks' loops pick by it without a branch
+        real(wp), allocatable :: tw(:)
         integer, allocatable :: ncap(:)
         integer, allocatable :: nip(:)
         real(wp), allocatable :: sig(:, :, :) !< (5, nip, n) stresses at the points (nip: the most of any shell)
@@ -198,7 +201,7 @@ contains
         sh%msq = 1
         sh%dead = .false.
         allocate (sh%ncap(sh%n), sh%hg_bound(sh%n), sh%ge(sh%n), sh%qe(sh%n), sh%nuf(sh%n), sh%wsp(sh%n))
-        allocate (sh%cbi(sh%n), sh%nue(sh%n))
+        allocate (sh%cbi(sh%n), sh%nue(sh%n), sh%tw(sh%n))
         sh%ncap = 0
         allocate (sh%low(sh%n))
         sh%low = .false.
@@ -219,6 +222,7 @@ contains
             ee = keep(e)
             p = model%shell_part(ee)
             sh%conn(:, e) = model%shell_conn(:, ee)
+            sh%tw(e) = merge(1.0_wp, 0.0_wp, sh%conn(3, e) == sh%conn(4, e))
             sh%eid(e) = model%shell_id(ee)
             sh%model_ix(e) = ee
             sh%part(e) = p
@@ -541,7 +545,7 @@ contains
             ge(l) = sh%ge(e)
             ! the step length's factor: a triangle's shortest altitude is
             ! twice its area over its longest side
-            tf(l) = merge(2.0_wp, 1.0_wp, sh%conn(3, e) == sh%conn(4, e))
+            tf(l) = 1.0_wp + sh%tw(e)
         end do
         ! The rates v(n-1/2) are taken on the mid-step geometry x(n-1/2) =
         ! x(n) - dt/2 v(n-1/2), the forces on x(n). (Rates on x(n) see a
@@ -636,12 +640,18 @@ contains
             visc(l) = sh%hg_viscous(e)
             bnd(l) = sh%hg_bound(e)
             bw(l) = merge(1.0_wp, 0.0_wp, bnd(l))
-            ! the modes' masses' factor: a node's share of the element mass
-            ! (as shell_masses gives it: a third on a triangle's nodes; times
-            ! the mass-scaling factor)
-            mf(l) = 1.0_wp/merge(3, 4, sh%conn(3, e) == sh%conn(4, e))
-            if (allocated(sh%msf)) mf(l) = mf(l)*sh%msf(e)
         end do
+        ! the modes' masses' factor: a node's share of the element mass
+        ! (as shell_masses gives it: a third on a triangle's nodes; times
+        ! the mass-scaling factor)
+        do l = 1, nb
+            mf(l) = 1.0_wp/(4.0_wp - sh%tw(e0 + l))
+        end do
+        if (allocated(sh%msf)) then
+            do l = 1, nb
+                mf(l) = mf(l)*sh%msf(e0 + l)
+            end do
+        end if
         ! the flow stress of the most strained point, where the bound acts:
         ! the strain and the bilinear law in loops over the block, a curve's
         ! law after (per element, with a call for each, it had been a tenth
@@ -1149,22 +1159,19 @@ contains
         real(wp) :: pd(nblk, 3), qd(nblk, 3), nlen(nblk)
         real(wp) :: p1, p2, p3, c1, c2, c3, n3, d, r1, r2, r3, aa, hx, hy
         integer :: l, k
-        real(wp) :: tw(nblk), a1, a2, a3
+        real(wp) :: a1, a2, a3
         ! the diagonals (a triangle's sides 1-2, 1-3), whose cross product
-        ! is the normal: both taken, the element's picked by weights of 1
-        ! and 0 (a x 1 + b x 0 is a exactly), told in a loop of their own
-        ! (a merge on the connectivity kept this loop scalar with a branch:
-        ! a fifth of this routine's time on car6)
-        do l = 1, nb
-            tw(l) = merge(1.0_wp, 0.0_wp, sh%conn(3, e0 + l) == sh%conn(4, e0 + l))
-        end do
+        ! is the normal: both taken, the element's picked by the weights tw
+        ! of 1 and 0 (a x 1 + b x 0 is a exactly; a merge on the
+        ! connectivity kept this loop scalar with a branch: a fifth of this
+        ! routine's time on car6)
         do k = 1, 3
             do l = 1, nb
                 a1 = g%xe(l, k, 2) - g%xe(l, k, 1)
                 a2 = g%xe(l, k, 3) - g%xe(l, k, 1)
                 a3 = g%xe(l, k, 4) - g%xe(l, k, 2)
-                pd(l, k) = a1*tw(l) + a2*(1.0_wp - tw(l))
-                qd(l, k) = a2*tw(l) + a3*(1.0_wp - tw(l))
+                pd(l, k) = a1*sh%tw(e0 + l) + a2*(1.0_wp - sh%tw(e0 + l))
+                qd(l, k) = a2*sh%tw(e0 + l) + a3*(1.0_wp - sh%tw(e0 + l))
             end do
         end do
         do l = 1, nb
