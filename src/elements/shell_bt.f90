@@ -532,7 +532,7 @@ contains
         real(wp), parameter :: r3 = 1.7320508075688772_wp
         real(wp) :: vq(nblk, 5), sq(nblk, 5), bq(nblk, 5), kq(nblk, 3)
         real(wp) :: cap(nblk), bw(nblk)
-        logical :: visc(nblk), bnd(nblk), capped(nblk)
+        logical :: visc(nblk), bnd(nblk), capped(nblk), allok, anyvisc
         real(dp) :: pold(nblk), pnew(nblk)
         integer :: l, k, e
         ! gather: the elements' data
@@ -757,29 +757,57 @@ contains
             end do
             capped(1:nb) = bnd(1:nb) .and. .not. visc(1:nb) .and. gm%ok(1:nb) .and. cap(1:nb) > 0.0_wp
         end if
-        ! each element's own form
+        ! each element's own form (a block of one form, all its elements
+        ! sound, the common case, in loops without a branch that vectorise:
+        ! the same values)
+        allok = all(gm%ok(1:nb))
+        anyvisc = any(visc(1:nb))
+        if (allok .and. .not. anyvisc .and. all(bnd(1:nb))) then
+            hq(1:nb, :) = bq(1:nb, :)
+        else if (allok .and. .not. anyvisc .and. .not. any(bnd(1:nb))) then
+            hq(1:nb, :) = sq(1:nb, :)
+        else
+            do l = 1, nb
+                if (visc(l)) then
+                    hq(l, :) = vq(l, :)
+                else if (bnd(l)) then
+                    hq(l, :) = bq(l, :)
+                else
+                    hq(l, :) = sq(l, :)
+                end if
+                if (.not. gm%ok(l)) hq(l, :) = 0
+            end do
+        end if
         do l = 1, nb
-            if (visc(l)) then
-                hq(l, :) = vq(l, :)
-            else if (bnd(l)) then
-                hq(l, :) = bq(l, :)
-            else
-                hq(l, :) = sq(l, :)
-            end if
-            if (.not. gm%ok(l)) hq(l, :) = 0
             pnew(l) = (((real(hq(l, 1), dp)*qd(l, 1) + real(hq(l, 2), dp)*qd(l, 2)) + real(hq(l, 3), dp)*qd(l, 3)) + &
                        real(hq(l, 4), dp)*qd(l, 4)) + real(hq(l, 5), dp)*qd(l, 5)
         end do
         ! the work of each step's forces over the velocities before and
         ! after them, as the central difference moves the nodes
-        do l = 1, nb
-            if (.not. gm%ok(l)) cycle
-            e = e0 + l
-            sh%qhg(:, e) = hq(l, :)
-            if (capped(l)) sh%ncap(e) = sh%ncap(e) + 1
-            sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold(l))
-            sh%pend_hg(e) = 0.5_dp*pnew(l)
-        end do
+        if (allok) then
+            do l = 1, nb
+                e = e0 + l
+                sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold(l))
+                sh%pend_hg(e) = 0.5_dp*pnew(l)
+            end do
+            do l = 1, nb
+                sh%qhg(:, e0 + l) = hq(l, :)
+            end do
+            if (any(capped(1:nb))) then
+                do l = 1, nb
+                    if (capped(l)) sh%ncap(e0 + l) = sh%ncap(e0 + l) + 1
+                end do
+            end if
+        else
+            do l = 1, nb
+                if (.not. gm%ok(l)) cycle
+                e = e0 + l
+                sh%qhg(:, e) = hq(l, :)
+                if (capped(l)) sh%ncap(e) = sh%ncap(e) + 1
+                sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold(l))
+                sh%pend_hg(e) = 0.5_dp*pnew(l)
+            end do
+        end if
         ! the forces: on x(n); nodal forces and moments (local) are minus the
         ! derivatives of the power, the hourglass's and the warping
         ! correction's share (the rates' dependence on vz through the spin:
