@@ -1016,7 +1016,7 @@ contains
         nres(1:nb, :) = 0; mres(1:nb, :) = 0; qres(1:nb, :) = 0
         pold(1:nb) = 0; pnew(1:nb) = 0
         dzm(1:nb) = 0
-        uniform = all(nip(1:nb) == maxnip)
+        uniform = maxnip > 0 .and. all(nip(1:nb) == maxnip)
         anyback = any(sh%backstress(e0 + 1:e0 + nb))
         anycurve = any(sh%ycurve(e0 + 1:e0 + nb))
         anyrated = any(sh%rated(e0 + 1:e0 + nb))
@@ -1123,10 +1123,16 @@ contains
                 dzz(iy(1:ny)) = dzz(iy(1:ny))/dt
                 ny = 0
             end if
-            do l = 1, nb
-                if (ip > nip(l)) cycle
-                sh%sig(:, ip, e0 + l) = t(l, :)
-            end do
+            if (uniform) then
+                do l = 1, nb
+                    sh%sig(:, ip, e0 + l) = t(l, :)
+                end do
+            else
+                do l = 1, nb
+                    if (ip > nip(l)) cycle
+                    sh%sig(:, ip, e0 + l) = t(l, :)
+                end do
+            end if
             ! powers per unit area with the old and the new stresses,
             ! resultants, the mean thickness strain rate
             do l = 1, nb
@@ -1145,6 +1151,21 @@ contains
                 dzm(l) = dzm(l) + wf(l)*dzz(l)
             end do
         end do
+        ! (a block whose every shell is sound and has the same points, the
+        ! common case, in loops without a branch: the same values)
+        if (uniform) then
+            if (sh%thickness_update) then
+                do l = 1, nb
+                    sh%h(e0 + l) = sh%h(e0 + l)*exp(dt*dzm(l))
+                end do
+            end if
+            do l = 1, nb
+                e = e0 + l
+                sh%eint(e) = sh%eint(e) + dt_avg_prev*(sh%pend_int(e) + 0.5_dp*pold(l)*a(l))
+                sh%pend_int(e) = 0.5_dp*pnew(l)*a(l)
+            end do
+            return
+        end if
         do l = 1, nb
             if (.not. ok(l)) cycle
             e = e0 + l
