@@ -894,7 +894,8 @@ contains
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
         real(wp), intent(in) :: dte(:), fs(nblk, 3, 4), ms(nblk, 3, 4)
-        real(wp), intent(inout), contiguous :: f(:, :), m(:, :)
+        !> (explicit shape, as block_gather's)
+        real(wp), intent(inout) :: f(3, *), m(3, *)
         integer :: l, k, nd, e, j
         logical :: ok
         do l = 1, nb
@@ -1183,7 +1184,9 @@ contains
     subroutine block_gather(sh, e0, nb, x, v, w, xg, vg, wg)
         type(shells_t), intent(in) :: sh
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
-        real(wp), intent(in), contiguous :: x(:, :), v(:, :), w(:, :)
+        !> (explicit shape: the column stride known to be 3, a node's
+        !> address is one multiply and no descriptor's strides)
+        real(wp), intent(in) :: x(3, *), v(3, *), w(3, *)
         real(wp), intent(out) :: xg(nblk, 3, 4), vg(nblk, 3, 4), wg(nblk, 3, 4)
         integer :: l, k, nd
         do k = 1, 4
