@@ -994,6 +994,9 @@ contains
         !> every shell of the block has maxnip points; some moves a back
         !> stress; some takes a yield curve
         logical :: uniform, anyback, anycurve, anyrated
+        !> uniform, every shell plastic, no back stress and no rate: the
+        !> yielding points are those beyond sy
+        logical :: simple
         !> the largest excess of a layer's trial over its yield, squared
         real(wp) :: over
         !> the layer's points that yield without a back stress (their
@@ -1021,6 +1024,7 @@ contains
         anyback = any(sh%backstress(e0 + 1:e0 + nb))
         anycurve = any(sh%ycurve(e0 + 1:e0 + nb))
         anyrated = any(sh%rated(e0 + 1:e0 + nb))
+        simple = uniform .and. .not. (anyback .or. anyrated) .and. dt > 0.0_wp .and. all(sh%plastic(e0 + 1:e0 + nb))
         do ip = 1, maxnip
             if (uniform) then
                 ! (the common block: one section and law, no branch per
@@ -1094,6 +1098,18 @@ contains
                 do l = 1, nb
                     over = max(over, xeq2(l) - sy(l)**2)
                 end do
+            end if
+            if (over > 0.0_wp .and. simple) then
+                ! (a block of plastic shells with the same points, without a
+                ! back stress or a rate: the yielding points listed alone,
+                ! as the loop below lists them)
+                do l = 1, nb
+                    if (xeq2(l) <= sy(l)**2) cycle
+                    ny = ny + 1
+                    iy(ny) = l
+                    fy(ny) = 1
+                end do
+                over = 0
             end if
             do l = 1, nb
                 if (.not. (over > 0.0_wp)) exit
