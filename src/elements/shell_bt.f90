@@ -1041,8 +1041,8 @@ contains
                     so(l, 5) = sh%sig(5, ip, e)
                     sy(l) = sh%sy0(e) + sh%hk(e)*sh%epsp(ip, e)
                 end do
-                al(1:nb, :) = 0
                 if (anyback) then
+                    al(1:nb, :) = 0
                     do l = 1, nb
                         if (sh%backstress(e0 + l)) al(l, :) = sh%alpha(:, ip, e0 + l)
                     end do
@@ -1084,10 +1084,21 @@ contains
                 t(l, 3) = so(l, 3) + dt*ge(l)*dd(l, 3)
                 t(l, 4) = so(l, 4) + dt*sf(l)*ge(l)*dd(l, 4)
                 t(l, 5) = so(l, 5) + dt*sf(l)*ge(l)*dd(l, 5)
-                pm = (t(l, 1) + t(l, 2))/3.0_wp
-                xeq2(l) = 1.5_wp*((t(l, 1) - pm - al(l, 1))**2 + (t(l, 2) - pm - al(l, 2))**2 + (pm + al(l, 3))**2 + &
-                                  2.0_wp*((t(l, 3) - al(l, 4))**2 + (t(l, 4) - al(l, 5))**2 + (t(l, 5) - al(l, 6))**2))
             end do
+            if (anyback) then
+                do l = 1, nb
+                    pm = (t(l, 1) + t(l, 2))/3.0_wp
+                    xeq2(l) = 1.5_wp*((t(l, 1) - pm - al(l, 1))**2 + (t(l, 2) - pm - al(l, 2))**2 + (pm + al(l, 3))**2 + &
+                                      2.0_wp*((t(l, 3) - al(l, 4))**2 + (t(l, 4) - al(l, 5))**2 + (t(l, 5) - al(l, 6))**2))
+                end do
+            else
+                ! (no back stress in the block: the same sums without it)
+                do l = 1, nb
+                    pm = (t(l, 1) + t(l, 2))/3.0_wp
+                    xeq2(l) = 1.5_wp*((t(l, 1) - pm)**2 + (t(l, 2) - pm)**2 + pm**2 + &
+                                      2.0_wp*(t(l, 3)**2 + t(l, 4)**2 + t(l, 5)**2))
+                end do
+            end if
             ! the points beyond the yield surface (Cowper-Symonds scales it
             ! by the rate); a layer with none, the common case outside a
             ! crush, is told by a loop that vectorises (the loop below
