@@ -615,7 +615,8 @@ contains
     !> of them, a vehicle's travel, uses up no margin.)
     subroutine contact_drift(ct, v, dt)
         type(contacts_t), intent(inout) :: ct
-        real(wp), intent(in) :: v(:, :), dt
+        !> (explicit shape, as gather_nodes')
+        real(wp), intent(in) :: v(3, *), dt
         !> the mean velocity's sum in chunks of this many nodes, the chunks'
         !> sums then in order: the same sum for any number of threads
         integer, parameter :: chunk = 1024
@@ -810,9 +811,10 @@ contains
     !> and the largest speed squared (threaded: a maximum is the same in
     !> any order).
     subroutine gather_nodes(x, v, node, xl, vl, v2)
-        real(wp), intent(in) :: x(:, :), v(:, :)
+        !> (explicit shape: a node's address one multiply, no descriptor)
+        real(wp), intent(in) :: x(3, *), v(3, *)
         integer, intent(in) :: node(:)
-        real(wp), intent(out) :: xl(:, :), vl(:, :), v2
+        real(wp), intent(out) :: xl(3, *), vl(3, *), v2
         integer :: k, n
         v2 = 0
         !$omp parallel do schedule(static) private(n) reduction(max:v2)
