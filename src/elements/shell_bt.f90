@@ -1147,8 +1147,7 @@ contains
                 t(l, :) = sl
             end do
             if (ny > 0) then
-                call plane_stress_returns(sh, e0, ip, ny, iy, fy, so, t, dzz)
-                dzz(iy(1:ny)) = dzz(iy(1:ny))/dt
+                call plane_stress_returns(sh, e0, ip, ny, iy, fy, dt, so, t, dzz)
                 ny = 0
             end if
             if (uniform) then
@@ -1400,11 +1399,11 @@ contains
     !> loops that vectorise (one return after the other, each waited on
     !> itself, had been half of the crushing tubes' run). t: the trial
     !> stresses in, the returned ones out; so the stresses before the step;
-    !> dzz the thickness strain increments.
-    subroutine plane_stress_returns(sh, e0, ip, ny, iy, fy, so, t, dzz)
+    !> dzz the thickness strain rates (the increments over the step dt).
+    subroutine plane_stress_returns(sh, e0, ip, ny, iy, fy, dt, so, t, dzz)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e0, ip, ny, iy(:)
-        real(wp), intent(in) :: fy(:), so(nblk, 5)
+        real(wp), intent(in) :: fy(:), dt, so(nblk, 5)
         real(wp), intent(inout) :: t(nblk, 5), dzz(nblk)
         real(wp), parameter :: rr2 = 1.0_wp/sqrt(2.0_wp), c23 = sqrt(2.0_wp/3.0_wp), third = 1.0_wp/3.0_wp
         real(wp) :: c1(nblk), c2(nblk), a1(nblk), a2(nblk), q1(nblk), rr(nblk), dg(nblk), u1(nblk), u2(nblk)
@@ -1466,7 +1465,10 @@ contains
         ! other, each waited on itself, had been half of the crushing
         ! tubes' run)
         do it = 2, 40
-            if (sum(go(1:ny)) == 0) exit
+            ! (any active point, scanned from the first: a sum over the
+            ! batch, taken in order without -ffast-math, waited on each
+            ! add in turn)
+            if (.not. any(go(1:ny) /= 0.0_wp)) exit
             do j = 1, ny
                 ! (both factors from one division)
                 p1 = 1.0_wp + c1(j)*dg(j)
@@ -1517,7 +1519,7 @@ contains
             t(l, 4) = t(l, 4)*u2(j)
             t(l, 5) = t(l, 5)*u2(j)
             sh%epsp(ip, e0 + l) = ep0(j) + de(j)
-            dzz(l) = sh%nue(e0 + l)*(s1 + s2 - sold) - dg(j)*(s1 + s2)*third
+            dzz(l) = (sh%nue(e0 + l)*(s1 + s2 - sold) - dg(j)*(s1 + s2)*third)/dt
         end do
     contains
         !> The flow stress and slope of the points whose law is a curve.
