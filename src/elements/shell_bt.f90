@@ -79,6 +79,10 @@ module xd_elements_shell_bt
         !> at most nblk each (shell_blocks, whenever mine changes), so that
         !> a block's element data are read at unit stride
         integer, allocatable :: bfirst(:), bcount(:)
+        !> per block: some shell moves a back stress, takes a yield curve,
+        !> a rate factor; every shell is plastic (shell_blocks: tested once,
+        !> not per block and cycle)
+        logical, allocatable :: bback(:), bcurve(:), brated(:), bplastic(:)
         !> the blocks' parts, one a thread (shell_blocks): blocks pfirst(p)
         !> .. plast(p), runs of mine of nearly equal length. A node whose
         !> shells all lie in one part is that part's (direct(k, e): node k
@@ -378,6 +382,19 @@ contains
         end do
         sh%bfirst = first(1:nbk)
         sh%bcount = count(1:nbk)
+        if (allocated(sh%bback)) deallocate (sh%bback, sh%bcurve, sh%brated, sh%bplastic)
+        allocate (sh%bback(nbk), sh%bcurve(nbk), sh%brated(nbk), sh%bplastic(nbk))
+        sh%bback = .false.; sh%bcurve = .false.; sh%brated = .false.; sh%bplastic = .false.
+        if (allocated(sh%plastic)) then
+            do ib = 1, nbk
+                i0 = sh%bfirst(ib)
+                i1 = sh%bfirst(ib) + sh%bcount(ib) - 1
+                sh%bback(ib) = any(sh%backstress(i0:i1))
+                sh%bcurve(ib) = any(sh%ycurve(i0:i1))
+                sh%brated(ib) = any(sh%rated(i0:i1))
+                sh%bplastic(ib) = all(sh%plastic(i0:i1))
+            end do
+        end if
         ! each node's part: 0 none yet, -1 shared by two or more
         nnode = 0
         if (sh%n > 0) nnode = maxval(sh%conn)
@@ -450,7 +467,7 @@ contains
             gm%xe(1:nb, :, :) = gn%xe(1:nb, :, :) - 0.5_wp*dt*vg(1:nb, :, :)
             call block_geometry(sh, e0, nb, gm)
             call block_geometry(sh, e0, nb, gn)
-            call block_forces(sh, e0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dtb, fs, ms)
+            call block_forces(sh, ib, e0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dtb, fs, ms)
             if (present(f) .and. present(m)) then
                 call block_add(sh, e0, nb, dtb, fs, ms, f, m)
             else
@@ -510,8 +527,9 @@ contains
     !> hourglass and the forces; the points' stress update per element (a
     !> yielding point's return is its own iteration). dte(l) = -1 for an
     !> element collapsed or inverted (the mid-step one is not updated).
-    subroutine block_forces(sh, e0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dte, fs, ms)
+    subroutine block_forces(sh, ib, e0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dte, fs, ms)
         type(shells_t), intent(inout) :: sh
+        integer, intent(in) :: ib       !< the block's number
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
         type(block_geom_t), intent(in) :: gm, gn
         !> the nodes' velocities and angular velocities (block_gather)
@@ -590,7 +608,7 @@ contains
                        gm%b2(l, 4)*vl(l, 3, 4)) - quarter*(((wl(l, 1, 1) + wl(l, 1, 2)) + wl(l, 1, 3)) + wl(l, 1, 4))
         end do
         ! the points' stresses, the resultants and the internal energy
-        call block_points(sh, e0, nb, r, gm%a, gm%ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
+        call block_points(sh, ib, e0, nb, r, gm%a, gm%ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
         ! Belytschko-Tsay hourglass: gamma = h - (h.x) b1 - (h.y) b2; stiffness
         ! form on the out-of-plane rotations and displacement and the membrane
         ! rates of a warped element (nodes zl off its mean plane) less the
@@ -671,7 +689,7 @@ contains
             e = e0 + l
             sy(l) = (sh%sy0(e) + sh%hk(e)*sy(l))*bw(l)
         end do
-        if (any(sh%ycurve(e0 + 1:e0 + nb))) then
+        if (sh%bcurve(ib)) then
             do l = 1, nb
                 e = e0 + l
                 if (.not. (bnd(l) .and. sh%ycurve(e))) cycle
@@ -977,8 +995,9 @@ contains
     !> stress, mixed_return, each on its own); the resultants (membrane n, bending m,
     !> shear q per unit length), the thickness change (ISTUPD) and the
     !> internal energy.
-    subroutine block_points(sh, e0, nb, r, a, ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
+    subroutine block_points(sh, ib, e0, nb, r, a, ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
         type(shells_t), intent(inout) :: sh
+        integer, intent(in) :: ib       !< the block's number
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
         real(wp), intent(in) :: r(nblk, 8), a(nblk), dt
         !> the elements' thickness, Young's modulus, Poisson's ratio and shear modulus
@@ -1021,10 +1040,10 @@ contains
         pold(1:nb) = 0; pnew(1:nb) = 0
         dzm(1:nb) = 0
         uniform = maxnip > 0 .and. all(nip(1:nb) == maxnip)
-        anyback = any(sh%backstress(e0 + 1:e0 + nb))
-        anycurve = any(sh%ycurve(e0 + 1:e0 + nb))
-        anyrated = any(sh%rated(e0 + 1:e0 + nb))
-        simple = uniform .and. .not. (anyback .or. anyrated) .and. dt > 0.0_wp .and. all(sh%plastic(e0 + 1:e0 + nb))
+        anyback = sh%bback(ib)
+        anycurve = sh%bcurve(ib)
+        anyrated = sh%brated(ib)
+        simple = uniform .and. .not. (anyback .or. anyrated) .and. dt > 0.0_wp .and. sh%bplastic(ib)
         do ip = 1, maxnip
             if (uniform) then
                 ! (the common block: one section and law, no branch per
