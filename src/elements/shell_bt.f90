@@ -1538,8 +1538,18 @@ contains
             t(l, 4) = t(l, 4)*u2(j)
             t(l, 5) = t(l, 5)*u2(j)
             sh%epsp(ip, e0 + l) = ep0(j) + de(j)
-            dzz(l) = (sh%nue(e0 + l)*(s1 + s2 - sold) - dg(j)*(s1 + s2)*third)/dt
         end do
+        ! the thickness strain rate, only where the thickness follows it
+        ! (ISTUPD): otherwise no one reads it
+        if (sh%thickness_update) then
+            do j = 1, ny
+                l = iy(j)
+                s1 = t(l, 1)
+                s2 = t(l, 2)
+                sold = so(l, 1) + so(l, 2)
+                dzz(l) = (sh%nue(e0 + l)*(s1 + s2 - sold) - dg(j)*(s1 + s2)*third)/dt
+            end do
+        end if
     contains
         !> The flow stress and slope of the points whose law is a curve.
         subroutine curve_points()
