@@ -1201,6 +1201,10 @@ contains
         ! common case, in loops without a branch: the same values)
         if (uniform) then
             if (sh%thickness_update) then
+                ! (not vectorised: a vector exp (libmvec) rounds otherwise
+                ! than the scalar one, and a shell's thickness would depend
+                ! on its place in its block, which the ranks change)
+                !GCC$ novector
                 do l = 1, nb
                     sh%h(e0 + l) = sh%h(e0 + l)*exp(dt*dzm(l))
                 end do
