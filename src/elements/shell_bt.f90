@@ -1503,9 +1503,12 @@ contains
                 phi(j) = sqrt(phi2(j))
                 de(j) = c23*dg(j)*phi(j)
                 sy(j) = sy0(j) + hk(j)*(ep0(j) + de(j))
-                h(j) = hk(j)
             end do
-            if (anycur) call curve_points()
+            if (anycur) then
+                ! (h is hk but on a curve, whose points' slopes move)
+                h(1:ny) = hk(1:ny)
+                call curve_points()
+            end if
             do j = 1, ny
                 fac = fy(j)
                 f = 0.5_wp*phi2(j) - (fac*sy(j))**2*third
