@@ -1538,7 +1538,6 @@ contains
             a2(j) = a2(j)*u2(j)
             s1 = (a1(j) - a2(j))*rr2
             s2 = (a1(j) + a2(j))*rr2
-            sold = so(l, 1) + so(l, 2)
             t(l, 1) = s1
             t(l, 2) = s2
             t(l, 3) = t(l, 3)*u2(j)

@@ -518,60 +518,31 @@ contains
         real(wp), intent(inout) :: vminus(:, :)
         real(wp), intent(inout), allocatable :: vrminus(:, :)
         integer :: nd
-        real(wp) :: ri, on, dta
-        dta = real(dt_avg, wp)
+        real(wp) :: ri, on
+        ! tied contacts: the slaves' forces to their segments, and the
+        ! segments' nodes accelerated with the slave masses they carry
+        if (td%n > 0) call tie_forces(td, st%time, st%x, st%f, st%mom)
+        call accelerations(st)
         if (td%n > 0) then
-            ! tied contacts: the slaves' forces to their segments, and the
-            ! segments' nodes accelerated with the slave masses they carry
-            call tie_forces(td, st%time, st%x, st%f, st%mom)
-            call accelerations(st)
             call tie_accelerations(td, st%time, st%f, st%mass, st%free, st%a, st%mom, st%irot)
-            if (save_minus) vminus = st%v
-            !$omp parallel do schedule(static)
-            do nd = 1, st%nnode
-                st%v(:, nd) = st%v(:, nd) + dta*st%a(:, nd)
-            end do
-            !$omp end parallel do
-        else
-            ! the accelerations (as accelerations takes them) and the update
-            ! in one pass over the nodes, not two (the same values)
-            if (save_minus) then
-                !$omp parallel do schedule(static)
-                do nd = 1, st%nnode
-                    vminus(:, nd) = st%v(:, nd)
-                end do
-                !$omp end parallel do
-            end if
-            !$omp parallel do schedule(static) private(on, ri)
-            do nd = 1, st%nnode
-                on = merge(1.0_wp, 0.0_wp, st%mass(nd) > 0.0_wp)
-                ri = st%mass(nd) + (1.0_wp - on)
-                st%a(1, nd) = st%f(1, nd)/ri*st%free(1, nd)*on
-                st%a(2, nd) = st%f(2, nd)/ri*st%free(2, nd)*on
-                st%a(3, nd) = st%f(3, nd)/ri*st%free(3, nd)*on
-                st%v(1, nd) = st%v(1, nd) + dta*st%a(1, nd)
-                st%v(2, nd) = st%v(2, nd) + dta*st%a(2, nd)
-                st%v(3, nd) = st%v(3, nd) + dta*st%a(3, nd)
-            end do
-            !$omp end parallel do
         end if
+        if (save_minus) vminus = st%v
+        !$omp parallel do schedule(static)
+        do nd = 1, st%nnode
+            st%v(:, nd) = st%v(:, nd) + real(dt_avg, wp)*st%a(:, nd)
+        end do
+        !$omp end parallel do
         if (st%rot) then
+            if (save_minus) vrminus = st%vr
             ! (a node without rotary inertia divides by 1 and adds 0 times
             ! that: no select, so that the loop vectorises)
-            if (save_minus) then
-                !$omp parallel do schedule(static)
-                do nd = 1, st%nnode
-                    vrminus(:, nd) = st%vr(:, nd)
-                end do
-                !$omp end parallel do
-            end if
             !$omp parallel do schedule(static) private(ri, on)
             do nd = 1, st%nnode
                 on = merge(1.0_wp, 0.0_wp, st%irot(nd) > 0.0_wp)
                 ri = st%irot(nd) + (1.0_wp - on)
-                st%vr(1, nd) = st%vr(1, nd) + dta*st%mom(1, nd)/ri*st%free_r(1, nd)*on
-                st%vr(2, nd) = st%vr(2, nd) + dta*st%mom(2, nd)/ri*st%free_r(2, nd)*on
-                st%vr(3, nd) = st%vr(3, nd) + dta*st%mom(3, nd)/ri*st%free_r(3, nd)*on
+                st%vr(1, nd) = st%vr(1, nd) + real(dt_avg, wp)*st%mom(1, nd)/ri*st%free_r(1, nd)*on
+                st%vr(2, nd) = st%vr(2, nd) + real(dt_avg, wp)*st%mom(2, nd)/ri*st%free_r(2, nd)*on
+                st%vr(3, nd) = st%vr(3, nd) + real(dt_avg, wp)*st%mom(3, nd)/ri*st%free_r(3, nd)*on
             end do
             !$omp end parallel do
         end if
