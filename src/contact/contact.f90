@@ -32,6 +32,7 @@ module xd_contact_contact
     use xd_kinds, only: wp, dp, i8
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
+    use xd_core_threads, only: threaded
     use xd_model, only: model_t, contact_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, mat_rigid, &
                         ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_auto, search_adaptive, find_box, in_box, box_t
@@ -168,6 +169,12 @@ module xd_contact_contact
                           ev_back = 6, ev_within = 7, ev_handover = 8
     integer, parameter :: max_named = 200   !< late and released events named per interface (all counted)
     integer, parameter :: default_interval = 100   !< SEARCH 1: longest cycles between global searches when none is given
+    !> contact_drift sums the surface's velocities in chunks of this many
+    !> nodes, the chunks' sums then in order: the same sum for any number
+    !> of threads
+    integer, parameter :: drift_chunk = 1024
+    !> list_pairs counts and lists the pairs in chunks of this many slaves
+    integer, parameter :: pair_chunk = 4096
     real(wp), parameter :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
 
     type :: contact_event_t
@@ -617,57 +624,80 @@ contains
         type(contacts_t), intent(inout) :: ct
         !> (explicit shape, as gather_nodes')
         real(wp), intent(in) :: v(3, *), dt
-        !> the mean velocity's sum in chunks of this many nodes, the chunks'
-        !> sums then in order: the same sum for any number of threads
-        integer, parameter :: chunk = 1024
-        integer :: i, k, n, c, ic, nchunk
-        real(wp) :: vk, vmax, used, vbar(3), s1, s2, s3
+        integer :: i, nchunk
+        real(wp) :: vmax, used
         real(wp), allocatable :: part(:, :)
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (it%surf%nnode == 0) cycle
-                nchunk = (it%surf%nnode + chunk - 1)/chunk
+                nchunk = (it%surf%nnode + drift_chunk - 1)/drift_chunk
                 allocate (part(3, nchunk))
                 vmax = 0
-                !$omp parallel do schedule(static) private(k, n, s1, s2, s3) reduction(max:vmax)
-                do ic = 1, nchunk
-                    s1 = 0; s2 = 0; s3 = 0
-                    do k = (ic - 1)*chunk + 1, min(ic*chunk, it%surf%nnode)
-                        n = it%surf%node(k)
-                        s1 = s1 + v(1, n)
-                        s2 = s2 + v(2, n)
-                        s3 = s3 + v(3, n)
-                        vmax = max(vmax, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
-                    end do
-                    part(:, ic) = [s1, s2, s3]
-                end do
-                !$omp end parallel do
-                vbar = 0
-                do ic = 1, nchunk
-                    vbar = vbar + part(:, ic)
-                end do
+                ! (a parallel region only where more than one thread runs
+                ! it: xd_core_threads)
+                if (threaded()) then
+                    !$omp parallel
+                    call drift_loops(it, v, dt, part, vmax, used)
+                    !$omp end parallel
+                else
+                    call drift_loops(it, v, dt, part, vmax, used)
+                end if
                 deallocate (part)
-                vbar = vbar/it%surf%nnode
-                !$omp parallel do schedule(static) private(n, vk)
-                do k = 1, it%surf%nnode
-                    n = it%surf%node(k)
-                    vk = sqrt((v(1, n) - vbar(1))**2 + (v(2, n) - vbar(2))**2 + (v(3, n) - vbar(3))**2)
-                    it%un(k) = it%un(k) + dt*vk
-                end do
-                !$omp end parallel do
-                do c = 1, size(it%cmin)
-                    used = 0
-                    !$omp parallel do schedule(static) reduction(max:used)
-                    do k = 1, it%surf%nnode
-                        used = max(used, (it%un(k) - it%uc(k, c))*it%cbud(k, c))
-                    end do
-                    !$omp end parallel do
-                    it%cused(c) = used
-                end do
                 it%odo = it%odo + dt*sqrt(vmax)
             end associate
         end do
     end subroutine contact_drift
+
+    !> contact_drift's loops on interface it, as worksharing loops (each
+    !> thread of a region calls it; outside one, the loops run whole).
+    !> part, vmax and used: shared scratch (the chunks' sums, the largest
+    !> speed squared, a class's margin used).
+    subroutine drift_loops(it, v, dt, part, vmax, used)
+        type(interface_t), intent(inout) :: it
+        real(wp), intent(in) :: v(3, *), dt
+        real(wp), intent(inout) :: part(:, :), vmax, used
+        integer :: k, n, c, ic
+        real(wp) :: vk, vbar(3), s1, s2, s3
+        !$omp do schedule(static) reduction(max:vmax)
+        do ic = 1, size(part, 2)
+            s1 = 0; s2 = 0; s3 = 0
+            do k = (ic - 1)*drift_chunk + 1, min(ic*drift_chunk, it%surf%nnode)
+                n = it%surf%node(k)
+                s1 = s1 + v(1, n)
+                s2 = s2 + v(2, n)
+                s3 = s3 + v(3, n)
+                vmax = max(vmax, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
+            end do
+            part(:, ic) = [s1, s2, s3]
+        end do
+        !$omp end do
+        ! (every thread the same sum, in chunk order)
+        vbar = 0
+        do ic = 1, size(part, 2)
+            vbar = vbar + part(:, ic)
+        end do
+        vbar = vbar/it%surf%nnode
+        !$omp do schedule(static)
+        do k = 1, it%surf%nnode
+            n = it%surf%node(k)
+            vk = sqrt((v(1, n) - vbar(1))**2 + (v(2, n) - vbar(2))**2 + (v(3, n) - vbar(3))**2)
+            it%un(k) = it%un(k) + dt*vk
+        end do
+        !$omp end do
+        do c = 1, size(it%cmin)
+            !$omp single
+            used = 0
+            !$omp end single
+            !$omp do schedule(static) reduction(max:used)
+            do k = 1, it%surf%nnode
+                used = max(used, (it%un(k) - it%uc(k, c))*it%cbud(k, c))
+            end do
+            !$omp end do
+            !$omp single
+            it%cused(c) = used
+            !$omp end single
+        end do
+    end subroutine drift_loops
 
     !> One block per dumped slave: header line, then one line per master node.
     subroutine dump_lists(u, it, node_id, cycle, time)
@@ -799,13 +829,28 @@ contains
         real(wp), intent(in) :: x(:, :)
         integer, intent(in) :: node(:)
         real(wp), intent(out) :: xl(:, :)
+        ! (a parallel region only where more than one thread runs it:
+        ! xd_core_threads)
+        if (threaded()) then
+            !$omp parallel
+            call gather_x_loop(x, node, xl)
+            !$omp end parallel
+        else
+            call gather_x_loop(x, node, xl)
+        end if
+    end subroutine gather_x
+
+    subroutine gather_x_loop(x, node, xl)
+        real(wp), intent(in) :: x(:, :)
+        integer, intent(in) :: node(:)
+        real(wp), intent(inout) :: xl(:, :)
         integer :: k
-        !$omp parallel do schedule(static)
+        !$omp do schedule(static)
         do k = 1, size(node)
             xl(:, k) = x(:, node(k))
         end do
-        !$omp end parallel do
-    end subroutine gather_x
+        !$omp end do
+    end subroutine gather_x_loop
 
     !> The surface's coordinates and velocities (nodes `node` of x and v),
     !> and the largest speed squared (threaded: a maximum is the same in
@@ -815,9 +860,22 @@ contains
         real(wp), intent(in) :: x(3, *), v(3, *)
         integer, intent(in) :: node(:)
         real(wp), intent(out) :: xl(3, *), vl(3, *), v2
-        integer :: k, n
         v2 = 0
-        !$omp parallel do schedule(static) private(n) reduction(max:v2)
+        if (threaded()) then
+            !$omp parallel
+            call gather_nodes_loop(x, v, node, xl, vl, v2)
+            !$omp end parallel
+        else
+            call gather_nodes_loop(x, v, node, xl, vl, v2)
+        end if
+    end subroutine gather_nodes
+
+    subroutine gather_nodes_loop(x, v, node, xl, vl, v2)
+        real(wp), intent(in) :: x(3, *), v(3, *)
+        integer, intent(in) :: node(:)
+        real(wp), intent(inout) :: xl(3, *), vl(3, *), v2
+        integer :: k, n
+        !$omp do schedule(static) reduction(max:v2)
         do k = 1, size(node)
             n = node(k)
             xl(1, k) = x(1, n)
@@ -828,8 +886,8 @@ contains
             vl(3, k) = v(3, n)
             v2 = max(v2, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
         end do
-        !$omp end parallel do
-    end subroutine gather_nodes
+        !$omp end do
+    end subroutine gather_nodes_loop
 
     !> The local search of every slave, threaded: a slave's search reads the
     !> surface and writes only its own hit and clearance. A slave not in
@@ -978,15 +1036,17 @@ contains
         !> Lagrangian projection: how the rigid bodies answer an impulse
         !> (where the model has any)
         type(body_response_t), intent(in), optional :: br
-        integer :: i, k, j, sn, m, q, i2
+        integer :: i, k, j, sn, m, q
         real(wp) :: vrel(3), fs(3)
         real(dp) :: t0
         logical :: first
-        !$omp parallel do schedule(static)
-        do k = 1, size(ct%fnode, 2)
-            ct%fnode(:, k) = 0
-        end do
-        !$omp end parallel do
+        if (threaded()) then
+            !$omp parallel
+            call zero_columns(ct%fnode)
+            !$omp end parallel
+        else
+            call zero_columns(ct%fnode)
+        end if
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%npair = 0
@@ -1006,19 +1066,13 @@ contains
                 ! (threaded: each writes only its own entries), then listed as
                 ! pairs in slave order
                 first = .not. it%started
-                !$omp parallel do schedule(dynamic, 64) default(shared) private(i2, k)
-                do i2 = 1, size(it%mine)
-                    k = it%mine(i2)
-                    if (it%cseg(k) == 0 .and. .not. it%found(k)) then
-                        ! no contact then or now: its state is already clear
-                        if (it%evk(k) /= ev_none) it%evk(k) = ev_none
-                        if (it%rseg(k) /= it%rlast(k)) call refusal(it, k)
-                        cycle
-                    end if
-                    call slave_force(it, s, k, dt)
-                    if (it%evk(k) == ev_none .and. it%rseg(k) /= it%rlast(k)) call refusal(it, k)
-                end do
-                !$omp end parallel do
+                if (threaded()) then
+                    !$omp parallel
+                    call slave_forces(it, s, dt)
+                    !$omp end parallel
+                else
+                    call slave_forces(it, s, dt)
+                end if
                 it%started = .true.
                 ! MPI: the contacts the other ranks' slaves found
                 if (ct%distributed) then
@@ -1058,6 +1112,39 @@ contains
         end do
     end subroutine contact_enforce
 
+    !> Zeros in the columns of a (a worksharing loop: xd_core_threads).
+    subroutine zero_columns(a)
+        real(wp), intent(inout) :: a(:, :)
+        integer :: k
+        !$omp do schedule(static)
+        do k = 1, size(a, 2)
+            a(:, k) = 0
+        end do
+        !$omp end do
+    end subroutine zero_columns
+
+    !> The penalty forces of interface it's own slaves (contact_enforce),
+    !> as a worksharing loop: each slave writes only its own entries.
+    subroutine slave_forces(it, s, dt)
+        type(interface_t), intent(inout) :: it
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: dt
+        integer :: i2, k
+        !$omp do schedule(dynamic, 64)
+        do i2 = 1, size(it%mine)
+            k = it%mine(i2)
+            if (it%cseg(k) == 0 .and. .not. it%found(k)) then
+                ! no contact then or now: its state is already clear
+                if (it%evk(k) /= ev_none) it%evk(k) = ev_none
+                if (it%rseg(k) /= it%rlast(k)) call refusal(it, k)
+                cycle
+            end if
+            call slave_force(it, s, k, dt)
+            if (it%evk(k) == ev_none .and. it%rseg(k) /= it%rlast(k)) call refusal(it, k)
+        end do
+        !$omp end do
+    end subroutine slave_forces
+
     !> The cycle's events booked and its pairs listed, both in slave order:
     !> the slaves in chunks of a fixed size, each chunk's pairs counted and
     !> then written at its offset (threaded; the same list for any number
@@ -1066,43 +1153,66 @@ contains
         type(interface_t), intent(inout) :: it
         integer, intent(in) :: nslave
         real(dp), intent(in) :: time
-        integer, parameter :: chunk = 4096
-        integer :: nch, c, k, q
+        integer :: nch
         integer, allocatable :: cnt(:)
         logical, allocatable :: evc(:)
-        nch = (nslave + chunk - 1)/chunk
+        nch = (nslave + pair_chunk - 1)/pair_chunk
         allocate (cnt(nch + 1), evc(nch))
-        !$omp parallel do schedule(static) private(k)
+        ! (a parallel region only where more than one thread runs it:
+        ! xd_core_threads)
+        if (threaded()) then
+            !$omp parallel
+            call list_loops(it, nslave, time, cnt, evc)
+            !$omp end parallel
+        else
+            call list_loops(it, nslave, time, cnt, evc)
+        end if
+        it%npair = cnt(nch + 1)
+    end subroutine list_pairs
+
+    !> list_pairs' loops as worksharing loops (each thread of a region calls
+    !> it; outside one they run whole), the events booked by one thread
+    !> between them. cnt, evc: shared, per chunk of slaves.
+    subroutine list_loops(it, nslave, time, cnt, evc)
+        type(interface_t), intent(inout) :: it
+        integer, intent(in) :: nslave
+        real(dp), intent(in) :: time
+        integer, intent(inout) :: cnt(:)
+        logical, intent(inout) :: evc(:)
+        integer :: nch, c, k, q
+        nch = size(evc)
+        !$omp do schedule(static)
         do c = 1, nch
             cnt(c + 1) = 0
             evc(c) = .false.
-            do k = (c - 1)*chunk + 1, min(c*chunk, nslave)
+            do k = (c - 1)*pair_chunk + 1, min(c*pair_chunk, nslave)
                 if (it%found(k)) cnt(c + 1) = cnt(c + 1) + 1
                 if (it%evk(k) /= ev_none) evc(c) = .true.
             end do
         end do
-        !$omp end parallel do
+        !$omp end do
+        !$omp single
         cnt(1) = 0
         do c = 1, nch
             cnt(c + 1) = cnt(c + 1) + cnt(c)
             if (.not. evc(c)) cycle
-            do k = (c - 1)*chunk + 1, min(c*chunk, nslave)
+            do k = (c - 1)*pair_chunk + 1, min(c*pair_chunk, nslave)
                 if (it%evk(k) /= ev_none) call add_event(it, k, time)
             end do
         end do
-        !$omp parallel do schedule(static) private(k, q)
+        !$omp end single
+        !$omp do schedule(static)
         do c = 1, nch
             q = cnt(c)
-            do k = (c - 1)*chunk + 1, min(c*chunk, nslave)
+            do k = (c - 1)*pair_chunk + 1, min(c*pair_chunk, nslave)
                 if (.not. it%found(k)) cycle
                 q = q + 1
                 it%pair(q) = k
                 it%fpair(:, q) = it%fk(:, k)
             end do
         end do
-        !$omp end parallel do
-        it%npair = cnt(nch + 1)
-    end subroutine list_pairs
+        !$omp end do
+    end subroutine list_loops
 
     !> Steps 3-4 for the pairs of exterior shell edges (AUTOMATIC_GENERAL):
     !> their penalty forces, spread linearly to each edge's two nodes (edge

@@ -9,6 +9,7 @@ module xd_contact_rigidwall
     use xd_core_memory, only: alloc
     use xd_model, only: model_t, rigidwall_t, find_set, set_node, find_box, in_box
     use xd_core_strings, only: itoa
+    use xd_core_threads, only: threaded
     use xd_solver_state, only: state_t
     use xd_core_sorting, only: where_true
     implicit none
@@ -126,6 +127,29 @@ contains
         end do
     end subroutine apply_walls
 
+    !> Each wall node's distance behind the wall at the step's end (0 where
+    !> it is not behind, massless or a rigid body's) and the wall normal
+    !> there, as a worksharing loop.
+    subroutine wall_distances(w, wn, st, dt, body_node, dall, hn)
+        type(rigidwall_t), intent(in) :: w
+        type(wall_nodes_t), intent(in) :: wn
+        type(state_t), intent(in) :: st
+        real(wp), intent(in) :: dt
+        logical, intent(in) :: body_node(:)
+        real(wp), intent(inout) :: dall(:), hn(:, :)
+        integer :: k, nd
+        real(wp) :: xn(3)
+        !$omp do schedule(static)
+        do k = 1, size(wn%node)
+            nd = wn%node(k)
+            dall(k) = 0
+            if (st%mass(nd) <= 0.0_wp .or. body_node(nd)) cycle
+            xn = st%x(:, nd) + dt*st%v(:, nd)
+            call wall_distance(w, wn, xn, real(dt*wn%vel, wp), dall(k), hn(:, k))
+        end do
+        !$omp end do
+    end subroutine wall_distances
+
     subroutine apply_wall(w, wn, st, dt, dt_avg, body_node)
         type(rigidwall_t), intent(in) :: w
         type(wall_nodes_t), intent(inout) :: wn
@@ -133,7 +157,7 @@ contains
         real(wp), intent(in) :: dt, dt_avg
         logical, intent(in) :: body_node(:)
         integer :: k, nd, nc
-        real(wp) :: xn(3), dvn, vold(3), vprev(3), vt(3), vtn, cut
+        real(wp) :: dvn, vold(3), vprev(3), vt(3), vtn, cut
         real(dp) :: de, sum_m, sum_j, vw
         integer, allocatable :: hit(:)
         real(wp), allocatable :: gap(:), hn(:, :), dall(:)
@@ -148,15 +172,15 @@ contains
         ! present speed), with their distance and the wall normal there: the
         ! distances threaded, the list in node order
         allocate (hit(size(wn%node)), gap(size(wn%node)), hn(3, size(wn%node)), dall(size(wn%node)))
-        !$omp parallel do schedule(static) default(shared) private(k, nd, xn)
-        do k = 1, size(wn%node)
-            nd = wn%node(k)
-            dall(k) = 0
-            if (st%mass(nd) <= 0.0_wp .or. body_node(nd)) cycle
-            xn = st%x(:, nd) + dt*st%v(:, nd)
-            call wall_distance(w, wn, xn, real(dt*wn%vel, wp), dall(k), hn(:, k))
-        end do
-        !$omp end parallel do
+        ! (a parallel region only where more than one thread runs it:
+        ! xd_core_threads)
+        if (threaded()) then
+            !$omp parallel
+            call wall_distances(w, wn, st, dt, body_node, dall, hn)
+            !$omp end parallel
+        else
+            call wall_distances(w, wn, st, dt, body_node, dall, hn)
+        end if
         nc = 0
         do k = 1, size(wn%node)
             if (dall(k) >= 0.0_wp) cycle

@@ -1,6 +1,7 @@
 !> External loads: body (base) accelerations from *LOAD_BODY_X/Y/Z and
 !> the work they do.
 module xd_solver_loads
+    use xd_core_threads, only: threaded
     use xd_kinds, only: wp, dp
     use xd_model, only: model_t, curve_value
     use xd_solver_state, only: state_t
@@ -39,13 +40,27 @@ contains
     subroutine add_body_forces(st, g)
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: g(3)
+        ! (a parallel region only where more than one thread runs it:
+        ! xd_core_threads)
+        if (threaded()) then
+            !$omp parallel
+            call body_force_loop(st, g)
+            !$omp end parallel
+        else
+            call body_force_loop(st, g)
+        end if
+    end subroutine add_body_forces
+
+    subroutine body_force_loop(st, g)
+        type(state_t), intent(inout) :: st
+        real(wp), intent(in) :: g(3)
         integer :: nd
-        !$omp parallel do schedule(static)
+        !$omp do schedule(static)
         do nd = 1, st%nnode
             st%f(:, nd) = st%f(:, nd) + st%mass(nd)*g
         end do
-        !$omp end parallel do
-    end subroutine add_body_forces
+        !$omp end do
+    end subroutine body_force_loop
 
     !> g . sum m v over the free directions: the power of a body load g.
     real(dp) function body_power(st, g) result(p)

@@ -12,6 +12,7 @@
 module xd_solver_phases
     use xd_kinds, only: wp, dp
     use xd_core_strings, only: itoa, rtoa, ftoa
+    use xd_core_threads, only: threaded
     use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid, &
                               ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
     use xd_core_comm, only: comm_gather_small, comm_max
@@ -232,14 +233,28 @@ contains
     subroutine zero_nodes(a, b)
         real(wp), intent(inout) :: a(:, :)
         real(wp), intent(inout), optional :: b(:, :)
+        ! (a parallel region only where more than one thread runs it:
+        ! xd_core_threads)
+        if (threaded()) then
+            !$omp parallel
+            call zero_loop(a, b)
+            !$omp end parallel
+        else
+            call zero_loop(a, b)
+        end if
+    end subroutine zero_nodes
+
+    subroutine zero_loop(a, b)
+        real(wp), intent(inout) :: a(:, :)
+        real(wp), intent(inout), optional :: b(:, :)
         integer :: i
-        !$omp parallel do schedule(static)
+        !$omp do schedule(static)
         do i = 1, size(a, 2)
             a(:, i) = 0
             if (present(b)) b(:, i) = 0
         end do
-        !$omp end parallel do
-    end subroutine zero_nodes
+        !$omp end do
+    end subroutine zero_loop
 
     !> MPI: the smallest step of all ranks (ties: solids before shells, then
     !> the lower element, as the serial scan finds it) and the first bad
@@ -517,8 +532,6 @@ contains
         logical, intent(in) :: save_minus
         real(wp), intent(inout) :: vminus(:, :)
         real(wp), intent(inout), allocatable :: vrminus(:, :)
-        integer :: nd
-        real(wp) :: ri, on
         ! tied contacts: the slaves' forces to their segments, and the
         ! segments' nodes accelerated with the slave masses they carry
         if (td%n > 0) call tie_forces(td, st%time, st%x, st%f, st%mom)
@@ -527,36 +540,62 @@ contains
             call tie_accelerations(td, st%time, st%f, st%mass, st%free, st%a, st%mom, st%irot)
         end if
         if (save_minus) vminus = st%v
-        !$omp parallel do schedule(static)
-        do nd = 1, st%nnode
-            st%v(:, nd) = st%v(:, nd) + real(dt_avg, wp)*st%a(:, nd)
-        end do
-        !$omp end parallel do
-        if (st%rot) then
-            if (save_minus) vrminus = st%vr
-            ! (a node without rotary inertia divides by 1 and adds 0 times
-            ! that: no select, so that the loop vectorises)
-            !$omp parallel do schedule(static) private(ri, on)
-            do nd = 1, st%nnode
-                on = merge(1.0_wp, 0.0_wp, st%irot(nd) > 0.0_wp)
-                ri = st%irot(nd) + (1.0_wp - on)
-                st%vr(1, nd) = st%vr(1, nd) + real(dt_avg, wp)*st%mom(1, nd)/ri*st%free_r(1, nd)*on
-                st%vr(2, nd) = st%vr(2, nd) + real(dt_avg, wp)*st%mom(2, nd)/ri*st%free_r(2, nd)*on
-                st%vr(3, nd) = st%vr(3, nd) + real(dt_avg, wp)*st%mom(3, nd)/ri*st%free_r(3, nd)*on
-            end do
-            !$omp end parallel do
+        if (st%rot .and. save_minus) vrminus = st%vr
+        if (threaded()) then
+            !$omp parallel
+            call kick(st, real(dt_avg, wp))
+            !$omp end parallel
+        else
+            call kick(st, real(dt_avg, wp))
         end if
     end subroutine velocity_phase
 
+    !> v += dt a, and vr likewise where the state has rotations.
+    subroutine kick(st, dt)
+        type(state_t), intent(inout) :: st
+        real(wp), intent(in) :: dt
+        integer :: nd
+        real(wp) :: ri, on
+        !$omp do schedule(static)
+        do nd = 1, st%nnode
+            st%v(:, nd) = st%v(:, nd) + dt*st%a(:, nd)
+        end do
+        !$omp end do nowait
+        if (st%rot) then
+            ! (a node without rotary inertia divides by 1 and adds 0 times
+            ! that: no select, so that the loop vectorises)
+            !$omp do schedule(static)
+            do nd = 1, st%nnode
+                on = merge(1.0_wp, 0.0_wp, st%irot(nd) > 0.0_wp)
+                ri = st%irot(nd) + (1.0_wp - on)
+                st%vr(1, nd) = st%vr(1, nd) + dt*st%mom(1, nd)/ri*st%free_r(1, nd)*on
+                st%vr(2, nd) = st%vr(2, nd) + dt*st%mom(2, nd)/ri*st%free_r(2, nd)*on
+                st%vr(3, nd) = st%vr(3, nd) + dt*st%mom(3, nd)/ri*st%free_r(3, nd)*on
+            end do
+            !$omp end do
+        end if
+    end subroutine kick
+
     !> a = f / m in the free directions.
     subroutine accelerations(st)
+        type(state_t), intent(inout) :: st
+        if (threaded()) then
+            !$omp parallel
+            call accelerations_loop(st)
+            !$omp end parallel
+        else
+            call accelerations_loop(st)
+        end if
+    end subroutine accelerations
+
+    subroutine accelerations_loop(st)
         type(state_t), intent(inout) :: st
         integer :: i
         real(wp) :: on, mi
         ! (the quotients taken for every node, a massless one's over 1
         ! and then times 0, without a select: the loop vectorises; the
         ! same quotients)
-        !$omp parallel do schedule(static) private(on, mi)
+        !$omp do schedule(static)
         do i = 1, st%nnode
             on = merge(1.0_wp, 0.0_wp, st%mass(i) > 0.0_wp)
             mi = st%mass(i) + (1.0_wp - on)
@@ -564,8 +603,8 @@ contains
             st%a(2, i) = st%f(2, i)/mi*st%free(2, i)*on
             st%a(3, i) = st%f(3, i)/mi*st%free(3, i)*on
         end do
-        !$omp end parallel do
-    end subroutine accelerations
+        !$omp end do
+    end subroutine accelerations_loop
 
     !> The constraints on v(n+1/2), in order: rigid walls, prescribed
     !> motion, rigid bodies, tied slaves (after every other update; the
@@ -682,13 +721,14 @@ contains
         type(histories_t), intent(inout) :: hist
         type(timers_t), intent(inout) :: tm
         real(dp), intent(in) :: dt_avg
-        integer :: nd
         call tm%start(ph_integrate)
-        !$omp parallel do schedule(static)
-        do nd = 1, st%nnode
-            st%x(:, nd) = st%x(:, nd) + st%dt*st%v(:, nd)
-        end do
-        !$omp end parallel do
+        if (threaded()) then
+            !$omp parallel
+            call drift(st)
+            !$omp end parallel
+        else
+            call drift(st)
+        end if
         if (ct%n > 0) call contact_drift(ct, st%v, st%dt)
         call track_rotations(hist, st)
         st%time = st%time + real(st%dt, dp)
@@ -697,5 +737,16 @@ contains
         st%dt_avg_prev = dt_avg
         call tm%stop(ph_integrate)
     end subroutine advance_phase
+
+    !> x += dt v.
+    subroutine drift(st)
+        type(state_t), intent(inout) :: st
+        integer :: nd
+        !$omp do schedule(static)
+        do nd = 1, st%nnode
+            st%x(:, nd) = st%x(:, nd) + st%dt*st%v(:, nd)
+        end do
+        !$omp end do
+    end subroutine drift
 
 end module xd_solver_phases
