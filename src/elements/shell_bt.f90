@@ -994,8 +994,9 @@ contains
     !> (dx dy dxy kx ky kxy gxz gyz) on the mid-step areas a (elements not ok
     !> are left as they are): the plane-stress elastic trial of every point
     !> of a layer in one loop over the elements, then the return of those
-    !> that yield (plane_stress_returns: the layer's together; with a back
-    !> stress, mixed_return, each on its own); the resultants (membrane n, bending m,
+    !> that yield (plane_stress_returns: the layer's together, packed, or
+    !> dense_returns: the whole layer in place where most of it yields; with
+    !> a back stress, mixed_return, each on its own); the resultants (membrane n, bending m,
     !> shear q per unit length), the thickness change (ISTUPD) and the
     !> internal energy.
     subroutine block_points(sh, ib, e0, nb, r, a, ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
