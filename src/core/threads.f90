@@ -16,10 +16,14 @@ module xd_core_threads
 
 contains
 
-    !> More than one thread would run a parallel region opened here.
+    !> A parallel region is to be opened here: more than one thread would
+    !> run it, or the caller is itself in a region (there the loop needs a
+    !> region of its own, as with `!$omp parallel do`, or its orphaned
+    !> worksharing would bind to the caller's team, which a single thread
+    !> of it reaching the loop would deadlock).
     logical function threaded()
         threaded = .false.
-        !$ threaded = omp_get_max_threads() > 1 .and. .not. omp_in_parallel()
+        !$ threaded = omp_get_max_threads() > 1 .or. omp_in_parallel()
     end function threaded
 
 end module xd_core_threads
