@@ -635,7 +635,7 @@ contains
                 vmax = 0
                 ! (a parallel region only where more than one thread runs
                 ! it: xd_core_threads)
-                if (threaded()) then
+                if (threaded(it%surf%nnode)) then
                     !$omp parallel
                     call drift_loops(it, v, dt, part, vmax, used)
                     !$omp end parallel
@@ -831,7 +831,7 @@ contains
         real(wp), intent(out) :: xl(:, :)
         ! (a parallel region only where more than one thread runs it:
         ! xd_core_threads)
-        if (threaded()) then
+        if (threaded(size(node))) then
             !$omp parallel
             call gather_x_loop(x, node, xl)
             !$omp end parallel
@@ -861,7 +861,7 @@ contains
         integer, intent(in) :: node(:)
         real(wp), intent(out) :: xl(3, *), vl(3, *), v2
         v2 = 0
-        if (threaded()) then
+        if (threaded(size(node))) then
             !$omp parallel
             call gather_nodes_loop(x, v, node, xl, vl, v2)
             !$omp end parallel
@@ -1040,7 +1040,7 @@ contains
         real(wp) :: vrel(3), fs(3)
         real(dp) :: t0
         logical :: first
-        if (threaded()) then
+        if (threaded(size(ct%fnode, 2))) then
             !$omp parallel
             call zero_columns(ct%fnode)
             !$omp end parallel
@@ -1066,7 +1066,7 @@ contains
                 ! (threaded: each writes only its own entries), then listed as
                 ! pairs in slave order
                 first = .not. it%started
-                if (threaded()) then
+                if (threaded(size(it%mine))) then
                     !$omp parallel
                     call slave_forces(it, s, dt)
                     !$omp end parallel
@@ -1160,7 +1160,7 @@ contains
         allocate (cnt(nch + 1), evc(nch))
         ! (a parallel region only where more than one thread runs it:
         ! xd_core_threads)
-        if (threaded()) then
+        if (threaded(nslave)) then
             !$omp parallel
             call list_loops(it, nslave, time, cnt, evc)
             !$omp end parallel

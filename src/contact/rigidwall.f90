@@ -174,7 +174,7 @@ contains
         allocate (hit(size(wn%node)), gap(size(wn%node)), hn(3, size(wn%node)), dall(size(wn%node)))
         ! (a parallel region only where more than one thread runs it:
         ! xd_core_threads)
-        if (threaded()) then
+        if (threaded(size(wn%node))) then
             !$omp parallel
             call wall_distances(w, wn, st, dt, body_node, dall, hn)
             !$omp end parallel

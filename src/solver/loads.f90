@@ -42,7 +42,7 @@ contains
         real(wp), intent(in) :: g(3)
         ! (a parallel region only where more than one thread runs it:
         ! xd_core_threads)
-        if (threaded()) then
+        if (threaded(st%nnode)) then
             !$omp parallel
             call body_force_loop(st, g)
             !$omp end parallel

@@ -235,7 +235,7 @@ contains
         real(wp), intent(inout), optional :: b(:, :)
         ! (a parallel region only where more than one thread runs it:
         ! xd_core_threads)
-        if (threaded()) then
+        if (threaded(size(a, 2))) then
             !$omp parallel
             call zero_loop(a, b)
             !$omp end parallel
@@ -541,7 +541,7 @@ contains
         end if
         if (save_minus) vminus = st%v
         if (st%rot .and. save_minus) vrminus = st%vr
-        if (threaded()) then
+        if (threaded(st%nnode)) then
             !$omp parallel
             call kick(st, real(dt_avg, wp))
             !$omp end parallel
@@ -579,7 +579,7 @@ contains
     !> a = f / m in the free directions.
     subroutine accelerations(st)
         type(state_t), intent(inout) :: st
-        if (threaded()) then
+        if (threaded(st%nnode)) then
             !$omp parallel
             call accelerations_loop(st)
             !$omp end parallel
@@ -722,7 +722,7 @@ contains
         type(timers_t), intent(inout) :: tm
         real(dp), intent(in) :: dt_avg
         call tm%start(ph_integrate)
-        if (threaded()) then
+        if (threaded(st%nnode)) then
             !$omp parallel
             call drift(st)
             !$omp end parallel
