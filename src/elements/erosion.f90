@@ -55,7 +55,7 @@ contains
                     if (m%erosion) need = min(max(m%numfip, 1), sh%nip(e))
                     nfp = 0
                     do ip = 1, sh%nip(e)
-                        if (point_fails(m, sh%sig(:, ip, e), sh%epsp(ip, e), sh%plastic(e))) nfp = nfp + 1
+                        if (point_fails(m, sh%sig(e, :, ip), sh%epsp(e, ip), sh%plastic(e))) nfp = nfp + 1
                     end do
                     gone = nfp >= need
                 end if

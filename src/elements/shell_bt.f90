@@ -53,8 +53,12 @@ module xd_elements_shell_bt
         real(wp), allocatable :: tw(:)
         integer, allocatable :: ncap(:)
         integer, allocatable :: nip(:)
-        real(wp), allocatable :: sig(:, :, :) !< (5, nip, n) stresses at the points (nip: the most of any shell)
-        real(wp), allocatable :: qhg(:, :)    !< (5, n) hourglass generalized forces
+        !> (n, 5, nip) stresses at the points (nip: the most of any shell);
+        !> the element index first, as every per-point array here: a block's
+        !> loads and stores of one component are runs of memory (vector
+        !> moves), not gathers and scattered stores at a stride of 5 nip
+        real(wp), allocatable :: sig(:, :, :)
+        real(wp), allocatable :: qhg(:, :)    !< (n, 5) hourglass generalized forces
         logical, allocatable :: plastic(:)
         integer, allocatable :: pmat(:)       !< index into pp
         !> the plastic law per element, for the points' loops (pp's fields
@@ -65,7 +69,7 @@ module xd_elements_shell_bt
         real(wp), allocatable :: sy0(:), hk(:)
         logical, allocatable :: ycurve(:), rated(:)
         type(plastic_params_t), allocatable :: pp(:)  !< plastic laws of the shell materials
-        real(wp), allocatable :: epsp(:, :)   !< (nip, n) effective plastic strain per point
+        real(wp), allocatable :: epsp(:, :)   !< (n, nip) effective plastic strain per point
         real(wp), allocatable :: alpha(:, :, :)  !< (6, nip, n) back stress per point (n 0: no shell has one)
         !> the material can move a back stress (kinematic share of a
         !> hardening modulus not 0); otherwise alpha stays 0 and is not read
@@ -214,7 +218,7 @@ contains
         sh%low = .false.
         call alloc(sh%fslot, 3, 4*sh%n, 'shell force slots')
         call alloc(sh%mslot, 3, 4*sh%n, 'shell moment slots')
-        call alloc(sh%qhg, 5, sh%n, 'shell hourglass forces')
+        call alloc(sh%qhg, sh%n, 5, 'shell hourglass forces')
         call alloc_dp(sh%eint, sh%n, 'shell energies')
         call alloc_dp(sh%ehg, sh%n, 'shell energies')
         call alloc_dp(sh%pend_int, sh%n, 'shell energies')
@@ -284,10 +288,10 @@ contains
         sh%cbi = sh%e/(3*(1 - sh%nu))
         sh%nue = -sh%nu/sh%e
         ! the points' state, as many per shell as the most any shell has
-        ! (each shell's in one run of memory: NIP 2 in 80 bytes, not 400);
+        ! (NIP 2 in two columns, not five);
         ! back stresses only where a material moves them
         nipmax = max(1, maxval(sh%nip))
-        allocate (sh%sig(5, nipmax, sh%n), sh%epsp(nipmax, sh%n))
+        allocate (sh%sig(sh%n, 5, nipmax), sh%epsp(sh%n, nipmax))
         if (any(sh%backstress)) then
             allocate (sh%alpha(6, nipmax, sh%n))
         else
@@ -651,9 +655,13 @@ contains
         ! (in loops over the block, the element data gathered first: the
         ! update and the bound vectorise; one element at a time, the bound's
         ! chain of roots and divisions was 8% of car6's run)
+        do k = 1, 5
+            do l = 1, nb
+                hq(l, k) = sh%qhg(e0 + l, k)
+            end do
+        end do
         do l = 1, nb
             e = e0 + l
-            hq(l, :) = sh%qhg(:, e)
             qc(l, 1) = sh%qb(e)
             qc(l, 2) = sh%qw(e)
             qc(l, 3) = sh%qm(e)
@@ -678,14 +686,14 @@ contains
         ! law after (per element, with a call for each, it had been a tenth
         ! of this routine's time on car6)
         do l = 1, nb
-            sy(l) = sh%epsp(1, e0 + l)
+            sy(l) = sh%epsp(e0 + l, 1)
         end do
         ! (the points beyond an element's nip weighed 0 against the
         ! strains, which are not negative; the elements where the bound
         ! does not act 0: no select, so that the loops vectorise)
-        do k = 2, size(sh%epsp, 1)
+        do k = 2, size(sh%epsp, 2)
             do l = 1, nb
-                sy(l) = max(sy(l), sh%epsp(k, e0 + l)*real(min(max(sh%nip(e0 + l) - k + 1, 0), 1), wp))
+                sy(l) = max(sy(l), sh%epsp(e0 + l, k)*real(min(max(sh%nip(e0 + l) - k + 1, 0), 1), wp))
             end do
         end do
         do l = 1, nb
@@ -696,7 +704,7 @@ contains
             do l = 1, nb
                 e = e0 + l
                 if (.not. (bnd(l) .and. sh%ycurve(e))) cycle
-                call flow_stress(sh, e, maxval(sh%epsp(1:max(1, sh%nip(e)), e)), sy(l), hs)
+                call flow_stress(sh, e, maxval(sh%epsp(e, 1:max(1, sh%nip(e)))), sy(l), hs)
             end do
         end if
         ! The stiffness form's hourglass on a plastic material, bounded as the
@@ -811,8 +819,10 @@ contains
                 sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold(l))
                 sh%pend_hg(e) = 0.5_dp*pnew(l)
             end do
-            do l = 1, nb
-                sh%qhg(:, e0 + l) = hq(l, :)
+            do k = 1, 5
+                do l = 1, nb
+                    sh%qhg(e0 + l, k) = hq(l, k)
+                end do
             end do
             if (any(capped(1:nb))) then
                 do l = 1, nb
@@ -823,7 +833,7 @@ contains
             do l = 1, nb
                 if (.not. gm%ok(l)) cycle
                 e = e0 + l
-                sh%qhg(:, e) = hq(l, :)
+                sh%qhg(e, :) = hq(l, :)
                 if (capped(l)) sh%ncap(e) = sh%ncap(e) + 1
                 sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold(l))
                 sh%pend_hg(e) = 0.5_dp*pnew(l)
@@ -1013,7 +1023,7 @@ contains
         real(wp) :: dd(nblk, 5), so(nblk, 5), t(nblk, 5), dzz(nblk), dzm(nblk), xeq2(nblk), pm, fac, h, sl(5)
         real(dp) :: pold(nblk), pnew(nblk)
         real(wp) :: nuf(nblk)
-        integer :: nip(nblk), l, e, ip, mix, maxnip
+        integer :: nip(nblk), l, e, ip, mix, maxnip, k
         !> every shell of the block has maxnip points; some moves a back
         !> stress; some takes a yield curve
         logical :: uniform, anyback, anycurve, anyrated
@@ -1060,12 +1070,12 @@ contains
                     e = e0 + l
                     wf(l) = real(gw(ip, maxnip), wp)/2
                     zf(l) = real(gz(ip, maxnip), wp)*hh(l)/2
-                    so(l, 1) = sh%sig(1, ip, e)
-                    so(l, 2) = sh%sig(2, ip, e)
-                    so(l, 3) = sh%sig(3, ip, e)
-                    so(l, 4) = sh%sig(4, ip, e)
-                    so(l, 5) = sh%sig(5, ip, e)
-                    ep(l) = sh%epsp(ip, e)
+                    so(l, 1) = sh%sig(e, 1, ip)
+                    so(l, 2) = sh%sig(e, 2, ip)
+                    so(l, 3) = sh%sig(e, 3, ip)
+                    so(l, 4) = sh%sig(e, 4, ip)
+                    so(l, 5) = sh%sig(e, 5, ip)
+                    ep(l) = sh%epsp(e, ip)
                     sy(l) = sh%sy0(e) + sh%hk(e)*ep(l)
                 end do
                 if (anyback) then
@@ -1077,7 +1087,7 @@ contains
                 if (anycurve) then
                     do l = 1, nb
                         e = e0 + l
-                        if (sh%plastic(e) .and. sh%ycurve(e)) call flow_stress(sh, e, sh%epsp(ip, e), sy(l), h)
+                        if (sh%plastic(e) .and. sh%ycurve(e)) call flow_stress(sh, e, sh%epsp(e, ip), sy(l), h)
                     end do
                 end if
             else
@@ -1089,11 +1099,11 @@ contains
                     end if
                     wf(l) = real(gw(ip, nip(l)), wp)/2
                     zf(l) = real(gz(ip, nip(l)), wp)*hh(l)/2
-                    so(l, :) = sh%sig(:, ip, e)
+                    so(l, :) = sh%sig(e, :, ip)
                     al(l, :) = 0
                     if (sh%backstress(e)) al(l, :) = sh%alpha(:, ip, e)
                     sy(l) = huge(1.0_wp)
-                    if (sh%plastic(e)) call flow_stress(sh, e, sh%epsp(ip, e), sy(l), h)
+                    if (sh%plastic(e)) call flow_stress(sh, e, sh%epsp(e, ip), sy(l), h)
                 end do
             end if
             ! the elastic plane-stress trial (s_zz stays 0 with the elastic
@@ -1191,13 +1201,15 @@ contains
                 ny = 0
             end if
             if (uniform) then
-                do l = 1, nb
-                    sh%sig(:, ip, e0 + l) = t(l, :)
+                do k = 1, 5
+                    do l = 1, nb
+                        sh%sig(e0 + l, k, ip) = t(l, k)
+                    end do
                 end do
             else
                 do l = 1, nb
                     if (ip > nip(l)) cycle
-                    sh%sig(:, ip, e0 + l) = t(l, :)
+                    sh%sig(e0 + l, :, ip) = t(l, :)
                 end do
             end if
             ! powers per unit area with the old and the new stresses,
@@ -1412,7 +1424,7 @@ contains
             real(wp), intent(in) :: dz
             d(1, :) = [dd(1), dd(2), dz, 0.5_wp*dd(3), 0.5_wp*dd(4), 0.5_wp*dd(5)]
             sg(1, :) = [s(1), s(2), 0.0_wp, s(3), s(4), s(5)]
-            ep(1) = sh%epsp(ip, e)
+            ep(1) = sh%epsp(e, ip)
             al(1, :) = sh%alpha(:, ip, e)
             call plastic_update(1, lam, mu, sh%pp(sh%pmat(e)), d, dt, sg, ep, al)
         end subroutine trial
@@ -1421,7 +1433,7 @@ contains
             dzz = dz
             call trial(dz)
             s = [sg(1, 1), sg(1, 2), sg(1, 4), sg(1, 5), sg(1, 6)]
-            sh%epsp(ip, e) = ep(1)
+            sh%epsp(e, ip) = ep(1)
             sh%alpha(:, ip, e) = al(1, :)
         end subroutine commit
     end subroutine mixed_return
@@ -1446,7 +1458,7 @@ contains
         do j = 1, ny
             l = iy(j)
             el(j) = e0 + l
-            ep0(j) = sh%epsp(ip, e0 + l)
+            ep0(j) = sh%epsp(e0 + l, ip)
             ! the law's constants held per point for the iteration (read
             ! through sh at every step, the tubes' run took 3.6% longer)
             sy0(j) = sh%sy0(e0 + l)
@@ -1471,7 +1483,7 @@ contains
             t(l, 3) = t(l, 3)*u2(j)
             t(l, 4) = t(l, 4)*u2(j)
             t(l, 5) = t(l, 5)*u2(j)
-            sh%epsp(ip, e0 + l) = ep0(j) + de(j)
+            sh%epsp(e0 + l, ip) = ep0(j) + de(j)
         end do
         ! the thickness strain rate, only where the thickness follows it
         ! (ISTUPD): otherwise no one reads it
@@ -1528,7 +1540,7 @@ contains
             t(l, 3) = t(l, 3)*u2(l)
             t(l, 4) = t(l, 4)*u2(l)
             t(l, 5) = t(l, 5)*u2(l)
-            sh%epsp(ip, e0 + l) = ep(l) + de(l)
+            sh%epsp(e0 + l, ip) = ep(l) + de(l)
         end do
         if (sh%thickness_update) then
             do l = 1, nb

@@ -333,7 +333,7 @@ contains
                 do ip = 1, sh%nip(e)
                     ! local (xx yy xy yz zx) at the point, plane stress: the
                     ! squared von Mises stress, the largest kept
-                    associate (p => sh%sig(:, ip, e))
+                    associate (p => sh%sig(e, :, ip))
                         q2 = max(q2, p(1)**2 - p(1)*p(2) + p(2)**2 + 3.0_wp*(p(3)**2 + p(4)**2 + p(5)**2))
                         w = point_weight(ip, sh%nip(e))
                         sg(1) = sg(1) + w*p(1)
@@ -342,7 +342,7 @@ contains
                         sg(5) = sg(5) + w*p(4)
                         sg(6) = sg(6) + w*p(5)
                     end associate
-                    if (sh%plastic(e)) ep(e) = max(ep(e), sh%epsp(ip, e))
+                    if (sh%plastic(e)) ep(e) = max(ep(e), sh%epsp(e, ip))
                 end do
                 vm(e) = sqrt(q2)
                 call shell_axes(sh, e, st%x, r)
@@ -427,7 +427,7 @@ contains
             nip = sh%nip(e)
             call shell_axes(sh, e, st%x, r)
             pt = 0
-            pt(:, 1:nip) = sh%sig(:, 1:nip, e)
+            pt(:, 1:nip) = sh%sig(e, :, 1:nip)
             if (mx == 3) then
                 ! mid-surface, inner, outer
                 select case (nip)
@@ -440,15 +440,15 @@ contains
                 end select
                 do l = 1, 3
                     if (ipx(l) > 0) then
-                        shell(7*l - 6:7*l, e) = layer(pt(:, ipx(l)), sh%epsp(ipx(l), e), r, sh%plastic(e))
+                        shell(7*l - 6:7*l, e) = layer(pt(:, ipx(l)), sh%epsp(e, ipx(l)), r, sh%plastic(e))
                     else
-                        shell(7*l - 6:7*l, e) = layer(0.5_wp*(pt(:, 1) + pt(:, 2)), 0.5_wp*(sh%epsp(1, e) + sh%epsp(2, e)), &
+                        shell(7*l - 6:7*l, e) = layer(0.5_wp*(pt(:, 1) + pt(:, 2)), 0.5_wp*(sh%epsp(e, 1) + sh%epsp(e, 2)), &
                                                       r, sh%plastic(e))
                     end if
                 end do
             else
                 do l = 1, nip
-                    shell(7*l - 6:7*l, e) = layer(pt(:, l), sh%epsp(l, e), r, sh%plastic(e))
+                    shell(7*l - 6:7*l, e) = layer(pt(:, l), sh%epsp(e, l), r, sh%plastic(e))
                 end do
             end if
             ! resultants per unit width in the element's frame

@@ -475,9 +475,11 @@ contains
         if (sh%n == 0) return
         ! (the points' arrays hold as many points a shell as the most any
         ! shell has; back stresses only where a material moves them)
-        call merge_wp(sh%sig, 5*size(sh%sig, 2), dom%shell_mine)
-        call merge_wp(sh%qhg, 5, dom%shell_mine)
-        call merge_wp(sh%epsp, size(sh%epsp, 1), dom%shell_mine)
+        ! (the shells' per-point arrays hold the element index first: a
+        ! column of sh%n values per component and point)
+        call merge_columns(sh%sig, 5*size(sh%sig, 3), dom%shell_mine)
+        call merge_columns(sh%qhg, 5, dom%shell_mine)
+        call merge_columns(sh%epsp, size(sh%epsp, 2), dom%shell_mine)
         if (size(sh%alpha) > 0) call merge_wp(sh%alpha, 6*size(sh%alpha, 2), dom%shell_mine)
     end subroutine gather_element_state
 
@@ -495,6 +497,23 @@ contains
         end do
         call comm_sum_wp(a, stride*size(mine))
     end subroutine merge_wp
+
+    !> a holds ncol columns of one value per element (element e's are
+    !> entries e, n + e, 2n + e, ..., n = size(mine)): those of the
+    !> elements this rank does not own zeroed, then summed over the ranks.
+    subroutine merge_columns(a, ncol, mine)
+        real(wp), intent(inout) :: a(*)
+        integer, intent(in) :: ncol
+        logical, intent(in) :: mine(:)
+        integer :: e, c, n
+        n = size(mine)
+        do c = 0, ncol - 1
+            do e = 1, n
+                if (.not. mine(e)) a(c*n + e) = 0
+            end do
+        end do
+        call comm_sum_wp(a, ncol*n)
+    end subroutine merge_columns
 
 #ifdef XD_SINGLE
     subroutine merge_dp(a, stride, mine)

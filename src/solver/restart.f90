@@ -132,9 +132,11 @@ contains
 
         call h5gcreate_f(f, 'shells', g, err)
         if (sh%n > 0) then
-            call dput(g, 'sig', [sh%sig], nf)
-            call dput(g, 'qhg', [sh%qhg], nf)
-            call dput(g, 'epsp', [sh%epsp], nf)
+            ! (the file keeps each shell's values together, component
+            ! first, as before the arrays put the element index first)
+            call dput(g, 'sig', [reshape(sh%sig, [5, size(sh%sig, 3), sh%n], order=[3, 1, 2])], nf)
+            call dput(g, 'qhg', [transpose(sh%qhg)], nf)
+            call dput(g, 'epsp', [transpose(sh%epsp)], nf)
             call dput(g, 'alpha', [sh%alpha], nf)
             call dput(g, 'eint', sh%eint, nf)
             call dput(g, 'ehg', sh%ehg, nf)
@@ -508,9 +510,10 @@ contains
 
         if (sh%n > 0) then
             call h5gopen_f(f, 'shells', g, err)
-            call getw(g, 'sig', size(sh%sig)); if (ok()) sh%sig = reshape(bw, shape(sh%sig))
-            call getw(g, 'qhg', size(sh%qhg)); if (ok()) sh%qhg = reshape(bw, shape(sh%qhg))
-            call getw(g, 'epsp', size(sh%epsp)); if (ok()) sh%epsp = reshape(bw, shape(sh%epsp))
+            ! (in the file each shell's values together: see the writer)
+            call getw(g, 'sig', size(sh%sig)); if (ok()) sh%sig = reshape(bw, shape(sh%sig), order=[2, 3, 1])
+            call getw(g, 'qhg', size(sh%qhg)); if (ok()) sh%qhg = reshape(bw, shape(sh%qhg), order=[2, 1])
+            call getw(g, 'epsp', size(sh%epsp)); if (ok()) sh%epsp = reshape(bw, shape(sh%epsp), order=[2, 1])
             call getw(g, 'alpha', size(sh%alpha)); if (ok()) sh%alpha = reshape(bw, shape(sh%alpha))
             call getd(g, 'eint', sh%n); if (ok()) sh%eint = bd
             call getd(g, 'ehg', sh%n); if (ok()) sh%ehg = bd
