@@ -2056,7 +2056,7 @@ def test_beams():
         dpath = os.path.join(TMP, "beam_d3plot.k")
         with open(dpath, "w") as f:
             f.write(open(first_path).read().replace("*END", "*DATABASE_BINARY_D3PLOT\n      0.05\n*END"))
-        q = run([XDYNA, "i=" + dpath, "outdir=" + dout, "endtim=0.3"])
+        q = run([XDYNA, "i=" + dpath, "outdir=" + dout, "endtim=0.3", "h5plot=1"])
         ok, detail = q.returncode == 0, q.stderr[-300:]
         if ok:
             r = vtk.vtkLSDynaReader()
@@ -2078,6 +2078,47 @@ def test_beams():
                 detail = f"root shear {root:.3f} N against {want:.3f} N ({root / want - 1:+.2%})"
         record(f"beams: VTK's LS-DYNA reader opens the cantilever's d3plot with its 20 beams (line cells, ids "
                f"1-20) and their resultants: {detail}", ok)
+        # the same run's d3plot.h5 (h5plot=1) carries the beams too: their
+        # connectivity and ids, and per state the six resultants, equal to
+        # the binary d3plot's as VTK read them (both single precision from
+        # the same values: exactly); the XDMF's beam block names a line
+        # topology on beam_connectivity and its hyperslabs select columns
+        # of beam_resultants that exist
+        import xml.etree.ElementTree as ET
+        hok, hdetail = False, "no d3plot.h5"
+        h5p = os.path.join(dout, "d3plot.h5")
+        if ok and os.path.exists(h5p):
+            with h5py.File(h5p, "r") as f:
+                last = sorted(k for k in f["states"] if k != "time")[-1]
+                hid = f["mesh/beam_ids"][:]
+                hconn = f["mesh/beam_connectivity"][:]
+                hres = f[f"states/{last}/beam_resultants"][:]
+                nnode = f["mesh/node_ids"].shape[0]
+            vid = v2n(b.GetCellData().GetArray("UserIds")).tolist()
+            vsh = v2n(b.GetCellData().GetArray("ShearResultant"))
+            same = all(np.array_equal(hres[list(hid).index(i), 1:3], vsh[j]) for j, i in enumerate(vid))
+            hroot = float(np.abs(hres[list(hid).index(1), 1:3]).max())
+            root_x = ET.parse(os.path.join(dout, "d3plot.xdmf")).getroot()
+            beams_grid = [g for g in root_x.iter("Grid") if g.get("Name") == "beams"]
+            topo_ok = slabs_ok = False
+            if beams_grid:
+                tp = beams_grid[-1].find("Topology")
+                topo_ok = (tp.get("TopologyType") == "Polyline" and tp.get("NodesPerElement") == "2"
+                           and tp.find("DataItem").text.strip().endswith(":/mesh/beam_connectivity"))
+                cols = []
+                for at in beams_grid[-1].iter("Attribute"):
+                    di = at.find("DataItem")
+                    if di.get("ItemType") == "HyperSlab":
+                        start = [int(v) for v in di.findall("DataItem")[0].text.split()]
+                        cols.append(start[1])
+                slabs_ok = sorted(cols) == list(range(6))
+            hok = (sorted(hid.tolist()) == list(range(1, 21)) and hconn.shape == (20, 2) and hconn.min() >= 0
+                   and hconn.max() < nnode and hres.shape == (20, 6) and same and abs(hroot / want - 1) < 0.03
+                   and topo_ok and slabs_ok)
+            hdetail = (f"root shear {hroot:.3f} N ({hroot / want - 1:+.2%}); the shears equal VTK's from the binary "
+                       f"d3plot: {same}; XDMF line topology {topo_ok}, six resultant columns {slabs_ok}")
+        record(f"beams: d3plot.h5 carries the 20 beams (ids, connectivity) and their six resultants per state, "
+               f"the XDMF a beam block: {hdetail}", hok)
     # a plastic beam (ELFORM 1, *MAT_003 250 MPa, perfectly plastic
     # resultants): the cantilever's weight ramped over 0.5 s to 1.2 times
     # the collapse load q_c = 2 M_p / L^2 (M_p = sigma_y b h^2 / 4): the tip

@@ -38,6 +38,8 @@ module xd_output_states
         integer :: n = 0                      !< states written
         logical :: writer = .true.            !< this process writes the file (MPI: rank 0)
         integer :: nnode = 0, nsolid = 0, nshell = 0   !< all elements, rigid ones included
+        integer :: nbeam = 0                             !< beams (spot-weld beams among them)
+        logical :: weld = .false.                        !< some beam is a weld that can fail
         integer :: nrhex = 0, nrshell = 0                !< rigid elements (after the deformable ones)
         real(wp), allocatable :: rshell_t(:)             !< rigid shells' thickness
         logical :: contact = .false.          !< the model has contact: states carry the contact force
@@ -104,6 +106,10 @@ contains
         s%nrshell = size(rshell)
         s%nsolid = solids%n + s%nrhex
         s%nshell = sh%n + s%nrshell
+        if (present(bm)) then
+            s%nbeam = bm%n
+            if (bm%n > 0) s%weld = any(bm%weld)
+        end if
         s%rshell_t = [(sum(model%shell_t(:, rshell(e)))/4, e=1, s%nrshell)]
         s%contact = model%ncontact > 0
         allocate (s%times(0))
@@ -152,6 +158,11 @@ contains
             call put_int2(g, 'shell_connectivity', reshape([sh%conn, model%shell_conn(:, rshell)], [4, s%nshell]) - 1)
             call put_int1(g, 'shell_ids', [sh%eid, model%shell_id(rshell)])
             call put_int1(g, 'shell_part', model%part([sh%part, model%shell_part(rshell)])%id)
+        end if
+        if (s%nbeam > 0) then
+            call put_int2(g, 'beam_connectivity', bm%conn - 1)
+            call put_int1(g, 'beam_ids', bm%eid)
+            call put_int1(g, 'beam_part', model%part(bm%part)%id)
         end if
         call h5gclose_f(g, err)
         call h5gcreate_f(s%file, 'states', g, err)
@@ -267,6 +278,7 @@ contains
         integer :: err, e, ip
         real(wp), allocatable :: sig(:, :), vm(:), ep(:), th(:)
         real(wp) :: sg(6), r(3, 3), q2, w
+        real(wp), allocatable :: bres(:, :)
         if (.not. s%on) return
         ! (a state asked off the schedule, sense switch sw4, leaves it as it is)
         if (states_due(s, st%time)) then
@@ -362,6 +374,17 @@ contains
                 call put_real1(g, 'shell_alive', th)
             end if
         end if
+        if (s%nbeam > 0 .and. present(bm)) then
+            ! the binary d3plot's six: axial force, shears along s and t,
+            ! moments about s and t at mid-length, torque
+            allocate (bres(6, s%nbeam))
+            do e = 1, s%nbeam
+                bres(:, e) = beam_record(bm, st%x, e)
+            end do
+            call put_real2(g, 'beam_resultants', bres)
+            ! 1 for a beam in the model, 0 once a weld has failed
+            if (s%weld) call put_real1(g, 'beam_alive', [(merge(0.0_wp, 1.0_wp, bm%dead(e)), e=1, s%nbeam)])
+        end if
         call h5gclose_f(g, err)
         ! the list of times, rewritten whole (small)
         call set_times(s)
@@ -386,7 +409,6 @@ contains
         type(beams_t), intent(in), optional :: bm
         integer, parameter :: sp = kind(1.0e0)
         real(sp), allocatable :: beam(:, :)
-        real(wp) :: lb
         real(sp), allocatable :: glob(:), solid(:, :), shell(:, :), alive(:)
         real(wp) :: r(3, 3), pt(5, 10), nr(5), mr(3), h, w, z
         integer :: e, nm, k, j, l, ip, ipx(3), nip, mx
@@ -475,10 +497,7 @@ contains
         beam = 0
         if (present(bm)) then
             do e = 1, min(bm%n, s%bin%nbeam)
-                lb = norm2(st%x(:, bm%conn(2, e)) - st%x(:, bm%conn(1, e)))
-                beam(:, e) = real([bm%res(1, e), (bm%res(5, e) + bm%res(6, e))/lb, (bm%res(3, e) + bm%res(4, e))/lb, &
-                                   0.5_wp*(bm%res(3, e) - bm%res(4, e)), 0.5_wp*(bm%res(5, e) - bm%res(6, e)), &
-                                   bm%res(2, e)], sp)
+                beam(:, e) = real(beam_record(bm, st%x, e), sp)
             end do
         end if
         allocate (alive(s%nsolid + s%nshell + s%bin%nbeam))
@@ -599,6 +618,7 @@ contains
             if (ios /= 0) nbad = nbad + 1
             if (s%nsolid > 0) call piece('solids', 'Hexahedron', ns, '8', 'solid')
             if (s%nshell > 0) call piece('shells', 'Quadrilateral', nh, '4', 'shell')
+            if (s%nbeam > 0) call beam_piece()
             write (u, '(a)', iostat=ios) '   </Grid>'
             if (ios /= 0) nbad = nbad + 1
         end do
@@ -618,6 +638,40 @@ contains
             s%failed_file = out_path(s%dir, 'd3plot.xdmf')
         end if
     contains
+        !> The beams as line cells with their resultants (no stress tensor).
+        subroutine beam_piece()
+            character(len=32) :: nb
+            character(len=*), parameter :: names(6) = [character(len=14) :: 'axial_force', 'shear_s', 'shear_t', &
+                                                       'moment_s', 'moment_t', 'torque']
+            integer :: j
+            write (nb, '(i0)') s%nbeam
+            write (u, '(a)', iostat=ios) '    <Grid Name="beams" GridType="Uniform">', &
+                '     <Topology TopologyType="Polyline" NodesPerElement="2" NumberOfElements="'//trim(nb)//'">', &
+                '      <DataItem Dimensions="'//trim(nb)//' 2" NumberType="Int" Format="HDF">'// &
+                h5name(s)//':/mesh/beam_connectivity</DataItem>', '     </Topology>', &
+                '     <Geometry GeometryType="XYZ">', &
+                '      <DataItem Dimensions="'//trim(nn)//' 3" NumberType="Float" Precision="4" Format="HDF">'// &
+                st//'/coordinates</DataItem>', '     </Geometry>'
+            if (ios /= 0) nbad = nbad + 1
+            call attr('part', 'Scalar', 'Cell', trim(nb), 'Int', '4', h5name(s)//':/mesh/beam_part')
+            call attr('node_id', 'Scalar', 'Node', trim(nn), 'Int', '4', h5name(s)//':/mesh/node_ids')
+            call attr('element_id', 'Scalar', 'Cell', trim(nb), 'Int', '4', h5name(s)//':/mesh/beam_ids')
+            call attr('displacement', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/displacement')
+            call attr('velocity', 'Vector', 'Node', trim(nn)//' 3', 'Float', '4', st//'/velocity')
+            ! each resultant a column of beam_resultants (a hyperslab)
+            do j = 1, 6
+                write (u, '(a)', iostat=ios) '     <Attribute Name="'//trim(names(j))// &
+                    '" AttributeType="Scalar" Center="Cell">', &
+                    '      <DataItem ItemType="HyperSlab" Dimensions="'//trim(nb)//' 1" Type="HyperSlab">', &
+                    '       <DataItem Dimensions="3 2" Format="XML">0 '//itoa0(j - 1)//' 1 1 '//trim(nb)//' 1</DataItem>', &
+                    '       <DataItem Dimensions="'//trim(nb)//' 6" NumberType="Float" Precision="4" Format="HDF">'// &
+                    st//'/beam_resultants</DataItem>', '      </DataItem>', '     </Attribute>'
+                if (ios /= 0) nbad = nbad + 1
+            end do
+            if (s%weld) call attr('alive', 'Scalar', 'Cell', trim(nb), 'Float', '4', st//'/beam_alive')
+            write (u, '(a)', iostat=ios) '    </Grid>'
+            if (ios /= 0) nbad = nbad + 1
+        end subroutine beam_piece
         subroutine piece(gname, topo, ne, npe, pre)
             character(len=*), intent(in) :: gname, topo, ne, npe, pre
             write (u, '(a)', iostat=ios) '    <Grid Name="'//gname//'" GridType="Uniform">', &
@@ -651,6 +705,19 @@ contains
             if (ios /= 0) nbad = nbad + 1
         end subroutine attr
     end subroutine write_xdmf
+
+    !> Beam e's record for the states (the binary d3plot's and d3plot.h5's):
+    !> axial force, shears along s and t (the end moments' sum over the
+    !> present length), moments about s and t at mid-length, torque.
+    pure function beam_record(bm, x, e) result(r)
+        type(beams_t), intent(in) :: bm
+        real(wp), intent(in) :: x(:, :)
+        integer, intent(in) :: e
+        real(wp) :: r(6), lb
+        lb = norm2(x(:, bm%conn(2, e)) - x(:, bm%conn(1, e)))
+        r = [bm%res(1, e), (bm%res(5, e) + bm%res(6, e))/lb, (bm%res(3, e) + bm%res(4, e))/lb, &
+             0.5_wp*(bm%res(3, e) - bm%res(4, e)), 0.5_wp*(bm%res(5, e) - bm%res(6, e)), bm%res(2, e)]
+    end function beam_record
 
     function itoa0(i) result(t)
         integer, intent(in) :: i
