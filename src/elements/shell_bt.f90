@@ -1157,12 +1157,10 @@ contains
                 do l = 1, nb
                     yl(l) = merge(1.0_wp, 0.0_wp, xeq2(l) > sy(l)**2)
                 end do
-                ny = count(yl(1:nb) > 0.5_wp)
-                if (4*ny >= 3*nb) then
+                ! (ny is 0 here: the layer before left it so)
+                if (4*count(yl(1:nb) > 0.5_wp) >= 3*nb) then
                     call dense_returns(sh, e0, nb, ip, yl, ep, anycurve, dt, so, t, dzz)
-                    ny = 0
                 else
-                    ny = 0
                     do l = 1, nb
                         if (yl(l) < 0.5_wp) cycle
                         ny = ny + 1
@@ -1465,19 +1463,13 @@ contains
             hk(j) = sh%hk(e0 + l)
             c1(j) = sh%cbi(e0 + l)
             c2(j) = 2*sh%ge(e0 + l)     ! E / (1 + nu), exactly
-            ! (constant divisions as products: a quotient is a division
-            ! instruction even by a constant)
-            a1(j) = (t(l, 1) + t(l, 2))*rr2
-            a2(j) = (t(l, 2) - t(l, 1))*rr2
-            q1(j) = a1(j)*a1(j)*third
-            rr(j) = a2(j)*a2(j) + 2.0_wp*(t(l, 3)**2 + t(l, 4)**2 + t(l, 5)**2)
+            call split_modes(t(l, 1), t(l, 2), t(l, 3), t(l, 4), t(l, 5), a1(j), a2(j), q1(j), rr(j))
             act(j) = 1
         end do
         call return_newton(sh, ny, el, c1, c2, q1, rr, sy0, hk, ep0, fy, act, anycur, dg, u1, u2, de)
         do j = 1, ny
             l = iy(j)
-            s1 = (a1(j)*u1(j) - a2(j)*u2(j))*rr2
-            s2 = (a1(j)*u1(j) + a2(j)*u2(j))*rr2
+            call join_modes(a1(j), a2(j), u1(j), u2(j), s1, s2)
             t(l, 1) = s1
             t(l, 2) = s2
             t(l, 3) = t(l, 3)*u2(j)
@@ -1519,10 +1511,7 @@ contains
         do l = 1, nb
             el(l) = e0 + l
             c2(l) = 2*sh%ge(e0 + l)
-            a1(l) = (t(l, 1) + t(l, 2))*rr2
-            a2(l) = (t(l, 2) - t(l, 1))*rr2
-            q1(l) = a1(l)*a1(l)*third
-            rr(l) = a2(l)*a2(l) + 2.0_wp*(t(l, 3)**2 + t(l, 4)**2 + t(l, 5)**2)
+            call split_modes(t(l, 1), t(l, 2), t(l, 3), t(l, 4), t(l, 5), a1(l), a2(l), q1(l), rr(l))
             fy(l) = 1
         end do
         call return_newton(sh, nb, el, sh%cbi(e0 + 1:e0 + nb), c2, q1, rr, sh%sy0(e0 + 1:e0 + nb), &
@@ -1533,8 +1522,7 @@ contains
         ! they were; its normal stresses are kept by the weights yl and 1
         ! - yl, 1 and 0, exact. (merge kept the loop scalar: a branch.)
         do l = 1, nb
-            s1 = (a1(l)*u1(l) - a2(l)*u2(l))*rr2
-            s2 = (a1(l)*u1(l) + a2(l)*u2(l))*rr2
+            call join_modes(a1(l), a2(l), u1(l), u2(l), s1, s2)
             t(l, 1) = yl(l)*s1 + (1.0_wp - yl(l))*t(l, 1)
             t(l, 2) = yl(l)*s2 + (1.0_wp - yl(l))*t(l, 2)
             t(l, 3) = t(l, 3)*u2(l)
@@ -1551,6 +1539,31 @@ contains
             end do
         end if
     end subroutine dense_returns
+
+    !> A plane-stress trial (xx yy xy and the transverse shears t1 .. t5)
+    !> in the eigenmodes of the plane-stress projection: a1 = (t1 + t2) /
+    !> sqrt 2 (equal biaxial), a2 = (t2 - t1) / sqrt 2, and the von Mises
+    !> value's two parts q1 = a1^2 / 3 and rr = a2^2 + 2 (t3^2 + t4^2 +
+    !> t5^2) (one copy for both returns: elemental, inlined in their loops).
+    elemental subroutine split_modes(t1, t2, t3, t4, t5, a1, a2, q1, rr)
+        real(wp), intent(in) :: t1, t2, t3, t4, t5
+        real(wp), intent(out) :: a1, a2, q1, rr
+        ! (constant divisions as products: a quotient is a division
+        ! instruction even by a constant)
+        a1 = (t1 + t2)*rr2
+        a2 = (t2 - t1)*rr2
+        q1 = a1*a1*third
+        rr = a2*a2 + 2.0_wp*(t3**2 + t4**2 + t5**2)
+    end subroutine split_modes
+
+    !> The returned normal stresses s1 (xx), s2 (yy) from the modes a1, a2
+    !> scaled by the return's factors u1, u2.
+    elemental subroutine join_modes(a1, a2, u1, u2, s1, s2)
+        real(wp), intent(in) :: a1, a2, u1, u2
+        real(wp), intent(out) :: s1, s2
+        s1 = (a1*u1 - a2*u2)*rr2
+        s2 = (a1*u1 + a2*u2)*rr2
+    end subroutine join_modes
 
     !> The plane-stress return's iteration on n points (elements el), from
     !> their elastic trials in the eigenbasis of the plane-stress projection
