@@ -4,6 +4,7 @@
 module xd_solver_assembly
     use xd_kinds, only: wp
     use xd_core_memory, only: alloc
+    use xd_core_threads, only: threaded
     implicit none
     private
     public :: assembly_t, build_assembly, assemble
@@ -62,26 +63,42 @@ contains
         real(wp), contiguous, intent(in), optional :: mslot(:, :)
         real(wp), contiguous, intent(inout), optional :: m(:, :)
         logical :: acc, pair
-        integer :: i, n
+        integer :: n
         acc = .false.
         if (present(add)) acc = add
         pair = present(mslot) .and. present(m)
         n = asm%nnode
         if (present(nodes)) n = size(nodes)
-        !$omp parallel do schedule(static) private(i)
+        ! (a region only where threads run and the list is long: car6's
+        ! 2,378 nodes on two threads took 1.5-2.4 s in this phase with a
+        ! region each call, against 0.23 s on one thread)
+        if (threaded(n)) then
+            !$omp parallel
+            call assemble_loop(asm, fslot, f, acc, pair, n, nodes, mslot, m)
+            !$omp end parallel
+        else
+            call assemble_loop(asm, fslot, f, acc, pair, n, nodes, mslot, m)
+        end if
+    end subroutine assemble
+
+    !> assemble's loop over its n nodes (nodes(i), or i), an orphaned
+    !> worksharing loop: the calling region's team shares it, or the thread
+    !> that calls it outside one runs it whole.
+    subroutine assemble_loop(asm, fslot, f, acc, pair, n, nodes, mslot, m)
+        type(assembly_t), intent(in) :: asm
+        real(wp), contiguous, intent(in) :: fslot(:, :)
+        real(wp), contiguous, intent(inout) :: f(:, :)
+        logical, intent(in) :: acc, pair
+        integer, intent(in) :: n
+        integer, intent(in), optional :: nodes(:)
+        real(wp), contiguous, intent(in), optional :: mslot(:, :)
+        real(wp), contiguous, intent(inout), optional :: m(:, :)
+        integer :: i, nd, j, k
+        real(wp) :: s1, s2, s3, r1, r2, r3
+        !$omp do schedule(static)
         do i = 1, n
-            if (present(nodes)) then
-                call node_sum(nodes(i))
-            else
-                call node_sum(i)
-            end if
-        end do
-        !$omp end parallel do
-    contains
-        subroutine node_sum(nd)
-            integer, intent(in) :: nd
-            integer :: j, k
-            real(wp) :: s1, s2, s3, r1, r2, r3
+            nd = i
+            if (present(nodes)) nd = nodes(i)
             s1 = 0; s2 = 0; s3 = 0
             if (acc) then
                 s1 = f(1, nd); s2 = f(2, nd); s3 = f(3, nd)
@@ -107,7 +124,8 @@ contains
                 end do
             end if
             f(1, nd) = s1; f(2, nd) = s2; f(3, nd) = s3
-        end subroutine node_sum
-    end subroutine assemble
+        end do
+        !$omp end do
+    end subroutine assemble_loop
 
 end module xd_solver_assembly
