@@ -260,6 +260,8 @@ contains
                                             k=1, size(slaves))])
                 end if
                 if (c%mboxid > 0) call box_faces(model%box(find_box(model, c%mboxid)), in_b)
+                call erodible_solid_faces(in_a); if (allocated(error)) return
+                call erodible_solid_faces(in_b); if (allocated(error)) return
                 call build_surface(ct%faces, model%nnode, in_a, in_b, slaves, c%kind == ct_surface_to_surface, &
                                    [c%sst, c%mst, c%sfst, c%sfmt], [model%ctl%contact%slsfac, c%sfs, c%sfm], it%surf, &
                                    model%hex_conn(:, 1:model%nhex), &
@@ -339,6 +341,29 @@ contains
                 if (on(f)) on(f) = in_box(bx, sum(x0(:, ct%faces%node(:, f)), dim=2)/4)
             end do
         end subroutine box_faces
+
+        !> A solid that can erode exposes the faces inside its part, which
+        !> this contact's surface would not hold (its segments are fixed at
+        !> set-up): refused, naming the contact and the part.
+        subroutine erodible_solid_faces(on)
+            logical, intent(in) :: on(:)
+            integer :: f, h
+            do f = 1, ct%faces%n
+                if (.not. on(f)) cycle
+                h = ct%faces%hex(f)
+                if (h == 0) cycle
+                associate (m => model%mat(model%part(model%hex_part(h))%mat_ix), c => model%contact(i))
+                    if (m%fail > 0.0_wp .or. m%erosion) then
+                        call make_error(error, trim(c%at)//': *'//trim(c%keyword)//' '//itoa(c%id)// &
+                                        ': its surface holds the faces of part '// &
+                                        itoa(model%part(model%hex_part(h))%id)//'''s solids, which can erode '// &
+                                        '(FAIL, FS or *MAT_ADD_EROSION); xdyna does not yet make the faces that '// &
+                                        'erosion exposes inside a solid part into contact segments')
+                        return
+                    end if
+                end associate
+            end do
+        end subroutine erodible_solid_faces
 
         !> Faces of the parts, sets or segments that (sid, styp) names.
         subroutine select_faces(sid, styp, ref, field, sel)

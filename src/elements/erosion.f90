@@ -1,4 +1,4 @@
-!> Failure and erosion of shells: FAIL of *MAT_PLASTIC_KINEMATIC (FS) and
+!> Failure and erosion of shells and solids: FAIL of *MAT_PLASTIC_KINEMATIC (FS) and
 !> *MAT_PIECEWISE_LINEAR_PLASTICITY, and *MAT_ADD_EROSION's pressure,
 !> stress and time criteria.
 !>
@@ -18,13 +18,23 @@
 !> is booked as eroded internal energy (glstat, matsum). Its contact
 !> segments leave the contact (contact_erode), and the d3plot's deletion
 !> flag reads 0 from the next state.
+!>
+!> A solid (one point) fails on the same criteria with its full stress:
+!> pressure -(sxx + syy + szz)/3, the largest principal stress, the von
+!> Mises stress. An eroded solid is computed frozen (solid_groups: on its
+!> coordinates at erosion, at rest), its forces and step not taken; its
+!> internal energy is booked as eroded. A contact whose surface holds an
+!> erodible solid's faces is refused at set-up (the faces inside the part
+!> that erosion exposes are not made segments).
 module xd_elements_erosion
     use xd_kinds, only: wp, dp
     use xd_model, only: material_t
     use xd_elements_shell_bt, only: shells_t, shell_blocks
+    use xd_elements_solid_groups, only: solids_t
+    use xd_model, only: model_t, mat_plastic_kinematic, mat_piecewise_linear
     implicit none
     private
-    public :: shell_failures, erode_shells, dead_model_shells
+    public :: shell_failures, erode_shells, dead_model_shells, solid_failures, erode_solids, solid_fails
 
 contains
 
@@ -85,6 +95,103 @@ contains
         if (m%sigvm > 0.0_wp .and. vm >= m%sigvm) n = n + 1
         f = n >= m%ncs .and. n > 0
     end function point_fails
+
+    !> The solids computed here (active groups) that fail now.
+    subroutine solid_failures(s, model, time, newly)
+        type(solids_t), intent(in) :: s
+        type(model_t), intent(in) :: model
+        real(dp), intent(in) :: time
+        integer, allocatable, intent(out) :: newly(:)
+        integer :: g, e
+        real(wp) :: ep
+        logical :: plastic
+        allocate (newly(0))
+        if (.not. s%erodible) return
+        plastic = size(s%epsp) > 0
+        do g = 1, s%ngroup
+            if (.not. s%active(g)) cycle
+            do e = s%group(g)%first, s%group(g)%last
+                if (s%dead(e)) cycle
+                associate (m => model%mat(model%part(s%part(e))%mat_ix))
+                    if (.not. (m%fail > 0.0_wp .or. m%erosion)) cycle
+                    ep = 0
+                    if (plastic) ep = s%epsp(e)
+                    if (m%erosion .and. m%failtm > 0.0_wp .and. time >= m%failtm) then
+                        newly = [newly, e]
+                    else if (solid_fails(m, s%stress(e), ep, plastic .and. &
+                                         (s%group(g)%mtype == mat_plastic_kinematic .or. &
+                                          s%group(g)%mtype == mat_piecewise_linear))) then
+                        newly = [newly, e]
+                    end if
+                end associate
+            end do
+        end do
+    end subroutine solid_failures
+
+    !> A solid's point (its one): FAIL on the effective plastic strain, or
+    !> NCS of *MAT_ADD_EROSION's criteria on its stress s (xx yy zz xy yz
+    !> zx): pressure, the largest principal stress, the von Mises stress.
+    pure logical function solid_fails(m, s, epsp, plastic) result(f)
+        type(material_t), intent(in) :: m
+        real(wp), intent(in) :: s(6), epsp
+        logical, intent(in) :: plastic
+        real(wp) :: p, s1, vm
+        integer :: n
+        f = plastic .and. m%fail > 0.0_wp .and. epsp >= m%fail
+        if (f .or. .not. m%erosion) return
+        p = -(s(1) + s(2) + s(3))/3
+        s1 = max(largest_principal(s), 0.0_wp)
+        vm = sqrt(max(0.5_wp*((s(1) - s(2))**2 + (s(2) - s(3))**2 + (s(3) - s(1))**2) + &
+                      3*(s(4)**2 + s(5)**2 + s(6)**2), 0.0_wp))
+        n = 0
+        if (m%mxpres > 0.0_wp .and. p >= m%mxpres) n = n + 1
+        if (m%mnpres < 0.0_wp .and. p <= m%mnpres) n = n + 1
+        if (m%sigp1 > 0.0_wp .and. s1 >= m%sigp1) n = n + 1
+        if (m%sigvm > 0.0_wp .and. vm >= m%sigvm) n = n + 1
+        f = n >= m%ncs .and. n > 0
+    end function solid_fails
+
+    !> The largest eigenvalue of the symmetric tensor s (xx yy zz xy yz zx):
+    !> the deviator's invariants J2, J3 and Lode's angle (the closed form for
+    !> a symmetric 3 x 3).
+    pure real(wp) function largest_principal(s) result(s1)
+        real(wp), intent(in) :: s(6)
+        real(wp), parameter :: pi = 3.141592653589793_wp
+        real(wp) :: pm, d1, d2, d3, j2, j3, r, th
+        pm = (s(1) + s(2) + s(3))/3
+        d1 = s(1) - pm
+        d2 = s(2) - pm
+        d3 = s(3) - pm
+        j2 = 0.5_wp*(d1**2 + d2**2 + d3**2) + s(4)**2 + s(5)**2 + s(6)**2
+        if (j2 <= 0.0_wp) then
+            s1 = pm
+            return
+        end if
+        j3 = d1*d2*d3 + 2*s(4)*s(5)*s(6) - d1*s(5)**2 - d2*s(6)**2 - d3*s(4)**2
+        r = 1.5_wp*sqrt(3.0_wp)*j3/j2**1.5_wp
+        th = acos(max(-1.0_wp, min(1.0_wp, r)))/3
+        s1 = pm + 2*sqrt(j2/3)*cos(th)
+    end function largest_principal
+
+    !> Erode the solids `gone` (on every rank alike): frozen on their
+    !> coordinates x now, their force slots zeroed. Their last forces are
+    !> in this cycle's nodal sums: the frozen pass of the next cycle
+    !> completes their work (pend_int, pend_hg) and adds none after it.
+    subroutine erode_solids(s, gone, x)
+        type(solids_t), intent(inout) :: s
+        integer, intent(in) :: gone(:)
+        real(wp), intent(in) :: x(:, :)
+        integer :: k, e
+        do k = 1, size(gone)
+            e = gone(k)
+            if (s%dead(e)) cycle
+            s%dead(e) = .true.
+            s%ndead = s%ndead + 1
+            s%gdead(s%group_of(e)) = s%gdead(s%group_of(e)) + 1
+            s%xfrozen(:, :, e) = x(:, s%conn(:, e))
+            s%fslot(:, 8*e - 7:8*e) = 0
+        end do
+    end subroutine erode_solids
 
     !> Erode the shells `gone` (on every rank alike): they leave the
     !> elements computed here, and their force and moment slots are zeroed

@@ -67,6 +67,15 @@ module xd_elements_solid_groups
         real(wp), allocatable :: ms_need(:)   !< this cycle's wanted factor (0: none wanted)
         real(wp) :: ms_target = 0             !< element step to be kept (0: no scaling this cycle)
         logical :: ms_all = .false.           !< every element brought to ms_target (positive DT2MS, cycle 0)
+        ! erosion (a part's material with FAIL, FS or *MAT_ADD_EROSION):
+        ! an eroded element is computed frozen, on the coordinates it
+        ! had when it eroded and at rest (no strain rate, no spin: its
+        ! state stays as it was), its forces and step not taken
+        logical :: erodible = .false.          !< some solid can erode
+        logical, allocatable :: dead(:)        !< eroded (size n where erodible, else 0)
+        integer :: ndead = 0
+        integer, allocatable :: gdead(:)       !< per group: eroded elements in it
+        real(wp), allocatable :: xfrozen(:, :, :)  !< (3, 8, n) an eroded element's nodes at erosion
     contains
         procedure :: stress => solid_stress
         procedure :: set_stress => solid_set_stress
@@ -93,7 +102,7 @@ contains
             allocate (s%group(0), s%conn(8, 0), s%part(0), s%eid(0), s%model_ix(0), s%vol0(0), s%vol(0), &
                       s%gdt(0), s%gcrit(0), s%gbad(0), s%fslot(3, 0), s%eint(0), s%ehg(0), s%pend_int(0), &
                       s%pend_hg(0), s%sig(0), s%qhg(0), s%qbv(0), s%epsp(0), s%alpha(0), s%group_of(0), &
-                      s%active(0))
+                      s%active(0), s%gdead(0), s%dead(0), s%xfrozen(3, 8, 0))
             return
         end if
         call alloc(s%conn, 8, s%n, 'solid connectivity')
@@ -139,6 +148,21 @@ contains
             s%group_of(s%group(g)%first:s%group(g)%last) = g
         end do
         call alloc(s%qbv, s%n, 'bulk viscosity')
+        allocate (s%gdead(s%ngroup))
+        s%gdead = 0
+        do e = 1, s%n
+            associate (m => model%mat(model%part(s%part(e))%mat_ix))
+                s%erodible = s%erodible .or. m%fail > 0.0_wp .or. m%erosion
+            end associate
+        end do
+        if (s%erodible) then
+            allocate (s%dead(s%n))
+            call alloc(s%xfrozen, 3, 8, s%n, 'eroded solids'' coordinates')
+            s%dead = .false.
+            s%xfrozen = 0
+        else
+            allocate (s%dead(0), s%xfrozen(3, 8, 0))
+        end if
         if (any(s%group%mtype == mat_plastic_kinematic .or. s%group%mtype == mat_piecewise_linear)) then
             call alloc(s%epsp, s%n, 'plastic strains')
             call alloc(s%alpha, 6*s%n, 'back stresses')
@@ -304,6 +328,8 @@ contains
         real(wp) :: d(size(vol), 6), w(size(vol), 3), sold(size(vol), 6)
         real(wp) :: hx(size(vol), 3, 4), h(size(vol), 3, 4), fh(size(vol), 3, 4)
         type(solid_group_t) :: gr
+        logical :: frozen
+        real(wp) :: epold(n), alold(6*n)
 
         gr = s%group(g)
         a = gr%first
@@ -315,6 +341,21 @@ contains
                 vx(i, k) = v(1, nd); vy(i, k) = v(2, nd); vz(i, k) = v(3, nd)
             end do
         end do
+        ! an eroded element: on its coordinates at erosion, at rest
+        frozen = s%gdead(g) > 0
+        if (frozen) then
+            do i = 1, n
+                if (.not. s%dead(a + i - 1)) cycle
+                xl(i, :) = s%xfrozen(1, :, a + i - 1)
+                yl(i, :) = s%xfrozen(2, :, a + i - 1)
+                zl(i, :) = s%xfrozen(3, :, a + i - 1)
+                vx(i, :) = 0; vy(i, :) = 0; vz(i, :) = 0
+            end do
+            if (size(epsp) > 0) then
+                epold = epsp(1:n)
+                alold = alpha(1:6*n)
+            end if
+        end if
 
         ! strain rate and spin on the mid-step geometry x - dt/2 v, where the
         ! half-step velocity belongs: a rigid rotation then gives no strain
@@ -416,6 +457,23 @@ contains
             call hex_hourglass_forces(n, fh, hx, bx, by, bz, vol, fx, fy, fz)
         end if
 
+        if (frozen) then
+            ! (at rest its strain rate is 0 and its stress as it was; a
+            ! plastic one on its yield surface is kept from a return by
+            ! round-off, as its plastic strain is)
+            do i = 1, n
+                if (.not. s%dead(a + i - 1)) cycle
+                fx(i, :) = 0; fy(i, :) = 0; fz(i, :) = 0
+                sig(i, :) = sold(i, :)
+                if (size(epsp) > 0) then
+                    epsp(i) = epold(i)
+                    do k = 0, 5
+                        alpha(k*n + i) = alold(k*n + i)
+                    end do
+                end if
+                dte(i) = huge(1.0_wp)
+            end do
+        end if
         do i = 1, n
             e = 8*(a + i - 2)
             do k = 1, 8

@@ -184,14 +184,6 @@ contains
                 call make_error(error, at()//' field PID: part '//itoa(model%hex_pid(e))//' is not defined')
                 return
             end if
-            associate (mt => model%mat(model%part(model%hex_part(e))%mat_ix))
-                if (mt%fail > 0.0_wp .or. mt%erosion) then
-                    call make_error(error, ctx%src%where(mt%src)//': material '//itoa(mt%id)//' of part '// &
-                                    itoa(model%hex_pid(e))//' has a failure criterion (FAIL, FS or *MAT_ADD_EROSION), '// &
-                                    'and its part has solid elements: erosion of solids is not in xdyna (shells only)')
-                    return
-                end if
-            end associate
             if (model%part(model%hex_part(e))%sec_ix == 0) then
                 call make_error(error, at()//' field PID: part '//itoa(model%hex_pid(e))//' has a shell section')
                 return

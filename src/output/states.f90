@@ -328,6 +328,12 @@ contains
             call put_real2(g, 'solid_stress', sig)
             call put_real1(g, 'solid_von_mises', vm)
             call put_real1(g, 'solid_plastic_strain', ep)
+            ! with erosion possible: 1 for a solid in the model, 0 once eroded
+            if (solids%erodible) then
+                vm = 1
+                where (solids%dead) vm(1:solids%n) = 0
+                call put_real1(g, 'solid_alive', vm)
+            end if
             deallocate (sig, vm, ep)
         end if
         if (s%nshell > 0) then
@@ -507,7 +513,9 @@ contains
                 if (bm%dead(e)) alive(s%nsolid + s%nshell + e) = 0
             end do
         end if
-        ! eroded shells: deletion flag 0 (deformable shells come first)
+        ! eroded solids and shells: deletion flag 0 (the deformable ones come
+        ! first in their kind)
+        if (solids%ndead > 0) where (solids%dead) alive(1:solids%n) = 0
         if (sh%n > 0) then
             if (sh%ndead > 0) where (sh%dead) alive(s%nsolid + 1:s%nsolid + sh%n) = 0
         end if

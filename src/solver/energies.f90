@@ -164,6 +164,15 @@ contains
                 en%ie = sum(en%part_ie)
             end if
         end if
+        ! eroded solids likewise
+        if (solids%ndead > 0) then
+            do e = 1, solids%n
+                if (.not. solids%dead(e)) cycle
+                en%part_ie(solids%part(e)) = en%part_ie(solids%part(e)) - solids%eint(e)
+                en%part_eroded(solids%part(e)) = en%part_eroded(solids%part(e)) + solids%eint(e)
+            end do
+            en%ie = sum(en%part_ie)
+        end if
         en%eroded_ie = sum(en%part_eroded)
         if (present(ke_fix)) then
             en%part_ke = en%part_ke + ke_fix

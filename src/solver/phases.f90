@@ -20,7 +20,7 @@ module xd_solver_phases
     use xd_elements_solid_groups, only: solids_t, solid_forces, solid_name
     use xd_elements_shell_bt, only: shells_t, shell_forces, shell_name
     use xd_elements_beam_bs, only: beams_t, beam_forces
-    use xd_elements_erosion, only: shell_failures, erode_shells, dead_model_shells
+    use xd_elements_erosion, only: shell_failures, erode_shells, dead_model_shells, solid_failures, erode_solids
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
     use xd_solver_domain, only: domain_t, share_slots, share_nodes, gather_energy_state
@@ -336,12 +336,14 @@ contains
         any_rank = fl(1) > 0.0_dp
     end function any_rank
 
-    !> The shells that fail at this state erode on every rank: they leave
-    !> the element loops and the contact's surfaces, each named in d3hsp.
-    subroutine erosion_phase(model, dom, st, sh, ct, lg)
+    !> The shells and solids that fail at this state erode on every rank:
+    !> they leave the element loops (shells) or are computed frozen
+    !> (solids), and the contact's surfaces (shells), each named in d3hsp.
+    subroutine erosion_phase(model, dom, st, solids, sh, ct, lg)
         type(model_t), intent(in) :: model
         type(domain_t), intent(in) :: dom
         type(state_t), intent(in) :: st
+        type(solids_t), intent(inout) :: solids
         type(shells_t), intent(inout) :: sh
         type(contacts_t), intent(inout) :: ct
         type(log_t), intent(in) :: lg
@@ -349,25 +351,56 @@ contains
         real(dp), allocatable :: flag(:)
         integer :: k
         character(len=200) :: buf
-        call shell_failures(sh, model%mat, st%time, newly)
-        if (dom%on) then
-            if (.not. any_rank(dom, size(newly) > 0)) return
-            allocate (flag(sh%n))
-            flag = 0
-            flag(newly) = 1
-            call comm_max(flag)
-            newly = pack([(k, k=1, sh%n)], flag > 0.0_dp .and. .not. sh%dead)
+        if (sh%erodible) then
+            call shell_failures(sh, model%mat, st%time, newly)
+            if (dom%on) then
+                if (any_rank(dom, size(newly) > 0)) then
+                    allocate (flag(sh%n))
+                    flag = 0
+                    flag(newly) = 1
+                    call comm_max(flag)
+                    newly = pack([(k, k=1, sh%n)], flag > 0.0_dp .and. .not. sh%dead)
+                    deallocate (flag)
+                else
+                    newly = [integer ::]
+                end if
+            end if
+            if (size(newly) > 0) then
+                call erode_shells(sh, newly)
+                do k = 1, size(newly)
+                    if (sh%ndead - size(newly) + k > 2000) exit
+                    write (buf, '(a,i0,a,i0,a,es12.5,a,es11.4)') ' shell ', sh%eid(newly(k)), ' of part ', &
+                        model%part(sh%part(newly(k)))%id, ' eroded at time ', st%time, ', internal energy ', &
+                        sh%eint(newly(k))
+                    call log_line(lg, trim(buf))
+                end do
+                if (ct%n > 0) call contact_erode(ct, dead_model_shells(sh, model%nshell))
+            end if
         end if
-        if (size(newly) == 0) return
-        call erode_shells(sh, newly)
-        do k = 1, size(newly)
-            if (sh%ndead - size(newly) + k > 2000) exit
-            write (buf, '(a,i0,a,i0,a,es12.5,a,es11.4)') ' shell ', sh%eid(newly(k)), ' of part ', &
-                model%part(sh%part(newly(k)))%id, ' eroded at time ', st%time, ', internal energy ', &
-                sh%eint(newly(k))
-            call log_line(lg, trim(buf))
-        end do
-        if (ct%n > 0) call contact_erode(ct, dead_model_shells(sh, model%nshell))
+        if (solids%erodible) then
+            call solid_failures(solids, model, st%time, newly)
+            if (dom%on) then
+                if (any_rank(dom, size(newly) > 0)) then
+                    allocate (flag(solids%n))
+                    flag = 0
+                    flag(newly) = 1
+                    call comm_max(flag)
+                    newly = pack([(k, k=1, solids%n)], flag > 0.0_dp .and. .not. solids%dead)
+                else
+                    newly = [integer ::]
+                end if
+            end if
+            if (size(newly) > 0) then
+                call erode_solids(solids, newly, st%x)
+                do k = 1, size(newly)
+                    if (solids%ndead - size(newly) + k > 2000) exit
+                    write (buf, '(a,i0,a,i0,a,es12.5,a,es11.4)') ' solid ', solids%eid(newly(k)), ' of part ', &
+                        model%part(solids%part(newly(k)))%id, ' eroded at time ', st%time, ', internal energy ', &
+                        solids%eint(newly(k))
+                    call log_line(lg, trim(buf))
+                end do
+            end if
+        end if
     end subroutine erosion_phase
 
     !> The step st%dt of this cycle from the elements' stable step dtc:
@@ -404,8 +437,8 @@ contains
         end if
         ! every deformable element eroded (none sets a step): the last
         ! step goes on
-        if (solids%ngroup == 0 .and. sh%n > 0 .and. bm%n == 0) then
-            if (sh%ndead == sh%n .and. st%cycle > cycle0) then
+        if (solids%n + sh%n > 0 .and. bm%n == 0) then
+            if (solids%ndead == solids%n .and. sh%ndead == sh%n .and. st%cycle > cycle0) then
                 dtc = st%dt_old/model%ctl%tssfac
                 set_by = by_other
             end if

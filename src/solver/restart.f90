@@ -234,9 +234,13 @@ contains
         end do
         call h5gclose_f(g, err)
 
-        ! eroded shells
+        ! eroded shells, and solids with the coordinates they are frozen on
         if (sh%n > 0) then
             if (sh%erodible) call dput(f, 'shell_dead', merge(1, 0, sh%dead), nf)
+        end if
+        if (solids%erodible) then
+            call dput(f, 'solid_dead', merge(1, 0, solids%dead), nf)
+            call dput(f, 'solid_xfrozen', [solids%xfrozen], nf)
         end if
         ! beams: resultants, section axes, internal energy
         if (bm%n > 0) then
@@ -576,6 +580,18 @@ contains
                 if (ok()) sh%dead = bi /= 0
                 if (.not. ok()) return
             end if
+        end if
+        if (solids%erodible) then
+            call geti(f, 'solid_dead', solids%n)
+            if (ok()) solids%dead = bi /= 0
+            call getw(f, 'solid_xfrozen', 24*solids%n)
+            if (ok()) solids%xfrozen = reshape(bw, [3, 8, solids%n])
+            if (.not. ok()) return
+            solids%ndead = count(solids%dead)
+            solids%gdead = 0
+            do k = 1, solids%n
+                if (solids%dead(k)) solids%gdead(solids%group_of(k)) = solids%gdead(solids%group_of(k)) + 1
+            end do
         end if
         if (td%n > 0) then
             call h5gopen_f(f, 'ties', g, err)

@@ -179,11 +179,9 @@ contains
                 exit
             end if
             if (bm%n > 0) call beam_phase(model, st, sh, bm, lg, tm, dtc, beam_crit)
-            ! failure: shells that fail erode (their forces already in this
+            ! failure: shells and solids that fail erode (their forces already in this
             ! cycle's; from the next on they are gone)
-            if (sh%n > 0) then
-                if (sh%erodible) call erosion_phase(model, dom, st, sh, ct, lg)
-            end if
+            if (sh%erodible .or. solids%erodible) call erosion_phase(model, dom, st, solids, sh, ct, lg)
             if (ms%on) then
                 ! the masses the element pass asked for, before anything
                 ! divides by them
