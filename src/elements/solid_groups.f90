@@ -458,9 +458,10 @@ contains
         end if
 
         if (frozen) then
-            ! (at rest its strain rate is 0 and its stress as it was; a
-            ! plastic one on its yield surface is kept from a return by
-            ! round-off, as its plastic strain is)
+            ! (at rest its strain rate and spin are 0 and its stress comes
+            ! out as it was; one left on its yield surface could still take
+            ! a return of round-off size, so its stress, plastic strain and
+            ! back stress are put back as they were before the pass)
             do i = 1, n
                 if (.not. s%dead(a + i - 1)) cycle
                 fx(i, :) = 0; fy(i, :) = 0; fz(i, :) = 0
