@@ -348,60 +348,67 @@ contains
         type(contacts_t), intent(inout) :: ct
         type(log_t), intent(in) :: lg
         integer, allocatable :: newly(:)
-        real(dp), allocatable :: flag(:)
         integer :: k
-        character(len=200) :: buf
         if (sh%erodible) then
             call shell_failures(sh, model%mat, st%time, newly)
-            if (dom%on) then
-                if (any_rank(dom, size(newly) > 0)) then
-                    allocate (flag(sh%n))
-                    flag = 0
-                    flag(newly) = 1
-                    call comm_max(flag)
-                    newly = pack([(k, k=1, sh%n)], flag > 0.0_dp .and. .not. sh%dead)
-                    deallocate (flag)
-                else
-                    newly = [integer ::]
-                end if
-            end if
+            newly = on_every_rank(dom, newly, sh%dead)
             if (size(newly) > 0) then
                 call erode_shells(sh, newly)
-                do k = 1, size(newly)
-                    if (sh%ndead - size(newly) + k > 2000) exit
-                    write (buf, '(a,i0,a,i0,a,es12.5,a,es11.4)') ' shell ', sh%eid(newly(k)), ' of part ', &
-                        model%part(sh%part(newly(k)))%id, ' eroded at time ', st%time, ', internal energy ', &
-                        sh%eint(newly(k))
-                    call log_line(lg, trim(buf))
+                do k = 1, min(size(newly), 2000 - (sh%ndead - size(newly)))
+                    call log_eroded(lg, 'shell', sh%eid(newly(k)), model%part(sh%part(newly(k)))%id, st%time, &
+                                    sh%eint(newly(k)))
                 end do
                 if (ct%n > 0) call contact_erode(ct, dead_model_shells(sh, model%nshell))
             end if
         end if
         if (solids%erodible) then
             call solid_failures(solids, model, st%time, newly)
-            if (dom%on) then
-                if (any_rank(dom, size(newly) > 0)) then
-                    allocate (flag(solids%n))
-                    flag = 0
-                    flag(newly) = 1
-                    call comm_max(flag)
-                    newly = pack([(k, k=1, solids%n)], flag > 0.0_dp .and. .not. solids%dead)
-                else
-                    newly = [integer ::]
-                end if
-            end if
+            newly = on_every_rank(dom, newly, solids%dead)
             if (size(newly) > 0) then
                 call erode_solids(solids, newly, st%x)
-                do k = 1, size(newly)
-                    if (solids%ndead - size(newly) + k > 2000) exit
-                    write (buf, '(a,i0,a,i0,a,es12.5,a,es11.4)') ' solid ', solids%eid(newly(k)), ' of part ', &
-                        model%part(solids%part(newly(k)))%id, ' eroded at time ', st%time, ', internal energy ', &
-                        solids%eint(newly(k))
-                    call log_line(lg, trim(buf))
+                do k = 1, min(size(newly), 2000 - (solids%ndead - size(newly)))
+                    call log_eroded(lg, 'solid', solids%eid(newly(k)), model%part(solids%part(newly(k)))%id, &
+                                    st%time, solids%eint(newly(k)))
                 end do
             end if
         end if
     end subroutine erosion_phase
+
+    !> The elements that fail now on any rank (each rank's list `newly`
+    !> shared), less those already eroded; on one rank, newly itself.
+    function on_every_rank(dom, newly, dead) result(all_new)
+        type(domain_t), intent(in) :: dom
+        integer, intent(in) :: newly(:)
+        logical, intent(in) :: dead(:)
+        integer, allocatable :: all_new(:)
+        real(dp), allocatable :: flag(:)
+        integer :: k
+        if (.not. dom%on) then
+            all_new = newly
+            return
+        end if
+        if (.not. any_rank(dom, size(newly) > 0)) then
+            allocate (all_new(0))
+            return
+        end if
+        allocate (flag(size(dead)))
+        flag = 0
+        flag(newly) = 1
+        call comm_max(flag)
+        all_new = pack([(k, k=1, size(dead))], flag > 0.0_dp .and. .not. dead)
+    end function on_every_rank
+
+    !> d3hsp's line for an eroded element (the first 2,000 of a kind).
+    subroutine log_eroded(lg, kind, eid, pid, time, eint)
+        type(log_t), intent(in) :: lg
+        character(len=*), intent(in) :: kind
+        integer, intent(in) :: eid, pid
+        real(dp), intent(in) :: time, eint
+        character(len=200) :: buf
+        write (buf, '(a,i0,a,i0,a,es12.5,a,es11.4)') ' '//kind//' ', eid, ' of part ', pid, ' eroded at time ', time, &
+            ', internal energy ', eint
+        call log_line(lg, trim(buf))
+    end subroutine log_eroded
 
     !> The step st%dt of this cycle from the elements' stable step dtc:
     !> TSSFAC times the shortest of the elements', the mass-scaling floor's,
