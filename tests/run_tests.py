@@ -1855,18 +1855,8 @@ def test_erosion():
     record("erosion: *CONTACT_ERODING_SURFACE_TO_SURFACE reads its card 4 and runs as the automatic contact (bitwise)",
            ok, msg)
     if shutil.which("mpirun") is not None:
-        q = mpirun(2, ["i=" + path, "outdir=" + out + "_mpi2"])
-        ok, msg = (False, q.stderr[-300:]) if q.returncode else same_histories(out, out + "_mpi2")
-        record("erosion: mpirun -np 2 gives the serial histories bitwise", ok, msg)
-    rs = os.path.join(TMP, "erosion_rs.k")
-    with open(rs, "w") as f:
-        f.write(open(path).read().replace("*END", "*DATABASE_BINARY_D3DUMP\n         0\n*END"))
-    full, part = os.path.join(TMP, "erosion_rs_full"), os.path.join(TMP, "erosion_rs_part")
-    q1 = run([XDYNA, "i=" + rs, "outdir=" + full, "endtim=1e-4"])
-    q2 = run([XDYNA, "i=" + rs, "outdir=" + part, "endtim=1e-5"])
-    q3 = run([XDYNA, "r=" + os.path.join(part, "d3dump.h5"), "endtim=1e-4"])
-    ok, msg = ((False, (q1.stderr + q2.stderr + q3.stderr)[-300:]) if q1.returncode or q2.returncode or q3.returncode
-               else same_histories(full, part))
+        record("erosion: mpirun -np 2 gives the serial histories bitwise", *two_ranks_match(path, out))
+    ok, msg = restart_matches("erosion_rs", open(path).read(), 1e-5, 1e-4)
     record("erosion: a restart from 10 us (shells eroding since 4.9 us) ends as the uninterrupted run (bitwise)", ok, msg)
     # a strip pulled: *MAT_ADD_EROSION SIGVM, and FAILTM
     # (pulled at 0.1 m/s: the stress reaches SIGVM at 100 us, 56 steps of
@@ -1904,6 +1894,30 @@ def test_erosion():
            f"{t * 1e3:.4f} ms against 0.9 ms (5%), and the run ends normally; ERODE 0 stops it (exit {p0.returncode})",
            p1.returncode == 0 and m is not None and abs(t / 9e-4 - 1) < 0.05 and p0.returncode == 2
            and "fell below DTMIN" in p0.stderr, p1.stderr[-300:])
+
+
+def two_ranks_match(path, out):
+    """(ok, message): mpirun -np 2 on the deck at path gives the serial
+    run's (in out) histories bitwise."""
+    q = mpirun(2, ["i=" + path, "outdir=" + out + "_mpi2"])
+    return (False, q.stderr[-300:]) if q.returncode else same_histories(out, out + "_mpi2")
+
+
+def restart_matches(name, text, t_dump, t_end=None):
+    """(ok, message): the deck text with a restart dump, run to t_end (the
+    deck's end where None) whole, and to t_dump then restarted from its
+    dump to t_end, gives the same histories bitwise."""
+    rs = os.path.join(TMP, name + ".k")
+    with open(rs, "w") as f:
+        f.write(text.replace("*END", "*DATABASE_BINARY_D3DUMP\n         0\n*END"))
+    full, part = os.path.join(TMP, name + "_full"), os.path.join(TMP, name + "_part")
+    end = [] if t_end is None else [f"endtim={t_end!r}"]
+    q1 = run([XDYNA, "i=" + rs, "outdir=" + full] + end)
+    q2 = run([XDYNA, "i=" + rs, "outdir=" + part, f"endtim={t_dump!r}"])
+    q3 = run([XDYNA, "r=" + os.path.join(part, "d3dump.h5")] + end)
+    if q1.returncode or q2.returncode or q3.returncode:
+        return False, (q1.stderr + q2.stderr + q3.stderr)[-300:]
+    return same_histories(full, part)
 
 
 def solid_cube_deck(mat, tend):
@@ -1994,18 +2008,8 @@ def test_solid_erosion():
            f"total energy, the eroded {er:.2f} J in it, within 2% of the initial {e0:.2f} J ({dev:.1e}); d3plot.h5's "
            f"solid_alive is 0 for exactly those: {alive_ok}", len(named) > 0 and dev < 0.02 and alive_ok)
     if shutil.which("mpirun") is not None:
-        q = mpirun(2, ["i=" + path, "outdir=" + out + "_mpi2"])
-        ok, msg = (False, q.stderr[-300:]) if q.returncode else same_histories(out, out + "_mpi2")
-        record("solid erosion: mpirun -np 2 gives the serial histories bitwise", ok, msg)
-    rs = os.path.join(TMP, "solid_erosion_rs.k")
-    with open(rs, "w") as f:
-        f.write(deck.replace("*END", "*DATABASE_BINARY_D3DUMP\n         0\n*END"))
-    full, part = os.path.join(TMP, "solid_erosion_rs_full"), os.path.join(TMP, "solid_erosion_rs_part")
-    q1 = run([XDYNA, "i=" + rs, "outdir=" + full])
-    q2 = run([XDYNA, "i=" + rs, "outdir=" + part, "endtim=2e-5"])
-    q3 = run([XDYNA, "r=" + os.path.join(part, "d3dump.h5")])
-    ok, msg = ((False, (q1.stderr + q2.stderr + q3.stderr)[-300:]) if q1.returncode or q2.returncode or q3.returncode
-               else same_histories(full, part))
+        record("solid erosion: mpirun -np 2 gives the serial histories bitwise", *two_ranks_match(path, out))
+    ok, msg = restart_matches("solid_erosion_rs", deck, 2e-5)
     first = float(re.search(r"eroded at time\s+(\S+),", log).group(1))
     record(f"solid erosion: a restart from 20 us (solids eroding since {first * 1e6:.2f} us) ends as the "
            f"uninterrupted run (bitwise)", ok and first < 2e-5, msg)

@@ -82,18 +82,12 @@ contains
         real(wp), intent(in) :: s(5), epsp
         logical, intent(in) :: plastic
         real(wp) :: p, s1, vm
-        integer :: n
         f = plastic .and. m%fail > 0.0_wp .and. epsp >= m%fail
         if (f .or. .not. m%erosion) return
         p = -(s(1) + s(2))/3
         s1 = max(0.5_wp*(s(1) + s(2)) + sqrt((0.5_wp*(s(1) - s(2)))**2 + s(3)**2), 0.0_wp)
         vm = sqrt(max(s(1)**2 - s(1)*s(2) + s(2)**2 + 3*(s(3)**2 + s(4)**2 + s(5)**2), 0.0_wp))
-        n = 0
-        if (m%mxpres > 0.0_wp .and. p >= m%mxpres) n = n + 1
-        if (m%mnpres < 0.0_wp .and. p <= m%mnpres) n = n + 1
-        if (m%sigp1 > 0.0_wp .and. s1 >= m%sigp1) n = n + 1
-        if (m%sigvm > 0.0_wp .and. vm >= m%sigvm) n = n + 1
-        f = n >= m%ncs .and. n > 0
+        f = stress_fails(m, p, s1, vm)
     end function point_fails
 
     !> The solids computed here (active groups) that fail now.
@@ -128,6 +122,21 @@ contains
         end do
     end subroutine solid_failures
 
+    !> NCS of *MAT_ADD_EROSION's stress criteria hold at a point of pressure
+    !> p, largest principal stress s1 and von Mises stress vm (a shell's
+    !> point or a solid's).
+    pure logical function stress_fails(m, p, s1, vm) result(f)
+        type(material_t), intent(in) :: m
+        real(wp), intent(in) :: p, s1, vm
+        integer :: n
+        n = 0
+        if (m%mxpres > 0.0_wp .and. p >= m%mxpres) n = n + 1
+        if (m%mnpres < 0.0_wp .and. p <= m%mnpres) n = n + 1
+        if (m%sigp1 > 0.0_wp .and. s1 >= m%sigp1) n = n + 1
+        if (m%sigvm > 0.0_wp .and. vm >= m%sigvm) n = n + 1
+        f = n >= m%ncs .and. n > 0
+    end function stress_fails
+
     !> A solid's point (its one): FAIL on the effective plastic strain, or
     !> NCS of *MAT_ADD_EROSION's criteria on its stress s (xx yy zz xy yz
     !> zx): pressure, the largest principal stress, the von Mises stress.
@@ -136,19 +145,13 @@ contains
         real(wp), intent(in) :: s(6), epsp
         logical, intent(in) :: plastic
         real(wp) :: p, s1, vm
-        integer :: n
         f = plastic .and. m%fail > 0.0_wp .and. epsp >= m%fail
         if (f .or. .not. m%erosion) return
         p = -(s(1) + s(2) + s(3))/3
         s1 = max(largest_principal(s), 0.0_wp)
         vm = sqrt(max(0.5_wp*((s(1) - s(2))**2 + (s(2) - s(3))**2 + (s(3) - s(1))**2) + &
                       3*(s(4)**2 + s(5)**2 + s(6)**2), 0.0_wp))
-        n = 0
-        if (m%mxpres > 0.0_wp .and. p >= m%mxpres) n = n + 1
-        if (m%mnpres < 0.0_wp .and. p <= m%mnpres) n = n + 1
-        if (m%sigp1 > 0.0_wp .and. s1 >= m%sigp1) n = n + 1
-        if (m%sigvm > 0.0_wp .and. vm >= m%sigvm) n = n + 1
-        f = n >= m%ncs .and. n > 0
+        f = stress_fails(m, p, s1, vm)
     end function solid_fails
 
     !> The largest eigenvalue of the symmetric tensor s (xx yy zz xy yz zx):

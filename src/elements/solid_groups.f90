@@ -150,8 +150,8 @@ contains
         call alloc(s%qbv, s%n, 'bulk viscosity')
         allocate (s%gdead(s%ngroup))
         s%gdead = 0
-        do e = 1, s%n
-            associate (m => model%mat(model%part(s%part(e))%mat_ix))
+        do g = 1, s%ngroup
+            associate (m => model%mat(model%part(s%group(g)%part)%mat_ix))
                 s%erodible = s%erodible .or. m%fail > 0.0_wp .or. m%erosion
             end associate
         end do

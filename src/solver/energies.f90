@@ -154,25 +154,11 @@ contains
         ! booked as eroded
         if (.not. allocated(en%part_eroded)) allocate (en%part_eroded(model%npart))
         en%part_eroded = 0
+        ! (eroded solids likewise)
         if (sh%n > 0) then
-            if (sh%ndead > 0) then
-                do e = 1, sh%n
-                    if (.not. sh%dead(e)) cycle
-                    en%part_ie(sh%part(e)) = en%part_ie(sh%part(e)) - sh%eint(e)
-                    en%part_eroded(sh%part(e)) = en%part_eroded(sh%part(e)) + sh%eint(e)
-                end do
-                en%ie = sum(en%part_ie)
-            end if
+            if (sh%ndead > 0) call book_eroded(sh%part, sh%dead, sh%eint)
         end if
-        ! eroded solids likewise
-        if (solids%ndead > 0) then
-            do e = 1, solids%n
-                if (.not. solids%dead(e)) cycle
-                en%part_ie(solids%part(e)) = en%part_ie(solids%part(e)) - solids%eint(e)
-                en%part_eroded(solids%part(e)) = en%part_eroded(solids%part(e)) + solids%eint(e)
-            end do
-            en%ie = sum(en%part_ie)
-        end if
+        if (solids%ndead > 0) call book_eroded(solids%part, solids%dead, solids%eint)
         en%eroded_ie = sum(en%part_eroded)
         if (present(ke_fix)) then
             en%part_ke = en%part_ke + ke_fix
@@ -191,6 +177,21 @@ contains
             en%ratio_live = 1.0_dp
         end if
     contains
+        !> The eroded elements' internal energy out of their parts' and into
+        !> their parts' eroded energy.
+        subroutine book_eroded(part, dead, eint)
+            integer, intent(in) :: part(:)
+            logical, intent(in) :: dead(:)
+            real(dp), intent(in) :: eint(:)
+            integer :: e
+            do e = 1, size(dead)
+                if (.not. dead(e)) cycle
+                en%part_ie(part(e)) = en%part_ie(part(e)) - eint(e)
+                en%part_eroded(part(e)) = en%part_eroded(part(e)) + eint(e)
+            end do
+            en%ie = sum(en%part_ie)
+        end subroutine book_eroded
+
         !> The fixed-mass path's pass over the nodes (en%ke, mom and ker of
         !> the whole model, the parts' kinetic energy and momentum).
         subroutine node_pass()
