@@ -1328,12 +1328,15 @@ def lever_deck(kind="NODES_TO_SURFACE_OFFSET", p=7.25e3):
     return "\n".join(L) + "\n"
 
 
-def tiebreak_deck(mode="normal", option=1, nfls=1e6, sfls=0.5e6, param=0.0, tend=1.5e-3):
+def tiebreak_deck(mode="normal", option=1, nfls=1e6, sfls=0.5e6, param=0.0, tend=1.5e-3, margin=0.0, cohesive=None):
     """A 2 mm steel plate (20 x 20 mm, 2 x 2 hexahedra) glued under a 10 mm
     block by a tiebreak (the plate's top nodes the slaves); every node of
     the block driven at an acceleration rising as gamma t along z (normal)
     or x (shear), gamma chosen so that the plate's inertia asks the failure
-    stress of the glue at 1 ms."""
+    stress of the glue at 1 ms. margin: the block's footprint wider than
+    the plate's by that on every side (the plate's nodes then lie inside
+    the block's face as it slides, away from its edges); cohesive: OPTION
+    9's ERATEN ERATES CT2CN CN."""
     M, A = 7850 * 0.02 * 0.02 * 0.002, 4e-4
     sig = nfls if mode == "normal" else sfls
     gamma = sig * A / M / 1e-3
@@ -1350,7 +1353,8 @@ def tiebreak_deck(mode="normal", option=1, nfls=1e6, sfls=0.5e6, param=0.0, tend
                 for i in range(3):
                     nid += 1
                     nd[b, i, j, k] = nid
-                    L.append(f"{nid:8d}{i * 0.01:16.9e}{j * 0.01:16.9e}{zs[b, k]:16.9e}       0       0")
+                    xy = [[0.0, 0.01, 0.02], [-margin, 0.01, 0.02 + margin]][b]
+                    L.append(f"{nid:8d}{xy[i]:16.9e}{xy[j]:16.9e}{zs[b, k]:16.9e}       0       0")
     L.append("*ELEMENT_SOLID")
     e = 0
     for b in range(2):
@@ -1366,7 +1370,8 @@ def tiebreak_deck(mode="normal", option=1, nfls=1e6, sfls=0.5e6, param=0.0, tend
     L += ["*BOUNDARY_PRESCRIBED_MOTION_SET", f"         1{dof:10d}         1        50       1.0"]
     L += ["*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK", "         1         2         3         3",
           "       0.0       0.0       0.0       0.0", "       1.0       1.0",
-          f"{option:10d}{nfls:10.3e}{sfls:10.3e}{param:10.3e}", "*END"]
+          f"{option:10d}{nfls:10.3e}{sfls:10.3e}{param:10.3e}" + "".join(f"{v:10.3e}" for v in (cohesive or ())),
+          "*END"]
     return "\n".join(L) + "\n"
 
 
@@ -1790,6 +1795,60 @@ def test_tiebreak():
            f"{want:.5f} J (5%: {slide / want - 1:+.2%}); the plate leaves with more momentum than under OPTION 1 "
            f"({P2:.4f} against {P1:.4f} N s); energy ratio within 1e-3 ({float(np.max(np.abs(ratio - 1))):.1e})",
            abs(slide / want - 1) < 0.05 and P2 > P1 * 1.1 and float(np.max(np.abs(ratio - 1))) < 1e-3)
+
+
+def test_tiebreak_cohesive():
+    """*CONTACT_AUTOMATIC_SURFACE_TO_SURFACE_TIEBREAK OPTION 9, the
+    mixed-mode cohesive law (issue 33; the law itself against its
+    definition: the unit test test_contact_tied). The plate glued under a
+    block 5 mm wider on every side (the plate's nodes stay inside the
+    block's face as it slides: its edges would push them), T 1 MPa, S 0.5
+    MPa, GIC = GIIC = 100 J/m^2, CN 1e12 Pa/m. The interface force is
+    measured from the motion, as the plate's momentum rate (only the glue
+    holds it; outputs 2 us apart): its peak over the area within 5% of T
+    (normal pull) and of S (shear); the interface's work when every node
+    has broken within 5% of GIC A and GIIC A (what the law releases); all
+    9 nodes named as softening and as broken; energy ratio within 1e-3. Two
+    ranks give the serial histories, and a restart mid-softening the
+    uninterrupted run's, bitwise."""
+    A, G = 4e-4, 100.0
+    coh = (G, G, 1.0, 1e12)
+    for mode, want, comp in (("normal", 1e6, "z_momentum"), ("shear", 0.5e6, "x_momentum")):
+        text = tiebreak_deck(mode, option=9, param=1.0, tend=1.6e-3, margin=0.005, cohesive=coh).replace(
+            "*DATABASE_MATSUM\n 1.000e-05", "*DATABASE_MATSUM\n 2.000e-06")
+        p, out, path = run_text("tiebreak9_" + mode, text)
+        if p.returncode != 0:
+            record(f"tiebreak OPTION 9 ({mode}) runs", False, p.stderr[-300:])
+            continue
+        with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+            t, P = f["matsum/time"][:], f[f"matsum/{comp}"][:, 0]
+            slide, ratio = f["glstat/sliding_interface_energy"][-1], f["glstat/energy_ratio"][:]
+        peak = float(np.max(np.diff(P) / np.diff(t))) / A
+        log = open(os.path.join(out, "d3hsp")).read()
+        ns, nb = log.count("began to soften"), log.count("broke at time")
+        dev = float(np.max(np.abs(ratio - 1)))
+        record(f"tiebreak OPTION 9 ({mode}): the plate's momentum rate peaks at {peak / 1e6:.4f} MPa over the glued "
+               f"area, against {want / 1e6:.1f} MPa (5%: {peak / want - 1:+.2%}); the interface takes {slide:.5f} J "
+               f"against {'GIC' if mode == 'normal' else 'GIIC'} A {G * A:.5f} J (5%: {slide / (G * A) - 1:+.2%}); 9 "
+               f"nodes named softening ({ns}) and broken ({nb}); energy ratio within 1e-3 ({dev:.1e})",
+               abs(peak / want - 1) < 0.05 and abs(slide / (G * A) - 1) < 0.05 and ns == 9 and nb == 9 and dev < 1e-3)
+        if mode == "normal" and shutil.which("mpirun") is not None:
+            q = mpirun(2, ["i=" + path, "outdir=" + out + "_mpi2"])
+            ok, msg = (False, q.stderr[-300:]) if q.returncode else same_histories(out, out + "_mpi2")
+            record("tiebreak OPTION 9: mpirun -np 2 gives the serial histories bitwise", ok, msg)
+        if mode == "normal":
+            text = text.replace("*END", "*DATABASE_BINARY_D3DUMP\n         0\n*END")
+            path = os.path.join(TMP, "tiebreak9_rs.k")
+            with open(path, "w") as f:
+                f.write(text)
+            full, part = os.path.join(TMP, "tiebreak9_rs_full"), os.path.join(TMP, "tiebreak9_rs_part")
+            q1 = run([XDYNA, "i=" + path, "outdir=" + full, "endtim=1.2e-3"])
+            q2 = run([XDYNA, "i=" + path, "outdir=" + part, "endtim=1.05e-3"])
+            q3 = run([XDYNA, "r=" + os.path.join(part, "d3dump.h5"), "endtim=1.2e-3"])
+            ok, msg = ((False, (q1.stderr + q2.stderr + q3.stderr)[-300:])
+                       if q1.returncode or q2.returncode or q3.returncode else same_histories(full, part))
+            record("tiebreak OPTION 9: a restart from 1.05 ms, mid-softening, ends as the uninterrupted run (bitwise)",
+                   ok, msg)
 
 
 def test_erosion():
@@ -5733,7 +5792,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_erosion, test_solid_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_near_sets_exact, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_part_sizes, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_tiebreak_cohesive, test_erosion, test_solid_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_near_sets_exact, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_part_sizes, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

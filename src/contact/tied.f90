@@ -50,10 +50,14 @@ module xd_contact_tied
     use xd_contact_contact, only: faces_of
     implicit none
     private
-    public :: ties_t, place_ties, start_ties, tie_forces, tie_accelerations, tie_velocities, tie_kinetic, tie_break
+    public :: ties_t, place_ties, start_ties, tie_forces, tie_accelerations, tie_velocities, tie_kinetic, tie_break, &
+              cohesive_law
 
     integer, parameter :: max_named = 2000   !< nodes named per interface (all counted)
     integer, parameter :: tie_held = 0, tie_softening = 1, tie_broken = 2
+    !> OPTION 9: held by the cohesive law's springs, undamaged or softening
+    integer, parameter :: tie_cohesive = 3, tie_damaging = 4
+    real(wp), parameter :: spring_step_scale = 0.35_wp   !< as the contact springs' bound: 0.35 sqrt(m / k)
 
     !> A uniform grid of the master segments for the set-up search.
     type :: seg_grid_t
@@ -95,6 +99,14 @@ module xd_contact_tied
         integer, allocatable :: opt(:)        !< (tied interfaces) tiebreak OPTION (0: a tied contact)
         logical :: tiebreak = .false.         !< some interface is a tiebreak
         real(wp), allocatable :: nfls(:), sfls(:), param(:)   !< (tied interfaces)
+        !> (tied interfaces) OPTION 9: GIC, GIIC, the normal and tangential
+        !> stiffnesses CN and CT2CN CN
+        real(wp), allocatable :: gic(:), giic(:), kn(:), kt(:)
+        real(wp), allocatable :: trac(:, :)   !< (2, n) OPTION 9: the normal and shear traction this cycle
+        !> the stable step of the stiffest cohesive spring, 0.35 sqrt(m / k),
+        !> and its node (huge, 0: none)
+        real(wp) :: dt_limit = huge(1.0_wp)
+        integer :: dt_node = 0
         real(dp) :: ework = 0                 !< work the softening interfaces took (dissipated)
         integer :: nbroken = 0
     end type ties_t
@@ -124,13 +136,14 @@ contains
         if (model%ntied == 0) then
             allocate (td%slave(0), td%mnode(4, 0), td%phi(4, 0), td%ifc(0), td%rot(0), td%death(0), &
                       td%offset(0), td%rloc(3, 0), td%spart(0), td%area(0), td%opt(0), td%nfls(0), td%sfls(0), &
-                      td%param(0), td%sgn(0))
+                      td%param(0), td%sgn(0), td%gic(0), td%giic(0), td%kn(0), td%kt(0))
             return
         end if
         call build_faces(model, model%x0, faces)
         allocate (in_s(faces%n), in_m(faces%n), on(model%nnode), td%death(model%ntied), td%opt(model%ntied), &
                   td%nfls(model%ntied), td%sfls(model%ntied), td%param(model%ntied), td%area(0), narea(model%nnode), &
-                  nout(3, model%nnode), td%sgn(0), tmark(model%nnode))
+                  nout(3, model%nnode), td%sgn(0), tmark(model%nnode), td%gic(model%ntied), td%giic(model%ntied), &
+                  td%kn(model%ntied), td%kt(model%ntied))
         allocate (td%slave(0), td%mnode(4, 0), td%phi(4, 0), td%ifc(0), td%rot(0), td%offset(0), td%rloc(3, 0))
         ! a part of each node (its first face's), for the energies by part
         allocate (npart_of(model%nnode))
@@ -148,6 +161,10 @@ contains
                 td%nfls(i) = c%nfls
                 td%sfls(i) = c%sfls
                 td%param(i) = c%tb_param
+                td%gic(i) = c%tb_gic
+                td%giic(i) = c%tb_giic
+                td%kn(i) = c%tb_cn
+                td%kt(i) = c%tb_ct2cn*c%tb_cn
                 call faces_of(model, faces, c, c%msid, c%mstyp, c%mref, 'MSID', in_m, error)
                 if (allocated(error)) return
                 if (c%sstyp == styp_node_set) then
@@ -563,9 +580,16 @@ contains
         ! its segment, seen through the couple, outruns the nodes' inertia:
         ! a lever of shells tied 5-35 mm beside a plate's edge blew up in 12
         ! cycles)
-        allocate (td%mrot(td%n), td%state(td%n), td%fs0(3, td%n), td%f0(3, td%n), td%dmg(td%n), td%urel(3, td%n))
+        allocate (td%mrot(td%n), td%state(td%n), td%fs0(3, td%n), td%f0(3, td%n), td%dmg(td%n), td%urel(3, td%n), &
+                  td%trac(2, td%n))
         td%mrot = 0
         td%state = tie_held
+        td%trac = 0
+        ! OPTION 9: springs, not a constraint
+        do k = 1, td%n
+            if (td%opt(td%ifc(k)) == 9) td%state(k) = tie_cohesive
+        end do
+        call cohesive_start()
         td%fs0 = 0
         td%f0 = 0
         td%dmg = 0
@@ -573,7 +597,7 @@ contains
         noff = 0
         madded = 0
         do k = 1, td%n
-            if (.not. td%offset(k)) cycle
+            if (.not. td%offset(k) .or. td%state(k) == tie_cohesive) cycle
             xm = x0(:, td%mnode(:, k))
             r = x0(:, td%slave(k)) - matmul(xm, td%phi(:, k))
             y = xm - spread(sum(xm, 2)/4, 2, 4)
@@ -600,6 +624,57 @@ contains
         if (dv > 1.0e-12_wp*max(vmax, tiny(1.0_wp))) txt = txt//' tied slaves: initial velocities set to their '// &
             'segments'' (largest change '//rtoa(real(dv, dp))//')'//new_line('a')
     contains
+        !> OPTION 9: each interface's law in d3hsp (the separations at the
+        !> peak and at failure in modes I and II), and the springs' stable
+        !> step, as the contact springs': each node's stiffness, its own
+        !> spring as a slave and N_j of its slaves' as a master, k = A
+        !> max(CN, CT); dt < 0.35 sqrt(m / k).
+        subroutine cohesive_start()
+            real(wp), allocatable :: knode(:)
+            real(wp) :: kk, dtk
+            integer :: i, q, j
+            character(len=400) :: line
+            if (.not. any(td%state == tie_cohesive)) return
+            allocate (knode(model%nnode))
+            knode = 0
+            do k = 1, td%n
+                if (td%state(k) /= tie_cohesive) cycle
+                i = td%ifc(k)
+                kk = td%area(k)*max(td%kn(i), td%kt(i))
+                knode(td%slave(k)) = knode(td%slave(k)) + kk
+                do q = 1, 4
+                    knode(td%mnode(q, k)) = knode(td%mnode(q, k)) + td%phi(q, k)*kk
+                end do
+            end do
+            do j = 1, model%nnode
+                if (knode(j) <= 0.0_wp .or. mass(j) <= 0.0_wp .or. member(j)) cycle
+                dtk = spring_step_scale*sqrt(mass(j)/knode(j))
+                if (dtk < td%dt_limit) then
+                    td%dt_limit = dtk
+                    td%dt_node = j
+                end if
+            end do
+            do i = 1, model%ntied
+                if (td%opt(i) /= 9) cycle
+                associate (c => model%tied(i))
+                    write (line, '(a,i0,a,4(es10.3,a),es9.2,a,2(es10.3,a),es10.3,a,es10.3,a)') &
+                        ' tiebreak ', c%id, ' OPTION 9 (cohesive): peak tractions T ', td%nfls(i), ', S ', td%sfls(i), &
+                        '; GIC ', td%gic(i), ', GIIC ', td%giic(i), '; XMU ', td%param(i), &
+                        '; stiffnesses CN ', td%kn(i), ', CT ', td%kt(i), '; mode I opens from ', &
+                        td%nfls(i)/td%kn(i), ' to ', 2*td%gic(i)/td%nfls(i), ','
+                    txt = txt//trim(line)
+                    write (line, '(a,es10.3,a,es10.3,a)') ' mode II from ', td%sfls(i)/td%kt(i), ' to ', &
+                        2*td%giic(i)/td%sfls(i), ' (compression is the sliding contact''s)'
+                    txt = txt//trim(line)//new_line('a')
+                end associate
+            end do
+            if (td%dt_node > 0) then
+                write (line, '(a,es10.3,a,i0,a)') ' tiebreak cohesive springs: stable step 0.35 sqrt(m / k) ', &
+                    td%dt_limit, ' (node ', model%node_id(td%dt_node), ')'
+                txt = txt//trim(line)//new_line('a')
+            end if
+        end subroutine cohesive_start
+
         !> Tie k's place and slave, as the set-up errors name them.
         function tie_slave(k) result(t)
             integer, intent(in) :: k
@@ -732,6 +807,10 @@ contains
         integer :: k, q, s
         do k = 1, td%n
             if (td%state(k) == tie_softening) call soften(k)
+            if (td%state(k) == tie_cohesive .or. td%state(k) == tie_damaging) then
+                if (time <= td%death(td%ifc(k))) call cohesive(k)
+                cycle
+            end if
             if (.not. holds(td, k, time)) cycle
             s = td%slave(k)
             td%fs0(:, k) = f(:, s)
@@ -784,7 +863,90 @@ contains
                 f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) + fq(:, q)
             end do
         end subroutine soften
+
+        !> OPTION 9: the slave's separation from its tie place (its gap at
+        !> t = 0 kept) in the segment's frame, the cohesive law's tractions
+        !> on it times its area; the interface's work booked
+        subroutine cohesive(k)
+            integer, intent(in) :: k
+            real(wp) :: e(3, 3), u(3), d(3), tr(3), fc(3), xm(3, 4), fq(3, 4)
+            integer :: q, s, i
+            s = td%slave(k)
+            i = td%ifc(k)
+            xm = x(:, td%mnode(:, k))
+            e = seg_frame(xm)
+            u = x(:, s) - matmul(xm, td%phi(:, k)) - matmul(e, td%rloc(:, k))
+            d = [dot_product(u, e(:, 1)), dot_product(u, e(:, 2)), td%sgn(k)*dot_product(u, e(:, 3))]
+            call cohesive_law(d, td%kn(i), td%kt(i), td%nfls(i), td%sfls(i), td%gic(i), td%giic(i), td%param(i), &
+                              td%dmg(k), tr)
+            td%trac(:, k) = [tr(3), norm2(tr(1:2))]
+            fc = -td%area(k)*(tr(1)*e(:, 1) + tr(2)*e(:, 2) + td%sgn(k)*tr(3)*e(:, 3))
+            ! the work over the step, with the forces at its two ends (as the
+            ! central difference moves the nodes: the same sums as each
+            ! step's force over the half steps before and after it)
+            td%ework = td%ework - 0.5_dp*dot_product(real(td%f0(:, k) + fc, dp), real(u - td%urel(:, k), dp))
+            td%urel(:, k) = u
+            td%f0(:, k) = fc
+            f(:, s) = f(:, s) + fc
+            do q = 1, 4
+                f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) - td%phi(q, k)*fc
+            end do
+            fq = couple_forces(xm, cross(x(:, s) - matmul(xm, td%phi(:, k)), -fc))
+            do q = 1, 4
+                f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) + fq(:, q)
+            end do
+        end subroutine cohesive
     end subroutine tie_forces
+
+    !> The mixed-mode cohesive law of tiebreak OPTION 9 (bilinear, as
+    !> Camanho and Davila's decohesion element): d(1:2) the shear
+    !> separations, d(3) the normal one (opening positive); kn, kt the
+    !> stiffnesses, t, s the peak tractions, gic, giic the energies, xmu
+    !> the exponent (> 0 the power law (G_I/GIC)^xmu + (G_II/GIIC)^xmu =
+    !> 1, < 0 Benzeggagh and Kenane's with |xmu|). With delta_I = max(d3,
+    !> 0), delta_II = |d(1:2)|, beta = delta_II / delta_I and delta_m their
+    !> length, the damage starts at
+    !>
+    !>   delta_0 = d10 d20 sqrt((1 + beta^2) / (d20^2 + (beta d10)^2))
+    !>
+    !> (d10 = t / kn, d20 = s / kt; d20 in shear alone) and is complete at
+    !>
+    !>   delta_F = 2 (1 + beta^2) / delta_0 ((kn / gic)^xmu + (kt beta^2 /
+    !>             giic)^xmu)^(-1/xmu)
+    !>
+    !> (2 giic / s in shear alone), so that a mode alone releases its G_c;
+    !> dmg = max(dmg, delta_F (delta_m - delta_0) / (delta_m (delta_F -
+    !> delta_0))) in [0, 1], never healing. Tractions (1 - dmg) k d; none in
+    !> compression (the sliding contact's).
+    pure subroutine cohesive_law(d, kn, kt, t, s, gic, giic, xmu, dmg, tr)
+        real(wp), intent(in) :: d(3), kn, kt, t, s, gic, giic, xmu
+        real(wp), intent(inout) :: dmg
+        real(wp), intent(out) :: tr(3)
+        real(wp) :: di, dii, dm, b2, d10, d20, d0, df, w
+        di = max(d(3), 0.0_wp)
+        dii = norm2(d(1:2))
+        dm = sqrt(di**2 + dii**2)
+        d10 = t/kn
+        d20 = s/kt
+        if (dm > 0.0_wp) then
+            if (di > 0.0_wp) then
+                b2 = (dii/di)**2
+                d0 = d10*d20*sqrt((1 + b2)/(d20**2 + b2*d10**2))
+                if (xmu > 0.0_wp) then
+                    df = 2*(1 + b2)/d0*((kn/gic)**xmu + (kt*b2/giic)**xmu)**(-1/xmu)
+                else
+                    w = (b2*kt/(kn + b2*kt))**abs(xmu)
+                    df = 2*(1 + b2)/(d0*(kn + b2*kt))*(gic + (giic - gic)*w)
+                end if
+            else
+                d0 = d20
+                df = 2*giic/s
+            end if
+            if (dm > d0) dmg = max(dmg, min(1.0_wp, df*(dm - d0)/(dm*(df - d0))))
+        end if
+        tr(1:2) = (1 - dmg)*kt*d(1:2)
+        tr(3) = (1 - dmg)*kn*di
+    end subroutine cohesive_law
 
     !> Tiebreak failure, after every velocity update: each held tiebreak
     !> slave's interface force, what held it against its own force, F = m_s
@@ -808,6 +970,10 @@ contains
         if (.not. td%tiebreak) return
         do k = 1, td%n
             i = td%ifc(k)
+            if (td%state(k) == tie_cohesive .or. td%state(k) == tie_damaging) then
+                call cohesive_events(k)
+                cycle
+            end if
             if (td%opt(i) == 0 .or. .not. holds(td, k, time)) cycle
             s = td%slave(k)
             if (td%area(k) <= 0.0_wp) cycle
@@ -836,6 +1002,32 @@ contains
             end if
         end do
         if (len(txt) > 0) txt = txt(1:len(txt) - 1)
+    contains
+        !> OPTION 9: a slave whose damage began, and one whose damage is
+        !> complete (released to the sliding contact), named
+        subroutine cohesive_events(k)
+            integer, intent(in) :: k
+            if (time > td%death(td%ifc(k))) return
+            s = td%slave(k)
+            if (td%state(k) == tie_cohesive .and. td%dmg(k) > 0.0_wp) then
+                td%state(k) = tie_damaging
+                if (td%nbroken < max_named) then
+                    write (buf, '(a,i0,a,i0,a,es12.5,a,es10.3,a,es10.3,a)') ' tiebreak ', td%ifc(k), ': node ', &
+                        node_id(s), ' began to soften at time ', time, ' (normal traction ', td%trac(1, k), &
+                        ', shear ', td%trac(2, k), ')'
+                    txt = txt//trim(buf)//new_line('a')
+                end if
+            end if
+            if (td%state(k) == tie_damaging .and. td%dmg(k) >= 1.0_wp) then
+                td%state(k) = tie_broken
+                td%nbroken = td%nbroken + 1
+                if (td%nbroken <= max_named) then
+                    write (buf, '(a,i0,a,i0,a,es12.5,a)') ' tiebreak ', td%ifc(k), ': node ', node_id(s), &
+                        ' broke at time ', time, ' (fully damaged: released to the sliding contact)'
+                    txt = txt//trim(buf)//new_line('a')
+                end if
+            end if
+        end subroutine cohesive_events
     end subroutine tie_break
 
     !> Step 2, after the free accelerations: a master node's acceleration

@@ -4,9 +4,9 @@
 !> *CONTROL_XDYNA_CONTACT (the search and enforcement policies the paper
 !> discusses).
 module xd_input_read_contacts
-    use xd_kinds, only: wp
+    use xd_kinds, only: wp, dp
     use xd_core_errors, only: error_t, make_error
-    use xd_core_strings, only: itoa
+    use xd_core_strings, only: itoa, rtoa
     use xd_input_field_reader, only: card_t, get_int, get_real, get_text, card_error, card_blank
     use xd_input_keyword_table, only: keyword_t
     use xd_input_context, only: get_id_card, read_ctx_t, get_card, first_card, add_warning, ignored_fields
@@ -206,10 +206,10 @@ contains
             call get_real(card, 2, c%nfls, 0.0_wp, error); if (allocated(error)) return
             call get_real(card, 3, c%sfls, 0.0_wp, error); if (allocated(error)) return
             call get_real(card, 4, c%tb_param, 0.0_wp, error); if (allocated(error)) return
-            if (c%tb_option /= 1 .and. c%tb_option /= 2) then
+            if (c%tb_option /= 1 .and. c%tb_option /= 2 .and. c%tb_option /= 9) then
                 call card_error(card, 1, 'OPTION '//itoa(c%tb_option)//' is not 1 (tied until the stress '// &
-                                'criterion, then contact) or 2 (then the stress falls to zero over PARAM); the '// &
-                                'other tiebreak options are not in xdyna', error)
+                                'criterion, then contact), 2 (then the stress falls to zero over PARAM) or 9 (the '// &
+                                'mixed-mode cohesive law); the other tiebreak options are not in xdyna', error)
                 return
             end if
             if (c%nfls < 0.0_wp .or. c%sfls < 0.0_wp) then
@@ -221,8 +221,16 @@ contains
                                 'to zero', error)
                 return
             end if
-            call ignored_fields(model, card, [5, 6, 7, 8], 'the tiebreak''s rate and cohesive fields are not used '// &
-                                'by OPTION 1 and 2; ignored')
+            if (c%tb_option == 9) then
+                call get_real(card, 5, c%tb_gic, 0.0_wp, error); if (allocated(error)) return
+                call get_real(card, 6, c%tb_giic, 0.0_wp, error); if (allocated(error)) return
+                call get_real(card, 7, c%tb_ct2cn, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
+                call get_real(card, 8, c%tb_cn, 0.0_wp, error); if (allocated(error)) return
+                call cohesive_fields(card, c, error); if (allocated(error)) return
+            else
+                call ignored_fields(model, card, [5, 6, 7, 8], 'the tiebreak''s rate and cohesive fields are not '// &
+                                    'used by OPTION 1 and 2; ignored')
+            end if
             ic = ic + 1
         end if
         ! the eroding contacts' card 4: ISYM EROSOP IADJ
@@ -506,5 +514,51 @@ contains
             end select
         end subroutine on_off
     end subroutine read_control_xdyna_contact
+
+    !> OPTION 9's fields: the peak tractions T (NFLS) and S (SFLS), the
+    !> energies GIC and GIIC, the stiffnesses CN and CT2CN CN positive, and
+    !> each mode's energy more than its elastic share at the peak, T^2 /
+    !> (2 CN) (else the traction would have to fall before it rose: no
+    !> softening branch); PARAM the mixed-mode exponent (0: 1).
+    subroutine cohesive_fields(card, c, error)
+        type(card_t), intent(in) :: card
+        type(contact_t), intent(inout) :: c
+        type(error_t), allocatable, intent(out) :: error
+        real(wp) :: ct
+        if (.not. (c%nfls > 0.0_wp)) then
+            call card_error(card, 2, 'OPTION 9 needs NFLS > 0, the peak normal traction T', error); return
+        end if
+        if (.not. (c%sfls > 0.0_wp)) then
+            call card_error(card, 3, 'OPTION 9 needs SFLS > 0, the peak shear traction S', error); return
+        end if
+        if (.not. (c%tb_gic > 0.0_wp)) then
+            call card_error(card, 5, 'OPTION 9 needs ERATEN > 0, the mode I energy release rate GIC', error); return
+        end if
+        if (.not. (c%tb_giic > 0.0_wp)) then
+            call card_error(card, 6, 'OPTION 9 needs ERATES > 0, the mode II energy release rate GIIC', error); return
+        end if
+        if (.not. (c%tb_ct2cn > 0.0_wp)) then
+            call card_error(card, 7, 'CT2CN, the tangential over the normal stiffness, must be positive', error); return
+        end if
+        if (.not. (c%tb_cn > 0.0_wp)) then
+            call card_error(card, 8, 'OPTION 9 needs CN > 0, the normal stiffness (stress per length; xdyna '// &
+                            'has no default for it)', error)
+            return
+        end if
+        if (.not. (c%tb_gic > c%nfls**2/(2*c%tb_cn))) then
+            call card_error(card, 5, 'GIC '//trim(card%f(5))//' is not above NFLS^2 / (2 CN) = '// &
+                            rtoa(real(c%nfls**2/(2*c%tb_cn), dp))//', the energy stored at the peak (raise CN or GIC)', &
+                            error)
+            return
+        end if
+        ct = c%tb_ct2cn*c%tb_cn
+        if (.not. (c%tb_giic > c%sfls**2/(2*ct))) then
+            call card_error(card, 6, 'GIIC '//trim(card%f(6))//' is not above SFLS^2 / (2 CT2CN CN) = '// &
+                            rtoa(real(c%sfls**2/(2*ct), dp))//', the energy stored at the peak (raise CN or GIIC)', &
+                            error)
+            return
+        end if
+        if (c%tb_param == 0.0_wp) c%tb_param = 1
+    end subroutine cohesive_fields
 
 end module xd_input_read_contacts

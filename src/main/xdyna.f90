@@ -261,6 +261,12 @@ program xdyna
     call build_contacts(model, st%x0, ct, error)
     call stop_on_input_error()
     if (ct%n > 0) call contact_masses(ct, st%mass)
+    ! a cohesive tiebreak's springs bound the step as the contact's do (its
+    ! sliding contact is always there)
+    if (ct%n > 0 .and. td%dt_limit < ct%dt_limit) then
+        ct%dt_limit = td%dt_limit
+        ct%dt_node = td%dt_node
+    end if
     call build_prescribed(model, pn)
     call build_pressures(model, pl)
     ! a pressure on a node without mass would push nothing (it is held

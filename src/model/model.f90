@@ -355,6 +355,10 @@ module xd_model
         !> which the stress falls to zero)
         integer :: tb_option = 0
         real(wp) :: nfls = 0, sfls = 0, tb_param = 0
+        !> OPTION 9 (the cohesive law): GIC, GIIC (ERATEN, ERATES), the
+        !> tangential over the normal stiffness (CT2CN) and the normal
+        !> stiffness CN (stress per length)
+        real(wp) :: tb_gic = 0, tb_giic = 0, tb_ct2cn = 0, tb_cn = 0
         integer :: src = 0
         character(len=200) :: at = ''            !< 'file:line' of card 1, for set-up errors
     end type contact_t

@@ -457,7 +457,7 @@ contains
                     'step '//rtoa(real(ct%dt_limit, dp))//' (node '//itoa(model%node_id(ct%dt_node))// &
                     ') is below the elements'' '//rtoa(real(dtc, dp))//': the contact sets the time step, '// &
                     'at '//ftoa(real(dtc/ct%dt_limit, dp))//' times the cycles (penalty scale SLSFAC, SFS, '// &
-                    'SFM too high?)')
+                    'SFM, or a cohesive tiebreak''s CN, too high?)')
                 dtc = ct%dt_limit
                 set_by = by_contact
             end if
