@@ -2381,6 +2381,71 @@ def test_spotweld():
             record("spot weld: mpirun -np 2 gives the serial histories bitwise", ok, msg)
 
 
+def test_spotweld_plastic():
+    """*MAT_SPOTWELD's plasticity (issue 33): a weld beam (ELFORM 9, 5 mm
+    diameter, 6 mm long; SIGY 300 MPa, EH 2 GPa, EFAIL 0.1) held at one end
+    and pulled along its axis at 1 m/s, both ends otherwise fixed (the
+    force follows the kinematics alone). Past yield its axial force (the
+    d3plot.h5 resultants, every 20 us) is A (SIGY + EH eps_p) with eps_p =
+    ln(l/L) - N/(E A) (the rate form integrates the logarithmic strain;
+    the area is the section's): N = A (SIGY + EH ln(l/L)) / (1 + EH/E),
+    within 1% at every state from 20 us to the failure; the weld fails when
+    eps_p reaches EFAIL, at l = L exp(EFAIL + N/(E A)) (the time within
+    1%), named in d3hsp with its plastic strain; the energy ratio within
+    1e-3 up to then. The check can fail: perfectly plastic (EH 0) the force
+    would stay at 5.89 kN, against 9.5 kN at the end."""
+    L0, E, A, sy, eh, ef = 0.006, 2e11, np.pi / 4 * 0.005 ** 2, 3e8, 2e9, 0.1
+    deck = "\n".join([
+        "*KEYWORD", "*TITLE", "a spot weld pulled along its axis past yield to EFAIL", "*CONTROL_TERMINATION",
+        " 8.000e-04", "*DATABASE_GLSTAT", " 1.000e-05", "*DATABASE_BINARY_D3PLOT", " 2.000e-05",
+        "*SECTION_BEAM", "         1         9       1.0         2         0", "     0.005     0.005       0.0       0.0",
+        "*MAT_SPOTWELD", f"         1      7850     2e+11       0.3{sy:10.3g}{eh:10.3g}       0.0       0.0",
+        f"{ef:10.3g}       0.0       0.0       0.0       0.0       0.0       0.0",
+        "*PART", "weld", "         1         1         1", "*NODE",
+        "       1             0.0             0.0             0.0       0       0",
+        f"       2             0.0             0.0{L0:16.9e}       0       0",
+        "       3            0.01             0.0             0.0       0       0",
+        "*ELEMENT_BEAM", "       1       1       1       2       3",
+        "*BOUNDARY_SPC_NODE", "         1         0         1         1         1         1         1         1",
+        "         2         0         1         1         0         1         1         1",
+        "*DEFINE_CURVE", "         1", "                 0.0                 1.0", "                 1.0                 1.0",
+        "*BOUNDARY_PRESCRIBED_MOTION_NODE", "         2         3         0         1       1.0", "*END"]) + "\n"
+    path = os.path.join(TMP, "spotweld_plastic.k")
+    with open(path, "w") as f:
+        f.write(deck)
+    out = os.path.join(TMP, "spotweld_plastic")
+    p = run([XDYNA, "i=" + path, "outdir=" + out, "h5plot=1"])
+    if p.returncode != 0:
+        record("spot weld plasticity runs", False, p.stderr[-300:])
+        return
+    log = open(os.path.join(out, "d3hsp")).read()
+    m = re.search(r"spot weld beam 1 of part 1 failed at time\s+(\S+) .*plastic strain\s+(\S+)\)", log)
+    with h5py.File(os.path.join(out, "d3plot.h5"), "r") as f:
+        keys = sorted(k for k in f["states"] if k != "time")
+        t = f["states/time"][:]
+        N = np.array([f[f"states/{k}/beam_resultants"][0, 0] for k in keys])
+    with h5py.File(os.path.join(out, "thist.h5"), "r") as f:
+        tg, ratio = f["glstat/time"][:], f["glstat/energy_ratio"][:]
+    if m is None:
+        record("spot weld plasticity: the weld fails at EFAIL, named in d3hsp", False, log[-400:])
+        return
+    tf = float(m.group(1))
+    sel = (t > 1e-5) & (t < tf)
+    lr = np.log(1 + t[sel] / L0)
+    want = A * (sy + eh * lr) / (1 + eh / E)
+    err = float(np.max(np.abs(N[sel] / want - 1)))
+    # the failure: eps_p = EFAIL, N there from the same law
+    nf = A * (sy + eh * ef)
+    tf_want = L0 * (np.exp(ef + nf / (E * A)) - 1)
+    dev = float(np.max(np.abs(ratio[tg < tf] - 1)))
+    record(f"spot weld plasticity: past yield the axial force is A (SIGY + EH eps_p) at {int(sel.sum())} states "
+           f"(1%: largest {err:.2%}; {N[sel][0] / 1e3:.2f} to {N[sel][-1] / 1e3:.2f} kN); it fails at {tf * 1e3:.4f} ms "
+           f"against {tf_want * 1e3:.4f} ms, where eps_p reaches EFAIL 0.1 (1%: {tf / tf_want - 1:+.2%}), named in d3hsp "
+           f"with its plastic strain {m.group(2)}; energy ratio within 1e-3 ({dev:.1e})",
+           sel.sum() > 20 and err < 0.01 and abs(tf / tf_want - 1) < 0.01 and abs(float(m.group(2)) / ef - 1) < 0.01
+           and dev < 1e-3)
+
+
 def test_shell_large_vibration():
     """An elastic clamped plate vibrating at large amplitude conserves its
     energy: ratio within 1e-3 over 200 us (about 7 periods, 590 cycles) at
@@ -5792,7 +5857,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_tiebreak_cohesive, test_erosion, test_solid_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_near_sets_exact, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_part_sizes, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_tiebreak_cohesive, test_erosion, test_solid_erosion, test_nodal_rigid_inertia, test_beams, test_spotweld, test_spotweld_plastic, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_near_sets_exact, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_stability, test_contact_suite, test_cli, test_part_sizes, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):
             test()

@@ -6,6 +6,12 @@
 !> returned to the section's fully plastic surface (N/N_p)^2 + (T/T_p)^2 +
 !> (M_s/M_ps)^2 + (M_t/M_pt)^2 = 1 at the initial yield stress (hardening
 !> not used; LS-DYNA integrates Hughes-Liu's stresses over the section).
+!> A spot weld (*MAT_SPOTWELD with SIGY > 0, ELFORM 9 or 1) returns to the
+!> same surface at its present yield stress sigma_y = SIGY + EH eps_p and
+!> hardens: the plastic work of the return, R . C^-1 (R_trial - R) with C
+!> the elastic stiffness of the resultants, over sigma_y A L is the
+!> increment of eps_p (a bar's plastic strain exactly in tension); the weld
+!> fails where eps_p reaches EFAIL.
 !>
 !> Co-rotational: each cycle the local frame is e1 along the chord N1 -> N2,
 !> e2 (the section's s axis, from the orientation node N3 at t = 0) kept
@@ -55,9 +61,13 @@ module xd_elements_beam_bs
         logical, allocatable :: weld(:), dead(:)
         real(wp), allocatable :: tfail(:), rfail(:, :)   !< (n), (6, n): NRR NRS NRT MRR MSS MTT (0: unused)
         integer, allocatable :: newly(:)      !< the welds that failed this cycle
-        ! plastic beams (ELFORM 1 with *MAT_003 / *MAT_024): the fully plastic
-        ! resultants N_p, T_p, M_ps, M_pt (0: elastic)
-        real(wp), allocatable :: rp(:, :)     !< (4, n)
+        ! plastic beams (ELFORM 1 with *MAT_003 / *MAT_024, spot welds with
+        ! SIGY): the fully plastic resultants N_p, T_p, M_ps, M_pt per unit
+        ! yield stress, the yield stress now (0: elastic), the plastic
+        ! hardening modulus, the plastic strain and the one at failure (0:
+        ! none)
+        real(wp), allocatable :: rpu(:, :)    !< (4, n)
+        real(wp), allocatable :: sy(:), eh(:), epsp(:), efail(:)
     end type beams_t
 
 contains
@@ -73,8 +83,13 @@ contains
         allocate (bm%conn(2, bm%n), bm%eid(bm%n), bm%part(bm%n), bm%e(bm%n), bm%g(bm%n), bm%ro(bm%n), &
                   bm%a(bm%n), bm%iss(bm%n), bm%itt(bm%n), bm%j(bm%n), bm%nsm(bm%n), bm%e2(3, bm%n), &
                   bm%res(6, bm%n), bm%eint(bm%n), bm%fe(3, 2*bm%n), bm%me(3, 2*bm%n), bm%weld(bm%n), &
-                  bm%dead(bm%n), bm%tfail(bm%n), bm%rfail(6, bm%n), bm%newly(0), bm%rp(4, bm%n))
-        bm%rp = 0
+                  bm%dead(bm%n), bm%tfail(bm%n), bm%rfail(6, bm%n), bm%newly(0), bm%rpu(4, bm%n), bm%sy(bm%n), &
+                  bm%eh(bm%n), bm%epsp(bm%n), bm%efail(bm%n))
+        bm%rpu = 0
+        bm%sy = 0
+        bm%eh = 0
+        bm%epsp = 0
+        bm%efail = 0
         bm%dead = .false.
         bm%res = 0
         bm%eint = 0
@@ -99,8 +114,16 @@ contains
                     sy = m%sigy
                     if (m%ntab > 0 .and. sy <= 0.0_wp) sy = m%es(1)
                     if (m%lcss_ix > 0 .and. sy <= 0.0_wp) sy = model%curve(m%lcss_ix)%o(1)
-                    bm%rp(:, e) = [sy*sc%a, sy/sqrt(3.0_wp)*sc%zj, sy*sc%zs, sy*sc%zt]
+                    bm%sy(e) = sy
                 end if
+                ! a spot weld with SIGY, on a section with its dimensions
+                ! (ELFORM 2's has none: it stays elastic, d3hsp says so)
+                if (m%mtype == mat_spotweld .and. m%sigy > 0.0_wp .and. sc%elform /= 2) then
+                    bm%sy(e) = m%sigy
+                    bm%eh(e) = m%eh
+                    bm%efail(e) = m%efail
+                end if
+                if (bm%sy(e) > 0.0_wp) bm%rpu(:, e) = [sc%a, sc%zj/sqrt(3.0_wp), sc%zs, sc%zt]
                 bm%tfail(e) = m%tfail
                 bm%rfail(:, e) = m%rfail
             end associate
@@ -215,7 +238,7 @@ contains
             ! fully plastic surface (N/N_p)^2 + (T/T_p)^2 + (M_s/M_ps)^2 +
             ! (M_t/M_pt)^2 = 1; N and T, shared by the ends, take the larger
             ! reduction
-            if (bm%rp(1, e) > 0.0_wp) call plastic_return(e)
+            if (bm%sy(e) > 0.0_wp) call plastic_return(e)
             ! the work over the step, at the mean of the resultants before
             ! and after it
             bm%eint(e) = bm%eint(e) + 0.5_dp*dt*dot_product(real(old + bm%res(:, e), dp), real(r, dp))
@@ -262,11 +285,14 @@ contains
     contains
         subroutine plastic_return(e)
             integer, intent(in) :: e
-            real(wp) :: f1, f2, c1, c2
-            associate (r => bm%res(:, e), p => bm%rp(:, e))
+            real(wp) :: f1, f2, c1, c2, p(4), tr(6), dr(6), dq(6), ei, dep
+            real(dp) :: wpl
+            p = bm%sy(e)*bm%rpu(:, e)
+            associate (r => bm%res(:, e))
                 f1 = (r(1)/p(1))**2 + (r(2)/p(2))**2 + (r(3)/p(3))**2 + (r(5)/p(4))**2
                 f2 = (r(1)/p(1))**2 + (r(2)/p(2))**2 + (r(4)/p(3))**2 + (r(6)/p(4))**2
                 if (max(f1, f2) <= 1.0_wp) return
+                tr = r
                 c1 = 1/sqrt(max(f1, 1.0_wp))
                 c2 = 1/sqrt(max(f2, 1.0_wp))
                 r(1) = r(1)*min(c1, c2)
@@ -275,7 +301,24 @@ contains
                 r(5) = r(5)*c1
                 r(4) = r(4)*c2
                 r(6) = r(6)*c2
+                if (.not. bm%weld(e)) return
+                ! hardening (spot welds): the plastic deformations C^-1
+                ! (trial - returned), the end moments' stiffness E I / L [4 2;
+                ! 2 4] inverted as L / (12 E I) [4 -2; -2 4]; their work over
+                ! sigma_y A L is eps_p's increment, and sigma_y = SIGY + EH
+                ! eps_p for the next step
+                dr = tr - r
+                dq(1) = dr(1)*l/(bm%e(e)*bm%a(e))
+                dq(2) = dr(2)*l/(bm%g(e)*bm%j(e))
+                ei = bm%e(e)*bm%iss(e)
+                dq(3:4) = l/(12*ei)*[4*dr(3) - 2*dr(4), 4*dr(4) - 2*dr(3)]
+                ei = bm%e(e)*bm%itt(e)
+                dq(5:6) = l/(12*ei)*[4*dr(5) - 2*dr(6), 4*dr(6) - 2*dr(5)]
+                wpl = dot_product(real(r, dp), real(dq, dp))
             end associate
+            dep = real(max(wpl, 0.0_dp)/(real(bm%sy(e), dp)*bm%a(e)*l), wp)
+            bm%epsp(e) = bm%epsp(e) + dep
+            bm%sy(e) = bm%sy(e) + bm%eh(e)*dep
         end subroutine plastic_return
 
         logical function weld_fails(e, l)
@@ -284,6 +327,8 @@ contains
             real(wp) :: r(6), c
             integer :: k
             weld_fails = bm%tfail(e) > 0.0_wp .and. time >= bm%tfail(e)
+            if (weld_fails) return
+            weld_fails = bm%efail(e) > 0.0_wp .and. bm%epsp(e) >= bm%efail(e)
             if (weld_fails) return
             r = [max(bm%res(1, e), 0.0_wp), abs(bm%res(5, e) + bm%res(6, e))/l, abs(bm%res(3, e) + bm%res(4, e))/l, &
                  abs(bm%res(2, e)), max(abs(bm%res(3, e)), abs(bm%res(4, e))), max(abs(bm%res(5, e)), abs(bm%res(6, e)))]

@@ -313,7 +313,15 @@ contains
                 return
             end if
             select case (model%mat(model%part(p)%mat_ix)%mtype)
-            case (mat_elastic, mat_spotweld)
+            case (mat_elastic)
+            case (mat_spotweld)
+                if (model%mat(model%part(p)%mat_ix)%sigy > 0.0_wp .and. &
+                    model%sec_beam(model%part(p)%beam_sec_ix)%elform == 2 .and. .not. any(warned == p)) then
+                    warned = [warned, p]
+                    call add_warning(model, at()//': part '//itoa(model%beam_pid(e))//': a spot weld on an ELFORM 2 '// &
+                                     'section (no dimensions for its plastic resultants) stays elastic: SIGY, EH and '// &
+                                     'EFAIL are not used')
+                end if
             case (mat_plastic_kinematic, mat_piecewise_linear)
                 if (.not. any(warned == p)) then
                     warned = [warned, p]

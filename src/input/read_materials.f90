@@ -341,11 +341,12 @@ contains
         call no_more_cards(ctx, kw, ic + 4, error)
     end subroutine read_mat_piecewise
 
-    !> *MAT_SPOTWELD: card 1 MID RO E PR SIGY ET DT TFAIL; card 2 EFAIL NRR NRS
-    !> NRT MRR MSS MTT NF. The weld is elastic (SIGY and ET named and not
-    !> used); it fails at TFAIL, or where sum (R_i / R_iF)^2 >= 1 over the
-    !> given resultants (the axial force in tension only); EFAIL (a plastic
-    !> strain) is refused.
+    !> *MAT_SPOTWELD: card 1 MID RO E PR SIGY EH DT TFAIL; card 2 EFAIL NRR NRS
+    !> NRT MRR MSS MTT NF. With SIGY > 0 the weld is elastic-plastic in its
+    !> resultants, hardening as SIGY + EH eps_p (a beam with its section's
+    !> dimensions, ELFORM 1 or 9; see beam_bs); it fails at TFAIL, where
+    !> sum (R_i / R_iF)^2 >= 1 over the given resultants (the axial force
+    !> in tension only), or where eps_p reaches EFAIL.
     subroutine read_mat_spotweld(ctx, kw, model, error)
         type(read_ctx_t), intent(in) :: ctx
         type(keyword_t), intent(in) :: kw
@@ -353,27 +354,33 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         type(material_t) :: m
-        real(wp) :: v
         integer :: ic, k
         ic = first_card(kw)
         if (ic > kw%ncard) return
-        call get_card(ctx, kw, ic, 'MID RO E PR SIGY ET DT TFAIL', 1, card, error)
+        call get_card(ctx, kw, ic, 'MID RO E PR SIGY EH DT TFAIL', 1, card, error)
         if (allocated(error)) return
         call read_elastic_constants(card, m, error); if (allocated(error)) return
         call get_real(card, 5, m%sigy, 0.0_wp, error); if (allocated(error)) return
+        call get_real(card, 6, m%eh, 0.0_wp, error); if (allocated(error)) return
         call get_real(card, 8, m%tfail, 0.0_wp, error); if (allocated(error)) return
+        if (m%sigy < 0.0_wp) then
+            call card_error(card, 5, 'SIGY must not be negative (0: an elastic weld)', error); return
+        end if
+        if (m%eh < 0.0_wp) then
+            call card_error(card, 6, 'EH, the plastic hardening modulus, must not be negative', error); return
+        end if
         call ignored_fields(model, card, [7], 'DT (a time step for the weld''s own scaling) is not used; ignored')
-        if (m%sigy > 0.0_wp) call add_warning(model, ctx%src%where(kw%card_line(ic))//': *MAT_SPOTWELD '// &
-            itoa(m%id)//' fields SIGY/ET: the weld stays elastic in xdyna (no plasticity); it fails by TFAIL and '// &
-            'its resultant criterion')
         m%src = kw%card_line(ic)
         if (ic + 1 <= kw%ncard) then
             call get_card(ctx, kw, ic + 1, 'EFAIL NRR NRS NRT MRR MSS MTT NF', 2, card, error)
             if (allocated(error)) return
-            call get_real(card, 1, v, 0.0_wp, error); if (allocated(error)) return
-            if (v /= 0.0_wp) then
-                call card_error(card, 1, 'EFAIL (a plastic strain at failure) is not in xdyna: the weld is elastic', &
-                                error)
+            call get_real(card, 1, m%efail, 0.0_wp, error); if (allocated(error)) return
+            if (m%efail < 0.0_wp) then
+                call card_error(card, 1, 'EFAIL, the plastic strain at failure, must not be negative', error); return
+            end if
+            if (m%efail > 0.0_wp .and. .not. (m%sigy > 0.0_wp)) then
+                call card_error(card, 1, 'EFAIL '//trim(card%f(1))//' needs SIGY > 0: an elastic weld has no '// &
+                                'plastic strain', error)
                 return
             end if
             do k = 1, 6

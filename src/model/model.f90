@@ -96,6 +96,9 @@ module xd_model
         !> *MAT_SPOTWELD: TFAIL and the resultants at failure NRR NRS NRT MRR
         !> MSS MTT (0: not in the criterion)
         real(wp) :: tfail = 0, rfail(6) = 0
+        !> *MAT_SPOTWELD: the plastic hardening modulus EH (sigma_y = SIGY +
+        !> EH eps_p) and the plastic strain at failure EFAIL (0: none)
+        real(wp) :: eh = 0, efail = 0
     end type material_t
 
     type :: hourglass_t

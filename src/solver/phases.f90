@@ -215,9 +215,9 @@ contains
         call beam_forces(bm, st%x, st%v, st%vr, st%dt_old, st%time, st%f, st%mom, sh%n == 0)
         call tm%stop(ph_elements)
         do k = 1, size(bm%newly)
-            write (buf, '(a,i0,a,i0,a,es12.5,a,6es11.3,a)') ' spot weld beam ', bm%eid(bm%newly(k)), ' of part ', &
-                model%part(bm%part(bm%newly(k)))%id, ' failed at time ', st%time, ' (N, T, M at the ends: ', &
-                bm%res(:, bm%newly(k)), ')'
+            write (buf, '(a,i0,a,i0,a,es12.5,a,6es11.3,a,es10.3,a)') ' spot weld beam ', bm%eid(bm%newly(k)), &
+                ' of part ', model%part(bm%part(bm%newly(k)))%id, ' failed at time ', st%time, &
+                ' (N, T, M at the ends: ', bm%res(:, bm%newly(k)), '; plastic strain ', bm%epsp(bm%newly(k)), ')'
             call log_line(lg, trim(buf))
         end do
         if (bm%dtmin < dtcrit) then

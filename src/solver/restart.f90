@@ -248,6 +248,8 @@ contains
             call dput(f, 'beam_e2', [bm%e2], nf)
             call dput(f, 'beam_eint', bm%eint, nf)
             call dput(f, 'beam_dead', merge(1, 0, bm%dead), nf)
+            call dput(f, 'beam_epsp', bm%epsp, nf)
+            call dput(f, 'beam_sy', bm%sy, nf)
         end if
         ! tiebreaks: which ties broke, the softening ones' state
         if (td%n > 0) then
@@ -572,6 +574,8 @@ contains
             call getw(f, 'beam_e2', 3*bm%n); if (ok()) bm%e2 = reshape(bw, [3, bm%n])
             call getd(f, 'beam_eint', bm%n); if (ok()) bm%eint = bd
             call geti(f, 'beam_dead', bm%n); if (ok()) bm%dead = bi /= 0
+            call getw(f, 'beam_epsp', bm%n); if (ok()) bm%epsp = bw
+            call getw(f, 'beam_sy', bm%n); if (ok()) bm%sy = bw
             if (.not. ok()) return
         end if
         if (sh%n > 0) then
