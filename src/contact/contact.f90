@@ -37,6 +37,7 @@ module xd_contact_contact
                         ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_auto, search_adaptive, find_box, in_box, box_t
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell, &
+                                  surface_activate, &
                                   follow_thickness
     use xd_core_vectors, only: cross
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t, &
@@ -53,6 +54,7 @@ module xd_contact_contact
     implicit none
     private
     public :: contacts_t, interface_t, build_contacts, faces_of, contact_erode, contact_search, contact_drift, contact_report, &
+              contact_erode_solids, &
               interface_summary, contact_masses, contact_local_search, contact_enforce, contact_work_end, &
               contact_energy, contact_resultants, gather_contact_state, scatter_contact_state, contact_events, &
               contact_thickness
@@ -152,7 +154,13 @@ module xd_contact_contact
         integer(i8) :: ncontact_total = 0     !< slave-cycles in contact
         logical :: active = .false.           !< between birth and death this cycle
         logical, allocatable :: owned(:)      !< per slave: searched and enforced here (MPI: this rank's)
-        integer, allocatable :: mine(:)       !< those slaves' positions
+        integer, allocatable :: mine(:)       !< those slaves' positions (owned and live)
+        !> per slave: on the surface now (a node inside a part that can
+        !> erode is not, until erosion exposes it; one whose elements are all
+        !> gone stays, as debris); every slave without such parts
+        logical, allocatable :: live(:)
+        logical :: listed = .false.           !< the slaves are a node set's (always live)
+        logical :: research = .false.         !< erosion changed the surface: every slave searched next cycle
     end type interface_t
 
     !> Named in d3hsp as they happen: an initial penetration (allowed and
@@ -192,6 +200,9 @@ module xd_contact_contact
         integer :: mnl = 0
         integer :: dump_unit = 0
         type(search_switches_t) :: sw
+        !> (faces) the segment is on the surface now: latent faces exposed,
+        !> faces of eroded elements gone (size 0 without latent faces)
+        logical, allocatable :: face_on(:)
         logical :: lagrange = .false.         !< Lagrangian projection instead of penalty
         real(wp), allocatable :: fnode(:, :)  !< (3, model nodes) contact force on each node this cycle
         real(wp) :: dt_limit = huge(1.0_wp)   !< stable step of the stiffest contact spring
@@ -221,7 +232,9 @@ contains
         real(wp), allocatable :: xl(:, :), lc(:)
         ct%n = model%ncontact
         if (ct%n == 0) return
-        call build_faces(model, x0, ct%faces)
+        ! hexahedra that can erode: the faces inside their parts are latent
+        ! segments, exposed as the elements erode
+        call build_faces(model, x0, ct%faces, erodible_hexes(model))
         ct%mnl = model%ctl%contact%mnl
         ct%sw = search_switches_t(tracking=model%ctl%contact%tracking, screens=model%ctl%contact%screens)
         ct%lagrange = model%ctl%contact%lagrange
@@ -245,6 +258,7 @@ contains
                 case (ct_nodes_to_surface)
                     if (c%sstyp == styp_node_set) then
                         slaves = model%set(c%sref)%member_ix
+                        it%listed = .true.
                     else
                         call select_faces(c%ssid, c%sstyp, c%sref, 'SSID', in_a); if (allocated(error)) return
                         slaves = face_nodes(in_a)
@@ -260,8 +274,6 @@ contains
                                             k=1, size(slaves))])
                 end if
                 if (c%mboxid > 0) call box_faces(model%box(find_box(model, c%mboxid)), in_b)
-                call erodible_solid_faces(in_a); if (allocated(error)) return
-                call erodible_solid_faces(in_b); if (allocated(error)) return
                 call build_surface(ct%faces, model%nnode, in_a, in_b, slaves, c%kind == ct_surface_to_surface, &
                                    [c%sst, c%mst, c%sfst, c%sfmt], [model%ctl%contact%slsfac, c%sfs, c%sfm], it%surf, &
                                    model%hex_conn(:, 1:model%nhex), &
@@ -270,6 +282,8 @@ contains
                                    model%ctl%contact%thkchg == 1 .and. model%ctl%istupd /= 0)
                 ct%thkchg = ct%thkchg .or. it%surf%follow
                 deallocate (slaves)
+                allocate (it%live(it%surf%nslave))
+                it%live = .true.
                 ! AUTOMATIC_GENERAL: shell edges against shell edges as well
                 if (c%kind == ct_general) call build_edges(it%surf, it%ed)
                 call pair_parts(it)
@@ -319,6 +333,10 @@ contains
                 end if
             end associate
         end do
+        if (ct%faces%nlatent > 0) then
+            ct%face_on = ct%faces%across == 0
+            call set_liveness(ct, model%hex_conn(:, 1:model%nhex), [(.false., k=1, model%nhex)])
+        end if
         if (ct%thkchg) then
             ! the initial thickness of the deformable shells (as the shells
             ! take it: the mean of the nodal values), largest at each node
@@ -341,29 +359,6 @@ contains
                 if (on(f)) on(f) = in_box(bx, sum(x0(:, ct%faces%node(:, f)), dim=2)/4)
             end do
         end subroutine box_faces
-
-        !> A solid that can erode exposes the faces inside its part, which
-        !> this contact's surface would not hold (its segments are fixed at
-        !> set-up): refused, naming the contact and the part.
-        subroutine erodible_solid_faces(on)
-            logical, intent(in) :: on(:)
-            integer :: f, h
-            do f = 1, ct%faces%n
-                if (.not. on(f)) cycle
-                h = ct%faces%hex(f)
-                if (h == 0) cycle
-                associate (m => model%mat(model%part(model%hex_part(h))%mat_ix), c => model%contact(i))
-                    if (m%fail > 0.0_wp .or. m%erosion) then
-                        call make_error(error, trim(c%at)//': *'//trim(c%keyword)//' '//itoa(c%id)// &
-                                        ': its surface holds the faces of part '// &
-                                        itoa(model%part(model%hex_part(h))%id)//'''s solids, which can erode '// &
-                                        '(FAIL, FS or *MAT_ADD_EROSION); xdyna does not yet make the faces that '// &
-                                        'erosion exposes inside a solid part into contact segments')
-                        return
-                    end if
-                end associate
-            end do
-        end subroutine erodible_solid_faces
 
         !> Faces of the parts, sets or segments that (sid, styp) names.
         subroutine select_faces(sid, styp, ref, field, sel)
@@ -462,7 +457,7 @@ contains
             do q = 1, model%segset(ref)%n
                 call face_key(model%segset(ref)%seg(:, q), key, nu)
                 do j = 1, f%n
-                    if (all(fkey(:, j) == key)) exit
+                    if (all(fkey(:, j) == key) .and. f%across(j) == 0) exit
                 end do
                 if (j > f%n) then
                     call make_error(error, trim(c%at)//': *'//trim(c%keyword)// &
@@ -499,6 +494,8 @@ contains
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 segdead = dead_shell(ct%faces%shell(s%seg_face))
                 if (.not. any(segdead)) cycle
+                ! (kept out of the lists when solids' erosion rebuilds them)
+                s%seg_on = s%seg_on .and. .not. segdead
                 allocate (ptr(s%nnode + 1), list(size(s%seg_list)))
                 n = 0
                 ptr(1) = 1
@@ -529,6 +526,118 @@ contains
         end do
     end subroutine contact_erode
 
+    !> The model's hexahedra whose part's material can erode (FAIL, FS or
+    !> *MAT_ADD_EROSION), as the solids take it.
+    function erodible_hexes(model) result(er)
+        type(model_t), intent(in) :: model
+        logical :: er(model%nhex)
+        integer :: e
+        do e = 1, model%nhex
+            associate (m => model%mat(model%part(model%hex_part(e))%mat_ix))
+                er(e) = m%fail > 0.0_wp .or. m%erosion
+            end associate
+        end do
+    end function erodible_hexes
+
+    !> Erosion of solids (dead_hex over the model's hexahedra): a segment
+    !> of a hexahedron that can erode is on the surface while its
+    !> hexahedron lives and the one across (if any) does not. Where that
+    !> changes, each interface's searches take the new surface
+    !> (surface_activate: the lists and the nodes' springs); a slave in
+    !> contact with, or holding, a segment gone lets it go; the slaves the
+    !> erosion exposed join (set_liveness) and every slave is searched next
+    !> cycle (the new segments are in no list yet); a node's spring that
+    !> stiffened may lower the contact's stable step (0.35 sqrt(m / k)).
+    !> Nothing where no face changes (and nothing without latent faces).
+    subroutine contact_erode_solids(ct, hex_conn, dead_hex)
+        type(contacts_t), intent(inout) :: ct
+        integer, intent(in) :: hex_conn(:, :)
+        logical, intent(in) :: dead_hex(:)
+        logical, allocatable :: on(:), gone(:), changed(:)
+        integer :: i, j, h, k
+        real(wp) :: dtk
+        if (ct%faces%nlatent == 0) return
+        on = ct%face_on
+        do j = 1, ct%faces%n
+            h = ct%faces%hex(j)
+            if (h == 0) cycle
+            on(j) = .not. dead_hex(h)
+            if (ct%faces%across(j) > 0) on(j) = on(j) .and. dead_hex(ct%faces%across(j))
+        end do
+        if (all(on .eqv. ct%face_on)) return
+        ct%face_on = on
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                ! (the shells' erosion has already taken its segments out)
+                on = s%seg_on
+                do k = 1, s%nseg
+                    if (ct%faces%hex(s%seg_face(k)) > 0) on(k) = ct%face_on(s%seg_face(k))
+                end do
+                if (all(on .eqv. s%seg_on)) cycle
+                gone = s%seg_on .and. .not. on
+                call surface_activate(s, ct%faces, on, changed)
+                do k = 1, size(it%cseg)
+                    if (it%cseg(k) > 0) then
+                        if (gone(it%cseg(k))) it%cseg(k) = 0
+                    end if
+                    if (it%held(k) > 0) then
+                        if (gone(it%held(k))) it%held(k) = 0
+                    end if
+                end do
+                it%research = .true.
+                if (.not. ct%lagrange .or. it%ed%ne > 0) then
+                    do k = 1, s%nnode
+                        if (.not. changed(k) .or. s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp .or. &
+                            s%node_rigid(k)) cycle
+                        dtk = contact_step_scale*sqrt(it%ms(k)/s%node_k(k))
+                        if (dtk < ct%dt_limit) then
+                            ct%dt_limit = dtk
+                            ct%dt_node = s%node(k)
+                        end if
+                    end do
+                end if
+            end associate
+        end do
+        call set_liveness(ct, hex_conn, dead_hex)
+    end subroutine contact_erode_solids
+
+    !> Each interface's live slaves with latent faces in the model: a slave
+    !> on an active face, or at no living hexahedron (a node of shells, or
+    !> debris whose elements all eroded), or a node set's; the slaves each
+    !> rank searches and enforces, its own live ones.
+    subroutine set_liveness(ct, hex_conn, dead_hex)
+        type(contacts_t), intent(inout) :: ct
+        integer, intent(in) :: hex_conn(:, :)
+        logical, intent(in) :: dead_hex(:)
+        logical, allocatable :: exposed(:), inside(:)
+        integer :: j, e, i, nn
+        nn = 0
+        if (size(hex_conn) > 0) nn = maxval(hex_conn)
+        do j = 1, ct%faces%n
+            nn = max(nn, maxval(ct%faces%node(:, j)))
+        end do
+        allocate (exposed(nn), inside(nn))
+        exposed = .false.
+        inside = .false.
+        do j = 1, ct%faces%n
+            if (ct%face_on(j)) exposed(ct%faces%node(:, j)) = .true.
+        end do
+        do e = 1, size(hex_conn, 2)
+            if (.not. dead_hex(e)) inside(hex_conn(:, e)) = .true.
+        end do
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                if (it%listed) cycle
+                do j = 1, s%nslave
+                    e = s%node(s%slave(j))
+                    if (e > nn) cycle
+                    it%live(j) = exposed(e) .or. .not. inside(e)
+                end do
+                if (allocated(it%owned)) it%mine = where_true(it%owned .and. it%live)
+            end associate
+        end do
+    end subroutine set_liveness
+
     !> Step 2 where due: at cycle 0 every slave; then every `interval`
     !> cycles every slave (fixed), and the slaves of each class whose
     !> margins the motion could have used up (cused > 1). The master nodes
@@ -547,8 +656,9 @@ contains
             associate (it => ct%ifc(i))
                 if (time < it%bt .or. time > it%dt) cycle
                 allocate (due(size(it%cmin)))
-                if (it%nsearch == 0) then
+                if (it%nsearch == 0 .or. it%research) then
                     due = .true.
+                    it%research = .false.
                 else if (.not. it%adaptive .and. cycle - it%last_cycle >= it%interval) then
                     ! the fixed interval is the longest; a class is also
                     ! searched as soon as the motion could have used up its
@@ -575,7 +685,7 @@ contains
                     it%ls%lcodo = 0
                 end if
                 call gather_x(x, it%surf%node, it%xl)
-                todo = it%owned .and. due(it%cls)
+                todo = it%owned .and. it%live .and. due(it%cls)
                 ! (the characteristic lengths taken there, of the nodes bucketed)
                 call build_master_lists(it%surf, it%xl, it%ls%lc, it%reach, it%dl, ct%mnl, it%lists, cnt, todo, &
                                         it%nsearch + 1, it%odo, it%ls%lcodo)
@@ -784,7 +894,7 @@ contains
                 it%evk = ev_none
                 it%evd = 0
                 it%owned = .true.
-                it%mine = [(k, k=1, n)]
+                it%mine = where_true(it%live)
                 it%kp = 0
                 it%aeff = 0
                 it%fk = 0
@@ -1778,9 +1888,14 @@ contains
         character(len=1), parameter :: nl = new_line('a')
         integer :: i
         txt = ' c o n t a c t   i n t e r f a c e s   (the automatic contact of Whirley and Engelmann)'//nl
-        write (buf, '(a,i0,a,i0,a,i0,a)') '   exterior faces of the model: ', ct%faces%n, ' segments on ', &
-            ct%faces%nbody, ' bodies; ', ct%faces%ninterior, ' interior faces left out'
+        write (buf, '(a,i0,a,i0,a,i0,a)') '   exterior faces of the model: ', ct%faces%n - ct%faces%nlatent, &
+            ' segments on ', ct%faces%nbody, ' bodies; ', ct%faces%ninterior, ' interior faces left out'
         txt = txt//trim(buf)//nl
+        if (ct%faces%nlatent > 0) then
+            write (buf, '(a,i0,a)') '   solids that can erode: ', ct%faces%nlatent, ' latent segments (the interior '// &
+                'faces beside them, as each neighbour gives them), active when erosion exposes them'
+            txt = txt//trim(buf)//nl
+        end if
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 write (buf, '(a,i0,a,a)') '   interface ', it%id, '  *', trim(it%keyword)
@@ -1788,6 +1903,11 @@ contains
                 write (buf, '(a,i0,a,i0,a,i0,a,i0,a,i0)') '     segments ', s%nseg, ' (shell ', s%nshell_seg, &
                     ', solid ', s%nsolid_seg, ')   surface nodes ', s%nnode, '   slave nodes ', s%nslave
                 txt = txt//trim(buf)//nl
+                if (s%latent) then
+                    write (buf, '(a,i0,a,i0,a)') '     of these, ', count(.not. s%seg_on), ' latent segments and ', &
+                        count(.not. it%live), ' slave nodes inside parts that can erode (they join as erosion exposes them)'
+                    txt = txt//trim(buf)//nl
+                end if
                 if (s%follow) txt = txt//'     THKCHG 1: the shell contact thickness follows the shells'' '// &
                                     '(*CONTROL_SHELL ISTUPD), within the 40% limit where it applies'//nl
                 if (it%ed%ne > 0) then

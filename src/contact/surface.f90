@@ -9,6 +9,14 @@
 !> `surface_t` is one interface's contact surface, the faces its SSID/MSID
 !> select, numbered locally with node-to-segment and node-to-node adjacency
 !> for the global and local searches.
+!>
+!> Solids that can erode: erosion exposes the faces inside their parts. Each
+!> interior face beside a hexahedron that can erode is a latent segment of
+!> the hexahedron on its other side (as that one gives it, outward), and
+!> each segment of a hexahedron that can erode is active while its
+!> hexahedron lives and the one across (if any) does not. The surfaces
+!> hold every segment; the searches see the active ones (surface_activate
+!> rebuilds the node-to-segment lists and the nodes' springs from them).
 module xd_contact_surface
     use xd_kinds, only: wp
     use xd_core_vectors, only: cross
@@ -17,7 +25,7 @@ module xd_contact_surface
     use xd_core_sorting, only: where_true, small_sort
     implicit none
     private
-    public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid, follow_thickness
+    public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid, follow_thickness, surface_activate
     public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side, seg_nodes, seg_normal
 
     integer, parameter :: seg_shell = 1, seg_solid = 2
@@ -46,6 +54,10 @@ module xd_contact_surface
         logical, allocatable :: rigid(:)       !< on a *MAT_RIGID part
         integer :: nbody = 0
         integer :: ninterior = 0               !< faces between two continuum elements (not segments)
+        !> (n) the hexahedron across a solid face (0: none, the face is the
+        !> model's exterior); a latent segment has one, and starts inactive
+        integer, allocatable :: across(:)
+        integer :: nlatent = 0                 !< latent segments (faces inside parts that can erode)
         real(wp), allocatable :: node_thick(:) !< (model nodes) largest shell thickness at the node
         !> (model nodes) largest 40% of the shortest edge of a shell at the
         !> node (LS-DYNA's limit of a single-surface contact's shell
@@ -85,6 +97,17 @@ module xd_contact_surface
         real(wp), allocatable :: seg_t_raw(:), seg_tn_raw(:, :), node_t_raw(:)
         integer :: nslave = 0
         integer :: ncap = 0                    !< surface nodes whose shell thickness the 40% edge limit lowered
+        !> (nseg) the segment is in the searches' lists (latent ones, and
+        !> eroded ones, not)
+        logical, allocatable :: seg_on(:)
+        logical :: latent = .false.            !< some segment is latent (a surface that erosion rebuilds)
+        real(wp) :: stiff(3) = 0               !< SLSFAC, SFS, SFM (the nodes' springs, rebuilt)
+        !> (nnode) the nodes' springs and areas at set-up, which a node
+        !> without an active segment takes again
+        real(wp), allocatable :: node_area0(:), node_kpa0(:)
+        !> (nnode) sides from every segment (latent ones too): who can be a
+        !> slave
+        integer, allocatable :: node_side_all(:)
         integer, allocatable :: slave(:)       !< local numbers of the slave nodes
         integer :: nshell_seg = 0, nsolid_seg = 0
         logical :: single = .true.             !< one side: every slave against every segment
@@ -155,10 +178,12 @@ contains
 
     !> The exterior of the whole model from the element connectivity and the
     !> initial coordinates x (3, nnode).
-    subroutine build_faces(model, x, f)
+    subroutine build_faces(model, x, f, erodible)
         type(model_t), intent(in) :: model
         real(wp), intent(in) :: x(:, :)
         type(faces_t), intent(out) :: f
+        !> (model hexahedra) can erode: latent segments inside their parts
+        logical, intent(in), optional :: erodible(:)
         integer :: ncand, e, k, j, nu, c, n, a, b, i
         integer, allocatable :: cnode(:, :), ckey(:, :), chex(:), cshell(:), ptr(:), item(:), rep(:), ncont(:)
         integer, allocatable :: shell_on(:)
@@ -246,10 +271,24 @@ contains
                 f%ninterior = f%ninterior + 1
             end if
         end do
-        allocate (f%node(4, f%n), f%kind(f%n), f%part(f%n), f%shell(f%n), f%thick(f%n), f%kgeo(f%n), f%body(f%n))
-        allocate (f%area(f%n))
-        allocate (f%hex(f%n))
+        ! latent: an interior face between two hexahedra, as each gives it,
+        ! where the other can erode
+        f%nlatent = 0
+        if (present(erodible)) then
+            if (any(erodible)) then
+                do c = 1, ncand
+                    if (chex(c) == 0 .or. ncont(rep(c)) /= 2) cycle
+                    if (erodible(chex(partner(c)))) f%nlatent = f%nlatent + 1
+                end do
+            end if
+        end if
+        allocate (f%node(4, f%n + f%nlatent), f%kind(f%n + f%nlatent), f%part(f%n + f%nlatent), &
+                  f%shell(f%n + f%nlatent), f%thick(f%n + f%nlatent), f%kgeo(f%n + f%nlatent), &
+                  f%body(f%n + f%nlatent))
+        allocate (f%area(f%n + f%nlatent))
+        allocate (f%hex(f%n + f%nlatent), f%across(f%n + f%nlatent))
         f%hex = 0
+        f%across = 0
         allocate (f%node_thick(n), f%node_cap(n))
         f%node_thick = 0
         f%node_cap = 0
@@ -282,12 +321,41 @@ contains
                 f%area(j) = segment_area(x(:, f%node(:, j)))
             end if
         end do
+        if (f%nlatent > 0) then
+            do c = 1, ncand
+                if (chex(c) == 0 .or. ncont(rep(c)) /= 2) cycle
+                if (.not. erodible(chex(partner(c)))) cycle
+                j = j + 1
+                f%shell(j) = 0
+                f%node(:, j) = cnode(:, c)
+                f%kind(j) = seg_solid
+                f%hex(j) = chex(c)
+                f%across(j) = chex(partner(c))
+                call solid_segment(chex(c), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
+                f%area(j) = segment_area(x(:, f%node(:, j)))
+            end do
+            f%n = f%n + f%nlatent
+        end if
         allocate (f%rigid(f%n))
         do j = 1, f%n
             f%rigid(j) = model%mat(model%part(f%part(j))%mat_ix)%mtype == mat_rigid
         end do
         call find_bodies(n, f)
     contains
+        !> The other hexahedron's candidate on interior face c (two hexahedra
+        !> share its key)
+        integer function partner(c) result(o)
+            integer, intent(in) :: c
+            integer :: jj
+            o = 0
+            do jj = ptr(ckey(1, c)), ptr(ckey(1, c) + 1) - 1
+                if (item(jj) /= c .and. rep(item(jj)) == rep(c) .and. chex(item(jj)) > 0) then
+                    o = item(jj)
+                    return
+                end if
+            end do
+        end function partner
+
         !> The shortest edge of a quadrilateral (a triangle's repeated node
         !> gives no edge).
         pure real(wp) function shortest_edge(xe) result(emin)
@@ -441,7 +509,7 @@ contains
         real(wp), intent(in) :: thick(4)   !< SST, MST, SFST, SFMT
         real(wp), intent(in) :: stiff(3)   !< SLSFAC, SFS, SFM
         type(surface_t), intent(out) :: s
-        integer, allocatable :: local(:), cnt(:)
+        integer, allocatable :: local(:)
         real(wp), allocatable :: kmin(:)
         integer :: j, k, m, nd, i, a, nnd
         logical :: in_any, capped
@@ -516,6 +584,15 @@ contains
         s%nslave = count(iand(s%node_side, side_slave) /= 0)
         allocate (s%slave(s%nslave))
         s%slave = where_true(iand(s%node_side, side_slave) /= 0)
+        ! latent segments (inside parts that can erode) start inactive: the
+        ! sides a node has in the searches come from its active ones (a
+        ! node inside a part, none), its slave bit from all of them
+        allocate (s%seg_on(s%nseg))
+        s%seg_on = f%across(s%seg_face) == 0
+        s%latent = .not. all(s%seg_on)
+        s%node_side_all = s%node_side
+        if (s%latent) call active_sides(s)
+        s%stiff = stiff
 
         ! thickness (SST / MST override, SFST / SFMT scale) and penalty stiffness
         ! k = SLSFAC x SFM x (K A^2 / V or K A / max diagonal), LS-DYNA's rule,
@@ -560,6 +637,7 @@ contains
             end if
             s%seg_k(m) = stiff(1)*stiff(3)*f%kgeo(j)
             s%seg_area(m) = f%area(j)
+            if (.not. s%seg_on(m)) cycle
             nnd = seg_nodes(s%seg(:, m))
             do k = 1, nnd
                 kmin(s%seg(k, m)) = min(kmin(s%seg(k, m)), f%kgeo(j)/max(f%area(j), tiny(1.0_wp)))
@@ -606,26 +684,9 @@ contains
         do m = 1, s%nseg
             s%node_body(s%seg(:, m)) = s%seg_body(m)
         end do
-        ! node -> segments
-        allocate (cnt(s%nnode + 1), s%seg_ptr(s%nnode + 1))
-        cnt = 0
-        do m = 1, s%nseg
-            do k = 1, seg_nodes(s%seg(:, m))
-                cnt(s%seg(k, m)) = cnt(s%seg(k, m)) + 1
-            end do
-        end do
-        s%seg_ptr(1) = 1
-        do nd = 1, s%nnode
-            s%seg_ptr(nd + 1) = s%seg_ptr(nd) + cnt(nd)
-        end do
-        allocate (s%seg_list(s%seg_ptr(s%nnode + 1) - 1))
-        cnt(1:s%nnode) = s%seg_ptr(1:s%nnode)
-        do m = 1, s%nseg
-            do k = 1, seg_nodes(s%seg(:, m))
-                s%seg_list(cnt(s%seg(k, m))) = m
-                cnt(s%seg(k, m)) = cnt(s%seg(k, m)) + 1
-            end do
-        end do
+        s%node_area0 = s%node_area
+        s%node_kpa0 = s%node_kpa
+        call segment_lists(s)
         call node_neighbours(s)
     contains
         !> Nodes-to-surface slaves on no segment of this surface (a node set,
@@ -643,6 +704,7 @@ contains
                 onseg(s%seg(:, m)) = .true.
             end do
             do jf = 1, f%n
+                if (f%across(jf) > 0) cycle
                 nn = seg_nodes(f%node(:, jf))
                 do kk = 1, nn
                     n2 = local(f%node(kk, jf))
@@ -720,6 +782,94 @@ contains
         seg_nodes = 4
         if (sg(4) == sg(3)) seg_nodes = 3
     end function seg_nodes
+
+    !> node -> its active segments (CSR), in segment order
+    subroutine segment_lists(s)
+        type(surface_t), intent(inout) :: s
+        integer, allocatable :: cnt(:)
+        integer :: m, k, nd
+        if (allocated(s%seg_ptr)) deallocate (s%seg_ptr, s%seg_list)
+        allocate (cnt(s%nnode + 1), s%seg_ptr(s%nnode + 1))
+        cnt = 0
+        do m = 1, s%nseg
+            if (.not. s%seg_on(m)) cycle
+            do k = 1, seg_nodes(s%seg(:, m))
+                cnt(s%seg(k, m)) = cnt(s%seg(k, m)) + 1
+            end do
+        end do
+        s%seg_ptr(1) = 1
+        do nd = 1, s%nnode
+            s%seg_ptr(nd + 1) = s%seg_ptr(nd) + cnt(nd)
+        end do
+        allocate (s%seg_list(s%seg_ptr(s%nnode + 1) - 1))
+        cnt(1:s%nnode) = s%seg_ptr(1:s%nnode)
+        do m = 1, s%nseg
+            if (.not. s%seg_on(m)) cycle
+            do k = 1, seg_nodes(s%seg(:, m))
+                s%seg_list(cnt(s%seg(k, m))) = m
+                cnt(s%seg(k, m)) = cnt(s%seg(k, m)) + 1
+            end do
+        end do
+    end subroutine segment_lists
+
+    !> The side bits A and B of each node from its active segments (the
+    !> slave bit kept)
+    subroutine active_sides(s)
+        type(surface_t), intent(inout) :: s
+        integer :: m, k
+        s%node_side = iand(s%node_side_all, side_slave)
+        do m = 1, s%nseg
+            if (.not. s%seg_on(m)) cycle
+            do k = 1, 4
+                s%node_side(s%seg(k, m)) = ior(s%node_side(s%seg(k, m)), s%seg_side(m))
+            end do
+        end do
+    end subroutine active_sides
+
+    !> The segments `on` active from now (erosion: latent faces exposed,
+    !> eroded ones gone): the nodes' sides, their springs (a node's area
+    !> its share of its active segments', its stiffness per area the
+    !> softest of theirs, as build_surface takes them; a node without an
+    !> active segment takes its set-up values again), the node-to-segment
+    !> and node-to-node lists. Returns the nodes whose springs changed.
+    subroutine surface_activate(s, f, on, changed)
+        type(surface_t), intent(inout) :: s
+        type(faces_t), intent(in) :: f
+        logical, intent(in) :: on(:)
+        logical, allocatable, intent(out) :: changed(:)
+        real(wp), allocatable :: kmin(:), area(:)
+        integer :: m, k, nnd, j, nd
+        real(wp) :: kpa
+        s%seg_on = on
+        call active_sides(s)
+        allocate (kmin(s%nnode), area(s%nnode), changed(s%nnode))
+        kmin = huge(1.0_wp)
+        area = 0
+        do m = 1, s%nseg
+            if (.not. s%seg_on(m)) cycle
+            j = s%seg_face(m)
+            nnd = seg_nodes(s%seg(:, m))
+            do k = 1, nnd
+                kmin(s%seg(k, m)) = min(kmin(s%seg(k, m)), f%kgeo(j)/max(f%area(j), tiny(1.0_wp)))
+                area(s%seg(k, m)) = area(s%seg(k, m)) + f%area(j)/nnd
+            end do
+        end do
+        do nd = 1, s%nnode
+            if (kmin(nd) < huge(1.0_wp)) then
+                kpa = s%stiff(1)*s%stiff(2)*kmin(nd)
+            else
+                area(nd) = s%node_area0(nd)
+                kpa = s%node_kpa0(nd)
+            end if
+            changed(nd) = area(nd) /= s%node_area(nd) .or. kpa /= s%node_kpa(nd)
+            s%node_area(nd) = area(nd)
+            s%node_kpa(nd) = kpa
+            s%node_k(nd) = kpa*area(nd)
+        end do
+        call segment_lists(s)
+        deallocate (s%nn_ptr, s%nn_list)
+        call node_neighbours(s)
+    end subroutine surface_activate
 
     !> Nodes that share a segment with each node (itself excluded), ascending.
     subroutine node_neighbours(s)

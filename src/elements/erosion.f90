@@ -34,7 +34,8 @@ module xd_elements_erosion
     use xd_model, only: model_t, mat_plastic_kinematic, mat_piecewise_linear
     implicit none
     private
-    public :: shell_failures, erode_shells, dead_model_shells, solid_failures, erode_solids, solid_fails
+    public :: shell_failures, erode_shells, dead_model_shells, solid_failures, erode_solids, solid_fails, &
+              dead_model_hexes
 
 contains
 
@@ -228,5 +229,14 @@ contains
         dead = .false.
         dead(sh%model_ix) = sh%dead
     end function dead_model_shells
+
+    !> The eroded solids over the model's hexahedra.
+    function dead_model_hexes(solids, nhex) result(dead)
+        type(solids_t), intent(in) :: solids
+        integer, intent(in) :: nhex
+        logical :: dead(nhex)
+        dead = .false.
+        if (solids%erodible) dead(solids%model_ix) = solids%dead
+    end function dead_model_hexes
 
 end module xd_elements_erosion

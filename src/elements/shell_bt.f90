@@ -201,6 +201,9 @@ contains
         sh%n = size(keep)
         sh%mine = [(e, e=1, sh%n)]
         if (sh%n == 0) then
+            ! (empty, so that the outputs of the rigid shells alone can
+            ! concatenate them)
+            allocate (sh%conn(4, 0), sh%eid(0), sh%part(0), sh%model_ix(0))
             call shell_blocks(sh)
             return
         end if

@@ -20,10 +20,11 @@ program xdyna
     use xd_solver_setup, only: setup_run
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
     use xd_contact_rigidwall, only: walls_t, build_walls
-    use xd_elements_erosion, only: erode_shells, dead_model_shells
+    use xd_elements_erosion, only: erode_shells, dead_model_shells, dead_model_hexes
     use xd_elements_beam_bs, only: beams_t
     use xd_contact_tied, only: ties_t, place_ties, start_ties
-    use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses, contact_erode
+    use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses, contact_erode, &
+                                  contact_erode_solids
     use xd_contact_initial_penetration, only: initial_penetrations
     use xd_core_strings, only: join_path, out_path
     use xd_core_files, only: make_dirs, file_kind, fk_missing, fk_regular, absolute_path
@@ -82,6 +83,8 @@ program xdyna
     character(len=:), allocatable :: memory_note, hold, step_note
     real(dp) :: endtim_cli
     integer :: i, k, ncpu, nfree, nparts, endcyc_cli, nmoved, nprocs
+    logical, allocatable :: research(:)   !< restart: the contact searches the dump asked for
+    real(wp) :: dt_keep                   !< restart: the contact springs' stable step the dump holds
     character(len=:), allocatable :: bad_out
     !> the files a run writes in its output directory (besides d3hsp and
     !> the d3plot members)
@@ -332,6 +335,22 @@ program xdyna
                 sh%ndead = 0
                 call erode_shells(sh, dead_now)
                 if (ct%n > 0) call contact_erode(ct, dead_model_shells(sh, model%nshell))
+            end if
+        end if
+        ! solids eroded before the dump: the faces they exposed on the contact
+        ! surfaces again
+        ! (the searches asked for and the stable step as the dump has them)
+        if (solids%erodible .and. ct%n > 0) then
+            if (any(solids%dead)) then
+                research = [(ct%ifc(i)%research, i=1, ct%n)]
+                dt_keep = ct%dt_limit
+                k = ct%dt_node
+                call contact_erode_solids(ct, model%hex_conn(:, 1:model%nhex), dead_model_hexes(solids, model%nhex))
+                do i = 1, ct%n
+                    ct%ifc(i)%research = research(i)
+                end do
+                ct%dt_limit = dt_keep
+                ct%dt_node = k
             end if
         end if
         call open_histories(model, stem, rg, hist, ok, resume=hmarks, writer=env%rank == 0, rotating=st%rot)

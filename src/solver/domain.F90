@@ -184,7 +184,7 @@ contains
                 spart = spart - 1
                 if (allocated(it%dump)) spart(it%dump) = 0
                 it%owned = spart == rank
-                it%mine = where_true(it%owned)
+                it%mine = where_true(it%owned .and. it%live)
                 do r = 1, nranks
                     dom%nslave(r) = dom%nslave(r) + count(spart == r - 1)
                 end do

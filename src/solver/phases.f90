@@ -20,7 +20,8 @@ module xd_solver_phases
     use xd_elements_solid_groups, only: solids_t, solid_forces, solid_name
     use xd_elements_shell_bt, only: shells_t, shell_forces, shell_name
     use xd_elements_beam_bs, only: beams_t, beam_forces
-    use xd_elements_erosion, only: shell_failures, erode_shells, dead_model_shells, solid_failures, erode_solids
+    use xd_elements_erosion, only: shell_failures, erode_shells, dead_model_shells, solid_failures, erode_solids, &
+                                   dead_model_hexes
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
     use xd_solver_domain, only: domain_t, share_slots, share_nodes, gather_energy_state
@@ -33,6 +34,7 @@ module xd_solver_phases
     use xd_output_d3hsp, only: log_t, log_line
     use xd_output_histories, only: histories_t, track_rotations
     use xd_contact_contact, only: contacts_t, contact_local_search, contact_enforce, contact_thickness, contact_erode, &
+                                  contact_erode_solids, &
                                   contact_events, contact_energy, contact_drift
     use xd_contact_enforcement, only: body_response_t
     use xd_contact_rigidwall, only: walls_t, apply_walls
@@ -370,6 +372,9 @@ contains
                     call log_eroded(lg, 'solid', solids%eid(newly(k)), model%part(solids%part(newly(k)))%id, &
                                     st%time, solids%eint(newly(k)))
                 end do
+                ! the faces they exposed join the contact surfaces, theirs leave
+                if (ct%n > 0) call contact_erode_solids(ct, model%hex_conn(:, 1:model%nhex), &
+                                                        dead_model_hexes(solids, model%nhex))
             end if
         end if
     end subroutine erosion_phase

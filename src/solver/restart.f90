@@ -163,6 +163,11 @@ contains
         call h5gclose_f(g, err)
 
         call h5gcreate_f(f, 'contact', g, err)
+        ! a surface that erosion rebuilds: the springs' stable step it lowered
+        if (ct%faces%nlatent > 0) then
+            call dput(g, 'dt_limit', [ct%dt_limit], nf)
+            call dput(g, 'dt_node', [ct%dt_node], nf)
+        end if
         do k = 1, ct%n
             associate (it => ct%ifc(k))
                 call h5gcreate_f(g, 'i'//itoa(k), r, err)
@@ -220,6 +225,8 @@ contains
                 call dput(r, 'rlast', it%rlast, nf)
                 call dput(r, 'pair_imp', [it%pair_imp], nf)
                 call dput(r, 'pair_work', [it%pair_work], nf)
+                ! a surface that erosion rebuilds: the search it asked for
+                if (ct%faces%nlatent > 0) call dput(r, 'research', [merge(1, 0, it%research)], nf)
                 if (it%ed%ne > 0) then
                     ! the edge pairs of the last search and their state
                     associate (ed => it%ed)
@@ -615,6 +622,10 @@ contains
             if (.not. ok()) return
         end if
         call h5gopen_f(f, 'contact', g, err)
+        if (ct%faces%nlatent > 0) then
+            call getw(g, 'dt_limit', 1); if (ok()) ct%dt_limit = bw(1)
+            call geti(g, 'dt_node', 1); if (ok()) ct%dt_node = bi(1)
+        end if
         do k = 1, ct%n
             associate (it => ct%ifc(k), s => ct%ifc(k)%surf)
                 call h5gopen_f(g, 'i'//itoa(k), r, err)
@@ -687,6 +698,9 @@ contains
                 call getd(r, 'energy', 1); if (ok()) it%energy = bd(1)
                 call geti(r, 'cseg', size(it%cseg)); if (ok()) it%cseg = bi
                 call geti(r, 'held', size(it%held)); if (ok()) it%held = bi
+                if (ct%faces%nlatent > 0) then
+                    call geti(r, 'research', 1); if (ok()) it%research = bi(1) /= 0
+                end if
                 call getw(r, 'fprev', size(it%fprev)); if (ok()) it%fprev = reshape(bw, shape(it%fprev))
                 call getw(r, 'ft', size(it%ft)); if (ok()) it%ft = reshape(bw, shape(it%ft))
                 call getw(r, 'p0', size(it%p0)); if (ok()) it%p0 = bw
