@@ -2005,7 +2005,13 @@ def test_solid_erosion():
     (*MAT_003) erodes at its impact end: the total energy with the eroded
     share within 2% of the initial, d3plot.h5's solid_alive 0 for each
     eroded solid and only those; two ranks and a restart mid-erosion give the
-    serial histories bitwise. Contact on eroding solids:
+    serial histories bitwise. ERODE: the elastic cube (nu 0) squeezed at
+    10 m/s erodes when its step falls below DTMIN 0.7 times the first,
+    h / (qd + sqrt(qd^2 + c^2)) with c = c0 sqrt(h/L) and the bulk
+    viscosity's qd = 1.5 v + 0.06 c, at the height that law gives (2%), the
+    cycle where ERODE 0 stops the run (exit 2); the run then ends normally,
+    the eroded energy in glstat (1%: the last forces' half step), the energy
+    ratio within 1%. Contact on eroding solids:
     test_solid_erosion_contact."""
     E, sy, L, fail = 2e11, 2.5e8, 0.01, 0.02
 
@@ -2072,6 +2078,48 @@ def test_solid_erosion():
     first = float(re.search(r"eroded at time\s+(\S+),", log).group(1))
     record(f"solid erosion: a restart from 20 us (solids eroding since {first * 1e6:.2f} us) ends as the "
            f"uninterrupted run (bitwise)", ok and first < 2e-5, msg)
+    # ERODE: the cube squeezed at 10 m/s, uniaxial (nu 0, symmetry planes):
+    # h = L - v t, le = h, rho = rho0 L / h, c = c0 sqrt(h / L)
+    v, ro = 10.0, 7850.0
+    c0 = math.sqrt(E / ro)
+    texts = {}
+    for erode in (1, 0):
+        d = solid_cube_deck("*MAT_ELASTIC\n         1      7850 2.000e+11       0.0\n", 1.2e-3)
+        d = d.replace(f"{1.2e-3:10.3e}         0", f"{1.2e-3:10.3e}         0       0.7")
+        d = d.replace("*CONTROL_TIMESTEP\n         0       0.9",
+                      f"*CONTROL_TIMESTEP\n         0       0.9         0         0         0         0{erode:10d}")
+        d = d.replace("      0.00000000e+00      0.00000000e+00\n      2.00000000e-04      1.00000000e-01\n"
+                      "      1.00000000e+00      1.00000000e-01",
+                      f"      0.00000000e+00{-v:20.8e}\n      1.00000000e+00{-v:20.8e}")
+        texts[erode] = d
+    p1, o1, _ = run_text("solid_erode1", texts[1])
+    p0, _, _ = run_text("solid_erode0", texts[0])
+    log1 = open(os.path.join(o1, "d3hsp")).read() if p1.returncode == 0 else ""
+    m1 = re.search(r"solid 1 of part 1 eroded at time\s+(\S+), internal energy\s+(\S+)", log1)
+    m0 = re.search(r"error termination at time\s+(\S+), cycle", p0.stderr)
+    if m1 is None or m0 is None:
+        record("solid erosion: ERODE 1 erodes the squeezed cube, ERODE 0 stops the run", False,
+               (p1.stderr + p0.stderr)[-300:])
+        return
+
+    def step(h):
+        c = c0 * math.sqrt(h / L)
+        qd = 1.5 * v + 0.06 * c
+        return h / (qd + math.sqrt(qd * qd + c * c))
+    lo, hi = 1e-5 * L, L
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if step(mid) < 0.7 * L / c0 else (lo, mid)
+    want = (L - hi) / v
+    t1, t0 = float(m1.group(1)), float(m0.group(1))
+    with h5py.File(os.path.join(o1, "thist.h5"), "r") as f:
+        er, dev = f["glstat/eroded_internal_energy"][-1], float(np.max(np.abs(f["glstat/energy_ratio"][:] - 1)))
+    record(f"solid erosion: ERODE 1 erodes the cube squeezed at 10 m/s when its step reaches DTMIN 0.7 x the first, at "
+           f"{t1 * 1e3:.4f} ms against {want * 1e3:.4f} ms from the step's law (2%: {t1 / want - 1:+.2%}), where ERODE 0 "
+           f"stops the run ({t0 * 1e3:.4f} ms, exit {p0.returncode}); the run ends normally, glstat's eroded energy "
+           f"{er:.4g} J against the named {float(m1.group(2)):.4g} J (1%), energy ratio within 1% ({dev:.1e})",
+           abs(t1 / want - 1) < 0.02 and t1 == t0 and p0.returncode == 2 and p1.returncode == 0
+           and abs(er / float(m1.group(2)) - 1) < 0.01 and dev < 0.01)
 
 
 def sphere_solid_plate_deck(contact="ERODING_SURFACE_TO_SURFACE", top_only=False, v=400.0, tend=4e-5):

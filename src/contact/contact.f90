@@ -527,14 +527,15 @@ contains
     end subroutine contact_erode
 
     !> The model's hexahedra whose part's material can erode (FAIL, FS or
-    !> *MAT_ADD_EROSION), as the solids take it.
+    !> *MAT_ADD_EROSION), or every one with ERODE (its step), as the solids
+    !> take it.
     function erodible_hexes(model) result(er)
         type(model_t), intent(in) :: model
         logical :: er(model%nhex)
         integer :: e
         do e = 1, model%nhex
             associate (m => model%mat(model%part(model%hex_part(e))%mat_ix))
-                er(e) = m%fail > 0.0_wp .or. m%erosion
+                er(e) = m%fail > 0.0_wp .or. m%erosion .or. (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)
             end associate
         end do
     end function erodible_hexes

@@ -107,6 +107,13 @@ contains
             if (.not. s%active(g)) cycle
             do e = s%group(g)%first, s%group(g)%last
                 if (s%dead(e)) cycle
+                ! ERODE: its step fell below the minimum
+                if (s%tsmin > 0.0_wp) then
+                    if (s%low(e)) then
+                        newly = [newly, e]
+                        cycle
+                    end if
+                end if
                 associate (m => model%mat(model%part(s%part(e))%mat_ix))
                     if (.not. (m%fail > 0.0_wp .or. m%erosion)) cycle
                     ep = 0

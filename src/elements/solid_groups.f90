@@ -73,6 +73,10 @@ module xd_elements_solid_groups
         ! state stays as it was), its forces and step not taken
         logical :: erodible = .false.          !< some solid can erode
         logical, allocatable :: dead(:)        !< eroded (size n where erodible, else 0)
+        !> ERODE: the minimum step (0: none yet), and the elements whose step
+        !> fell below it this cycle (size n where erodible)
+        real(wp) :: tsmin = 0
+        logical, allocatable :: low(:)
         integer :: ndead = 0
         integer, allocatable :: gdead(:)       !< per group: eroded elements in it
         real(wp), allocatable :: xfrozen(:, :, :)  !< (3, 8, n) an eroded element's nodes at erosion
@@ -102,7 +106,7 @@ contains
             allocate (s%group(0), s%conn(8, 0), s%part(0), s%eid(0), s%model_ix(0), s%vol0(0), s%vol(0), &
                       s%gdt(0), s%gcrit(0), s%gbad(0), s%fslot(3, 0), s%eint(0), s%ehg(0), s%pend_int(0), &
                       s%pend_hg(0), s%sig(0), s%qhg(0), s%qbv(0), s%epsp(0), s%alpha(0), s%group_of(0), &
-                      s%active(0), s%gdead(0), s%dead(0), s%xfrozen(3, 8, 0))
+                      s%active(0), s%gdead(0), s%dead(0), s%xfrozen(3, 8, 0), s%low(0))
             return
         end if
         call alloc(s%conn, 8, s%n, 'solid connectivity')
@@ -152,16 +156,18 @@ contains
         s%gdead = 0
         do g = 1, s%ngroup
             associate (m => model%mat(model%part(s%group(g)%part)%mat_ix))
-                s%erodible = s%erodible .or. m%fail > 0.0_wp .or. m%erosion
+                s%erodible = s%erodible .or. m%fail > 0.0_wp .or. m%erosion .or. &
+                             (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)
             end associate
         end do
         if (s%erodible) then
-            allocate (s%dead(s%n))
+            allocate (s%dead(s%n), s%low(s%n))
             call alloc(s%xfrozen, 3, 8, s%n, 'eroded solids'' coordinates')
             s%dead = .false.
+            s%low = .false.
             s%xfrozen = 0
         else
-            allocate (s%dead(0), s%xfrozen(3, 8, 0))
+            allocate (s%dead(0), s%xfrozen(3, 8, 0), s%low(0))
         end if
         if (any(s%group%mtype == mat_plastic_kinematic .or. s%group%mtype == mat_piecewise_linear)) then
             call alloc(s%epsp, s%n, 'plastic strains')
@@ -495,6 +501,18 @@ contains
                     end if
                 end do
             end if
+        end if
+        if (s%tsmin > 0.0_wp) then
+            ! ERODE: an element whose step fell below the minimum sets no
+            ! step; it erodes after this pass (one already eroded is frozen,
+            ! its step huge)
+            do i = 1, n
+                if (s%dead(a + i - 1)) cycle
+                if (dte(i) < s%tsmin) then
+                    s%low(a + i - 1) = .true.
+                    dte(i) = huge(1.0_wp)
+                end if
+            end do
         end if
         k = minloc(dte, 1)
         s%gdt(g) = dte(k)

@@ -137,7 +137,8 @@ contains
         if (rg%n == 0) h%on(s_rbdout) = .false.
         if (model%ncontact == 0) h%on(s_rcforc) = .false.
         h%contact = model%ncontact > 0
-        h%erosion = any(model%mat(1:model%nmat)%fail > 0.0_wp) .or. any(model%mat(1:model%nmat)%erosion)
+        h%erosion = any(model%mat(1:model%nmat)%fail > 0.0_wp) .or. any(model%mat(1:model%nmat)%erosion) .or. &
+                    (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)
         h%scaling = model%ctl%dt2ms /= 0.0_wp
         ! nodout nodes: *DATABASE_HISTORY_NODE ids, then node sets
         allocate (h%nodes(0))

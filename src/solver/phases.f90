@@ -426,7 +426,7 @@ contains
     subroutine step_phase(model, ms, solids, sh, bm, ct, lg, cycle0, beam_crit, dtc, st, dt_ref, set_by, failure)
         type(model_t), intent(in) :: model
         type(mass_scaling_t), intent(in) :: ms
-        type(solids_t), intent(in) :: solids
+        type(solids_t), intent(inout) :: solids
         type(shells_t), intent(inout) :: sh
         type(beams_t), intent(in) :: bm
         type(contacts_t), intent(in) :: ct
@@ -486,6 +486,10 @@ contains
         ! DTMIN times it erode
         if (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp .and. sh%n > 0 .and. sh%tsmin == 0.0_wp .and. &
             st%dt_first > 0.0_wp) sh%tsmin = model%ctl%dtmin*st%dt_first/real(model%ctl%tssfac, wp)
+        ! and solids likewise (the elements' own steps, before TSSFAC, as the
+        ! shells')
+        if (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp .and. solids%n > 0 .and. solids%tsmin == 0.0_wp &
+            .and. st%dt_first > 0.0_wp) solids%tsmin = model%ctl%dtmin*st%dt_first/real(model%ctl%tssfac, wp)
         if (.not. (st%dt > 0.0_wp .and. st%dt <= huge(1.0_wp))) then
             failure = 'time step '//rtoa(real(st%dt, dp))//' is not a finite positive number; controlling '// &
                       step_element_name(model, st, solids, sh, bm, beam_crit)
