@@ -1,12 +1,9 @@
-!> Beams: the Belytschko-Schwer resultant beam (*SECTION_BEAM ELFORM 2; and
-!> ELFORM 1, Hughes-Liu, whose elastic response for a given section is the
-!> same small-strain resultant beam: xdyna computes A, ISS, ITT and J from
-!> its dimensions), elastic; with *MAT_003 or *MAT_024 on ELFORM 1, perfectly
-!> plastic in its resultants: each end's axial force, torque and moments are
-!> returned to the section's fully plastic surface (N/N_p)^2 + (T/T_p)^2 +
-!> (M_s/M_ps)^2 + (M_t/M_pt)^2 = 1 at the initial yield stress (hardening
-!> not used; LS-DYNA integrates Hughes-Liu's stresses over the section).
-!> A spot weld (*MAT_SPOTWELD with SIGY > 0, ELFORM 9 or 1) returns to the
+!> Beams: the Belytschko-Schwer resultant beam (*SECTION_BEAM ELFORM 2, and
+!> the spot welds of ELFORM 9), elastic; and the Hughes-Liu beam (ELFORM 1,
+!> xd_elements_beam_hl: one stress point along the length and a quadrature
+!> of the section, elastic or *MAT_003 / *MAT_024 plastic with their
+!> hardening), which shares the frame, the masses and the nodal forces
+!> below (its resultants as end moments). A spot weld (*MAT_SPOTWELD with SIGY > 0, ELFORM 9 or 1) returns to the
 !> same surface at its present yield stress sigma_y = SIGY + EH eps_p and
 !> hardens: the plastic work of the return, R . C^-1 (R_trial - R) with C
 !> the elastic stiffness of the resultants, over sigma_y A L is the
@@ -40,6 +37,8 @@ module xd_elements_beam_bs
     use xd_kinds, only: wp, dp
     use xd_model, only: model_t, mat_spotweld, mat_plastic_kinematic, mat_piecewise_linear
     use xd_core_vectors, only: cross
+    use xd_materials_plasticity, only: plastic_params_t
+    use xd_elements_beam_hl, only: hl_section, hl_update, hl_end_moments, max_points
     implicit none
     private
     public :: beams_t, build_beams, beam_masses, beam_forces
@@ -68,16 +67,34 @@ module xd_elements_beam_bs
         ! none)
         real(wp), allocatable :: rpu(:, :)    !< (4, n)
         real(wp), allocatable :: sy(:), eh(:), epsp(:), efail(:)
+        ! Hughes-Liu (ELFORM 1): its section's points (y, z, weight), their
+        ! stresses (sigma, tau12, tau13) and plastic strains, the shear
+        ! modulus SHRF G, the twist's factor sqrt(J / Ip), the law (0:
+        ! elastic) among pps
+        logical, allocatable :: hl(:)
+        integer, allocatable :: hln(:), hlaw(:)
+        real(wp), allocatable :: hlpt(:, :, :), hlsig(:, :, :), hlep(:, :), hlgs(:), hlc(:)
+        type(plastic_params_t), allocatable :: pps(:)
     end type beams_t
 
 contains
 
-    subroutine build_beams(model, bm)
+    subroutine build_beams(model, bm, plastic_law)
         type(model_t), intent(in) :: model
         type(beams_t), intent(out) :: bm
+        interface
+            subroutine plastic_law(model, mix, pp)
+                import :: model_t, plastic_params_t
+                type(model_t), intent(in) :: model
+                integer, intent(in) :: mix
+                type(plastic_params_t), intent(out) :: pp
+            end subroutine plastic_law
+        end interface
+        integer, allocatable :: law_of(:)
+        real(wp) :: ip
         integer :: e, p, k, nd
         integer, allocatable :: fill(:)
-        real(wp) :: e1(3), v(3), s(3), sy
+        real(wp) :: e1(3), v(3), s(3)
         bm%n = model%nbeam
         if (bm%n == 0) return
         allocate (bm%conn(2, bm%n), bm%eid(bm%n), bm%part(bm%n), bm%e(bm%n), bm%g(bm%n), bm%ro(bm%n), &
@@ -90,6 +107,18 @@ contains
         bm%eh = 0
         bm%epsp = 0
         bm%efail = 0
+        allocate (bm%hl(bm%n), bm%hln(bm%n), bm%hlaw(bm%n), bm%hlpt(3, max_points, bm%n), &
+                  bm%hlsig(3, max_points, bm%n), bm%hlep(max_points, bm%n), bm%hlgs(bm%n), bm%hlc(bm%n), &
+                  law_of(model%nmat), bm%pps(0))
+        bm%hl = .false.
+        bm%hln = 0
+        bm%hlaw = 0
+        bm%hlpt = 0
+        bm%hlsig = 0
+        bm%hlep = 0
+        bm%hlgs = 0
+        bm%hlc = 1
+        law_of = 0
         bm%dead = .false.
         bm%res = 0
         bm%eint = 0
@@ -108,13 +137,28 @@ contains
                 bm%j(e) = sc%j
                 bm%nsm(e) = sc%nsm
                 bm%weld(e) = m%mtype == mat_spotweld
-                ! plastic: the section's fully plastic resultants at the
-                ! initial yield stress (SIGY, or the curve's first point)
-                if (m%mtype == mat_plastic_kinematic .or. m%mtype == mat_piecewise_linear) then
-                    sy = m%sigy
-                    if (m%ntab > 0 .and. sy <= 0.0_wp) sy = m%es(1)
-                    if (m%lcss_ix > 0 .and. sy <= 0.0_wp) sy = model%curve(m%lcss_ix)%o(1)
-                    bm%sy(e) = sy
+                ! Hughes-Liu: the section's points, and a plastic material's
+                ! law (one per material)
+                if (sc%elform == 1 .and. m%mtype /= mat_spotweld) then
+                    bm%hl(e) = .true.
+                    call hl_section(sc%cst, sc%qr, sc%ts, sc%tt, bm%hln(e), bm%hlpt(:, :, e))
+                    bm%hlgs(e) = sc%shrf*bm%g(e)
+                    ip = sum(bm%hlpt(3, 1:bm%hln(e), e)*(bm%hlpt(1, 1:bm%hln(e), e)**2 + &
+                                                         bm%hlpt(2, 1:bm%hln(e), e)**2))
+                    if (ip > 0.0_wp) bm%hlc(e) = sqrt(min(sc%j/ip, 1.0_wp))
+                    if (m%mtype == mat_plastic_kinematic .or. m%mtype == mat_piecewise_linear) then
+                        if (law_of(model%part(p)%mat_ix) == 0) then
+                            bm%pps = [bm%pps, plastic_params_t()]
+                            call plastic_law(model, model%part(p)%mat_ix, bm%pps(size(bm%pps)))
+                            ! (isotropic hardening in the beams: BETA's
+                            ! kinematic share and the rate factor are
+                            ! warned at input)
+                            bm%pps(size(bm%pps))%beta = 1
+                            bm%pps(size(bm%pps))%c = 0
+                            law_of(model%part(p)%mat_ix) = size(bm%pps)
+                        end if
+                        bm%hlaw(e) = law_of(model%part(p)%mat_ix)
+                    end if
                 end if
                 ! a spot weld with SIGY, on a section with its dimensions
                 ! (ELFORM 2's has none: it stays elastic, d3hsp says so)
@@ -193,7 +237,8 @@ contains
         logical, intent(in) :: set_mom
         integer :: e, n1, n2, nd, q, k
         real(wp) :: l, e1(3), e2(3), e3(3), dv(3), wc(3), t1(3), t2(3), r(6), old(6), phi, c, s, ei, m1(3), m2(3), sh(3)
-        real(wp) :: dte, ro, imax
+        real(wp) :: dte, ro, imax, wm(3), dwv(3), rh(6)
+        type(plastic_params_t) :: none
         bm%dtmin = huge(1.0_wp)
         bm%crit = 0
         if (size(bm%newly) > 0) deallocate (bm%newly)
@@ -226,14 +271,27 @@ contains
             r = [dot_product(dv, e1), dot_product(w(:, n2) - w(:, n1), e1), &
                  dot_product(t1, e2), dot_product(t2, e2), dot_product(t1, e3), dot_product(t2, e3)]
             old = bm%res(:, e)
-            bm%res(1, e) = old(1) + bm%e(e)*bm%a(e)*r(1)/l*dt
-            bm%res(2, e) = old(2) + bm%g(e)*bm%j(e)*r(2)/l*dt
-            ei = bm%e(e)*bm%iss(e)/l
-            bm%res(3, e) = old(3) + ei*(4*r(3) + 2*r(4))*dt
-            bm%res(4, e) = old(4) + ei*(2*r(3) + 4*r(4))*dt
-            ei = bm%e(e)*bm%itt(e)/l
-            bm%res(5, e) = old(5) + ei*(4*r(5) + 2*r(6))*dt
-            bm%res(6, e) = old(6) + ei*(2*r(5) + 4*r(6))*dt
+            if (bm%hl(e)) then
+                ! Hughes-Liu: the section points' stresses, their resultants
+                ! as end moments
+                wm = 0.5_wp*(w(:, n1) + w(:, n2))
+                dwv = w(:, n2) - w(:, n1)
+                call hl_update(bm%hln(e), bm%hlpt(:, :, e), l, &
+                               [dot_product(dv, e1), dot_product(dv, e2), dot_product(dv, e3)], &
+                               [dot_product(dwv, e1), dot_product(dwv, e2), dot_product(dwv, e3)], &
+                               [dot_product(wm, e1), dot_product(wm, e2), dot_product(wm, e3)], dt, bm%e(e), &
+                               bm%hlgs(e), bm%hlc(e), bm%hlaw(e) > 0, law(e), bm%hlsig(:, :, e), bm%hlep(:, e), rh)
+                bm%res(:, e) = hl_end_moments(rh, l)
+            else
+                bm%res(1, e) = old(1) + bm%e(e)*bm%a(e)*r(1)/l*dt
+                bm%res(2, e) = old(2) + bm%g(e)*bm%j(e)*r(2)/l*dt
+                ei = bm%e(e)*bm%iss(e)/l
+                bm%res(3, e) = old(3) + ei*(4*r(3) + 2*r(4))*dt
+                bm%res(4, e) = old(4) + ei*(2*r(3) + 4*r(4))*dt
+                ei = bm%e(e)*bm%itt(e)/l
+                bm%res(5, e) = old(5) + ei*(4*r(5) + 2*r(6))*dt
+                bm%res(6, e) = old(6) + ei*(2*r(5) + 4*r(6))*dt
+            end if
             ! plastic: each end's (N, T, M_s, M_t) returned radially to the
             ! fully plastic surface (N/N_p)^2 + (T/T_p)^2 + (M_s/M_ps)^2 +
             ! (M_t/M_pt)^2 = 1; N and T, shared by the ends, take the larger
@@ -267,6 +325,7 @@ contains
             ro = bm%ro(e) + bm%nsm(e)/bm%a(e)
             imax = max(bm%iss(e), bm%itt(e))
             dte = min(l/sqrt(bm%e(e)/ro), 2/sqrt(48*bm%e(e)*imax/(ro*bm%a(e)*l**4)))
+            if (bm%hl(e)) dte = min(dte, hl_step(e, l))
             if (dte < bm%dtmin) then
                 bm%dtmin = dte
                 bm%crit = e
@@ -283,6 +342,42 @@ contains
             end do
         end do
     contains
+        !> The plastic law of Hughes-Liu beam e (an empty one when elastic)
+        function law(e) result(pp)
+            integer, intent(in) :: e
+            type(plastic_params_t) :: pp
+            if (bm%hlaw(e) > 0) then
+                pp = bm%pps(bm%hlaw(e))
+            else
+                pp = none
+            end if
+        end function law
+
+        !> Hughes-Liu beam e's stable step, 2 / omega with omega^2 bounded
+        !> by Gershgorin's rows of M^-1/2 K M^-1/2 over its modes in each
+        !> plane (the nodes' lumped mass m and rotary inertia j, as
+        !> beam_masses gives them): the transverse rows 2 G A_s / (L m) + G
+        !> A_s / sqrt(m j), the rotation rows (E I / L + G A_s L / 4 + |G A_s
+        !> L / 4 - E I / L|) / j + G A_s / sqrt(m j); the axial 2 E A / (L m)
+        !> and the twist's 2 G J / (L j)
+        real(wp) function hl_step(e, l) result(dts)
+            integer, intent(in) :: e
+            real(wp), intent(in) :: l
+            real(wp) :: m, j, gas, om2, ii
+            integer :: q
+            m = (bm%ro(e)*bm%a(e) + bm%nsm(e))*l/2
+            ii = max(bm%iss(e), bm%itt(e))
+            j = bm%ro(e)*l*max(bm%a(e)*l**2/24 + ii/2, 1.5_wp*ii)
+            gas = bm%hlgs(e)*bm%a(e)
+            om2 = max(2*bm%e(e)*bm%a(e)/(l*m), 2*bm%g(e)*bm%j(e)/(l*j))
+            do q = 1, 2
+                ii = merge(bm%iss(e), bm%itt(e), q == 1)
+                om2 = max(om2, 2*gas/(l*m) + gas/sqrt(m*j), &
+                          (bm%e(e)*ii/l + gas*l/4 + abs(gas*l/4 - bm%e(e)*ii/l))/j + gas/sqrt(m*j))
+            end do
+            dts = 2/sqrt(om2)
+        end function hl_step
+
         subroutine plastic_return(e)
             integer, intent(in) :: e
             real(wp) :: f1, f2, c1, c2, p(4), tr(6), dr(6), dq(6), ei, dep

@@ -323,17 +323,19 @@ contains
                                      'EFAIL are not used')
                 end if
             case (mat_plastic_kinematic, mat_piecewise_linear)
-                if (.not. any(warned == p)) then
-                    warned = [warned, p]
-                    call add_warning(model, at()//': part '//itoa(model%beam_pid(e))//': a plastic beam is perfectly '// &
-                                     'plastic in its resultants (the section''s fully plastic axial force, torque '// &
-                                     'and moments at the initial yield stress); hardening (ETAN, the curve) is not '// &
-                                     'used for beams')
-                end if
+                associate (m => model%mat(model%part(p)%mat_ix))
+                    if ((m%beta < 1.0_wp .or. m%c > 0.0_wp) .and. .not. any(warned == p)) then
+                        warned = [warned, p]
+                        call add_warning(model, at()//': part '//itoa(model%beam_pid(e))//': the Hughes-Liu beam''s '// &
+                                         'section points harden isotropically at the material''s rate-free flow '// &
+                                         'stress (BETA''s kinematic share and the strain-rate factor are not used '// &
+                                         'for beams)')
+                    end if
+                end associate
                 if (model%sec_beam(model%part(p)%beam_sec_ix)%elform /= 1) then
                     call make_error(error, at()//' field PID: part '//itoa(model%beam_pid(e))//': a plastic beam needs '// &
-                                    'the section''s dimensions (ELFORM 1) for its plastic resultants; ELFORM 2 and 9 '// &
-                                    'take an elastic material in xdyna')
+                                    'the section''s dimensions (ELFORM 1, Hughes-Liu, integrates its stresses over '// &
+                                    'them); ELFORM 2 and 9 take an elastic material in xdyna')
                     return
                 end if
             case default

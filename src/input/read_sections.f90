@@ -75,13 +75,13 @@ contains
         end if
         call get_card(ctx, kw, ic, 'SECID ELFORM SHRF QR CST SCOOR NSM', 1, card, error)
         if (allocated(error)) return
-        call ignored_fields(model, card, [4, 6], 'the quadrature rule and the reference axis offset are not used; '// &
-                            'ignored', keep='2 2.0 2. 0')
+        call ignored_fields(model, card, [6], 'the reference axis offset is not used; ignored')
         call get_int(card, 1, s%id, 0, error); if (allocated(error)) return
         call get_int(card, 2, s%elform, 1, error, zero_default=.true.); if (allocated(error)) return
         call get_real(card, 3, s%shrf, 1.0_wp, error, zero_default=.true.); if (allocated(error)) return
         call get_int(card, 5, s%cst, 0, error); if (allocated(error)) return
         call get_real(card, 7, s%nsm, 0.0_wp, error); if (allocated(error)) return
+        call get_int(card, 4, s%qr, 2, error, zero_default=.true.); if (allocated(error)) return
         if (s%id <= 0) then
             call card_error(card, 1, 'section id must be a positive integer', error); return
         end if
@@ -90,6 +90,14 @@ contains
                             'with an elastic material, 2: Belytschko-Schwer resultant, 9: spot weld)', error)
             return
         end if
+        if (s%elform == 1 .and. (s%qr < 1 .or. s%qr > 5)) then
+            call card_error(card, 4, 'QR '//trim(card%f(4))//' is not a rule xdyna has for ELFORM 1 (1 one point, 2 '// &
+                            '2 x 2 Gauss, 3 3 x 3 Gauss, 4 3 x 3 Lobatto, 5 4 x 4 Gauss; user rules, negative, are '// &
+                            'not in xdyna)', error)
+            return
+        end if
+        if (s%elform /= 1 .and. s%qr /= 2) call ignored_fields(model, card, [4], 'the quadrature rule is used by '// &
+                                                               'ELFORM 1 only; ignored')
         if (s%nsm < 0.0_wp) then
             call card_error(card, 7, 'NSM must not be negative', error); return
         end if
@@ -123,6 +131,8 @@ contains
                 s%cst = 1
                 v(3) = 0
             end if
+            s%ts = v(1)
+            s%tt = v(3)
             if (s%cst == 0) then
                 ! a rectangle TS1 wide along s and TT1 along t
                 if (.not. (v(1) > 0.0_wp .and. v(3) > 0.0_wp)) then

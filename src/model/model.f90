@@ -61,6 +61,8 @@ module xd_model
         integer :: elform = 2
         real(wp) :: shrf = 1.0_wp
         integer :: cst = 0                  !< ELFORM 1: 0 rectangle, 1 tube
+        integer :: qr = 2                   !< ELFORM 1: the section's quadrature rule (QR)
+        real(wp) :: ts = 0, tt = 0          !< ELFORM 1 and 9: TS1 and TT1 (a tube's outer and inner diameters)
         real(wp) :: a = 0, iss = 0, itt = 0, j = 0, sa = 0
         real(wp) :: nsm = 0                 !< non-structural mass per length
         !> ELFORM 1: the plastic section moduli about s and t and the torque's

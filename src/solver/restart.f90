@@ -257,6 +257,11 @@ contains
             call dput(f, 'beam_dead', merge(1, 0, bm%dead), nf)
             call dput(f, 'beam_epsp', bm%epsp, nf)
             call dput(f, 'beam_sy', bm%sy, nf)
+            ! Hughes-Liu: the section points' stresses and plastic strains
+            if (any(bm%hl)) then
+                call dput(f, 'beam_hl_sig', [bm%hlsig], nf)
+                call dput(f, 'beam_hl_ep', [bm%hlep], nf)
+            end if
         end if
         ! tiebreaks: which ties broke, the softening ones' state
         if (td%n > 0) then
@@ -583,6 +588,10 @@ contains
             call geti(f, 'beam_dead', bm%n); if (ok()) bm%dead = bi /= 0
             call getw(f, 'beam_epsp', bm%n); if (ok()) bm%epsp = bw
             call getw(f, 'beam_sy', bm%n); if (ok()) bm%sy = bw
+            if (any(bm%hl)) then
+                call getw(f, 'beam_hl_sig', size(bm%hlsig)); if (ok()) bm%hlsig = reshape(bw, shape(bm%hlsig))
+                call getw(f, 'beam_hl_ep', size(bm%hlep)); if (ok()) bm%hlep = reshape(bw, shape(bm%hlep))
+            end if
             if (.not. ok()) return
         end if
         if (sh%n > 0) then
