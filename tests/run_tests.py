@@ -1921,6 +1921,8 @@ def test_erosion():
     # (pulled at 0.1 m/s: the stress reaches SIGVM at 100 us, 56 steps of
     # 1.8 us, so the step's granularity is within 2%)
     for crit, card2, want in (("SIGVM", f"{0.0:10.3e}{0.0:10.3e}{2e8:10.3e}", 2e8 * 0.01 / (2e11 * 0.1)),
+                              ("MXEPS", f"{0.0:10.3e}{0.0:10.3e}{0.0:10.3e}{1e-3:10.3e}",
+                               0.01 * (math.exp(1e-3) - 1) / 0.1),
                               ("FAILTM", f"{0.0:10.3e}{0.0:10.3e}{0.0:10.3e}{0.0:10.3e}{0.0:10.3e}{0.0:10.3e}"
                                          f"{0.0:10.3e}{6e-5:10.3e}", 6e-5)):
         L = ["*KEYWORD", "*TITLE", "a strip pulled until it erodes", "*CONTROL_TERMINATION", " 2.000e-04",
@@ -2019,13 +2021,30 @@ def test_solid_erosion():
         # u(t) = 1e-5 + 0.1 (t - 2e-4) m after the ramp
         return 2e-4 + (L * (math.exp(strain) - 1) - 1e-5) / 0.1
 
+    # the strain criteria on the elastic cube (nu 0.3) in uniaxial stress,
+    # its axial logarithmic strain e = ln(1 + u/L) and the lateral ones -nu
+    # e (the rate form's): MXEPS on e, EFFEPS on 2/3 (1 + nu) e, VOLEPS on
+    # (1 - 2 nu) e, MNEPS on -nu e, EPSSH on (1 + nu) e / 2 (2%: the ramp's
+    # wave and the step)
+    ela2 = "*MAT_ELASTIC\n         1      7850 2.000e+11       0.3\n*MAT_ADD_EROSION\n"
+    ela = ela2 + "         1\n"
     cases = (("*MAT_024 FAIL 0.02", "*MAT_PIECEWISE_LINEAR_PLASTICITY\n"
               f"         1      7850{E:10.3e}       0.3{sy:10.3e}{0.0:10.3e}{fail:10.3e}\n",
               erosion_time(fail + sy / E), 0.02, 3e-3),
-             ("*MAT_ADD_EROSION SIGP1 400 MPa", "*MAT_ELASTIC\n         1      7850 2.000e+11       0.3\n"
-              "*MAT_ADD_EROSION\n         1\n" + f"{0.0:10.3e}{4e8:10.3e}\n", erosion_time(4e8 / E), 0.05, 5e-4))
+             ("*MAT_ADD_EROSION SIGP1 400 MPa", ela + f"{0.0:10.3e}{4e8:10.3e}\n", erosion_time(4e8 / E), 0.05, 5e-4),
+             ("*MAT_ADD_EROSION MXEPS 0.003", ela + f"{0.0:10.3e}{0.0:10.3e}{0.0:10.3e}{3e-3:10.3e}\n",
+              erosion_time(3e-3), 0.02, 6e-4),
+             ("*MAT_ADD_EROSION EFFEPS 0.003", ela2 + f"         1{0.0:10.3e}{0.0:10.3e}{0.0:10.3e}{3e-3:10.3e}\n",
+              erosion_time(3e-3 / (2 / 3 * 1.3)), 0.02, 6e-4),
+             ("*MAT_ADD_EROSION VOLEPS 0.0012", ela2 + f"         1{0.0:10.3e}{0.0:10.3e}{0.0:10.3e}{0.0:10.3e}"
+              f"{1.2e-3:10.3e}\n", erosion_time(1.2e-3 / 0.4), 0.02, 6e-4),
+             ("*MAT_ADD_EROSION MNEPS -0.0009", ela2 + f"         1{0.0:10.3e}{0.0:10.3e}{-9e-4:10.3e}\n",
+              erosion_time(9e-4 / 0.3), 0.02, 6e-4),
+             ("*MAT_ADD_EROSION EPSSH 0.00195", ela + f"{0.0:10.3e}{0.0:10.3e}{0.0:10.3e}{0.0:10.3e}{1.95e-3:10.3e}\n",
+              erosion_time(1.95e-3 / 0.65), 0.02, 6e-4))
     for label, mat, want, tol, tend in cases:
-        p, out, _ = run_text("solid_erosion_" + label.split()[1].lower(), solid_cube_deck(mat, tend))
+        p, out, _ = run_text("solid_erosion_" + "_".join(label.split()[1:3]).lower().replace(".", ""),
+                             solid_cube_deck(mat, tend))
         log = open(os.path.join(out, "d3hsp")).read() if os.path.exists(os.path.join(out, "d3hsp")) else ""
         m = re.search(r"solid 1 of part 1 eroded at time\s+([^,\s]+), internal energy\s+(\S+)", log)
         ok = p.returncode == 0 and m is not None

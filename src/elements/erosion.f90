@@ -23,11 +23,17 @@
 !> pressure -(sxx + syy + szz)/3, the largest principal stress, the von
 !> Mises stress. An eroded solid is computed frozen (solid_groups: on its
 !> coordinates at erosion, at rest), its forces and step not taken; its
-!> internal energy is booked as eroded. A contact whose surface holds an
-!> erodible solid's faces is refused at set-up (the faces inside the part
-!> that erosion exposes are not made segments).
+!> internal energy is booked as eroded. The contact surfaces follow
+!> (contact_erode, contact_erode_solids).
+!>
+!> The strain criteria (MNEPS, MXEPS, EFFEPS, VOLEPS, EPSSH) take the
+!> principal logarithmic strains: a solid's from its deformation gradient
+!> at the centre; a shell point's from its strain rates integrated in the
+!> shell's co-rotational frame (sh%strain, kept where a shell's material
+!> has one of them).
 module xd_elements_erosion
     use xd_kinds, only: wp, dp
+    use xd_elements_hex8, only: hex_volume_operator
     use xd_model, only: material_t
     use xd_elements_shell_bt, only: shells_t, shell_blocks
     use xd_elements_solid_groups, only: solids_t
@@ -35,7 +41,7 @@ module xd_elements_erosion
     implicit none
     private
     public :: shell_failures, erode_shells, dead_model_shells, solid_failures, erode_solids, solid_fails, &
-              dead_model_hexes
+              dead_model_hexes, strain_criteria, principal_values
 
 contains
 
@@ -66,7 +72,12 @@ contains
                     if (m%erosion) need = min(max(m%numfip, 1), sh%nip(e))
                     nfp = 0
                     do ip = 1, sh%nip(e)
-                        if (point_fails(m, sh%sig(e, :, ip), sh%epsp(e, ip), sh%plastic(e))) nfp = nfp + 1
+                        if (strain_criteria(m)) then
+                            if (point_fails(m, sh%sig(e, :, ip), sh%epsp(e, ip), sh%plastic(e), &
+                                            principal_values(sh%strain(e, :, ip)))) nfp = nfp + 1
+                        else
+                            if (point_fails(m, sh%sig(e, :, ip), sh%epsp(e, ip), sh%plastic(e))) nfp = nfp + 1
+                        end if
                     end do
                     gone = nfp >= need
                 end if
@@ -77,25 +88,60 @@ contains
 
     !> One point: FAIL on the effective plastic strain, or NCS of the
     !> *MAT_ADD_EROSION criteria on its stress (plane stress, s = sxx syy
-    !> sxy syz szx).
-    pure logical function point_fails(m, s, epsp, plastic) result(f)
+    !> sxy syz szx) and, where given, its principal strains ep.
+    pure logical function point_fails(m, s, epsp, plastic, ep) result(f)
         type(material_t), intent(in) :: m
         real(wp), intent(in) :: s(5), epsp
         logical, intent(in) :: plastic
+        real(wp), intent(in), optional :: ep(3)
         real(wp) :: p, s1, vm
         f = plastic .and. m%fail > 0.0_wp .and. epsp >= m%fail
         if (f .or. .not. m%erosion) return
         p = -(s(1) + s(2))/3
         s1 = max(0.5_wp*(s(1) + s(2)) + sqrt((0.5_wp*(s(1) - s(2)))**2 + s(3)**2), 0.0_wp)
         vm = sqrt(max(s(1)**2 - s(1)*s(2) + s(2)**2 + 3*(s(3)**2 + s(4)**2 + s(5)**2), 0.0_wp))
-        f = stress_fails(m, p, s1, vm)
+        f = stress_fails(m, p, s1, vm, ep)
     end function point_fails
 
+    !> The material has a *MAT_ADD_EROSION strain criterion.
+    pure logical function strain_criteria(m)
+        type(material_t), intent(in) :: m
+        strain_criteria = m%erosion .and. (m%mneps < 0.0_wp .or. m%mxeps > 0.0_wp .or. m%effeps > 0.0_wp .or. &
+                                           m%voleps /= 0.0_wp .or. m%epssh > 0.0_wp)
+    end function strain_criteria
+
+    !> The eigenvalues of the symmetric tensor a (xx yy zz xy yz zx),
+    !> descending: the deviator's invariants and Lode's angle (the closed
+    !> form for a symmetric 3 x 3).
+    pure function principal_values(a) result(e)
+        real(wp), intent(in) :: a(6)
+        real(wp) :: e(3)
+        real(wp), parameter :: pi = 3.141592653589793_wp
+        real(wp) :: pm, d1, d2, d3, j2, j3, r, th, c
+        pm = (a(1) + a(2) + a(3))/3
+        d1 = a(1) - pm
+        d2 = a(2) - pm
+        d3 = a(3) - pm
+        j2 = 0.5_wp*(d1**2 + d2**2 + d3**2) + a(4)**2 + a(5)**2 + a(6)**2
+        if (j2 <= 0.0_wp) then
+            e = pm
+            return
+        end if
+        j3 = d1*d2*d3 + 2*a(4)*a(5)*a(6) - d1*a(5)**2 - d2*a(6)**2 - d3*a(4)**2
+        r = 1.5_wp*sqrt(3.0_wp)*j3/j2**1.5_wp
+        th = acos(max(-1.0_wp, min(1.0_wp, r)))/3
+        c = 2*sqrt(j2/3)
+        e = pm + c*[cos(th), cos(th - 2*pi/3), cos(th + 2*pi/3)]
+        ! (descending: th in [0, pi/3])
+        e = [maxval(e), e(1) + e(2) + e(3) - maxval(e) - minval(e), minval(e)]
+    end function principal_values
+
     !> The solids computed here (active groups) that fail now.
-    subroutine solid_failures(s, model, time, newly)
+    subroutine solid_failures(s, model, time, x, newly)
         type(solids_t), intent(in) :: s
         type(model_t), intent(in) :: model
         real(dp), intent(in) :: time
+        real(wp), intent(in) :: x(:, :)   !< the nodes now (the strain criteria)
         integer, allocatable, intent(out) :: newly(:)
         integer :: g, e
         real(wp) :: ep
@@ -120,6 +166,12 @@ contains
                     if (plastic) ep = s%epsp(e)
                     if (m%erosion .and. m%failtm > 0.0_wp .and. time >= m%failtm) then
                         newly = [newly, e]
+                    else if (strain_criteria(m)) then
+                        if (solid_fails(m, s%stress(e), ep, plastic .and. &
+                                        (s%group(g)%mtype == mat_plastic_kinematic .or. &
+                                         s%group(g)%mtype == mat_piecewise_linear), &
+                                        solid_strains(model%x0(:, s%conn(:, e)), x(:, s%conn(:, e))))) &
+                            newly = [newly, e]
                     else if (solid_fails(m, s%stress(e), ep, plastic .and. &
                                          (s%group(g)%mtype == mat_plastic_kinematic .or. &
                                           s%group(g)%mtype == mat_piecewise_linear))) then
@@ -133,25 +185,42 @@ contains
     !> NCS of *MAT_ADD_EROSION's stress criteria hold at a point of pressure
     !> p, largest principal stress s1 and von Mises stress vm (a shell's
     !> point or a solid's).
-    pure logical function stress_fails(m, p, s1, vm) result(f)
+    pure logical function stress_fails(m, p, s1, vm, ep) result(f)
         type(material_t), intent(in) :: m
         real(wp), intent(in) :: p, s1, vm
+        !> the principal strains, descending (the strain criteria count
+        !> where given)
+        real(wp), intent(in), optional :: ep(3)
         integer :: n
+        real(wp) :: ev, em
         n = 0
         if (m%mxpres > 0.0_wp .and. p >= m%mxpres) n = n + 1
         if (m%mnpres < 0.0_wp .and. p <= m%mnpres) n = n + 1
         if (m%sigp1 > 0.0_wp .and. s1 >= m%sigp1) n = n + 1
         if (m%sigvm > 0.0_wp .and. vm >= m%sigvm) n = n + 1
+        if (present(ep)) then
+            ev = ep(1) + ep(2) + ep(3)
+            em = ev/3
+            if (m%mneps < 0.0_wp .and. ep(3) <= m%mneps) n = n + 1
+            if (m%mxeps > 0.0_wp .and. ep(1) >= m%mxeps) n = n + 1
+            if (m%effeps > 0.0_wp) then
+                if (sqrt(2.0_wp/3*((ep(1) - em)**2 + (ep(2) - em)**2 + (ep(3) - em)**2)) >= m%effeps) n = n + 1
+            end if
+            if (m%voleps > 0.0_wp .and. ev >= m%voleps) n = n + 1
+            if (m%voleps < 0.0_wp .and. ev <= m%voleps) n = n + 1
+            if (m%epssh > 0.0_wp .and. 0.5_wp*(ep(1) - ep(3)) >= m%epssh) n = n + 1
+        end if
         f = n >= m%ncs .and. n > 0
     end function stress_fails
 
     !> A solid's point (its one): FAIL on the effective plastic strain, or
     !> NCS of *MAT_ADD_EROSION's criteria on its stress s (xx yy zz xy yz
     !> zx): pressure, the largest principal stress, the von Mises stress.
-    pure logical function solid_fails(m, s, epsp, plastic) result(f)
+    pure logical function solid_fails(m, s, epsp, plastic, ep) result(f)
         type(material_t), intent(in) :: m
         real(wp), intent(in) :: s(6), epsp
         logical, intent(in) :: plastic
+        real(wp), intent(in), optional :: ep(3)   !< principal strains, descending
         real(wp) :: p, s1, vm
         f = plastic .and. m%fail > 0.0_wp .and. epsp >= m%fail
         if (f .or. .not. m%erosion) return
@@ -159,8 +228,26 @@ contains
         s1 = max(largest_principal(s), 0.0_wp)
         vm = sqrt(max(0.5_wp*((s(1) - s(2))**2 + (s(2) - s(3))**2 + (s(3) - s(1))**2) + &
                       3*(s(4)**2 + s(5)**2 + s(6)**2), 0.0_wp))
-        f = stress_fails(m, p, s1, vm)
+        f = stress_fails(m, p, s1, vm, ep)
     end function solid_fails
+
+    !> A solid's principal logarithmic strains, descending, from its
+    !> deformation gradient at the centre, F = sum x_k (x) dN_k/dX (the
+    !> initial geometry's uniform gradient, B / V0): half the logarithms of
+    !> the eigenvalues of F^T F.
+    function solid_strains(x0, x) result(ep)
+        real(wp), intent(in) :: x0(3, 8), x(3, 8)
+        real(wp) :: ep(3), b(8, 3), v0, f(3, 3), c(3, 3)
+        integer :: k
+        call hex_volume_operator(transpose(x0), b, v0)
+        f = 0
+        do k = 1, 8
+            f = f + spread(x(:, k), 2, 3)*spread(b(k, :)/v0, 1, 3)
+        end do
+        c = matmul(transpose(f), f)
+        ep = principal_values([c(1, 1), c(2, 2), c(3, 3), c(1, 2), c(2, 3), c(3, 1)])
+        ep = 0.5_wp*log(max(ep, tiny(1.0_wp)))
+    end function solid_strains
 
     !> The largest eigenvalue of the symmetric tensor s (xx yy zz xy yz zx):
     !> the deviator's invariants J2, J3 and Lode's angle (the closed form for

@@ -70,6 +70,12 @@ module xd_elements_shell_bt
         logical, allocatable :: ycurve(:), rated(:)
         type(plastic_params_t), allocatable :: pp(:)  !< plastic laws of the shell materials
         real(wp), allocatable :: epsp(:, :)   !< (n, nip) effective plastic strain per point
+        !> (n, 6, nip) the points' logarithmic strains (xx yy zz xy yz zx,
+        !> tensor shears) in the shell's frame, their rates integrated: kept
+        !> where a shell's material has a *MAT_ADD_EROSION strain criterion
+        !> (else size 0)
+        logical :: track_strain = .false.
+        real(wp), allocatable :: strain(:, :, :)
         real(wp), allocatable :: alpha(:, :, :)  !< (6, nip, n) back stress per point (n 0: no shell has one)
         !> the material can move a back stress (kinematic share of a
         !> hardening modulus not 0); otherwise alpha stays 0 and is not read
@@ -303,6 +309,18 @@ contains
         sh%sig = 0
         sh%epsp = 0
         sh%alpha = 0
+        do e = 1, sh%n
+            associate (m => model%mat(sh%mix(e)))
+                sh%track_strain = sh%track_strain .or. (m%erosion .and. (m%mneps < 0.0_wp .or. m%mxeps > 0.0_wp .or. &
+                                                       m%effeps > 0.0_wp .or. m%voleps /= 0.0_wp .or. m%epssh > 0.0_wp))
+            end associate
+        end do
+        if (sh%track_strain) then
+            allocate (sh%strain(sh%n, 6, nipmax))
+        else
+            allocate (sh%strain(0, 6, nipmax))
+        end if
+        sh%strain = 0
     end subroutine build_shells
 
     !> Lumped masses: a quarter of rho h A on each node (a third for
@@ -1211,6 +1229,20 @@ contains
                 do l = 1, nb
                     if (ip > nip(l)) cycle
                     sh%sig(e0 + l, :, ip) = t(l, :)
+                end do
+            end if
+            ! the points' strains (where a criterion needs them): the rates
+            ! over the step, in the shell's frame (tensor shears)
+            if (sh%track_strain) then
+                do l = 1, nb
+                    if (ip > nip(l)) cycle
+                    e = e0 + l
+                    sh%strain(e, 1, ip) = sh%strain(e, 1, ip) + dt*dd(l, 1)
+                    sh%strain(e, 2, ip) = sh%strain(e, 2, ip) + dt*dd(l, 2)
+                    sh%strain(e, 3, ip) = sh%strain(e, 3, ip) + dt*dzz(l)
+                    sh%strain(e, 4, ip) = sh%strain(e, 4, ip) + 0.5_wp*dt*dd(l, 3)
+                    sh%strain(e, 5, ip) = sh%strain(e, 5, ip) + 0.5_wp*dt*dd(l, 4)
+                    sh%strain(e, 6, ip) = sh%strain(e, 6, ip) + 0.5_wp*dt*dd(l, 5)
                 end do
             end if
             ! powers per unit area with the old and the new stresses,

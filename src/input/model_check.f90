@@ -96,6 +96,11 @@ contains
                     model%mat(j)%sigp1 = ad%sigp1
                     model%mat(j)%sigvm = ad%sigvm
                     model%mat(j)%failtm = ad%failtm
+                    model%mat(j)%mneps = ad%mneps
+                    model%mat(j)%mxeps = ad%mxeps
+                    model%mat(j)%effeps = ad%effeps
+                    model%mat(j)%voleps = ad%voleps
+                    model%mat(j)%epssh = ad%epssh
                     model%mat(j)%numfip = ad%numfip
                     model%mat(j)%ncs = ad%ncs
                     model%mat(j)%add_src = ad%add_src

@@ -194,7 +194,17 @@ contains
         call get_real(card, 2, excl, 0.0_wp, error); if (allocated(error)) return
         call given(3, 6); if (allocated(error)) return
         m%mxpres = v(3)
-        call refuse(4, 6, 'the strain criteria (MNEPS, EFFEPS, VOLEPS)'); if (allocated(error)) return
+        m%mneps = v(4)
+        m%effeps = v(5)
+        m%voleps = v(6)
+        if (m%mneps > 0.0_wp) then
+            call card_error(card, 4, 'MNEPS, the smallest principal strain at failure, must be negative (a '// &
+                            'compression)', error)
+            return
+        end if
+        if (m%effeps < 0.0_wp) then
+            call card_error(card, 5, 'EFFEPS, the effective strain at failure, must not be negative', error); return
+        end if
         call get_int(card, 7, m%numfip, 1, error, zero_default=.true.); if (allocated(error)) return
         call get_int(card, 8, m%ncs, 1, error, zero_default=.true.); if (allocated(error)) return
         if (m%numfip < 0) then
@@ -213,7 +223,14 @@ contains
             m%sigp1 = v(2)
             m%sigvm = v(3)
             m%failtm = v(8)
-            call refuse(4, 7, 'the strain, threshold and impulse criteria (MXEPS, EPSSH, SIGTH, IMPULSE)')
+            m%mxeps = v(4)
+            m%epssh = v(5)
+            if (m%mxeps < 0.0_wp .or. m%epssh < 0.0_wp) then
+                call card_error(card, 4, 'MXEPS and EPSSH, the largest principal and shear strains at failure, '// &
+                                'must not be negative', error)
+                return
+            end if
+            call refuse(6, 7, 'the threshold and impulse criteria (SIGTH, IMPULSE)')
             if (allocated(error)) return
             if (m%sigp1 < 0.0_wp .or. m%sigvm < 0.0_wp .or. m%mxpres < 0.0_wp .or. m%failtm < 0.0_wp) then
                 call card_error(card, 2, 'SIGP1, SIGVM, MXPRES and FAILTM must not be negative', error)

@@ -90,6 +90,11 @@ module xd_model
         real(wp) :: fail = 0                  !< effective plastic strain at failure
         real(wp) :: mxpres = 0, mnpres = 0    !< pressure above / (negative) below which a point fails
         real(wp) :: sigp1 = 0, sigvm = 0      !< maximum principal and von Mises stress
+        !> the strain criteria (logarithmic strains; 0: not used): the
+        !> smallest and the largest principal strain, the effective strain
+        !> sqrt(2/3 e':e'), the volumetric strain (its sign the side), the
+        !> largest tensorial shear strain (e1 - e3) / 2
+        real(wp) :: mneps = 0, mxeps = 0, effeps = 0, voleps = 0, epssh = 0
         real(wp) :: failtm = 0                !< failure time
         integer :: numfip = 0                 !< failed points that erode a shell (0: all, FAIL alone)
         integer :: ncs = 1                    !< criteria a point must meet together

@@ -480,6 +480,7 @@ contains
         call merge_columns(sh%sig, 5*size(sh%sig, 3), dom%shell_mine)
         call merge_columns(sh%qhg, 5, dom%shell_mine)
         call merge_columns(sh%epsp, size(sh%epsp, 2), dom%shell_mine)
+        if (sh%track_strain) call merge_columns(sh%strain, 6*size(sh%strain, 3), dom%shell_mine)
         if (size(sh%alpha) > 0) call merge_wp(sh%alpha, 6*size(sh%alpha, 2), dom%shell_mine)
     end subroutine gather_element_state
 

@@ -364,7 +364,7 @@ contains
             end if
         end if
         if (solids%erodible) then
-            call solid_failures(solids, model, st%time, newly)
+            call solid_failures(solids, model, st%time, st%x, newly)
             newly = on_every_rank(dom, newly, solids%dead)
             if (size(newly) > 0) then
                 call erode_solids(solids, newly, st%x)

@@ -137,6 +137,7 @@ contains
             call dput(g, 'sig', [reshape(sh%sig, [5, size(sh%sig, 3), sh%n], order=[3, 1, 2])], nf)
             call dput(g, 'qhg', [transpose(sh%qhg)], nf)
             call dput(g, 'epsp', [transpose(sh%epsp)], nf)
+            if (sh%track_strain) call dput(g, 'strain', [sh%strain], nf)
             call dput(g, 'alpha', [sh%alpha], nf)
             call dput(g, 'eint', sh%eint, nf)
             call dput(g, 'ehg', sh%ehg, nf)
@@ -532,6 +533,9 @@ contains
             call getw(g, 'sig', size(sh%sig)); if (ok()) sh%sig = reshape(bw, shape(sh%sig), order=[2, 3, 1])
             call getw(g, 'qhg', size(sh%qhg)); if (ok()) sh%qhg = reshape(bw, shape(sh%qhg), order=[2, 1])
             call getw(g, 'epsp', size(sh%epsp)); if (ok()) sh%epsp = reshape(bw, shape(sh%epsp), order=[2, 1])
+            if (sh%track_strain) then
+                call getw(g, 'strain', size(sh%strain)); if (ok()) sh%strain = reshape(bw, shape(sh%strain))
+            end if
             call getw(g, 'alpha', size(sh%alpha)); if (ok()) sh%alpha = reshape(bw, shape(sh%alpha))
             call getd(g, 'eint', sh%n); if (ok()) sh%eint = bd
             call getd(g, 'ehg', sh%n); if (ok()) sh%ehg = bd
