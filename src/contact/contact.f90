@@ -535,7 +535,8 @@ contains
         integer :: e
         do e = 1, model%nhex
             associate (m => model%mat(model%part(model%hex_part(e))%mat_ix))
-                er(e) = m%fail > 0.0_wp .or. m%erosion .or. (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)
+                er(e) = (m%fail > 0.0_wp .or. m%erosion .or. (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)) &
+                        .and. m%mtype /= mat_rigid
             end associate
         end do
     end function erodible_hexes

@@ -237,7 +237,7 @@ contains
         logical, intent(in) :: set_mom
         integer :: e, n1, n2, nd, q, k
         real(wp) :: l, e1(3), e2(3), e3(3), dv(3), wc(3), t1(3), t2(3), r(6), old(6), phi, c, s, ei, m1(3), m2(3), sh(3)
-        real(wp) :: dte, ro, imax, wm(3), dwv(3), rh(6)
+        real(wp) :: dte, ro, imax, wm(3), dwv(3), rh(6), dvl(3), dwl(3), wml(3)
         type(plastic_params_t) :: none
         bm%dtmin = huge(1.0_wp)
         bm%crit = 0
@@ -276,11 +276,16 @@ contains
                 ! as end moments
                 wm = 0.5_wp*(w(:, n1) + w(:, n2))
                 dwv = w(:, n2) - w(:, n1)
-                call hl_update(bm%hln(e), bm%hlpt(:, :, e), l, &
-                               [dot_product(dv, e1), dot_product(dv, e2), dot_product(dv, e3)], &
-                               [dot_product(dwv, e1), dot_product(dwv, e2), dot_product(dwv, e3)], &
-                               [dot_product(wm, e1), dot_product(wm, e2), dot_product(wm, e3)], dt, bm%e(e), &
-                               bm%hlgs(e), bm%hlc(e), bm%hlaw(e) > 0, law(e), bm%hlsig(:, :, e), bm%hlep(:, e), rh)
+                dvl = [dot_product(dv, e1), dot_product(dv, e2), dot_product(dv, e3)]
+                dwl = [dot_product(dwv, e1), dot_product(dwv, e2), dot_product(dwv, e3)]
+                wml = [dot_product(wm, e1), dot_product(wm, e2), dot_product(wm, e3)]
+                if (bm%hlaw(e) > 0) then
+                    call hl_update(bm%hln(e), bm%hlpt(:, :, e), l, dvl, dwl, wml, dt, bm%e(e), bm%hlgs(e), bm%hlc(e), &
+                                   .true., bm%pps(bm%hlaw(e)), bm%hlsig(:, :, e), bm%hlep(:, e), rh)
+                else
+                    call hl_update(bm%hln(e), bm%hlpt(:, :, e), l, dvl, dwl, wml, dt, bm%e(e), bm%hlgs(e), bm%hlc(e), &
+                                   .false., none, bm%hlsig(:, :, e), bm%hlep(:, e), rh)
+                end if
                 bm%res(:, e) = hl_end_moments(rh, l)
             else
                 bm%res(1, e) = old(1) + bm%e(e)*bm%a(e)*r(1)/l*dt
@@ -342,17 +347,6 @@ contains
             end do
         end do
     contains
-        !> The plastic law of Hughes-Liu beam e (an empty one when elastic)
-        function law(e) result(pp)
-            integer, intent(in) :: e
-            type(plastic_params_t) :: pp
-            if (bm%hlaw(e) > 0) then
-                pp = bm%pps(bm%hlaw(e))
-            else
-                pp = none
-            end if
-        end function law
-
         !> Hughes-Liu beam e's stable step, 2 / omega with omega^2 bounded
         !> by Gershgorin's rows of M^-1/2 K M^-1/2 over its modes in each
         !> plane (the nodes' lumped mass m and rotary inertia j, as

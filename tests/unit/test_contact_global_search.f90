@@ -389,10 +389,17 @@ contains
             ts = 0.5_wp*s%node_t(sn)
             if (l%gap(i) > 0.0_wp) npos = npos + 1
             do m = 1, s%nseg
+                ! (first a scalar reject: a segment (under 0.05 across) whose
+                ! first node lies 0.1 off along x has every node beyond 0.05;
+                ! the same pairs skipped as by the test below, sooner)
+                if (abs(xl(1, s%seg(1, m)) - xl(1, sn)) > 0.1_wp) cycle
                 if (any(s%seg(:, m) == sn) .or. iand(s%seg_side(m), want) == 0) cycle
                 xm = xl(:, s%seg(:, m))
                 if (minval(norm2(xm - spread(xl(:, sn), 2, 4), 1)) > 0.05_wp) cycle    ! far: no need to sample
                 c = ts + 0.5_wp*maxval(s%seg_tn(:, m))
+                ! (no point of the segment is nearer than its nearest node
+                ! less its diameter: beyond reach so, no need to sample)
+                if (minval(norm2(xm - spread(xl(:, sn), 2, 4), 1)) - diameter(xm) - c > 0.5_wp*margin) cycle
                 dmin = huge(1.0_wp)
                 do a = 0, 20
                     do b = 0, 20
@@ -501,12 +508,16 @@ contains
                 if (any(s%seg(:, near(a)) == sn) .or. iand(s%seg_side(near(a)), want) == 0) nnbad = nnbad + 1
             end do
             do m = 1, s%nseg
+                ! (the scalar reject of check_clearances first)
+                if (abs(ls%xl(1, s%seg(1, m)) - ls%xl(1, sn)) > 0.1_wp) cycle
                 if (any(s%seg(:, m) == sn) .or. iand(s%seg_side(m), want) == 0) cycle
                 ! (the bound is that of the segments outside the near set)
                 if (any(near(1:nn) == m)) cycle
                 xm = ls%xl(:, s%seg(:, m))
                 if (minval(norm2(xm - spread(ls%xl(:, sn), 2, 4), 1)) > 0.05_wp) cycle    ! far: no need to sample
                 c = ts + 0.5_wp*maxval(s%seg_tn(:, m))
+                ! (beyond reach by the nearest node less the diameter)
+                if (minval(norm2(xm - spread(ls%xl(:, sn), 2, 4), 1)) - diameter(xm) - c > 0.5_wp*margin - 2*u) cycle
                 dmin = huge(1.0_wp)
                 do a = 0, 20
                     do b = 0, 20
@@ -710,5 +721,17 @@ contains
         write (b, '(i0)') i
         t = trim(b)
     end function itoa
+
+    !> The largest distance between two of a segment's nodes.
+    pure real(wp) function diameter(xm) result(d)
+        real(wp), intent(in) :: xm(3, 4)
+        integer :: i, j
+        d = 0
+        do i = 1, 3
+            do j = i + 1, 4
+                d = max(d, norm2(xm(:, i) - xm(:, j)))
+            end do
+        end do
+    end function diameter
 
 end program test_contact_global_search
