@@ -2814,8 +2814,9 @@ def test_subsystems():
         return
     log = open(os.path.join(out, "d3hsp")).read()
     want_on = ["solid elements ............ on", "shell elements ............ on", "rigid bodies .............. on"]
-    want_off = ["contact ................... off", "rigid walls ............... off"]
-    record("mixed deck: the log lists solids, shells and rigid bodies on, contact and walls off",
+    want_off = ["contact ................... off", "rigid walls ............... off",
+                "failure and erosion ....... off", "beam elements ............. off"]
+    record("mixed deck: the log lists solids, shells and rigid bodies on, contact, walls, erosion and beams off",
            all(w in log for w in want_on + want_off))
     # Only the rigid block (3.925 kg) starts moving, at 2 m/s; it drags the
     # elastic block and the shell plate after it through shared nodes.

@@ -163,8 +163,9 @@ contains
             s = s//'   shell elements ............ off (none in the deck)'//nl
         end if
         if (model%nbeam > 0) then
-            s = s//'   beam elements ............. on  (Belytschko-Schwer resultant, elastic, '//itoa(model%nbeam)// &
-                '; in the d3plot, not in d3plot.h5)'//nl
+            s = s//'   beam elements ............. on  ('//itoa(model%nbeam)//': '//itoa(beams_of(1))// &
+                ' Hughes-Liu (ELFORM 1, section points), '//itoa(beams_of(2))//' Belytschko-Schwer resultant, '// &
+                itoa(beams_of(9))//' spot welds)'//nl
         else
             s = s//'   beam elements ............. off (none in the deck)'//nl
         end if
@@ -178,6 +179,13 @@ contains
                 'four steps: surface, global and local search, enforcement)'//nl
         else
             s = s//'   contact ................... off (no contact keyword)'//nl
+        end if
+        if (any(model%mat(1:model%nmat)%fail > 0.0_wp) .or. any(model%mat(1:model%nmat)%erosion) .or. &
+            (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)) then
+            s = s//'   failure and erosion ....... on  (FAIL, FS, *MAT_ADD_EROSION or ERODE; the contact surfaces '// &
+                'follow, the faces inside eroding solids joining as they are exposed)'//nl
+        else
+            s = s//'   failure and erosion ....... off (no FAIL, FS, *MAT_ADD_EROSION or ERODE)'//nl
         end if
         if (model%ntied > 0) then
             s = s//'   tied contacts ............. on  ('//itoa(model%ntied)//' interface(s); slave nodes held on '// &
@@ -241,6 +249,17 @@ contains
             t = 'off'
             if (b) t = 'on'
         end function onoff
+        !> the beams whose section has formulation elform
+        integer function beams_of(elform) result(n)
+            integer, intent(in) :: elform
+            integer :: e
+            n = 0
+            do e = 1, model%nbeam
+                if (model%beam_part(e) <= 0) cycle
+                if (model%part(model%beam_part(e))%beam_sec_ix <= 0) cycle
+                if (model%sec_beam(model%part(model%beam_part(e))%beam_sec_ix)%elform == elform) n = n + 1
+            end do
+        end function beams_of
     end function model_summary
 
     !> Wall seconds per phase, the run's processor seconds, contact share,
