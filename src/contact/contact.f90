@@ -160,7 +160,10 @@ module xd_contact_contact
         !> gone stays, as debris); every slave without such parts
         logical, allocatable :: live(:)
         logical :: listed = .false.           !< the slaves are a node set's (always live)
-        logical :: research = .false.         !< erosion changed the surface: every slave searched next cycle
+        !> per slave: erosion changed the surface within its reach, or the
+        !> slave is inside a part (asked at set-up): searched the next cycle
+        !> it is live
+        logical, allocatable :: resl(:)
     end type interface_t
 
     !> Named in d3hsp as they happen: an initial penetration (allowed and
@@ -282,8 +285,9 @@ contains
                                    model%ctl%contact%thkchg == 1 .and. model%ctl%istupd /= 0)
                 ct%thkchg = ct%thkchg .or. it%surf%follow
                 deallocate (slaves)
-                allocate (it%live(it%surf%nslave))
+                allocate (it%live(it%surf%nslave), it%resl(it%surf%nslave))
                 it%live = .true.
+                it%resl = .false.
                 ! AUTOMATIC_GENERAL: shell edges against shell edges as well
                 if (c%kind == ct_general) call build_edges(it%surf, it%ed)
                 call pair_parts(it)
@@ -336,6 +340,11 @@ contains
         if (ct%faces%nlatent > 0) then
             ct%face_on = ct%faces%across == 0
             call set_liveness(ct, model%hex_conn(:, 1:model%nhex), [(.false., k=1, model%nhex)])
+            ! a slave inside a part is searched the first cycle erosion
+            ! exposes it
+            do k = 1, ct%n
+                ct%ifc(k)%resl = .not. ct%ifc(k)%live
+            end do
         end if
         if (ct%thkchg) then
             ! the initial thickness of the deformable shells (as the shells
@@ -547,17 +556,23 @@ contains
     !> changes, each interface's searches take the new surface
     !> (surface_activate: the lists and the nodes' springs); a slave in
     !> contact with, or holding, a segment gone lets it go; the slaves the
-    !> erosion exposed join (set_liveness) and every slave is searched next
-    !> cycle (the new segments are in no list yet); a node's spring that
-    !> stiffened may lower the contact's stable step (0.35 sqrt(m / k)).
-    !> Nothing where no face changes (and nothing without latent faces).
-    subroutine contact_erode_solids(ct, hex_conn, dead_hex)
+    !> erosion exposed join (set_liveness); they and the slaves within
+    !> reach of a segment that came or went (twice the largest pool margin
+    !> and the contact's reach from one of its nodes, at x) are searched
+    !> the next cycle (the new segments are in no list yet; a slave farther
+    !> away cannot reach them before its next search, which the margins'
+    !> bound keeps); a node's spring that stiffened may lower the
+    !> contact's stable step (0.35 sqrt(m / k)). Nothing where no face
+    !> changes (and nothing without latent faces).
+    subroutine contact_erode_solids(ct, hex_conn, dead_hex, x)
         type(contacts_t), intent(inout) :: ct
         integer, intent(in) :: hex_conn(:, :)
         logical, intent(in) :: dead_hex(:)
-        logical, allocatable :: on(:), gone(:), changed(:)
-        integer :: i, j, h, k
-        real(wp) :: dtk
+        real(wp), intent(in) :: x(:, :)     !< the model's nodes now
+        logical, allocatable :: on(:), gone(:), changed(:), near(:)
+        integer :: i, j, h, k, m, q
+        real(wp) :: dtk, r, lo(3), hi(3), p(3)
+        real(wp), allocatable :: pts(:, :)
         if (ct%faces%nlatent == 0) return
         on = ct%face_on
         do j = 1, ct%faces%n
@@ -577,6 +592,23 @@ contains
                 end do
                 if (all(on .eqv. s%seg_on)) cycle
                 gone = s%seg_on .and. .not. on
+                ! the nodes of the segments that came or went, and the slaves
+                ! within reach of them (a box first)
+                allocate (near(s%nnode))
+                near = .false.
+                do m = 1, s%nseg
+                    if (on(m) .neqv. s%seg_on(m)) near(s%seg(:, m)) = .true.
+                end do
+                pts = x(:, s%node(pack([(q, q=1, s%nnode)], near)))
+                r = 2*maxval(it%dl) + it%reach
+                lo = minval(pts, 2) - r
+                hi = maxval(pts, 2) + r
+                do k = 1, s%nslave
+                    p = x(:, s%node(s%slave(k)))
+                    if (any(p < lo) .or. any(p > hi)) cycle
+                    if (minval(sum((pts - spread(p, 2, size(pts, 2)))**2, 1)) <= r*r) it%resl(k) = .true.
+                end do
+                deallocate (near)
                 call surface_activate(s, ct%faces, on, changed)
                 do k = 1, size(it%cseg)
                     if (it%cseg(k) > 0) then
@@ -586,7 +618,6 @@ contains
                         if (gone(it%held(k))) it%held(k) = 0
                     end if
                 end do
-                it%research = .true.
                 if (.not. ct%lagrange .or. it%ed%ne > 0) then
                     do k = 1, s%nnode
                         if (.not. changed(k) .or. s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp .or. &
@@ -600,6 +631,7 @@ contains
                 end if
             end associate
         end do
+        ! (the slaves that join keep the search asked at set-up)
         call set_liveness(ct, hex_conn, dead_hex)
     end subroutine contact_erode_solids
 
@@ -658,9 +690,8 @@ contains
             associate (it => ct%ifc(i))
                 if (time < it%bt .or. time > it%dt) cycle
                 allocate (due(size(it%cmin)))
-                if (it%nsearch == 0 .or. it%research) then
+                if (it%nsearch == 0) then
                     due = .true.
-                    it%research = .false.
                 else if (.not. it%adaptive .and. cycle - it%last_cycle >= it%interval) then
                     ! the fixed interval is the longest; a class is also
                     ! searched as soon as the motion could have used up its
@@ -669,7 +700,7 @@ contains
                 else
                     due = it%cused > 1.0_wp
                 end if
-                if (.not. any(due)) then
+                if (.not. any(due) .and. .not. any(it%resl .and. it%owned .and. it%live)) then
                     ! the lists of the last searches serve this cycle: how much
                     ! of the margins has the motion used?
                     it%worst = max(it%worst, maxval(it%cused))
@@ -687,7 +718,11 @@ contains
                     it%ls%lcodo = 0
                 end if
                 call gather_x(x, it%surf%node, it%xl)
-                todo = it%owned .and. it%live .and. due(it%cls)
+                ! (and the slaves whose surface erosion changed)
+                todo = it%owned .and. it%live .and. (due(it%cls) .or. it%resl)
+                ! (every rank alike: the live ones are searched by their
+                ! owners now)
+                it%resl = it%resl .and. .not. it%live
                 ! (the characteristic lengths taken there, of the nodes bucketed)
                 call build_master_lists(it%surf, it%xl, it%ls%lc, it%reach, it%dl, ct%mnl, it%lists, cnt, todo, &
                                         it%nsearch + 1, it%odo, it%ls%lcodo)

@@ -374,7 +374,7 @@ contains
                 end do
                 ! the faces they exposed join the contact surfaces, theirs leave
                 if (ct%n > 0) call contact_erode_solids(ct, model%hex_conn(:, 1:model%nhex), &
-                                                        dead_model_hexes(solids, model%nhex))
+                                                        dead_model_hexes(solids, model%nhex), st%x)
             end if
         end if
     end subroutine erosion_phase

@@ -227,7 +227,7 @@ contains
                 call dput(r, 'pair_imp', [it%pair_imp], nf)
                 call dput(r, 'pair_work', [it%pair_work], nf)
                 ! a surface that erosion rebuilds: the search it asked for
-                if (ct%faces%nlatent > 0) call dput(r, 'research', [merge(1, 0, it%research)], nf)
+                if (ct%faces%nlatent > 0) call dput(r, 'research', merge(1, 0, it%resl), nf)
                 if (it%ed%ne > 0) then
                     ! the edge pairs of the last search and their state
                     associate (ed => it%ed)
@@ -712,7 +712,7 @@ contains
                 call geti(r, 'cseg', size(it%cseg)); if (ok()) it%cseg = bi
                 call geti(r, 'held', size(it%held)); if (ok()) it%held = bi
                 if (ct%faces%nlatent > 0) then
-                    call geti(r, 'research', 1); if (ok()) it%research = bi(1) /= 0
+                    call geti(r, 'research', size(it%resl)); if (ok()) it%resl = bi /= 0
                 end if
                 call getw(r, 'fprev', size(it%fprev)); if (ok()) it%fprev = reshape(bw, shape(it%fprev))
                 call getw(r, 'ft', size(it%ft)); if (ok()) it%ft = reshape(bw, shape(it%ft))
