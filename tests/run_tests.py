@@ -1376,28 +1376,12 @@ def tiebreak_deck(mode="normal", option=1, nfls=1e6, sfls=0.5e6, param=0.0, tend
     return "\n".join(L) + "\n"
 
 
-def sphere_plate_deck(v=300.0, fail=0.15, tend=2e-4, nsp=4, R=0.008):
-    """A rigid sphere (radius 8 mm, 96 shells of a cube projected on it,
-    7850 kg/m3 as 1 mm shells) at v onto a clamped 1 mm steel plate (40 x 40
-    mm, 16 x 16 shells, *MAT_024 300 MPa, tangent 1 GPa, FAIL as given),
-    surface-to-surface contact."""
-    L = ["*KEYWORD", "*TITLE", "a rigid sphere through an eroding plate", "*CONTROL_TERMINATION", f"{tend:10.3e}",
-         "*DATABASE_GLSTAT", " 2.000e-06", "*DATABASE_MATSUM", " 2.000e-06", "*DATABASE_BINARY_D3PLOT", " 1.000e-05",
-         "*SECTION_SHELL", "         1         2         1         3", "     0.001     0.001     0.001     0.001",
-         "*SECTION_SHELL", "         2         2         1         2", "     0.001     0.001     0.001     0.001",
-         "*MAT_PIECEWISE_LINEAR_PLASTICITY", f"         1      7850     2e+11       0.3     3e+08     1e+09{fail:10.4g}",
-         "*MAT_RIGID", "         2      7850     2e+11       0.3",
-         "*PART", "plate", "         1         1         1", "*PART", "sphere", "         2         2         2", "*NODE"]
-    n, h = 16, 0.04 / 16
-    nid, pl = 0, {}
-    for j in range(n + 1):
-        for i in range(n + 1):
-            nid += 1
-            pl[i, j] = nid
-            L.append(f"{nid:8d}{-0.02 + i*h:16.9e}{-0.02 + j*h:16.9e}{0.0:16.9e}       0       0")
-    # cube-sphere
-    zc = R + 0.0015
+def cube_sphere(L, nid, R, zc, nsp):
+    """The nodes of a sphere of radius R centred at z = zc (a cube's faces,
+    nsp x nsp each, projected on it) appended to the deck lines L from node
+    nid + 1; returns the last node id and the quadrilaterals (outward)."""
     pts, quads = {}, []
+
     def node(p):
         nonlocal nid
         key = tuple(np.round(p, 12))
@@ -1419,9 +1403,31 @@ def sphere_plate_deck(v=300.0, fail=0.15, tend=2e-4, nsp=4, R=0.008):
                         p[(ax + 1) % 3] = g[a + da]
                         p[(ax + 2) % 3] = g[b + db]
                         c.append(node(p))
-                    if sgn < 0:
-                        c = c[::-1]
-                    quads.append(c)
+                    quads.append(c[::-1] if sgn < 0 else c)
+    return nid, quads
+
+
+def sphere_plate_deck(v=300.0, fail=0.15, tend=2e-4, nsp=4, R=0.008):
+    """A rigid sphere (radius 8 mm, 96 shells of a cube projected on it,
+    7850 kg/m3 as 1 mm shells) at v onto a clamped 1 mm steel plate (40 x 40
+    mm, 16 x 16 shells, *MAT_024 300 MPa, tangent 1 GPa, FAIL as given),
+    surface-to-surface contact."""
+    L = ["*KEYWORD", "*TITLE", "a rigid sphere through an eroding plate", "*CONTROL_TERMINATION", f"{tend:10.3e}",
+         "*DATABASE_GLSTAT", " 2.000e-06", "*DATABASE_MATSUM", " 2.000e-06", "*DATABASE_BINARY_D3PLOT", " 1.000e-05",
+         "*SECTION_SHELL", "         1         2         1         3", "     0.001     0.001     0.001     0.001",
+         "*SECTION_SHELL", "         2         2         1         2", "     0.001     0.001     0.001     0.001",
+         "*MAT_PIECEWISE_LINEAR_PLASTICITY", f"         1      7850     2e+11       0.3     3e+08     1e+09{fail:10.4g}",
+         "*MAT_RIGID", "         2      7850     2e+11       0.3",
+         "*PART", "plate", "         1         1         1", "*PART", "sphere", "         2         2         2", "*NODE"]
+    n, h = 16, 0.04 / 16
+    nid, pl = 0, {}
+    for j in range(n + 1):
+        for i in range(n + 1):
+            nid += 1
+            pl[i, j] = nid
+            L.append(f"{nid:8d}{-0.02 + i*h:16.9e}{-0.02 + j*h:16.9e}{0.0:16.9e}       0       0")
+    # cube-sphere
+    nid, quads = cube_sphere(L, nid, R, R + 0.0015, nsp)
     L.append("*ELEMENT_SHELL")
     e = 0
     for j in range(n):
@@ -2166,31 +2172,7 @@ def sphere_solid_plate_deck(contact="ERODING_SURFACE_TO_SURFACE", top_only=False
                 nid += 1
                 pl[i, j, k] = nid
                 L.append(f"{nid:8d}{-W / 2 + i * h:16.9e}{-W / 2 + j * h:16.9e}{-H + k * dz:16.9e}       0       0")
-    zc = R + 0.0005
-    pts, quads = {}, []
-
-    def node(p):
-        nonlocal nid
-        key = tuple(np.round(p, 12))
-        if key not in pts:
-            nid += 1
-            pts[key] = nid
-            q = np.array(p) / np.linalg.norm(p) * R
-            L.append(f"{nid:8d}{q[0]:16.9e}{q[1]:16.9e}{q[2] + zc:16.9e}       0       0")
-        return pts[key]
-    g = np.linspace(-1, 1, nsp + 1)
-    for ax in range(3):
-        for sgn in (-1, 1):
-            for a in range(nsp):
-                for b in range(nsp):
-                    c = []
-                    for (da, db) in ((0, 0), (1, 0), (1, 1), (0, 1)):
-                        p = [0.0, 0.0, 0.0]
-                        p[ax] = sgn
-                        p[(ax + 1) % 3] = g[a + da]
-                        p[(ax + 2) % 3] = g[b + db]
-                        c.append(node(p))
-                    quads.append(c[::-1] if sgn < 0 else c)
+    nid, quads = cube_sphere(L, nid, R, R + 0.0005, nsp)
     L.append("*ELEMENT_SOLID")
     e, top = 0, []
     for k in range(nz):

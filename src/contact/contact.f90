@@ -186,7 +186,7 @@ module xd_contact_contact
     integer, parameter :: drift_chunk = 1024
     !> list_pairs counts and lists the pairs in chunks of this many slaves
     integer, parameter :: pair_chunk = 4096
-    real(wp), parameter :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
+    real(wp), parameter, public :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
 
     type :: contact_event_t
         integer :: kind = ev_none
@@ -498,7 +498,7 @@ contains
         logical, intent(in) :: dead_shell(0:)
         logical, allocatable :: segdead(:)
         integer, allocatable :: ptr(:), list(:)
-        integer :: i, nd, q, n, k
+        integer :: i, nd, q, n
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 segdead = dead_shell(ct%faces%shell(s%seg_face))
@@ -519,21 +519,30 @@ contains
                 s%seg_ptr = ptr
                 s%seg_list = list(1:n)
                 deallocate (ptr, list)
-                do k = 1, size(it%cseg)
-                    if (it%cseg(k) > 0) then
-                        if (segdead(it%cseg(k))) it%cseg(k) = 0
-                    end if
-                end do
-                if (allocated(it%held)) then
-                    do k = 1, size(it%held)
-                        if (it%held(k) > 0) then
-                            if (segdead(it%held(k))) it%held(k) = 0
-                        end if
-                    end do
-                end if
+                call let_go(it, segdead)
             end associate
         end do
     end subroutine contact_erode
+
+    !> Interface it's slaves in contact with, or holding, a segment `gone`
+    !> let it go.
+    subroutine let_go(it, gone)
+        type(interface_t), intent(inout) :: it
+        logical, intent(in) :: gone(:)
+        integer :: k
+        do k = 1, size(it%cseg)
+            if (it%cseg(k) > 0) then
+                if (gone(it%cseg(k))) it%cseg(k) = 0
+            end if
+        end do
+        if (allocated(it%held)) then
+            do k = 1, size(it%held)
+                if (it%held(k) > 0) then
+                    if (gone(it%held(k))) it%held(k) = 0
+                end if
+            end do
+        end if
+    end subroutine let_go
 
     !> The model's hexahedra whose part's material can erode (FAIL, FS or
     !> *MAT_ADD_EROSION), or every one with ERODE (its step), as the solids
@@ -564,16 +573,22 @@ contains
     !> bound keeps); a node's spring that stiffened may lower the
     !> contact's stable step (0.35 sqrt(m / k)). Nothing where no face
     !> changes (and nothing without latent faces).
-    subroutine contact_erode_solids(ct, hex_conn, dead_hex, x)
+    subroutine contact_erode_solids(ct, hex_conn, dead_hex, x, restart)
         type(contacts_t), intent(inout) :: ct
         integer, intent(in) :: hex_conn(:, :)
         logical, intent(in) :: dead_hex(:)
         real(wp), intent(in) :: x(:, :)     !< the model's nodes now
+        !> from a restart dump: the surfaces alone (the searches asked and
+        !> the stable step are the dump's)
+        logical, intent(in), optional :: restart
+        logical :: keep_state
         logical, allocatable :: on(:), gone(:), changed(:), near(:)
         integer :: i, j, h, k, m, q
-        real(wp) :: dtk, r, lo(3), hi(3), p(3)
+        real(wp) :: r, lo(3), hi(3), p(3)
         real(wp), allocatable :: pts(:, :)
         if (ct%faces%nlatent == 0) return
+        keep_state = .false.
+        if (present(restart)) keep_state = restart
         on = ct%face_on
         do j = 1, ct%faces%n
             h = ct%faces%hex(j)
@@ -593,7 +608,9 @@ contains
                 if (all(on .eqv. s%seg_on)) cycle
                 gone = s%seg_on .and. .not. on
                 ! the nodes of the segments that came or went, and the slaves
-                ! within reach of them (a box first)
+                ! within reach of them (a box first); on a restart, the
+                ! searches and the step as the dump has them
+                if (.not. keep_state) then
                 allocate (near(s%nnode))
                 near = .false.
                 do m = 1, s%nseg
@@ -609,26 +626,10 @@ contains
                     if (minval(sum((pts - spread(p, 2, size(pts, 2)))**2, 1)) <= r*r) it%resl(k) = .true.
                 end do
                 deallocate (near)
-                call surface_activate(s, ct%faces, on, changed)
-                do k = 1, size(it%cseg)
-                    if (it%cseg(k) > 0) then
-                        if (gone(it%cseg(k))) it%cseg(k) = 0
-                    end if
-                    if (it%held(k) > 0) then
-                        if (gone(it%held(k))) it%held(k) = 0
-                    end if
-                end do
-                if (.not. ct%lagrange .or. it%ed%ne > 0) then
-                    do k = 1, s%nnode
-                        if (.not. changed(k) .or. s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp .or. &
-                            s%node_rigid(k)) cycle
-                        dtk = contact_step_scale*sqrt(it%ms(k)/s%node_k(k))
-                        if (dtk < ct%dt_limit) then
-                            ct%dt_limit = dtk
-                            ct%dt_node = s%node(k)
-                        end if
-                    end do
                 end if
+                call surface_activate(s, ct%faces, on, changed)
+                call let_go(it, gone)
+                if (.not. keep_state .and. (.not. ct%lagrange .or. it%ed%ne > 0)) call spring_step(ct, it, changed)
             end associate
         end do
         ! (the slaves that join keep the search asked at set-up)
@@ -912,7 +913,6 @@ contains
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: mass(:)
         integer :: i, k, n
-        real(wp) :: dtk
         allocate (ct%fnode(3, size(mass)))
         ct%fnode = 0
         do i = 1, ct%n
@@ -943,17 +943,31 @@ contains
                 ! the Lagrangian projection has no springs to bound (the edge
                 ! pairs of AUTOMATIC_GENERAL keep theirs)
                 if (ct%lagrange .and. it%ed%ne == 0) cycle
-                do k = 1, s%nnode
-                    if (s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp .or. s%node_rigid(k)) cycle
-                    dtk = contact_step_scale*sqrt(it%ms(k)/s%node_k(k))
-                    if (dtk < ct%dt_limit) then
-                        ct%dt_limit = dtk
-                        ct%dt_node = s%node(k)
-                    end if
-                end do
+                call spring_step(ct, it, [(.true., k=1, s%nnode)])
             end associate
         end do
     end subroutine contact_masses
+
+    !> The contact's stable step lowered to 0.35 sqrt(m / k) of the nodes
+    !> `at` of interface it (their spring as slave and master, a node on
+    !> rigid parts left out), and the node that sets it.
+    subroutine spring_step(ct, it, at)
+        type(contacts_t), intent(inout) :: ct
+        type(interface_t), intent(in) :: it
+        logical, intent(in) :: at(:)
+        integer :: k
+        real(wp) :: dtk
+        associate (s => it%surf)
+            do k = 1, s%nnode
+                if (.not. at(k) .or. s%node_k(k) <= 0.0_wp .or. it%ms(k) <= 0.0_wp .or. s%node_rigid(k)) cycle
+                dtk = contact_step_scale*sqrt(it%ms(k)/s%node_k(k))
+                if (dtk < ct%dt_limit) then
+                    ct%dt_limit = dtk
+                    ct%dt_node = s%node(k)
+                end if
+            end do
+        end associate
+    end subroutine spring_step
 
     !> Step 3 on x(n) with v(n-1/2): each slave's contact this cycle
     !> (slaves are independent of each other).

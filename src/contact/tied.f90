@@ -47,7 +47,7 @@ module xd_contact_tied
     use xd_contact_surface, only: faces_t, build_faces, segment_diagonals, seg_shell
     use xd_contact_segment_check, only: project_segment
     use xd_core_vectors, only: cross
-    use xd_contact_contact, only: faces_of
+    use xd_contact_contact, only: faces_of, contact_step_scale
     implicit none
     private
     public :: ties_t, place_ties, start_ties, tie_forces, tie_accelerations, tie_velocities, tie_kinetic, tie_break, &
@@ -57,7 +57,6 @@ module xd_contact_tied
     integer, parameter :: tie_held = 0, tie_softening = 1, tie_broken = 2
     !> OPTION 9: held by the cohesive law's springs, undamaged or softening
     integer, parameter :: tie_cohesive = 3, tie_damaging = 4
-    real(wp), parameter :: spring_step_scale = 0.35_wp   !< as the contact springs' bound: 0.35 sqrt(m / k)
 
     !> A uniform grid of the master segments for the set-up search.
     type :: seg_grid_t
@@ -648,7 +647,7 @@ contains
             end do
             do j = 1, model%nnode
                 if (knode(j) <= 0.0_wp .or. mass(j) <= 0.0_wp .or. member(j)) cycle
-                dtk = spring_step_scale*sqrt(mass(j)/knode(j))
+                dtk = contact_step_scale*sqrt(mass(j)/knode(j))
                 if (dtk < td%dt_limit) then
                     td%dt_limit = dtk
                     td%dt_node = j
@@ -838,8 +837,8 @@ contains
         !> tie place over PARAM (never healing); the work it takes is booked
         subroutine soften(k)
             integer, intent(in) :: k
-            real(wp) :: e(3, 3), u(3), fc(3), xm(3, 4), fq(3, 4)
-            integer :: q, s
+            real(wp) :: e(3, 3), u(3), fc(3), xm(3, 4)
+            integer :: s
             s = td%slave(k)
             xm = x(:, td%mnode(:, k))
             e = seg_frame(xm)
@@ -853,7 +852,17 @@ contains
                 td%state(k) = tie_broken
                 return
             end if
-            fc = (1 - td%dmg(k))*matmul(e, td%f0(:, k))
+            call pair_force(k, xm, (1 - td%dmg(k))*matmul(e, td%f0(:, k)))
+        end subroutine soften
+
+        !> fc on slave k, its reaction on its segment's nodes (N_j), and the
+        !> couple of its gap, r x (-fc), as forces that sum to zero
+        subroutine pair_force(k, xm, fc)
+            integer, intent(in) :: k
+            real(wp), intent(in) :: xm(3, 4), fc(3)
+            real(wp) :: fq(3, 4)
+            integer :: q, s
+            s = td%slave(k)
             f(:, s) = f(:, s) + fc
             do q = 1, 4
                 f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) - td%phi(q, k)*fc
@@ -862,15 +871,15 @@ contains
             do q = 1, 4
                 f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) + fq(:, q)
             end do
-        end subroutine soften
+        end subroutine pair_force
 
         !> OPTION 9: the slave's separation from its tie place (its gap at
         !> t = 0 kept) in the segment's frame, the cohesive law's tractions
         !> on it times its area; the interface's work booked
         subroutine cohesive(k)
             integer, intent(in) :: k
-            real(wp) :: e(3, 3), u(3), d(3), tr(3), fc(3), xm(3, 4), fq(3, 4)
-            integer :: q, s, i
+            real(wp) :: e(3, 3), u(3), d(3), tr(3), fc(3), xm(3, 4)
+            integer :: s, i
             s = td%slave(k)
             i = td%ifc(k)
             xm = x(:, td%mnode(:, k))
@@ -887,14 +896,7 @@ contains
             td%ework = td%ework - 0.5_dp*dot_product(real(td%f0(:, k) + fc, dp), real(u - td%urel(:, k), dp))
             td%urel(:, k) = u
             td%f0(:, k) = fc
-            f(:, s) = f(:, s) + fc
-            do q = 1, 4
-                f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) - td%phi(q, k)*fc
-            end do
-            fq = couple_forces(xm, cross(x(:, s) - matmul(xm, td%phi(:, k)), -fc))
-            do q = 1, 4
-                f(:, td%mnode(q, k)) = f(:, td%mnode(q, k)) + fq(:, q)
-            end do
+            call pair_force(k, xm, fc)
         end subroutine cohesive
     end subroutine tie_forces
 

@@ -39,6 +39,7 @@ module xd_elements_beam_bs
     use xd_core_vectors, only: cross
     use xd_materials_plasticity, only: plastic_params_t
     use xd_elements_beam_hl, only: hl_section, hl_update, hl_end_moments, max_points
+    use xd_elements_solid_groups, only: material_plastic_law
     implicit none
     private
     public :: beams_t, build_beams, beam_masses, beam_forces
@@ -79,17 +80,9 @@ module xd_elements_beam_bs
 
 contains
 
-    subroutine build_beams(model, bm, plastic_law)
+    subroutine build_beams(model, bm)
         type(model_t), intent(in) :: model
         type(beams_t), intent(out) :: bm
-        interface
-            subroutine plastic_law(model, mix, pp)
-                import :: model_t, plastic_params_t
-                type(model_t), intent(in) :: model
-                integer, intent(in) :: mix
-                type(plastic_params_t), intent(out) :: pp
-            end subroutine plastic_law
-        end interface
         integer, allocatable :: law_of(:)
         real(wp) :: ip
         integer :: e, p, k, nd
@@ -149,7 +142,7 @@ contains
                     if (m%mtype == mat_plastic_kinematic .or. m%mtype == mat_piecewise_linear) then
                         if (law_of(model%part(p)%mat_ix) == 0) then
                             bm%pps = [bm%pps, plastic_params_t()]
-                            call plastic_law(model, model%part(p)%mat_ix, bm%pps(size(bm%pps)))
+                            call material_plastic_law(model, model%part(p)%mat_ix, bm%pps(size(bm%pps)))
                             ! (isotropic hardening in the beams: BETA's
                             ! kinematic share and the rate factor are
                             ! warned at input)
@@ -213,18 +206,29 @@ contains
         real(wp), intent(in) :: x(:, :)
         real(wp), intent(inout) :: mass(:), irot(:)
         integer :: e, k
-        real(wp) :: l, m, j, imax
+        real(wp) :: l, m, j
         do e = 1, bm%n
             l = norm2(x(:, bm%conn(2, e)) - x(:, bm%conn(1, e)))
-            m = (bm%ro(e)*bm%a(e) + bm%nsm(e))*l/2
-            imax = max(bm%iss(e), bm%itt(e))
-            j = bm%ro(e)*l*max(bm%a(e)*l**2/24 + imax/2, 1.5_wp*imax)
+            call node_inertia(bm, e, l, m, j)
             do k = 1, 2
                 mass(bm%conn(k, e)) = mass(bm%conn(k, e)) + m
                 irot(bm%conn(k, e)) = irot(bm%conn(k, e)) + j
             end do
         end do
     end subroutine beam_masses
+
+    !> Beam e's lumped mass and rotary inertia at each of its nodes at
+    !> length l (see the module's note).
+    pure subroutine node_inertia(bm, e, l, m, j)
+        type(beams_t), intent(in) :: bm
+        integer, intent(in) :: e
+        real(wp), intent(in) :: l
+        real(wp), intent(out) :: m, j
+        real(wp) :: imax
+        m = (bm%ro(e)*bm%a(e) + bm%nsm(e))*l/2
+        imax = max(bm%iss(e), bm%itt(e))
+        j = bm%ro(e)*l*max(bm%a(e)*l**2/24 + imax/2, 1.5_wp*imax)
+    end subroutine node_inertia
 
     !> The beams' forces and moments at x(n) from v(n-1/2), w(n-1/2), added to
     !> f and mom in node order (mom set, not added, where `set_mom`: no
@@ -359,9 +363,7 @@ contains
             real(wp), intent(in) :: l
             real(wp) :: m, j, gas, om2, ii
             integer :: q
-            m = (bm%ro(e)*bm%a(e) + bm%nsm(e))*l/2
-            ii = max(bm%iss(e), bm%itt(e))
-            j = bm%ro(e)*l*max(bm%a(e)*l**2/24 + ii/2, 1.5_wp*ii)
+            call node_inertia(bm, e, l, m, j)
             gas = bm%hlgs(e)*bm%a(e)
             om2 = max(2*bm%e(e)*bm%a(e)/(l*m), 2*bm%g(e)*bm%j(e)/(l*j))
             do q = 1, 2

@@ -221,11 +221,12 @@ contains
         real(wp), intent(in) :: s(6), epsp
         logical, intent(in) :: plastic
         real(wp), intent(in), optional :: ep(3)   !< principal strains, descending
-        real(wp) :: p, s1, vm
+        real(wp) :: p, s1, vm, e3(3)
         f = plastic .and. m%fail > 0.0_wp .and. epsp >= m%fail
         if (f .or. .not. m%erosion) return
         p = -(s(1) + s(2) + s(3))/3
-        s1 = max(largest_principal(s), 0.0_wp)
+        e3 = principal_values(s)
+        s1 = max(e3(1), 0.0_wp)
         vm = sqrt(max(0.5_wp*((s(1) - s(2))**2 + (s(2) - s(3))**2 + (s(3) - s(1))**2) + &
                       3*(s(4)**2 + s(5)**2 + s(6)**2), 0.0_wp))
         f = stress_fails(m, p, s1, vm, ep)
@@ -248,28 +249,6 @@ contains
         ep = principal_values([c(1, 1), c(2, 2), c(3, 3), c(1, 2), c(2, 3), c(3, 1)])
         ep = 0.5_wp*log(max(ep, tiny(1.0_wp)))
     end function solid_strains
-
-    !> The largest eigenvalue of the symmetric tensor s (xx yy zz xy yz zx):
-    !> the deviator's invariants J2, J3 and Lode's angle (the closed form for
-    !> a symmetric 3 x 3).
-    pure real(wp) function largest_principal(s) result(s1)
-        real(wp), intent(in) :: s(6)
-        real(wp), parameter :: pi = 3.141592653589793_wp
-        real(wp) :: pm, d1, d2, d3, j2, j3, r, th
-        pm = (s(1) + s(2) + s(3))/3
-        d1 = s(1) - pm
-        d2 = s(2) - pm
-        d3 = s(3) - pm
-        j2 = 0.5_wp*(d1**2 + d2**2 + d3**2) + s(4)**2 + s(5)**2 + s(6)**2
-        if (j2 <= 0.0_wp) then
-            s1 = pm
-            return
-        end if
-        j3 = d1*d2*d3 + 2*s(4)*s(5)*s(6) - d1*s(5)**2 - d2*s(6)**2 - d3*s(4)**2
-        r = 1.5_wp*sqrt(3.0_wp)*j3/j2**1.5_wp
-        th = acos(max(-1.0_wp, min(1.0_wp, r)))/3
-        s1 = pm + 2*sqrt(j2/3)*cos(th)
-    end function largest_principal
 
     !> Erode the solids `gone` (on every rank alike): frozen on their
     !> coordinates x now, their force slots zeroed. Their last forces are

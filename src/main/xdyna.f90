@@ -83,8 +83,6 @@ program xdyna
     character(len=:), allocatable :: memory_note, hold, step_note
     real(dp) :: endtim_cli
     integer :: i, k, ncpu, nfree, nparts, endcyc_cli, nmoved, nprocs
-    logical, allocatable :: research(:)   !< restart: the contact searches the dump asked for (per slave)
-    real(wp) :: dt_keep                   !< restart: the contact springs' stable step the dump holds
     character(len=:), allocatable :: bad_out
     !> the files a run writes in its output directory (besides d3hsp and
     !> the d3plot members)
@@ -341,22 +339,8 @@ program xdyna
         ! surfaces again
         ! (the searches asked for and the stable step as the dump has them)
         if (solids%erodible .and. ct%n > 0) then
-            if (any(solids%dead)) then
-                dt_keep = ct%dt_limit
-                k = ct%dt_node
-                research = [logical ::]
-                do i = 1, ct%n
-                    research = [research, ct%ifc(i)%resl]
-                end do
-                call contact_erode_solids(ct, model%hex_conn(:, 1:model%nhex), dead_model_hexes(solids, model%nhex), &
-                                          st%x)
-                do i = 1, ct%n
-                    ct%ifc(i)%resl = research(1:size(ct%ifc(i)%resl))
-                    research = research(size(ct%ifc(i)%resl) + 1:)
-                end do
-                ct%dt_limit = dt_keep
-                ct%dt_node = k
-            end if
+            if (any(solids%dead)) call contact_erode_solids(ct, model%hex_conn(:, 1:model%nhex), &
+                                                            dead_model_hexes(solids, model%nhex), st%x, restart=.true.)
         end if
         call open_histories(model, stem, rg, hist, ok, resume=hmarks, writer=env%rank == 0, rotating=st%rot)
     else

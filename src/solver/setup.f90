@@ -55,7 +55,7 @@ contains
         call rigid_lumped_mass(model, st)
         call build_shells(model, sh, material_plastic_law)
         call mass_scaling_arrays(model%ctl, solids, sh)
-        call build_beams(model, bm, material_plastic_law)
+        call build_beams(model, bm)
         if (sh%n > 0 .or. bm%n > 0) then
             st%rot = .true.
             call alloc(st%vr, 3, st%nnode, 'angular velocities')
