@@ -3697,6 +3697,19 @@ def test_threads():
         record(f"{name} with contact: OMP_NUM_THREADS 1, 2 and 4 give bitwise identical time histories",
                all(p.returncode == 0 for p, _ in runs) and all(q.returncode == 0 for q in qs),
                " ".join(q.stdout[-200:] for q in qs))
+    # a run started without a launcher does not start MPI (its start and
+    # finish cost 0.4 s a run): the one-rank operations in its place give
+    # Open MPI's lone rank (XDYNA_MPI=1) bit for bit, and d3hsp says which
+    a, oa = run_deck("input_decks/contact/tube_crush.k", "lone_nompi", env={"OMP_NUM_THREADS": "1"},
+                     extra=("endtim=0.0015",))
+    b, ob = run_deck("input_decks/contact/tube_crush.k", "lone_mpi", env={"OMP_NUM_THREADS": "1", "XDYNA_MPI": "1"},
+                     extra=("endtim=0.0015",))
+    q = run([THDIFF, oa, ob, "--rtol", "0", "--atol", "0"])
+    la = open(os.path.join(oa, "d3hsp")).read()
+    lb = open(os.path.join(ob, "d3hsp")).read()
+    record("a lone run without MPI gives the lone MPI rank's (XDYNA_MPI=1) histories bitwise, d3hsp saying which",
+           a.returncode == 0 and b.returncode == 0 and q.returncode == 0 and "MPI not started" in la
+           and "MPI not started" not in lb and " ranks 1, threads per rank 1" in lb, q.stdout[-200:])
 
 
 def mpirun(np_, args, threads=1):

@@ -816,6 +816,22 @@ contains
             lists%og = 0
             lists%at = 0
         end if
+        ! where each searched slave's list and pool go, in slave order (the
+        ! store's layout does not depend on the threads), then the copies, a
+        ! block a thread
+        do ib = 1, size(blk)
+            first = (ib - 1)*block_size + 1
+            do i = 1, size(blk(ib)%cnt)
+                k = first + i - 1
+                if (.not. todo(k)) cycle
+                lists%gap(k) = blk(ib)%gap(i)
+                call slot(lists%ptr(k), lists%last(k), lists%nused, lists%ndead, blk(ib)%cnt(i))
+                call slot(lists%pool_ptr(k), lists%pool_last(k), lists%pused, lists%pdead, blk(ib)%pcnt(i))
+            end do
+        end do
+        call room(lists%node, lists%trackable, lists%nused)
+        call room_int(lists%pool_node, lists%pused)
+        !$omp parallel do schedule(dynamic) private(first, qb, pb, i, k, c, pc)
         do ib = 1, size(blk)
             first = (ib - 1)*block_size + 1
             qb = 0
@@ -825,20 +841,14 @@ contains
                 if (.not. todo(k)) cycle
                 c = blk(ib)%cnt(i)
                 pc = blk(ib)%pcnt(i)
-                lists%gap(k) = blk(ib)%gap(i)
-                ! the master nodes
-                call slot(lists%ptr(k), lists%last(k), lists%nused, lists%ndead, c)
-                call room(lists%node, lists%trackable, lists%nused)
                 lists%node(lists%ptr(k):lists%last(k)) = blk(ib)%node(qb + 1:qb + c)
                 lists%trackable(lists%ptr(k):lists%last(k)) = blk(ib)%trk(qb + 1:qb + c)
-                qb = qb + c
-                ! the pool
-                call slot(lists%pool_ptr(k), lists%pool_last(k), lists%pused, lists%pdead, pc)
-                call room_int(lists%pool_node, lists%pused)
                 lists%pool_node(lists%pool_ptr(k):lists%pool_last(k)) = blk(ib)%pool(pb + 1:pb + pc)
+                qb = qb + c
                 pb = pb + pc
             end do
         end do
+        !$omp end parallel do
         if (2*lists%ndead > lists%nused) call compact_lists(lists)
         if (2*lists%pdead > lists%pused) call compact_pools(lists)
     contains

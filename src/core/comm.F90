@@ -3,9 +3,11 @@
 !> are sums where every entry has one contributing rank and the others give
 !> zero (x + 0 = x), so their result does not depend on the order MPI
 !> chooses: this is how the ranks share what their own elements and slave
-!> nodes computed and still reproduce the serial run bit for bit.
+!> nodes computed and still reproduce the serial run bit for bit. A run
+!> started without a launcher does not start MPI (xd_core_parallel_env):
+!> it is one rank, and each operation is then that of one rank.
 module xd_core_comm
-    use mpi_f08, only: MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, &
+    use mpi_f08, only: MPI_Initialized, MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, &
                        MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_Datatype
     use xd_kinds, only: wp, dp
     implicit none
@@ -13,6 +15,11 @@ module xd_core_comm
     public :: comm_gather_wp, comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max, comm_gather_small, comm_gather_records
 
 contains
+
+    !> MPI was started (else this process is the one rank).
+    logical function up()
+        call MPI_Initialized(up)
+    end function up
 
     type(MPI_Datatype) function wp_type()
 #ifdef XD_SINGLE
@@ -26,14 +33,14 @@ contains
     subroutine comm_sum_wp(a, n)
         integer, intent(in) :: n
         real(wp), intent(inout) :: a(*)
-        if (n > 0) call MPI_Allreduce(MPI_IN_PLACE, a(1:n), n, wp_type(), MPI_SUM, MPI_COMM_WORLD)
+        if (n > 0 .and. up()) call MPI_Allreduce(MPI_IN_PLACE, a(1:n), n, wp_type(), MPI_SUM, MPI_COMM_WORLD)
     end subroutine comm_sum_wp
 
 
     subroutine comm_sum_int(a, n)
         integer, intent(in) :: n
         integer, intent(inout) :: a(*)
-        if (n > 0) call MPI_Allreduce(MPI_IN_PLACE, a(1:n), n, MPI_INTEGER, MPI_SUM, MPI_COMM_WORLD)
+        if (n > 0 .and. up()) call MPI_Allreduce(MPI_IN_PLACE, a(1:n), n, MPI_INTEGER, MPI_SUM, MPI_COMM_WORLD)
     end subroutine comm_sum_int
 
     !> all = every rank's `mine`, rank after rank (rank r - 1 gives cnt(r)
@@ -42,25 +49,33 @@ contains
         integer, intent(in) :: n, cnt(:), disp(:)
         real(wp), intent(in) :: mine(*)
         real(wp), intent(inout) :: all(*)
+        if (.not. up()) then
+            all(disp(1) + 1:disp(1) + n) = mine(1:n)
+            return
+        end if
         call MPI_Allgatherv(mine(1:max(n, 1)), n, wp_type(), all(1:sum(cnt)), cnt, disp, wp_type(), MPI_COMM_WORLD)
     end subroutine comm_gather_wp
 
     !> In-place sum over the ranks of a(:) in double precision.
     subroutine comm_sum_dp(a)
         real(dp), contiguous, intent(inout) :: a(:)
-        call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_DOUBLE_PRECISION, MPI_SUM, MPI_COMM_WORLD)
+        if (up()) call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_DOUBLE_PRECISION, MPI_SUM, MPI_COMM_WORLD)
     end subroutine comm_sum_dp
 
     !> In-place maximum over the ranks of a(:).
     subroutine comm_max(a)
         real(dp), contiguous, intent(inout) :: a(:)
-        call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
+        if (up()) call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
     end subroutine comm_max
 
     !> all(:, r) = rec from rank r - 1 (a few values per rank).
     subroutine comm_gather_small(rec, all)
         real(dp), contiguous, intent(in) :: rec(:)
         real(dp), contiguous, intent(out) :: all(:, :)
+        if (.not. up()) then
+            all(:, 1) = rec
+            return
+        end if
         call MPI_Allgather(rec, size(rec), MPI_DOUBLE_PRECISION, all, size(rec), MPI_DOUBLE_PRECISION, &
                            MPI_COMM_WORLD)
     end subroutine comm_gather_small
@@ -74,6 +89,10 @@ contains
         integer :: cnt(nranks), disp(nranks), r, w, n
         w = size(mine, 1)
         n = w*size(mine, 2)
+        if (.not. up()) then
+            all = mine
+            return
+        end if
         call MPI_Allgather(n, 1, MPI_INTEGER, cnt, 1, MPI_INTEGER, MPI_COMM_WORLD)
         disp(1) = 0
         do r = 2, nranks

@@ -15,6 +15,7 @@ module xd_core_parallel_env
         integer :: rank = 0
         integer :: nranks = 1
         integer :: nthreads = 1
+        logical :: mpi = .false.    !< MPI was started (a launcher's run, or XDYNA_MPI=1)
     end type parallel_env_t
 
     interface
@@ -31,10 +32,19 @@ contains
         type(parallel_env_t), intent(out) :: env
         integer :: provided, st, n
         logical :: up
+        env%nthreads = 1
+        !$ env%nthreads = omp_get_max_threads()
         call MPI_Initialized(up)
         if (.not. up) then
-            ! started alone (no mpirun): Open MPI starts a PMIx server of its
-            ! own, whose default store is a shared-memory file; under a
+            ! started alone (no launcher: none of its variables set) the run
+            ! is one rank and MPI is not started at all: Open MPI's start of
+            ! a lone process (its own PMIx server) and its finish took 0.4 s
+            ! of every run, most of a small deck's wall time. XDYNA_MPI=1
+            ! starts it anyway. The operations of xd_core_comm are then
+            ! those of one rank
+            if (.not. launched()) return
+            ! a lone start that is asked for: Open MPI starts a PMIx server of
+            ! its own, whose default store is a shared-memory file; under a
             ! file-size limit (ulimit -f below about 4.5 MB) that write
             ! failed and the run died before a word of ours. Its in-memory
             ! store needs no file (a value the user set is kept)
@@ -45,11 +55,27 @@ contains
             end if
             call MPI_Init_thread(MPI_THREAD_FUNNELED, provided)
         end if
+        env%mpi = .true.
         call MPI_Comm_rank(MPI_COMM_WORLD, env%rank)
         call MPI_Comm_size(MPI_COMM_WORLD, env%nranks)
-        env%nthreads = 1
-        !$ env%nthreads = omp_get_max_threads()
     end subroutine parallel_start
+
+    !> The process was started by an MPI launcher (mpirun, mpiexec, srun:
+    !> one of the variables they give each rank is set), or XDYNA_MPI=1
+    !> asks for MPI.
+    logical function launched()
+        character(len=*), parameter :: names(6) = [character(len=20) :: 'OMPI_COMM_WORLD_SIZE', 'PMIX_RANK', &
+                                                    'PMI_RANK', 'PMI_SIZE', 'PMI_FD', 'SLURM_STEP_NUM_TASKS']
+        character(len=8) :: v
+        integer :: i, st
+        launched = .false.
+        do i = 1, size(names)
+            call get_environment_variable(trim(names(i)), status=st)
+            if (st == 0) launched = .true.
+        end do
+        call get_environment_variable('XDYNA_MPI', v, status=st)
+        if (st == 0 .and. trim(v) == '1') launched = .true.
+    end function launched
 
     subroutine parallel_stop()
         logical :: up, down

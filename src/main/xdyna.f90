@@ -202,7 +202,12 @@ program xdyna
         call log_line(lg, ' command line: xdyna i='//deck//' outdir='//outdir)
         if (len(jobid) > 0) call log_line(lg, ' jobid='//jobid//': every output file is named '//jobid//'.<file>')
         if (len(memory_note) > 0) call log_line(lg, memory_note)
-        call log_line(lg, ' ranks '//itoa(env%nranks)//', threads per rank '//itoa(env%nthreads))
+        if (env%mpi) then
+            call log_line(lg, ' ranks '//itoa(env%nranks)//', threads per rank '//itoa(env%nthreads))
+        else
+            call log_line(lg, ' ranks 1, threads per rank '//itoa(env%nthreads)// &
+                          ' (no MPI launcher: MPI not started; XDYNA_MPI=1 starts it)')
+        end if
     end if
 
     call read_deck(deck, ropts, model, ctx, error)
