@@ -195,60 +195,28 @@ contains
         !> The fixed-mass path's pass over the nodes (en%ke, mom and ker of
         !> the whole model, the parts' kinetic energy and momentum).
         subroutine node_pass()
-            integer :: nd, k, p, pc
-            real(dp) :: kn, vn(3), ake, amom(3), ke_s, m1, m2, m3, kr
-            logical :: on_body
-            ! (the sums in locals, in node order as before: summed through
-            ! en, each node's term waited on a store and a load of the sum)
-            ke_s = 0
-            m1 = 0; m2 = 0; m3 = 0
-            kr = 0
-            pc = 0
-            ake = 0; amom = 0
-            do nd = 1, st%nnode
-                ! (written out by component: the array forms made
-                ! temporaries for each node)
-                kn = 0.5_dp*(real(vminus(1, nd), dp)*vplus(1, nd) + real(vminus(2, nd), dp)*vplus(2, nd) + &
-                             real(vminus(3, nd), dp)*vplus(3, nd))
-                vn(1) = 0.5_dp*real(vminus(1, nd) + vplus(1, nd), dp)
-                vn(2) = 0.5_dp*real(vminus(2, nd) + vplus(2, nd), dp)
-                vn(3) = 0.5_dp*real(vminus(3, nd) + vplus(3, nd), dp)
-                on_body = .false.
-                if (rg%n > 0) on_body = rg%on(nd)
-                if (on_body) then
-                    kn = 0
-                    vn = 0
+            logical, allocatable :: none(:)
+            real(wp), allocatable :: wnone(:, :)
+            if (rg%n > 0 .and. st%rot) then
+                call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, .true., rg%on, .true., st%irot, &
+                               wminus, wplus, en%np_ptr, en%np_part, en%np_m, en%part_ke, en%part_mom, en%ke, mom, ker)
+            else if (rg%n > 0) then
+                allocate (wnone(3, 1))
+                call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, .true., rg%on, .false., st%mass, &
+                               wnone, wnone, en%np_ptr, en%np_part, en%np_m, en%part_ke, en%part_mom, en%ke, mom, ker)
+            else
+                allocate (none(1))
+                if (st%rot) then
+                    call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, .false., none, .true., st%irot, &
+                                   wminus, wplus, en%np_ptr, en%np_part, en%np_m, en%part_ke, en%part_mom, en%ke, &
+                                   mom, ker)
+                else
+                    allocate (wnone(3, 1))
+                    call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, .false., none, .false., st%mass, &
+                                   wnone, wnone, en%np_ptr, en%np_part, en%np_m, en%part_ke, en%part_mom, en%ke, &
+                                   mom, ker)
                 end if
-                ke_s = ke_s + st%mass(nd)*kn
-                m1 = m1 + st%mass(nd)*vn(1)
-                m2 = m2 + st%mass(nd)*vn(2)
-                m3 = m3 + st%mass(nd)*vn(3)
-                ! a rigid body's nodes spin with it: their inertia is in the body's
-                if (st%rot .and. .not. on_body) &
-                    kr = kr + 0.5_dp*st%irot(nd)*(real(wminus(1, nd), dp)*wplus(1, nd) + &
-                                                  real(wminus(2, nd), dp)*wplus(2, nd) + &
-                                                  real(wminus(3, nd), dp)*wplus(3, nd))
-                do k = en%np_ptr(nd), en%np_ptr(nd + 1) - 1
-                    p = en%np_part(k)
-                    if (p /= pc) then
-                        if (pc > 0) then
-                            en%part_ke(pc) = en%part_ke(pc) + ake
-                            en%part_mom(:, pc) = en%part_mom(:, pc) + amom
-                        end if
-                        pc = p
-                        ake = 0; amom = 0
-                    end if
-                    ake = ake + en%np_m(k)*kn
-                    amom = amom + en%np_m(k)*vn
-                end do
-            end do
-            if (pc > 0) then
-                en%part_ke(pc) = en%part_ke(pc) + ake
-                en%part_mom(:, pc) = en%part_mom(:, pc) + amom
             end if
-            en%ke = ke_s
-            mom = [m1, m2, m3]
-            ker = kr
         end subroutine node_pass
 
         !> Internal and hourglass energy by part: the work booked so far and
@@ -353,6 +321,81 @@ contains
             end do
         end subroutine by_elements
     end subroutine compute_energies
+
+    !> The fixed-mass path's pass over the nodes: the whole model's kinetic
+    !> energy ke (1/2 m v(n-1/2).v(n+1/2)), momentum mom and spin energy ker,
+    !> and the parts' kinetic energy and momentum by the node table (a run
+    !> of one part summed in registers: nodes mostly come part by part);
+    !> each sum in node order. A node on a rigid body (body, on) counts
+    !> nothing here (its body does); the spin only with rot. (Its own
+    !> procedure on plain arrays: inside compute_energies the sums were kept
+    !> in memory for want of registers, 11 ns a node.)
+    subroutine node_sums(n, npart, mass, vminus, vplus, body, on, rot, irot, wminus, wplus, np_ptr, np_part, np_m, &
+                         part_ke, part_mom, ke, mom, ker)
+        integer, intent(in) :: n, npart
+        real(wp), intent(in) :: mass(n), vminus(3, n), vplus(3, n), irot(*), wminus(3, *), wplus(3, *)
+        logical, intent(in) :: body, rot, on(*)
+        integer, intent(in) :: np_ptr(n + 1), np_part(*)
+        real(dp), intent(in) :: np_m(*)
+        real(dp), intent(inout) :: part_ke(npart), part_mom(3, npart)
+        real(dp), intent(out) :: ke, mom(3), ker
+        integer :: nd, k, p, pc
+        real(dp) :: kn, vn1, vn2, vn3, ake, am1, am2, am3, ke_s, m1, m2, m3, kr
+        logical :: on_body
+        ke_s = 0
+        m1 = 0; m2 = 0; m3 = 0
+        kr = 0
+        pc = 0
+        ake = 0; am1 = 0; am2 = 0; am3 = 0
+        do nd = 1, n
+            kn = 0.5_dp*(real(vminus(1, nd), dp)*vplus(1, nd) + real(vminus(2, nd), dp)*vplus(2, nd) + &
+                         real(vminus(3, nd), dp)*vplus(3, nd))
+            vn1 = 0.5_dp*real(vminus(1, nd) + vplus(1, nd), dp)
+            vn2 = 0.5_dp*real(vminus(2, nd) + vplus(2, nd), dp)
+            vn3 = 0.5_dp*real(vminus(3, nd) + vplus(3, nd), dp)
+            on_body = .false.
+            if (body) on_body = on(nd)
+            if (on_body) then
+                kn = 0
+                vn1 = 0; vn2 = 0; vn3 = 0
+            end if
+            ke_s = ke_s + mass(nd)*kn
+            m1 = m1 + mass(nd)*vn1
+            m2 = m2 + mass(nd)*vn2
+            m3 = m3 + mass(nd)*vn3
+            ! a rigid body's nodes spin with it: their inertia is in the body's
+            if (rot .and. .not. on_body) &
+                kr = kr + 0.5_dp*irot(nd)*(real(wminus(1, nd), dp)*wplus(1, nd) + &
+                                           real(wminus(2, nd), dp)*wplus(2, nd) + &
+                                           real(wminus(3, nd), dp)*wplus(3, nd))
+            do k = np_ptr(nd), np_ptr(nd + 1) - 1
+                p = np_part(k)
+                if (p /= pc) then
+                    if (pc > 0) then
+                        part_ke(pc) = part_ke(pc) + ake
+                        part_mom(1, pc) = part_mom(1, pc) + am1
+                        part_mom(2, pc) = part_mom(2, pc) + am2
+                        part_mom(3, pc) = part_mom(3, pc) + am3
+                    end if
+                    pc = p
+                    ake = 0; am1 = 0; am2 = 0; am3 = 0
+                end if
+                ake = ake + np_m(k)*kn
+                am1 = am1 + np_m(k)*vn1
+                am2 = am2 + np_m(k)*vn2
+                am3 = am3 + np_m(k)*vn3
+            end do
+        end do
+        if (pc > 0) then
+            part_ke(pc) = part_ke(pc) + ake
+            part_mom(1, pc) = part_mom(1, pc) + am1
+            part_mom(2, pc) = part_mom(2, pc) + am2
+            part_mom(3, pc) = part_mom(3, pc) + am3
+        end if
+        ke = ke_s
+        mom = [m1, m2, m3]
+        ker = kr
+    end subroutine node_sums
 
     !> The node-by-part mass table (each element's share of its nodes, as
     !> compute_energies weighs them: an eighth of a hexahedron, a quarter of
