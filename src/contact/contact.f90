@@ -1003,7 +1003,10 @@ contains
                 it%ls%first = .not. it%started
                 if (it%cl%search /= it%nsearch .and. allocated(it%lists%gap)) &
                     call reset_clearance(s, it%lists, it%nsearch, it%cl)
-                call find_contacts(s, it%lists, it%ls, it%cl, it%cseg, it%held, it%fprev, it%aeff + it%p0, ct%sw, &
+                ! (the slaves' depths last cycle, aeff + p0, taken per slave in
+                ! find_contacts: as an array expression here they were a
+                ! temporary of every slave built serially each cycle)
+                call find_contacts(s, it%lists, it%ls, it%cl, it%cseg, it%held, it%fprev, it%aeff, ct%sw, &
                                    it%mine, it%hit, it%found, it%xl, it%rseg, it%rdep, it%p0, it%deep, it%nnear, &
                                    it%nnear_full)
             end associate
@@ -1087,7 +1090,7 @@ contains
     !> slave's search run. A slave so found close is searched without a
     !> fresh bound for the next `back_off` cycles (its clearance would rarely
     !> have grown).
-    subroutine find_contacts(s, lists, ls, cl, cseg, held, fprev, aprev, sw, mine, hit, found, xs, rseg, rdep, allow, &
+    subroutine find_contacts(s, lists, ls, cl, cseg, held, fprev, aeff, sw, mine, hit, found, xs, rseg, rdep, allow, &
                              deep, nnear, nnear_full)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
@@ -1095,7 +1098,10 @@ contains
         type(clearance_t), intent(inout) :: cl
         integer, intent(in) :: cseg(:)
         integer, intent(in) :: held(:)       !< per slave: the segment it held last (0: none)
-        real(wp), intent(in) :: fprev(:, :), aprev(:)
+        real(wp), intent(in) :: fprev(:, :)
+        !> per slave: its depth last cycle less its allowance (the depth is
+        !> aeff + allow)
+        real(wp), intent(in) :: aeff(:)
         type(search_switches_t), intent(in) :: sw
         integer, intent(in) :: mine(:)
         type(hit_t), intent(inout) :: hit(:)
@@ -1159,7 +1165,7 @@ contains
                     nf = nf + nc
                 end if
             end if
-            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aprev(k), sw, hit(k), xs, rseg(k), rdep(k), &
+            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aeff(k) + allow(k), sw, hit(k), xs, rseg(k), rdep(k), &
                               allow(k), deep(k), held(k))
             found(k) = hit(k)%found
         end do
@@ -1193,7 +1199,7 @@ contains
             checked = 0
             if (cl%nnear(k) == 0) return
             checked = 1
-            call find_contact(s, lists, ls, k, 0, fprev(:, k), aprev(k), sw, h, xs, rs, rd, allow(k), dp_, held(k), &
+            call find_contact(s, lists, ls, k, 0, fprev(:, k), aeff(k) + allow(k), sw, h, xs, rs, rd, allow(k), dp_, held(k), &
                               near=cl%near(1:cl%nnear(k), k), near_effect=effect)
             near_clear = .not. effect
         end function near_clear

@@ -903,7 +903,9 @@ contains
         logical, allocatable :: nt(:)
         integer :: k, n, c
         n = sum(max(0, lists%last - lists%ptr + 1))
-        allocate (ni(n + n/4 + 64), nt(n + n/4 + 64))
+        ! (the store keeps its size: the searches that follow append to it
+        ! again, and grown anew it was copied, serially, each time)
+        allocate (ni(max(n + n/4 + 64, size(lists%node))), nt(max(n + n/4 + 64, size(lists%node))))
         n = 0
         do k = 1, size(lists%ptr)
             c = lists%last(k) - lists%ptr(k) + 1
@@ -925,7 +927,7 @@ contains
         integer, allocatable :: ni(:)
         integer :: k, n, c
         n = sum(max(0, lists%pool_last - lists%pool_ptr + 1))
-        allocate (ni(n + n/4 + 64))
+        allocate (ni(max(n + n/4 + 64, size(lists%pool_node))))
         n = 0
         do k = 1, size(lists%pool_ptr)
             c = lists%pool_last(k) - lists%pool_ptr(k) + 1
