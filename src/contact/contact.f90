@@ -34,7 +34,7 @@ module xd_contact_contact
     use xd_core_strings, only: itoa
     use xd_core_threads, only: threaded
     use xd_model, only: model_t, contact_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, mat_rigid, &
-                        ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
+                        can_erode, ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_auto, search_adaptive, find_box, in_box, box_t
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell, &
                                   surface_activate, &
@@ -550,12 +550,10 @@ contains
     function erodible_hexes(model) result(er)
         type(model_t), intent(in) :: model
         logical :: er(model%nhex)
-        integer :: e
+        integer :: e, k
         do e = 1, model%nhex
-            associate (m => model%mat(model%part(model%hex_part(e))%mat_ix))
-                er(e) = (m%fail > 0.0_wp .or. m%erosion .or. (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)) &
-                        .and. m%mtype /= mat_rigid
-            end associate
+            k = model%part(model%hex_part(e))%mat_ix
+            er(e) = can_erode(model, k) .and. model%mat(k)%mtype /= mat_rigid
         end do
     end function erodible_hexes
 
@@ -582,10 +580,8 @@ contains
         !> the stable step are the dump's)
         logical, intent(in), optional :: restart
         logical :: keep_state
-        logical, allocatable :: on(:), gone(:), changed(:), near(:)
-        integer :: i, j, h, k, m, q
-        real(wp) :: r, lo(3), hi(3), p(3)
-        real(wp), allocatable :: pts(:, :)
+        logical, allocatable :: on(:), gone(:), changed(:)
+        integer :: i, j, h, k
         if (ct%faces%nlatent == 0) return
         keep_state = .false.
         if (present(restart)) keep_state = restart
@@ -607,26 +603,8 @@ contains
                 end do
                 if (all(on .eqv. s%seg_on)) cycle
                 gone = s%seg_on .and. .not. on
-                ! the nodes of the segments that came or went, and the slaves
-                ! within reach of them (a box first); on a restart, the
-                ! searches and the step as the dump has them
-                if (.not. keep_state) then
-                allocate (near(s%nnode))
-                near = .false.
-                do m = 1, s%nseg
-                    if (on(m) .neqv. s%seg_on(m)) near(s%seg(:, m)) = .true.
-                end do
-                pts = x(:, s%node(pack([(q, q=1, s%nnode)], near)))
-                r = 2*maxval(it%dl) + it%reach
-                lo = minval(pts, 2) - r
-                hi = maxval(pts, 2) + r
-                do k = 1, s%nslave
-                    p = x(:, s%node(s%slave(k)))
-                    if (any(p < lo) .or. any(p > hi)) cycle
-                    if (minval(sum((pts - spread(p, 2, size(pts, 2)))**2, 1)) <= r*r) it%resl(k) = .true.
-                end do
-                deallocate (near)
-                end if
+                ! on a restart, the searches and the step as the dump has them
+                if (.not. keep_state) call ask_near(it, on, x)
                 call surface_activate(s, ct%faces, on, changed)
                 call let_go(it, gone)
                 if (.not. keep_state .and. (.not. ct%lagrange .or. it%ed%ne > 0)) call spring_step(ct, it, changed)
@@ -635,6 +613,36 @@ contains
         ! (the slaves that join keep the search asked at set-up)
         call set_liveness(ct, hex_conn, dead_hex)
     end subroutine contact_erode_solids
+
+    !> The slaves of interface it within reach of a segment that comes or
+    !> goes (on against it%surf%seg_on) are searched the next cycle: those
+    !> within twice the largest pool margin and the contact's reach of one
+    !> of its nodes at x (a box first).
+    subroutine ask_near(it, on, x)
+        type(interface_t), intent(inout) :: it
+        logical, intent(in) :: on(:)
+        real(wp), intent(in) :: x(:, :)
+        logical, allocatable :: near(:)
+        real(wp), allocatable :: pts(:, :)
+        real(wp) :: r, lo(3), hi(3), p(3)
+        integer :: k, m, q
+        associate (s => it%surf)
+            allocate (near(s%nnode))
+            near = .false.
+            do m = 1, s%nseg
+                if (on(m) .neqv. s%seg_on(m)) near(s%seg(:, m)) = .true.
+            end do
+            pts = x(:, s%node(pack([(q, q=1, s%nnode)], near)))
+            r = 2*maxval(it%dl) + it%reach
+            lo = minval(pts, 2) - r
+            hi = maxval(pts, 2) + r
+            do k = 1, s%nslave
+                p = x(:, s%node(s%slave(k)))
+                if (any(p < lo) .or. any(p > hi)) cycle
+                if (minval(sum((pts - spread(p, 2, size(pts, 2)))**2, 1)) <= r*r) it%resl(k) = .true.
+            end do
+        end associate
+    end subroutine ask_near
 
     !> Each interface's live slaves with latent faces in the model: a slave
     !> on an active face, or at no living hexahedron (a node of shells, or

@@ -9,7 +9,7 @@ module xd_elements_shell_bt
     use xd_kinds, only: wp, dp
     use xd_core_memory, only: alloc, alloc_dp
     use xd_core_strings, only: itoa
-    use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid, hg_bounded
+    use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid, hg_bounded, can_erode
     use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
@@ -247,8 +247,7 @@ contains
             sh%model_ix(e) = ee
             sh%part(e) = p
             sh%mix(e) = model%part(p)%mat_ix
-            sh%erodible = sh%erodible .or. model%mat(sh%mix(e))%fail > 0.0_wp .or. model%mat(sh%mix(e))%erosion .or. &
-                          (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)
+            sh%erodible = sh%erodible .or. can_erode(model, sh%mix(e))
             sh%h(e) = sum(model%shell_t(:, ee))/4
             associate (m => model%mat(model%part(p)%mat_ix), sec => model%sec_shell(model%part(p)%shell_sec_ix))
                 sh%e(e) = m%e

@@ -8,7 +8,7 @@ module xd_elements_solid_groups
     use xd_core_memory, only: alloc, alloc_dp
     use xd_core_sorting, only: sort_index
     use xd_core_strings, only: itoa
-    use xd_model, only: model_t, material_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid
+    use xd_model, only: model_t, material_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid, can_erode
     use xd_elements_hex8, only: hex_b_matrix, hex_velocity_gradient, hex_stress_forces, &
                                 hex_hourglass_modes, hex_hourglass_forces, hex_char_length
     use xd_materials_elastic, only: elastic_update, jaumann_rotate
@@ -155,10 +155,7 @@ contains
         allocate (s%gdead(s%ngroup))
         s%gdead = 0
         do g = 1, s%ngroup
-            associate (m => model%mat(model%part(s%group(g)%part)%mat_ix))
-                s%erodible = s%erodible .or. m%fail > 0.0_wp .or. m%erosion .or. &
-                             (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)
-            end associate
+            s%erodible = s%erodible .or. can_erode(model, model%part(s%group(g)%part)%mat_ix)
         end do
         if (s%erodible) then
             allocate (s%dead(s%n), s%low(s%n))

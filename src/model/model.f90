@@ -11,6 +11,7 @@ module xd_model
     public :: box_t, find_box, in_box, coord_t, find_coord, mark_part_nodes
     public :: mat_elastic, mat_plastic_kinematic, mat_rigid, mat_piecewise_linear, mat_spotweld
     public :: set_node, set_part, set_shell, find_set, constraint_dirs, part_ihq, hg_bounded, hg_boundable
+    public :: can_erode, any_erosion
     public :: iv_node_set, iv_node, iv_generation
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
     public :: ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface, ct_tiebreak, section_beam_t
@@ -577,6 +578,25 @@ contains
         integer, intent(in) :: p
         hg_bounded = model%ctl%hgbound == 1 .and. hg_boundable(model, p)
     end function hg_bounded
+
+    !> Elements of material index mix can fail and erode: FAIL (plastic
+    !> strain), FS, *MAT_ADD_EROSION, or ERODE 1 with DTMIN (their step).
+    pure logical function can_erode(model, mix)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: mix
+        can_erode = model%mat(mix)%fail > 0.0_wp .or. model%mat(mix)%erosion .or. &
+                    (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)
+    end function can_erode
+
+    !> Some material of the model can fail and erode (can_erode).
+    pure logical function any_erosion(model)
+        type(model_t), intent(in) :: model
+        integer :: k
+        any_erosion = .false.
+        do k = 1, model%nmat
+            any_erosion = any_erosion .or. can_erode(model, k)
+        end do
+    end function any_erosion
 
     !> Index of the set of `kind` with id `id`, 0 if none.
     pure integer function find_set(model, kind, id) result(ix)

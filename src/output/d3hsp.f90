@@ -5,7 +5,7 @@ module xd_output_d3hsp
     use xd_core_strings, only: itoa, join_path, out_path
     use xd_core_timers, only: timers_t, nphase, phase_name, ph_elements, ph_assembly, ph_integrate, &
                               ph_contact, ph_rigid, ph_output, ph_search, ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
-    use xd_model, only: model_t, part_ihq, hg_bounded, hg_boundable
+    use xd_model, only: model_t, part_ihq, hg_bounded, hg_boundable, any_erosion
     use xd_elements_solid_groups, only: solids_t, hg_stiffness
     use xd_output_histories, only: version_line
     implicit none
@@ -180,8 +180,7 @@ contains
         else
             s = s//'   contact ................... off (no contact keyword)'//nl
         end if
-        if (any(model%mat(1:model%nmat)%fail > 0.0_wp) .or. any(model%mat(1:model%nmat)%erosion) .or. &
-            (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)) then
+        if (any_erosion(model)) then
             s = s//'   failure and erosion ....... on  (FAIL, FS, *MAT_ADD_EROSION or ERODE; the contact surfaces '// &
                 'follow, the faces inside eroding solids joining as they are exposed)'//nl
         else

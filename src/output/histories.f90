@@ -5,7 +5,7 @@ module xd_output_histories
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa, join_path, out_path
     use xd_core_files, only: truncate_file, written_bytes, delete_file
-    use xd_model, only: model_t, find_set, set_node
+    use xd_model, only: model_t, find_set, set_node, any_erosion
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
     use xd_solver_energies, only: energies_t
@@ -137,8 +137,7 @@ contains
         if (rg%n == 0) h%on(s_rbdout) = .false.
         if (model%ncontact == 0) h%on(s_rcforc) = .false.
         h%contact = model%ncontact > 0
-        h%erosion = any(model%mat(1:model%nmat)%fail > 0.0_wp) .or. any(model%mat(1:model%nmat)%erosion) .or. &
-                    (model%ctl%erode == 1 .and. model%ctl%dtmin > 0.0_wp)
+        h%erosion = any_erosion(model)
         h%scaling = model%ctl%dt2ms /= 0.0_wp
         ! nodout nodes: *DATABASE_HISTORY_NODE ids, then node sets
         allocate (h%nodes(0))

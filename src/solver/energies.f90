@@ -89,13 +89,10 @@ contains
         type(beams_t), intent(in), optional :: bm   !< beams (their internal energy and nodal masses)
         integer :: e, p, nd
         real(dp) :: mom(3), ke_b, mom_b(3), ker
-        if (.not. allocated(en%part_ie)) then
-            allocate (en%part_ie(model%npart), en%part_ke(model%npart), en%part_hg(model%npart), &
-                      en%part_mass(model%npart), en%part_mom(3, model%npart), en%part_added(model%npart))
-        end if
+        ! (built at set-up by the time loop; here for any other caller)
+        call prepare_energies(model, st, solids, sh, en, bm)
         en%part_ie = 0; en%part_ke = 0; en%part_hg = 0; en%part_mass = 0; en%part_mom = 0; en%part_added = 0
         en%nshell_scaled = 0
-        if (.not. allocated(en%np_ptr)) call node_part_masses(model, st, solids, sh, en, bm)
         if (en%fixed_mass) then
             ! one pass over the nodes: each node's share, the whole model's
             ! kinetic energy, momentum and spin, and the parts' by the node
@@ -110,7 +107,6 @@ contains
             en%hg = sum(en%part_hg)
         else
             ! each node's share once; the elements' loops weigh it by their mass
-            if (.not. allocated(en%kn)) allocate (en%kn(st%nnode), en%vn(3, st%nnode))
             do nd = 1, st%nnode
                 en%kn(nd) = 0.5_dp*sum(real(vminus(:, nd), dp)*vplus(:, nd))
                 en%vn(:, nd) = 0.5_dp*real(vminus(:, nd) + vplus(:, nd), dp)
@@ -218,27 +214,15 @@ contains
         !> The fixed-mass path's pass over the nodes (en%ke, mom and ker of
         !> the whole model, the parts' kinetic energy and momentum).
         subroutine node_pass()
-            logical, allocatable :: none(:)
-            real(wp), allocatable :: wnone(:, :)
-            if (rg%n > 0 .and. st%rot) then
-                call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, .true., rg%on, .true., st%irot, &
-                               wminus, wplus, en%np_ptr, en%np_part, en%np_m, en%part_ke, en%part_mom, en%ke, mom, ker)
-            else if (rg%n > 0) then
-                allocate (wnone(3, 1))
-                call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, .true., rg%on, .false., st%mass, &
-                               wnone, wnone, en%np_ptr, en%np_part, en%np_m, en%part_ke, en%part_mom, en%ke, mom, ker)
+            ! (wminus, wplus present when st%rot; st%irot, rg%on absent where
+            ! not allocated)
+            if (rg%n > 0) then
+                call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, en%np_ptr, en%np_part, en%np_m, &
+                               en%part_ke, en%part_mom, en%ke, mom, ker, on=rg%on, irot=st%irot, wminus=wminus, &
+                               wplus=wplus)
             else
-                allocate (none(1))
-                if (st%rot) then
-                    call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, .false., none, .true., st%irot, &
-                                   wminus, wplus, en%np_ptr, en%np_part, en%np_m, en%part_ke, en%part_mom, en%ke, &
-                                   mom, ker)
-                else
-                    allocate (wnone(3, 1))
-                    call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, .false., none, .false., st%mass, &
-                                   wnone, wnone, en%np_ptr, en%np_part, en%np_m, en%part_ke, en%part_mom, en%ke, &
-                                   mom, ker)
-                end if
+                call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, en%np_ptr, en%np_part, en%np_m, &
+                               en%part_ke, en%part_mom, en%ke, mom, ker, irot=st%irot, wminus=wminus, wplus=wplus)
             end if
         end subroutine node_pass
 
@@ -349,22 +333,27 @@ contains
     !> energy ke (1/2 m v(n-1/2).v(n+1/2)), momentum mom and spin energy ker,
     !> and the parts' kinetic energy and momentum by the node table (a run
     !> of one part summed in registers: nodes mostly come part by part);
-    !> each sum in node order. A node on a rigid body (body, on) counts
-    !> nothing here (its body does); the spin only with rot. (Its own
-    !> procedure on plain arrays: inside compute_energies the sums were kept
-    !> in memory for want of registers, 11 ns a node.)
-    subroutine node_sums(n, npart, mass, vminus, vplus, body, on, rot, irot, wminus, wplus, np_ptr, np_part, np_m, &
-                         part_ke, part_mom, ke, mom, ker)
+    !> each sum in node order. A node on a rigid body (on, where present)
+    !> counts nothing here (its body does); the spin only where irot, wminus
+    !> and wplus are present. (Its own procedure on plain arrays: inside
+    !> compute_energies the sums were kept in memory for want of registers,
+    !> 11 ns a node.)
+    subroutine node_sums(n, npart, mass, vminus, vplus, np_ptr, np_part, np_m, part_ke, part_mom, ke, mom, ker, on, &
+                         irot, wminus, wplus)
         integer, intent(in) :: n, npart
-        real(wp), intent(in) :: mass(n), vminus(3, n), vplus(3, n), irot(*), wminus(3, *), wplus(3, *)
-        logical, intent(in) :: body, rot, on(*)
+        real(wp), intent(in) :: mass(n), vminus(3, n), vplus(3, n)
         integer, intent(in) :: np_ptr(n + 1), np_part(*)
         real(dp), intent(in) :: np_m(*)
         real(dp), intent(inout) :: part_ke(npart), part_mom(3, npart)
         real(dp), intent(out) :: ke, mom(3), ker
+        logical, intent(in), optional :: on(n)
+        real(wp), intent(in), optional :: irot(n), wminus(3, n), wplus(3, n)
+        logical :: body, rot
         integer :: nd, k, p, pc
         real(dp) :: kn, vn1, vn2, vn3, ake, am1, am2, am3, ke_s, m1, m2, m3, kr
         logical :: on_body
+        body = present(on)
+        rot = present(irot) .and. present(wminus) .and. present(wplus)
         ke_s = 0
         m1 = 0; m2 = 0; m3 = 0
         kr = 0

@@ -603,21 +603,19 @@ contains
 
     !> v += dt a, and vr likewise where the state has rotations; with
     !> from_forces, a = f / m in the free directions first, in the same loop
-    !> (the quotients of accelerations_loop).
+    !> (free_accel, as accelerations_loop).
     subroutine kick(st, dt, from_forces)
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt
         logical, intent(in) :: from_forces
         integer :: nd
-        real(wp) :: ri, on, mi, a1, a2, a3
+        real(wp) :: ri, on, a1, a2, a3
         if (from_forces) then
             !$omp do schedule(static)
             do nd = 1, st%nnode
-                on = merge(1.0_wp, 0.0_wp, st%mass(nd) > 0.0_wp)
-                mi = st%mass(nd) + (1.0_wp - on)
-                a1 = st%f(1, nd)/mi*st%free(1, nd)*on
-                a2 = st%f(2, nd)/mi*st%free(2, nd)*on
-                a3 = st%f(3, nd)/mi*st%free(3, nd)*on
+                a1 = free_accel(st%f(1, nd), st%mass(nd), st%free(1, nd))
+                a2 = free_accel(st%f(2, nd), st%mass(nd), st%free(2, nd))
+                a3 = free_accel(st%f(3, nd), st%mass(nd), st%free(3, nd))
                 st%a(1, nd) = a1
                 st%a(2, nd) = a2
                 st%a(3, nd) = a3
@@ -663,20 +661,25 @@ contains
     subroutine accelerations_loop(st)
         type(state_t), intent(inout) :: st
         integer :: i
-        real(wp) :: on, mi
-        ! (the quotients taken for every node, a massless one's over 1
-        ! and then times 0, without a select: the loop vectorises; the
-        ! same quotients)
         !$omp do schedule(static)
         do i = 1, st%nnode
-            on = merge(1.0_wp, 0.0_wp, st%mass(i) > 0.0_wp)
-            mi = st%mass(i) + (1.0_wp - on)
-            st%a(1, i) = st%f(1, i)/mi*st%free(1, i)*on
-            st%a(2, i) = st%f(2, i)/mi*st%free(2, i)*on
-            st%a(3, i) = st%f(3, i)/mi*st%free(3, i)*on
+            st%a(1, i) = free_accel(st%f(1, i), st%mass(i), st%free(1, i))
+            st%a(2, i) = free_accel(st%f(2, i), st%mass(i), st%free(2, i))
+            st%a(3, i) = free_accel(st%f(3, i), st%mass(i), st%free(3, i))
         end do
         !$omp end do
     end subroutine accelerations_loop
+
+    !> A node's acceleration f / m in a direction (free 1) or 0 (free 0, or
+    !> a massless node). (The quotient taken for every node, a massless
+    !> one's over 1 and then times 0, without a select: the loops
+    !> vectorise.)
+    pure elemental real(wp) function free_accel(f, m, free) result(a)
+        real(wp), intent(in) :: f, m, free
+        real(wp) :: on
+        on = merge(1.0_wp, 0.0_wp, m > 0.0_wp)
+        a = f/(m + (1.0_wp - on))*free*on
+    end function free_accel
 
     !> The constraints on v(n+1/2), in order: rigid walls, prescribed
     !> motion, rigid bodies, tied slaves (after every other update; the
