@@ -8,11 +8,13 @@
 !> it is one rank, and each operation is then that of one rank.
 module xd_core_comm
     use mpi_f08, only: MPI_Initialized, MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, &
-                       MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_Datatype
+                       MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_Datatype, MPI_Request, &
+                       MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE
     use xd_kinds, only: wp, dp
     implicit none
     private
-    public :: comm_gather_wp, comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max, comm_gather_small, comm_gather_records
+    public :: comm_gather_wp, comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max, comm_gather_small, comm_gather_records, &
+              comm_neighbours
 
 contains
 
@@ -101,5 +103,35 @@ contains
         allocate (all(w, sum(cnt)/max(w, 1)))
         call MPI_Allgatherv(mine, n, MPI_DOUBLE_PRECISION, all, cnt, disp, MPI_DOUBLE_PRECISION, MPI_COMM_WORLD)
     end subroutine comm_gather_records
+
+    !> Point-to-point exchange with the neighbour ranks nbr(k) (0-based):
+    !> sbuf(soff(k) + 1 : soff(k + 1)) goes to nbr(k), and what nbr(k) sends
+    !> this rank lands in rbuf(roff(k) + 1 : roff(k + 1)). Every value has
+    !> one sender and one place, so the result does not depend on the
+    !> order the messages arrive in. Every rank calls it with its own
+    !> neighbours (a pair's lists agree: they are built from the same
+    !> decomposition on both sides).
+    subroutine comm_neighbours(nbr, sbuf, soff, rbuf, roff)
+        integer, intent(in) :: nbr(:), soff(:), roff(:)
+        real(wp), intent(in), contiguous, target :: sbuf(:)
+        real(wp), intent(inout), contiguous, target :: rbuf(:)
+        type(MPI_Request) :: req(2*size(nbr))
+        integer :: k, n, nr
+        if (.not. up() .or. size(nbr) == 0) return
+        nr = 0
+        do k = 1, size(nbr)
+            n = roff(k + 1) - roff(k)
+            if (n == 0) cycle
+            nr = nr + 1
+            call MPI_Irecv(rbuf(roff(k) + 1:roff(k + 1)), n, wp_type(), nbr(k), 32, MPI_COMM_WORLD, req(nr))
+        end do
+        do k = 1, size(nbr)
+            n = soff(k + 1) - soff(k)
+            if (n == 0) cycle
+            nr = nr + 1
+            call MPI_Isend(sbuf(soff(k) + 1:soff(k + 1)), n, wp_type(), nbr(k), 32, MPI_COMM_WORLD, req(nr))
+        end do
+        call MPI_Waitall(nr, req(1:nr), MPI_STATUSES_IGNORE)
+    end subroutine comm_neighbours
 
 end module xd_core_comm

@@ -5,6 +5,7 @@ module xd_output_histories
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: itoa, join_path, out_path
     use xd_core_files, only: truncate_file, written_bytes, delete_file
+    use xd_core_comm, only: comm_sum_dp
     use xd_model, only: model_t, find_set, set_node, any_erosion
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
@@ -17,6 +18,7 @@ module xd_output_histories
                                   series_append, series_flush
     implicit none
     private
+    public :: merge_rotations
     public :: histories_t, open_histories, histories_due, write_histories, close_histories, version_line, &
               flush_histories, &
               history_marks_t, history_marks, history_failure, track_rotations
@@ -153,9 +155,10 @@ contains
         fresh = .not. present(resume)
         if (present(writer)) h%writer = writer
         ! where nodes rotate: the nodout nodes' rotation so far, for nodout's
-        ! rotation block
+        ! rotation block (on every rank: under owned nodes each tracks its
+        ! own nodes', merge_rotations gathers them for the writer)
         if (present(rotating)) then
-            if (h%on(s_nodout) .and. h%writer .and. rotating) then
+            if (h%on(s_nodout) .and. rotating) then
                 allocate (h%rdisp(3, size(h%nodes)))
                 h%rdisp = 0
                 if (.not. fresh) then
@@ -634,15 +637,42 @@ contains
 
     !> The nodout nodes' rotations after a step: + dt w(n+1/2) (called as
     !> the coordinates are moved).
-    subroutine track_rotations(h, st)
+    !> (mine: under owned nodes, the nodes this rank integrates: only theirs
+    !> are tracked here; merge_rotations gathers them for the output)
+    subroutine track_rotations(h, st, mine)
         type(histories_t), intent(inout) :: h
         type(state_t), intent(in) :: st
+        logical, intent(in), optional :: mine(:)
         integer :: k
         if (.not. allocated(h%rdisp) .or. .not. st%rot) return
         do k = 1, size(h%nodes)
+            if (present(mine)) then
+                if (.not. mine(h%nodes(k))) cycle
+            end if
             h%rdisp(:, k) = h%rdisp(:, k) + real(st%dt, dp)*st%vr(:, h%nodes(k))
         end do
     end subroutine track_rotations
+
+    !> Owned nodes: the tracked rotations of every history node from the
+    !> rank that integrates it (the others' copies, not tracked, zeroed and
+    !> the ranks' values summed: exact).
+    subroutine merge_rotations(h, mine)
+        type(histories_t), intent(inout) :: h
+        logical, intent(in) :: mine(:)
+        integer :: k
+        if (.not. allocated(h%rdisp)) return
+        do k = 1, size(h%nodes)
+            if (.not. mine(h%nodes(k))) h%rdisp(:, k) = 0
+        end do
+        call sum_ranks(h%rdisp)
+    end subroutine merge_rotations
+
+    subroutine sum_ranks(a)
+        real(dp), intent(inout), target, contiguous :: a(:, :)
+        real(dp), pointer, contiguous :: flat(:)
+        flat(1:size(a)) => a
+        call comm_sum_dp(flat)
+    end subroutine sum_ranks
 
     !> Per interface, LS-DYNA's rcforc lines: the resultant of the contact
     !> forces on the slave nodes and on the master nodes, and the mass of

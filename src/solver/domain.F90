@@ -24,7 +24,7 @@
 module xd_solver_domain
     use xd_kinds, only: wp, dp
     use xd_core_partition, only: rcb_partition
-    use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp
+    use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_shell_bt, only: shells_t, shell_blocks
     use xd_solver_assembly, only: assembly_t
@@ -35,7 +35,8 @@ module xd_solver_domain
     use xd_model, only: model_t
     implicit none
     private
-    public :: domain_t, build_domain, domain_summary, share_slots, share_nodes, gather_energy_state, gather_element_state
+    public :: domain_t, build_domain, domain_summary, share_slots, share_nodes, gather_energy_state, gather_element_state, &
+              swap_slots, swap_motion, share_state
 
     type :: domain_t
         integer :: rank = 0, nranks = 1
@@ -62,7 +63,31 @@ module xd_solver_domain
         !> box grown by the pool margin, and their nodes it does not touch
         integer, allocatable :: psolid(:), pshell(:), ptouch(:), phalo(:), pnbr(:), pgseg(:), pgnode(:)
         character(len=:), allocatable :: parts_text(:)   !< per rank: the part ids of its elements
+        !> Owned nodes (issue 32): each rank integrates only the nodes it
+        !> assembles, sends the halo slots it computed to their nodes'
+        !> assemblers alone and, after each step, its nodes' motion to the
+        !> ranks whose elements touch them (point-to-point, xd_core_comm's
+        !> comm_neighbours). Set by the time loop where the model allows it
+        !> (owned_why_not); otherwise every rank integrates every node.
+        logical :: owned = .false.
+        integer, allocatable :: nbr(:)        !< the neighbour ranks (0-based, ascending)
+        !> per neighbour k, entries ptr(k) + 1 .. ptr(k + 1), in slot order:
+        !> the solids' halo slots sent to k (computed here, k assembles the
+        !> node) and received from k (k computed them, this rank assembles);
+        !> the shells' likewise
+        integer, allocatable :: so_ptr(:), so_slot(:), si_ptr(:), si_slot(:)
+        integer, allocatable :: ho_ptr(:), ho_slot(:), hi_ptr(:), hi_slot(:)
+        !> per neighbour k, in node order: this rank's nodes whose motion
+        !> goes to k (k's elements touch them) and k's nodes whose motion
+        !> comes from k (this rank's elements touch them)
+        integer, allocatable :: mo_ptr(:), mo_node(:), mi_ptr(:), mi_node(:)
+        !> this rank's nodes as runs of consecutive numbers (at most
+        !> run_max long, so that threads share them), run_lo(k) ..
+        !> run_hi(k): the owned node loops run over them and vectorise
+        integer, allocatable :: run_lo(:), run_hi(:)
     end type domain_t
+
+    integer, parameter :: run_max = 1024
 
 contains
 
@@ -146,6 +171,7 @@ contains
         dom%nhalo = count(multi)
         dom%node_mine = arank == rank
         dom%nodes = where_true(dom%node_mine)
+        call node_runs(dom%nodes, dom%run_lo, dom%run_hi)
         allocate (dom%by_rank(0), dom%ncount(nranks), dom%noff(nranks))
         do r = 1, nranks
             dom%noff(r) = size(dom%by_rank)
@@ -161,6 +187,7 @@ contains
         end if
 
         if (nranks > 1 .and. rank == 0) call part_sizes()
+        call neighbour_lists()
 
         ! contact: each interface's slaves by coordinate bisection (slaves
         ! whose lists go to the debug dump stay on rank 0, which writes it)
@@ -281,6 +308,82 @@ contains
             end do
         end subroutine ghosts
 
+        !> The owned-node exchange lists (domain_t's nbr, so/si, ho/hi,
+        !> mo/mi) from the halo slots: a slot of this rank's element on a
+        !> node rank q assembles goes to q, and q sends that node's motion
+        !> back; a slot of q's element on a node this rank assembles comes
+        !> from q, and the node's motion goes to q.
+        subroutine neighbour_lists()
+            integer, allocatable :: sto(:), sfrom(:), hto(:), hfrom(:)
+            logical, allocatable :: isn(:), mark(:)
+            integer :: q, k
+            allocate (sto(size(dom%bslot)), sfrom(size(dom%bslot)), hto(size(dom%bshell)), hfrom(size(dom%bshell)))
+            allocate (isn(0:nranks - 1), mark(nnode))
+            isn = .false.
+            do k = 1, size(dom%bslot)
+                call ends(dom%bslot(k), 8, solids%conn, grank(solids%group_of((dom%bslot(k) - 1)/8 + 1)), &
+                          sto(k), sfrom(k), isn)
+            end do
+            do k = 1, size(dom%bshell)
+                call ends(dom%bshell(k), 4, sh%conn, shrank((dom%bshell(k) - 1)/4 + 1), hto(k), hfrom(k), isn)
+            end do
+            isn(rank) = .false.
+            dom%nbr = pack([(q, q=0, nranks - 1)], isn)
+            allocate (dom%so_ptr(1), dom%si_ptr(1), dom%ho_ptr(1), dom%hi_ptr(1), dom%mo_ptr(1), dom%mi_ptr(1))
+            dom%so_ptr = 0; dom%si_ptr = 0; dom%ho_ptr = 0; dom%hi_ptr = 0; dom%mo_ptr = 0; dom%mi_ptr = 0
+            allocate (dom%so_slot(0), dom%si_slot(0), dom%ho_slot(0), dom%hi_slot(0), dom%mo_node(0), dom%mi_node(0))
+            do k = 1, size(dom%nbr)
+                q = dom%nbr(k)
+                dom%so_slot = [dom%so_slot, pack(dom%bslot, sto == q)]
+                dom%si_slot = [dom%si_slot, pack(dom%bslot, sfrom == q)]
+                dom%ho_slot = [dom%ho_slot, pack(dom%bshell, hto == q)]
+                dom%hi_slot = [dom%hi_slot, pack(dom%bshell, hfrom == q)]
+                dom%so_ptr = [dom%so_ptr, size(dom%so_slot)]
+                dom%si_ptr = [dom%si_ptr, size(dom%si_slot)]
+                dom%ho_ptr = [dom%ho_ptr, size(dom%ho_slot)]
+                dom%hi_ptr = [dom%hi_ptr, size(dom%hi_slot)]
+                ! the motion: this rank's nodes q's slots come from, q's
+                ! nodes this rank's slots go to
+                mark = .false.
+                call mark_nodes(pack(dom%bslot, sfrom == q), 8, solids%conn, mark)
+                call mark_nodes(pack(dom%bshell, hfrom == q), 4, sh%conn, mark)
+                dom%mo_node = [dom%mo_node, where_true(mark)]
+                dom%mo_ptr = [dom%mo_ptr, size(dom%mo_node)]
+                mark = .false.
+                call mark_nodes(pack(dom%bslot, sto == q), 8, solids%conn, mark)
+                call mark_nodes(pack(dom%bshell, hto == q), 4, sh%conn, mark)
+                dom%mi_node = [dom%mi_node, where_true(mark)]
+                dom%mi_ptr = [dom%mi_ptr, size(dom%mi_node)]
+            end do
+        end subroutine neighbour_lists
+
+        !> Slot j (nen a element, its element on rank er): the rank it goes
+        !> to from here (to) or comes from to here (from), -1 if none; both
+        !> are neighbours (isn).
+        subroutine ends(j, nen, conn, er, to, from, isn)
+            integer, intent(in) :: j, nen, conn(:, :), er
+            integer, intent(out) :: to, from
+            logical, intent(inout) :: isn(0:)
+            integer :: an
+            an = arank(conn(mod(j - 1, nen) + 1, (j - 1)/nen + 1))
+            to = -1
+            from = -1
+            if (er == rank .and. an /= rank) to = an
+            if (an == rank .and. er /= rank) from = er
+            if (to >= 0) isn(to) = .true.
+            if (from >= 0) isn(from) = .true.
+        end subroutine ends
+
+        !> mark: the nodes of the slots (nen an element).
+        subroutine mark_nodes(slots, nen, conn, mark)
+            integer, intent(in) :: slots(:), nen, conn(:, :)
+            logical, intent(inout) :: mark(:)
+            integer :: i
+            do i = 1, size(slots)
+                mark(conn(mod(slots(i) - 1, nen) + 1, (slots(i) - 1)/nen + 1)) = .true.
+            end do
+        end subroutine mark_nodes
+
         !> Per rank, the ids of the parts it has elements of.
         subroutine list_parts()
             logical :: on(model%npart, nranks)
@@ -329,6 +432,29 @@ contains
             end if
         end subroutine seen
     end subroutine build_domain
+
+    !> The ascending node numbers `nodes` as runs lo(k) .. hi(k) of
+    !> consecutive numbers, none longer than run_max.
+    subroutine node_runs(nodes, lo, hi)
+        integer, intent(in) :: nodes(:)
+        integer, allocatable, intent(out) :: lo(:), hi(:)
+        integer :: t(size(nodes)), u(size(nodes))
+        integer :: i, n
+        n = 0
+        do i = 1, size(nodes)
+            if (n > 0) then
+                if (nodes(i) == u(n) + 1 .and. nodes(i) - t(n) < run_max) then
+                    u(n) = nodes(i)
+                    cycle
+                end if
+            end if
+            n = n + 1
+            t(n) = nodes(i)
+            u(n) = nodes(i)
+        end do
+        lo = t(1:n)
+        hi = u(1:n)
+    end subroutine node_runs
 
     !> Log lines: the ranks' shares of the work and the halo.
     function domain_summary(dom) result(txt)
@@ -435,6 +561,137 @@ contains
             !$omp end parallel do
         end do
     end subroutine share_nodes
+
+    !> Owned nodes' halo exchange: the slots this rank's elements computed
+    !> for nodes a neighbour assembles go to that neighbour alone, and those
+    !> the neighbours computed for this rank's nodes come in (each value
+    !> from one rank: the assembly then sums every node's slots in the
+    !> serial order, bit for bit).
+    subroutine swap_slots(dom, solids, sh)
+        type(domain_t), intent(in) :: dom
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        real(wp), allocatable :: sb(:), rb(:)
+        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), k, i, p
+        soff(1) = 0
+        roff(1) = 0
+        do k = 1, size(dom%nbr)
+            soff(k + 1) = soff(k) + 3*(dom%so_ptr(k + 1) - dom%so_ptr(k)) + 6*(dom%ho_ptr(k + 1) - dom%ho_ptr(k))
+            roff(k + 1) = roff(k) + 3*(dom%si_ptr(k + 1) - dom%si_ptr(k)) + 6*(dom%hi_ptr(k + 1) - dom%hi_ptr(k))
+        end do
+        allocate (sb(max(soff(size(soff)), 1)), rb(max(roff(size(roff)), 1)))
+        do k = 1, size(dom%nbr)
+            p = soff(k)
+            do i = dom%so_ptr(k) + 1, dom%so_ptr(k + 1)
+                sb(p + 1:p + 3) = solids%fslot(:, dom%so_slot(i))
+                p = p + 3
+            end do
+            do i = dom%ho_ptr(k) + 1, dom%ho_ptr(k + 1)
+                sb(p + 1:p + 3) = sh%fslot(:, dom%ho_slot(i))
+                sb(p + 4:p + 6) = sh%mslot(:, dom%ho_slot(i))
+                p = p + 6
+            end do
+        end do
+        call comm_neighbours(dom%nbr, sb, soff, rb, roff)
+        do k = 1, size(dom%nbr)
+            p = roff(k)
+            do i = dom%si_ptr(k) + 1, dom%si_ptr(k + 1)
+                solids%fslot(:, dom%si_slot(i)) = rb(p + 1:p + 3)
+                p = p + 3
+            end do
+            do i = dom%hi_ptr(k) + 1, dom%hi_ptr(k + 1)
+                sh%fslot(:, dom%hi_slot(i)) = rb(p + 1:p + 3)
+                sh%mslot(:, dom%hi_slot(i)) = rb(p + 4:p + 6)
+                p = p + 6
+            end do
+        end do
+    end subroutine swap_slots
+
+    !> Owned nodes after a step: this rank's nodes' coordinates and
+    !> velocities (and angular velocities, vr) to the neighbours whose
+    !> elements touch them; the neighbours' nodes this rank's elements
+    !> touch, from them.
+    subroutine swap_motion(dom, x, v, vr)
+        type(domain_t), intent(in) :: dom
+        real(wp), intent(inout) :: x(:, :), v(:, :)
+        real(wp), intent(inout), optional :: vr(:, :)
+        real(wp), allocatable :: sb(:), rb(:)
+        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), w, i, nd, p
+        w = 6
+        if (present(vr)) w = 9
+        soff = w*dom%mo_ptr
+        roff = w*dom%mi_ptr
+        allocate (sb(max(soff(size(soff)), 1)), rb(max(roff(size(roff)), 1)))
+        do i = 1, size(dom%mo_node)
+            nd = dom%mo_node(i)
+            p = w*(i - 1)
+            sb(p + 1:p + 3) = x(:, nd)
+            sb(p + 4:p + 6) = v(:, nd)
+            if (w == 9) sb(p + 7:p + 9) = vr(:, nd)
+        end do
+        call comm_neighbours(dom%nbr, sb, soff, rb, roff)
+        do i = 1, size(dom%mi_node)
+            nd = dom%mi_node(i)
+            p = w*(i - 1)
+            x(:, nd) = rb(p + 1:p + 3)
+            v(:, nd) = rb(p + 4:p + 6)
+            if (w == 9) vr(:, nd) = rb(p + 7:p + 9)
+        end do
+    end subroutine swap_motion
+
+    !> Owned nodes: every node's values in the arrays a1 .. a8 (three a
+    !> node) from the rank that integrates it, on every rank (for the
+    !> outputs, the energies and a dump: each rank packs its nodes'
+    !> columns, all ranks gather them).
+    subroutine share_state(dom, a1, a2, a3, a4, a5, a6, a7, a8)
+        type(domain_t), intent(in) :: dom
+        real(wp), intent(inout), contiguous :: a1(:, :)
+        real(wp), intent(inout), contiguous, optional :: a2(:, :), a3(:, :), a4(:, :), a5(:, :), a6(:, :), a7(:, :), &
+                                                         a8(:, :)
+        real(wp), allocatable :: mine(:, :), all(:, :)
+        integer :: w, i, r, p
+        w = 3*(1 + count([present(a2), present(a3), present(a4), present(a5), present(a6), present(a7), present(a8)]))
+        allocate (mine(w, max(size(dom%nodes), 1)), all(w, size(dom%by_rank)))
+        p = 0
+        call pack_cols(a1)
+        if (present(a2)) call pack_cols(a2)
+        if (present(a3)) call pack_cols(a3)
+        if (present(a4)) call pack_cols(a4)
+        if (present(a5)) call pack_cols(a5)
+        if (present(a6)) call pack_cols(a6)
+        if (present(a7)) call pack_cols(a7)
+        if (present(a8)) call pack_cols(a8)
+        call comm_gather_wp(mine, w*size(dom%nodes), all, w*dom%ncount, w*dom%noff)
+        p = 0
+        call unpack_cols(a1)
+        if (present(a2)) call unpack_cols(a2)
+        if (present(a3)) call unpack_cols(a3)
+        if (present(a4)) call unpack_cols(a4)
+        if (present(a5)) call unpack_cols(a5)
+        if (present(a6)) call unpack_cols(a6)
+        if (present(a7)) call unpack_cols(a7)
+        if (present(a8)) call unpack_cols(a8)
+    contains
+        subroutine pack_cols(a)
+            real(wp), intent(in) :: a(:, :)
+            do i = 1, size(dom%nodes)
+                mine(p + 1:p + 3, i) = a(:, dom%nodes(i))
+            end do
+            p = p + 3
+        end subroutine pack_cols
+
+        !> (the other ranks' nodes: this rank's are in place)
+        subroutine unpack_cols(a)
+            real(wp), intent(inout) :: a(:, :)
+            do r = 1, dom%nranks
+                if (r == dom%rank + 1) cycle
+                do i = dom%noff(r) + 1, dom%noff(r) + dom%ncount(r)
+                    a(:, dom%by_rank(i)) = all(p + 1:p + 3, i)
+                end do
+            end do
+            p = p + 3
+        end subroutine unpack_cols
+    end subroutine share_state
 
     !> The element energies (and shell thicknesses) from their ranks, for
     !> glstat and matsum.

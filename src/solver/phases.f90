@@ -24,7 +24,7 @@ module xd_solver_phases
                                    dead_model_hexes
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
-    use xd_solver_domain, only: domain_t, share_slots, share_nodes, gather_energy_state
+    use xd_solver_domain, only: domain_t, share_slots, share_nodes, gather_energy_state, swap_slots, swap_motion
     use xd_solver_energies, only: energies_t, compute_energies
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
@@ -155,14 +155,23 @@ contains
         call tm%stop(ph_wait)
         if (bad_kind /= 0) return
         ! the halo: slots of other ranks' elements on this rank's nodes
+        ! (owned nodes: from the neighbours that computed them, to this
+        ! rank alone)
         call tm%start(ph_comm)
-        call share_slots(dom, solids, sh)
+        if (dom%owned) then
+            call swap_slots(dom, solids, sh)
+        else
+            call share_slots(dom, solids, sh)
+        end if
         call tm%stop(ph_comm)
         call tm%start(ph_assembly)
         if (solids%n > 0 .or. sh%n == 0) call assemble(asm, solids%fslot, st%f, nodes=dom%nodes)
         if (sh%n > 0) call assemble(asm_sh, sh%fslot, st%f, add=solids%n > 0, nodes=dom%nodes, &
                                     mslot=sh%mslot, m=st%mom)
         call tm%stop(ph_assembly)
+        ! (owned nodes: each rank integrates its own; the others' forces
+        ! are not needed here)
+        if (dom%owned) return
         call tm%start(ph_comm)
         if (sh%n > 0) then
             call share_nodes(dom, st%f, st%mom)
@@ -574,7 +583,8 @@ contains
     !> v(n-1/2) + a(n) (dt(n-1/2) + dt(n+1/2))/2, the angular velocities
     !> likewise. With save_minus, v(n-1/2) (and the angular velocities) are
     !> kept in vminus (vrminus) for the energies.
-    subroutine velocity_phase(st, td, dt_avg, save_minus, vminus, vrminus)
+    subroutine velocity_phase(dom, st, td, dt_avg, save_minus, vminus, vrminus)
+        type(domain_t), intent(in) :: dom
         type(state_t), intent(inout) :: st
         type(ties_t), intent(inout) :: td
         real(dp), intent(in) :: dt_avg
@@ -592,7 +602,16 @@ contains
         end if
         ! (without ties the accelerations are taken in the kick's own loop:
         ! the same quotients, one pass over the nodes fewer)
-        if (threaded(st%nnode)) then
+        if (dom%owned) then
+            ! owned nodes: this rank's alone (no ties under owned nodes)
+            if (threaded(size(dom%nodes))) then
+                !$omp parallel
+                call kick_owned(st, real(dt_avg, wp), dom%run_lo, dom%run_hi)
+                !$omp end parallel
+            else
+                call kick_owned(st, real(dt_avg, wp), dom%run_lo, dom%run_hi)
+            end if
+        else if (threaded(st%nnode)) then
             !$omp parallel
             call kick(st, real(dt_avg, wp), td%n == 0)
             !$omp end parallel
@@ -645,6 +664,40 @@ contains
             !$omp end do
         end if
     end subroutine kick
+
+    !> The kick (with the accelerations from the forces, as kick's) of the
+    !> nodes in the runs lo(k) .. hi(k) alone: the same operations node by
+    !> node, each run's in a loop that vectorises.
+    subroutine kick_owned(st, dt, lo, hi)
+        type(state_t), intent(inout) :: st
+        real(wp), intent(in) :: dt
+        integer, intent(in) :: lo(:), hi(:)
+        integer :: k, nd
+        real(wp) :: ri, on, a1, a2, a3
+        !$omp do schedule(static)
+        do k = 1, size(lo)
+            do nd = lo(k), hi(k)
+                a1 = free_accel(st%f(1, nd), st%mass(nd), st%free(1, nd))
+                a2 = free_accel(st%f(2, nd), st%mass(nd), st%free(2, nd))
+                a3 = free_accel(st%f(3, nd), st%mass(nd), st%free(3, nd))
+                st%a(1, nd) = a1
+                st%a(2, nd) = a2
+                st%a(3, nd) = a3
+                st%v(1, nd) = st%v(1, nd) + dt*a1
+                st%v(2, nd) = st%v(2, nd) + dt*a2
+                st%v(3, nd) = st%v(3, nd) + dt*a3
+            end do
+            if (.not. st%rot) cycle
+            do nd = lo(k), hi(k)
+                on = merge(1.0_wp, 0.0_wp, st%irot(nd) > 0.0_wp)
+                ri = st%irot(nd) + (1.0_wp - on)
+                st%vr(1, nd) = st%vr(1, nd) + dt*st%mom(1, nd)/ri*st%free_r(1, nd)*on
+                st%vr(2, nd) = st%vr(2, nd) + dt*st%mom(2, nd)/ri*st%free_r(2, nd)*on
+                st%vr(3, nd) = st%vr(3, nd) + dt*st%mom(3, nd)/ri*st%free_r(3, nd)*on
+            end do
+        end do
+        !$omp end do
+    end subroutine kick_owned
 
     !> a = f / m in the free directions.
     subroutine accelerations(st)
@@ -790,28 +843,65 @@ contains
 
     !> x(n+1) = x(n) + dt(n+1/2) v(n+1/2), the contact's motion bounds and
     !> the histories' rotations with it, and the clock to t(n+1).
-    subroutine advance_phase(st, ct, hist, tm, dt_avg)
+    subroutine advance_phase(dom, st, ct, hist, tm, dt_avg)
+        type(domain_t), intent(in) :: dom
         type(state_t), intent(inout) :: st
         type(contacts_t), intent(inout) :: ct
         type(histories_t), intent(inout) :: hist
         type(timers_t), intent(inout) :: tm
         real(dp), intent(in) :: dt_avg
         call tm%start(ph_integrate)
-        if (threaded(st%nnode)) then
-            !$omp parallel
-            call drift(st)
-            !$omp end parallel
+        if (dom%owned) then
+            ! owned nodes: this rank's moved, then their motion to the
+            ! neighbours whose elements touch them and theirs from them
+            if (threaded(size(dom%nodes))) then
+                !$omp parallel
+                call drift_owned(st, dom%run_lo, dom%run_hi)
+                !$omp end parallel
+            else
+                call drift_owned(st, dom%run_lo, dom%run_hi)
+            end if
+            call track_rotations(hist, st, dom%node_mine)
+            call tm%stop(ph_integrate)
+            call tm%start(ph_comm)
+            if (st%rot) then
+                call swap_motion(dom, st%x, st%v, st%vr)
+            else
+                call swap_motion(dom, st%x, st%v)
+            end if
+            call tm%stop(ph_comm)
+            call tm%start(ph_integrate)
         else
-            call drift(st)
+            if (threaded(st%nnode)) then
+                !$omp parallel
+                call drift(st)
+                !$omp end parallel
+            else
+                call drift(st)
+            end if
+            call track_rotations(hist, st)
         end if
         if (ct%n > 0) call contact_drift(ct, st%v, st%dt)
-        call track_rotations(hist, st)
         st%time = st%time + real(st%dt, dp)
         st%cycle = st%cycle + 1
         st%dt_old = st%dt
         st%dt_avg_prev = dt_avg
         call tm%stop(ph_integrate)
     end subroutine advance_phase
+
+    !> x += dt v on the nodes of the runs lo(k) .. hi(k).
+    subroutine drift_owned(st, lo, hi)
+        type(state_t), intent(inout) :: st
+        integer, intent(in) :: lo(:), hi(:)
+        integer :: k, nd
+        !$omp do schedule(static)
+        do k = 1, size(lo)
+            do nd = lo(k), hi(k)
+                st%x(:, nd) = st%x(:, nd) + st%dt*st%v(:, nd)
+            end do
+        end do
+        !$omp end do
+    end subroutine drift_owned
 
     !> x += dt v.
     subroutine drift(st)

@@ -10,7 +10,7 @@ module xd_solver_time_loop
     use xd_kinds, only: wp, dp
     use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run, exit_signal
-    use xd_core_timers, only: timers_t, ph_elements, ph_integrate, ph_output, ph_search, ph_init
+    use xd_core_timers, only: timers_t, ph_elements, ph_integrate, ph_output, ph_search, ph_init, ph_comm
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
@@ -18,7 +18,7 @@ module xd_solver_time_loop
     use xd_solver_energies, only: energies_t, prepare_energies
     use xd_output_histories, only: histories_t, histories_due, write_histories, history_failure, flush_histories
     use xd_output_states, only: states_t, states_due, write_state, states_marks, states_failure
-    use xd_output_histories, only: history_marks
+    use xd_output_histories, only: history_marks, merge_rotations
     use xd_solver_restart, only: dump_meta_t, write_dump
     use xd_core_signals, only: stop_signal, status_signal, hold_for_signal
     use xd_solver_sense_switch, only: read_sense_switch, switch_name, sw_none, sw_stop, sw_status, sw_dump, sw_state, &
@@ -34,7 +34,7 @@ module xd_solver_time_loop
     use xd_solver_prescribed, only: prescribed_nodes_t
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t
-    use xd_solver_domain, only: domain_t, gather_element_state
+    use xd_solver_domain, only: domain_t, gather_element_state, share_state
     use xd_core_comm, only: comm_max, comm_sum_int
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, &
                                       hourglass_bound_report
@@ -95,7 +95,8 @@ contains
     subroutine run_time_loop(model, dom, st, solids, asm, sh, asm_sh, bm, walls, ct, pn, rg, pl, td, hist, states, lg, tm, &
                              opts, res)
         type(model_t), intent(in) :: model
-        type(domain_t), intent(in) :: dom
+        !> (its `owned` set here, before the loop)
+        type(domain_t), intent(inout) :: dom
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(assembly_t), intent(in) :: asm
@@ -159,6 +160,7 @@ contains
         lp%t_last_progress = lp%t0_wall
         call mass_scaling_begin(ms, model%ctl, lg)
         call step_stats_init(ss, solids%n, sh%n)
+        if (dom%on) call choose_owned(model, dom, ct, walls, rg, td, bm, pn, pl, solids, sh, ms, lg)
 
         ! cycle n: forces at t(n) on x(n) with v(n-1/2); v(n+1/2) with the
         ! constraints; output at t(n); then x(n+1)
@@ -169,6 +171,7 @@ contains
             if (opts%dump_every >= 0 .and. .not. lp%dumped_end) then
                 if (st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp) .or. &
                     (model%ctl%endcyc > 0 .and. st%cycle >= model%ctl%endcyc)) then
+                    if (dom%owned) call refresh_nodes(dom, st, hist, tm, .true.)
                     call dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
                     lp%dumped_end = .true.
                     if (res%status /= exit_normal) exit
@@ -184,6 +187,7 @@ contains
             call element_phase(st, solids, asm, sh, tm, shells_direct, dtc, bad_kind, bad)
             call exchange_phase(dom, st, solids, asm, sh, asm_sh, tm, shells_direct, dtc, bad_kind, bad)
             if (bad_kind /= 0) then
+                if (dom%owned) call refresh_nodes(dom, st, hist, tm, .false.)
                 call fail(res, st, lg, bad_element(model, st, solids, sh, bad_kind, bad))
                 exit
             end if
@@ -223,11 +227,16 @@ contains
                             mod(st%cycle, opts%energy_check_every) == 0 .or. states_due(states, st%time) .or. &
                             lp%state_asked
             call tm%start(ph_integrate)
-            call velocity_phase(st, td, dt_avg, energy_now, vminus, vrminus)
+            call velocity_phase(dom, st, td, dt_avg, energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
             call constraint_phase(model, walls, pn, rg, td, pl, st, lg, tm, dt_avg, g_new, no_body)
 
             if (energy_now) then
+                ! owned nodes: every node's state on every rank for the
+                ! energies and the outputs
+                if (dom%owned) call refresh_nodes(dom, st, hist, tm, histories_due(hist, st%time) .or. &
+                                                  states_due(states, st%time) .or. done .or. st%cycle == 0 .or. &
+                                                  lp%state_asked, vminus, vrminus)
                 call energy_phase(model, dom, st, solids, sh, walls, rg, ct, td, bm, tm, vminus, vrminus, dt_avg, &
                                   ke_fix, vn, en)
                 call energy_check(lp, model, st, solids, sh, rg, ct, pn, en, vn, res, lg)
@@ -247,7 +256,7 @@ contains
             end if
             if (done) exit
 
-            call advance_phase(st, ct, hist, tm, dt_avg)
+            call advance_phase(dom, st, ct, hist, tm, dt_avg)
             call batch_phase(lp, opts, model, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, en, lg, tm, res)
             if (res%status /= exit_normal) exit
         end do
@@ -342,9 +351,96 @@ contains
         end if
     contains
         subroutine dump()
+            if (dom%owned) call refresh_nodes(dom, st, hist, tm, .true.)
             call dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
         end subroutine dump
     end subroutine batch_phase
+
+    !> Owned nodes (issue 32) where the model allows them: each rank then
+    !> integrates the nodes it assembles and exchanges its halo with its
+    !> neighbours alone; the features that still read or write every node
+    !> on every rank keep the replicated state, and d3hsp names them.
+    !> XDYNA_REPLICATED=1 keeps it for any model (comparisons).
+    subroutine choose_owned(model, dom, ct, walls, rg, td, bm, pn, pl, solids, sh, ms, lg)
+        type(model_t), intent(in) :: model
+        type(domain_t), intent(inout) :: dom
+        type(contacts_t), intent(in) :: ct
+        type(walls_t), intent(in) :: walls
+        type(rigid_t), intent(in) :: rg
+        type(ties_t), intent(in) :: td
+        type(beams_t), intent(in) :: bm
+        type(prescribed_nodes_t), intent(in) :: pn
+        type(pressures_t), intent(in) :: pl
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        type(mass_scaling_t), intent(in) :: ms
+        type(log_t), intent(in) :: lg
+        character(len=:), allocatable :: why
+        character(len=8) :: env
+        integer :: n, stat
+        why = ''
+        if (ct%n > 0) why = why//', contact'
+        if (walls%n > 0) why = why//', rigid walls'
+        if (rg%n > 0) why = why//', rigid bodies'
+        if (td%n > 0) why = why//', tied contacts'
+        if (bm%n > 0) why = why//', beams'
+        if (pn%n > 0) why = why//', prescribed motion'
+        if (pl%n > 0) why = why//', pressure loads'
+        if (model%nbody > 0) why = why//', body loads'
+        if (sh%erodible .or. solids%erodible) why = why//', erosion'
+        if (ms%on) why = why//', mass scaling'
+        call get_environment_variable('XDYNA_REPLICATED', env, length=n, status=stat)
+        if (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0') why = why//', XDYNA_REPLICATED set'
+        dom%owned = len(why) == 0
+        if (dom%owned) then
+            call log_line(lg, ' nodal state: owned nodes: each rank integrates the nodes it assembles (rank 0: '// &
+                          itoa(size(dom%nodes))//' of '//itoa(size(dom%node_mine))//'), sends the halo''s force '// &
+                          'slots to their nodes'' ranks and its nodes'' motion to the ranks that touch them, '// &
+                          'point-to-point (rank 0: '//itoa(size(dom%nbr))//' neighbours); every node is gathered '// &
+                          'only for the energies, outputs and dumps')
+        else
+            call log_line(lg, ' nodal state: replicated: every rank integrates every node and the ranks share all '// &
+                          'nodal forces each cycle (owned nodes do not yet carry: '//why(3:)//')')
+        end if
+    end subroutine choose_owned
+
+    !> Owned nodes: every node's coordinates and velocities (and angular
+    !> velocities), v(n-1/2) where given (the energies), and with `outputs`
+    !> the accelerations and forces (and moments: nodout, d3plot), and the
+    !> histories' tracked rotations, from the ranks that integrate them to
+    !> every rank.
+    subroutine refresh_nodes(dom, st, hist, tm, outputs, vminus, vrminus)
+        type(domain_t), intent(in) :: dom
+        type(state_t), intent(inout) :: st
+        type(histories_t), intent(inout) :: hist
+        type(timers_t), intent(inout) :: tm
+        logical, intent(in) :: outputs
+        real(wp), intent(inout), optional :: vminus(:, :)
+        real(wp), intent(inout), allocatable, optional :: vrminus(:, :)
+        call tm%start(ph_comm)
+        if (present(vminus)) then
+            if (st%rot) then
+                call share_state(dom, st%x, st%v, vminus, st%vr, vrminus)
+            else
+                call share_state(dom, st%x, st%v, vminus)
+            end if
+        else
+            if (st%rot) then
+                call share_state(dom, st%x, st%v, st%vr)
+            else
+                call share_state(dom, st%x, st%v)
+            end if
+        end if
+        if (outputs) then
+            if (st%rot) then
+                call share_state(dom, st%a, st%f, st%mom)
+            else
+                call share_state(dom, st%a, st%f)
+            end if
+            call merge_rotations(hist, dom%node_mine)
+        end if
+        call tm%stop(ph_comm)
+    end subroutine refresh_nodes
 
     !> The signals and the wall-clock limit, the same on every rank (MPI:
     !> the largest over the ranks, so all stop at the same cycle). The

@@ -20,6 +20,7 @@ program test_phases
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_shell_bt, only: shells_t
     use xd_elements_beam_bs, only: beams_t
+    use xd_solver_domain, only: domain_t
     use xd_output_d3hsp, only: log_t
     implicit none
 
@@ -36,12 +37,13 @@ contains
     subroutine velocities()
         type(state_t) :: st
         type(ties_t) :: td
+        type(domain_t) :: dom   !< one rank: every node integrated here
         real(wp) :: vminus(3, 3)
         real(wp), allocatable :: vrminus(:, :)
         call small_state(st)
         allocate (vrminus(3, 3))
         vminus = -1
-        call velocity_phase(st, td, 0.5_dp, .true., vminus, vrminus)
+        call velocity_phase(dom, st, td, 0.5_dp, .true., vminus, vrminus)
         call check(all(st%v(:, 1) == [1.25_wp, -0.25_wp, 1.75_wp]), 'phases: v(n+1/2) = v(n-1/2) + dt_avg f / m')
         call check(all(st%a(:, 1) == [2.0_wp, -1.0_wp, 3.0_wp]), 'phases: a = f / m')
         call check(all(st%v(:, 2) == [0.25_wp, 0.25_wp, 0.25_wp]), 'phases: a massless node keeps its velocity')
@@ -58,11 +60,12 @@ contains
         type(contacts_t) :: ct
         type(histories_t) :: hist
         type(timers_t) :: tm
+        type(domain_t) :: dom   !< one rank: every node integrated here
         call small_state(st)
         st%dt = 0.25_wp
         st%time = 1
         st%cycle = 7
-        call advance_phase(st, ct, hist, tm, 0.375_dp)
+        call advance_phase(dom, st, ct, hist, tm, 0.375_dp)
         call check(all(st%x(:, 1) == [1.0_wp + 0.0625_wp, 0.0625_wp, 0.0625_wp]), 'phases: x(n+1) = x(n) + dt v')
         call check(st%time == 1.25_dp .and. st%cycle == 8, 'phases: the clock advances by the step')
         call check(st%dt_old == 0.25_wp .and. st%dt_avg_prev == 0.375_dp, 'phases: the step taken and its average kept')
