@@ -5,7 +5,7 @@
 # time of the time loop, ns per element-cycle, the MPI phases' shares
 # (halo exchange, contact exchange, the wait for the slowest rank), the
 # contact's share, the peak memory per rank (VmHWM, smallest and largest)
-# and the halo's bytes a cycle (now: the slots summed over the ranks and
+# and the halo's bytes a cycle (now: the slots, each to its node's rank, and
 # every node's forces to every rank; with each rank's own nodes: its halo
 # nodes' share, from the decomposition table). Results are bitwise the same
 # for any rank count (make check holds that); here the ranks share this
@@ -56,4 +56,4 @@ for r in $ranks; do
                 100 * ghost / tot, 100 * wait / tot, cs, mem, hb, own
         }' $out/d3hsp
 done
-echo "bench-mpi: halo B/cycle now: the force slots summed over the ranks plus every node's forces to every rank (O(nodes x ranks)); own-node halo: each rank's halo nodes' forces out and motion back (O(partition surfaces), the layout issue 32 aims at)"
+echo "bench-mpi: halo B/cycle now: the force slots, each to its node's rank, plus (the replicated nodal state a model with contact keeps) every node's forces to every rank (O(nodes x ranks)); own-node halo: each rank's halo nodes' forces out and motion back (O(partition surfaces): the owned nodes of a model without contact)"

@@ -3878,8 +3878,22 @@ def test_mpi_owned():
                                       "*DATABASE_NODOUT\n1.0e-6\n*DATABASE_HISTORY_NODE\n1,21,641,660,1271\n", 1)
     with open(plate, "w") as fh:
         fh.write(text)
+    # the plate again under a moving rigid wall 2 mm above it (NSID 0: every
+    # node; mass 2 kg) and a prescribed velocity on its far edge (nodes
+    # 1231-1271, across the cuts) ramped from 30 m/s to 0: the wall's
+    # mass, impulse, force and energy and the prescribed work are sums
+    # over nodes of every rank, taken in the serial order
+    walled = os.path.join(d, "walled.k")
+    edge = "\n".join("".join(f"{n:10d}" for n in range(a, min(a + 8, 1272))) for a in range(1231, 1272, 8))
+    with open(walled, "w") as fh:
+        fh.write(text.replace("*NODE\n", "*SET_NODE_LIST\n         2\n" + edge + "\n*DEFINE_CURVE\n         7\n"
+                              " 0.0, 30.0\n 1.0e-4, 0.0\n 1.0, 0.0\n*BOUNDARY_PRESCRIBED_MOTION_SET\n"
+                              "         2         3         0         7       1.0\n*RIGIDWALL_PLANAR_MOVING\n"
+                              "         0\n0.0,0.0,0.002,0.0,0.0,0.0,0.0\n2.0,0.0\n*DATABASE_RWFORC\n1.0e-6\n"
+                              "*NODE\n", 1))
     for label, deck in (("plastic shell plate, NIP 5, nodout with rotations", plate),
-                        ("hexahedral block", hexes)):
+                        ("hexahedral block", hexes),
+                        ("plate under a moving rigid wall with a prescribed edge", walled)):
         serial = os.path.join(d, "serial_" + os.path.basename(deck)[:-2])
         p0 = run([XDYNA, "i=" + deck, "outdir=" + serial])
         for n, threads in ((2, 1), (4, 1), (2, 2)):
@@ -3904,6 +3918,13 @@ def test_mpi_owned():
             record(f"owned nodes, {label}: {n} ranks x {threads} threads give the serial histories and states "
                    f"bitwise; rank 0 integrates {share:.2f} of the nodes",
                    ok and states and m is not None and share <= 1.0 / n + 0.2, msg)
+    with h5py.File(os.path.join(d, "serial_walled", "thist.h5"), "r") as f:
+        wall_e, ext = f["glstat/stonewall_energy"][-1], f["glstat/external_work"][-1]
+        ke0 = f["glstat/kinetic_energy"][0]
+    # (both act: the wall takes energy and the edge's deceleration does
+    # negative work, each at least a percent of the initial kinetic energy)
+    record(f"owned nodes: the wall and the prescribed edge act (wall energy {wall_e:.4g} J, external work "
+           f"{ext:.4g} J, initial kinetic energy {ke0:.4g} J)", wall_e > 0.01 * ke0 and ext < -0.01 * ke0)
     # a restart across rank counts: dumped on 2 ranks at cycle 100 (every
     # node gathered for the dump), restarted on 4 to the end
     full = os.path.join(d, "serial_plate")

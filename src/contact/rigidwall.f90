@@ -12,6 +12,7 @@ module xd_contact_rigidwall
     use xd_core_threads, only: threaded
     use xd_solver_state, only: state_t
     use xd_core_sorting, only: where_true
+    use xd_core_comm, only: comm_ordered_records
     implicit none
     private
     public :: walls_t, wall_nodes_t, build_walls, apply_walls, walls_kinetic, wall_distance, wall_normal_force
@@ -115,28 +116,34 @@ contains
     !> The walls on the nodes of deformable bodies; `body_node` marks the
     !> nodes of rigid bodies, which take the walls' impulses as bodies
     !> (xd_rigid_bodies).
-    subroutine apply_walls(model, walls, st, dt, dt_avg, body_node)
+    !> (mine: under MPI with owned nodes, the nodes this rank integrates:
+    !> it acts on those alone, and the sums over a wall's nodes, its mass
+    !> and impulse, its force and energy, take every rank's terms in the
+    !> order of the wall's node list, as one rank adds them)
+    subroutine apply_walls(model, walls, st, dt, dt_avg, body_node, mine)
         type(model_t), intent(in) :: model
         type(walls_t), intent(inout) :: walls
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt, dt_avg
         logical, intent(in) :: body_node(:)
+        logical, intent(in), optional :: mine(:)
         integer :: i
         do i = 1, walls%n
-            call apply_wall(model%wall(i), walls%w(i), st, dt, dt_avg, body_node)
+            call apply_wall(model%wall(i), walls%w(i), st, dt, dt_avg, body_node, mine)
         end do
     end subroutine apply_walls
 
     !> Each wall node's distance behind the wall at the step's end (0 where
     !> it is not behind, massless or a rigid body's) and the wall normal
     !> there, as a worksharing loop.
-    subroutine wall_distances(w, wn, st, dt, body_node, dall, hn)
+    subroutine wall_distances(w, wn, st, dt, body_node, dall, hn, mine)
         type(rigidwall_t), intent(in) :: w
         type(wall_nodes_t), intent(in) :: wn
         type(state_t), intent(in) :: st
         real(wp), intent(in) :: dt
         logical, intent(in) :: body_node(:)
         real(wp), intent(inout) :: dall(:), hn(:, :)
+        logical, intent(in), optional :: mine(:)
         integer :: k, nd
         real(wp) :: xn(3)
         !$omp do schedule(static)
@@ -144,23 +151,30 @@ contains
             nd = wn%node(k)
             dall(k) = 0
             if (st%mass(nd) <= 0.0_wp .or. body_node(nd)) cycle
+            if (present(mine)) then
+                if (.not. mine(nd)) cycle
+            end if
             xn = st%x(:, nd) + dt*st%v(:, nd)
             call wall_distance(w, wn, xn, real(dt*wn%vel, wp), dall(k), hn(:, k))
         end do
         !$omp end do
     end subroutine wall_distances
 
-    subroutine apply_wall(w, wn, st, dt, dt_avg, body_node)
+    subroutine apply_wall(w, wn, st, dt, dt_avg, body_node, mine)
         type(rigidwall_t), intent(in) :: w
         type(wall_nodes_t), intent(inout) :: wn
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt, dt_avg
         logical, intent(in) :: body_node(:)
+        logical, intent(in), optional :: mine(:)
         integer :: k, nd, nc
-        real(wp) :: dvn, vold(3), vprev(3), vt(3), vtn, cut
-        real(dp) :: de, sum_m, sum_j, vw
-        integer, allocatable :: hit(:)
+        real(wp) :: dvn, vold(3), vprev(3), vt(3), vtn, cut, fk(3)
+        real(dp) :: de, sum_m, sum_j, vw, ek
+        integer, allocatable :: hit(:), at(:)
         real(wp), allocatable :: gap(:), hn(:, :), dall(:)
+        !> (owned nodes) this rank's hits' terms: key (the place in the
+        !> wall's node list) and the values the sums take
+        real(dp), allocatable :: rec(:, :), all(:, :)
         wn%force = 0
         wn%normal_force = 0
         wn%vel_old = wn%vel
@@ -171,15 +185,16 @@ contains
         ! nodes that would end the step behind the wall (the wall at its
         ! present speed), with their distance and the wall normal there: the
         ! distances threaded, the list in node order
-        allocate (hit(size(wn%node)), gap(size(wn%node)), hn(3, size(wn%node)), dall(size(wn%node)))
+        allocate (hit(size(wn%node)), gap(size(wn%node)), hn(3, size(wn%node)), dall(size(wn%node)), &
+                  at(size(wn%node)))
         ! (a parallel region only where more than one thread runs it:
         ! xd_core_threads)
         if (threaded(size(wn%node))) then
             !$omp parallel
-            call wall_distances(w, wn, st, dt, body_node, dall, hn)
+            call wall_distances(w, wn, st, dt, body_node, dall, hn, mine)
             !$omp end parallel
         else
-            call wall_distances(w, wn, st, dt, body_node, dall, hn)
+            call wall_distances(w, wn, st, dt, body_node, dall, hn, mine)
         end if
         nc = 0
         do k = 1, size(wn%node)
@@ -188,52 +203,77 @@ contains
             hit(nc) = wn%node(k)
             gap(nc) = dall(k)
             hn(:, nc) = hn(:, k)
+            at(nc) = k
         end do
-        ! a moving wall takes the nodes' impulses: with J_i = m_i dv_i and the
-        ! wall ending at v_w - sum J / M, each node ending on the wall gives
-        ! sum J (1 + sum m / M) = sum m_i (-d_i / dt) (closed form, momentum kept)
-        vw = 0
-        if (w%moving .and. nc > 0) then
-            sum_m = 0
-            sum_j = 0
-            do k = 1, nc
-                sum_m = sum_m + st%mass(hit(k))
-                sum_j = sum_j - st%mass(hit(k))*gap(k)/dt
-            end do
-            sum_j = sum_j/(1.0_dp + sum_m/w%mass)
-            vw = -sum_j/w%mass
-            wn%vel = wn%vel + vw
-        end if
-        de = 0
-        do k = 1, nc
-            nd = hit(k)
-            vold = st%v(:, nd)
-            ! normal: end the step on the wall (which itself changed speed by vw)
-            dvn = -gap(k)/dt + real(vw, wp)
-            st%v(:, nd) = st%v(:, nd) + dvn*hn(:, k)
-            ! tangential: stick, or Coulomb-limited slip reduction
-            if (w%fric > 0.0_wp) then
-                vt = st%v(:, nd) - dot_product(st%v(:, nd), hn(:, k))*hn(:, k)
-                vtn = norm2(vt)
-                if (vtn > 0.0_wp) then
-                    cut = vtn
-                    if (w%fric < 1.0_wp) cut = min(vtn, w%fric*abs(dvn))
-                    st%v(:, nd) = st%v(:, nd) - (cut/vtn)*vt
+        call wall_sums(present(mine))
+    contains
+        !> The hits' sums (a moving wall's mass and impulse, then, the nodes
+        !> moved, the force and energy), each taken over the hits' records
+        !> in the wall's node order; with `gather` (owned nodes) every
+        !> rank's records: the same sums as one rank takes.
+        subroutine wall_sums(gather)
+            logical, intent(in) :: gather
+            integer :: q
+            vw = 0
+            if (w%moving) then
+                allocate (rec(3, nc))
+                do k = 1, nc
+                    rec(:, k) = [real(at(k), dp), real(st%mass(hit(k)), dp), real(gap(k), dp)]
+                end do
+                if (gather) then
+                    call comm_ordered_records(rec, all)
+                else
+                    all = rec
                 end if
+                if (size(all, 2) > 0) then
+                    sum_m = 0
+                    sum_j = 0
+                    do q = 1, size(all, 2)
+                        sum_m = sum_m + real(all(2, q), wp)
+                        sum_j = sum_j - real(all(2, q), wp)*real(all(3, q), wp)/dt
+                    end do
+                    sum_j = sum_j/(1.0_dp + sum_m/w%mass)
+                    vw = -sum_j/w%mass
+                    wn%vel = wn%vel + vw
+                end if
+                deallocate (rec)
             end if
-            st%v(:, nd) = st%v(:, nd)*st%free(:, nd)
-            wn%force = wn%force + st%mass(nd)*(st%v(:, nd) - vold)/dt_avg
-            ! energy taken by the wall: minus the work of its force m dv/dt_avg
-            ! over the step, with the mean of v(n-1/2) and v(n+1/2); zero for a
-            ! node resting on the wall however hard it is pressed
-            vprev = vold - dt_avg*st%a(:, nd)
-            de = de - st%mass(nd)*dot_product(real(st%v(:, nd) - vold, dp), 0.5_dp*real(vprev + st%v(:, nd), dp))
-        end do
-        ! a moving wall keeps the kinetic energy it gains; the rest is dissipated
-        if (w%moving) de = de - 0.5_dp*w%mass*(wn%vel**2 - wn%vel_old**2)
-        wn%shift = wn%shift + dt*wn%vel
-        call wall_normal_force(w, wn)
-        wn%energy = wn%energy + de
+            allocate (rec(5, nc))
+            do k = 1, nc
+                nd = hit(k)
+                vold = st%v(:, nd)
+                dvn = -gap(k)/dt + real(vw, wp)
+                st%v(:, nd) = st%v(:, nd) + dvn*hn(:, k)
+                if (w%fric > 0.0_wp) then
+                    vt = st%v(:, nd) - dot_product(st%v(:, nd), hn(:, k))*hn(:, k)
+                    vtn = norm2(vt)
+                    if (vtn > 0.0_wp) then
+                        cut = vtn
+                        if (w%fric < 1.0_wp) cut = min(vtn, w%fric*abs(dvn))
+                        st%v(:, nd) = st%v(:, nd) - (cut/vtn)*vt
+                    end if
+                end if
+                st%v(:, nd) = st%v(:, nd)*st%free(:, nd)
+                fk = st%mass(nd)*(st%v(:, nd) - vold)/dt_avg
+                vprev = vold - dt_avg*st%a(:, nd)
+                ek = st%mass(nd)*dot_product(real(st%v(:, nd) - vold, dp), 0.5_dp*real(vprev + st%v(:, nd), dp))
+                rec(:, k) = [real(at(k), dp), real(fk, dp), ek]
+            end do
+            if (gather) then
+                call comm_ordered_records(rec, all)
+            else
+                all = rec
+            end if
+            de = 0
+            do q = 1, size(all, 2)
+                wn%force = wn%force + real(all(2:4, q), wp)
+                de = de - all(5, q)
+            end do
+            if (w%moving) de = de - 0.5_dp*w%mass*(wn%vel**2 - wn%vel_old**2)
+            wn%shift = wn%shift + dt*wn%vel
+            call wall_normal_force(w, wn)
+            wn%energy = wn%energy + de
+        end subroutine wall_sums
     end subroutine apply_wall
 
     !> The normal force of a wall from its force on the nodes: along its

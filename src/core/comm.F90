@@ -9,12 +9,13 @@
 module xd_core_comm
     use mpi_f08, only: MPI_Initialized, MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, &
                        MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_Datatype, MPI_Request, &
-                       MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE
+                       MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Comm_size
+    use xd_core_sorting, only: sort_index
     use xd_kinds, only: wp, dp
     implicit none
     private
     public :: comm_gather_wp, comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max, comm_gather_small, comm_gather_records, &
-              comm_neighbours
+              comm_neighbours, comm_ordered_records
 
 contains
 
@@ -103,6 +104,27 @@ contains
         allocate (all(w, sum(cnt)/max(w, 1)))
         call MPI_Allgatherv(mine, n, MPI_DOUBLE_PRECISION, all, cnt, disp, MPI_DOUBLE_PRECISION, MPI_COMM_WORLD)
     end subroutine comm_gather_records
+
+    !> Every rank's records (columns of mine, the first row each record's
+    !> key, a whole number; no key on two ranks) in increasing key order:
+    !> all(:, 1:total), allocated here. A sum a run reports, taken over
+    !> these in order from zero, is the one the serial run takes when it
+    !> adds them in key order, whichever rank holds which record.
+    subroutine comm_ordered_records(mine, all)
+        real(dp), contiguous, intent(in) :: mine(:, :)
+        real(dp), allocatable, intent(out) :: all(:, :)
+        real(dp), allocatable :: got(:, :)
+        integer, allocatable :: perm(:)
+        integer :: nranks
+        if (.not. up()) then
+            all = mine
+            return
+        end if
+        call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+        call comm_gather_records(mine, nranks, got)
+        call sort_index(got(1, :), perm)
+        all = got(:, perm)
+    end subroutine comm_ordered_records
 
     !> Point-to-point exchange with the neighbour ranks nbr(k) (0-based):
     !> sbuf(soff(k) + 1 : soff(k + 1)) goes to nbr(k), and what nbr(k) sends

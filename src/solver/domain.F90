@@ -1,12 +1,17 @@
 !> The MPI domain decomposition of a run (issue 8). Every rank reads the
-!> deck and holds the whole mesh and the nodal state; the work is split:
+!> deck and holds the whole mesh and the nodal arrays; the work is split
+!> (below: the replicated nodal state, where every rank integrates every
+!> node; with owned nodes, issue 32, where the model allows them, each rank
+!> integrates only the nodes it assembles and exchanges with its neighbours
+!> alone: swap_slots, swap_motion, share_state):
 !>
 !> - elements: solid groups and deformable shells are cut into `nranks`
 !>   parts by recursive coordinate bisection weighted by cost (a hexahedron
 !>   1, a shell 0.4 NIP); a rank computes only its own elements' forces;
 !> - nodes: each node is assembled by one rank (the rank of its first
 !>   element in slot order). The force slots of elements on other ranks
-!>   that a node needs (the halo) are exchanged first, so every node's force
+!>   that a node needs (the halo) are sent to it point-to-point first
+!>   (swap_slots), so every node's force
 !>   is the sum of its slots in the serial order; the assembled forces and
 !>   moments are then shared by an exact sum (one rank gives each node's
 !>   value, the others zero). The velocity update, rigid bodies, rigid walls
@@ -35,7 +40,7 @@ module xd_solver_domain
     use xd_model, only: model_t
     implicit none
     private
-    public :: domain_t, build_domain, domain_summary, share_slots, share_nodes, gather_energy_state, gather_element_state, &
+    public :: domain_t, build_domain, domain_summary, share_nodes, gather_energy_state, gather_element_state, &
               swap_slots, swap_motion, share_state
 
     type :: domain_t
@@ -475,8 +480,9 @@ contains
             dom%nhalo, ' of ', size(dom%node_mine), ' (the halo)'
         txt = txt//trim(buf)//new_line('a')
         write (buf, '(a,i0,a,i0,a,i0,a)') '   halo exchange a cycle: ', size(dom%bslot) + size(dom%bshell), &
-            ' force slots (', 8*(3*size(dom%bslot) + 6*size(dom%bshell)), ' bytes summed over the ranks), then every '// &
-            'rank''s nodal forces to all (', 8*dom%width*size(dom%node_mine), ' bytes a rank)'
+            ' force slots (', 8*(3*size(dom%bslot) + 6*size(dom%bshell)), ' bytes in all, each to its node''s rank '// &
+            'alone), then with the replicated nodal state every rank''s nodal forces to all (', &
+            8*dom%width*size(dom%node_mine), ' bytes a rank)'
         txt = txt//trim(buf)
         if (.not. allocated(dom%ptouch)) return
         txt = txt//new_line('a')//new_line('a')// &
@@ -498,37 +504,6 @@ contains
             ' (a node counts once for each rank beyond its assembler whose elements touch it)'
         txt = txt//new_line('a')//trim(buf)
     end function domain_summary
-
-    !> Halo exchange: the force (and moment) slots that other ranks' nodes
-    !> need, from the ranks that computed them.
-    subroutine share_slots(dom, solids, sh)
-        type(domain_t), intent(in) :: dom
-        type(solids_t), intent(inout) :: solids
-        type(shells_t), intent(inout) :: sh
-        real(wp), allocatable :: buf(:, :)
-        integer :: nb, ns, i
-        nb = size(dom%bslot)
-        ns = size(dom%bshell)
-        if (nb + ns == 0) return
-        allocate (buf(3, nb + 2*ns))
-        buf = 0
-        do i = 1, nb
-            if (dom%bslot_mine(i)) buf(:, i) = solids%fslot(:, dom%bslot(i))
-        end do
-        do i = 1, ns
-            if (.not. dom%bshell_mine(i)) cycle
-            buf(:, nb + i) = sh%fslot(:, dom%bshell(i))
-            buf(:, nb + ns + i) = sh%mslot(:, dom%bshell(i))
-        end do
-        call comm_sum_wp(buf, size(buf))
-        do i = 1, nb
-            solids%fslot(:, dom%bslot(i)) = buf(:, i)
-        end do
-        do i = 1, ns
-            sh%fslot(:, dom%bshell(i)) = buf(:, nb + i)
-            sh%mslot(:, dom%bshell(i)) = buf(:, nb + ns + i)
-        end do
-    end subroutine share_slots
 
     !> f(:, node) (and m(:, node)) from the node's assembling rank, on every
     !> rank: each rank packs its nodes' values, all ranks gather them.

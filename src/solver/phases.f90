@@ -24,7 +24,7 @@ module xd_solver_phases
                                    dead_model_hexes
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
-    use xd_solver_domain, only: domain_t, share_slots, share_nodes, gather_energy_state, swap_slots, swap_motion
+    use xd_solver_domain, only: domain_t, share_nodes, gather_energy_state, swap_slots, swap_motion
     use xd_solver_energies, only: energies_t, compute_energies
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
@@ -154,15 +154,10 @@ contains
         call reduce_step(dom, st, dtcrit, bad_kind, bad)
         call tm%stop(ph_wait)
         if (bad_kind /= 0) return
-        ! the halo: slots of other ranks' elements on this rank's nodes
-        ! (owned nodes: from the neighbours that computed them, to this
-        ! rank alone)
+        ! the halo: slots of other ranks' elements on this rank's nodes,
+        ! from the neighbours that computed them, to this rank alone
         call tm%start(ph_comm)
-        if (dom%owned) then
-            call swap_slots(dom, solids, sh)
-        else
-            call share_slots(dom, solids, sh)
-        end if
+        call swap_slots(dom, solids, sh)
         call tm%stop(ph_comm)
         call tm%start(ph_assembly)
         if (solids%n > 0 .or. sh%n == 0) call assemble(asm, solids%fslot, st%f, nodes=dom%nodes)
@@ -740,8 +735,11 @@ contains
     !> motions' forces, and the second half of the applied loads' (with the
     !> final v(n+1/2)), added to st%ext_work. no_body: per node, not a rigid
     !> body's (models without rigid bodies).
-    subroutine constraint_phase(model, walls, pn, rg, td, pl, st, lg, tm, dt_avg, g_new, no_body)
+    subroutine constraint_phase(model, dom, walls, pn, rg, td, pl, st, lg, tm, dt_avg, g_new, no_body)
         type(model_t), intent(in) :: model
+        !> (owned nodes: the walls and prescribed motions act on this rank's
+        !> nodes, their sums over every rank's)
+        type(domain_t), intent(in) :: dom
         type(walls_t), intent(inout) :: walls
         type(prescribed_nodes_t), intent(in) :: pn
         type(rigid_t), intent(inout) :: rg
@@ -759,6 +757,8 @@ contains
             call tm%start(ph_contact)
             if (rg%n > 0) then
                 call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), rg%member)
+            else if (dom%owned) then
+                call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), no_body, dom%node_mine)
             else
                 call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), no_body)
             end if
@@ -767,6 +767,8 @@ contains
         if (pn%n > 0) then
             if (td%n > 0) then
                 call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm, td%mnodal)
+            else if (dom%owned) then
+                call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm, mine=dom%node_mine)
             else
                 call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm)
             end if

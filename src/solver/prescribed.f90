@@ -5,6 +5,7 @@ module xd_solver_prescribed
     use xd_kinds, only: wp, dp
     use xd_model, only: model_t, prescribed_t, curve_value, find_set, set_node
     use xd_solver_state, only: state_t
+    use xd_core_comm, only: comm_ordered_records
     implicit none
     private
     public :: prescribed_nodes_t, build_prescribed, apply_prescribed
@@ -49,7 +50,10 @@ contains
     !> v(n-1/2). (The mean form, m dv . (v(n-1/2) + v(n+1/2))/2, left a
     !> residue of 1/2 m dv^2 at each step of a ramp: energy ratios of 0.5 in
     !> the first cycles of a run driven from rest.)
-    subroutine apply_prescribed(model, pn, st, dt, dt_avg, work, mextra)
+    !> (mine: under MPI with owned nodes, the nodes this rank integrates:
+    !> it moves those alone, and the work is every rank's terms summed in
+    !> the order of the prescriptions' node lists, as one rank sums them)
+    subroutine apply_prescribed(model, pn, st, dt, dt_avg, work, mextra, mine)
         type(model_t), intent(in) :: model
         type(prescribed_nodes_t), intent(in) :: pn
         type(state_t), intent(inout) :: st
@@ -58,10 +62,16 @@ contains
         !> (nnode) mass a node carries beyond its own (tied slaves' on their
         !> segments' nodes): the prescribed motion moves it too
         real(wp), intent(in), optional :: mextra(:)
+        logical, intent(in), optional :: mine(:)
         real(dp) :: m
-        integer :: i, k, nd, j
+        integer :: i, k, nd, j, nr
         real(wp) :: t, target, vold, vprev
+        real(dp), allocatable :: rec(:, :), all(:, :)
         work = 0
+        ! (each node's term kept, then summed in order: the same sum on one
+        ! rank and, gathered, on many)
+        allocate (rec(2, size(pn%node)))
+        nr = 0
         t = real(st%time, wp)
         if (.not. allocated(st%jprev)) then
             allocate (st%jprev(3, st%nnode))
@@ -73,6 +83,9 @@ contains
                 j = pm%dof
                 do k = pn%first(i), pn%first(i + 1) - 1
                     nd = pn%node(k)
+                    if (present(mine)) then
+                        if (.not. mine(nd)) cycle
+                    end if
                     vold = st%v(j, nd)
                     vprev = vold - dt_avg*st%a(j, nd)
                     select case (pm%vad)
@@ -86,10 +99,19 @@ contains
                     st%v(j, nd) = target
                     m = st%mass(nd)
                     if (present(mextra)) m = m + mextra(nd)
-                    work = work + 0.5_dp*m*(target - vold + st%jprev(j, nd))*vprev
+                    nr = nr + 1
+                    rec(:, nr) = [real(k, dp), 0.5_dp*m*(target - vold + st%jprev(j, nd))*vprev]
                     st%jprev(j, nd) = target - vold
                 end do
             end associate
+        end do
+        if (present(mine)) then
+            call comm_ordered_records(rec(:, 1:nr), all)
+        else
+            all = rec(:, 1:nr)
+        end if
+        do k = 1, size(all, 2)
+            work = work + all(2, k)
         end do
     end subroutine apply_prescribed
 

@@ -229,7 +229,7 @@ contains
             call tm%start(ph_integrate)
             call velocity_phase(dom, st, td, dt_avg, energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
-            call constraint_phase(model, walls, pn, rg, td, pl, st, lg, tm, dt_avg, g_new, no_body)
+            call constraint_phase(model, dom, walls, pn, rg, td, pl, st, lg, tm, dt_avg, g_new, no_body)
 
             if (energy_now) then
                 ! owned nodes: every node's state on every rank for the
@@ -380,11 +380,9 @@ contains
         integer :: n, stat
         why = ''
         if (ct%n > 0) why = why//', contact'
-        if (walls%n > 0) why = why//', rigid walls'
         if (rg%n > 0) why = why//', rigid bodies'
         if (td%n > 0) why = why//', tied contacts'
         if (bm%n > 0) why = why//', beams'
-        if (pn%n > 0) why = why//', prescribed motion'
         if (pl%n > 0) why = why//', pressure loads'
         if (model%nbody > 0) why = why//', body loads'
         if (sh%erodible .or. solids%erodible) why = why//', erosion'
@@ -437,6 +435,8 @@ contains
             else
                 call share_state(dom, st%a, st%f)
             end if
+            ! (the prescribed motions' last velocity changes: a dump's)
+            if (allocated(st%jprev)) call share_state(dom, st%jprev)
             call merge_rotations(hist, dom%node_mine)
         end if
         call tm%stop(ph_comm)
