@@ -3,7 +3,7 @@
 !> (below: the replicated nodal state, where every rank integrates every
 !> node; with owned nodes, issue 32, where the model allows them, each rank
 !> integrates only the nodes it assembles and exchanges with its neighbours
-!> alone: swap_slots, swap_motion, share_state):
+!> alone: swap_slots, swap_velocities, owned_motion, share_state):
 !>
 !> - elements: solid groups and deformable shells are cut into `nranks`
 !>   parts by recursive coordinate bisection weighted by cost (a hexahedron
@@ -41,7 +41,7 @@ module xd_solver_domain
     implicit none
     private
     public :: domain_t, build_domain, domain_summary, share_nodes, gather_energy_state, gather_element_state, &
-              swap_slots, swap_motion, share_state
+              swap_slots, swap_velocities, owned_motion, share_state
 
     type :: domain_t
         integer :: rank = 0, nranks = 1
@@ -90,6 +90,18 @@ module xd_solver_domain
         !> run_max long, so that threads share them), run_lo(k) ..
         !> run_hi(k): the owned node loops run over them and vectorise
         integer, allocatable :: run_lo(:), run_hi(:)
+        integer, allocatable :: arank(:)      !< every node's assembling (owned nodes: integrating) rank
+        !> owned nodes with contact: the contact surfaces' nodes, whose
+        !> velocities every rank receives each cycle (the surfaces stay whole
+        !> on every rank): per rank r, its own in sv_node(sv_off(r) + 1 :
+        !> sv_off(r) + sv_cnt(r)), in node order
+        integer, allocatable :: sv_node(:), sv_cnt(:), sv_off(:)
+        !> owned nodes: the nodes this rank moves (its own, those its
+        !> elements touch and the contact surfaces') as runs
+        integer, allocatable :: mv_lo(:), mv_hi(:)
+        !> share_state's buffers, kept between its calls (fresh ones were
+        !> most of a gather's time: the pages' first touch)
+        real(wp), allocatable :: gmine(:), gall(:)
     end type domain_t
 
     integer, parameter :: run_max = 1024
@@ -177,6 +189,7 @@ contains
         dom%node_mine = arank == rank
         dom%nodes = where_true(dom%node_mine)
         call node_runs(dom%nodes, dom%run_lo, dom%run_hi)
+        dom%arank = arank
         allocate (dom%by_rank(0), dom%ncount(nranks), dom%noff(nranks))
         do r = 1, nranks
             dom%noff(r) = size(dom%by_rank)
@@ -582,51 +595,103 @@ contains
         end do
     end subroutine swap_slots
 
-    !> Owned nodes after a step: this rank's nodes' coordinates and
-    !> velocities (and angular velocities, vr) to the neighbours whose
-    !> elements touch them; the neighbours' nodes this rank's elements
-    !> touch, from them.
-    subroutine swap_motion(dom, x, v, vr)
+    !> Owned nodes, once the velocities v(n+1/2) are final: this rank's
+    !> nodes' velocities (and angular velocities, vr) to the neighbours
+    !> whose elements touch them and the neighbours' nodes this rank's
+    !> elements touch from them; with contact, every contact surface node's
+    !> velocity from its rank to all. Each rank then moves every node it
+    !> holds a velocity for by the same x += dt v (positions are never sent:
+    !> they stay the same bits on every rank that moves a node).
+    subroutine swap_velocities(dom, v, vr)
         type(domain_t), intent(in) :: dom
-        real(wp), intent(inout) :: x(:, :), v(:, :)
+        real(wp), intent(inout) :: v(:, :)
         real(wp), intent(inout), optional :: vr(:, :)
-        real(wp), allocatable :: sb(:), rb(:)
-        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), w, i, nd, p
-        w = 6
-        if (present(vr)) w = 9
+        real(wp), allocatable :: sb(:), rb(:), mine(:, :), all(:, :)
+        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), w, i, nd, p, r
+        w = 3
+        if (present(vr)) w = 6
         soff = w*dom%mo_ptr
         roff = w*dom%mi_ptr
         allocate (sb(max(soff(size(soff)), 1)), rb(max(roff(size(roff)), 1)))
         do i = 1, size(dom%mo_node)
             nd = dom%mo_node(i)
             p = w*(i - 1)
-            sb(p + 1:p + 3) = x(:, nd)
-            sb(p + 4:p + 6) = v(:, nd)
-            if (w == 9) sb(p + 7:p + 9) = vr(:, nd)
+            sb(p + 1:p + 3) = v(:, nd)
+            if (w == 6) sb(p + 4:p + 6) = vr(:, nd)
         end do
         call comm_neighbours(dom%nbr, sb, soff, rb, roff)
         do i = 1, size(dom%mi_node)
             nd = dom%mi_node(i)
             p = w*(i - 1)
-            x(:, nd) = rb(p + 1:p + 3)
-            v(:, nd) = rb(p + 4:p + 6)
-            if (w == 9) vr(:, nd) = rb(p + 7:p + 9)
+            v(:, nd) = rb(p + 1:p + 3)
+            if (w == 6) vr(:, nd) = rb(p + 4:p + 6)
         end do
-    end subroutine swap_motion
+        if (.not. allocated(dom%sv_node)) return
+        if (size(dom%sv_node) == 0) return
+        r = dom%rank + 1
+        allocate (mine(3, max(dom%sv_cnt(r), 1)), all(3, size(dom%sv_node)))
+        do i = 1, dom%sv_cnt(r)
+            mine(:, i) = v(:, dom%sv_node(dom%sv_off(r) + i))
+        end do
+        call comm_gather_wp(mine, 3*dom%sv_cnt(r), all, 3*dom%sv_cnt, 3*dom%sv_off)
+        do r = 1, dom%nranks
+            if (r == dom%rank + 1) cycle
+            do i = dom%sv_off(r) + 1, dom%sv_off(r) + dom%sv_cnt(r)
+                v(:, dom%sv_node(i)) = all(:, i)
+            end do
+        end do
+    end subroutine swap_velocities
+
+    !> Owned nodes: the nodes this rank moves (its own, the halo its
+    !> elements touch, and the contact surfaces' nodes `surf`, whose
+    !> velocities swap_velocities brings from every rank) as runs, and the
+    !> surfaces' nodes by rank for that gather.
+    subroutine owned_motion(dom, surf)
+        type(domain_t), intent(inout) :: dom
+        integer, intent(in) :: surf(:)
+        logical, allocatable :: mv(:), on(:)
+        integer :: r
+        allocate (mv(size(dom%node_mine)), on(size(dom%node_mine)))
+        mv = dom%node_mine
+        mv(dom%mi_node) = .true.
+        on = .false.
+        on(surf) = .true.
+        mv = mv .or. on
+        call node_runs(where_true(mv), dom%mv_lo, dom%mv_hi)
+        allocate (dom%sv_node(0), dom%sv_cnt(dom%nranks), dom%sv_off(dom%nranks))
+        if (size(surf) == 0) then
+            dom%sv_cnt = 0
+            dom%sv_off = 0
+            return
+        end if
+        do r = 1, dom%nranks
+            dom%sv_off(r) = size(dom%sv_node)
+            dom%sv_node = [dom%sv_node, where_true(on .and. dom%arank == r - 1)]
+            dom%sv_cnt(r) = size(dom%sv_node) - dom%sv_off(r)
+        end do
+    end subroutine owned_motion
 
     !> Owned nodes: every node's values in the arrays a1 .. a8 (three a
     !> node) from the rank that integrates it, on every rank (for the
     !> outputs, the energies and a dump: each rank packs its nodes'
     !> columns, all ranks gather them).
     subroutine share_state(dom, a1, a2, a3, a4, a5, a6, a7, a8)
-        type(domain_t), intent(in) :: dom
+        type(domain_t), intent(inout) :: dom
         real(wp), intent(inout), contiguous :: a1(:, :)
         real(wp), intent(inout), contiguous, optional :: a2(:, :), a3(:, :), a4(:, :), a5(:, :), a6(:, :), a7(:, :), &
                                                          a8(:, :)
-        real(wp), allocatable :: mine(:, :), all(:, :)
-        integer :: w, i, r, p
+        integer :: w, i, r, p, n
         w = 3*(1 + count([present(a2), present(a3), present(a4), present(a5), present(a6), present(a7), present(a8)]))
-        allocate (mine(w, max(size(dom%nodes), 1)), all(w, size(dom%by_rank)))
+        n = size(dom%nodes)
+        if (.not. allocated(dom%gmine)) allocate (dom%gmine(0), dom%gall(0))
+        if (size(dom%gmine) < w*max(n, 1)) then
+            deallocate (dom%gmine)
+            allocate (dom%gmine(w*max(n, 1)))
+        end if
+        if (size(dom%gall) < w*size(dom%by_rank)) then
+            deallocate (dom%gall)
+            allocate (dom%gall(w*size(dom%by_rank)))
+        end if
         p = 0
         call pack_cols(a1)
         if (present(a2)) call pack_cols(a2)
@@ -636,7 +701,7 @@ contains
         if (present(a6)) call pack_cols(a6)
         if (present(a7)) call pack_cols(a7)
         if (present(a8)) call pack_cols(a8)
-        call comm_gather_wp(mine, w*size(dom%nodes), all, w*dom%ncount, w*dom%noff)
+        call comm_gather_wp(dom%gmine, w*n, dom%gall, w*dom%ncount, w*dom%noff)
         p = 0
         call unpack_cols(a1)
         if (present(a2)) call unpack_cols(a2)
@@ -647,10 +712,11 @@ contains
         if (present(a7)) call unpack_cols(a7)
         if (present(a8)) call unpack_cols(a8)
     contains
+        !> (node i's w values at w (i - 1) + 1 ..: this array's three at p + 1 ..)
         subroutine pack_cols(a)
             real(wp), intent(in) :: a(:, :)
-            do i = 1, size(dom%nodes)
-                mine(p + 1:p + 3, i) = a(:, dom%nodes(i))
+            do i = 1, n
+                dom%gmine(w*(i - 1) + p + 1:w*(i - 1) + p + 3) = a(:, dom%nodes(i))
             end do
             p = p + 3
         end subroutine pack_cols
@@ -661,7 +727,7 @@ contains
             do r = 1, dom%nranks
                 if (r == dom%rank + 1) cycle
                 do i = dom%noff(r) + 1, dom%noff(r) + dom%ncount(r)
-                    a(:, dom%by_rank(i)) = all(p + 1:p + 3, i)
+                    a(:, dom%by_rank(i)) = dom%gall(w*(i - 1) + p + 1:w*(i - 1) + p + 3)
                 end do
             end do
             p = p + 3

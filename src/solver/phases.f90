@@ -24,7 +24,7 @@ module xd_solver_phases
                                    dead_model_hexes
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
-    use xd_solver_domain, only: domain_t, share_nodes, gather_energy_state, swap_slots, swap_motion
+    use xd_solver_domain, only: domain_t, share_nodes, gather_energy_state, swap_slots, swap_velocities
     use xd_solver_energies, only: energies_t, compute_energies
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
@@ -43,7 +43,8 @@ module xd_solver_phases
     implicit none
     private
     public :: element_phase, exchange_phase, bad_element, beam_phase, erosion_phase, step_phase, load_phase, &
-              contact_phase, velocity_phase, constraint_phase, energy_phase, advance_phase, step_element_name, any_rank
+              contact_phase, velocity_phase, constraint_phase, energy_phase, advance_phase, step_element_name, any_rank, &
+              exchange_velocities
 
 contains
 
@@ -843,6 +844,22 @@ contains
         call tm%stop(ph_output)
     end subroutine energy_phase
 
+    !> Owned nodes: the final v(n+1/2) of the nodes this rank holds but does
+    !> not integrate, from their ranks (swap_velocities), before anything
+    !> reads them (the contact's work, the advance).
+    subroutine exchange_velocities(dom, st, tm)
+        type(domain_t), intent(in) :: dom
+        type(state_t), intent(inout) :: st
+        type(timers_t), intent(inout) :: tm
+        call tm%start(ph_comm)
+        if (st%rot) then
+            call swap_velocities(dom, st%v, st%vr)
+        else
+            call swap_velocities(dom, st%v)
+        end if
+        call tm%stop(ph_comm)
+    end subroutine exchange_velocities
+
     !> x(n+1) = x(n) + dt(n+1/2) v(n+1/2), the contact's motion bounds and
     !> the histories' rotations with it, and the clock to t(n+1).
     subroutine advance_phase(dom, st, ct, hist, tm, dt_avg)
@@ -854,25 +871,17 @@ contains
         real(dp), intent(in) :: dt_avg
         call tm%start(ph_integrate)
         if (dom%owned) then
-            ! owned nodes: this rank's moved, then their motion to the
-            ! neighbours whose elements touch them and theirs from them
+            ! owned nodes: every node this rank holds a velocity for
+            ! (exchange_velocities brought the others' v(n+1/2)), the same
+            ! x += dt v as their own ranks take
             if (threaded(size(dom%nodes))) then
                 !$omp parallel
-                call drift_owned(st, dom%run_lo, dom%run_hi)
+                call drift_owned(st, dom%mv_lo, dom%mv_hi)
                 !$omp end parallel
             else
-                call drift_owned(st, dom%run_lo, dom%run_hi)
+                call drift_owned(st, dom%mv_lo, dom%mv_hi)
             end if
             call track_rotations(hist, st, dom%node_mine)
-            call tm%stop(ph_integrate)
-            call tm%start(ph_comm)
-            if (st%rot) then
-                call swap_motion(dom, st%x, st%v, st%vr)
-            else
-                call swap_motion(dom, st%x, st%v)
-            end if
-            call tm%stop(ph_comm)
-            call tm%start(ph_integrate)
         else
             if (threaded(st%nnode)) then
                 !$omp parallel

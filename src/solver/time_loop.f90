@@ -34,7 +34,7 @@ module xd_solver_time_loop
     use xd_solver_prescribed, only: prescribed_nodes_t
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t
-    use xd_solver_domain, only: domain_t, gather_element_state, share_state
+    use xd_solver_domain, only: domain_t, gather_element_state, share_state, owned_motion
     use xd_core_comm, only: comm_max, comm_sum_int
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, &
                                       hourglass_bound_report
@@ -42,7 +42,7 @@ module xd_solver_time_loop
                                       mass_scaling_summary
     use xd_solver_phases, only: element_phase, exchange_phase, bad_element, beam_phase, erosion_phase, step_phase, &
                                 load_phase, contact_phase, velocity_phase, constraint_phase, energy_phase, &
-                                advance_phase, any_rank
+                                advance_phase, any_rank, exchange_velocities
     implicit none
     private
     public :: run_options_t, run_result_t, run_time_loop
@@ -230,6 +230,9 @@ contains
             call velocity_phase(dom, st, td, dt_avg, energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
             call constraint_phase(model, dom, walls, pn, rg, td, pl, st, lg, tm, dt_avg, g_new, no_body)
+            ! owned nodes: the velocities of the nodes this rank holds but
+            ! does not integrate, from their ranks
+            if (dom%owned) call exchange_velocities(dom, st, tm)
 
             if (energy_now) then
                 ! owned nodes: every node's state on every rank for the
@@ -290,7 +293,7 @@ contains
         type(loop_t), intent(inout) :: lp
         type(run_options_t), intent(in) :: opts
         type(model_t), intent(in) :: model
-        type(domain_t), intent(in) :: dom
+        type(domain_t), intent(inout) :: dom
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(shells_t), intent(inout) :: sh
@@ -377,9 +380,13 @@ contains
         type(log_t), intent(in) :: lg
         character(len=:), allocatable :: why
         character(len=8) :: env
-        integer :: n, stat
+        integer :: n, stat, i
+        integer, allocatable :: surf(:)
         why = ''
-        if (ct%n > 0) why = why//', contact'
+        if (ct%lagrange) why = why//', contact by Lagrangian projection'
+        if (ct%n > 0) then
+            if (any([(ct%ifc(i)%ed%ne > 0, i=1, ct%n)])) why = why//', shell edge contact'
+        end if
         if (rg%n > 0) why = why//', rigid bodies'
         if (td%n > 0) why = why//', tied contacts'
         if (bm%n > 0) why = why//', beams'
@@ -391,11 +398,18 @@ contains
         if (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0') why = why//', XDYNA_REPLICATED set'
         dom%owned = len(why) == 0
         if (dom%owned) then
+            ! (the contact surfaces' nodes: their velocities go to every rank)
+            allocate (surf(0))
+            do i = 1, ct%n
+                surf = [surf, ct%ifc(i)%surf%node]
+            end do
+            call owned_motion(dom, surf)
             call log_line(lg, ' nodal state: owned nodes: each rank integrates the nodes it assembles (rank 0: '// &
                           itoa(size(dom%nodes))//' of '//itoa(size(dom%node_mine))//'), sends the halo''s force '// &
-                          'slots to their nodes'' ranks and its nodes'' motion to the ranks that touch them, '// &
-                          'point-to-point (rank 0: '//itoa(size(dom%nbr))//' neighbours); every node is gathered '// &
-                          'only for the energies, outputs and dumps')
+                          'slots to their nodes'' ranks and its nodes'' velocities to the ranks that touch them, '// &
+                          'point-to-point (rank 0: '//itoa(size(dom%nbr))//' neighbours), and the contact '// &
+                          'surfaces'' '//itoa(size(dom%sv_node))//' nodes'' velocities to every rank; every node is '// &
+                          'gathered only for the energies, outputs and dumps')
         else
             call log_line(lg, ' nodal state: replicated: every rank integrates every node and the ranks share all '// &
                           'nodal forces each cycle (owned nodes do not yet carry: '//why(3:)//')')
@@ -408,7 +422,7 @@ contains
     !> histories' tracked rotations, from the ranks that integrate them to
     !> every rank.
     subroutine refresh_nodes(dom, st, hist, tm, outputs, vminus, vrminus)
-        type(domain_t), intent(in) :: dom
+        type(domain_t), intent(inout) :: dom
         type(state_t), intent(inout) :: st
         type(histories_t), intent(inout) :: hist
         type(timers_t), intent(inout) :: tm
