@@ -3943,19 +3943,27 @@ def test_mpi_owned():
     log = open(os.path.join(out, "d3hsp")).read() if p.returncode == 0 else ""
     record("owned nodes: XDYNA_REPLICATED=1 keeps every node on every rank, named in d3hsp, the same histories",
            ok and "replicated: every rank integrates every node" in log and "XDYNA_REPLICATED set" in log, msg)
-    # the tube crush (self-contact) runs with owned nodes, its contact
-    # surface's velocities to every rank (bitwise on 1, 2, 4 ranks and 2 x 2:
-    # test_mpi); the front frame's rigid bodies keep the replicated state
+    # the tube crush (self-contact) and the front frame (rigid bodies, a
+    # rigid wall, contact) run with owned nodes: the contact surfaces'
+    # velocities and the rigid bodies' nodes' forces to every rank (bitwise
+    # on 1, 2, 4 ranks and 2 x 2: test_mpi); the falling block's gravity
+    # keeps the replicated state (its power is a sum over every node each
+    # cycle)
     log = {}
-    for name, deck in (("tube", "input_decks/contact/tube_crush.k"), ("frame", "input_decks/paper/front_frame.k")):
+    for name, deck in (("tube", "input_decks/contact/tube_crush.k"), ("frame", "input_decks/paper/front_frame.k"),
+                       ("drop", "input_decks/verify/gravity_drop.k")):
         out = os.path.join(d, name)
         p = mpirun(2, ["i=" + os.path.join(ROOT, deck), "outdir=" + out, "endcyc=2"])
         log[name] = open(os.path.join(out, "d3hsp")).read() if p.returncode == 0 else ""
-    m = re.search(r"the contact surfaces' (\d+) nodes' velocities to every rank", log["tube"])
+    pat = r"the contact surfaces' (\d+) nodes' velocities and the rigid bodies' (\d+) nodes' forces to every rank"
+    m = re.search(pat, log["tube"])
     record(f"owned nodes: the tube crush's contact runs with owned nodes ({m.group(1) if m else 0} surface nodes' "
            "velocities to every rank)", m is not None and int(m.group(1)) > 0)
-    record("owned nodes: a model with rigid bodies keeps the replicated state and d3hsp says why",
-           "owned nodes do not yet carry: rigid bodies" in log["frame"], log["frame"][-200:])
+    m = re.search(pat, log["frame"])
+    record(f"owned nodes: the front frame's rigid bodies and contact run with owned nodes ({m.group(2) if m else 0} "
+           "body nodes' forces to every rank)", m is not None and int(m.group(2)) > 0)
+    record("owned nodes: a model with body loads keeps the replicated state and d3hsp says why",
+           "owned nodes do not yet carry: body loads" in log["drop"], log["drop"][-200:])
 
 def test_stability():
     """The stiff and extreme cases of `make stability` (tools/stability.py,

@@ -3,7 +3,7 @@
 !> (below: the replicated nodal state, where every rank integrates every
 !> node; with owned nodes, issue 32, where the model allows them, each rank
 !> integrates only the nodes it assembles and exchanges with its neighbours
-!> alone: swap_slots, swap_velocities, owned_motion, share_state):
+!> alone: swap_slots, swap_velocities, owned_motion, share_state, gather_subset):
 !>
 !> - elements: solid groups and deformable shells are cut into `nranks`
 !>   parts by recursive coordinate bisection weighted by cost (a hexahedron
@@ -41,7 +41,14 @@ module xd_solver_domain
     implicit none
     private
     public :: domain_t, build_domain, domain_summary, share_nodes, gather_energy_state, gather_element_state, &
-              swap_slots, swap_velocities, owned_motion, share_state
+              swap_slots, swap_velocities, owned_motion, share_state, gather_subset
+
+    !> A set of nodes whose values go from their ranks to every rank (an
+    !> all-gather): per rank r, its own in node(off(r) + 1 : off(r) +
+    !> cnt(r)), in node order.
+    type :: node_gather_t
+        integer, allocatable :: node(:), cnt(:), off(:)
+    end type node_gather_t
 
     type :: domain_t
         integer :: rank = 0, nranks = 1
@@ -93,11 +100,12 @@ module xd_solver_domain
         integer, allocatable :: arank(:)      !< every node's assembling (owned nodes: integrating) rank
         !> owned nodes with contact: the contact surfaces' nodes, whose
         !> velocities every rank receives each cycle (the surfaces stay whole
-        !> on every rank): per rank r, its own in sv_node(sv_off(r) + 1 :
-        !> sv_off(r) + sv_cnt(r)), in node order
-        integer, allocatable :: sv_node(:), sv_cnt(:), sv_off(:)
+        !> on every rank); with rigid bodies, their nodes, whose forces
+        !> (and moments) every rank receives before the bodies move (every
+        !> rank moves every body alike)
+        type(node_gather_t) :: surf, body
         !> owned nodes: the nodes this rank moves (its own, those its
-        !> elements touch and the contact surfaces') as runs
+        !> elements touch, the contact surfaces' and the rigid bodies') as runs
         integer, allocatable :: mv_lo(:), mv_hi(:)
         !> share_state's buffers, kept between its calls (fresh ones were
         !> most of a gather's time: the pages' first touch)
@@ -606,8 +614,8 @@ contains
         type(domain_t), intent(in) :: dom
         real(wp), intent(inout) :: v(:, :)
         real(wp), intent(inout), optional :: vr(:, :)
-        real(wp), allocatable :: sb(:), rb(:), mine(:, :), all(:, :)
-        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), w, i, nd, p, r
+        real(wp), allocatable :: sb(:), rb(:)
+        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), w, i, nd, p
         w = 3
         if (present(vr)) w = 6
         soff = w*dom%mo_ptr
@@ -626,50 +634,71 @@ contains
             v(:, nd) = rb(p + 1:p + 3)
             if (w == 6) vr(:, nd) = rb(p + 4:p + 6)
         end do
-        if (.not. allocated(dom%sv_node)) return
-        if (size(dom%sv_node) == 0) return
-        r = dom%rank + 1
-        allocate (mine(3, max(dom%sv_cnt(r), 1)), all(3, size(dom%sv_node)))
-        do i = 1, dom%sv_cnt(r)
-            mine(:, i) = v(:, dom%sv_node(dom%sv_off(r) + i))
-        end do
-        call comm_gather_wp(mine, 3*dom%sv_cnt(r), all, 3*dom%sv_cnt, 3*dom%sv_off)
-        do r = 1, dom%nranks
-            if (r == dom%rank + 1) cycle
-            do i = dom%sv_off(r) + 1, dom%sv_off(r) + dom%sv_cnt(r)
-                v(:, dom%sv_node(i)) = all(:, i)
-            end do
-        end do
+        if (allocated(dom%surf%node)) call gather_subset(dom, dom%surf, v)
     end subroutine swap_velocities
 
     !> Owned nodes: the nodes this rank moves (its own, the halo its
-    !> elements touch, and the contact surfaces' nodes `surf`, whose
-    !> velocities swap_velocities brings from every rank) as runs, and the
-    !> surfaces' nodes by rank for that gather.
-    subroutine owned_motion(dom, surf)
+    !> elements touch, the contact surfaces' nodes `surf`, whose velocities
+    !> swap_velocities brings from every rank, and the rigid bodies' nodes
+    !> `body`, which every rank moves alike) as runs, and the surfaces' and
+    !> the bodies' nodes by rank for their gathers.
+    subroutine owned_motion(dom, surf, body)
         type(domain_t), intent(inout) :: dom
-        integer, intent(in) :: surf(:)
-        logical, allocatable :: mv(:), on(:)
-        integer :: r
-        allocate (mv(size(dom%node_mine)), on(size(dom%node_mine)))
+        integer, intent(in) :: surf(:), body(:)
+        logical, allocatable :: mv(:)
+        allocate (mv(size(dom%node_mine)))
         mv = dom%node_mine
         mv(dom%mi_node) = .true.
-        on = .false.
-        on(surf) = .true.
-        mv = mv .or. on
+        mv(surf) = .true.
+        mv(body) = .true.
         call node_runs(where_true(mv), dom%mv_lo, dom%mv_hi)
-        allocate (dom%sv_node(0), dom%sv_cnt(dom%nranks), dom%sv_off(dom%nranks))
-        if (size(surf) == 0) then
-            dom%sv_cnt = 0
-            dom%sv_off = 0
-            return
-        end if
-        do r = 1, dom%nranks
-            dom%sv_off(r) = size(dom%sv_node)
-            dom%sv_node = [dom%sv_node, where_true(on .and. dom%arank == r - 1)]
-            dom%sv_cnt(r) = size(dom%sv_node) - dom%sv_off(r)
-        end do
+        call gather_layout(dom, surf, dom%surf)
+        call gather_layout(dom, body, dom%body)
     end subroutine owned_motion
+
+    !> The layout of a gather of the nodes `nodes` (repeats allowed).
+    subroutine gather_layout(dom, nodes, g)
+        type(domain_t), intent(in) :: dom
+        integer, intent(in) :: nodes(:)
+        type(node_gather_t), intent(out) :: g
+        logical, allocatable :: on(:)
+        integer :: r
+        allocate (on(size(dom%node_mine)), g%node(0), g%cnt(dom%nranks), g%off(dom%nranks))
+        on = .false.
+        on(nodes) = .true.
+        do r = 1, dom%nranks
+            g%off(r) = size(g%node)
+            g%node = [g%node, where_true(on .and. dom%arank == r - 1)]
+            g%cnt(r) = size(g%node) - g%off(r)
+        end do
+    end subroutine gather_layout
+
+    !> a(:, node) (and b) of the gather's nodes from their ranks, on every rank.
+    subroutine gather_subset(dom, g, a, b)
+        type(domain_t), intent(in) :: dom
+        type(node_gather_t), intent(in) :: g
+        real(wp), intent(inout) :: a(:, :)
+        real(wp), intent(inout), optional :: b(:, :)
+        real(wp), allocatable :: mine(:, :), all(:, :)
+        integer :: i, r, w
+        if (size(g%node) == 0) return
+        w = 3
+        if (present(b)) w = 6
+        r = dom%rank + 1
+        allocate (mine(w, max(g%cnt(r), 1)), all(w, size(g%node)))
+        do i = 1, g%cnt(r)
+            mine(1:3, i) = a(:, g%node(g%off(r) + i))
+            if (w == 6) mine(4:6, i) = b(:, g%node(g%off(r) + i))
+        end do
+        call comm_gather_wp(mine, w*g%cnt(r), all, w*g%cnt, w*g%off)
+        do r = 1, dom%nranks
+            if (r == dom%rank + 1) cycle
+            do i = g%off(r) + 1, g%off(r) + g%cnt(r)
+                a(:, g%node(i)) = all(1:3, i)
+                if (w == 6) b(:, g%node(i)) = all(4:6, i)
+            end do
+        end do
+    end subroutine gather_subset
 
     !> Owned nodes: every node's values in the arrays a1 .. a8 (three a
     !> node) from the rank that integrates it, on every rank (for the

@@ -24,7 +24,7 @@ module xd_solver_phases
                                    dead_model_hexes
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
-    use xd_solver_domain, only: domain_t, share_nodes, gather_energy_state, swap_slots, swap_velocities
+    use xd_solver_domain, only: domain_t, share_nodes, gather_energy_state, swap_slots, swap_velocities, gather_subset
     use xd_solver_energies, only: energies_t, compute_energies
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
@@ -756,7 +756,9 @@ contains
         character(len=:), allocatable :: tie_events
         if (walls%n > 0) then
             call tm%start(ph_contact)
-            if (rg%n > 0) then
+            if (rg%n > 0 .and. dom%owned) then
+                call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), rg%member, dom%node_mine)
+            else if (rg%n > 0) then
                 call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), rg%member)
             else if (dom%owned) then
                 call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), no_body, dom%node_mine)
@@ -777,6 +779,15 @@ contains
         end if
         if (rg%n > 0) then
             call tm%start(ph_rigid)
+            ! owned nodes: the bodies' nodes' forces (and moments) from their
+            ! ranks, so that every rank moves every body alike
+            if (dom%owned) then
+                if (st%rot) then
+                    call gather_subset(dom, dom%body, st%f, st%mom)
+                else
+                    call gather_subset(dom, dom%body, st%f)
+                end if
+            end if
             call rigid_step(rg, model, st, st%dt, real(dt_avg, wp), wpm, walls)
             st%ext_work = st%ext_work + wpm
             call tm%stop(ph_rigid)

@@ -381,13 +381,12 @@ contains
         character(len=:), allocatable :: why
         character(len=8) :: env
         integer :: n, stat, i
-        integer, allocatable :: surf(:)
+        integer, allocatable :: surf(:), body(:)
         why = ''
         if (ct%lagrange) why = why//', contact by Lagrangian projection'
         if (ct%n > 0) then
             if (any([(ct%ifc(i)%ed%ne > 0, i=1, ct%n)])) why = why//', shell edge contact'
         end if
-        if (rg%n > 0) why = why//', rigid bodies'
         if (td%n > 0) why = why//', tied contacts'
         if (bm%n > 0) why = why//', beams'
         if (pl%n > 0) why = why//', pressure loads'
@@ -403,12 +402,17 @@ contains
             do i = 1, ct%n
                 surf = [surf, ct%ifc(i)%surf%node]
             end do
-            call owned_motion(dom, surf)
+            allocate (body(0))
+            do i = 1, rg%n
+                body = [body, rg%b(i)%node]
+            end do
+            call owned_motion(dom, surf, body)
             call log_line(lg, ' nodal state: owned nodes: each rank integrates the nodes it assembles (rank 0: '// &
                           itoa(size(dom%nodes))//' of '//itoa(size(dom%node_mine))//'), sends the halo''s force '// &
                           'slots to their nodes'' ranks and its nodes'' velocities to the ranks that touch them, '// &
                           'point-to-point (rank 0: '//itoa(size(dom%nbr))//' neighbours), and the contact '// &
-                          'surfaces'' '//itoa(size(dom%sv_node))//' nodes'' velocities to every rank; every node is '// &
+                          'surfaces'' '//itoa(size(dom%surf%node))//' nodes'' velocities and the rigid bodies'' '// &
+                          itoa(size(dom%body%node))//' nodes'' forces to every rank; every node is '// &
                           'gathered only for the energies, outputs and dumps')
         else
             call log_line(lg, ' nodal state: replicated: every rank integrates every node and the ranks share all '// &
