@@ -3,7 +3,7 @@
 !> (below: the replicated nodal state, where every rank integrates every
 !> node; with owned nodes, issue 32, where the model allows them, each rank
 !> integrates only the nodes it assembles and exchanges with its neighbours
-!> alone: swap_slots, swap_velocities, owned_motion, share_state, gather_subset):
+!> alone: swap_slots, swap_velocities, owned_motion, share_state, gather_subset, gather_layout):
 !>
 !> - elements: solid groups and deformable shells are cut into `nranks`
 !>   parts by recursive coordinate bisection weighted by cost (a hexahedron
@@ -41,7 +41,7 @@ module xd_solver_domain
     implicit none
     private
     public :: domain_t, build_domain, domain_summary, share_nodes, gather_energy_state, gather_element_state, &
-              swap_slots, swap_velocities, owned_motion, share_state, gather_subset
+              swap_slots, swap_velocities, owned_motion, share_state, gather_subset, gather_layout
 
     !> A set of nodes whose values go from their ranks to every rank (an
     !> all-gather): per rank r, its own in node(off(r) + 1 : off(r) +
@@ -104,6 +104,8 @@ module xd_solver_domain
         !> (and moments) every rank receives before the bodies move (every
         !> rank moves every body alike)
         type(node_gather_t) :: surf, body
+        !> owned nodes: the nodout nodes, gathered at a history output
+        type(node_gather_t) :: hist
         !> owned nodes: the nodes this rank moves (its own, those its
         !> elements touch, the contact surfaces' and the rigid bodies') as runs
         integer, allocatable :: mv_lo(:), mv_hi(:)

@@ -10,6 +10,7 @@ module xd_solver_energies
     use xd_contact_rigidwall, only: walls_t, walls_kinetic
     use xd_rigid_bodies, only: rigid_t, rigid_energy
     use xd_solver_assembly, only: assembly_t, build_assembly
+    use xd_core_comm, only: comm_sum_dp
     implicit none
     private
     public :: energies_t, compute_energies, prepare_energies
@@ -70,7 +71,15 @@ contains
     !> velocities use v(n) = (v(n-1/2) + v(n+1/2))/2. With shells, the
     !> angular velocities wminus, wplus give the rotational kinetic energy
     !> 1/2 I w(n-1/2).w(n+1/2).
-    subroutine compute_energies(model, st, solids, sh, walls, rg, vminus, vplus, wminus, wplus, dt_avg, en, slide, ke_fix, bm)
+    !> Owned nodes (under MPI, issue 32): node_on, solid_on and shell_on
+    !> are the nodes and elements this rank's sums take (its own; the
+    !> others' values here are not current), and the ranks' sums are then
+    !> added (the rigid bodies, walls and other terms every rank holds
+    !> alike after). The ranks' partial sums are added in another order
+    !> than one rank's single sum: the energies agree with a serial run's
+    !> to rounding (1e-12 relative is the tests' bound), not bit for bit.
+    subroutine compute_energies(model, st, solids, sh, walls, rg, vminus, vplus, wminus, wplus, dt_avg, en, slide, ke_fix, &
+                                bm, node_on, solid_on, shell_on)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
@@ -87,8 +96,11 @@ contains
         !> instead of at the slaves' own velocities)
         real(dp), intent(in), optional :: ke_fix(:)
         type(beams_t), intent(in), optional :: bm   !< beams (their internal energy and nodal masses)
+        logical, intent(in), optional :: node_on(:), solid_on(:), shell_on(:)
         integer :: e, p, nd
         real(dp) :: mom(3), ke_b, mom_b(3), ker
+        logical :: split
+        split = present(node_on) .and. present(solid_on) .and. present(shell_on)
         ! (built at set-up by the time loop; here for any other caller)
         call prepare_energies(model, st, solids, sh, en, bm)
         en%part_ie = 0; en%part_ke = 0; en%part_hg = 0; en%part_mass = 0; en%part_mom = 0; en%part_added = 0
@@ -101,8 +113,15 @@ contains
             ! would take it
             call node_pass()
             en%part_mass = en%part_mass0
-            if (solids%n > 0) call ie_by_part(solids%part, solids%eint, solids%pend_int, solids%ehg, solids%pend_hg)
-            if (sh%n > 0) call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg)
+            if (split) then
+                if (solids%n > 0) call ie_by_part(solids%part, solids%eint, solids%pend_int, solids%ehg, solids%pend_hg, &
+                                                  solid_on)
+                if (sh%n > 0) call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg, shell_on)
+                call add_ranks(.false.)
+            else
+                if (solids%n > 0) call ie_by_part(solids%part, solids%eint, solids%pend_int, solids%ehg, solids%pend_hg)
+                if (sh%n > 0) call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg)
+            end if
             en%ie = sum(en%part_ie)
             en%hg = sum(en%part_hg)
         else
@@ -122,6 +141,9 @@ contains
             en%ke = 0
             mom = 0
             do nd = 1, st%nnode
+                if (split) then
+                    if (.not. node_on(nd)) cycle
+                end if
                 en%ke = en%ke + st%mass(nd)*en%kn(nd)
                 mom = mom + st%mass(nd)*en%vn(:, nd)
             end do
@@ -132,9 +154,13 @@ contains
                     if (rg%n > 0) then
                         if (rg%on(nd)) cycle
                     end if
+                    if (split) then
+                        if (.not. node_on(nd)) cycle
+                    end if
                     ker = ker + 0.5_dp*st%irot(nd)*dot_product(real(wminus(:, nd), dp), real(wplus(:, nd), dp))
                 end do
             end if
+            if (split) call add_ranks(.true.)
         end if
         ! beams: their internal energy by part (either path)
         if (present(bm)) then
@@ -211,12 +237,48 @@ contains
             en%ie = sum(en%part_ie)
         end subroutine book_eroded
 
+        !> Owned nodes: the ranks' sums added (the parts' energies, momenta
+        !> and, with `masses`, masses and added masses; the whole model's
+        !> kinetic energy, momentum and spin; the shells scaled).
+        subroutine add_ranks(masses)
+            logical, intent(in) :: masses
+            real(dp), allocatable :: buf(:)
+            integer :: np
+            np = model%npart
+            buf = [en%part_ie, en%part_hg, en%part_ke, reshape(en%part_mom, [3*np]), en%ke, mom, ker, &
+                   real(en%nshell_scaled, dp)]
+            if (masses) buf = [buf, en%part_mass, en%part_added]
+            call comm_sum_dp(buf)
+            en%part_ie = buf(1:np)
+            en%part_hg = buf(np + 1:2*np)
+            en%part_ke = buf(2*np + 1:3*np)
+            en%part_mom = reshape(buf(3*np + 1:6*np), [3, np])
+            en%ke = buf(6*np + 1)
+            mom = buf(6*np + 2:6*np + 4)
+            ker = buf(6*np + 5)
+            en%nshell_scaled = nint(buf(6*np + 6))
+            if (masses) then
+                en%part_mass = buf(6*np + 7:7*np + 6)
+                en%part_added = buf(7*np + 7:8*np + 6)
+            end if
+            en%ie = sum(en%part_ie)
+            en%hg = sum(en%part_hg)
+        end subroutine add_ranks
+
         !> The fixed-mass path's pass over the nodes (en%ke, mom and ker of
         !> the whole model, the parts' kinetic energy and momentum).
         subroutine node_pass()
+            logical, allocatable :: skip(:)
             ! (wminus, wplus present when st%rot; st%irot, rg%on absent where
-            ! not allocated)
-            if (rg%n > 0) then
+            ! not allocated; owned nodes: the other ranks' nodes skipped as
+            ! a rigid body's are, adding nothing)
+            if (split) then
+                skip = .not. node_on
+                if (rg%n > 0) skip = skip .or. rg%on
+                call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, en%np_ptr, en%np_part, en%np_m, &
+                               en%part_ke, en%part_mom, en%ke, mom, ker, on=skip, irot=st%irot, wminus=wminus, &
+                               wplus=wplus)
+            else if (rg%n > 0) then
                 call node_sums(st%nnode, model%npart, st%mass, vminus, vplus, en%np_ptr, en%np_part, en%np_m, &
                                en%part_ke, en%part_mom, en%ke, mom, ker, on=rg%on, irot=st%irot, wminus=wminus, &
                                wplus=wplus)
@@ -229,9 +291,11 @@ contains
         !> Internal and hourglass energy by part: the work booked so far and
         !> the first half of the current forces', a run of one part's
         !> elements summed in registers.
-        subroutine ie_by_part(part, eint, pend_int, ehg, pend_hg)
+        subroutine ie_by_part(part, eint, pend_int, ehg, pend_hg, mine)
             integer, intent(in) :: part(:)
             real(dp), intent(in) :: eint(:), pend_int(:), ehg(:), pend_hg(:)
+            !> (owned nodes: the elements this rank sums)
+            logical, intent(in), optional :: mine(:)
             integer :: e, p, pc, first
             real(dp) :: aie, ahg
             first = 1
@@ -243,6 +307,9 @@ contains
                     pc = part(first)
                     aie = 0; ahg = 0
                     do p = first, e - 1
+                        if (present(mine)) then
+                            if (.not. mine(p)) cycle
+                        end if
                         aie = aie + (eint(p) + dt_avg*pend_int(p))
                         ahg = ahg + (ehg(p) + dt_avg*pend_hg(p))
                     end do
@@ -260,6 +327,9 @@ contains
             integer :: e, k, p, nd, nn, pc
             real(dp) :: mshare, ksum, msum(3), ake, amom(3), amass, aie, ahg
             do e = 1, solids%n
+                if (split) then
+                    if (.not. solid_on(e)) cycle
+                end if
                 p = solids%part(e)
                 mshare = real(model%mat(model%part(p)%mat_ix)%ro, dp)*solids%vol0(e)/8.0_dp
                 if (allocated(solids%msf)) then
@@ -304,6 +374,9 @@ contains
                     ake = 0; amom = 0; amass = 0; aie = 0; ahg = 0
                 end if
                 if (e > sh%n) exit
+                if (split) then
+                    if (.not. shell_on(e)) cycle
+                end if
                 ! the shell's share of its nodes' mass (a third each for triangles)
                 nn = 4
                 if (sh%conn(3, e) == sh%conn(4, e)) nn = 3

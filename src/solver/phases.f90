@@ -831,13 +831,21 @@ contains
         real(wp), intent(inout) :: vn(:, :)
         type(energies_t), intent(inout) :: en
         call tm%start(ph_output)
-        call gather_energy_state(dom, solids, sh)
+        ! (owned nodes: each rank sums its own nodes and elements, then the
+        ! ranks' sums are added: no element state gathered)
+        if (.not. dom%owned) call gather_energy_state(dom, solids, sh)
         if (st%cycle == 0) then
             ! (vrminus, like vminus, was taken before the update)
             vn = vminus
             if (td%n > 0) call tie_kinetic(td, st%mass, st%irot, vminus, vminus, vrminus, vrminus, ke_fix)
-            call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en, &
-                                  contact_energy(ct, 0.0_dp), ke_fix, bm)
+            if (dom%owned) then
+                call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en, &
+                                      contact_energy(ct, 0.0_dp), ke_fix, bm, dom%node_mine, dom%solid_mine, &
+                                      dom%shell_mine)
+            else
+                call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en, &
+                                      contact_energy(ct, 0.0_dp), ke_fix, bm)
+            end if
             st%e_initial = en%total
             ! mass scaled at cycle 0 is in the initial energy
             st%ms_work = 0
@@ -849,8 +857,14 @@ contains
         else
             vn = 0.5_wp*(vminus + st%v)
             if (td%n > 0) call tie_kinetic(td, st%mass, st%irot, vminus, st%v, vrminus, st%vr, ke_fix)
-            call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
-                                  contact_energy(ct, dt_avg) + td%ework, ke_fix, bm)
+            if (dom%owned) then
+                call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
+                                      contact_energy(ct, dt_avg) + td%ework, ke_fix, bm, dom%node_mine, &
+                                      dom%solid_mine, dom%shell_mine)
+            else
+                call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
+                                      contact_energy(ct, dt_avg) + td%ework, ke_fix, bm)
+            end if
         end if
         call tm%stop(ph_output)
     end subroutine energy_phase

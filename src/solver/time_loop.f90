@@ -34,8 +34,8 @@ module xd_solver_time_loop
     use xd_solver_prescribed, only: prescribed_nodes_t
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t
-    use xd_solver_domain, only: domain_t, gather_element_state, share_state, owned_motion
-    use xd_core_comm, only: comm_max, comm_sum_int
+    use xd_solver_domain, only: domain_t, gather_element_state, share_state, owned_motion, gather_layout, gather_subset
+    use xd_core_comm, only: comm_max, comm_sum_int, comm_gather_small
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, &
                                       hourglass_bound_report
     use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
@@ -237,12 +237,17 @@ contains
             if (energy_now) then
                 ! owned nodes: every node's state on every rank for the
                 ! energies and the outputs
-                if (dom%owned) call refresh_nodes(dom, st, hist, tm, histories_due(hist, st%time) .or. &
-                                                  states_due(states, st%time) .or. done .or. st%cycle == 0 .or. &
-                                                  lp%state_asked, vminus, vrminus)
+                if (dom%owned) then
+                    if (states_due(states, st%time) .or. ((done .or. st%cycle == 0) .and. states%on) .or. &
+                        lp%state_asked) then
+                        call refresh_nodes(dom, st, hist, tm, .true., vminus, vrminus)
+                    else if (histories_due(hist, st%time) .or. done .or. st%cycle == 0) then
+                        call refresh_histories(dom, st, hist, tm, vminus, vrminus)
+                    end if
+                end if
                 call energy_phase(model, dom, st, solids, sh, walls, rg, ct, td, bm, tm, vminus, vrminus, dt_avg, &
                                   ke_fix, vn, en)
-                call energy_check(lp, model, st, solids, sh, rg, ct, pn, en, vn, res, lg)
+                call energy_check(lp, model, dom, st, solids, sh, rg, ct, pn, en, vn, res, lg)
                 if (res%status /= exit_normal) exit
                 if (histories_due(hist, st%time) .or. states_due(states, st%time) .or. done .or. st%cycle == 0 &
                     .or. lp%state_asked) call output_phase(lp, done .or. st%cycle == 0, model, dom, st, solids, sh, &
@@ -412,8 +417,10 @@ contains
                           'slots to their nodes'' ranks and its nodes'' velocities to the ranks that touch them, '// &
                           'point-to-point (rank 0: '//itoa(size(dom%nbr))//' neighbours), and the contact '// &
                           'surfaces'' '//itoa(size(dom%surf%node))//' nodes'' velocities and the rigid bodies'' '// &
-                          itoa(size(dom%body%node))//' nodes'' forces to every rank; every node is '// &
-                          'gathered only for the energies, outputs and dumps')
+                          itoa(size(dom%body%node))//' nodes'' forces to every rank; energies are each '// &
+                          'rank''s own nodes'' and elements'' sums added over the ranks (the serial run''s to '// &
+                          'rounding); every node is gathered only for a state or a dump, the nodout nodes for '// &
+                          'the histories')
         else
             call log_line(lg, ' nodal state: replicated: every rank integrates every node and the ranks share all '// &
                           'nodal forces each cycle (owned nodes do not yet carry: '//why(3:)//')')
@@ -460,6 +467,32 @@ contains
         call tm%stop(ph_comm)
     end subroutine refresh_nodes
 
+    !> Owned nodes, at a history output without a state: the nodout nodes'
+    !> coordinates, velocities (v(n-1/2) too), accelerations and forces (and
+    !> angular velocities and moments) from their ranks, and their tracked
+    !> rotations (the energies are summed by rank).
+    subroutine refresh_histories(dom, st, hist, tm, vminus, vrminus)
+        type(domain_t), intent(inout) :: dom
+        type(state_t), intent(inout) :: st
+        type(histories_t), intent(inout) :: hist
+        type(timers_t), intent(inout) :: tm
+        real(wp), intent(inout) :: vminus(:, :)
+        real(wp), intent(inout), allocatable :: vrminus(:, :)
+        if (.not. allocated(hist%nodes)) return
+        if (size(hist%nodes) == 0) return
+        call tm%start(ph_comm)
+        if (.not. allocated(dom%hist%node)) call gather_layout(dom, hist%nodes, dom%hist)
+        call gather_subset(dom, dom%hist, st%x, st%v)
+        call gather_subset(dom, dom%hist, st%a, st%f)
+        call gather_subset(dom, dom%hist, vminus)
+        if (st%rot) then
+            call gather_subset(dom, dom%hist, st%vr, st%mom)
+            call gather_subset(dom, dom%hist, vrminus)
+        end if
+        call merge_rotations(hist, dom%node_mine)
+        call tm%stop(ph_comm)
+    end subroutine refresh_histories
+
     !> The signals and the wall-clock limit, the same on every rank (MPI:
     !> the largest over the ranks, so all stop at the same cycle). The
     !> wall-clock margin: 10 cycles, 5% of the allowance, twice the last
@@ -504,9 +537,12 @@ contains
     !> t(n): a rigid body turning a radian or more in a step; NaN or
     !> infinite energy; energy lost or gained beyond the ratio's margin;
     !> velocities reversing within a step. Each names a node.
-    subroutine energy_check(lp, model, st, solids, sh, rg, ct, pn, en, vn, res, lg)
+    subroutine energy_check(lp, model, dom, st, solids, sh, rg, ct, pn, en, vn, res, lg)
         type(loop_t), intent(in) :: lp
         type(model_t), intent(in) :: model
+        !> (owned nodes: the node a failure names is found over every rank's
+        !> own nodes; every rank fails alike, from the same energies)
+        type(domain_t), intent(in) :: dom
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
@@ -536,8 +572,12 @@ contains
         res%e_scale = max(res%e_scale, abs(st%e_initial + en%ext))
         if (en%total /= en%total .or. abs(en%total) > huge(1.0_wp)) then
             do i = 1, st%nnode
+                if (dom%owned) then
+                    if (.not. dom%node_mine(i)) cycle
+                end if
                 if (any(st%v(:, i) /= st%v(:, i)) .or. any(abs(st%v(:, i)) > huge(1.0_wp))) exit
             end do
+            if (dom%owned) i = ranks_pick(real(st%nnode + 1 - min(i, st%nnode + 1), dp), min(i, st%nnode + 1))
             if (i > st%nnode) i = 1
             call fail(res, st, lg, 'energy is NaN or infinite; first bad node '//node_where(model, solids, sh, i))
         else if ((en%ratio < 0.0_dp .or. (en%ratio < 1.0_dp/lp%ratio_limit .and. st%cycle - lp%cycle0 >= 10)) &
@@ -550,12 +590,12 @@ contains
             ! first-order start (v(1/2) = v(0) + a(0) dt/2) sets to
             ! anything (0.50 at cycle 2 of a velocity ramp, 0 at cycle 1
             ! of the contact patch test)
-            i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
+            i = fastest()
             call fail(res, st, lg, 'energy lost: total energy ratio '//ftoa(en%ratio)//' is below '// &
                       ftoa(1.0_dp/lp%ratio_limit)//' (total '//ftoa(en%total)//' against initial energy plus '// &
                       'external work '//ftoa(st%e_initial + en%ext)//'); fastest node '//node_where(model, solids, sh, i))
         else if (en%ratio > lp%ratio_limit) then
-            i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
+            i = fastest()
             call fail(res, st, lg, 'energy blow-up: total energy ratio '//ftoa(en%ratio)//' exceeds '// &
                       ftoa(lp%ratio_limit)//'; fastest node '//node_where(model, solids, sh, i))
         else if (en%ke < -(lp%ratio_limit - 1.0_dp)*abs(st%e_initial + en%ext)) then
@@ -567,13 +607,42 @@ contains
             ! reverses within a step at a speed beyond reason. (This was
             ! let pass twice in a row for a stiff block bouncing off a
             ! wall; that block was running beyond its stable step.)
-            i = maxloc(sum(real(vn, dp)**2, 1)*st%mass, 1)
+            i = fastest()
             call fail(res, st, lg, 'impossible state: kinetic energy 1/2 m v(n-1/2).v(n+1/2) is '//ftoa(en%ke)// &
                       ', below minus '//ftoa(lp%ratio_limit - 1.0_dp)//' times the initial energy plus '// &
                       'external work ('//ftoa(st%e_initial + en%ext)//'): velocities reverse within a '// &
                       'step; fastest node '//node_where(model, solids, sh, i)//'; '//cause_hint())
         end if
     contains
+        !> The node of the largest m v^2 (the first of equals); owned nodes:
+        !> over every rank's own.
+        integer function fastest() result(nd)
+            real(dp), allocatable :: e2(:)
+            e2 = sum(real(vn, dp)**2, 1)*st%mass
+            if (dom%owned) then
+                where (.not. dom%node_mine) e2 = -1
+                nd = maxloc(e2, 1)
+                nd = ranks_pick(e2(nd), nd)
+            else
+                nd = maxloc(e2, 1)
+            end if
+        end function fastest
+
+        !> Owned nodes: of every rank's (key, node), the node of the largest
+        !> key, the lowest node of equals (a collective).
+        integer function ranks_pick(key, nd) result(best)
+            real(dp), intent(in) :: key
+            integer, intent(in) :: nd
+            real(dp) :: all(2, dom%nranks)
+            integer :: r, k
+            call comm_gather_small([key, real(nd, dp)], all)
+            k = 1
+            do r = 2, dom%nranks
+                if (all(1, r) > all(1, k) .or. (all(1, r) == all(1, k) .and. all(2, r) < all(2, k))) k = r
+            end do
+            best = nint(all(2, k))
+        end function ranks_pick
+
         !> A rigid body as the deck names it: its part, or its node set's body.
         function rigid_name(kb) result(t)
             integer, intent(in) :: kb
@@ -687,7 +756,7 @@ contains
         if (states_due(states, st%time) .or. (force .and. states%on) .or. lp%state_asked) then
             ! (the energies and shell thicknesses were gathered with this
             ! cycle's energies, which every output follows)
-            call gather_element_state(dom, solids, sh, energies=.false.)
+            call gather_element_state(dom, solids, sh, energies=dom%owned)
             if (ct%n > 0) then
                 call write_state(states, st, solids, sh, vn, ct%fnode, en=en, bm=bm)
             else
