@@ -104,6 +104,9 @@ module xd_solver_domain
         !> (and moments) every rank receives before the bodies move (every
         !> rank moves every body alike)
         type(node_gather_t) :: surf, body
+        !> owned nodes with beams: their nodes, whose velocities and angular
+        !> velocities every rank receives (every rank takes every beam)
+        type(node_gather_t) :: rotn
         !> owned nodes: the nodout nodes, gathered at a history output
         type(node_gather_t) :: hist
         !> owned nodes: the nodes this rank moves (its own, those its
@@ -637,6 +640,13 @@ contains
             if (w == 6) vr(:, nd) = rb(p + 4:p + 6)
         end do
         if (allocated(dom%surf%node)) call gather_subset(dom, dom%surf, v)
+        if (allocated(dom%rotn%node)) then
+            if (present(vr)) then
+                call gather_subset(dom, dom%rotn, v, vr)
+            else
+                call gather_subset(dom, dom%rotn, v)
+            end if
+        end if
     end subroutine swap_velocities
 
     !> Owned nodes: the nodes this rank moves (its own, the halo its
@@ -644,18 +654,20 @@ contains
     !> swap_velocities brings from every rank, and the rigid bodies' nodes
     !> `body`, which every rank moves alike) as runs, and the surfaces' and
     !> the bodies' nodes by rank for their gathers.
-    subroutine owned_motion(dom, surf, body)
+    subroutine owned_motion(dom, surf, body, rotn)
         type(domain_t), intent(inout) :: dom
-        integer, intent(in) :: surf(:), body(:)
+        integer, intent(in) :: surf(:), body(:), rotn(:)
         logical, allocatable :: mv(:)
         allocate (mv(size(dom%node_mine)))
         mv = dom%node_mine
         mv(dom%mi_node) = .true.
         mv(surf) = .true.
         mv(body) = .true.
+        mv(rotn) = .true.
         call node_runs(where_true(mv), dom%mv_lo, dom%mv_hi)
         call gather_layout(dom, surf, dom%surf)
         call gather_layout(dom, body, dom%body)
+        call gather_layout(dom, rotn, dom%rotn)
     end subroutine owned_motion
 
     !> The layout of a gather of the nodes `nodes` (repeats allowed).

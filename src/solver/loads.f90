@@ -6,6 +6,7 @@ module xd_solver_loads
     use xd_model, only: model_t, curve_value
     use xd_solver_state, only: state_t
     use xd_core_vectors, only: cross
+    use xd_core_comm, only: comm_sum_dp
     implicit none
     private
     public :: body_acceleration, add_body_forces, body_power
@@ -63,15 +64,26 @@ contains
     end subroutine body_force_loop
 
     !> g . sum m v over the free directions: the power of a body load g.
-    real(dp) function body_power(st, g) result(p)
+    !> (mine: the nodes whose terms this rank sums, under owned nodes; the
+    !> ranks' sums of mom are then added: comm_sum_dp)
+    real(dp) function body_power(st, g, mine) result(p)
         type(state_t), intent(in) :: st
         real(wp), intent(in) :: g(3)
+        logical, intent(in), optional :: mine(:)
         real(dp) :: mom(3)
         integer :: nd
         mom = 0
-        do nd = 1, st%nnode
-            mom = mom + st%mass(nd)*real(st%v(:, nd)*st%free(:, nd), dp)
-        end do
+        if (present(mine)) then
+            do nd = 1, st%nnode
+                if (.not. mine(nd)) cycle
+                mom = mom + st%mass(nd)*real(st%v(:, nd)*st%free(:, nd), dp)
+            end do
+            call comm_sum_dp(mom)
+        else
+            do nd = 1, st%nnode
+                mom = mom + st%mass(nd)*real(st%v(:, nd)*st%free(:, nd), dp)
+            end do
+        end if
         p = dot_product(real(g, dp), mom)
     end function body_power
 

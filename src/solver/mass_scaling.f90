@@ -116,7 +116,7 @@ contains
         integer :: i, n
         real(dp) :: added, pct
         n = count(solids%ms_need > 0.0_wp) + count(sh%ms_need > 0.0_wp)
-        allocate (rec(3, n))
+        allocate (rec(11, n))
         n = 0
         call collect(1, solids%ms_need)
         call collect(2, sh%ms_need)
@@ -130,7 +130,7 @@ contains
         end if
         if (size(all, 2) == 0) return
         do i = 1, size(all, 2)
-            call scale_element(nint(all(1, i)), nint(all(2, i)), real(all(3, i), wp))
+            call scale_element(nint(all(1, i)), nint(all(2, i)), real(all(3, i), wp), all(4:11, i))
         end do
         if (model%ctl%endmas > 0.0_wp) then
             added = element_added_mass(model, solids, sh)
@@ -143,23 +143,37 @@ contains
     contains
 
         !> This rank's asks of one kind (1 solids, 2 shells) as records, in
-        !> element order; the asks cleared.
+        !> element order, with the squared speeds of the element's nodes
+        !> (the added mass's kinetic energy: the element's own rank holds
+        !> them current, with owned nodes the others may not); the asks
+        !> cleared.
         subroutine collect(kind, need)
             integer, intent(in) :: kind
             real(wp), intent(inout) :: need(:)
-            integer :: e
+            integer :: e, k, nd
+            real(dp) :: v2(8)
             do e = 1, size(need)
                 if (need(e) > 0.0_wp) then
+                    v2 = 0
+                    do k = 1, merge(8, 4, kind == 1)
+                        if (kind == 1) then
+                            nd = solids%conn(k, e)
+                        else
+                            nd = sh%conn(k, e)
+                        end if
+                        v2(k) = sum(real(st%v(:, nd), dp)**2)
+                    end do
                     n = n + 1
-                    rec(:, n) = [real(kind, dp), real(e, dp), real(need(e), dp)]
+                    rec(:, n) = [real(kind, dp), real(e, dp), real(need(e), dp), v2]
                     need(e) = 0
                 end if
             end do
         end subroutine collect
 
-        subroutine scale_element(kind, e, f1)
+        subroutine scale_element(kind, e, f1, v2)
             integer, intent(in) :: kind, e
             real(wp), intent(in) :: f1
+            real(dp), intent(in) :: v2(8)   !< the squared speeds of its nodes (collect)
             integer :: k, nn, nd
             real(wp) :: f0, me, dm, dj
             dj = 0
@@ -189,7 +203,7 @@ contains
                 if (rg%n > 0) then
                     if (rg%on(nd)) cycle
                 end if
-                st%ms_work = st%ms_work + 0.5_dp*dm*sum(real(st%v(:, nd), dp)**2)
+                st%ms_work = st%ms_work + 0.5_dp*dm*v2(k)
                 st%mass(nd) = st%mass(nd) + dm
                 if (kind == 2) st%irot(nd) = st%irot(nd) + dj
             end do

@@ -521,15 +521,21 @@ contains
     !> pressures, each doing f(n) . (v(n-1/2) + v(n+1/2))/2 dt_avg; the
     !> first half (with v(n-1/2)) here, the second in constraint_phase.
     !> g_new: the body acceleration, kept for the second half.
-    subroutine load_phase(model, pl, st, dt_avg, g_new)
+    subroutine load_phase(model, dom, pl, st, dt_avg, g_new)
         type(model_t), intent(in) :: model
+        !> (owned nodes: the body load's power summed over every rank's own nodes)
+        type(domain_t), intent(in) :: dom
         type(pressures_t), intent(inout) :: pl
         type(state_t), intent(inout) :: st
         real(dp), intent(in) :: dt_avg
         real(wp), intent(inout) :: g_new(3)
         if (model%nbody > 0) then
             g_new = body_acceleration(model, real(st%time, wp))
-            st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
+            if (dom%owned) then
+                st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new, dom%node_mine)
+            else
+                st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
+            end if
             call add_body_forces(st, g_new)
         end if
         if (pl%n > 0) then
@@ -800,8 +806,18 @@ contains
             call tie_break(td, st%time, st%mass, real(dt_avg, wp), st%v, st%x, tie_events, model%node_id)
             if (len(tie_events) > 0) call log_line(lg, tie_events)
         end if
+        ! owned nodes: the final v(n+1/2) of the nodes this rank holds but
+        ! does not integrate, from their ranks (the pressures' power below
+        ! reads them)
+        if (dom%owned) call exchange_velocities(dom, st, tm)
         ! second half of the load work, with the final v(n+1/2)
-        if (model%nbody > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
+        if (model%nbody > 0) then
+            if (dom%owned) then
+                st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new, dom%node_mine)
+            else
+                st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
+            end if
+        end if
         if (pl%n > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*pressure_power(pl, st)
     end subroutine constraint_phase
 

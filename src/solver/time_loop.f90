@@ -42,7 +42,7 @@ module xd_solver_time_loop
                                       mass_scaling_summary
     use xd_solver_phases, only: element_phase, exchange_phase, bad_element, beam_phase, erosion_phase, step_phase, &
                                 load_phase, contact_phase, velocity_phase, constraint_phase, energy_phase, &
-                                advance_phase, any_rank, exchange_velocities
+                                advance_phase, any_rank
     implicit none
     private
     public :: run_options_t, run_result_t, run_time_loop
@@ -215,7 +215,7 @@ contains
 
             dt_avg = 0.5_dp*(real(st%dt_old, dp) + st%dt)
             call tm%start(ph_integrate)
-            call load_phase(model, pl, st, dt_avg, g_new)
+            call load_phase(model, dom, pl, st, dt_avg, g_new)
             call tm%stop(ph_integrate)
             ! steps 3-4 of the contact on x(n): contact forces join f(n)
             if (ct%n > 0) call contact_phase(model, dom, ct, rg, sh, st, lg, tm, dt_avg, br)
@@ -230,9 +230,6 @@ contains
             call velocity_phase(dom, st, td, dt_avg, energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
             call constraint_phase(model, dom, walls, pn, rg, td, pl, st, lg, tm, dt_avg, g_new, no_body)
-            ! owned nodes: the velocities of the nodes this rank holds but
-            ! does not integrate, from their ranks
-            if (dom%owned) call exchange_velocities(dom, st, tm)
 
             if (energy_now) then
                 ! owned nodes: every node's state on every rank for the
@@ -393,31 +390,37 @@ contains
             if (any([(ct%ifc(i)%ed%ne > 0, i=1, ct%n)])) why = why//', shell edge contact'
         end if
         if (td%n > 0) why = why//', tied contacts'
-        if (bm%n > 0) why = why//', beams'
-        if (pl%n > 0) why = why//', pressure loads'
-        if (model%nbody > 0) why = why//', body loads'
         if (sh%erodible .or. solids%erodible) why = why//', erosion'
-        if (ms%on) why = why//', mass scaling'
         call get_environment_variable('XDYNA_REPLICATED', env, length=n, status=stat)
         if (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0') why = why//', XDYNA_REPLICATED set'
         dom%owned = len(why) == 0
         if (dom%owned) then
             ! (the contact surfaces' nodes: their velocities go to every rank)
+            ! (and the pressure segments' nodes: every rank takes every
+            ! segment's force, as it takes every contact)
             allocate (surf(0))
             do i = 1, ct%n
                 surf = [surf, ct%ifc(i)%surf%node]
             end do
+            if (pl%n > 0) surf = [surf, pack(pl%seg, pl%seg > 0)]
             allocate (body(0))
             do i = 1, rg%n
                 body = [body, rg%b(i)%node]
             end do
-            call owned_motion(dom, surf, body)
+            ! (the beams' nodes: every rank takes every beam, with its
+            ! nodes' angular velocities)
+            if (bm%n > 0) then
+                call owned_motion(dom, surf, body, reshape(bm%conn(1:2, :), [2*bm%n]))
+            else
+                call owned_motion(dom, surf, body, [integer ::])
+            end if
             call log_line(lg, ' nodal state: owned nodes: each rank integrates the nodes it assembles (rank 0: '// &
                           itoa(size(dom%nodes))//' of '//itoa(size(dom%node_mine))//'), sends the halo''s force '// &
                           'slots to their nodes'' ranks and its nodes'' velocities to the ranks that touch them, '// &
                           'point-to-point (rank 0: '//itoa(size(dom%nbr))//' neighbours), and the contact '// &
                           'surfaces'' '//itoa(size(dom%surf%node))//' nodes'' velocities and the rigid bodies'' '// &
-                          itoa(size(dom%body%node))//' nodes'' forces to every rank; energies are each '// &
+                          itoa(size(dom%body%node))//' nodes'' forces to every rank (the beams'' '// &
+                          itoa(size(dom%rotn%node))//' nodes'' velocities and angular velocities); energies are each '// &
                           'rank''s own nodes'' and elements'' sums added over the ranks (the serial run''s to '// &
                           'rounding); every node is gathered only for a state or a dump, the nodout nodes for '// &
                           'the histories')
