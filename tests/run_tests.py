@@ -3066,7 +3066,8 @@ def same_dynamics(a, b, rtol=1e-12):
     whose terms cancel (a model at rest on the whole, parts moving
     apart), within rtol of the size of its terms: sqrt(2 KE M) for a
     part's momentum, sqrt(2 KE / M) for the model's mean velocity, KE the
-    largest kinetic energy and M the mass (matsum's); the ASCII lines to
+    largest kinetic energy and M the mass (matsum's, or the initial nodal
+    mass d3hsp gives); the ASCII lines to
     the last printed digit or those bounds. The motion, forces and stresses
     are the serial run's bit for bit."""
     energy = ("glstat", "matsum")
@@ -3076,6 +3077,11 @@ def same_dynamics(a, b, rtol=1e-12):
         kep = fa["matsum/kinetic_energy"][()] if "matsum/kinetic_energy" in fa else None
         ke = float(np.max(np.abs(fa["glstat/kinetic_energy"][()]))) if "glstat/kinetic_energy" in fa else 0.0
         mtot = float(np.max(np.sum(mass, axis=1))) if mass is not None and mass.size else 0.0
+        if mtot == 0.0:
+            # (no matsum: the model's mass from d3hsp)
+            m = re.search(r"initial nodal mass \(the nodes' lumped masses\) \.+ +(\S+)",
+                          open(os.path.join(a, "d3hsp")).read())
+            mtot = float(m.group(1)) if m else 0.0
         vscale = (2.0 * ke / mtot) ** 0.5 if mtot > 0 else 0.0
         names = []
         fa.visititems(lambda k, v: names.append(k) if isinstance(v, h5py.Dataset) else None)

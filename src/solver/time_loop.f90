@@ -161,6 +161,8 @@ contains
         call mass_scaling_begin(ms, model%ctl, lg)
         call step_stats_init(ss, solids%n, sh%n)
         if (dom%on) call choose_owned(model, dom, ct, walls, rg, td, bm, pn, pl, solids, sh, ms, lg)
+        ! (the scale of the momenta glstat and matsum report)
+        call log_line(lg, ' initial nodal mass (the nodes'' lumped masses) .......... '//rtoa(sum(real(st%mass, dp))))
 
         ! cycle n: forces at t(n) on x(n) with v(n-1/2); v(n+1/2) with the
         ! constraints; output at t(n); then x(n+1)
