@@ -107,6 +107,14 @@ module xd_solver_domain
         !> owned nodes with beams: their nodes, whose velocities and angular
         !> velocities every rank receives (every rank takes every beam)
         type(node_gather_t) :: rotn
+        !> owned nodes with tied contacts: the ties' nodes (slaves and their
+        !> segments'), whose forces (and moments) every rank receives before
+        !> the ties move them and whose final velocities every rank receives
+        !> before the slaves follow their segments (every rank takes every
+        !> tie); kick_lo, kick_hi: the runs of the nodes this rank updates
+        !> the velocities of (its own and the ties')
+        type(node_gather_t) :: tie
+        integer, allocatable :: kick_lo(:), kick_hi(:)
         !> owned nodes: the nodout nodes, gathered at a history output
         type(node_gather_t) :: hist
         !> owned nodes: the nodes this rank moves (its own, those its
@@ -647,6 +655,13 @@ contains
                 call gather_subset(dom, dom%rotn, v)
             end if
         end if
+        if (allocated(dom%tie%node)) then
+            if (present(vr)) then
+                call gather_subset(dom, dom%tie, v, vr)
+            else
+                call gather_subset(dom, dom%tie, v)
+            end if
+        end if
     end subroutine swap_velocities
 
     !> Owned nodes: the nodes this rank moves (its own, the halo its
@@ -654,12 +669,14 @@ contains
     !> swap_velocities brings from every rank, and the rigid bodies' nodes
     !> `body`, which every rank moves alike) as runs, and the surfaces' and
     !> the bodies' nodes by rank for their gathers.
-    subroutine owned_motion(dom, surf, body, rotn)
+    subroutine owned_motion(dom, surf, body, rotn, tie)
         type(domain_t), intent(inout) :: dom
-        integer, intent(in) :: surf(:), body(:), rotn(:)
+        integer, intent(in) :: surf(:), body(:), rotn(:), tie(:)
         logical, allocatable :: mv(:)
         allocate (mv(size(dom%node_mine)))
         mv = dom%node_mine
+        mv(tie) = .true.
+        call node_runs(where_true(mv), dom%kick_lo, dom%kick_hi)
         mv(dom%mi_node) = .true.
         mv(surf) = .true.
         mv(body) = .true.
@@ -668,6 +685,7 @@ contains
         call gather_layout(dom, surf, dom%surf)
         call gather_layout(dom, body, dom%body)
         call gather_layout(dom, rotn, dom%rotn)
+        if (size(tie) > 0) call gather_layout(dom, tie, dom%tie)
     end subroutine owned_motion
 
     !> The layout of a gather of the nodes `nodes` (repeats allowed).

@@ -597,6 +597,27 @@ contains
         ! segments' nodes accelerated with the slave masses they carry
         if (save_minus) vminus = st%v
         if (st%rot .and. save_minus) vrminus = st%vr
+        if (td%n > 0 .and. dom%owned) then
+            ! owned nodes: the ties' nodes' forces from their ranks; every
+            ! rank then takes every tie, and updates the velocities of its
+            ! own nodes and the ties'
+            if (st%rot) then
+                call gather_subset(dom, dom%tie, st%f, st%mom)
+            else
+                call gather_subset(dom, dom%tie, st%f)
+            end if
+            call tie_forces(td, st%time, st%x, st%f, st%mom)
+            call accelerations(st)
+            call tie_accelerations(td, st%time, st%f, st%mass, st%free, st%a, st%mom, st%irot)
+            if (threaded(size(dom%nodes))) then
+                !$omp parallel
+                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi)
+                !$omp end parallel
+            else
+                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi)
+            end if
+            return
+        end if
         if (td%n > 0) then
             call tie_forces(td, st%time, st%x, st%f, st%mom)
             call accelerations(st)
@@ -701,6 +722,31 @@ contains
         !$omp end do
     end subroutine kick_owned
 
+    !> The kick with the accelerations already in st%a (kick's, with ties)
+    !> of the nodes in the runs lo(k) .. hi(k).
+    subroutine kick_runs(st, dt, lo, hi)
+        type(state_t), intent(inout) :: st
+        real(wp), intent(in) :: dt
+        integer, intent(in) :: lo(:), hi(:)
+        integer :: k, nd
+        real(wp) :: ri, on
+        !$omp do schedule(static)
+        do k = 1, size(lo)
+            do nd = lo(k), hi(k)
+                st%v(:, nd) = st%v(:, nd) + dt*st%a(:, nd)
+            end do
+            if (.not. st%rot) cycle
+            do nd = lo(k), hi(k)
+                on = merge(1.0_wp, 0.0_wp, st%irot(nd) > 0.0_wp)
+                ri = st%irot(nd) + (1.0_wp - on)
+                st%vr(1, nd) = st%vr(1, nd) + dt*st%mom(1, nd)/ri*st%free_r(1, nd)*on
+                st%vr(2, nd) = st%vr(2, nd) + dt*st%mom(2, nd)/ri*st%free_r(2, nd)*on
+                st%vr(3, nd) = st%vr(3, nd) + dt*st%mom(3, nd)/ri*st%free_r(3, nd)*on
+            end do
+        end do
+        !$omp end do
+    end subroutine kick_runs
+
     !> a = f / m in the free directions.
     subroutine accelerations(st)
         type(state_t), intent(inout) :: st
@@ -774,7 +820,9 @@ contains
             call tm%stop(ph_contact)
         end if
         if (pn%n > 0) then
-            if (td%n > 0) then
+            if (td%n > 0 .and. dom%owned) then
+                call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm, td%mnodal, dom%node_mine)
+            else if (td%n > 0) then
                 call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm, td%mnodal)
             else if (dom%owned) then
                 call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm, mine=dom%node_mine)
@@ -798,6 +846,10 @@ contains
             st%ext_work = st%ext_work + wpm
             call tm%stop(ph_rigid)
         end if
+        ! owned nodes: the final v(n+1/2) of the nodes this rank holds but
+        ! does not integrate, from their ranks (the ties and the pressures'
+        ! power below read them; every rank then moves the tied slaves alike)
+        if (dom%owned) call exchange_velocities(dom, st, tm)
         ! tied slaves move with their segments (after every other update)
         if (td%n > 0) then
             call tie_velocities(td, st%time, st%dt, st%x, st%v, st%vr)
@@ -806,10 +858,6 @@ contains
             call tie_break(td, st%time, st%mass, real(dt_avg, wp), st%v, st%x, tie_events, model%node_id)
             if (len(tie_events) > 0) call log_line(lg, tie_events)
         end if
-        ! owned nodes: the final v(n+1/2) of the nodes this rank holds but
-        ! does not integrate, from their ranks (the pressures' power below
-        ! reads them)
-        if (dom%owned) call exchange_velocities(dom, st, tm)
         ! second half of the load work, with the final v(n+1/2)
         if (model%nbody > 0) then
             if (dom%owned) then

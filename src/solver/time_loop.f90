@@ -385,13 +385,12 @@ contains
         character(len=:), allocatable :: why
         character(len=8) :: env
         integer :: n, stat, i
-        integer, allocatable :: surf(:), body(:)
+        integer, allocatable :: surf(:), body(:), tie(:)
         why = ''
         if (ct%lagrange) why = why//', contact by Lagrangian projection'
         if (ct%n > 0) then
             if (any([(ct%ifc(i)%ed%ne > 0, i=1, ct%n)])) why = why//', shell edge contact'
         end if
-        if (td%n > 0) why = why//', tied contacts'
         if (sh%erodible .or. solids%erodible) why = why//', erosion'
         call get_environment_variable('XDYNA_REPLICATED', env, length=n, status=stat)
         if (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0') why = why//', XDYNA_REPLICATED set'
@@ -411,10 +410,16 @@ contains
             end do
             ! (the beams' nodes: every rank takes every beam, with its
             ! nodes' angular velocities)
-            if (bm%n > 0) then
-                call owned_motion(dom, surf, body, reshape(bm%conn(1:2, :), [2*bm%n]))
+            ! (the ties' slaves and segments' nodes: every rank takes every tie)
+            if (td%n > 0) then
+                tie = [td%slave, pack(td%mnode, td%mnode > 0)]
             else
-                call owned_motion(dom, surf, body, [integer ::])
+                allocate (tie(0))
+            end if
+            if (bm%n > 0) then
+                call owned_motion(dom, surf, body, reshape(bm%conn(1:2, :), [2*bm%n]), tie)
+            else
+                call owned_motion(dom, surf, body, [integer ::], tie)
             end if
             call log_line(lg, ' nodal state: owned nodes: each rank integrates the nodes it assembles (rank 0: '// &
                           itoa(size(dom%nodes))//' of '//itoa(size(dom%node_mine))//'), sends the halo''s force '// &
@@ -422,7 +427,8 @@ contains
                           'point-to-point (rank 0: '//itoa(size(dom%nbr))//' neighbours), and the contact '// &
                           'surfaces'' '//itoa(size(dom%surf%node))//' nodes'' velocities and the rigid bodies'' '// &
                           itoa(size(dom%body%node))//' nodes'' forces to every rank (the beams'' '// &
-                          itoa(size(dom%rotn%node))//' nodes'' velocities and angular velocities); energies are each '// &
+                          itoa(size(dom%rotn%node))//' nodes'' velocities and angular velocities, the ties'' '// &
+                          itoa(td%n)//' slaves'' and their segments'' nodes'' forces and velocities); energies are each '// &
                           'rank''s own nodes'' and elements'' sums added over the ranks (the serial run''s to '// &
                           'rounding); every node is gathered only for a state or a dump, the nodout nodes for '// &
                           'the histories')
