@@ -1739,7 +1739,11 @@ contains
             k = it%mine(i)
             if (it%hit(k)%found .or. it%evk(k) /= ev_none) n = n + 1
         end do
-        allocate (mine(18, n))
+        ! (the Lagrangian projection reads the gap of a contact found ahead
+        ! of touching: without it the other ranks' slaves were projected
+        ! with a stale gap, and two ranks' Lagrangian runs parted from the
+        ! serial one)
+        allocate (mine(19, n))
         n = 0
         do i = 1, size(it%mine)
             k = it%mine(i)
@@ -1748,7 +1752,7 @@ contains
             associate (h => it%hit(k))
                 mine(:, n) = [real(k, dp), real(h%seg, dp), real(h%kind, dp), real(h%a, dp), real(h%nshape, dp), &
                               real(h%nhat, dp), real(it%fk(:, k), dp), merge(1.0_dp, 0.0_dp, h%found), &
-                              real(it%evk(k), dp), real(it%evd(k), dp), real(it%rseg(k), dp)]
+                              real(it%evk(k), dp), real(it%evd(k), dp), real(it%rseg(k), dp), real(h%gap, dp)]
             end associate
         end do
         call comm_gather_records(mine, nranks, all)
@@ -1774,6 +1778,7 @@ contains
                 h%nshape = real(all(5:8, i), wp)
                 h%nhat = real(all(9:11, i), wp)
                 it%fk(:, k) = real(all(12:14, i), wp)
+                h%gap = real(all(19, i), wp)
             end associate
         end do
     end subroutine gather_contacts

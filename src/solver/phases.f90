@@ -568,6 +568,10 @@ contains
         call tm%stop(ph_local)
         call tm%start(ph_enforce)
         t_gather = ct%wall_gather
+        ! owned nodes: the Lagrangian projection reads the contact surfaces'
+        ! nodes' forces, from their ranks (every rank then projects every
+        ! pair alike)
+        if (ct%lagrange .and. dom%owned) call gather_subset(dom, dom%surf, st%f)
         if (ct%lagrange .and. rg%n > 0) then
             ! a master on a rigid body answers as the body
             call rigid_response(rg, st%nnode, br)

@@ -387,10 +387,6 @@ contains
         integer :: n, stat, i
         integer, allocatable :: surf(:), body(:), tie(:)
         why = ''
-        if (ct%lagrange) why = why//', contact by Lagrangian projection'
-        if (ct%n > 0) then
-            if (any([(ct%ifc(i)%ed%ne > 0, i=1, ct%n)])) why = why//', shell edge contact'
-        end if
         if (sh%erodible .or. solids%erodible) why = why//', erosion'
         call get_environment_variable('XDYNA_REPLICATED', env, length=n, status=stat)
         if (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0') why = why//', XDYNA_REPLICATED set'
