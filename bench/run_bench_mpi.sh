@@ -5,9 +5,10 @@
 # time of the time loop, ns per element-cycle, the MPI phases' shares
 # (halo exchange, contact exchange, the wait for the slowest rank), the
 # contact's share, the peak memory per rank (VmHWM, smallest and largest)
-# and the halo's bytes a cycle (now: the slots, each to its node's rank, and
-# every node's forces to every rank; with each rank's own nodes: its halo
-# nodes' share, from the decomposition table). Results are bitwise the same
+# and the halo's bytes a cycle (with owned nodes: the halo point-to-point and
+# the contact surfaces' velocities to every rank; replicated: the slots and
+# every node's forces to every rank; and each rank's own halo nodes' share,
+# from the decomposition table). Results are bitwise the same
 # for any rank count (make check holds that); here the ranks share this
 # machine's cores (oversubscribed beyond them): memory and bytes are
 # figures, times are not scaling.
@@ -49,11 +50,17 @@ for r in $ranks; do
             t = $0; sub(/.*to all \(/, "", t); split(t, b, " "); nodes = b[1]
             hb = slots + r * nodes
         }
+        /nodal state: owned/ {owned = 1}
+        /exchange a cycle, all ranks:/ {
+            u = $0; sub(/.*all ranks: /, "", u); split(u, c, " "); p2p = c[1]
+            w = $0; sub(/.*point-to-point \(halo slots and velocities\), /, "", w); split(w, e, " "); gat = e[1]
+        }
         /^ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9]+$/ {own += $NF}
         END {
             if (r == 1) {hb = 0; own = 0}
+            if (owned) hb = p2p + gat
             printf "%6d %9.2f %10.1f %8.1f %9.1f %8.1f %8.1f%% %17s %16d %16d\n", r, tot, ns, 100 * halo / tot,
                 100 * ghost / tot, 100 * wait / tot, cs, mem, hb, own
         }' $out/d3hsp
 done
-echo "bench-mpi: halo B/cycle now: the force slots, each to its node's rank, plus (the replicated nodal state a model with contact keeps) every node's forces to every rank (O(nodes x ranks)); own-node halo: each rank's halo nodes' forces out and motion back (O(partition surfaces): the owned nodes of a model without contact)"
+echo "bench-mpi: halo B/cycle: with owned nodes (d3hsp's nodal state), the halo's slots and velocities point-to-point plus the contact surfaces' velocities gathered to every rank (all of a shell model's nodes: O(surface nodes x ranks) until ghosts by proximity); replicated, the force slots plus every node's forces to every rank (O(nodes x ranks)); own-node halo: each rank's halo nodes' forces out and motion back (O(partition surfaces))"

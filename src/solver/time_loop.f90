@@ -35,7 +35,7 @@ module xd_solver_time_loop
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t
     use xd_solver_domain, only: domain_t, gather_element_state, share_state, owned_motion, gather_layout, gather_subset
-    use xd_core_comm, only: comm_max, comm_sum_int, comm_gather_small
+    use xd_core_comm, only: comm_max, comm_sum_int, comm_gather_small, comm_sum_dp
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, &
                                       hourglass_bound_report
     use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
@@ -386,6 +386,8 @@ contains
         character(len=8) :: env
         integer :: n, stat, i
         integer, allocatable :: surf(:), body(:), tie(:)
+        integer :: wv
+        real(dp) :: byt(2)
         why = ''
         if (sh%erodible .or. solids%erodible) why = why//', erosion'
         call get_environment_variable('XDYNA_REPLICATED', env, length=n, status=stat)
@@ -428,6 +430,18 @@ contains
                           'rank''s own nodes'' and elements'' sums added over the ranks (the serial run''s to '// &
                           'rounding); every node is gathered only for a state or a dump, the nodout nodes for '// &
                           'the histories')
+            ! the bytes a cycle, over all ranks (velocities of 6 values where
+            ! nodes turn: shells or beams)
+            wv = 3
+            if (sh%n > 0 .or. bm%n > 0) wv = 6
+            byt = [8.0_dp*(3*size(dom%so_slot) + 6*size(dom%ho_slot) + wv*size(dom%mo_node)), &
+                   8.0_dp*(3*(size(dom%surf%node) - dom%surf%cnt(dom%rank + 1)) + &
+                           6*(size(dom%rotn%node) - dom%rotn%cnt(dom%rank + 1)))]
+            if (allocated(dom%tie%node)) byt(2) = byt(2) + 8.0_dp*wv*(size(dom%tie%node) - dom%tie%cnt(dom%rank + 1))
+            call comm_sum_dp(byt)
+            call log_line(lg, ' owned nodes'' exchange a cycle, all ranks: '//itoa(nint(byt(1)))//' bytes point-to-'// &
+                          'point (halo slots and velocities), '//itoa(nint(byt(2)))//' bytes of contact surface, '// &
+                          'pressure, beam and tie velocities gathered to every rank')
         else
             call log_line(lg, ' nodal state: replicated: every rank integrates every node and the ranks share all '// &
                           'nodal forces each cycle (owned nodes do not yet carry: '//why(3:)//')')
