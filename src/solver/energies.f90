@@ -100,6 +100,7 @@ contains
         integer :: e, p, nd
         real(dp) :: mom(3), ke_b, mom_b(3), ker
         logical :: split
+        real(dp), allocatable :: pie(:)
         split = present(node_on) .and. present(solid_on) .and. present(shell_on)
         ! (built at set-up by the time loop; here for any other caller)
         call prepare_energies(model, st, solids, sh, en, bm)
@@ -199,11 +200,23 @@ contains
         ! booked as eroded
         if (.not. allocated(en%part_eroded)) allocate (en%part_eroded(model%npart))
         en%part_eroded = 0
-        ! (eroded solids likewise)
-        if (sh%n > 0) then
-            if (sh%ndead > 0) call book_eroded(sh%part, sh%dead, sh%eint)
+        ! (eroded solids likewise; owned nodes: each rank's own, the ranks'
+        ! sums added)
+        if (split) then
+            pie = en%part_ie
+            if (sh%n > 0) then
+                if (sh%ndead > 0) call book_eroded(sh%part, sh%dead .and. shell_on, sh%eint)
+            end if
+            if (solids%ndead > 0) call book_eroded(solids%part, solids%dead .and. solid_on, solids%eint)
+            call comm_sum_dp(en%part_eroded)
+            en%part_ie = pie - en%part_eroded
+            en%ie = sum(en%part_ie)
+        else
+            if (sh%n > 0) then
+                if (sh%ndead > 0) call book_eroded(sh%part, sh%dead, sh%eint)
+            end if
+            if (solids%ndead > 0) call book_eroded(solids%part, solids%dead, solids%eint)
         end if
-        if (solids%ndead > 0) call book_eroded(solids%part, solids%dead, solids%eint)
         en%eroded_ie = sum(en%part_eroded)
         if (present(ke_fix)) then
             en%part_ke = en%part_ke + ke_fix

@@ -15,7 +15,7 @@ module xd_solver_phases
     use xd_core_threads, only: threaded
     use xd_core_timers, only: timers_t, ph_elements, ph_assembly, ph_integrate, ph_output, ph_contact, ph_rigid, &
                               ph_local, ph_enforce, ph_comm, ph_ghost, ph_wait
-    use xd_core_comm, only: comm_gather_small, comm_max
+    use xd_core_comm, only: comm_gather_small, comm_max, comm_ordered_records
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, solid_forces, solid_name
     use xd_elements_shell_bt, only: shells_t, shell_forces, shell_name
@@ -349,7 +349,9 @@ contains
     subroutine erosion_phase(model, dom, st, solids, sh, ct, lg)
         type(model_t), intent(in) :: model
         type(domain_t), intent(in) :: dom
-        type(state_t), intent(in) :: st
+        !> (owned nodes: the eroded solids' nodes' coordinates from their
+        !> elements' ranks, where every rank freezes them)
+        type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(shells_t), intent(inout) :: sh
         type(contacts_t), intent(inout) :: ct
@@ -360,6 +362,7 @@ contains
             call shell_failures(sh, model%mat, st%time, newly)
             newly = on_every_rank(dom, newly, sh%dead)
             if (size(newly) > 0) then
+                if (dom%owned) call from_element_ranks(newly, dom%shell_mine, sh%eint)
                 call erode_shells(sh, newly)
                 do k = 1, min(size(newly), 2000 - (sh%ndead - size(newly)))
                     call log_eroded(lg, 'shell', sh%eid(newly(k)), model%part(sh%part(newly(k)))%id, st%time, &
@@ -372,6 +375,10 @@ contains
             call solid_failures(solids, model, st%time, st%x, newly)
             newly = on_every_rank(dom, newly, solids%dead)
             if (size(newly) > 0) then
+                if (dom%owned) then
+                    call from_element_ranks(newly, dom%solid_mine, solids%eint)
+                    call solid_nodes_from_ranks(newly)
+                end if
                 call erode_solids(solids, newly, st%x)
                 do k = 1, min(size(newly), 2000 - (solids%ndead - size(newly)))
                     call log_eroded(lg, 'solid', solids%eid(newly(k)), model%part(solids%part(newly(k)))%id, &
@@ -382,6 +389,50 @@ contains
                                                         dead_model_hexes(solids, model%nhex), st%x)
             end if
         end if
+    contains
+        !> Owned nodes: the eroded elements' internal energy (logged, every
+        !> rank alike) from their own ranks, which hold it current.
+        subroutine from_element_ranks(gone, mine, eint)
+            integer, intent(in) :: gone(:)
+            logical, intent(in) :: mine(:)
+            real(dp), intent(inout) :: eint(:)
+            real(dp), allocatable :: rec(:, :), all(:, :)
+            integer :: k, n
+            allocate (rec(2, size(gone)))
+            n = 0
+            do k = 1, size(gone)
+                if (.not. mine(gone(k))) cycle
+                n = n + 1
+                rec(:, n) = [real(gone(k), dp), eint(gone(k))]
+            end do
+            call comm_ordered_records(rec(:, 1:n), all)
+            do k = 1, size(all, 2)
+                eint(nint(all(1, k))) = all(2, k)
+            end do
+        end subroutine from_element_ranks
+
+        !> Owned nodes: the eroded solids' nodes' coordinates from the
+        !> solids' own ranks (every rank freezes the element's shape; where
+        !> a rank moves a node too it holds the same bits already).
+        subroutine solid_nodes_from_ranks(gone)
+            integer, intent(in) :: gone(:)
+            real(dp), allocatable :: rec(:, :), all(:, :)
+            integer :: k, n, j
+            allocate (rec(25, size(gone)))
+            n = 0
+            do k = 1, size(gone)
+                if (.not. dom%solid_mine(gone(k))) cycle
+                n = n + 1
+                rec(1, n) = real(gone(k), dp)
+                rec(2:25, n) = real(reshape(st%x(:, solids%conn(:, gone(k))), [24]), dp)
+            end do
+            call comm_ordered_records(rec(:, 1:n), all)
+            do k = 1, size(all, 2)
+                do j = 1, 8
+                    st%x(:, solids%conn(j, nint(all(1, k)))) = real(all(3*j - 1:3*j + 1, k), wp)
+                end do
+            end do
+        end subroutine solid_nodes_from_ranks
     end subroutine erosion_phase
 
     !> The elements that fail now on any rank (each rank's list `newly`

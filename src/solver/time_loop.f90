@@ -160,7 +160,7 @@ contains
         lp%t_last_progress = lp%t0_wall
         call mass_scaling_begin(ms, model%ctl, lg)
         call step_stats_init(ss, solids%n, sh%n)
-        if (dom%on) call choose_owned(model, dom, ct, walls, rg, td, bm, pn, pl, solids, sh, ms, lg)
+        if (dom%on) call choose_owned(dom, ct, rg, td, bm, pl, sh, lg)
         ! (the scale of the momenta glstat and matsum report)
         call log_line(lg, ' initial nodal mass (the nodes'' lumped masses) .......... '//rtoa(sum(real(st%mass, dp))))
 
@@ -363,36 +363,28 @@ contains
         end subroutine dump
     end subroutine batch_phase
 
-    !> Owned nodes (issue 32) where the model allows them: each rank then
-    !> integrates the nodes it assembles and exchanges its halo with its
-    !> neighbours alone; the features that still read or write every node
-    !> on every rank keep the replicated state, and d3hsp names them.
-    !> XDYNA_REPLICATED=1 keeps it for any model (comparisons).
-    subroutine choose_owned(model, dom, ct, walls, rg, td, bm, pn, pl, solids, sh, ms, lg)
-        type(model_t), intent(in) :: model
+    !> Owned nodes (issue 32): each rank integrates the nodes it assembles
+    !> and exchanges its halo with its neighbours alone; the nodes every
+    !> rank takes alike (contact surfaces, pressure segments, beams, ties:
+    !> their velocities; rigid bodies: their forces) go to every rank.
+    !> XDYNA_REPLICATED=1 keeps the replicated nodal state instead, every
+    !> rank integrating every node (comparisons); d3hsp says which.
+    subroutine choose_owned(dom, ct, rg, td, bm, pl, sh, lg)
         type(domain_t), intent(inout) :: dom
         type(contacts_t), intent(in) :: ct
-        type(walls_t), intent(in) :: walls
         type(rigid_t), intent(in) :: rg
         type(ties_t), intent(in) :: td
         type(beams_t), intent(in) :: bm
-        type(prescribed_nodes_t), intent(in) :: pn
         type(pressures_t), intent(in) :: pl
-        type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
-        type(mass_scaling_t), intent(in) :: ms
         type(log_t), intent(in) :: lg
-        character(len=:), allocatable :: why
         character(len=8) :: env
         integer :: n, stat, i
         integer, allocatable :: surf(:), body(:), tie(:)
         integer :: wv
         real(dp) :: byt(2)
-        why = ''
-        if (sh%erodible .or. solids%erodible) why = why//', erosion'
         call get_environment_variable('XDYNA_REPLICATED', env, length=n, status=stat)
-        if (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0') why = why//', XDYNA_REPLICATED set'
-        dom%owned = len(why) == 0
+        dom%owned = .not. (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0')
         if (dom%owned) then
             ! (the contact surfaces' nodes: their velocities go to every rank)
             ! (and the pressure segments' nodes: every rank takes every
@@ -443,8 +435,8 @@ contains
                           'point (halo slots and velocities), '//itoa(nint(byt(2)))//' bytes of contact surface, '// &
                           'pressure, beam and tie velocities gathered to every rank')
         else
-            call log_line(lg, ' nodal state: replicated: every rank integrates every node and the ranks share all '// &
-                          'nodal forces each cycle (owned nodes do not yet carry: '//why(3:)//')')
+            call log_line(lg, ' nodal state: replicated (XDYNA_REPLICATED set): every rank integrates every node and '// &
+                          'the ranks share all nodal forces each cycle')
         end if
     end subroutine choose_owned
 
@@ -639,7 +631,9 @@ contains
         !> over every rank's own.
         integer function fastest() result(nd)
             real(dp), allocatable :: e2(:)
-            e2 = sum(real(vn, dp)**2, 1)*st%mass
+            ! (allocated, not automatic: a model's worth of nodes on the stack)
+            allocate (e2(size(st%mass)))
+            e2(:) = sum(real(vn, dp)**2, 1)*st%mass
             if (dom%owned) then
                 where (.not. dom%node_mine) e2 = -1
                 nd = maxloc(e2, 1)
