@@ -43,8 +43,7 @@ module xd_solver_phases
     implicit none
     private
     public :: element_phase, exchange_phase, bad_element, beam_phase, erosion_phase, step_phase, load_phase, &
-              contact_phase, velocity_phase, constraint_phase, energy_phase, advance_phase, step_element_name, any_rank, &
-              exchange_velocities
+              contact_phase, velocity_phase, constraint_phase, energy_phase, advance_phase, step_element_name, any_rank
 
 contains
 
