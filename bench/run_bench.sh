@@ -165,12 +165,14 @@ awk -v t1="$(grep '  total' $out/d3hsp | awk '{print $NF}')" '
     /contact local search/ {ls2 = $4}
     END {printf "bench: threads: tubes %.2f s on 1 thread, %.2f s on 2: speed-up %.2fx (elements %.2f s, local search %.2f s on 2)\n", t1, t2, t1 / t2, el2, ls2}' $out2/d3hsp
 
-# ranks: the same two decks on 2 MPI ranks of one thread (bitwise the same
-# results as one rank). The d3hsp of rank 0 splits the MPI time: the halo
-# exchange (force slots of elements on the other rank, then the nodal forces
-# and moments), the contact exchange (the contacts each rank's slaves found)
-# and the wait at the cycle's first collective (the other rank's elements
-# not done: load imbalance)
+# ranks: the same two decks on 2 MPI ranks of one thread, with owned nodes
+# (the motion bitwise the same as one rank's, the energies to rounding). The
+# d3hsp of rank 0 splits the MPI time: the halo exchange (force slots of
+# elements on the other rank, the velocities of the nodes the ranks share,
+# and of the contact surfaces; every node gathered only for a state), the
+# contact exchange (the contacts each rank's slaves found) and the wait at
+# the cycle's first collective (the other rank's elements not done: load
+# imbalance)
 mpi="mpirun --allow-run-as-root --oversubscribe -np 2 -x OMP_NUM_THREADS=1"
 out2=$dir/shell_r2
 rm -rf $out2
