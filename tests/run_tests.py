@@ -3025,14 +3025,22 @@ def same_histories(a, b):
     with h5py.File(os.path.join(a, "thist.h5"), "r") as fa, h5py.File(os.path.join(b, "thist.h5"), "r") as fb:
         for g in fa:
             rows = rows and g in fb and fa[g]["time"].shape == fb[g]["time"].shape
-    ascii_same = True
+    ascii_same = all(la == lb for _, la, lb in ascii_histories(a, b))
+    return q.returncode == 0 and rows and ascii_same, q.stdout[-300:]
+
+
+def ascii_histories(a, b):
+    """(name, lines of a, lines of b) of each ASCII history file run a
+    wrote (b's empty where it has none), the header and wall-clock timing
+    lines left out."""
+    out = []
     for name in ("glstat", "matsum", "nodout", "rcforc", "rwforc"):
         pa, pb = os.path.join(a, name), os.path.join(b, name)
         if os.path.exists(pa):
             la = [x for x in open(pa).read().splitlines()[2:] if "time per zone" not in x]
             lb = [x for x in open(pb).read().splitlines()[2:] if "time per zone" not in x] if os.path.exists(pb) else []
-            ascii_same = ascii_same and la == lb
-    return q.returncode == 0 and rows and ascii_same, q.stdout[-300:]
+            out.append((name, la, lb))
+    return out
 
 
 def printed_close(la, lb, atol=0.0):
@@ -3108,13 +3116,9 @@ def same_dynamics(a, b, rtol=1e-12):
             elif not np.array_equal(x, y):
                 bad.append(k)
     atol = rtol * max(ke, vscale, (2.0 * ke * mtot) ** 0.5)
-    for name in ("glstat", "matsum", "nodout", "rcforc", "rwforc"):
-        pa, pb = os.path.join(a, name), os.path.join(b, name)
-        if os.path.exists(pa):
-            la = [x for x in open(pa).read().splitlines()[2:] if "time per zone" not in x]
-            lb = [x for x in open(pb).read().splitlines()[2:] if "time per zone" not in x] if os.path.exists(pb) else []
-            if not (printed_close(la, lb, atol) if name in energy else la == lb):
-                bad.append(name + " (ASCII)")
+    for name, la, lb in ascii_histories(a, b):
+        if not (printed_close(la, lb, atol) if name in energy else la == lb):
+            bad.append(name + " (ASCII)")
     return not bad, "; ".join(bad[:5])
 
 def deck_part_titles(deck):
@@ -3810,12 +3814,14 @@ def test_threads():
            and "MPI not started" not in lb and " ranks 1, threads per rank 1" in lb, q.stdout[-200:])
 
 
-def mpirun(np_, args, threads=1):
+def mpirun(np_, args, threads=1, env_extra=None):
     """xdyna on np_ MPI ranks with `threads` OpenMP threads each: Open MPI
     as root needs the two ALLOW variables, and more ranks than this machine's
-    2 cores need --oversubscribe; with threads, ranks are not bound to a core."""
+    2 cores need --oversubscribe; with threads, ranks are not bound to a core.
+    env_extra: more variables for the ranks."""
     cmd = ["mpirun", "--oversubscribe", "-np", str(np_)]
-    env = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1", "OMP_NUM_THREADS": str(threads)}
+    env = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1", "OMP_NUM_THREADS": str(threads),
+           **(env_extra or {})}
     if threads > 1:
         # more threads than cores: threads that spin at OpenMP barriers while
         # the other rank's hold the cores made 2 x 2 on 2 cores 80 times
@@ -3924,10 +3930,7 @@ def test_mpi():
         for n in (2, 4):
             for state, env in (("owned nodes", "0"), ("replicated", "1")):
                 out = os.path.join(TMP, f"lag{n}{env}_" + name)
-                q = run(["mpirun", "--oversubscribe", "-np", str(n), "-x", "XDYNA_REPLICATED=" + env, XDYNA,
-                         "i=" + deck, "outdir=" + out],
-                        env={"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
-                             "OMP_NUM_THREADS": "1"})
+                q = mpirun(n, ["i=" + deck, "outdir=" + out], env_extra={"XDYNA_REPLICATED": env})
                 ok, msg = ranks_match(serial, out) if not (q.returncode or p0.returncode) else (False, q.stderr[-300:])
                 record(f"MPI Lagrangian contact, {c['family']} ({name}): {n} ranks, {state}, give the serial run "
                        f"({'bitwise' if env == '1' else 'its motion bitwise'})", ok, msg)
@@ -4090,9 +4093,7 @@ def test_mpi_owned():
            "rotations included)", ok, msg)
     # the replicated state on request, and where a feature needs it, named
     out = os.path.join(d, "replicated")
-    p = run(["mpirun", "--oversubscribe", "-np", "2", "-x", "XDYNA_REPLICATED=1", XDYNA, "i=" + hexes,
-             "outdir=" + out], env={"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
-                                    "OMP_NUM_THREADS": "1"})
+    p = mpirun(2, ["i=" + hexes, "outdir=" + out], env_extra={"XDYNA_REPLICATED": "1"})
     ok, msg = same_histories(os.path.join(d, "serial_hex"), out) if p.returncode == 0 else (False, p.stderr[-300:])
     log = open(os.path.join(out, "d3hsp")).read() if p.returncode == 0 else ""
     record("owned nodes: XDYNA_REPLICATED=1 keeps every node on every rank, named in d3hsp, the same histories",

@@ -167,7 +167,7 @@ contains
         real(wp), intent(in) :: dt, dt_avg
         logical, intent(in) :: body_node(:)
         logical, intent(in), optional :: mine(:)
-        integer :: k, nd, nc
+        integer :: k, nd, nc, q
         real(wp) :: dvn, vold(3), vprev(3), vt(3), vtn, cut, fk(3)
         real(dp) :: de, sum_m, sum_j, vw, ek
         integer, allocatable :: hit(:), at(:)
@@ -205,75 +205,61 @@ contains
             hn(:, nc) = hn(:, k)
             at(nc) = k
         end do
-        call wall_sums(present(mine))
-    contains
-        !> The hits' sums (a moving wall's mass and impulse, then, the nodes
-        !> moved, the force and energy), each taken over the hits' records
-        !> in the wall's node order; with `gather` (owned nodes) every
-        !> rank's records: the same sums as one rank takes.
-        subroutine wall_sums(gather)
-            logical, intent(in) :: gather
-            integer :: q
-            vw = 0
-            if (w%moving) then
-                allocate (rec(3, nc))
-                do k = 1, nc
-                    rec(:, k) = [real(at(k), dp), real(st%mass(hit(k)), dp), real(gap(k), dp)]
-                end do
-                if (gather) then
-                    call comm_ordered_records(rec, all)
-                else
-                    all = rec
-                end if
-                if (size(all, 2) > 0) then
-                    sum_m = 0
-                    sum_j = 0
-                    do q = 1, size(all, 2)
-                        sum_m = sum_m + real(all(2, q), wp)
-                        sum_j = sum_j - real(all(2, q), wp)*real(all(3, q), wp)/dt
-                    end do
-                    sum_j = sum_j/(1.0_dp + sum_m/w%mass)
-                    vw = -sum_j/w%mass
-                    wn%vel = wn%vel + vw
-                end if
-                deallocate (rec)
-            end if
-            allocate (rec(5, nc))
+        ! the hits' sums (a moving wall's mass and impulse, then, the nodes
+        ! moved, the force and energy), each taken over the hits' records in
+        ! the wall's node order; under owned nodes every rank's records: the
+        ! same sums as one rank takes
+        vw = 0
+        if (w%moving) then
+            allocate (rec(3, nc))
             do k = 1, nc
-                nd = hit(k)
-                vold = st%v(:, nd)
-                dvn = -gap(k)/dt + real(vw, wp)
-                st%v(:, nd) = st%v(:, nd) + dvn*hn(:, k)
-                if (w%fric > 0.0_wp) then
-                    vt = st%v(:, nd) - dot_product(st%v(:, nd), hn(:, k))*hn(:, k)
-                    vtn = norm2(vt)
-                    if (vtn > 0.0_wp) then
-                        cut = vtn
-                        if (w%fric < 1.0_wp) cut = min(vtn, w%fric*abs(dvn))
-                        st%v(:, nd) = st%v(:, nd) - (cut/vtn)*vt
-                    end if
-                end if
-                st%v(:, nd) = st%v(:, nd)*st%free(:, nd)
-                fk = st%mass(nd)*(st%v(:, nd) - vold)/dt_avg
-                vprev = vold - dt_avg*st%a(:, nd)
-                ek = st%mass(nd)*dot_product(real(st%v(:, nd) - vold, dp), 0.5_dp*real(vprev + st%v(:, nd), dp))
-                rec(:, k) = [real(at(k), dp), real(fk, dp), ek]
+                rec(:, k) = [real(at(k), dp), real(st%mass(hit(k)), dp), real(gap(k), dp)]
             end do
-            if (gather) then
-                call comm_ordered_records(rec, all)
-            else
-                all = rec
+            call comm_ordered_records(rec, all, present(mine))
+            if (size(all, 2) > 0) then
+                sum_m = 0
+                sum_j = 0
+                do q = 1, size(all, 2)
+                    sum_m = sum_m + real(all(2, q), wp)
+                    sum_j = sum_j - real(all(2, q), wp)*real(all(3, q), wp)/dt
+                end do
+                sum_j = sum_j/(1.0_dp + sum_m/w%mass)
+                vw = -sum_j/w%mass
+                wn%vel = wn%vel + vw
             end if
-            de = 0
-            do q = 1, size(all, 2)
-                wn%force = wn%force + real(all(2:4, q), wp)
-                de = de - all(5, q)
-            end do
-            if (w%moving) de = de - 0.5_dp*w%mass*(wn%vel**2 - wn%vel_old**2)
-            wn%shift = wn%shift + dt*wn%vel
-            call wall_normal_force(w, wn)
-            wn%energy = wn%energy + de
-        end subroutine wall_sums
+            deallocate (rec)
+        end if
+        allocate (rec(5, nc))
+        do k = 1, nc
+            nd = hit(k)
+            vold = st%v(:, nd)
+            dvn = -gap(k)/dt + real(vw, wp)
+            st%v(:, nd) = st%v(:, nd) + dvn*hn(:, k)
+            if (w%fric > 0.0_wp) then
+                vt = st%v(:, nd) - dot_product(st%v(:, nd), hn(:, k))*hn(:, k)
+                vtn = norm2(vt)
+                if (vtn > 0.0_wp) then
+                    cut = vtn
+                    if (w%fric < 1.0_wp) cut = min(vtn, w%fric*abs(dvn))
+                    st%v(:, nd) = st%v(:, nd) - (cut/vtn)*vt
+                end if
+            end if
+            st%v(:, nd) = st%v(:, nd)*st%free(:, nd)
+            fk = st%mass(nd)*(st%v(:, nd) - vold)/dt_avg
+            vprev = vold - dt_avg*st%a(:, nd)
+            ek = st%mass(nd)*dot_product(real(st%v(:, nd) - vold, dp), 0.5_dp*real(vprev + st%v(:, nd), dp))
+            rec(:, k) = [real(at(k), dp), real(fk, dp), ek]
+        end do
+        call comm_ordered_records(rec, all, present(mine))
+        de = 0
+        do q = 1, size(all, 2)
+            wn%force = wn%force + real(all(2:4, q), wp)
+            de = de - all(5, q)
+        end do
+        if (w%moving) de = de - 0.5_dp*w%mass*(wn%vel**2 - wn%vel_old**2)
+        wn%shift = wn%shift + dt*wn%vel
+        call wall_normal_force(w, wn)
+        wn%energy = wn%energy + de
     end subroutine apply_wall
 
     !> The normal force of a wall from its force on the nodes: along its

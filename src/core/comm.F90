@@ -109,14 +109,17 @@ contains
     !> key, a whole number; no key on two ranks) in increasing key order:
     !> all(:, 1:total), allocated here. A sum a run reports, taken over
     !> these in order from zero, is the one the serial run takes when it
-    !> adds them in key order, whichever rank holds which record.
-    subroutine comm_ordered_records(mine, all)
+    !> adds them in key order, whichever rank holds which record. With
+    !> gather false (every rank holds every record already: one rank, or
+    !> the replicated nodal state) all is mine.
+    subroutine comm_ordered_records(mine, all, gather)
         real(dp), contiguous, intent(in) :: mine(:, :)
         real(dp), allocatable, intent(out) :: all(:, :)
+        logical, intent(in) :: gather
         real(dp), allocatable :: got(:, :)
         integer, allocatable :: perm(:)
         integer :: nranks
-        if (.not. up()) then
+        if (.not. (gather .and. up())) then
             all = mine
             return
         end if

@@ -29,6 +29,7 @@
 module xd_solver_domain
     use xd_kinds, only: wp, dp
     use xd_core_partition, only: rcb_partition
+    use xd_core_threads, only: threaded
     use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_shell_bt, only: shells_t, shell_blocks
@@ -40,8 +41,8 @@ module xd_solver_domain
     use xd_model, only: model_t
     implicit none
     private
-    public :: domain_t, build_domain, domain_summary, share_nodes, gather_energy_state, gather_element_state, &
-              swap_slots, swap_velocities, owned_motion, share_state, gather_subset, gather_layout
+    public :: domain_t, build_domain, domain_summary, gather_energy_state, gather_element_state, &
+              swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout
 
     !> A set of nodes whose values go from their ranks to every rank (an
     !> all-gather): per rank r, its own in node(off(r) + 1 : off(r) +
@@ -54,8 +55,6 @@ module xd_solver_domain
         integer :: rank = 0, nranks = 1
         logical :: on = .false.               !< more than one rank
         integer, allocatable :: nodes(:)      !< nodes this rank assembles
-        integer, allocatable :: by_rank(:)    !< every node, rank 0's first, then rank 1's, ...
-        integer, allocatable :: ncount(:), noff(:)   !< per rank: its nodes' count and offset in by_rank
         logical, allocatable :: node_mine(:)
         logical, allocatable :: solid_mine(:) !< per solid element: its group is this rank's
         logical, allocatable :: shell_mine(:)
@@ -93,10 +92,6 @@ module xd_solver_domain
         !> goes to k (k's elements touch them) and k's nodes whose motion
         !> comes from k (this rank's elements touch them)
         integer, allocatable :: mo_ptr(:), mo_node(:), mi_ptr(:), mi_node(:)
-        !> this rank's nodes as runs of consecutive numbers (at most
-        !> run_max long, so that threads share them), run_lo(k) ..
-        !> run_hi(k): the owned node loops run over them and vectorise
-        integer, allocatable :: run_lo(:), run_hi(:)
         integer, allocatable :: arank(:)      !< every node's assembling (owned nodes: integrating) rank
         !> owned nodes with contact: the contact surfaces' nodes, whose
         !> velocities every rank receives each cycle (the surfaces stay whole
@@ -104,6 +99,9 @@ module xd_solver_domain
         !> (and moments) every rank receives before the bodies move (every
         !> rank moves every body alike)
         type(node_gather_t) :: surf, body
+        !> every node, by the rank that assembles it (the replicated state's
+        !> nodal forces, a state's or a dump's nodal values)
+        type(node_gather_t) :: every
         !> owned nodes with beams: their nodes, whose velocities and angular
         !> velocities every rank receives (every rank takes every beam)
         type(node_gather_t) :: rotn
@@ -111,8 +109,10 @@ module xd_solver_domain
         !> segments'), whose forces (and moments) every rank receives before
         !> the ties move them and whose final velocities every rank receives
         !> before the slaves follow their segments (every rank takes every
-        !> tie); kick_lo, kick_hi: the runs of the nodes this rank updates
-        !> the velocities of (its own and the ties')
+        !> tie); kick_lo, kick_hi: the nodes this rank updates the velocities
+        !> of (its own and the ties') as runs of consecutive numbers (at
+        !> most run_max long, so that threads share them: the loops over
+        !> them vectorise)
         type(node_gather_t) :: tie
         integer, allocatable :: kick_lo(:), kick_hi(:)
         !> owned nodes: the nodout nodes, gathered at a history output
@@ -120,9 +120,6 @@ module xd_solver_domain
         !> owned nodes: the nodes this rank moves (its own, those its
         !> elements touch, the contact surfaces' and the rigid bodies') as runs
         integer, allocatable :: mv_lo(:), mv_hi(:)
-        !> share_state's buffers, kept between its calls (fresh ones were
-        !> most of a gather's time: the pages' first touch)
-        real(wp), allocatable :: gmine(:), gall(:)
     end type domain_t
 
     integer, parameter :: run_max = 1024
@@ -209,14 +206,8 @@ contains
         dom%nhalo = count(multi)
         dom%node_mine = arank == rank
         dom%nodes = where_true(dom%node_mine)
-        call node_runs(dom%nodes, dom%run_lo, dom%run_hi)
         dom%arank = arank
-        allocate (dom%by_rank(0), dom%ncount(nranks), dom%noff(nranks))
-        do r = 1, nranks
-            dom%noff(r) = size(dom%by_rank)
-            dom%by_rank = [dom%by_rank, where_true(arank == r - 1)]
-            dom%ncount(r) = size(dom%by_rank) - dom%noff(r)
-        end do
+        call gather_layout(arank, nranks, [(nd, nd=1, nnode)], dom%every)
         ! the halo slots: those of elements on a node that another rank assembles
         call halo_slots(8, solids%conn, grank(solids%group_of), dom%bslot, dom%bslot_mine)
         if (sh%n > 0) then
@@ -539,38 +530,6 @@ contains
         txt = txt//new_line('a')//trim(buf)
     end function domain_summary
 
-    !> f(:, node) (and m(:, node)) from the node's assembling rank, on every
-    !> rank: each rank packs its nodes' values, all ranks gather them.
-    subroutine share_nodes(dom, f, m)
-        type(domain_t), intent(in) :: dom
-        real(wp), contiguous, intent(inout) :: f(:, :)
-        real(wp), contiguous, intent(inout), optional :: m(:, :)
-        real(wp), allocatable :: mine(:, :), all(:, :)
-        integer :: w, i, nd, r
-        w = 3
-        if (present(m)) w = 6
-        allocate (mine(w, max(size(dom%nodes), 1)), all(w, size(dom%by_rank)))
-        !$omp parallel do schedule(static) private(nd)
-        do i = 1, size(dom%nodes)
-            nd = dom%nodes(i)
-            mine(1:3, i) = f(:, nd)
-            if (w == 6) mine(4:6, i) = m(:, nd)
-        end do
-        !$omp end parallel do
-        call comm_gather_wp(mine, w*size(dom%nodes), all, w*dom%ncount, w*dom%noff)
-        ! the other ranks' nodes (this rank's are in place)
-        do r = 1, dom%nranks
-            if (r == dom%rank + 1) cycle
-            !$omp parallel do schedule(static) private(nd)
-            do i = dom%noff(r) + 1, dom%noff(r) + dom%ncount(r)
-                nd = dom%by_rank(i)
-                f(:, nd) = all(1:3, i)
-                if (w == 6) m(:, nd) = all(4:6, i)
-            end do
-            !$omp end parallel do
-        end do
-    end subroutine share_nodes
-
     !> Owned nodes' halo exchange: the slots this rank's elements computed
     !> for nodes a neighbour assembles go to that neighbour alone, and those
     !> the neighbours computed for this rank's nodes come in (each value
@@ -648,20 +607,8 @@ contains
             if (w == 6) vr(:, nd) = rb(p + 4:p + 6)
         end do
         if (allocated(dom%surf%node)) call gather_subset(dom, dom%surf, v)
-        if (allocated(dom%rotn%node)) then
-            if (present(vr)) then
-                call gather_subset(dom, dom%rotn, v, vr)
-            else
-                call gather_subset(dom, dom%rotn, v)
-            end if
-        end if
-        if (allocated(dom%tie%node)) then
-            if (present(vr)) then
-                call gather_subset(dom, dom%tie, v, vr)
-            else
-                call gather_subset(dom, dom%tie, v)
-            end if
-        end if
+        if (allocated(dom%rotn%node)) call gather_subset(dom, dom%rotn, v, vr)
+        if (allocated(dom%tie%node)) call gather_subset(dom, dom%tie, v, vr)
     end subroutine swap_velocities
 
     !> Owned nodes: the nodes this rank moves (its own, the halo its
@@ -682,118 +629,66 @@ contains
         mv(body) = .true.
         mv(rotn) = .true.
         call node_runs(where_true(mv), dom%mv_lo, dom%mv_hi)
-        call gather_layout(dom, surf, dom%surf)
-        call gather_layout(dom, body, dom%body)
-        call gather_layout(dom, rotn, dom%rotn)
-        if (size(tie) > 0) call gather_layout(dom, tie, dom%tie)
+        call gather_layout(dom%arank, dom%nranks, surf, dom%surf)
+        call gather_layout(dom%arank, dom%nranks, body, dom%body)
+        call gather_layout(dom%arank, dom%nranks, rotn, dom%rotn)
+        if (size(tie) > 0) call gather_layout(dom%arank, dom%nranks, tie, dom%tie)
     end subroutine owned_motion
 
-    !> The layout of a gather of the nodes `nodes` (repeats allowed).
-    subroutine gather_layout(dom, nodes, g)
-        type(domain_t), intent(in) :: dom
-        integer, intent(in) :: nodes(:)
+    !> The layout of a gather of the nodes `nodes` (repeats allowed) over
+    !> nranks ranks, each node from its rank arank.
+    subroutine gather_layout(arank, nranks, nodes, g)
+        integer, intent(in) :: arank(:), nranks, nodes(:)
         type(node_gather_t), intent(out) :: g
         logical, allocatable :: on(:)
         integer :: r
-        allocate (on(size(dom%node_mine)), g%node(0), g%cnt(dom%nranks), g%off(dom%nranks))
+        allocate (on(size(arank)), g%node(0), g%cnt(nranks), g%off(nranks))
         on = .false.
         on(nodes) = .true.
-        do r = 1, dom%nranks
+        do r = 1, nranks
             g%off(r) = size(g%node)
-            g%node = [g%node, where_true(on .and. dom%arank == r - 1)]
+            g%node = [g%node, where_true(on .and. arank == r - 1)]
             g%cnt(r) = size(g%node) - g%off(r)
         end do
     end subroutine gather_layout
 
-    !> a(:, node) (and b) of the gather's nodes from their ranks, on every rank.
+    !> a(:, node) (and b) of the gather's nodes from their ranks, on every
+    !> rank: each rank packs its nodes' values, all ranks gather them. (b
+    !> may be an unallocated array, which Fortran 2008 passes as absent:
+    !> the angular velocities and moments of a model without rotations.)
     subroutine gather_subset(dom, g, a, b)
         type(domain_t), intent(in) :: dom
         type(node_gather_t), intent(in) :: g
         real(wp), intent(inout) :: a(:, :)
         real(wp), intent(inout), optional :: b(:, :)
         real(wp), allocatable :: mine(:, :), all(:, :)
-        integer :: i, r, w
+        integer :: i, r, w, nd, lo, hi
         if (size(g%node) == 0) return
         w = 3
         if (present(b)) w = 6
         r = dom%rank + 1
+        lo = g%off(r) + 1
+        hi = g%off(r) + g%cnt(r)
         allocate (mine(w, max(g%cnt(r), 1)), all(w, size(g%node)))
+        !$omp parallel do schedule(static) private(nd) if (threaded(g%cnt(r)))
         do i = 1, g%cnt(r)
-            mine(1:3, i) = a(:, g%node(g%off(r) + i))
-            if (w == 6) mine(4:6, i) = b(:, g%node(g%off(r) + i))
+            nd = g%node(g%off(r) + i)
+            mine(1:3, i) = a(:, nd)
+            if (w == 6) mine(4:6, i) = b(:, nd)
         end do
+        !$omp end parallel do
         call comm_gather_wp(mine, w*g%cnt(r), all, w*g%cnt, w*g%off)
-        do r = 1, dom%nranks
-            if (r == dom%rank + 1) cycle
-            do i = g%off(r) + 1, g%off(r) + g%cnt(r)
-                a(:, g%node(i)) = all(1:3, i)
-                if (w == 6) b(:, g%node(i)) = all(4:6, i)
-            end do
+        ! (the other ranks' nodes: this rank's are in place)
+        !$omp parallel do schedule(static) private(nd) if (threaded(size(g%node)))
+        do i = 1, size(g%node)
+            if (i >= lo .and. i <= hi) cycle
+            nd = g%node(i)
+            a(:, nd) = all(1:3, i)
+            if (w == 6) b(:, nd) = all(4:6, i)
         end do
+        !$omp end parallel do
     end subroutine gather_subset
 
-    !> Owned nodes: every node's values in the arrays a1 .. a8 (three a
-    !> node) from the rank that integrates it, on every rank (for the
-    !> outputs, the energies and a dump: each rank packs its nodes'
-    !> columns, all ranks gather them).
-    subroutine share_state(dom, a1, a2, a3, a4, a5, a6, a7, a8)
-        type(domain_t), intent(inout) :: dom
-        real(wp), intent(inout), contiguous :: a1(:, :)
-        real(wp), intent(inout), contiguous, optional :: a2(:, :), a3(:, :), a4(:, :), a5(:, :), a6(:, :), a7(:, :), &
-                                                         a8(:, :)
-        integer :: w, i, r, p, n
-        w = 3*(1 + count([present(a2), present(a3), present(a4), present(a5), present(a6), present(a7), present(a8)]))
-        n = size(dom%nodes)
-        if (.not. allocated(dom%gmine)) allocate (dom%gmine(0), dom%gall(0))
-        if (size(dom%gmine) < w*max(n, 1)) then
-            deallocate (dom%gmine)
-            allocate (dom%gmine(w*max(n, 1)))
-        end if
-        if (size(dom%gall) < w*size(dom%by_rank)) then
-            deallocate (dom%gall)
-            allocate (dom%gall(w*size(dom%by_rank)))
-        end if
-        p = 0
-        call pack_cols(a1)
-        if (present(a2)) call pack_cols(a2)
-        if (present(a3)) call pack_cols(a3)
-        if (present(a4)) call pack_cols(a4)
-        if (present(a5)) call pack_cols(a5)
-        if (present(a6)) call pack_cols(a6)
-        if (present(a7)) call pack_cols(a7)
-        if (present(a8)) call pack_cols(a8)
-        call comm_gather_wp(dom%gmine, w*n, dom%gall, w*dom%ncount, w*dom%noff)
-        p = 0
-        call unpack_cols(a1)
-        if (present(a2)) call unpack_cols(a2)
-        if (present(a3)) call unpack_cols(a3)
-        if (present(a4)) call unpack_cols(a4)
-        if (present(a5)) call unpack_cols(a5)
-        if (present(a6)) call unpack_cols(a6)
-        if (present(a7)) call unpack_cols(a7)
-        if (present(a8)) call unpack_cols(a8)
-    contains
-        !> (node i's w values at w (i - 1) + 1 ..: this array's three at p + 1 ..)
-        subroutine pack_cols(a)
-            real(wp), intent(in) :: a(:, :)
-            do i = 1, n
-                dom%gmine(w*(i - 1) + p + 1:w*(i - 1) + p + 3) = a(:, dom%nodes(i))
-            end do
-            p = p + 3
-        end subroutine pack_cols
-
-        !> (the other ranks' nodes: this rank's are in place)
-        subroutine unpack_cols(a)
-            real(wp), intent(inout) :: a(:, :)
-            do r = 1, dom%nranks
-                if (r == dom%rank + 1) cycle
-                do i = dom%noff(r) + 1, dom%noff(r) + dom%ncount(r)
-                    a(:, dom%by_rank(i)) = dom%gall(w*(i - 1) + p + 1:w*(i - 1) + p + 3)
-                end do
-            end do
-            p = p + 3
-        end subroutine unpack_cols
-    end subroutine share_state
 
     !> The element energies (and shell thicknesses) from their ranks, for
     !> glstat and matsum.

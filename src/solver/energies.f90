@@ -258,9 +258,10 @@ contains
             real(dp), allocatable :: buf(:)
             integer :: np
             np = model%npart
-            buf = [en%part_ie, en%part_hg, en%part_ke, reshape(en%part_mom, [3*np]), en%ke, mom, ker, &
-                   real(en%nshell_scaled, dp)]
-            if (masses) buf = [buf, en%part_mass, en%part_added]
+            allocate (buf(merge(8*np + 6, 6*np + 6, masses)))
+            buf(1:6*np + 6) = [en%part_ie, en%part_hg, en%part_ke, reshape(en%part_mom, [3*np]), en%ke, mom, ker, &
+                               real(en%nshell_scaled, dp)]
+            if (masses) buf(6*np + 7:) = [en%part_mass, en%part_added]
             call comm_sum_dp(buf)
             en%part_ie = buf(1:np)
             en%part_hg = buf(np + 1:2*np)

@@ -24,7 +24,7 @@ module xd_solver_phases
                                    dead_model_hexes
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t, assemble
-    use xd_solver_domain, only: domain_t, share_nodes, gather_energy_state, swap_slots, swap_velocities, gather_subset
+    use xd_solver_domain, only: domain_t, gather_energy_state, swap_slots, swap_velocities, gather_subset
     use xd_solver_energies, only: energies_t, compute_energies
     use xd_solver_loads, only: body_acceleration, add_body_forces, body_power, pressures_t, apply_pressures, &
                                pressure_power
@@ -169,9 +169,9 @@ contains
         if (dom%owned) return
         call tm%start(ph_comm)
         if (sh%n > 0) then
-            call share_nodes(dom, st%f, st%mom)
+            call gather_subset(dom, dom%every, st%f, st%mom)
         else
-            call share_nodes(dom, st%f)
+            call gather_subset(dom, dom%every, st%f)
         end if
         call tm%stop(ph_comm)
     end subroutine exchange_phase
@@ -404,7 +404,7 @@ contains
                 n = n + 1
                 rec(:, n) = [real(gone(k), dp), eint(gone(k))]
             end do
-            call comm_ordered_records(rec(:, 1:n), all)
+            call comm_ordered_records(rec(:, 1:n), all, .true.)
             do k = 1, size(all, 2)
                 eint(nint(all(1, k))) = all(2, k)
             end do
@@ -425,7 +425,7 @@ contains
                 rec(1, n) = real(gone(k), dp)
                 rec(2:25, n) = real(reshape(st%x(:, solids%conn(:, gone(k))), [24]), dp)
             end do
-            call comm_ordered_records(rec(:, 1:n), all)
+            call comm_ordered_records(rec(:, 1:n), all, .true.)
             do k = 1, size(all, 2)
                 do j = 1, 8
                     st%x(:, solids%conn(j, nint(all(1, k)))) = real(all(3*j - 1:3*j + 1, k), wp)
@@ -655,20 +655,17 @@ contains
             ! owned nodes: the ties' nodes' forces from their ranks; every
             ! rank then takes every tie, and updates the velocities of its
             ! own nodes and the ties'
-            if (st%rot) then
-                call gather_subset(dom, dom%tie, st%f, st%mom)
-            else
-                call gather_subset(dom, dom%tie, st%f)
-            end if
+            ! (st%mom unallocated without rotations: absent)
+            call gather_subset(dom, dom%tie, st%f, st%mom)
             call tie_forces(td, st%time, st%x, st%f, st%mom)
             call accelerations(st)
             call tie_accelerations(td, st%time, st%f, st%mass, st%free, st%a, st%mom, st%irot)
             if (threaded(size(dom%nodes))) then
                 !$omp parallel
-                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi)
+                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi, .false.)
                 !$omp end parallel
             else
-                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi)
+                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi, .false.)
             end if
             return
         end if
@@ -683,10 +680,10 @@ contains
             ! owned nodes: this rank's alone (no ties under owned nodes)
             if (threaded(size(dom%nodes))) then
                 !$omp parallel
-                call kick_owned(st, real(dt_avg, wp), dom%run_lo, dom%run_hi)
+                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi, .true.)
                 !$omp end parallel
             else
-                call kick_owned(st, real(dt_avg, wp), dom%run_lo, dom%run_hi)
+                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi, .true.)
             end if
         else if (threaded(st%nnode)) then
             !$omp parallel
@@ -705,7 +702,7 @@ contains
         real(wp), intent(in) :: dt
         logical, intent(in) :: from_forces
         integer :: nd
-        real(wp) :: ri, on, a1, a2, a3
+        real(wp) :: a1, a2, a3
         if (from_forces) then
             !$omp do schedule(static)
             do nd = 1, st%nnode
@@ -732,70 +729,37 @@ contains
             ! that: no select, so that the loop vectorises)
             !$omp do schedule(static)
             do nd = 1, st%nnode
-                on = merge(1.0_wp, 0.0_wp, st%irot(nd) > 0.0_wp)
-                ri = st%irot(nd) + (1.0_wp - on)
-                st%vr(1, nd) = st%vr(1, nd) + dt*st%mom(1, nd)/ri*st%free_r(1, nd)*on
-                st%vr(2, nd) = st%vr(2, nd) + dt*st%mom(2, nd)/ri*st%free_r(2, nd)*on
-                st%vr(3, nd) = st%vr(3, nd) + dt*st%mom(3, nd)/ri*st%free_r(3, nd)*on
+                st%vr(:, nd) = st%vr(:, nd) + free_spin(dt, st%mom(:, nd), st%irot(nd), st%free_r(:, nd))
             end do
             !$omp end do
         end if
     end subroutine kick
 
-    !> The kick (with the accelerations from the forces, as kick's) of the
-    !> nodes in the runs lo(k) .. hi(k) alone: the same operations node by
-    !> node, each run's in a loop that vectorises.
-    subroutine kick_owned(st, dt, lo, hi)
+    !> The kick of the nodes in the runs lo(k) .. hi(k) alone (owned
+    !> nodes): the same operations as kick's node by node, each run's in a
+    !> loop that vectorises; with from_forces the accelerations from the
+    !> forces first (free_accel), else those in st%a (ties).
+    subroutine kick_runs(st, dt, lo, hi, from_forces)
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt
         integer, intent(in) :: lo(:), hi(:)
+        logical, intent(in) :: from_forces
         integer :: k, nd
-        real(wp) :: ri, on, a1, a2, a3
         !$omp do schedule(static)
         do k = 1, size(lo)
-            do nd = lo(k), hi(k)
-                a1 = free_accel(st%f(1, nd), st%mass(nd), st%free(1, nd))
-                a2 = free_accel(st%f(2, nd), st%mass(nd), st%free(2, nd))
-                a3 = free_accel(st%f(3, nd), st%mass(nd), st%free(3, nd))
-                st%a(1, nd) = a1
-                st%a(2, nd) = a2
-                st%a(3, nd) = a3
-                st%v(1, nd) = st%v(1, nd) + dt*a1
-                st%v(2, nd) = st%v(2, nd) + dt*a2
-                st%v(3, nd) = st%v(3, nd) + dt*a3
-            end do
+            if (from_forces) then
+                do nd = lo(k), hi(k)
+                    st%a(:, nd) = free_accel(st%f(:, nd), st%mass(nd), st%free(:, nd))
+                    st%v(:, nd) = st%v(:, nd) + dt*st%a(:, nd)
+                end do
+            else
+                do nd = lo(k), hi(k)
+                    st%v(:, nd) = st%v(:, nd) + dt*st%a(:, nd)
+                end do
+            end if
             if (.not. st%rot) cycle
             do nd = lo(k), hi(k)
-                on = merge(1.0_wp, 0.0_wp, st%irot(nd) > 0.0_wp)
-                ri = st%irot(nd) + (1.0_wp - on)
-                st%vr(1, nd) = st%vr(1, nd) + dt*st%mom(1, nd)/ri*st%free_r(1, nd)*on
-                st%vr(2, nd) = st%vr(2, nd) + dt*st%mom(2, nd)/ri*st%free_r(2, nd)*on
-                st%vr(3, nd) = st%vr(3, nd) + dt*st%mom(3, nd)/ri*st%free_r(3, nd)*on
-            end do
-        end do
-        !$omp end do
-    end subroutine kick_owned
-
-    !> The kick with the accelerations already in st%a (kick's, with ties)
-    !> of the nodes in the runs lo(k) .. hi(k).
-    subroutine kick_runs(st, dt, lo, hi)
-        type(state_t), intent(inout) :: st
-        real(wp), intent(in) :: dt
-        integer, intent(in) :: lo(:), hi(:)
-        integer :: k, nd
-        real(wp) :: ri, on
-        !$omp do schedule(static)
-        do k = 1, size(lo)
-            do nd = lo(k), hi(k)
-                st%v(:, nd) = st%v(:, nd) + dt*st%a(:, nd)
-            end do
-            if (.not. st%rot) cycle
-            do nd = lo(k), hi(k)
-                on = merge(1.0_wp, 0.0_wp, st%irot(nd) > 0.0_wp)
-                ri = st%irot(nd) + (1.0_wp - on)
-                st%vr(1, nd) = st%vr(1, nd) + dt*st%mom(1, nd)/ri*st%free_r(1, nd)*on
-                st%vr(2, nd) = st%vr(2, nd) + dt*st%mom(2, nd)/ri*st%free_r(2, nd)*on
-                st%vr(3, nd) = st%vr(3, nd) + dt*st%mom(3, nd)/ri*st%free_r(3, nd)*on
+                st%vr(:, nd) = st%vr(:, nd) + free_spin(dt, st%mom(:, nd), st%irot(nd), st%free_r(:, nd))
             end do
         end do
         !$omp end do
@@ -829,6 +793,16 @@ contains
     !> a massless node). (The quotient taken for every node, a massless
     !> one's over 1 and then times 0, without a select: the loops
     !> vectorise.)
+    !> A node's angular velocity change dt M / I about a free axis (free_r
+    !> 1) or 0 (free_r 0, or no rotary inertia: the quotient over 1 and
+    !> then times 0, no select, so that the loops vectorise).
+    pure elemental real(wp) function free_spin(dt, m, ri, free_r) result(dw)
+        real(wp), intent(in) :: dt, m, ri, free_r
+        real(wp) :: on
+        on = merge(1.0_wp, 0.0_wp, ri > 0.0_wp)
+        dw = dt*m/(ri + (1.0_wp - on))*free_r*on
+    end function free_spin
+
     pure elemental real(wp) function free_accel(f, m, free) result(a)
         real(wp), intent(in) :: f, m, free
         real(wp) :: on
@@ -889,13 +863,7 @@ contains
             call tm%start(ph_rigid)
             ! owned nodes: the bodies' nodes' forces (and moments) from their
             ! ranks, so that every rank moves every body alike
-            if (dom%owned) then
-                if (st%rot) then
-                    call gather_subset(dom, dom%body, st%f, st%mom)
-                else
-                    call gather_subset(dom, dom%body, st%f)
-                end if
-            end if
+            if (dom%owned) call gather_subset(dom, dom%body, st%f, st%mom)
             call rigid_step(rg, model, st, st%dt, real(dt_avg, wp), wpm, walls)
             st%ext_work = st%ext_work + wpm
             call tm%stop(ph_rigid)
@@ -995,11 +963,8 @@ contains
         type(state_t), intent(inout) :: st
         type(timers_t), intent(inout) :: tm
         call tm%start(ph_comm)
-        if (st%rot) then
-            call swap_velocities(dom, st%v, st%vr)
-        else
-            call swap_velocities(dom, st%v)
-        end if
+        ! (st%vr unallocated without rotations: absent)
+        call swap_velocities(dom, st%v, st%vr)
         call tm%stop(ph_comm)
     end subroutine exchange_velocities
 

@@ -105,11 +105,7 @@ contains
                 end do
             end associate
         end do
-        if (present(mine)) then
-            call comm_ordered_records(rec(:, 1:nr), all)
-        else
-            all = rec(:, 1:nr)
-        end if
+        call comm_ordered_records(rec(:, 1:nr), all, present(mine))
         do k = 1, size(all, 2)
             work = work + all(2, k)
         end do

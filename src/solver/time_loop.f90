@@ -34,7 +34,7 @@ module xd_solver_time_loop
     use xd_solver_prescribed, only: prescribed_nodes_t
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t
-    use xd_solver_domain, only: domain_t, gather_element_state, share_state, owned_motion, gather_layout, gather_subset
+    use xd_solver_domain, only: domain_t, gather_element_state, owned_motion, gather_layout, gather_subset
     use xd_core_comm, only: comm_max, comm_sum_int, comm_gather_small, comm_sum_dp
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, &
                                       hourglass_bound_report
@@ -130,6 +130,7 @@ contains
         real(wp) :: dt_ref
         logical :: done
         logical :: energy_now                  !< this cycle computes the energies (and so may write output)
+        logical :: output_now                  !< this cycle writes histories or a state
         integer :: bad_kind, bad                !< the first bad element (element_phase)
         character(len=:), allocatable :: failure
         integer :: beam_crit                   !< the beam that set the step (0: none)
@@ -160,7 +161,7 @@ contains
         lp%t_last_progress = lp%t0_wall
         call mass_scaling_begin(ms, model%ctl, lg)
         call step_stats_init(ss, solids%n, sh%n)
-        if (dom%on) call choose_owned(dom, ct, rg, td, bm, pl, sh, lg)
+        if (dom%on) call choose_owned(dom, ct, rg, td, bm, pl, sh, hist, lg)
         ! (the scale of the momenta glstat and matsum report)
         call log_line(lg, ' initial nodal mass (the nodes'' lumped masses) .......... '//rtoa(sum(real(st%mass, dp))))
 
@@ -223,24 +224,26 @@ contains
             if (ct%n > 0) call contact_phase(model, dom, ct, rg, sh, st, lg, tm, dt_avg, br)
             done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
             if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
-            ! energies where histories or states are due (the d3plot's global
-            ! variables carry them), or every energy_check_every cycles
-            energy_now = histories_due(hist, st%time) .or. done .or. st%cycle == 0 .or. &
-                            mod(st%cycle, opts%energy_check_every) == 0 .or. states_due(states, st%time) .or. &
-                            lp%state_asked
+            ! output where histories or states are due, at the first and the
+            ! last cycle, or where sense switch sw4 asked a state; energies
+            ! then (the d3plot's global variables carry them), and every
+            ! energy_check_every cycles
+            output_now = histories_due(hist, st%time) .or. states_due(states, st%time) .or. done .or. &
+                         st%cycle == 0 .or. lp%state_asked
+            energy_now = output_now .or. mod(st%cycle, opts%energy_check_every) == 0
             call tm%start(ph_integrate)
             call velocity_phase(dom, st, td, dt_avg, energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
             call constraint_phase(model, dom, walls, pn, rg, td, pl, st, lg, tm, dt_avg, g_new, no_body)
 
             if (energy_now) then
-                ! owned nodes: every node's state on every rank for the
-                ! energies and the outputs
-                if (dom%owned) then
-                    if (states_due(states, st%time) .or. ((done .or. st%cycle == 0) .and. states%on) .or. &
-                        lp%state_asked) then
+                ! owned nodes: every node on every rank for a state, the
+                ! nodout nodes for the histories (the energies are summed by
+                ! rank)
+                if (dom%owned .and. output_now) then
+                    if (state_now(lp, states, st%time, done .or. st%cycle == 0)) then
                         call refresh_nodes(dom, st, hist, tm, .true., vminus, vrminus)
-                    else if (histories_due(hist, st%time) .or. done .or. st%cycle == 0) then
+                    else
                         call refresh_histories(dom, st, hist, tm, vminus, vrminus)
                     end if
                 end if
@@ -248,10 +251,8 @@ contains
                                   ke_fix, vn, en)
                 call energy_check(lp, model, dom, st, solids, sh, rg, ct, pn, en, vn, res, lg)
                 if (res%status /= exit_normal) exit
-                if (histories_due(hist, st%time) .or. states_due(states, st%time) .or. done .or. st%cycle == 0 &
-                    .or. lp%state_asked) call output_phase(lp, done .or. st%cycle == 0, model, dom, st, solids, sh, &
-                                                           bm, walls, rg, ct, hist, states, en, vn, vrminus, tm, res, &
-                                                           lg)
+                if (output_now) call output_phase(lp, done .or. st%cycle == 0, model, dom, st, solids, sh, bm, walls, &
+                                                  rg, ct, hist, states, en, vn, vrminus, tm, res, lg)
                 if (res%status /= exit_normal) exit
             end if
             ! the contact forces' work with v(n+1/2), after the energies at t(n)
@@ -297,7 +298,7 @@ contains
         type(loop_t), intent(inout) :: lp
         type(run_options_t), intent(in) :: opts
         type(model_t), intent(in) :: model
-        type(domain_t), intent(inout) :: dom
+        type(domain_t), intent(in) :: dom
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(shells_t), intent(inout) :: sh
@@ -369,7 +370,7 @@ contains
     !> their velocities; rigid bodies: their forces) go to every rank.
     !> XDYNA_REPLICATED=1 keeps the replicated nodal state instead, every
     !> rank integrating every node (comparisons); d3hsp says which.
-    subroutine choose_owned(dom, ct, rg, td, bm, pl, sh, lg)
+    subroutine choose_owned(dom, ct, rg, td, bm, pl, sh, hist, lg)
         type(domain_t), intent(inout) :: dom
         type(contacts_t), intent(in) :: ct
         type(rigid_t), intent(in) :: rg
@@ -377,6 +378,7 @@ contains
         type(beams_t), intent(in) :: bm
         type(pressures_t), intent(in) :: pl
         type(shells_t), intent(in) :: sh
+        type(histories_t), intent(in) :: hist   !< (its nodout nodes, gathered at a history output)
         type(log_t), intent(in) :: lg
         character(len=8) :: env
         integer :: n, stat, i
@@ -411,6 +413,9 @@ contains
             else
                 call owned_motion(dom, surf, body, [integer ::], tie)
             end if
+            if (allocated(hist%nodes)) then
+                if (size(hist%nodes) > 0) call gather_layout(dom%arank, dom%nranks, hist%nodes, dom%hist)
+            end if
             call log_line(lg, ' nodal state: owned nodes: each rank integrates the nodes it assembles (rank 0: '// &
                           itoa(size(dom%nodes))//' of '//itoa(size(dom%node_mine))//'), sends the halo''s force '// &
                           'slots to their nodes'' ranks and its nodes'' velocities to the ranks that touch them, '// &
@@ -441,12 +446,12 @@ contains
     end subroutine choose_owned
 
     !> Owned nodes: every node's coordinates and velocities (and angular
-    !> velocities), v(n-1/2) where given (the energies), and with `outputs`
+    !> velocities), v(n-1/2) where given, and with `outputs`
     !> the accelerations and forces (and moments: nodout, d3plot), and the
     !> histories' tracked rotations, from the ranks that integrate them to
     !> every rank.
     subroutine refresh_nodes(dom, st, hist, tm, outputs, vminus, vrminus)
-        type(domain_t), intent(inout) :: dom
+        type(domain_t), intent(in) :: dom
         type(state_t), intent(inout) :: st
         type(histories_t), intent(inout) :: hist
         type(timers_t), intent(inout) :: tm
@@ -454,27 +459,16 @@ contains
         real(wp), intent(inout), optional :: vminus(:, :)
         real(wp), intent(inout), allocatable, optional :: vrminus(:, :)
         call tm%start(ph_comm)
-        if (present(vminus)) then
-            if (st%rot) then
-                call share_state(dom, st%x, st%v, vminus, st%vr, vrminus)
-            else
-                call share_state(dom, st%x, st%v, vminus)
-            end if
-        else
-            if (st%rot) then
-                call share_state(dom, st%x, st%v, st%vr)
-            else
-                call share_state(dom, st%x, st%v)
-            end if
-        end if
+        ! (an array not allocated, as st%vr without rotations, is passed
+        ! as absent: gather_subset)
+        call gather_subset(dom, dom%every, st%x, st%v)
+        if (present(vminus)) call gather_subset(dom, dom%every, vminus, vrminus)
+        if (st%rot) call gather_subset(dom, dom%every, st%vr)
         if (outputs) then
-            if (st%rot) then
-                call share_state(dom, st%a, st%f, st%mom)
-            else
-                call share_state(dom, st%a, st%f)
-            end if
+            call gather_subset(dom, dom%every, st%a, st%f)
+            if (st%rot) call gather_subset(dom, dom%every, st%mom)
             ! (the prescribed motions' last velocity changes: a dump's)
-            if (allocated(st%jprev)) call share_state(dom, st%jprev)
+            if (allocated(st%jprev)) call gather_subset(dom, dom%every, st%jprev)
             call merge_rotations(hist, dom%node_mine)
         end if
         call tm%stop(ph_comm)
@@ -485,23 +479,18 @@ contains
     !> angular velocities and moments) from their ranks, and their tracked
     !> rotations (the energies are summed by rank).
     subroutine refresh_histories(dom, st, hist, tm, vminus, vrminus)
-        type(domain_t), intent(inout) :: dom
+        type(domain_t), intent(in) :: dom
         type(state_t), intent(inout) :: st
         type(histories_t), intent(inout) :: hist
         type(timers_t), intent(inout) :: tm
         real(wp), intent(inout) :: vminus(:, :)
         real(wp), intent(inout), allocatable :: vrminus(:, :)
-        if (.not. allocated(hist%nodes)) return
-        if (size(hist%nodes) == 0) return
+        if (.not. allocated(dom%hist%node)) return
         call tm%start(ph_comm)
-        if (.not. allocated(dom%hist%node)) call gather_layout(dom, hist%nodes, dom%hist)
         call gather_subset(dom, dom%hist, st%x, st%v)
         call gather_subset(dom, dom%hist, st%a, st%f)
-        call gather_subset(dom, dom%hist, vminus)
-        if (st%rot) then
-            call gather_subset(dom, dom%hist, st%vr, st%mom)
-            call gather_subset(dom, dom%hist, vrminus)
-        end if
+        call gather_subset(dom, dom%hist, vminus, vrminus)
+        if (st%rot) call gather_subset(dom, dom%hist, st%vr, st%mom)
         call merge_rotations(hist, dom%node_mine)
         call tm%stop(ph_comm)
     end subroutine refresh_histories
@@ -768,7 +757,7 @@ contains
         else
             call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, wminus=vrminus)
         end if
-        if (states_due(states, st%time) .or. (force .and. states%on) .or. lp%state_asked) then
+        if (state_now(lp, states, st%time, force)) then
             ! (the energies and shell thicknesses were gathered with this
             ! cycle's energies, which every output follows)
             call gather_element_state(dom, solids, sh, energies=dom%owned)
@@ -789,6 +778,16 @@ contains
         if (len(failed_file) > 0) call fail(res, st, lg, 'cannot write '//failed_file//write_failed// &
                                             '; the output files keep every complete record written before')
     end subroutine output_phase
+
+    !> A state is written at t(n): due, forced (the run's first and last
+    !> cycle, where states are written at all), or asked by sense switch sw4.
+    logical function state_now(lp, states, time, force)
+        type(loop_t), intent(in) :: lp
+        type(states_t), intent(in) :: states
+        real(dp), intent(in) :: time
+        logical, intent(in) :: force
+        state_now = states_due(states, time) .or. (force .and. states%on) .or. lp%state_asked
+    end function state_now
 
     !> The progress line on standard output: cycle, time, step, share
     !> done, energy ratio, wall time spent and left.
