@@ -103,6 +103,13 @@ module xd_elements_shell_bt
         !> the others, `shared`, take theirs through the slots
         integer, allocatable :: pfirst(:), plast(:), shared(:)
         logical, allocatable :: direct(:, :)
+        !> MPI (set by the domain; unallocated on one rank): per node, 0
+        !> when no other rank's element touches it, 1 when others do and
+        !> this rank assembles it, 2 when another rank assembles it. Such a
+        !> node takes its forces through the slots (the halo's slots go to
+        !> its rank, and its sum waits for them); `shared` holds only the
+        !> nodes this rank assembles, and all of those with split 1
+        integer, allocatable :: split(:)
         ! failure and erosion
         integer, allocatable :: mix(:)        !< material index
         integer, allocatable :: model_ix(:)   !< index in the model's shell list
@@ -433,6 +440,9 @@ contains
                     e = sh%bfirst(ib) + l - 1
                     do k = 1, 4
                         nd = sh%conn(k, e)
+                        if (allocated(sh%split)) then
+                            if (sh%split(nd) /= 0) owner(nd) = -1
+                        end if
                         if (owner(nd) == 0) then
                             owner(nd) = p
                         else if (owner(nd) /= p) then
@@ -452,7 +462,13 @@ contains
                 end do
             end do
         end do
-        sh%shared = pack([(nd, nd=1, nnode)], owner < 0)
+        if (allocated(sh%split)) then
+            ! (and every node this rank assembles that another rank's
+            ! shells may touch, though none of its own does)
+            sh%shared = pack([(nd, nd=1, nnode)], (owner < 0 .and. sh%split(1:nnode) /= 2) .or. sh%split(1:nnode) == 1)
+        else
+            sh%shared = pack([(nd, nd=1, nnode)], owner < 0)
+        end if
     end subroutine shell_blocks
 
     !> Forces and moments of every shell at x(n) with v(n-1/2), w(n-1/2).

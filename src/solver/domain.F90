@@ -55,6 +55,9 @@ module xd_solver_domain
         integer :: rank = 0, nranks = 1
         logical :: on = .false.               !< more than one rank
         integer, allocatable :: nodes(:)      !< nodes this rank assembles
+        !> of them, those other ranks' elements touch too (their sums wait
+        !> for the halo's slots)
+        integer, allocatable :: split_mine(:)
         logical, allocatable :: node_mine(:)
         logical, allocatable :: solid_mine(:) !< per solid element: its group is this rank's
         logical, allocatable :: shell_mine(:)
@@ -183,7 +186,6 @@ contains
         end do
         dom%shell_mine = shrank == rank
         sh%mine = where_true(dom%shell_mine)
-        call shell_blocks(sh)
 
         ! each node's assembling rank: that of its first slot; nodes of no
         ! deformable element (rigid bodies, free nodes) go to rank 0
@@ -206,6 +208,16 @@ contains
         dom%nhalo = count(multi)
         dom%node_mine = arank == rank
         dom%nodes = where_true(dom%node_mine)
+        dom%split_mine = where_true(multi .and. dom%node_mine)
+        ! (the shells' parts: a node other ranks' elements touch takes its
+        ! forces through the slots; on one rank none does)
+        if (dom%on) then
+            allocate (sh%split(nnode))
+            sh%split = 0
+            where (multi .and. dom%node_mine) sh%split = 1
+            where (multi .and. .not. dom%node_mine) sh%split = 2
+        end if
+        call shell_blocks(sh)
         dom%arank = arank
         call gather_layout(arank, nranks, [(nd, nd=1, nnode)], dom%every)
         ! the halo slots: those of elements on a node that another rank assembles

@@ -48,15 +48,17 @@ module xd_solver_phases
 contains
 
     !> Element forces at x(n) with v(n-1/2) (the step before, st%dt_old, and
-    !> its average): each rank's solids and shells into their slots, or, on
-    !> one rank (`shells_direct`), the shells' straight into st%f and st%mom
-    !> at the nodes their thread's part holds alone, in the assembly's order
-    !> (after the solids' sums; the nodes the parts share are summed from
-    !> the slots in exchange_phase). dtcrit: this rank's smallest stable
+    !> its average): each rank's solids and shells into their slots, or,
+    !> with `shells_direct`, the shells' straight into st%f and st%mom at
+    !> the nodes their thread's part holds alone (and no other rank's
+    !> element touches), in the assembly's order (after the solids' sums of
+    !> this rank's nodes; the nodes the parts or the ranks share are summed
+    !> from the slots in exchange_phase). dtcrit: this rank's smallest stable
     !> step, its element in st%crit_elem; bad_kind and bad: the first bad
     !> element (1: solid volume, 2: solid NaN, 3: shell collapsed; 0: none),
     !> in element order, solids first.
-    subroutine element_phase(st, solids, asm, sh, tm, shells_direct, dtcrit, bad_kind, bad)
+    subroutine element_phase(dom, st, solids, asm, sh, tm, shells_direct, dtcrit, bad_kind, bad)
+        type(domain_t), intent(in) :: dom
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(assembly_t), intent(in) :: asm
@@ -94,7 +96,11 @@ contains
             ! add), then the shells' forces in slot order
             call tm%start(ph_assembly)
             if (solids%n > 0) then
-                call assemble(asm, solids%fslot, st%f)
+                if (dom%on) then
+                    call assemble(asm, solids%fslot, st%f, nodes=dom%nodes)
+                else
+                    call assemble(asm, solids%fslot, st%f)
+                end if
                 call zero_nodes(st%mom)
             else
                 call zero_nodes(st%f, st%mom)
@@ -124,10 +130,12 @@ contains
     !> step and the first bad element of all ranks (the cycle's first
     !> collective: its time is mostly the wait for the slowest rank), then
     !> (no bad element) the halo's slots, each rank's nodes summed from the
-    !> slots in the serial order, and the nodal forces and moments shared;
-    !> on one rank, the slots summed into st%f (and st%mom), or, with
-    !> `shells_direct`, only the nodes the shells' parts share. The
-    !> distribution of the element forces lives here.
+    !> slots in the serial order (with `shells_direct`, only the nodes the
+    !> shells' parts or the ranks share, the solids' sums of the latter
+    !> again, now whole), and, in the replicated state, the nodal forces and
+    !> moments shared; on one rank, the slots summed into st%f (and
+    !> st%mom), or, with `shells_direct`, only the nodes the shells' parts
+    !> share. The distribution of the element forces lives here.
     subroutine exchange_phase(dom, st, solids, asm, sh, asm_sh, tm, shells_direct, dtcrit, bad_kind, bad)
         type(domain_t), intent(in) :: dom
         type(state_t), intent(inout) :: st
@@ -160,9 +168,15 @@ contains
         call swap_slots(dom, solids, sh)
         call tm%stop(ph_comm)
         call tm%start(ph_assembly)
-        if (solids%n > 0 .or. sh%n == 0) call assemble(asm, solids%fslot, st%f, nodes=dom%nodes)
-        if (sh%n > 0) call assemble(asm_sh, sh%fslot, st%f, add=solids%n > 0, nodes=dom%nodes, &
-                                    mslot=sh%mslot, m=st%mom)
+        if (shells_direct) then
+            if (solids%n > 0) call assemble(asm, solids%fslot, st%f, nodes=dom%split_mine)
+            if (size(sh%shared) > 0) call assemble(asm_sh, sh%fslot, st%f, add=.true., nodes=sh%shared, &
+                                                   mslot=sh%mslot, m=st%mom)
+        else
+            if (solids%n > 0 .or. sh%n == 0) call assemble(asm, solids%fslot, st%f, nodes=dom%nodes)
+            if (sh%n > 0) call assemble(asm_sh, sh%fslot, st%f, add=solids%n > 0, nodes=dom%nodes, &
+                                        mslot=sh%mslot, m=st%mom)
+        end if
         call tm%stop(ph_assembly)
         ! (owned nodes: each rank integrates its own; the others' forces
         ! are not needed here)

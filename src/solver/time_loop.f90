@@ -134,14 +134,15 @@ contains
         integer :: bad_kind, bad                !< the first bad element (element_phase)
         character(len=:), allocatable :: failure
         integer :: beam_crit                   !< the beam that set the step (0: none)
-        !> one rank: the shells add their forces to the nodes each thread's
-        !> part holds alone directly, in the order the assembly sums their
-        !> slots (the same sums, without writing and reading the slots); the
-        !> nodes the parts share are summed from the slots after the pass
+        !> the shells add their forces to the nodes each thread's part holds
+        !> alone (and no other rank's element touches) directly, in the
+        !> order the assembly sums their slots (the same sums, without
+        !> writing and reading the slots); the nodes the parts or the ranks
+        !> share are summed from the slots after the pass
         logical :: shells_direct
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
-        shells_direct = sh%n > 0 .and. .not. dom%on
+        shells_direct = sh%n > 0
         ke_fix = 0
         no_body = .false.
         if (st%rot) allocate (vrminus(3, st%nnode))
@@ -187,7 +188,7 @@ contains
                 call tm%stop(ph_search)
             end if
             if (ms%on) call mass_scaling_targets(ms, st%cycle, solids, sh)
-            call element_phase(st, solids, asm, sh, tm, shells_direct, dtc, bad_kind, bad)
+            call element_phase(dom, st, solids, asm, sh, tm, shells_direct, dtc, bad_kind, bad)
             call exchange_phase(dom, st, solids, asm, sh, asm_sh, tm, shells_direct, dtc, bad_kind, bad)
             if (bad_kind /= 0) then
                 if (dom%owned) call refresh_nodes(dom, st, hist, tm, .false.)
