@@ -1,31 +1,34 @@
-!> The MPI domain decomposition of a run (issue 8). Every rank reads the
-!> deck and holds the whole mesh and the nodal arrays; the work is split
-!> (below: the replicated nodal state, where every rank integrates every
-!> node; with owned nodes, issue 32, where the model allows them, each rank
-!> integrates only the nodes it assembles and exchanges with its neighbours
-!> alone: swap_slots, swap_velocities, owned_motion, share_state, gather_subset, gather_layout):
+!> The MPI domain decomposition of a run (issue 8, issue 32). Every rank
+!> reads the deck and holds the whole mesh and the nodal arrays; the work
+!> is split:
 !>
 !> - elements: solid groups and deformable shells are cut into `nranks`
 !>   parts by recursive coordinate bisection weighted by cost (a hexahedron
 !>   1, a shell 0.4 NIP); a rank computes only its own elements' forces;
-!> - nodes: each node is assembled by one rank (the rank of its first
-!>   element in slot order). The force slots of elements on other ranks
-!>   that a node needs (the halo) are sent to it point-to-point first
-!>   (swap_slots), so every node's force
-!>   is the sum of its slots in the serial order; the assembled forces and
-!>   moments are then shared by an exact sum (one rank gives each node's
-!>   value, the others zero). The velocity update, rigid bodies, rigid walls
-!>   and loads then run on identical data on every rank;
+!> - nodes (owned nodes, the default): each node is assembled and
+!>   integrated by one rank (the rank of its first element in slot order).
+!>   The force slots of elements on other ranks that a node needs (the
+!>   halo) are sent to it point-to-point (swap_slots), so every node's
+!>   force is the sum of its slots in the serial order; once v(n+1/2) is
+!>   final each rank sends its nodes' velocities to the neighbours whose
+!>   elements touch them, and the velocities of the contact surfaces',
+!>   pressure segments', beams' and ties' nodes to every rank
+!>   (swap_velocities, gather_subset); every rank that holds a node's
+!>   velocity moves it by the same x += dt v (owned_motion). Rigid bodies,
+!>   walls, prescribed motions and ties receive what they need from the
+!>   nodes' ranks (gather_subset, xd_core_comm's comm_ordered_records).
+!>   In the replicated nodal state (XDYNA_REPLICATED=1) every rank
+!>   integrates every node from forces shared by an exact sum;
 !> - contact: each interface's slave nodes are cut by coordinate bisection;
 !>   a rank searches (global and local) and computes the penalty forces of
 !>   its own slaves against every master segment, and the contacts found are
 !>   gathered so that every rank adds them to the nodal forces in slave order.
 !>
-!> Element state (energies for glstat and matsum; stresses for d3plot and the
-!> restart dump) lives with the element's rank and is gathered, exactly, when
-!> an output needs it. Results are bitwise those of the serial run for any
-!> rank count. The price is memory: the mesh and nodal arrays are on every
-!> rank, and the nodal exchange is O(nodes) a cycle.
+!> Element state (stresses for d3plot and the restart dump) lives with the
+!> element's rank and is gathered, exactly, when an output needs it; the
+!> energies are each rank's own sums, added. The motion is bitwise that of
+!> the serial run for any rank count (the energies agree to rounding). The
+!> price is memory: the mesh and nodal arrays are on every rank.
 module xd_solver_domain
     use xd_kinds, only: wp, dp
     use xd_core_partition, only: rcb_partition
@@ -516,11 +519,10 @@ contains
             maxval(dom%cost)/max(sum(dom%cost)/dom%nranks, tiny(1.0_dp)), '; nodes on rank boundaries ', &
             dom%nhalo, ' of ', size(dom%node_mine), ' (the halo)'
         txt = txt//trim(buf)//new_line('a')
-        write (buf, '(a,i0,a,i0,a,i0,a)') '   halo exchange a cycle: ', size(dom%bslot) + size(dom%bshell), &
-            ' force slots (', 8*(3*size(dom%bslot) + 6*size(dom%bshell)), ' bytes in all, each to its node''s rank '// &
-            'alone), then with the replicated nodal state every rank''s nodal forces to all (', &
-            8*dom%width*size(dom%node_mine), ' bytes a rank)'
-        txt = txt//trim(buf)
+        txt = txt//'   halo exchange a cycle: '//itoa(size(dom%bslot) + size(dom%bshell))//' force slots ('// &
+              itoa(8*(3*size(dom%bslot) + 6*size(dom%bshell)))//' bytes in all, each to its node''s rank alone); '// &
+              'only in the replicated nodal state (XDYNA_REPLICATED=1) every rank''s nodal forces to all too ('// &
+              itoa(8*dom%width*size(dom%node_mine))//' bytes a rank)'
         if (.not. allocated(dom%ptouch)) return
         txt = txt//new_line('a')//new_line('a')// &
               '   what each rank would hold with its own nodes and a halo (issue 32): its elements; the nodes'// &
