@@ -392,7 +392,7 @@ program xdyna
     if (env%rank == 0 .and. states%on) call log_line(lg, states_summary(states))
     call close_states(states)
     call close_histories(hist)
-    if (dom%on .and. ct%n > 0) call gather_contact_state(ct)
+    if (dom%on .and. ct%n > 0) call gather_contact_state(ct, counters_only=.true.)
     if (ct%n > 0) call log_line(lg, contact_report(ct, max(abs(st%e_initial), res%e_scale)))
     if (ct%dump_unit /= 0) close (ct%dump_unit)
     call memory_line()
