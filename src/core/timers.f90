@@ -12,7 +12,7 @@ module xd_core_timers
                           ph_comm = 9, ph_search = 10, ph_local = 11, ph_enforce = 12, &
                           ph_ghost = 13, ph_wait = 14, nphase = 14
     character(len=24), parameter :: phase_name(nphase) = [character(len=24) :: &
-        'input and checks', 'initialization', 'element processing', 'force assembly', &
+        'start-up and input', 'initialization', 'element processing', 'force assembly', &
         'time integration', 'rigid walls', 'rigid bodies', 'output', 'MPI halo exchange', &
         'contact global search', 'contact local search', 'contact enforcement', 'MPI contact exchange', &
         'MPI wait (imbalance)']
