@@ -47,13 +47,13 @@ for r in $ranks; do
         /peak memory per rank/ {lo = $7; hi = $12; mem = sprintf("%.0f-%.0f", lo, hi)}
         /halo exchange a cycle:/ {
             s = $0; sub(/.*force slots \(/, "", s); split(s, a, " "); slots = a[1]
-            t = $0; sub(/.*to all \(/, "", t); split(t, b, " "); nodes = b[1]
+            t = $0; sub(/.*to all too \(/, "", t); split(t, b, " "); nodes = b[1]
             hb = slots + r * nodes
         }
         /nodal state: owned/ {owned = 1}
         /exchange a cycle, all ranks:/ {
             u = $0; sub(/.*all ranks: /, "", u); split(u, c, " "); p2p = c[1]
-            w = $0; sub(/.*point-to-point \(halo slots and velocities\), /, "", w); split(w, e, " "); gat = e[1]
+            w = $0; sub(/.*to every other rank\), /, "", w); split(w, e, " "); gat = e[1]
         }
         /^ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9]+$/ {own += $NF}
         END {
@@ -63,4 +63,4 @@ for r in $ranks; do
                 100 * ghost / tot, 100 * wait / tot, cs, mem, hb, own
         }' $out/d3hsp
 done
-echo "bench-mpi: halo B/cycle: with owned nodes (d3hsp's nodal state), the halo's slots and velocities point-to-point plus the contact surfaces' velocities gathered to every rank (all of a shell model's nodes: O(surface nodes x ranks) until ghosts by proximity); replicated, the force slots plus every node's forces to every rank (O(nodes x ranks)); own-node halo: each rank's halo nodes' forces out and motion back (O(partition surfaces))"
+echo "bench-mpi: halo B/cycle: with owned nodes (d3hsp's nodal state), the halo's slots and velocities point-to-point, the contact surfaces' velocities with them to every other rank (all of a shell model's nodes: O(surface nodes x ranks) until ghosts by proximity), the beams' and ties' gathered; replicated, the force slots plus every node's forces to every rank (O(nodes x ranks)); own-node halo: each rank's halo nodes' forces out and motion back (O(partition surfaces))"

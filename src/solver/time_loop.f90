@@ -432,14 +432,16 @@ contains
             ! nodes turn: shells or beams)
             wv = 3
             if (sh%n > 0 .or. bm%n > 0) wv = 6
+            ! (the contact surfaces' and pressure segments' nodes travel in
+            ! the neighbour exchange: motion_to_all)
             byt = [8.0_dp*(3*size(dom%so_slot) + 6*size(dom%ho_slot) + wv*size(dom%mo_node)), &
-                   8.0_dp*(3*(size(dom%surf%node) - dom%surf%cnt(dom%rank + 1)) + &
-                           6*(size(dom%rotn%node) - dom%rotn%cnt(dom%rank + 1)))]
+                   8.0_dp*6*(size(dom%rotn%node) - dom%rotn%cnt(dom%rank + 1))]
             if (allocated(dom%tie%node)) byt(2) = byt(2) + 8.0_dp*wv*(size(dom%tie%node) - dom%tie%cnt(dom%rank + 1))
             call comm_sum_dp(byt)
             call log_line(lg, ' owned nodes'' exchange a cycle, all ranks: '//itoa(nint(byt(1)))//' bytes point-to-'// &
-                          'point (halo slots and velocities), '//itoa(nint(byt(2)))//' bytes of contact surface, '// &
-                          'pressure, beam and tie velocities gathered to every rank')
+                          'point (halo slots and velocities, with the contact surfaces'' and pressure '// &
+                          'segments'' to every other rank), '//itoa(nint(byt(2)))//' bytes of beam and tie '// &
+                          'velocities gathered to every rank')
         else
             call log_line(lg, ' nodal state: replicated (XDYNA_REPLICATED set): every rank integrates every node and '// &
                           'the ranks share all nodal forces each cycle')
@@ -462,16 +464,20 @@ contains
         call tm%start(ph_comm)
         ! (an array not allocated, as st%vr without rotations, is passed
         ! as absent: gather_subset)
-        call gather_subset(dom, dom%every, st%x, st%v)
-        if (present(vminus)) call gather_subset(dom, dom%every, vminus, vrminus)
-        if (st%rot) call gather_subset(dom, dom%every, st%vr)
+        ! (a collective a call, up to four arrays each)
         if (outputs) then
-            call gather_subset(dom, dom%every, st%a, st%f)
-            if (st%rot) call gather_subset(dom, dom%every, st%mom)
+            call gather_subset(dom, dom%every, st%x, st%v, st%a, st%f)
             ! (the prescribed motions' last velocity changes: a dump's)
-            if (allocated(st%jprev)) call gather_subset(dom, dom%every, st%jprev)
-            call merge_rotations(hist, dom%node_mine)
+            if (allocated(st%jprev)) then
+                call gather_subset(dom, dom%every, st%jprev, st%vr, st%mom)
+            else if (st%rot) then
+                call gather_subset(dom, dom%every, st%vr, st%mom)
+            end if
+        else
+            call gather_subset(dom, dom%every, st%x, st%v, st%vr)
         end if
+        if (present(vminus)) call gather_subset(dom, dom%every, vminus, vrminus)
+        if (outputs) call merge_rotations(hist, dom%node_mine)
         call tm%stop(ph_comm)
     end subroutine refresh_nodes
 
@@ -488,10 +494,9 @@ contains
         real(wp), intent(inout), allocatable :: vrminus(:, :)
         if (.not. allocated(dom%hist%node)) return
         call tm%start(ph_comm)
-        call gather_subset(dom, dom%hist, st%x, st%v)
-        call gather_subset(dom, dom%hist, st%a, st%f)
-        call gather_subset(dom, dom%hist, vminus, vrminus)
-        if (st%rot) call gather_subset(dom, dom%hist, st%vr, st%mom)
+        ! (two collectives: four arrays a call at most)
+        call gather_subset(dom, dom%hist, st%x, st%v, st%a, st%f)
+        call gather_subset(dom, dom%hist, vminus, vrminus, st%vr, st%mom)
         call merge_rotations(hist, dom%node_mine)
         call tm%stop(ph_comm)
     end subroutine refresh_histories
