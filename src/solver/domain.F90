@@ -98,6 +98,12 @@ module xd_solver_domain
         !> goes to k (k's elements touch them) and k's nodes whose motion
         !> comes from k (this rank's elements touch them)
         integer, allocatable :: mo_ptr(:), mo_node(:), mi_ptr(:), mi_node(:)
+        !> per entry of mo_node and mi_node: the node's angular velocity
+        !> travels too (a node whose elements the receiver computes; not a
+        !> contact surface node that only the contact reads, motion_to_all);
+        !> per neighbour boundary k, the entries so flagged before it
+        logical, allocatable :: mo_rot(:), mi_rot(:)
+        integer, allocatable :: mo_nrot(:), mi_nrot(:)
         integer, allocatable :: arank(:)      !< every node's assembling (owned nodes: integrating) rank
         !> owned nodes with contact: the contact surfaces' nodes, whose
         !> velocities every rank receives each cycle (the surfaces stay whole
@@ -400,6 +406,10 @@ contains
                 dom%mi_node = [dom%mi_node, where_true(mark)]
                 dom%mi_ptr = [dom%mi_ptr, size(dom%mi_node)]
             end do
+            allocate (dom%mo_rot(size(dom%mo_node)), dom%mi_rot(size(dom%mi_node)))
+            dom%mo_rot = .true.
+            dom%mi_rot = .true.
+            call rot_counts(dom)
         end subroutine neighbour_lists
 
         !> Slot j (nen a element, its element on rank er): the rank it goes
@@ -601,24 +611,41 @@ contains
         real(wp), intent(inout) :: v(:, :)
         real(wp), intent(inout), optional :: vr(:, :)
         real(wp), allocatable :: sb(:), rb(:)
-        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), w, i, nd, p
-        w = 3
-        if (present(vr)) w = 6
-        soff = w*dom%mo_ptr
-        roff = w*dom%mi_ptr
+        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), i, nd, p
+        logical :: rot
+        rot = present(vr)
+        ! (3 values a node, 6 where its angular velocity travels too)
+        soff = 3*dom%mo_ptr
+        roff = 3*dom%mi_ptr
+        if (rot) then
+            soff = soff + 3*dom%mo_nrot
+            roff = roff + 3*dom%mi_nrot
+        end if
         allocate (sb(max(soff(size(soff)), 1)), rb(max(roff(size(roff)), 1)))
+        p = 0
         do i = 1, size(dom%mo_node)
             nd = dom%mo_node(i)
-            p = w*(i - 1)
             sb(p + 1:p + 3) = v(:, nd)
-            if (w == 6) sb(p + 4:p + 6) = vr(:, nd)
+            p = p + 3
+            if (rot) then
+                if (dom%mo_rot(i)) then
+                    sb(p + 1:p + 3) = vr(:, nd)
+                    p = p + 3
+                end if
+            end if
         end do
         call comm_neighbours(dom%nbr, sb, soff, rb, roff)
+        p = 0
         do i = 1, size(dom%mi_node)
             nd = dom%mi_node(i)
-            p = w*(i - 1)
             v(:, nd) = rb(p + 1:p + 3)
-            if (w == 6) vr(:, nd) = rb(p + 4:p + 6)
+            p = p + 3
+            if (rot) then
+                if (dom%mi_rot(i)) then
+                    vr(:, nd) = rb(p + 1:p + 3)
+                    p = p + 3
+                end if
+            end if
         end do
         if (allocated(dom%rotn%node)) call gather_subset(dom, dom%rotn, v, vr)
         if (allocated(dom%tie%node)) call gather_subset(dom, dom%tie, v, vr)
@@ -662,33 +689,41 @@ contains
     subroutine motion_to_all(dom, nodes)
         type(domain_t), intent(inout) :: dom
         integer, intent(in) :: nodes(:)
-        logical, allocatable :: on(:), out(:), in(:)
+        logical, allocatable :: on(:), out(:), in(:), rout(:), rin(:), mo_rot(:), mi_rot(:)
         integer, allocatable :: nbr(:), so_ptr(:), si_ptr(:), ho_ptr(:), hi_ptr(:), mo_ptr(:), mi_ptr(:)
         integer, allocatable :: so_slot(:), si_slot(:), ho_slot(:), hi_slot(:), mo_node(:), mi_node(:), add(:)
         integer :: q, k, nn
         if (size(nodes) == 0) return
         nn = size(dom%node_mine)
-        allocate (on(nn), out(nn), in(nn))
+        allocate (on(nn), out(nn), in(nn), rout(nn), rin(nn))
         on = .false.
         on(nodes) = .true.
         allocate (nbr(0), mo_node(0), mi_node(0), so_slot(0), si_slot(0), ho_slot(0), hi_slot(0))
+        allocate (mo_rot(0), mi_rot(0))
         allocate (so_ptr(1), si_ptr(1), ho_ptr(1), hi_ptr(1), mo_ptr(1), mi_ptr(1))
         so_ptr = 0; si_ptr = 0; ho_ptr = 0; hi_ptr = 0; mo_ptr = 0; mi_ptr = 0
         do q = 0, dom%nranks - 1
             if (q == dom%rank) cycle
             out = on .and. dom%arank == dom%rank
             in = on .and. dom%arank == q
+            ! (rout, rin: the halo's motion, whose angular velocities travel)
+            rout = .false.
+            rin = .false.
             k = findloc(dom%nbr, q, 1)
             if (k > 0) then
-                out(dom%mo_node(dom%mo_ptr(k) + 1:dom%mo_ptr(k + 1))) = .true.
-                in(dom%mi_node(dom%mi_ptr(k) + 1:dom%mi_ptr(k + 1))) = .true.
+                rout(dom%mo_node(dom%mo_ptr(k) + 1:dom%mo_ptr(k + 1))) = .true.
+                rin(dom%mi_node(dom%mi_ptr(k) + 1:dom%mi_ptr(k + 1))) = .true.
             end if
+            out = out .or. rout
+            in = in .or. rin
             if (k == 0 .and. .not. (any(out) .or. any(in))) cycle
             nbr = [nbr, q]
             add = where_true(out)
             mo_node = [mo_node, add]
+            mo_rot = [mo_rot, rout(add)]
             add = where_true(in)
             mi_node = [mi_node, add]
+            mi_rot = [mi_rot, rin(add)]
             if (k > 0) then
                 so_slot = [so_slot, dom%so_slot(dom%so_ptr(k) + 1:dom%so_ptr(k + 1))]
                 si_slot = [si_slot, dom%si_slot(dom%si_ptr(k) + 1:dom%si_ptr(k + 1))]
@@ -715,7 +750,22 @@ contains
         call move_alloc(hi_slot, dom%hi_slot)
         call move_alloc(mo_node, dom%mo_node)
         call move_alloc(mi_node, dom%mi_node)
+        call move_alloc(mo_rot, dom%mo_rot)
+        call move_alloc(mi_rot, dom%mi_rot)
+        call rot_counts(dom)
     end subroutine motion_to_all
+
+    !> mo_nrot, mi_nrot from the motion lists' flags.
+    subroutine rot_counts(dom)
+        type(domain_t), intent(inout) :: dom
+        integer :: k
+        if (allocated(dom%mo_nrot)) deallocate (dom%mo_nrot, dom%mi_nrot)
+        allocate (dom%mo_nrot(size(dom%mo_ptr)), dom%mi_nrot(size(dom%mi_ptr)))
+        do k = 1, size(dom%mo_ptr)
+            dom%mo_nrot(k) = count(dom%mo_rot(1:dom%mo_ptr(k)))
+            dom%mi_nrot(k) = count(dom%mi_rot(1:dom%mi_ptr(k)))
+        end do
+    end subroutine rot_counts
 
     !> The layout of a gather of the nodes `nodes` (repeats allowed) over
     !> nranks ranks, each node from its rank arank.

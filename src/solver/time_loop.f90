@@ -434,7 +434,8 @@ contains
             if (sh%n > 0 .or. bm%n > 0) wv = 6
             ! (the contact surfaces' and pressure segments' nodes travel in
             ! the neighbour exchange: motion_to_all)
-            byt = [8.0_dp*(3*size(dom%so_slot) + 6*size(dom%ho_slot) + wv*size(dom%mo_node)), &
+            byt = [8.0_dp*(3*size(dom%so_slot) + 6*size(dom%ho_slot) + 3*size(dom%mo_node) + &
+                           (wv - 3)*count(dom%mo_rot)), &
                    8.0_dp*6*(size(dom%rotn%node) - dom%rotn%cnt(dom%rank + 1))]
             if (allocated(dom%tie%node)) byt(2) = byt(2) + 8.0_dp*wv*(size(dom%tie%node) - dom%tie%cnt(dom%rank + 1))
             call comm_sum_dp(byt)
