@@ -11,9 +11,10 @@
 !>   halo) are sent to it point-to-point (swap_slots), so every node's
 !>   force is the sum of its slots in the serial order; once v(n+1/2) is
 !>   final each rank sends its nodes' velocities to the neighbours whose
-!>   elements touch them, and the velocities of the contact surfaces',
-!>   pressure segments', beams' and ties' nodes to every rank
-!>   (swap_velocities, gather_subset); every rank that holds a node's
+!>   elements touch them, and in the same messages its contact surfaces'
+!>   and pressure segments' nodes' velocities to every other rank
+!>   (swap_velocities, motion_to_all), the beams' and ties' by a gather
+!>   (gather_subset); every rank that holds a node's
 !>   velocity moves it by the same x += dt v (owned_motion). Rigid bodies,
 !>   walls, prescribed motions and ties receive what they need from the
 !>   nodes' ranks (gather_subset, xd_core_comm's comm_ordered_records).
