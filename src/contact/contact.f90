@@ -1776,18 +1776,10 @@ contains
                 if (.not. it%owned(k)) call no_remote(k)
             end do
         end if
-        n = 0
-        do i = 1, size(all, 2)
-            if (.not. it%owned(nint(all(1, i)))) n = n + 1
-        end do
-        if (allocated(it%got)) deallocate (it%got)
-        allocate (it%got(n))
-        n = 0
+        it%got = pack(nint(all(1, :)), .not. it%owned(nint(all(1, :))))
         do i = 1, size(all, 2)
             k = nint(all(1, i))
             if (it%owned(k)) cycle
-            n = n + 1
-            it%got(n) = k
             it%evk(k) = nint(all(16, i))
             it%evd(k) = real(all(17, i), wp)
             it%rseg(k) = nint(all(18, i))
@@ -1821,75 +1813,81 @@ contains
     subroutine gather_contact_state(ct, counters_only)
         type(contacts_t), intent(inout) :: ct
         logical, intent(in), optional :: counters_only
-        integer :: i, k, n, ns
-        integer, allocatable :: cnt(:), ptr(:), ib(:), tb(:)
+        integer :: i
         logical :: whole
         whole = .true.
         if (present(counters_only)) whole = .not. counters_only
         do i = 1, ct%n
             associate (it => ct%ifc(i))
-                if (whole) then
-                    ns = size(it%owned)
-                    do k = 1, ns
-                        if (.not. it%owned(k)) call forget_slave(it, k)
-                    end do
-                    call comm_sum_int(it%cseg, ns)
-                    where (.not. it%owned) it%rlast = 0
-                    call comm_sum_int(it%rlast, ns)
-                    call comm_sum_wp(it%fprev, 3*ns)
-                    call comm_sum_wp(it%ft, 3*ns)
-                    call comm_sum_wp(it%p0, ns)
-                    call comm_sum_wp(it%kp, ns)
-                    call comm_sum_wp(it%aeff, ns)
-                    if (allocated(it%lists%ptr)) then
-                        ! (a slave another rank owns may hold the lists of the last
-                        ! gathering here: they count on their owner alone)
-                        cnt = it%lists%last - it%lists%ptr + 1
-                        where (.not. it%owned) cnt = 0
-                        call comm_sum_int(cnt, ns)
-                        allocate (ptr(ns + 1))
-                        ptr(1) = 1
-                        do k = 1, ns
-                            ptr(k + 1) = ptr(k) + cnt(k)
-                        end do
-                        allocate (ib(ptr(ns + 1) - 1), tb(ptr(ns + 1) - 1))
-                        ib = 0
-                        tb = 0
-                        do k = 1, ns
-                            if (.not. it%owned(k)) cycle
-                            n = cnt(k)
-                            ib(ptr(k):ptr(k) + n - 1) = it%lists%node(it%lists%ptr(k):it%lists%ptr(k) + n - 1)
-                            tb(ptr(k):ptr(k) + n - 1) = merge(1, 0, it%lists%trackable(it%lists%ptr(k):it%lists%ptr(k) + n - 1))
-                        end do
-                        call comm_sum_int(ib, size(ib))
-                        call comm_sum_int(tb, size(tb))
-                        it%lists%ptr = ptr(1:ns)
-                        it%lists%last = ptr(2:ns + 1) - 1
-                        it%lists%node = ib
-                        it%lists%trackable = tb /= 0
-                        it%lists%nused = size(ib)
-                        it%lists%ndead = 0
-                        deallocate (ptr, ib, tb)
-                        if (allocated(it%lists%gap)) then
-                            where (.not. it%owned) it%lists%gap = 0
-                            call comm_sum_wp(it%lists%gap, ns)
-                            where (.not. it%owned) it%lists%og = 0
-                            call comm_sum_wp(it%lists%og, ns)
-                            where (.not. it%owned) it%lists%at = 0
-                            call comm_sum_int(it%lists%at, ns)
-                            do k = 1, ns
-                                if (.not. it%owned(k)) it%lists%xg(:, k) = 0
-                            end do
-                            call comm_sum_wp(it%lists%xg, 3*ns)
-                        end if
-                    end if
-                end if
+                if (whole) call slave_state(it)
                 call sum_i8(it%total%pool)
                 call sum_i8(it%total%reduced)
                 call sum_i8(it%total%masters)
             end associate
         end do
     contains
+        !> Every slave's state and master node list from its rank, on every
+        !> rank (a dump's).
+        subroutine slave_state(it)
+            type(interface_t), intent(inout) :: it
+            integer :: k, n, ns
+            integer, allocatable :: cnt(:), ptr(:), ib(:), tb(:)
+            ns = size(it%owned)
+            do k = 1, ns
+                if (.not. it%owned(k)) call forget_slave(it, k)
+            end do
+            call comm_sum_int(it%cseg, ns)
+            where (.not. it%owned) it%rlast = 0
+            call comm_sum_int(it%rlast, ns)
+            call comm_sum_wp(it%fprev, 3*ns)
+            call comm_sum_wp(it%ft, 3*ns)
+            call comm_sum_wp(it%p0, ns)
+            call comm_sum_wp(it%kp, ns)
+            call comm_sum_wp(it%aeff, ns)
+            if (allocated(it%lists%ptr)) then
+                ! (a slave another rank owns may hold the lists of the last
+                ! gathering here: they count on their owner alone)
+                cnt = it%lists%last - it%lists%ptr + 1
+                where (.not. it%owned) cnt = 0
+                call comm_sum_int(cnt, ns)
+                allocate (ptr(ns + 1))
+                ptr(1) = 1
+                do k = 1, ns
+                    ptr(k + 1) = ptr(k) + cnt(k)
+                end do
+                allocate (ib(ptr(ns + 1) - 1), tb(ptr(ns + 1) - 1))
+                ib = 0
+                tb = 0
+                do k = 1, ns
+                    if (.not. it%owned(k)) cycle
+                    n = cnt(k)
+                    ib(ptr(k):ptr(k) + n - 1) = it%lists%node(it%lists%ptr(k):it%lists%ptr(k) + n - 1)
+                    tb(ptr(k):ptr(k) + n - 1) = merge(1, 0, it%lists%trackable(it%lists%ptr(k):it%lists%ptr(k) + n - 1))
+                end do
+                call comm_sum_int(ib, size(ib))
+                call comm_sum_int(tb, size(tb))
+                it%lists%ptr = ptr(1:ns)
+                it%lists%last = ptr(2:ns + 1) - 1
+                it%lists%node = ib
+                it%lists%trackable = tb /= 0
+                it%lists%nused = size(ib)
+                it%lists%ndead = 0
+                deallocate (ptr, ib, tb)
+                if (allocated(it%lists%gap)) then
+                    where (.not. it%owned) it%lists%gap = 0
+                    call comm_sum_wp(it%lists%gap, ns)
+                    where (.not. it%owned) it%lists%og = 0
+                    call comm_sum_wp(it%lists%og, ns)
+                    where (.not. it%owned) it%lists%at = 0
+                    call comm_sum_int(it%lists%at, ns)
+                    do k = 1, ns
+                        if (.not. it%owned(k)) it%lists%xg(:, k) = 0
+                    end do
+                    call comm_sum_wp(it%lists%xg, 3*ns)
+                end if
+            end if
+        end subroutine slave_state
+
         subroutine sum_i8(c)
             integer(i8), intent(inout) :: c
             real(dp) :: b(1)

@@ -46,7 +46,7 @@ module xd_solver_domain
     implicit none
     private
     public :: domain_t, build_domain, domain_summary, gather_energy_state, gather_element_state, &
-              swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout
+              swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout, neighbour_count
 
     !> A set of nodes whose values go from their ranks to every rank (an
     !> all-gather): per rank r, its own in node(off(r) + 1 : off(r) +
@@ -85,10 +85,15 @@ module xd_solver_domain
         !> assembles, sends the halo slots it computed to their nodes'
         !> assemblers alone and, after each step, its nodes' motion to the
         !> ranks whose elements touch them (point-to-point, xd_core_comm's
-        !> comm_neighbours). Set by the time loop where the model allows it
-        !> (owned_why_not); otherwise every rank integrates every node.
+        !> comm_neighbours). Set by the time loop, unless XDYNA_REPLICATED
+        !> asks that every rank integrate every node.
         logical :: owned = .false.
-        integer, allocatable :: nbr(:)        !< the neighbour ranks (0-based, ascending)
+        !> with owned nodes, node_mine again; unallocated in the replicated
+        !> state, so that a routine's optional `mine` argument given it is
+        !> absent there (every rank takes every node)
+        logical, allocatable :: own(:)
+        logical, allocatable :: own_solid(:), own_shell(:)   !< likewise solid_mine, shell_mine
+        integer, allocatable :: nbr(:)        !< every other rank (0-based, ascending), the lists' order
         !> per neighbour k, entries ptr(k) + 1 .. ptr(k + 1), in slot order:
         !> the solids' halo slots sent to k (computed here, k assembles the
         !> node) and received from k (k computed them, this rank assembles);
@@ -101,10 +106,8 @@ module xd_solver_domain
         integer, allocatable :: mo_ptr(:), mo_node(:), mi_ptr(:), mi_node(:)
         !> per entry of mo_node and mi_node: the node's angular velocity
         !> travels too (a node whose elements the receiver computes; not a
-        !> contact surface node that only the contact reads, motion_to_all);
-        !> per neighbour boundary k, the entries so flagged before it
+        !> contact surface node that only the contact reads, motion_to_all)
         logical, allocatable :: mo_rot(:), mi_rot(:)
-        integer, allocatable :: mo_nrot(:), mi_nrot(:)
         integer, allocatable :: arank(:)      !< every node's assembling (owned nodes: integrating) rank
         !> owned nodes with contact: the contact surfaces' nodes, whose
         !> velocities every rank receives each cycle (the surfaces stay whole
@@ -364,23 +367,24 @@ contains
         !> mo/mi) from the halo slots: a slot of this rank's element on a
         !> node rank q assembles goes to q, and q sends that node's motion
         !> back; a slot of q's element on a node this rank assembles comes
-        !> from q, and the node's motion goes to q.
+        !> from q, and the node's motion goes to q. The lists are kept for
+        !> every other rank (empty where nothing passes: comm_neighbours
+        !> sends no empty message), so that motion_to_all only lengthens
+        !> the motion lists.
         subroutine neighbour_lists()
             integer, allocatable :: sto(:), sfrom(:), hto(:), hfrom(:)
-            logical, allocatable :: isn(:), mark(:)
+            logical, allocatable :: mark(:)
             integer :: q, k
             allocate (sto(size(dom%bslot)), sfrom(size(dom%bslot)), hto(size(dom%bshell)), hfrom(size(dom%bshell)))
-            allocate (isn(0:nranks - 1), mark(nnode))
-            isn = .false.
+            allocate (mark(nnode))
             do k = 1, size(dom%bslot)
                 call ends(dom%bslot(k), 8, solids%conn, grank(solids%group_of((dom%bslot(k) - 1)/8 + 1)), &
-                          sto(k), sfrom(k), isn)
+                          sto(k), sfrom(k))
             end do
             do k = 1, size(dom%bshell)
-                call ends(dom%bshell(k), 4, sh%conn, shrank((dom%bshell(k) - 1)/4 + 1), hto(k), hfrom(k), isn)
+                call ends(dom%bshell(k), 4, sh%conn, shrank((dom%bshell(k) - 1)/4 + 1), hto(k), hfrom(k))
             end do
-            isn(rank) = .false.
-            dom%nbr = pack([(q, q=0, nranks - 1)], isn)
+            dom%nbr = pack([(q, q=0, nranks - 1)], [(q /= rank, q=0, nranks - 1)])
             allocate (dom%so_ptr(1), dom%si_ptr(1), dom%ho_ptr(1), dom%hi_ptr(1), dom%mo_ptr(1), dom%mi_ptr(1))
             dom%so_ptr = 0; dom%si_ptr = 0; dom%ho_ptr = 0; dom%hi_ptr = 0; dom%mo_ptr = 0; dom%mi_ptr = 0
             allocate (dom%so_slot(0), dom%si_slot(0), dom%ho_slot(0), dom%hi_slot(0), dom%mo_node(0), dom%mi_node(0))
@@ -410,24 +414,19 @@ contains
             allocate (dom%mo_rot(size(dom%mo_node)), dom%mi_rot(size(dom%mi_node)))
             dom%mo_rot = .true.
             dom%mi_rot = .true.
-            call rot_counts(dom)
         end subroutine neighbour_lists
 
         !> Slot j (nen a element, its element on rank er): the rank it goes
-        !> to from here (to) or comes from to here (from), -1 if none; both
-        !> are neighbours (isn).
-        subroutine ends(j, nen, conn, er, to, from, isn)
+        !> to from here (to) or comes from to here (from), -1 if none.
+        subroutine ends(j, nen, conn, er, to, from)
             integer, intent(in) :: j, nen, conn(:, :), er
             integer, intent(out) :: to, from
-            logical, intent(inout) :: isn(0:)
             integer :: an
             an = arank(conn(mod(j - 1, nen) + 1, (j - 1)/nen + 1))
             to = -1
             from = -1
             if (er == rank .and. an /= rank) to = an
             if (an == rank .and. er /= rank) from = er
-            if (to >= 0) isn(to) = .true.
-            if (from >= 0) isn(from) = .true.
         end subroutine ends
 
         !> mark: the nodes of the slots (nen an element).
@@ -612,15 +611,17 @@ contains
         real(wp), intent(inout) :: v(:, :)
         real(wp), intent(inout), optional :: vr(:, :)
         real(wp), allocatable :: sb(:), rb(:)
-        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), i, nd, p
+        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), i, nd, p, k
         logical :: rot
         rot = present(vr)
         ! (3 values a node, 6 where its angular velocity travels too)
         soff = 3*dom%mo_ptr
         roff = 3*dom%mi_ptr
         if (rot) then
-            soff = soff + 3*dom%mo_nrot
-            roff = roff + 3*dom%mi_nrot
+            do k = 1, size(dom%nbr)
+                soff(k + 1) = soff(k + 1) + 3*count(dom%mo_rot(1:dom%mo_ptr(k + 1)))
+                roff(k + 1) = roff(k + 1) + 3*count(dom%mi_rot(1:dom%mi_ptr(k + 1)))
+            end do
         end if
         allocate (sb(max(soff(size(soff)), 1)), rb(max(roff(size(roff)), 1)))
         p = 0
@@ -684,89 +685,56 @@ contains
     !> it: on car6's 2 ranks the gather took 1.2 s of 20, about 30 us a
     !> cycle). For each other rank q, the nodes sent to q are this rank's
     !> halo nodes q's elements touch and its own listed nodes, in node order;
-    !> those received, q's likewise, so a pair's lists agree. The neighbours
-    !> become every rank that sends or receives any; their slot lists keep
-    !> their entries (empty for a rank only the listed nodes link).
+    !> those received, q's likewise, so a pair's lists agree. Only the
+    !> halo's entries carry angular velocities (mo_rot, mi_rot).
     subroutine motion_to_all(dom, nodes)
         type(domain_t), intent(inout) :: dom
         integer, intent(in) :: nodes(:)
-        logical, allocatable :: on(:), out(:), in(:), rout(:), rin(:), mo_rot(:), mi_rot(:)
-        integer, allocatable :: nbr(:), so_ptr(:), si_ptr(:), ho_ptr(:), hi_ptr(:), mo_ptr(:), mi_ptr(:)
-        integer, allocatable :: so_slot(:), si_slot(:), ho_slot(:), hi_slot(:), mo_node(:), mi_node(:), add(:)
-        integer :: q, k, nn
+        logical, allocatable :: on(:), rout(:), rin(:), mo_rot(:), mi_rot(:)
+        integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:), add(:)
+        integer :: k, q, nn
         if (size(nodes) == 0) return
         nn = size(dom%node_mine)
-        allocate (on(nn), out(nn), in(nn), rout(nn), rin(nn))
+        allocate (on(nn), rout(nn), rin(nn), mo_node(0), mi_node(0), mo_rot(0), mi_rot(0), mo_ptr(1), mi_ptr(1))
         on = .false.
         on(nodes) = .true.
-        allocate (nbr(0), mo_node(0), mi_node(0), so_slot(0), si_slot(0), ho_slot(0), hi_slot(0))
-        allocate (mo_rot(0), mi_rot(0))
-        allocate (so_ptr(1), si_ptr(1), ho_ptr(1), hi_ptr(1), mo_ptr(1), mi_ptr(1))
-        so_ptr = 0; si_ptr = 0; ho_ptr = 0; hi_ptr = 0; mo_ptr = 0; mi_ptr = 0
-        do q = 0, dom%nranks - 1
-            if (q == dom%rank) cycle
-            out = on .and. dom%arank == dom%rank
-            in = on .and. dom%arank == q
-            ! (rout, rin: the halo's motion, whose angular velocities travel)
+        mo_ptr = 0
+        mi_ptr = 0
+        do k = 1, size(dom%nbr)
+            q = dom%nbr(k)
             rout = .false.
             rin = .false.
-            k = findloc(dom%nbr, q, 1)
-            if (k > 0) then
-                rout(dom%mo_node(dom%mo_ptr(k) + 1:dom%mo_ptr(k + 1))) = .true.
-                rin(dom%mi_node(dom%mi_ptr(k) + 1:dom%mi_ptr(k + 1))) = .true.
-            end if
-            out = out .or. rout
-            in = in .or. rin
-            if (k == 0 .and. .not. (any(out) .or. any(in))) cycle
-            nbr = [nbr, q]
-            add = where_true(out)
+            rout(dom%mo_node(dom%mo_ptr(k) + 1:dom%mo_ptr(k + 1))) = .true.
+            rin(dom%mi_node(dom%mi_ptr(k) + 1:dom%mi_ptr(k + 1))) = .true.
+            add = where_true(rout .or. (on .and. dom%arank == dom%rank))
             mo_node = [mo_node, add]
             mo_rot = [mo_rot, rout(add)]
-            add = where_true(in)
+            mo_ptr = [mo_ptr, size(mo_node)]
+            add = where_true(rin .or. (on .and. dom%arank == q))
             mi_node = [mi_node, add]
             mi_rot = [mi_rot, rin(add)]
-            if (k > 0) then
-                so_slot = [so_slot, dom%so_slot(dom%so_ptr(k) + 1:dom%so_ptr(k + 1))]
-                si_slot = [si_slot, dom%si_slot(dom%si_ptr(k) + 1:dom%si_ptr(k + 1))]
-                ho_slot = [ho_slot, dom%ho_slot(dom%ho_ptr(k) + 1:dom%ho_ptr(k + 1))]
-                hi_slot = [hi_slot, dom%hi_slot(dom%hi_ptr(k) + 1:dom%hi_ptr(k + 1))]
-            end if
-            so_ptr = [so_ptr, size(so_slot)]
-            si_ptr = [si_ptr, size(si_slot)]
-            ho_ptr = [ho_ptr, size(ho_slot)]
-            hi_ptr = [hi_ptr, size(hi_slot)]
-            mo_ptr = [mo_ptr, size(mo_node)]
             mi_ptr = [mi_ptr, size(mi_node)]
         end do
-        call move_alloc(nbr, dom%nbr)
-        call move_alloc(so_ptr, dom%so_ptr)
-        call move_alloc(si_ptr, dom%si_ptr)
-        call move_alloc(ho_ptr, dom%ho_ptr)
-        call move_alloc(hi_ptr, dom%hi_ptr)
         call move_alloc(mo_ptr, dom%mo_ptr)
         call move_alloc(mi_ptr, dom%mi_ptr)
-        call move_alloc(so_slot, dom%so_slot)
-        call move_alloc(si_slot, dom%si_slot)
-        call move_alloc(ho_slot, dom%ho_slot)
-        call move_alloc(hi_slot, dom%hi_slot)
         call move_alloc(mo_node, dom%mo_node)
         call move_alloc(mi_node, dom%mi_node)
         call move_alloc(mo_rot, dom%mo_rot)
         call move_alloc(mi_rot, dom%mi_rot)
-        call rot_counts(dom)
     end subroutine motion_to_all
 
-    !> mo_nrot, mi_nrot from the motion lists' flags.
-    subroutine rot_counts(dom)
-        type(domain_t), intent(inout) :: dom
+    !> The ranks this rank exchanges anything with point-to-point (the
+    !> lists hold every other rank, most of them empty on many ranks).
+    integer function neighbour_count(dom) result(n)
+        type(domain_t), intent(in) :: dom
         integer :: k
-        if (allocated(dom%mo_nrot)) deallocate (dom%mo_nrot, dom%mi_nrot)
-        allocate (dom%mo_nrot(size(dom%mo_ptr)), dom%mi_nrot(size(dom%mi_ptr)))
-        do k = 1, size(dom%mo_ptr)
-            dom%mo_nrot(k) = count(dom%mo_rot(1:dom%mo_ptr(k)))
-            dom%mi_nrot(k) = count(dom%mi_rot(1:dom%mi_ptr(k)))
+        n = 0
+        do k = 1, size(dom%nbr)
+            if (dom%so_ptr(k + 1) > dom%so_ptr(k) .or. dom%si_ptr(k + 1) > dom%si_ptr(k) .or. &
+                dom%ho_ptr(k + 1) > dom%ho_ptr(k) .or. dom%hi_ptr(k + 1) > dom%hi_ptr(k) .or. &
+                dom%mo_ptr(k + 1) > dom%mo_ptr(k) .or. dom%mi_ptr(k + 1) > dom%mi_ptr(k)) n = n + 1
         end do
-    end subroutine rot_counts
+    end function neighbour_count
 
     !> The layout of a gather of the nodes `nodes` (repeats allowed) over
     !> nranks ranks, each node from its rank arank.

@@ -114,15 +114,11 @@ contains
             ! would take it
             call node_pass()
             en%part_mass = en%part_mass0
-            if (split) then
-                if (solids%n > 0) call ie_by_part(solids%part, solids%eint, solids%pend_int, solids%ehg, solids%pend_hg, &
-                                                  solid_on)
-                if (sh%n > 0) call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg, shell_on)
-                call add_ranks(.false.)
-            else
-                if (solids%n > 0) call ie_by_part(solids%part, solids%eint, solids%pend_int, solids%ehg, solids%pend_hg)
-                if (sh%n > 0) call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg)
-            end if
+            ! (solid_on, shell_on absent on one rank: every element)
+            if (solids%n > 0) call ie_by_part(solids%part, solids%eint, solids%pend_int, solids%ehg, solids%pend_hg, &
+                                              solid_on)
+            if (sh%n > 0) call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg, shell_on)
+            if (split) call add_ranks(.false.)
             en%ie = sum(en%part_ie)
             en%hg = sum(en%part_hg)
         else
@@ -202,20 +198,13 @@ contains
         en%part_eroded = 0
         ! (eroded solids likewise; owned nodes: each rank's own, the ranks'
         ! sums added)
+        pie = en%part_ie
+        if (sh%n > 0 .and. sh%ndead > 0) call book_eroded(sh%part, sh%dead, sh%eint, shell_on)
+        if (solids%ndead > 0) call book_eroded(solids%part, solids%dead, solids%eint, solid_on)
         if (split) then
-            pie = en%part_ie
-            if (sh%n > 0) then
-                if (sh%ndead > 0) call book_eroded(sh%part, sh%dead .and. shell_on, sh%eint)
-            end if
-            if (solids%ndead > 0) call book_eroded(solids%part, solids%dead .and. solid_on, solids%eint)
             call comm_sum_dp(en%part_eroded)
             en%part_ie = pie - en%part_eroded
             en%ie = sum(en%part_ie)
-        else
-            if (sh%n > 0) then
-                if (sh%ndead > 0) call book_eroded(sh%part, sh%dead, sh%eint)
-            end if
-            if (solids%ndead > 0) call book_eroded(solids%part, solids%dead, solids%eint)
         end if
         en%eroded_ie = sum(en%part_eroded)
         if (present(ke_fix)) then
@@ -237,13 +226,18 @@ contains
     contains
         !> The eroded elements' internal energy out of their parts' and into
         !> their parts' eroded energy.
-        subroutine book_eroded(part, dead, eint)
+        subroutine book_eroded(part, dead, eint, mine)
             integer, intent(in) :: part(:)
             logical, intent(in) :: dead(:)
             real(dp), intent(in) :: eint(:)
+            !> (owned nodes: the elements this rank books)
+            logical, intent(in), optional :: mine(:)
             integer :: e
             do e = 1, size(dead)
                 if (.not. dead(e)) cycle
+                if (present(mine)) then
+                    if (.not. mine(e)) cycle
+                end if
                 en%part_ie(part(e)) = en%part_ie(part(e)) - eint(e)
                 en%part_eroded(part(e)) = en%part_eroded(part(e)) + eint(e)
             end do

@@ -73,17 +73,13 @@ contains
         real(dp) :: mom(3)
         integer :: nd
         mom = 0
-        if (present(mine)) then
-            do nd = 1, st%nnode
+        do nd = 1, st%nnode
+            if (present(mine)) then
                 if (.not. mine(nd)) cycle
-                mom = mom + st%mass(nd)*real(st%v(:, nd)*st%free(:, nd), dp)
-            end do
-            call comm_sum_dp(mom)
-        else
-            do nd = 1, st%nnode
-                mom = mom + st%mass(nd)*real(st%v(:, nd)*st%free(:, nd), dp)
-            end do
-        end if
+            end if
+            mom = mom + st%mass(nd)*real(st%v(:, nd)*st%free(:, nd), dp)
+        end do
+        if (present(mine)) call comm_sum_dp(mom)
         p = dot_product(real(g, dp), mom)
     end function body_power
 

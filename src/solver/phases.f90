@@ -595,11 +595,7 @@ contains
         real(wp), intent(inout) :: g_new(3)
         if (model%nbody > 0) then
             g_new = body_acceleration(model, real(st%time, wp))
-            if (dom%owned) then
-                st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new, dom%node_mine)
-            else
-                st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
-            end if
+            st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new, dom%own)
             call add_body_forces(st, g_new)
         end if
         if (pl%n > 0) then
@@ -665,25 +661,12 @@ contains
         ! segments' nodes accelerated with the slave masses they carry
         if (save_minus) vminus = st%v
         if (st%rot .and. save_minus) vrminus = st%vr
-        if (td%n > 0 .and. dom%owned) then
-            ! owned nodes: the ties' nodes' forces from their ranks; every
-            ! rank then takes every tie, and updates the velocities of its
-            ! own nodes and the ties'
-            ! (st%mom unallocated without rotations: absent)
-            call gather_subset(dom, dom%tie, st%f, st%mom)
-            call tie_forces(td, st%time, st%x, st%f, st%mom)
-            call accelerations(st)
-            call tie_accelerations(td, st%time, st%f, st%mass, st%free, st%a, st%mom, st%irot)
-            if (threaded(size(dom%nodes))) then
-                !$omp parallel
-                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi, .false.)
-                !$omp end parallel
-            else
-                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi, .false.)
-            end if
-            return
-        end if
         if (td%n > 0) then
+            ! owned nodes: the ties' nodes' forces from their ranks first;
+            ! every rank then takes every tie, and updates the velocities of
+            ! its own nodes and the ties' (kick_lo, kick_hi)
+            ! (st%mom unallocated without rotations: absent)
+            if (dom%owned) call gather_subset(dom, dom%tie, st%f, st%mom)
             call tie_forces(td, st%time, st%x, st%f, st%mom)
             call accelerations(st)
             call tie_accelerations(td, st%time, st%f, st%mass, st%free, st%a, st%mom, st%irot)
@@ -691,13 +674,12 @@ contains
         ! (without ties the accelerations are taken in the kick's own loop:
         ! the same quotients, one pass over the nodes fewer)
         if (dom%owned) then
-            ! owned nodes: this rank's alone (no ties under owned nodes)
             if (threaded(size(dom%nodes))) then
                 !$omp parallel
-                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi, .true.)
+                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi, td%n == 0)
                 !$omp end parallel
             else
-                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi, .true.)
+                call kick_runs(st, real(dt_avg, wp), dom%kick_lo, dom%kick_hi, td%n == 0)
             end if
         else if (threaded(st%nnode)) then
             !$omp parallel
@@ -850,26 +832,19 @@ contains
         character(len=:), allocatable :: tie_events
         if (walls%n > 0) then
             call tm%start(ph_contact)
-            if (rg%n > 0 .and. dom%owned) then
-                call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), rg%member, dom%node_mine)
-            else if (rg%n > 0) then
-                call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), rg%member)
-            else if (dom%owned) then
-                call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), no_body, dom%node_mine)
+            ! (dom%own unallocated, so absent, but with owned nodes)
+            if (rg%n > 0) then
+                call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), rg%member, dom%own)
             else
-                call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), no_body)
+                call apply_walls(model, walls, st, st%dt, real(dt_avg, wp), no_body, dom%own)
             end if
             call tm%stop(ph_contact)
         end if
         if (pn%n > 0) then
-            if (td%n > 0 .and. dom%owned) then
-                call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm, td%mnodal, dom%node_mine)
-            else if (td%n > 0) then
-                call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm, td%mnodal)
-            else if (dom%owned) then
-                call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm, mine=dom%node_mine)
+            if (td%n > 0) then
+                call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm, td%mnodal, dom%own)
             else
-                call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm)
+                call apply_prescribed(model, pn, st, st%dt, real(dt_avg, wp), wpm, mine=dom%own)
             end if
             st%ext_work = st%ext_work + wpm
         end if
@@ -895,13 +870,7 @@ contains
             if (len(tie_events) > 0) call log_line(lg, tie_events)
         end if
         ! second half of the load work, with the final v(n+1/2)
-        if (model%nbody > 0) then
-            if (dom%owned) then
-                st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new, dom%node_mine)
-            else
-                st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new)
-            end if
-        end if
+        if (model%nbody > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*body_power(st, g_new, dom%own)
         if (pl%n > 0) st%ext_work = st%ext_work + 0.5_dp*dt_avg*pressure_power(pl, st)
     end subroutine constraint_phase
 
@@ -938,14 +907,10 @@ contains
             ! (vrminus, like vminus, was taken before the update)
             vn = vminus
             if (td%n > 0) call tie_kinetic(td, st%mass, st%irot, vminus, vminus, vrminus, vrminus, ke_fix)
-            if (dom%owned) then
-                call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en, &
-                                      contact_energy(ct, 0.0_dp), ke_fix, bm, dom%node_mine, dom%solid_mine, &
-                                      dom%shell_mine)
-            else
-                call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en, &
-                                      contact_energy(ct, 0.0_dp), ke_fix, bm)
-            end if
+            ! (dom%own, own_solid, own_shell unallocated, so absent, but with
+            ! owned nodes)
+            call compute_energies(model, st, solids, sh, walls, rg, vminus, vminus, vrminus, vrminus, 0.0_dp, en, &
+                                  contact_energy(ct, 0.0_dp), ke_fix, bm, dom%own, dom%own_solid, dom%own_shell)
             st%e_initial = en%total
             ! mass scaled at cycle 0 is in the initial energy
             st%ms_work = 0
@@ -957,14 +922,9 @@ contains
         else
             vn = 0.5_wp*(vminus + st%v)
             if (td%n > 0) call tie_kinetic(td, st%mass, st%irot, vminus, st%v, vrminus, st%vr, ke_fix)
-            if (dom%owned) then
-                call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
-                                      contact_energy(ct, dt_avg) + td%ework, ke_fix, bm, dom%node_mine, &
-                                      dom%solid_mine, dom%shell_mine)
-            else
-                call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
-                                      contact_energy(ct, dt_avg) + td%ework, ke_fix, bm)
-            end if
+            call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
+                                  contact_energy(ct, dt_avg) + td%ework, ke_fix, bm, dom%own, dom%own_solid, &
+                                  dom%own_shell)
         end if
         call tm%stop(ph_output)
     end subroutine energy_phase

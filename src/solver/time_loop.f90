@@ -34,7 +34,7 @@ module xd_solver_time_loop
     use xd_solver_prescribed, only: prescribed_nodes_t
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t
-    use xd_solver_domain, only: domain_t, gather_element_state, owned_motion, gather_layout, gather_subset
+    use xd_solver_domain, only: neighbour_count, domain_t, gather_element_state, owned_motion, gather_layout, gather_subset
     use xd_core_comm, only: comm_max, comm_sum_int, comm_gather_small, comm_sum_dp
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, &
                                       hourglass_bound_report
@@ -389,6 +389,9 @@ contains
         call get_environment_variable('XDYNA_REPLICATED', env, length=n, status=stat)
         dom%owned = .not. (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0')
         if (dom%owned) then
+            dom%own = dom%node_mine
+            dom%own_solid = dom%solid_mine
+            dom%own_shell = dom%shell_mine
             ! (the contact surfaces' nodes: their velocities go to every rank)
             ! (and the pressure segments' nodes: every rank takes every
             ! segment's force, as it takes every contact)
@@ -420,7 +423,7 @@ contains
             call log_line(lg, ' nodal state: owned nodes: each rank integrates the nodes it assembles (rank 0: '// &
                           itoa(size(dom%nodes))//' of '//itoa(size(dom%node_mine))//'), sends the halo''s force '// &
                           'slots to their nodes'' ranks and its nodes'' velocities to the ranks that touch them, '// &
-                          'point-to-point (rank 0: '//itoa(size(dom%nbr))//' neighbours), and the contact '// &
+                          'point-to-point (rank 0: '//itoa(neighbour_count(dom))//' neighbours), and the contact '// &
                           'surfaces'' '//itoa(size(dom%surf%node))//' nodes'' velocities and the rigid bodies'' '// &
                           itoa(size(dom%body%node))//' nodes'' forces to every rank (the beams'' '// &
                           itoa(size(dom%rotn%node))//' nodes'' velocities and angular velocities, the ties'' '// &
