@@ -9,6 +9,7 @@ import glob
 import math
 import os
 import re
+import resource
 import shutil
 import subprocess
 import sys
@@ -5760,6 +5761,38 @@ def test_ascii_layout():
            str(sorted(names)[:6]))
 
 
+def test_stack_limit():
+    """No set-up temporary the size of the model on the stack (the release
+    build puts automatic arrays and array temporaries there,
+    -fstack-arrays). The decomposition's coordinates of a set of elements,
+    24 MB at 1e6 shells, overflowed the default 8 MB stack of every rank: a
+    1,009,200-shell tubes array on 2 ranks died with SIGSEGV before its first
+    cycle. Here the 120,000-shell array (2.9 MB of centroids) runs 2 cycles
+    with a 1 MB stack on one thread, two threads and 2 ranks: a temporary of
+    the model's nodes or elements would not fit (the build before the
+    change died on 2 ranks so), while the fixed per-thread work arrays do."""
+    deck = os.path.join(TMP, "stack_tubes.k")
+    g = run(["/usr/bin/python3", os.path.join(ROOT, "tools", "gen_decks.py"), "--bench-tubes", "10", "10", deck,
+             "--cycles", "2"])
+    if g.returncode:
+        record("stack limit: the 10 x 10 tubes deck is generated", False, g.stderr[-300:])
+        return
+
+    def one_mb():
+        resource.setrlimit(resource.RLIMIT_STACK, (1 << 20, resource.getrlimit(resource.RLIMIT_STACK)[1]))
+
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    for label, pre, threads in (("one thread", [], "1"), ("two threads", [], "2"),
+                                ("2 MPI ranks", ["mpirun", "--oversubscribe", "-np", "2"], "1")):
+        if pre and shutil.which("mpirun") is None:
+            continue
+        out = os.path.join(TMP, "stack_" + label.replace(" ", "_"))
+        p = subprocess.run(pre + [XDYNA, "i=" + deck, "outdir=" + out], env=dict(env, OMP_NUM_THREADS=threads),
+                           capture_output=True, text=True, preexec_fn=one_mb, cwd=ROOT)
+        record(f"stack limit: 120,000 shells with contact run 2 cycles on {label} with a 1 MB stack",
+               p.returncode == 0 and "normal termination" in p.stdout, f"rc={p.returncode} {p.stderr[-300:]}")
+
+
 def test_public_forms():
     """Input forms of decks written by others (tests/decks/forms): *INCLUDE
     with several file cards and a name continued with ' +', *INCLUDE_PATH,
@@ -6184,7 +6217,6 @@ def test_hardening_two():
     # start-up wrote a shared-memory file past it and the run died with a
     # PMIx error before a word of ours; alone, xdyna now asks PMIx for its
     # in-memory store)
-    import resource
 
     def small_files():
         resource.setrlimit(resource.RLIMIT_FSIZE, (2 * 1024 * 1024, 2 * 1024 * 1024))
@@ -6402,7 +6434,6 @@ def test_write_failures():
     every ASCII file ends with a complete line; d3plot.h5, thist.h5 and the
     XDMF read back; a failed dump leaves no temporary and keeps the last
     good dump, which restarts."""
-    import resource
     import signal
     import xml.etree.ElementTree as ET
 
@@ -6470,7 +6501,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_tiebreak_cohesive, test_erosion, test_solid_erosion, test_solid_erosion_contact, test_nodal_rigid_inertia, test_beams, test_spotweld, test_spotweld_plastic, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_near_sets_exact, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_mpi_owned, test_stability, test_contact_suite, test_cli, test_part_sizes, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_tiebreak_cohesive, test_erosion, test_solid_erosion, test_solid_erosion_contact, test_nodal_rigid_inertia, test_beams, test_spotweld, test_spotweld_plastic, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_near_sets_exact, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_mpi_owned, test_stability, test_contact_suite, test_cli, test_part_sizes, test_stack_limit, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     times = []
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):

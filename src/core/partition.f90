@@ -23,28 +23,46 @@ contains
         real(wp), intent(in) :: xc(:, :), w(:)
         integer, intent(in) :: nparts
         integer, intent(out) :: part(:)
+        integer, allocatable :: all(:)
         integer :: e
         part = 1
         if (nparts <= 1 .or. size(w) == 0) return
-        call bisect([(e, e=1, size(w))], 1, nparts)
+        ! (on the heap, as every set below: a model's worth of temporaries on
+        ! the stack overflowed it at 1e6 shells)
+        allocate (all(size(w)))
+        do e = 1, size(w)
+            all(e) = e
+        end do
+        call bisect(all, 1, nparts)
     contains
         recursive subroutine bisect(set, first, np)
             integer, intent(in) :: set(:), first, np
-            integer, allocatable :: perm(:)
+            integer, allocatable :: perm(:), sub(:)
+            real(dp), allocatable :: key(:)
             real(dp) :: total, target, cum
             real(wp) :: lo(3), hi(3)
-            integer :: nl, k, ax, n
+            integer :: nl, k, ax, n, i
             n = size(set)
             if (np == 1 .or. n <= 1) then
                 part(set) = first
                 return
             end if
             nl = np/2
-            lo = minval(xc(:, set), 2)
-            hi = maxval(xc(:, set), 2)
+            lo = huge(1.0_wp)
+            hi = -huge(1.0_wp)
+            total = 0
+            do i = 1, n
+                lo = min(lo, xc(:, set(i)))
+                hi = max(hi, xc(:, set(i)))
+                total = total + real(w(set(i)), dp)
+            end do
             ax = maxloc(hi - lo, 1)
-            call sort_index(real(xc(ax, set), dp), perm)
-            total = sum(real(w(set), dp))
+            allocate (key(n))
+            do i = 1, n
+                key(i) = real(xc(ax, set(i)), dp)
+            end do
+            call sort_index(key, perm)
+            deallocate (key)
             target = total*nl/np
             ! the cut after k elements: the first k whose cumulative cost
             ! reaches the target, or the one before if that is nearer
@@ -57,8 +75,13 @@ contains
             if (k > 1) then
                 if (target - (cum - w(set(perm(k)))) < cum - target) k = k - 1
             end if
-            call bisect(set(perm(1:k)), first, nl)
-            call bisect(set(perm(k + 1:n)), first + nl, np - nl)
+            allocate (sub(k))
+            sub = set(perm(1:k))
+            call bisect(sub, first, nl)
+            deallocate (sub)
+            allocate (sub(n - k))
+            sub = set(perm(k + 1:n))
+            call bisect(sub, first + nl, np - nl)
         end subroutine bisect
     end subroutine rcb_partition
 

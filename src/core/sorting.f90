@@ -84,7 +84,9 @@ contains
     subroutine sort_index_int(keys, perm)
         integer, intent(in) :: keys(:)
         integer, allocatable, intent(out) :: perm(:)
-        call sort_index_dp(real(keys, dp), perm)
+        real(dp), allocatable :: k(:)
+        k = real(keys, dp)
+        call sort_index_dp(k, perm)
     end subroutine sort_index_int
 
     subroutine sort_index_dp(keys, perm)
@@ -94,7 +96,9 @@ contains
         integer :: n, i, width, lo, mid, hi
         n = size(keys)
         allocate (perm(n), tmp(n))
-        perm = [(i, i=1, n)]
+        do i = 1, n
+            perm(i) = i
+        end do
         width = 1
         do while (width < n)
             lo = 1
