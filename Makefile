@@ -9,7 +9,7 @@ PY := /usr/bin/python3
 H5SHOW := $(shell h5fc -shlib -show 2>/dev/null)
 H5INC := $(filter -I%,$(H5SHOW))
 H5LIB := $(filter -L%,$(H5SHOW)) -lhdf5_fortran -lhdf5
-LIBS := $(H5LIB) -llapack -lblas
+LIBS := $(H5LIB) -llapack -lblas -lmetis
 
 ifeq ($(PRECISION),single)
   PFLAGS := -DXD_SINGLE

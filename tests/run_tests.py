@@ -3984,6 +3984,44 @@ def test_mpi():
            + p.stderr.count("node 7 (part 17)") == 1, f"rc={p.returncode} {p.stderr[-300:]}")
 
 
+def test_mpi_metis():
+    """decomp=metis (issue 32): the elements split by METIS's k-way
+    partition of their graph instead of coordinate bisection. The motion
+    depends on no decomposition (every node's force is summed in the serial
+    slot order, the contacts in slave order), so 2 and 4 ranks give the
+    serial run's motion bitwise and its energies to 1e-12 (same_dynamics);
+    the parts are balanced within METIS's 3% imbalance (ufactor 30) plus
+    the rounding of the costs to tenths: at most 1.05 of the mean; a value
+    other than rcb or metis is an input error naming it."""
+    if shutil.which("mpirun") is None:
+        record("mpirun is installed (make deps: openmpi-bin)", False)
+        return
+    cases = [("shells with self-contact: tube crush", "input_decks/contact/tube_crush.k", ("endtim=0.0015",)),
+             ("rigid wall, rigid bodies, shells and contact: front frame", "input_decks/paper/front_frame.k",
+              ("endtim=0.003",))]
+    for label, deck, extra in cases:
+        name = os.path.splitext(os.path.basename(deck))[0]
+        p0, serial = run_deck(deck, "metis_serial_" + name, extra=extra)
+        for n in (2, 4):
+            out = os.path.join(TMP, f"metis{n}_{name}")
+            p = mpirun(n, ["i=" + os.path.join(ROOT, deck), "outdir=" + out, "decomp=metis", *extra])
+            ok, msg = (False, p.stderr[-300:]) if p.returncode or p0.returncode else same_dynamics(serial, out)
+            head = ""
+            if ok:
+                head = next((l for l in open(os.path.join(out, "d3hsp")) if "d o m a i n" in l), "")
+                t = domain_table(out)
+                costs = [c for c, _, _ in t.values()]
+                ok = "METIS k-way" in head and len(t) == n and max(costs) <= 1.05 * sum(costs) / n
+                msg = f"{head.strip()} costs {costs}"
+            record(f"MPI decomp=metis, {label}: mpirun -np {n} gives the serial run's motion bitwise, its "
+                   f"energies to 1e-12, parts within 1.05 of the mean cost", ok, msg + f" rc={p.returncode}")
+    p = run([XDYNA, "i=" + os.path.join(ROOT, "input_decks/paper/front_frame.k"), "--check", "parts=2",
+             "decomp=graph"])
+    record("decomp=graph: an input error naming the value and the choices (exit 1)",
+           p.returncode == 1 and "decomp=graph must be rcb or metis" in p.stdout + p.stderr,
+           f"rc={p.returncode} {(p.stdout + p.stderr)[-200:]}")
+
+
 def test_mpi_owned():
     """Owned nodes (issue 32, deliverable 1): where a model has none of the
     features that still need every node on every rank (contact, walls,
@@ -6501,7 +6539,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_tiebreak_cohesive, test_erosion, test_solid_erosion, test_solid_erosion_contact, test_nodal_rigid_inertia, test_beams, test_spotweld, test_spotweld_plastic, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_near_sets_exact, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_mpi_owned, test_stability, test_contact_suite, test_cli, test_part_sizes, test_stack_limit, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_tiebreak_cohesive, test_erosion, test_solid_erosion, test_solid_erosion_contact, test_nodal_rigid_inertia, test_beams, test_spotweld, test_spotweld_plastic, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_near_sets_exact, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_mpi_metis, test_mpi_owned, test_stability, test_contact_suite, test_cli, test_part_sizes, test_stack_limit, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     times = []
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):

@@ -41,7 +41,7 @@ program xdyna
     use xd_core_comm, only: comm_max, comm_gather_small
     use xd_core_memory, only: peak_memory_kb
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
-    use xd_solver_domain, only: domain_t, build_domain, domain_summary
+    use xd_solver_domain, only: domain_t, build_domain, domain_summary, decomp_rcb, decomp_metis
     use xd_contact_contact, only: gather_contact_state, scatter_contact_state
     !$ use omp_lib, only: omp_set_num_threads, omp_get_num_procs
     implicit none
@@ -82,7 +82,7 @@ program xdyna
     logical :: check_only, ok
     character(len=:), allocatable :: memory_note, hold, step_note
     real(dp) :: endtim_cli
-    integer :: i, k, ncpu, nfree, nparts, endcyc_cli, nmoved, nprocs
+    integer :: i, k, ncpu, nfree, nparts, endcyc_cli, nmoved, nprocs, decomp
     character(len=:), allocatable :: bad_out
     !> the files a run writes in its output directory (besides d3hsp and
     !> the d3plot members)
@@ -113,6 +113,7 @@ program xdyna
     endtim_cli = -1.0_dp
     ncpu = 0
     nparts = 0
+    decomp = decomp_rcb
     endcyc_cli = 0
     outdir_given = .false.
     wallclock = 0
@@ -303,7 +304,7 @@ program xdyna
             write (output_unit, '(a)') model_summary(model, solids, rg%n)
             if (nparts > 0) then
                 ! the decomposition a run on nparts ranks makes
-                call build_domain(model, st%x0, solids, sh, asm, asm_sh, ct, 0, nparts, dom)
+                call build_domain(model, st%x0, solids, sh, asm, asm_sh, ct, 0, nparts, dom, decomp)
                 write (output_unit, '(a)') domain_summary(dom)
             end if
             write (output_unit, '(a)') ' xdyna --check: input is valid; nothing was run'
@@ -311,7 +312,7 @@ program xdyna
         call finish(exit_normal)
     end if
     call stop_before_run('setting up the model')
-    call build_domain(model, st%x0, solids, sh, asm, asm_sh, ct, env%rank, env%nranks, dom)
+    call build_domain(model, st%x0, solids, sh, asm, asm_sh, ct, env%rank, env%nranks, dom, decomp)
     if (dom%on) call log_line(lg, domain_summary(dom))
     call log_line(lg, model_summary(model, solids, rg%n))
     if (ct%n > 0) then
@@ -601,6 +602,15 @@ contains
                 call say('xdyna: parts='//val//' is not a positive integer')
                 call finish(exit_input)
             end if
+        case ('decomp')
+            ! the MPI ranks' element decomposition
+            select case (to_lower(val))
+            case ('rcb'); decomp = decomp_rcb
+            case ('metis'); decomp = decomp_metis
+            case default
+                call say('xdyna: decomp='//val//' must be rcb or metis')
+                call finish(exit_input)
+            end select
         case ('unsupported')
             select case (to_lower(val))
             case ('warn'); ropts%warn_unsupported = .true.
@@ -631,7 +641,9 @@ contains
         write (output_unit, '(a)') &
             'usage: xdyna i=deck.k [outdir=DIR] [o=FILE] [jobid=NAME] [endtim=T] [endcyc=N] [ncpu=N|-N]', &
             '             [memory=SIZE] [memory2=SIZE] [wallclock=S] [r=DUMP] [unsupported=error|warn]', &
-            '       xdyna --check i=deck.k [parts=N]   read and validate the deck, print the model summary', &
+            '             [decomp=rcb|metis]', &
+            '       xdyna --check i=deck.k [parts=N] [decomp=rcb|metis]   read and validate the deck,', &
+            '                                   print the model summary', &
             '                                   (and the decomposition on N MPI ranks); run nothing', &
             '       xdyna --help | --version', &
             '       mpirun -np N xdyna i=deck.k', &
@@ -651,6 +663,9 @@ contains
             '                  default: *CONTROL_XDYNA_OUTPUT''s HDF5, else 0)', &
             '  r=DUMP          restart from a d3dump.h5 (give jobid= again if the run had one)', &
             '  unsupported=warn  skip keywords outside the subset with a warning (default: error)', &
+            '  decomp=metis    MPI: split the elements by METIS''s k-way partition of their graph', &
+            '                  (the halo smallest) instead of recursive coordinate bisection (rcb, the', &
+            '                  default); the answers are the same either way', &
             '', &
             'Output files: d3hsp (log and every warning), glstat, matsum, nodout, rwforc,', &
             'rcforc (LS-DYNA ASCII layout, as the deck''s *DATABASE cards ask), thist.h5', &

@@ -33,6 +33,7 @@
 module xd_solver_domain
     use xd_kinds, only: wp, dp
     use xd_core_partition, only: rcb_partition
+    use xd_core_graph_partition, only: graph_partition, item_graph
     use xd_core_threads, only: threaded
     use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours
     use xd_elements_solid_groups, only: solids_t
@@ -45,6 +46,7 @@ module xd_solver_domain
     use xd_model, only: model_t
     implicit none
     private
+    public :: decomp_rcb, decomp_metis
     public :: domain_t, build_domain, domain_summary, gather_energy_state, gather_element_state, &
               swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout, neighbour_count
 
@@ -58,6 +60,11 @@ module xd_solver_domain
     type :: domain_t
         integer :: rank = 0, nranks = 1
         logical :: on = .false.               !< more than one rank
+        !> how the elements were split (the summary's heading), and the METIS
+        !> partition's edge cut (nodes shared across ranks, counted per pair
+        !> of work items)
+        character(len=:), allocatable :: method_text
+        integer :: edgecut = -1
         integer, allocatable :: nodes(:)      !< nodes this rank assembles
         !> of them, those other ranks' elements touch too (their sums wait
         !> for the halo's slots)
@@ -139,13 +146,16 @@ module xd_solver_domain
     end type domain_t
 
     integer, parameter :: run_max = 1024
+    !> the element decomposition: recursive coordinate bisection (the
+    !> default) or METIS's k-way partition of the elements' graph
+    integer, parameter :: decomp_rcb = 1, decomp_metis = 2
 
 contains
 
     !> Split the work of the model over `nranks` ranks; this is rank `rank`.
     !> Sets the element groups' and shells' ownership and each interface's
     !> own slave nodes.
-    subroutine build_domain(model, x0, solids, sh, asm, asm_sh, ct, rank, nranks, dom)
+    subroutine build_domain(model, x0, solids, sh, asm, asm_sh, ct, rank, nranks, dom, method)
         type(model_t), intent(in) :: model
         real(wp), intent(in) :: x0(:, :)
         type(solids_t), intent(inout) :: solids
@@ -154,6 +164,8 @@ contains
         type(contacts_t), intent(inout) :: ct
         integer, intent(in) :: rank, nranks
         type(domain_t), intent(out) :: dom
+        !> decomp_rcb (absent: the same) or decomp_metis
+        integer, intent(in), optional :: method
         real(wp), allocatable :: xc(:, :), w(:)
         integer, allocatable :: part(:), arank(:), spart(:), grank(:), shrank(:)
         logical, allocatable :: multi(:)
@@ -182,7 +194,11 @@ contains
             xc(:, solids%ngroup + e) = sum(x0(:, sh%conn(:, e)), 2)/4
             w(solids%ngroup + e) = 0.4_wp*sh%nip(e)
         end do
-        call rcb_partition(xc, w, nranks, part)
+        dom%method_text = 'recursive coordinate bisection'
+        if (present(method)) then
+            if (method == decomp_metis) call metis_items()
+        end if
+        if (dom%edgecut < 0) call rcb_partition(xc, w, nranks, part)
         part = part - 1
         grank = part(1:solids%ngroup)
         shrank = part(solids%ngroup + 1:)
@@ -275,6 +291,45 @@ contains
         end do
         if (allocated(touch)) deallocate (touch)
     contains
+        !> METIS's k-way partition of the work items (decomp=metis): the
+        !> items' graph through their shared nodes, each item weighing its
+        !> cost (in tenths); where METIS fails, the bisection, said in the
+        !> heading.
+        subroutine metis_items()
+            integer, allocatable :: iptr(:), inode(:), xadj(:), adjncy(:), adjwgt(:), vwgt(:)
+            integer :: status, q
+            logical :: ok
+            allocate (iptr(ni + 1), vwgt(ni))
+            iptr(1) = 1
+            do g = 1, solids%ngroup
+                iptr(g + 1) = iptr(g) + 8*(solids%group(g)%last - solids%group(g)%first + 1)
+            end do
+            do e = 1, sh%n
+                iptr(solids%ngroup + e + 1) = iptr(solids%ngroup + e) + 4
+            end do
+            allocate (inode(iptr(ni + 1) - 1))
+            q = 0
+            do g = 1, solids%ngroup
+                do e = solids%group(g)%first, solids%group(g)%last
+                    inode(q + 1:q + 8) = solids%conn(:, e)
+                    q = q + 8
+                end do
+            end do
+            do e = 1, sh%n
+                inode(q + 1:q + 4) = sh%conn(:, e)
+                q = q + 4
+            end do
+            vwgt = max(1, nint(10*w))
+            call item_graph(ni, nnode, iptr, inode, xadj, adjncy, adjwgt)
+            call graph_partition(xadj, adjncy, vwgt, adjwgt, nranks, part, dom%edgecut, ok, status)
+            if (ok) then
+                dom%method_text = 'METIS k-way on the elements'' graph, '//itoa(dom%edgecut)//' shared nodes cut'
+            else
+                dom%edgecut = -1
+                dom%method_text = 'recursive coordinate bisection: METIS failed (status '//itoa(status)//')'
+            end if
+        end subroutine metis_items
+
         !> Per rank: its elements, the nodes they touch (touch, kept for the
         !> ghosts), the halo, and the ranks it shares a node with: those
         !> that assemble a node it touches or touch a node it assembles.
@@ -518,7 +573,7 @@ contains
         character(len=200) :: buf
         integer :: r
         txt = ' d o m a i n   d e c o m p o s i t i o n   ('//itoa(dom%nranks)// &
-              ' MPI ranks, recursive coordinate bisection)'//new_line('a')// &
+              ' MPI ranks, '//dom%method_text//')'//new_line('a')// &
               '   rank   element cost   cost / mean   slave nodes   parts'//new_line('a')
         do r = 1, dom%nranks
             write (buf, '(i7,f15.1,f14.3,i14,3x)') r - 1, dom%cost(r), dom%cost(r)/max(sum(dom%cost)/dom%nranks, &
