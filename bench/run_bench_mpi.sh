@@ -13,23 +13,25 @@
 # machine's cores (oversubscribed beyond them): memory and bytes are
 # figures, times are not scaling.
 #   BENCH_MPI_TUBES="10 10" BENCH_MPI_CYCLES=100 BENCH_MPI_RANKS="1 2 4" sh bench/run_bench_mpi.sh
-# (10 x 10 tubes: 120,000 shells; 29 x 29: about 1e6)
+# (10 x 10 tubes: 120,000 shells; 29 x 29: 1,009,200, about 2.8 GB a rank;
+# several sizes separated by commas, BENCH_MPI_TUBES="10 10,29 29")
 set -e
-size=${BENCH_MPI_TUBES:-10 10}
-set -- $size
-ntx=$1
-nty=$2
+sizes=${BENCH_MPI_TUBES:-10 10}
 cycles=${BENCH_MPI_CYCLES:-100}
 ranks=${BENCH_MPI_RANKS:-1 2 4}
 dir=build/bench_mpi
 mkdir -p $dir
+echo "$sizes" | tr ',' '\n' | while read size; do
+set -- $size
+ntx=$1
+nty=$2
 deck=$dir/tubes_${ntx}x${nty}.k
 /usr/bin/python3 tools/gen_decks.py --bench-tubes $ntx $nty $deck --cycles $cycles
 nel=$((ntx * nty * 1200))
 echo "bench-mpi: $ntx x $nty tubes, $nel shells, $cycles cycles, one thread a rank, $(nproc) cores here ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'))"
 printf '%6s %9s %10s %8s %9s %8s %9s %17s %16s %16s\n' ranks "wall (s)" "ns/el-cyc" "halo %" "contact%" "wait %" "c.share" "peak MB/rank" "halo B/cycle" "own-node halo B"
 for r in $ranks; do
-    out=$dir/r$r
+    out=$dir/r${r}_${ntx}x${nty}
     rm -rf $out
     if [ "$r" -eq 1 ]; then
         OMP_NUM_THREADS=1 ./bin/xdyna i=$deck outdir=$out > /dev/null
@@ -62,5 +64,6 @@ for r in $ranks; do
             printf "%6d %9.2f %10.1f %8.1f %9.1f %8.1f %8.1f%% %17s %16d %16d\n", r, tot, ns, 100 * halo / tot,
                 100 * ghost / tot, 100 * wait / tot, cs, mem, hb, own
         }' $out/d3hsp
+done
 done
 echo "bench-mpi: halo B/cycle: with owned nodes (d3hsp's nodal state), the halo's slots and velocities point-to-point, the contact surfaces' velocities with them to every other rank (all of a shell model's nodes: O(surface nodes x ranks) until ghosts by proximity), the beams' and ties' gathered; replicated, the force slots plus every node's forces to every rank (O(nodes x ranks)); own-node halo: each rank's halo nodes' forces out and motion back (O(partition surfaces))"

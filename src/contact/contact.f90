@@ -50,10 +50,11 @@ module xd_contact_contact
     use xd_contact_edge_contact, only: edges_t, build_edges, edge_search, edge_forces, edge_unknown, edge_initial
     !$ use omp_lib, only: omp_get_wtime
     use xd_core_sorting, only: where_true, sort_index
-    use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max
+    use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max
     implicit none
     private
-    public :: contacts_t, interface_t, build_contacts, faces_of, contact_erode, contact_search, contact_drift, contact_report, &
+    public :: contacts_t, interface_t, build_contacts, faces_of, contact_erode, contact_search, contact_drift, gather_drift, &
+              contact_report, &
               contact_erode_solids, &
               interface_summary, contact_masses, contact_local_search, contact_enforce, contact_work_end, &
               contact_energy, contact_resultants, gather_contact_state, scatter_contact_state, contact_events, &
@@ -187,7 +188,6 @@ module xd_contact_contact
     !> contact_drift sums the surface's velocities in chunks of this many
     !> nodes, the chunks' sums then in order: the same sum for any number
     !> of threads
-    integer, parameter :: drift_chunk = 1024
     !> list_pairs counts and lists the pairs in chunks of this many slaves
     integer, parameter :: pair_chunk = 4096
     real(wp), parameter, public :: contact_step_scale = 0.35_wp   !< contact step sqrt(m / k) times this (omega dt <= 0.5)
@@ -804,85 +804,191 @@ contains
     !> relative to the surface's mean velocity, u += dt x the largest
     !> speed, and the part of the margins used. (The pools rest on the
     !> nodes' positions relative to each other, so a motion common to all
-    !> of them, a vehicle's travel, uses up no margin.)
-    subroutine contact_drift(ct, v, dt)
+    !> of them, a vehicle's travel, uses up no margin.) The mean velocity is
+    !> an exact fixed-point sum (64-bit integers at a scale set by the
+    !> largest speed) and the rest are maxima, so the result does not depend
+    !> on the order the nodes are taken in: with `own` (owned nodes under
+    !> MPI: the model's nodes this rank integrates) each rank takes its own
+    !> surface nodes alone, and the sums and maxima over the ranks are those
+    !> of one rank taking them all, bit for bit. A node's u_i is then kept
+    !> by its rank alone (the others' copies go stale; a dump gathers them,
+    !> gather_drift).
+    subroutine contact_drift(ct, v, dt, own)
         type(contacts_t), intent(inout) :: ct
         !> (explicit shape, as gather_nodes')
         real(wp), intent(in) :: v(3, *), dt
-        integer :: i, nchunk
-        real(wp) :: vmax, used
-        real(wp), allocatable :: part(:, :)
+        logical, intent(in), optional :: own(:)
+        integer :: i, c
+        real(wp) :: vmax, vbar(3)
+        real(dp) :: red(1), sc
+        integer(i8) :: isum(3)
+        logical, allocatable :: mine(:)
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (it%surf%nnode == 0) cycle
-                nchunk = (it%surf%nnode + drift_chunk - 1)/drift_chunk
-                allocate (part(3, nchunk))
-                vmax = 0
+                if (present(own)) then
+                    mine = own(it%surf%node)
+                else
+                    allocate (mine(0))
+                end if
                 ! (a parallel region only where more than one thread runs
                 ! it: xd_core_threads)
+                vmax = 0
                 if (threaded(it%surf%nnode)) then
                     !$omp parallel
-                    call drift_loops(it, v, dt, part, vmax, used)
+                    call drift_max(it, v, mine, vmax)
                     !$omp end parallel
                 else
-                    call drift_loops(it, v, dt, part, vmax, used)
+                    call drift_max(it, v, mine, vmax)
                 end if
-                deallocate (part)
+                if (present(own)) then
+                    red = vmax
+                    call comm_max(red)
+                    vmax = real(red(1), wp)
+                end if
+                ! the fixed-point scale: the sum of nnode terms of at most
+                ! sqrt(vmax) each stays below 2^61
+                sc = 0
+                if (vmax > 0.0_wp) sc = scale(1.0_dp, 61 - exponent(real(it%surf%nnode, dp)*sqrt(real(vmax, dp))))
+                isum = 0
+                if (threaded(it%surf%nnode)) then
+                    !$omp parallel
+                    call drift_sum(it, v, mine, sc, isum)
+                    !$omp end parallel
+                else
+                    call drift_sum(it, v, mine, sc, isum)
+                end if
+                if (present(own)) call comm_sum_i8(isum)
+                vbar = 0
+                if (sc > 0.0_dp) vbar = real(real(isum, dp)/sc/it%surf%nnode, wp)
+                it%cused = 0
+                if (threaded(it%surf%nnode)) then
+                    !$omp parallel
+                    call drift_use(it, v, mine, dt, vbar)
+                    !$omp end parallel
+                else
+                    call drift_use(it, v, mine, dt, vbar)
+                end if
+                if (present(own)) then
+                    do c = 1, size(it%cused)
+                        red = it%cused(c)
+                        call comm_max(red)
+                        it%cused(c) = real(red(1), wp)
+                    end do
+                end if
+                deallocate (mine)
                 it%odo = it%odo + dt*sqrt(vmax)
             end associate
         end do
     end subroutine contact_drift
 
-    !> contact_drift's loops on interface it, as worksharing loops (each
-    !> thread of a region calls it; outside one, the loops run whole).
-    !> part, vmax and used: shared scratch (the chunks' sums, the largest
-    !> speed squared, a class's margin used).
-    subroutine drift_loops(it, v, dt, part, vmax, used)
-        type(interface_t), intent(inout) :: it
-        real(wp), intent(in) :: v(3, *), dt
-        real(wp), intent(inout) :: part(:, :), vmax, used
-        integer :: k, n, c, ic
-        real(wp) :: vk, vbar(3), s1, s2, s3
+    !> contact_drift's passes on interface it, as worksharing loops (each
+    !> thread of a region calls them; outside one, the loops run whole):
+    !> the largest speed squared of the nodes taken (mine: those with true,
+    !> or every node where mine is empty), ...
+    subroutine drift_max(it, v, mine, vmax)
+        type(interface_t), intent(in) :: it
+        real(wp), intent(in) :: v(3, *)
+        logical, intent(in) :: mine(:)
+        real(wp), intent(inout) :: vmax
+        integer :: k, n
+        logical :: all
+        all = size(mine) == 0
         !$omp do schedule(static) reduction(max:vmax)
-        do ic = 1, size(part, 2)
-            s1 = 0; s2 = 0; s3 = 0
-            do k = (ic - 1)*drift_chunk + 1, min(ic*drift_chunk, it%surf%nnode)
-                n = it%surf%node(k)
-                s1 = s1 + v(1, n)
-                s2 = s2 + v(2, n)
-                s3 = s3 + v(3, n)
-                vmax = max(vmax, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
-            end do
-            part(:, ic) = [s1, s2, s3]
+        do k = 1, it%surf%nnode
+            if (.not. all) then
+                if (.not. mine(k)) cycle
+            end if
+            n = it%surf%node(k)
+            vmax = max(vmax, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
         end do
         !$omp end do
-        ! (every thread the same sum, in chunk order)
-        vbar = 0
-        do ic = 1, size(part, 2)
-            vbar = vbar + part(:, ic)
-        end do
-        vbar = vbar/it%surf%nnode
+    end subroutine drift_max
+
+    !> ... their velocities' fixed-point sum at scale sc (exact: any order) ...
+    subroutine drift_sum(it, v, mine, sc, isum)
+        type(interface_t), intent(in) :: it
+        real(wp), intent(in) :: v(3, *)
+        logical, intent(in) :: mine(:)
+        real(dp), intent(in) :: sc
+        integer(i8), intent(inout) :: isum(3)
+        integer(i8) :: s1, s2, s3
+        integer :: k, n
+        logical :: all
+        all = size(mine) == 0
+        s1 = 0
+        s2 = 0
+        s3 = 0
         !$omp do schedule(static)
         do k = 1, it%surf%nnode
+            if (.not. all) then
+                if (.not. mine(k)) cycle
+            end if
+            n = it%surf%node(k)
+            s1 = s1 + nint(real(v(1, n), dp)*sc, i8)
+            s2 = s2 + nint(real(v(2, n), dp)*sc, i8)
+            s3 = s3 + nint(real(v(3, n), dp)*sc, i8)
+        end do
+        !$omp end do nowait
+        !$omp atomic
+        isum(1) = isum(1) + s1
+        !$omp atomic
+        isum(2) = isum(2) + s2
+        !$omp atomic
+        isum(3) = isum(3) + s3
+        !$omp barrier
+    end subroutine drift_sum
+
+    !> ... and u_i += dt |v_i - vbar| with each class's margin used (it%cused,
+    !> zero on entry: a maximum).
+    subroutine drift_use(it, v, mine, dt, vbar)
+        type(interface_t), intent(inout) :: it
+        real(wp), intent(in) :: v(3, *), dt, vbar(3)
+        logical, intent(in) :: mine(:)
+        integer :: k, n, c
+        real(wp) :: vk, used(size(it%cmin))
+        logical :: all
+        all = size(mine) == 0
+        used = 0
+        !$omp do schedule(static)
+        do k = 1, it%surf%nnode
+            if (.not. all) then
+                if (.not. mine(k)) cycle
+            end if
             n = it%surf%node(k)
             vk = sqrt((v(1, n) - vbar(1))**2 + (v(2, n) - vbar(2))**2 + (v(3, n) - vbar(3))**2)
             it%un(k) = it%un(k) + dt*vk
-        end do
-        !$omp end do
-        do c = 1, size(it%cmin)
-            !$omp single
-            used = 0
-            !$omp end single
-            !$omp do schedule(static) reduction(max:used)
-            do k = 1, it%surf%nnode
-                used = max(used, (it%un(k) - it%uc(k, c))*it%cbud(k, c))
+            do c = 1, size(used)
+                used(c) = max(used(c), (it%un(k) - it%uc(k, c))*it%cbud(k, c))
             end do
-            !$omp end do
-            !$omp single
-            it%cused(c) = used
-            !$omp end single
         end do
-    end subroutine drift_loops
+        !$omp end do nowait
+        !$omp critical (drift_used)
+        it%cused = max(it%cused, used)
+        !$omp end critical (drift_used)
+        !$omp barrier
+    end subroutine drift_use
+
+    !> Owned nodes: each surface node's motion bound u_i and the classes'
+    !> copies of it from the node's rank (own: the model's nodes this rank
+    !> integrates) to every rank, before a dump writes them (each value has
+    !> one contributing rank, the others add zero: exact).
+    subroutine gather_drift(ct, own)
+        type(contacts_t), intent(inout) :: ct
+        logical, intent(in) :: own(:)
+        integer :: i, c
+        do i = 1, ct%n
+            associate (it => ct%ifc(i))
+                if (it%surf%nnode == 0) cycle
+                where (.not. own(it%surf%node)) it%un = 0
+                call comm_sum_wp(it%un, size(it%un))
+                do c = 1, size(it%uc, 2)
+                    where (.not. own(it%surf%node)) it%uc(:, c) = 0
+                    call comm_sum_wp(it%uc(:, c), size(it%un))
+                end do
+            end associate
+        end do
+    end subroutine gather_drift
 
     !> One block per dumped slave: header line, then one line per master node.
     subroutine dump_lists(u, it, node_id, cycle, time)

@@ -8,14 +8,14 @@
 !> it is one rank, and each operation is then that of one rank.
 module xd_core_comm
     use mpi_f08, only: MPI_Initialized, MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, &
-                       MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_Datatype, MPI_Request, &
+                       MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_INTEGER8, MPI_Datatype, MPI_Request, &
                        MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Comm_size
     use xd_core_sorting, only: sort_index
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
     implicit none
     private
-    public :: comm_gather_wp, comm_sum_wp, comm_sum_int, comm_sum_dp, comm_max, comm_gather_small, comm_gather_records, &
-              comm_neighbours, comm_ordered_records
+    public :: comm_gather_wp, comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max, comm_gather_small, &
+              comm_gather_records, comm_neighbours, comm_ordered_records
 
 contains
 
@@ -45,6 +45,13 @@ contains
         integer, intent(inout) :: a(*)
         if (n > 0 .and. up()) call MPI_Allreduce(MPI_IN_PLACE, a(1:n), n, MPI_INTEGER, MPI_SUM, MPI_COMM_WORLD)
     end subroutine comm_sum_int
+
+    !> In-place sums over the ranks of 64-bit integers: exact, so the same
+    !> in any order (fixed-point sums that must not depend on the ranks).
+    subroutine comm_sum_i8(a)
+        integer(i8), contiguous, intent(inout) :: a(:)
+        if (up()) call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_INTEGER8, MPI_SUM, MPI_COMM_WORLD)
+    end subroutine comm_sum_i8
 
     !> all = every rank's `mine`, rank after rank (rank r - 1 gives cnt(r)
     !> values at offset disp(r)).

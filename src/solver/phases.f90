@@ -974,7 +974,7 @@ contains
             end if
             call track_rotations(hist, st)
         end if
-        if (ct%n > 0) call contact_drift(ct, st%v, st%dt)
+        if (ct%n > 0) call contact_drift(ct, st%v, st%dt, dom%own)
         st%time = st%time + real(st%dt, dp)
         st%cycle = st%cycle + 1
         st%dt_old = st%dt

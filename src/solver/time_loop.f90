@@ -30,7 +30,7 @@ module xd_solver_time_loop
     use xd_elements_beam_bs, only: beams_t
     use xd_contact_tied, only: ties_t
     use xd_contact_contact, only: contacts_t, contact_search, contact_work_end, contact_resultants, &
-                                  gather_contact_state, scatter_contact_state
+                                  gather_contact_state, scatter_contact_state, gather_drift
     use xd_solver_prescribed, only: prescribed_nodes_t
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t
@@ -705,6 +705,9 @@ contains
         ! the dump's history marks count the rows in thist.h5
         call flush_histories(hist)
         ok = .true.
+        ! (each surface node's motion bound from its rank: owned nodes keep
+        ! their own alone, contact_drift)
+        if (dom%owned .and. ct%n > 0) call gather_drift(ct, dom%own)
         if (dom%on) call gather_contact_state(ct)
         if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, bm, walls, rg, ct, td, &
                                            history_marks(hist), states_marks(states), ok)
