@@ -4022,6 +4022,51 @@ def test_mpi_metis():
            f"rc={p.returncode} {(p.stdout + p.stderr)[-200:]}")
 
 
+def test_mpi_contact_own():
+    """XDYNA_CONTACT_OWN=1 (issue 32, the first step of ghosts by
+    proximity): each rank bounds the motion of its own contact surface
+    nodes alone (the surface's mean velocity an exact fixed-point sum, the
+    largest speeds and the margins used maxima, each reduced over the
+    ranks), so no rank needs a surface velocity it does not own to decide
+    the searches; the decisions are the serial run's, and so is the motion
+    bit for bit, energies to 1e-12 (same_dynamics): the tube crush on 2 and
+    4 ranks, and dumped on 2 ranks mid-crush (each node's bound gathered
+    from its rank) and restarted on 4."""
+    if shutil.which("mpirun") is None:
+        record("mpirun is installed (make deps: openmpi-bin)", False)
+        return
+    env = {"XDYNA_CONTACT_OWN": "1"}
+    deck = with_cards("input_decks/contact/tube_crush.k", "own_tube", "*DATABASE_BINARY_D3DUMP\n         0\n")
+    p0, serial = run_deck(deck, "own_serial", extra=("endtim=0.0015",))
+    for n in (2, 4):
+        out = os.path.join(TMP, f"own{n}")
+        p = mpirun(n, ["i=" + deck, "outdir=" + out, "endtim=0.0015"], env_extra=env)
+        ok, msg = (False, p.stderr[-300:]) if p.returncode or p0.returncode else same_dynamics(serial, out)
+        named = ok and "bounds the motion of its own surface nodes alone" in open(os.path.join(out, "d3hsp")).read()
+        record(f"XDYNA_CONTACT_OWN: the tube crush on {n} ranks, each bounding its own surface nodes' motion, gives "
+               "the serial run's motion bitwise, energies to 1e-12 (named in d3hsp)", ok and named, msg)
+    part = os.path.join(TMP, "own_rs")
+    p1 = mpirun(2, ["i=" + deck, "outdir=" + part, "endtim=0.0008"], env_extra=env)
+    # the dump holds every surface node's motion bound, each from its rank:
+    # the serial dump's at the same cycle, bit for bit
+    q, sdump = run_deck(deck, "own_serial_dump", extra=("endtim=0.0008",))
+    try:
+        with h5py.File(os.path.join(sdump, "d3dump.h5"), "r") as fa, \
+                h5py.File(os.path.join(part, "d3dump.h5"), "r") as fb:
+            keys = [f"contact/i1/{k}" for k in ("node_drift", "class_drift", "class_used")]
+            same = all(np.array_equal(fa[k][()], fb[k][()]) for k in keys)
+            detail = f"{len(fa[keys[0]])} nodes, largest bound {fa[keys[0]][()].max():.3e}"
+    except (OSError, KeyError) as err:
+        same, detail = False, str(err)
+    record(f"XDYNA_CONTACT_OWN: a 2-rank dump's motion bounds equal the serial dump's bitwise ({detail})",
+           same and q.returncode == 0 and p1.returncode == 0, detail)
+    p2 = mpirun(4, ["r=" + os.path.join(part, "d3dump.h5"), "endtim=0.0015"], env_extra=env) \
+        if p1.returncode == 0 else p1
+    ok, msg = same_dynamics(serial, part) if p2.returncode == 0 else (False, (p1.stderr + p2.stderr)[-300:])
+    record("XDYNA_CONTACT_OWN: the tube crush dumped on 2 ranks at 0.8 ms and restarted on 4 gives the serial "
+           "run's motion bitwise", ok, msg)
+
+
 def test_mpi_owned():
     """Owned nodes (issue 32, deliverable 1): where a model has none of the
     features that still need every node on every rank (contact, walls,
@@ -6539,7 +6584,7 @@ def test_write_failures():
 def main():
     """Every test; with arguments, only the tests whose names contain one of
     them (for development: `tests/run_tests.py contact_friction`)."""
-    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_tiebreak_cohesive, test_erosion, test_solid_erosion, test_solid_erosion_contact, test_nodal_rigid_inertia, test_beams, test_spotweld, test_spotweld_plastic, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_near_sets_exact, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_mpi_metis, test_mpi_owned, test_stability, test_contact_suite, test_cli, test_part_sizes, test_stack_limit, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
+    tests = [unit_tests, test_bar_impact, test_free_block, test_prestressed, test_bar_wall, test_moving_walls, test_gravity_drop, test_plasticity, test_taylor_bar, test_rigid_bodies, test_rigid_wall_bodies, test_rigid_constraints, test_pressure, test_shells, test_shell_warped_spin, test_shell_hourglass_forms, test_shell_hourglass_plastic_bound, test_shell_step_length, test_element_mass, test_tied_contact, test_tiebreak, test_tiebreak_cohesive, test_erosion, test_solid_erosion, test_solid_erosion_contact, test_nodal_rigid_inertia, test_beams, test_spotweld, test_spotweld_plastic, test_shell_large_vibration, test_clamped_plate, test_subsystems, test_malformed, test_contact_surface_log, test_contact_search_interval, test_contact_fine_patch_classes, test_contact_bars, test_contact_bars_lagrange, test_lagrange_step, test_contact_block_on_block, test_contact_patch, test_contact_swept_onset, test_contact_friction, test_tube_crush, test_near_sets_exact, test_shell_fold, test_shell_on_solid, test_initial_penetration, test_penmax, test_thkchg, test_edge_contact, test_mass_scaling, test_blocks_impact, test_penetration_checker, test_wall_of_blocks, test_ascii_layout, test_lstc_layouts, test_thist_metadata, test_states, test_d3plot, test_restart, test_batch_signals, test_sense_switches, test_slurm_example, test_format_rules, test_runtime_error, test_thdiff, test_threads, test_mpi, test_mpi_metis, test_mpi_contact_own, test_mpi_owned, test_stability, test_contact_suite, test_cli, test_part_sizes, test_stack_limit, test_public_forms, test_public_decks, test_wall_semantics, test_coordinate_systems, test_lone_cube, test_hardening, test_hardening_two, test_full_filesystem, test_write_failures, test_fuzz]
     times = []
     for test in tests:
         if len(sys.argv) < 2 or any(a in test.__name__ for a in sys.argv[1:]):

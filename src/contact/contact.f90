@@ -818,74 +818,76 @@ contains
         !> (explicit shape, as gather_nodes')
         real(wp), intent(in) :: v(3, *), dt
         logical, intent(in), optional :: own(:)
-        integer :: i, c
-        real(wp) :: vmax, vbar(3)
-        real(dp) :: red(1), sc
-        integer(i8) :: isum(3)
-        logical, allocatable :: mine(:)
+        logical :: every(0)
+        integer :: i
+        ! (mine: the model's nodes this rank takes; empty: every node)
         do i = 1, ct%n
-            associate (it => ct%ifc(i))
-                if (it%surf%nnode == 0) cycle
-                if (present(own)) then
-                    mine = own(it%surf%node)
-                else
-                    allocate (mine(0))
-                end if
-                ! (a parallel region only where more than one thread runs
-                ! it: xd_core_threads)
-                vmax = 0
-                if (threaded(it%surf%nnode)) then
-                    !$omp parallel
-                    call drift_max(it, v, mine, vmax)
-                    !$omp end parallel
-                else
-                    call drift_max(it, v, mine, vmax)
-                end if
-                if (present(own)) then
-                    red = vmax
-                    call comm_max(red)
-                    vmax = real(red(1), wp)
-                end if
-                ! the fixed-point scale: the sum of nnode terms of at most
-                ! sqrt(vmax) each stays below 2^61
-                sc = 0
-                if (vmax > 0.0_wp) sc = scale(1.0_dp, 61 - exponent(real(it%surf%nnode, dp)*sqrt(real(vmax, dp))))
-                isum = 0
-                if (threaded(it%surf%nnode)) then
-                    !$omp parallel
-                    call drift_sum(it, v, mine, sc, isum)
-                    !$omp end parallel
-                else
-                    call drift_sum(it, v, mine, sc, isum)
-                end if
-                if (present(own)) call comm_sum_i8(isum)
-                vbar = 0
-                if (sc > 0.0_dp) vbar = real(real(isum, dp)/sc/it%surf%nnode, wp)
-                it%cused = 0
-                if (threaded(it%surf%nnode)) then
-                    !$omp parallel
-                    call drift_use(it, v, mine, dt, vbar)
-                    !$omp end parallel
-                else
-                    call drift_use(it, v, mine, dt, vbar)
-                end if
-                if (present(own)) then
-                    do c = 1, size(it%cused)
-                        red = it%cused(c)
-                        call comm_max(red)
-                        it%cused(c) = real(red(1), wp)
-                    end do
-                end if
-                deallocate (mine)
-                it%odo = it%odo + dt*sqrt(vmax)
-            end associate
+            if (ct%ifc(i)%surf%nnode == 0) cycle
+            if (present(own)) then
+                call drift_one(ct%ifc(i), own)
+            else
+                call drift_one(ct%ifc(i), every)
+            end if
         end do
+    contains
+        subroutine drift_one(it, mine)
+            type(interface_t), intent(inout) :: it
+            logical, intent(in) :: mine(:)
+            real(wp) :: vmax, vbar(3)
+            real(dp) :: red(1), sc
+            real(dp), allocatable :: rc(:)
+            integer(i8) :: isum(3)
+            ! (a parallel region only where more than one thread runs it:
+            ! xd_core_threads)
+            vmax = 0
+            if (threaded(it%surf%nnode)) then
+                !$omp parallel
+                call drift_max(it, v, mine, vmax)
+                !$omp end parallel
+            else
+                call drift_max(it, v, mine, vmax)
+            end if
+            if (present(own)) then
+                red = vmax
+                call comm_max(red)
+                vmax = real(red(1), wp)
+            end if
+            ! the fixed-point scale: the sum of nnode terms of at most
+            ! sqrt(vmax) each stays below 2^61
+            sc = 0
+            if (vmax > 0.0_wp) sc = scale(1.0_dp, 61 - exponent(real(it%surf%nnode, dp)*sqrt(real(vmax, dp))))
+            isum = 0
+            if (threaded(it%surf%nnode)) then
+                !$omp parallel
+                call drift_sum(it, v, mine, sc, isum)
+                !$omp end parallel
+            else
+                call drift_sum(it, v, mine, sc, isum)
+            end if
+            if (present(own)) call comm_sum_i8(isum)
+            vbar = 0
+            if (sc > 0.0_dp) vbar = real(real(isum, dp)/sc/it%surf%nnode, wp)
+            it%cused = 0
+            if (threaded(it%surf%nnode)) then
+                !$omp parallel
+                call drift_use(it, v, mine, dt, vbar)
+                !$omp end parallel
+            else
+                call drift_use(it, v, mine, dt, vbar)
+            end if
+            if (present(own)) then
+                rc = it%cused
+                call comm_max(rc)
+                it%cused = real(rc, wp)
+            end if
+            it%odo = it%odo + dt*sqrt(vmax)
+        end subroutine drift_one
     end subroutine contact_drift
 
     !> contact_drift's passes on interface it, as worksharing loops (each
     !> thread of a region calls them; outside one, the loops run whole):
-    !> the largest speed squared of the nodes taken (mine: those with true,
-    !> or every node where mine is empty), ...
+    !> the largest speed squared of the nodes taken (mine: the model's nodes
+    !> with true, or every node where mine is empty), ...
     subroutine drift_max(it, v, mine, vmax)
         type(interface_t), intent(in) :: it
         real(wp), intent(in) :: v(3, *)
@@ -896,10 +898,10 @@ contains
         all = size(mine) == 0
         !$omp do schedule(static) reduction(max:vmax)
         do k = 1, it%surf%nnode
-            if (.not. all) then
-                if (.not. mine(k)) cycle
-            end if
             n = it%surf%node(k)
+            if (.not. all) then
+                if (.not. mine(n)) cycle
+            end if
             vmax = max(vmax, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
         end do
         !$omp end do
@@ -921,10 +923,10 @@ contains
         s3 = 0
         !$omp do schedule(static)
         do k = 1, it%surf%nnode
-            if (.not. all) then
-                if (.not. mine(k)) cycle
-            end if
             n = it%surf%node(k)
+            if (.not. all) then
+                if (.not. mine(n)) cycle
+            end if
             s1 = s1 + nint(real(v(1, n), dp)*sc, i8)
             s2 = s2 + nint(real(v(2, n), dp)*sc, i8)
             s3 = s3 + nint(real(v(3, n), dp)*sc, i8)
@@ -952,10 +954,10 @@ contains
         used = 0
         !$omp do schedule(static)
         do k = 1, it%surf%nnode
-            if (.not. all) then
-                if (.not. mine(k)) cycle
-            end if
             n = it%surf%node(k)
+            if (.not. all) then
+                if (.not. mine(n)) cycle
+            end if
             vk = sqrt((v(1, n) - vbar(1))**2 + (v(2, n) - vbar(2))**2 + (v(3, n) - vbar(3))**2)
             it%un(k) = it%un(k) + dt*vk
             do c = 1, size(used)
@@ -1089,17 +1091,29 @@ contains
 
     !> Step 3 on x(n) with v(n-1/2): each slave's contact this cycle
     !> (slaves are independent of each other).
-    subroutine contact_local_search(ct, x, v, time, dt)
+    subroutine contact_local_search(ct, x, v, time, dt, own)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: x(:, :), v(:, :), dt
         real(dp), intent(in) :: time
+        !> owned nodes under MPI: the model's nodes this rank integrates (the
+        !> largest speed is then each rank's own surface nodes' maximum,
+        !> taken over the ranks: what one rank taking them all finds)
+        logical, intent(in), optional :: own(:)
         integer :: i
         real(wp) :: v2
+        real(dp) :: red(1)
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%active = time >= it%bt .and. time <= it%dt
                 if (.not. it%active) cycle
-                call gather_nodes(x, v, s%node, it%ls%xl, it%ls%vl, v2)
+                if (present(own)) then
+                    call gather_nodes(x, v, s%node, it%ls%xl, it%ls%vl, v2, own)
+                    red = v2
+                    call comm_max(red)
+                    v2 = real(red(1), wp)
+                else
+                    call gather_nodes(x, v, s%node, it%ls%xl, it%ls%vl, v2)
+                end if
                 ! Lagrangian projection: pairs that one step's approach (two
                 ! nodes at the largest speed) could close are found before
                 ! they touch, so that none penetrates (section 6)
@@ -1161,27 +1175,45 @@ contains
 
     !> The surface's coordinates and velocities (nodes `node` of x and v),
     !> and the largest speed squared (threaded: a maximum is the same in
-    !> any order).
-    subroutine gather_nodes(x, v, node, xl, vl, v2)
+    !> any order), of the nodes n with mine(n) true where it is given
+    !> (indexed by the model's nodes).
+    subroutine gather_nodes(x, v, node, xl, vl, v2, mine)
         !> (explicit shape: a node's address one multiply, no descriptor)
         real(wp), intent(in) :: x(3, *), v(3, *)
         integer, intent(in) :: node(:)
         real(wp), intent(out) :: xl(3, *), vl(3, *), v2
+        logical, intent(in), optional :: mine(:)
         v2 = 0
         if (threaded(size(node))) then
             !$omp parallel
-            call gather_nodes_loop(x, v, node, xl, vl, v2)
+            call gather_nodes_loop(x, v, node, xl, vl, v2, mine)
             !$omp end parallel
         else
-            call gather_nodes_loop(x, v, node, xl, vl, v2)
+            call gather_nodes_loop(x, v, node, xl, vl, v2, mine)
         end if
     end subroutine gather_nodes
 
-    subroutine gather_nodes_loop(x, v, node, xl, vl, v2)
+    subroutine gather_nodes_loop(x, v, node, xl, vl, v2, mine)
         real(wp), intent(in) :: x(3, *), v(3, *)
         integer, intent(in) :: node(:)
         real(wp), intent(inout) :: xl(3, *), vl(3, *), v2
+        logical, intent(in), optional :: mine(:)
         integer :: k, n
+        if (present(mine)) then
+            !$omp do schedule(static) reduction(max:v2)
+            do k = 1, size(node)
+                n = node(k)
+                xl(1, k) = x(1, n)
+                xl(2, k) = x(2, n)
+                xl(3, k) = x(3, n)
+                vl(1, k) = v(1, n)
+                vl(2, k) = v(2, n)
+                vl(3, k) = v(3, n)
+                if (mine(n)) v2 = max(v2, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
+            end do
+            !$omp end do
+            return
+        end if
         !$omp do schedule(static) reduction(max:v2)
         do k = 1, size(node)
             n = node(k)

@@ -95,6 +95,14 @@ module xd_solver_domain
         !> comm_neighbours). Set by the time loop, unless XDYNA_REPLICATED
         !> asks that every rank integrate every node.
         logical :: owned = .false.
+        !> owned nodes, XDYNA_CONTACT_OWN=1: the contact's motion bounds and
+        !> largest speeds taken by each rank over its own surface nodes and
+        !> reduced over the ranks (contact_drift, contact_local_search), as
+        !> ghosts by proximity will need (no rank then holds every surface
+        !> velocity); off by default until they come, since each cycle it
+        !> adds three small collectives that wait for the slowest rank (car6
+        !> on 2 ranks: time integration 1.0 -> 1.8 s of 17)
+        logical :: contact_own = .false.
         !> with owned nodes, node_mine again; unallocated in the replicated
         !> state, so that a routine's optional `mine` argument given it is
         !> absent there (every rank takes every node)

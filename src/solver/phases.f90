@@ -624,7 +624,11 @@ contains
         call tm%start(ph_local)
         ! THKCHG: the shells' thickness of this cycle's element pass
         if (ct%thkchg .and. sh%n > 0) call contact_thickness(ct, sh%conn, sh%h, sh%mine)
-        call contact_local_search(ct, st%x, st%v, st%time, st%dt)
+        if (dom%contact_own) then
+            call contact_local_search(ct, st%x, st%v, st%time, st%dt, dom%own)
+        else
+            call contact_local_search(ct, st%x, st%v, st%time, st%dt)
+        end if
         call tm%stop(ph_local)
         call tm%start(ph_enforce)
         t_gather = ct%wall_gather
@@ -974,7 +978,13 @@ contains
             end if
             call track_rotations(hist, st)
         end if
-        if (ct%n > 0) call contact_drift(ct, st%v, st%dt, dom%own)
+        if (ct%n > 0) then
+            if (dom%contact_own) then
+                call contact_drift(ct, st%v, st%dt, dom%own)
+            else
+                call contact_drift(ct, st%v, st%dt)
+            end if
+        end if
         st%time = st%time + real(st%dt, dp)
         st%cycle = st%cycle + 1
         st%dt_old = st%dt

@@ -392,6 +392,10 @@ contains
             dom%own = dom%node_mine
             dom%own_solid = dom%solid_mine
             dom%own_shell = dom%shell_mine
+            call get_environment_variable('XDYNA_CONTACT_OWN', env, length=n, status=stat)
+            dom%contact_own = stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0'
+            if (dom%contact_own) call log_line(lg, ' contact: each rank bounds the motion of its own surface '// &
+                                               'nodes alone, reduced over the ranks (XDYNA_CONTACT_OWN)')
             ! (the contact surfaces' nodes: their velocities go to every rank)
             ! (and the pressure segments' nodes: every rank takes every
             ! segment's force, as it takes every contact)
@@ -707,7 +711,7 @@ contains
         ok = .true.
         ! (each surface node's motion bound from its rank: owned nodes keep
         ! their own alone, contact_drift)
-        if (dom%owned .and. ct%n > 0) call gather_drift(ct, dom%own)
+        if (dom%contact_own .and. ct%n > 0) call gather_drift(ct, dom%own)
         if (dom%on) call gather_contact_state(ct)
         if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, bm, walls, rg, ct, td, &
                                            history_marks(hist), states_marks(states), ok)
