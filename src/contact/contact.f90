@@ -907,7 +907,9 @@ contains
         !$omp end do
     end subroutine drift_max
 
-    !> ... their velocities' fixed-point sum at scale sc (exact: any order) ...
+    !> ... their velocities' fixed-point sum at scale sc (each term truncated
+    !> toward zero, one instruction that vectorises; the sum exact: any
+    !> order) ...
     subroutine drift_sum(it, v, mine, sc, isum)
         type(interface_t), intent(in) :: it
         real(wp), intent(in) :: v(3, *)
@@ -927,9 +929,9 @@ contains
             if (.not. all) then
                 if (.not. mine(n)) cycle
             end if
-            s1 = s1 + nint(real(v(1, n), dp)*sc, i8)
-            s2 = s2 + nint(real(v(2, n), dp)*sc, i8)
-            s3 = s3 + nint(real(v(3, n), dp)*sc, i8)
+            s1 = s1 + int(real(v(1, n), dp)*sc, i8)
+            s2 = s2 + int(real(v(2, n), dp)*sc, i8)
+            s3 = s3 + int(real(v(3, n), dp)*sc, i8)
         end do
         !$omp end do nowait
         !$omp atomic
@@ -942,32 +944,56 @@ contains
     end subroutine drift_sum
 
     !> ... and u_i += dt |v_i - vbar| with each class's margin used (it%cused,
-    !> zero on entry: a maximum).
+    !> zero on entry: a maximum, each thread's taken in); a loop for u, then
+    !> one a class, each without a mask where every node is taken (they
+    !> vectorise).
     subroutine drift_use(it, v, mine, dt, vbar)
         type(interface_t), intent(inout) :: it
         real(wp), intent(in) :: v(3, *), dt, vbar(3)
         logical, intent(in) :: mine(:)
         integer :: k, n, c
-        real(wp) :: vk, used(size(it%cmin))
-        logical :: all
-        all = size(mine) == 0
-        used = 0
-        !$omp do schedule(static)
-        do k = 1, it%surf%nnode
-            n = it%surf%node(k)
-            if (.not. all) then
-                if (.not. mine(n)) cycle
-            end if
-            vk = sqrt((v(1, n) - vbar(1))**2 + (v(2, n) - vbar(2))**2 + (v(3, n) - vbar(3))**2)
-            it%un(k) = it%un(k) + dt*vk
-            do c = 1, size(used)
-                used(c) = max(used(c), (it%un(k) - it%uc(k, c))*it%cbud(k, c))
+        real(wp) :: vk, used
+        if (size(mine) == 0) then
+            !$omp do schedule(static)
+            do k = 1, it%surf%nnode
+                n = it%surf%node(k)
+                vk = sqrt((v(1, n) - vbar(1))**2 + (v(2, n) - vbar(2))**2 + (v(3, n) - vbar(3))**2)
+                it%un(k) = it%un(k) + dt*vk
             end do
-        end do
-        !$omp end do nowait
-        !$omp critical (drift_used)
-        it%cused = max(it%cused, used)
-        !$omp end critical (drift_used)
+            !$omp end do
+            do c = 1, size(it%cmin)
+                used = 0
+                !$omp do schedule(static)
+                do k = 1, it%surf%nnode
+                    used = max(used, (it%un(k) - it%uc(k, c))*it%cbud(k, c))
+                end do
+                !$omp end do nowait
+                !$omp critical (drift_used)
+                it%cused(c) = max(it%cused(c), used)
+                !$omp end critical (drift_used)
+            end do
+        else
+            !$omp do schedule(static)
+            do k = 1, it%surf%nnode
+                n = it%surf%node(k)
+                if (.not. mine(n)) cycle
+                vk = sqrt((v(1, n) - vbar(1))**2 + (v(2, n) - vbar(2))**2 + (v(3, n) - vbar(3))**2)
+                it%un(k) = it%un(k) + dt*vk
+            end do
+            !$omp end do
+            do c = 1, size(it%cmin)
+                used = 0
+                !$omp do schedule(static)
+                do k = 1, it%surf%nnode
+                    if (.not. mine(it%surf%node(k))) cycle
+                    used = max(used, (it%un(k) - it%uc(k, c))*it%cbud(k, c))
+                end do
+                !$omp end do nowait
+                !$omp critical (drift_used)
+                it%cused(c) = max(it%cused(c), used)
+                !$omp end critical (drift_used)
+            end do
+        end if
         !$omp barrier
     end subroutine drift_use
 
