@@ -34,9 +34,9 @@ for r in $ranks; do
     out=$dir/r${r}_${ntx}x${nty}
     rm -rf $out
     if [ "$r" -eq 1 ]; then
-        OMP_NUM_THREADS=1 ./bin/xdyna i=$deck outdir=$out > /dev/null
+        OMP_NUM_THREADS=1 ./bin/xdyna i=$deck outdir=$out > /dev/null < /dev/null
     else
-        mpirun --allow-run-as-root --oversubscribe -np $r -x OMP_NUM_THREADS=1 ./bin/xdyna i=$deck outdir=$out > /dev/null
+        mpirun --allow-run-as-root --oversubscribe -np $r -x OMP_NUM_THREADS=1 ./bin/xdyna i=$deck outdir=$out > /dev/null < /dev/null
     fi
     awk -v r=$r '
         /  total/ {tot = $NF}
