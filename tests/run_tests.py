@@ -4031,25 +4031,29 @@ def test_mpi_contact_own():
     the searches; the decisions are the serial run's, and so is the motion
     bit for bit, energies to 1e-12 (same_dynamics): the tube crush on 2 and
     4 ranks, and dumped on 2 ranks mid-crush (each node's bound gathered
-    from its rank) and restarted on 4."""
+    from its rank) and restarted on 4. The contacts' work is each rank's
+    own slaves' pairs', the ranks' sums added (the sliding energy in glstat
+    to 1e-12 of its peak, same_dynamics; a restart's sums stay on rank 0:
+    left on every rank, the restarted run's sliding energy came out too
+    large, checked by hand when this was written)."""
     if shutil.which("mpirun") is None:
         record("mpirun is installed (make deps: openmpi-bin)", False)
         return
     env = {"XDYNA_CONTACT_OWN": "1"}
     deck = with_cards("input_decks/contact/tube_crush.k", "own_tube", "*DATABASE_BINARY_D3DUMP\n         0\n")
-    p0, serial = run_deck(deck, "own_serial", extra=("endtim=0.0015",))
+    p0, serial = run_deck(deck, "own_serial", extra=("endtim=0.002",))
     for n in (2, 4):
         out = os.path.join(TMP, f"own{n}")
-        p = mpirun(n, ["i=" + deck, "outdir=" + out, "endtim=0.0015"], env_extra=env)
+        p = mpirun(n, ["i=" + deck, "outdir=" + out, "endtim=0.002"], env_extra=env)
         ok, msg = (False, p.stderr[-300:]) if p.returncode or p0.returncode else same_dynamics(serial, out)
         named = ok and "bounds the motion of its own surface nodes alone" in open(os.path.join(out, "d3hsp")).read()
         record(f"XDYNA_CONTACT_OWN: the tube crush on {n} ranks, each bounding its own surface nodes' motion, gives "
                "the serial run's motion bitwise, energies to 1e-12 (named in d3hsp)", ok and named, msg)
     part = os.path.join(TMP, "own_rs")
-    p1 = mpirun(2, ["i=" + deck, "outdir=" + part, "endtim=0.0008"], env_extra=env)
+    p1 = mpirun(2, ["i=" + deck, "outdir=" + part, "endtim=0.0014"], env_extra=env)
     # the dump holds every surface node's motion bound, each from its rank:
     # the serial dump's at the same cycle, bit for bit
-    q, sdump = run_deck(deck, "own_serial_dump", extra=("endtim=0.0008",))
+    q, sdump = run_deck(deck, "own_serial_dump", extra=("endtim=0.0014",))
     try:
         with h5py.File(os.path.join(sdump, "d3dump.h5"), "r") as fa, \
                 h5py.File(os.path.join(part, "d3dump.h5"), "r") as fb:
@@ -4060,11 +4064,11 @@ def test_mpi_contact_own():
         same, detail = False, str(err)
     record(f"XDYNA_CONTACT_OWN: a 2-rank dump's motion bounds equal the serial dump's bitwise ({detail})",
            same and q.returncode == 0 and p1.returncode == 0, detail)
-    p2 = mpirun(4, ["r=" + os.path.join(part, "d3dump.h5"), "endtim=0.0015"], env_extra=env) \
+    p2 = mpirun(4, ["r=" + os.path.join(part, "d3dump.h5"), "endtim=0.002"], env_extra=env) \
         if p1.returncode == 0 else p1
     ok, msg = same_dynamics(serial, part) if p2.returncode == 0 else (False, (p1.stderr + p2.stderr)[-300:])
-    record("XDYNA_CONTACT_OWN: the tube crush dumped on 2 ranks at 0.8 ms and restarted on 4 gives the serial "
-           "run's motion bitwise", ok, msg)
+    record("XDYNA_CONTACT_OWN: the tube crush dumped on 2 ranks at 1.4 ms (in contact since 1.25 ms) "
+           "and restarted on 4 gives the serial run's motion bitwise, its sliding energy to 1e-12", ok, msg)
 
 
 def test_mpi_owned():

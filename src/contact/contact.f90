@@ -215,6 +215,11 @@ module xd_contact_contact
         real(wp) :: dt_limit = huge(1.0_wp)   !< stable step of the stiffest contact spring
         integer :: dt_node = 0                !< the node that sets it
         logical :: distributed = .false.      !< slaves split over MPI ranks: contacts are gathered
+        !> owned nodes, XDYNA_CONTACT_OWN: each rank books the contacts' work
+        !> (sliding energy, part pairs' impulse and work) of its own slaves'
+        !> pairs alone, with their own nodes' velocities; the ranks' sums are
+        !> added where an energy, a dump or the report reads them
+        logical :: own_work = .false.
         !> THKCHG with ISTUPD: some interface's shell contact thickness
         !> follows the shells'; each model node's largest initial thickness of
         !> a deformable shell at it (0: none)
@@ -1468,7 +1473,8 @@ contains
                         f(:, s%node(s%seg(j, m))) = f(:, s%node(s%seg(j, m))) - it%hit(k)%nshape(j)*fs
                         ct%fnode(:, s%node(s%seg(j, m))) = ct%fnode(:, s%node(s%seg(j, m))) - it%hit(k)%nshape(j)*fs
                     end do
-                    it%pminus = it%pminus + dot_product(real(fs, dp), real(vrel, dp))
+                    if (.not. ct%own_work .or. it%owned(k)) &
+                        it%pminus = it%pminus + dot_product(real(fs, dp), real(vrel, dp))
                     it%fslave = it%fslave + fs
                     it%fmaster = it%fmaster - fs
                     it%mslave = it%mslave + it%ms(sn)
@@ -1984,6 +1990,13 @@ contains
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (whole) call slave_state(it)
+                if (ct%own_work) then
+                    ! (each rank's own pairs' work: the sums, on every rank
+                    ! until scatter_contact_state)
+                    call sum_dp(it%energy)
+                    call sum_pairs(it%pair_imp)
+                    call sum_pairs(it%pair_work)
+                end if
                 call sum_i8(it%total%pool)
                 call sum_i8(it%total%reduced)
                 call sum_i8(it%total%masters)
@@ -2059,6 +2072,22 @@ contains
             call comm_sum_dp(b)
             c = nint(b(1), i8)
         end subroutine sum_i8
+
+        subroutine sum_dp(c)
+            real(dp), intent(inout) :: c
+            real(dp) :: b(1)
+            b = c
+            call comm_sum_dp(b)
+            c = b(1)
+        end subroutine sum_dp
+
+        subroutine sum_pairs(a)
+            real(dp), intent(inout) :: a(:, :, :)
+            real(dp), allocatable :: b(:)
+            b = reshape(a, [size(a)])
+            call comm_sum_dp(b)
+            a = reshape(b, shape(a))
+        end subroutine sum_pairs
     end subroutine gather_contact_state
 
     !> After gather_contact_state: the summed counters stay on rank 0 only,
@@ -2073,6 +2102,11 @@ contains
                 it%total%pool = 0
                 it%total%reduced = 0
                 it%total%masters = 0
+                if (ct%own_work) then
+                    it%energy = 0
+                    it%pair_imp = 0
+                    it%pair_work = 0
+                end if
             end associate
         end do
     end subroutine scatter_contact_state
@@ -2091,6 +2125,9 @@ contains
                 pplus = 0
                 do q = 1, it%npair
                     k = it%pair(q)
+                    if (ct%own_work) then
+                        if (.not. it%owned(k)) cycle
+                    end if
                     m = it%hit(k)%seg
                     vrel = v(:, s%node(s%slave(k))) - matmul(v(:, s%node(s%seg(:, m))), it%hit(k)%nshape)
                     fv = dot_product(real(it%fpair(:, q), dp), real(vrel, dp))
@@ -2130,10 +2167,18 @@ contains
         type(contacts_t), intent(in) :: ct
         real(dp), intent(in) :: dt_avg
         integer :: i
+        real(dp) :: r(1)
         e = 0
         do i = 1, ct%n
             e = e + ct%ifc(i)%energy - 0.5_dp*dt_avg*ct%ifc(i)%pminus
         end do
+        ! (each rank's own pairs' work: the ranks' sums added; every rank
+        ! calls this at the same point)
+        if (ct%own_work) then
+            r = e
+            call comm_sum_dp(r)
+            e = r(1)
+        end if
     end function contact_energy
 
     !> rcforc values of every interface: slave force, slave mass in contact,

@@ -140,6 +140,7 @@ contains
         !> writing and reading the slots); the nodes the parts or the ranks
         !> share are summed from the slots after the pass
         logical :: shells_direct
+        integer :: i
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
         shells_direct = sh%n > 0
@@ -163,6 +164,18 @@ contains
         call mass_scaling_begin(ms, model%ctl, lg)
         call step_stats_init(ss, solids%n, sh%n)
         if (dom%on) call choose_owned(dom, ct, rg, td, bm, pl, sh, hist, lg)
+        if (dom%contact_own .and. ct%n > 0) then
+            ! each rank books its own slaves' contacts' work; a restart's
+            ! sums (every rank read them) stay on rank 0 alone
+            ct%own_work = .true.
+            if (dom%rank /= 0) then
+                do i = 1, ct%n
+                    ct%ifc(i)%energy = 0
+                    ct%ifc(i)%pair_imp = 0
+                    ct%ifc(i)%pair_work = 0
+                end do
+            end if
+        end if
         ! (the scale of the momenta glstat and matsum report)
         call log_line(lg, ' initial nodal mass (the nodes'' lumped masses) .......... '//rtoa(sum(real(st%mass, dp))))
 
@@ -394,8 +407,16 @@ contains
             dom%own_shell = dom%shell_mine
             call get_environment_variable('XDYNA_CONTACT_OWN', env, length=n, status=stat)
             dom%contact_own = stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0'
+            ! (the Lagrangian projection and the shell edges' pairs read
+            ! every surface node: not there)
+            if (dom%contact_own .and. (ct%lagrange .or. any([(ct%ifc(i)%ed%ne > 0, i=1, ct%n)]))) then
+                dom%contact_own = .false.
+                call log_line(lg, ' contact: XDYNA_CONTACT_OWN ignored: the Lagrangian projection and shell '// &
+                              'edge pairs read every surface node')
+            end if
             if (dom%contact_own) call log_line(lg, ' contact: each rank bounds the motion of its own surface '// &
-                                               'nodes alone, reduced over the ranks (XDYNA_CONTACT_OWN)')
+                                               'nodes alone and books its own slaves'' contacts'' work, '// &
+                                               'reduced over the ranks (XDYNA_CONTACT_OWN)')
             ! (the contact surfaces' nodes: their velocities go to every rank)
             ! (and the pressure segments' nodes: every rank takes every
             ! segment's force, as it takes every contact)
