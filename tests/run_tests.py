@@ -4069,6 +4069,42 @@ def test_mpi_contact_own():
     ok, msg = same_dynamics(serial, part) if p2.returncode == 0 else (False, (p1.stderr + p2.stderr)[-300:])
     record("XDYNA_CONTACT_OWN: the tube crush dumped on 2 ranks at 1.4 ms (in contact since 1.25 ms) "
            "and restarted on 4 gives the serial run's motion bitwise, its sliding energy to 1e-12", ok, msg)
+    # XDYNA_GHOSTS=1 on top: the surfaces' velocities only to the ranks
+    # whose slaves read them, chosen at each search from gathered
+    # positions and every rank's box: the tube crush (self-contact) and the
+    # front frame (rigid bodies, a rigid wall, two interfaces) on 2 and 4
+    # ranks, and the tube restarted across rank counts, the serial motion
+    # bitwise; and the two bars of two_bars_penalty.k, each on its own
+    # rank, whose every contact is across ranks (with each rank's box
+    # shrunk to its slaves alone, the other bar's nodes were not sent and
+    # kept their positions of the last search: the bars' run differed from
+    # the serial one, checked by hand when this was written).
+    genv = {"XDYNA_CONTACT_OWN": "1", "XDYNA_GHOSTS": "1"}
+    frame = "input_decks/paper/front_frame.k"
+    bars = "input_decks/contact/two_bars_penalty.k"
+    pf, fserial = run_deck(frame, "ghost_frame_serial", extra=("endtim=0.003",))
+    pb, bserial = run_deck(bars, "ghost_bars_serial")
+    for label, dk, ref, end in (("tube crush", deck, serial, "endtim=0.002"),
+                                ("front frame", os.path.join(ROOT, frame), fserial, "endtim=0.003"),
+                                ("two bars (each on its rank: every contact across ranks)", os.path.join(ROOT, bars),
+                                 bserial, "endcyc=1000000000")):
+        for n in (2, 4):
+            out = os.path.join(TMP, f"ghost{n}_{label.replace(' ', '_')}")
+            p = mpirun(n, ["i=" + dk, "outdir=" + out, end], env_extra=genv)
+            ok, msg = (False, p.stderr[-300:]) if p.returncode or p0.returncode or pf.returncode or pb.returncode \
+                else same_dynamics(ref, out)
+            m = re.search(r"contact ghosts \(rank 0\): lists made (\d+) times", open(os.path.join(out, "d3hsp")).read()) \
+                if ok else None
+            record(f"XDYNA_GHOSTS: the {label} on {n} ranks with contact ghosts by proximity gives the serial run's "
+                   f"motion bitwise, energies to 1e-12 ({m.group(1) if m else 0} ghost lists)",
+                   ok and m is not None and int(m.group(1)) > 1, msg)
+    part = os.path.join(TMP, "ghost_rs")
+    p1 = mpirun(2, ["i=" + deck, "outdir=" + part, "endtim=0.0014"], env_extra=genv)
+    p2 = mpirun(4, ["r=" + os.path.join(part, "d3dump.h5"), "endtim=0.002"], env_extra=genv) \
+        if p1.returncode == 0 else p1
+    ok, msg = same_dynamics(serial, part) if p2.returncode == 0 else (False, (p1.stderr + p2.stderr)[-300:])
+    record("XDYNA_GHOSTS: the tube crush dumped on 2 ranks at 1.4 ms and restarted on 4 gives the serial run's "
+           "motion bitwise", ok, msg)
 
 
 def test_mpi_owned():

@@ -54,6 +54,7 @@ module xd_contact_contact
     implicit none
     private
     public :: contacts_t, interface_t, build_contacts, faces_of, contact_erode, contact_search, contact_drift, gather_drift, &
+              search_due, &
               contact_report, &
               contact_erode_solids, &
               interface_summary, contact_masses, contact_local_search, contact_enforce, contact_work_end, &
@@ -763,6 +764,28 @@ contains
             end associate
         end do
     end subroutine contact_search
+
+    !> Will contact_search search some interface at this cycle? (Every rank
+    !> answers alike where the margins used are the ranks' maxima: a slave
+    !> whose surface erosion changed counts on every rank, owned or not, a
+    !> superset of contact_search's own test.)
+    logical function search_due(ct, cycle, time) result(due)
+        type(contacts_t), intent(in) :: ct
+        integer, intent(in) :: cycle
+        real(dp), intent(in) :: time
+        integer :: i
+        due = .false.
+        do i = 1, ct%n
+            associate (it => ct%ifc(i))
+                if (time < it%bt .or. time > it%dt) cycle
+                if (it%nsearch == 0) due = .true.
+                if (.not. it%adaptive .and. cycle - it%last_cycle >= it%interval) due = .true.
+                if (any(it%cused > 1.0_wp)) due = .true.
+                if (any(it%resl .and. it%live)) due = .true.
+            end associate
+            if (due) return
+        end do
+    end function search_due
 
     !> THKCHG (with ISTUPD): the shell contact thicknesses of the interfaces
     !> that follow the shells, scaled at each node by the ratio of its

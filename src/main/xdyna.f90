@@ -395,6 +395,11 @@ program xdyna
     if (env%rank == 0 .and. states%on) call log_line(lg, states_summary(states))
     call close_states(states)
     call close_histories(hist)
+    if (dom%ghosts) call log_line(lg, ' contact ghosts (rank 0): lists made '//itoa(dom%nrefresh)// &
+                                  ' times (each search and the start), '//itoa(nint(real(dom%ghost_out_sum, dp)/ &
+                                  max(dom%nrefresh, 1)))//' surface nodes sent to the other ranks a list on '// &
+                                  'average, '//itoa(dom%nghost_out)//' in the last (of '// &
+                                  itoa(size(dom%csurf%node))//' surface nodes)')
     if (dom%on .and. ct%n > 0) call gather_contact_state(ct, counters_only=.true.)
     if (ct%n > 0) call log_line(lg, contact_report(ct, max(abs(st%e_initial), res%e_scale)))
     if (ct%dump_unit /= 0) close (ct%dump_unit)

@@ -31,11 +31,11 @@
 !> the serial run for any rank count (the energies agree to rounding). The
 !> price is memory: the mesh and nodal arrays are on every rank.
 module xd_solver_domain
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
     use xd_core_partition, only: rcb_partition
     use xd_core_graph_partition, only: graph_partition, item_graph
     use xd_core_threads, only: threaded
-    use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours
+    use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours, comm_gather_small
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_shell_bt, only: shells_t, shell_blocks
     use xd_solver_assembly, only: assembly_t
@@ -48,7 +48,8 @@ module xd_solver_domain
     private
     public :: decomp_rcb, decomp_metis
     public :: domain_t, build_domain, domain_summary, gather_energy_state, gather_element_state, &
-              swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout, neighbour_count
+              swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout, neighbour_count, &
+              ghost_base, contact_ghosts
 
     !> A set of nodes whose values go from their ranks to every rank (an
     !> all-gather): per rank r, its own in node(off(r) + 1 : off(r) +
@@ -103,6 +104,21 @@ module xd_solver_domain
         !> adds three small collectives that wait for the slowest rank (car6
         !> on 2 ranks: time integration 1.0 -> 1.8 s of 17)
         logical :: contact_own = .false.
+        !> with contact_own, XDYNA_GHOSTS=1: contact ghosts by proximity. The
+        !> contact surfaces' velocities no longer go to every rank: at each
+        !> global search every surface node's position and velocity are
+        !> gathered from its rank (csurf), each rank's box of the surface
+        !> nodes its slaves read goes to all, and until the next search a
+        !> rank sends its own surface nodes inside another's box to it with
+        !> its halo's motion (contact_ghosts). bmo_*, bmi_*, mv_base: the
+        !> lists and the moved nodes without the ghosts
+        logical :: ghosts = .false.
+        type(node_gather_t) :: csurf
+        integer, allocatable :: bmo_ptr(:), bmo_node(:), bmi_ptr(:), bmi_node(:)
+        logical, allocatable :: bmo_rot(:), bmi_rot(:), mv_base(:)
+        integer :: nghost_out = 0, nghost_in = 0   !< ghost entries of this rank's lists, last search
+        integer :: nrefresh = 0                    !< ghost lists made (searches and the start)
+        integer(i8) :: ghost_out_sum = 0           !< ghost entries sent, summed over the lists made
         !> with owned nodes, node_mine again; unallocated in the replicated
         !> state, so that a routine's optional `mine` argument given it is
         !> absent there (every rank takes every node)
@@ -556,8 +572,9 @@ contains
     subroutine node_runs(nodes, lo, hi)
         integer, intent(in) :: nodes(:)
         integer, allocatable, intent(out) :: lo(:), hi(:)
-        integer :: t(size(nodes)), u(size(nodes))
+        integer, allocatable :: t(:), u(:)
         integer :: i, n
+        allocate (t(size(nodes)), u(size(nodes)))
         n = 0
         do i = 1, size(nodes)
             if (n > 0) then
@@ -801,6 +818,191 @@ contains
 
     !> The layout of a gather of the nodes `nodes` (repeats allowed) over
     !> nranks ranks, each node from its rank arank.
+    !> Contact ghosts: the lists and the moved nodes as owned_motion made
+    !> them without the contact surfaces (the base every search's ghosts
+    !> are added to), and the surfaces' nodes `csurf` by rank.
+    subroutine ghost_base(dom, csurf)
+        type(domain_t), intent(inout) :: dom
+        integer, intent(in) :: csurf(:)
+        integer :: k
+        dom%ghosts = .true.
+        dom%bmo_ptr = dom%mo_ptr
+        dom%bmo_node = dom%mo_node
+        dom%bmo_rot = dom%mo_rot
+        dom%bmi_ptr = dom%mi_ptr
+        dom%bmi_node = dom%mi_node
+        dom%bmi_rot = dom%mi_rot
+        allocate (dom%mv_base(size(dom%node_mine)))
+        dom%mv_base = .false.
+        do k = 1, size(dom%mv_lo)
+            dom%mv_base(dom%mv_lo(k):dom%mv_hi(k)) = .true.
+        end do
+        call gather_layout(dom%arank, dom%nranks, csurf, dom%csurf)
+    end subroutine ghost_base
+
+    !> Contact ghosts at a search (every rank at once; the surfaces' nodes'
+    !> positions x the same on every rank, gathered just before): this
+    !> rank's box of what its slaves read (themselves, their pools' and
+    !> lists' nodes, the segments at those and at them, the segments they
+    !> hold), grown by the farthest of those nodes from its slave and by the
+    !> longest diagonal of a segment (a local search's walk along the
+    !> surface stays nearer the slave than where it began, and reads the
+    !> segments at the nodes it passes); the boxes to every rank; then the motion lists: to rank q,
+    !> the base's entries and this rank's own surface nodes inside q's box;
+    !> from q, the base's and q's surface nodes inside this rank's box, in
+    !> node order (both sides decide from the same positions and boxes).
+    !> The moved nodes: the base's and those received.
+    subroutine contact_ghosts(dom, ct, x)
+        type(domain_t), intent(inout) :: dom
+        type(contacts_t), intent(in) :: ct
+        real(wp), intent(in) :: x(:, :)
+        logical, allocatable :: rd(:), insd(:), out(:), inn(:), brot(:), mv(:)
+        integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:), add(:)
+        logical, allocatable :: mo_rot(:), mi_rot(:)
+        real(dp) :: box(6), boxes(6, dom%nranks), reach, step
+        logical, allocatable :: pm(:)
+        integer :: i, q, k, j, sn, nn, r, kk, g, b
+        nn = size(dom%node_mine)
+        allocate (rd(nn), insd(nn), out(nn), inn(nn), brot(nn), mv(nn))
+        rd = .false.
+        reach = 0
+        step = 0
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                ! pm: the surface's nodes its slaves read (the slaves, their
+                ! pools' and lists' nodes, the nodes of the segments they
+                ! hold); then every segment at such a node is read whole
+                allocate (pm(s%nnode))
+                pm = .false.
+                do q = 1, size(it%mine)
+                    k = it%mine(q)
+                    sn = s%slave(k)
+                    pm(sn) = .true.
+                    if (allocated(it%lists%pool_ptr)) then
+                        if (size(it%lists%pool_ptr) == s%nslave) then
+                            do j = it%lists%pool_ptr(k), it%lists%pool_last(k)
+                                pm(it%lists%pool_node(j)) = .true.
+                                reach = max(reach, real(norm2(x(:, s%node(it%lists%pool_node(j))) - &
+                                                              x(:, s%node(sn))), dp))
+                            end do
+                        end if
+                    end if
+                    if (allocated(it%lists%ptr)) then
+                        if (size(it%lists%ptr) == s%nslave) then
+                            do j = it%lists%ptr(k), it%lists%last(k)
+                                if (pm(it%lists%node(j))) cycle
+                                pm(it%lists%node(j)) = .true.
+                                reach = max(reach, real(norm2(x(:, s%node(it%lists%node(j))) - x(:, s%node(sn))), dp))
+                            end do
+                        end if
+                    end if
+                    do j = 1, 2
+                        g = it%held(k)
+                        if (j == 2) g = it%cseg(k)
+                        if (g <= 0) cycle
+                        do b = 1, 4
+                            pm(s%seg(b, g)) = .true.
+                            reach = max(reach, real(norm2(x(:, s%node(s%seg(b, g))) - x(:, s%node(sn))), dp))
+                        end do
+                    end do
+                end do
+                do g = 1, s%nseg
+                    ! (the step: the farthest two nodes of a segment are apart)
+                    step = max(step, real(norm2(x(:, s%node(s%seg(1, g))) - x(:, s%node(s%seg(3, g)))), dp), &
+                               real(norm2(x(:, s%node(s%seg(2, g))) - x(:, s%node(s%seg(4, g)))), dp))
+                    if (.not. any(pm(s%seg(:, g)))) cycle
+                    do b = 1, 4
+                        rd(s%node(s%seg(b, g))) = .true.
+                    end do
+                end do
+                do k = 1, s%nnode
+                    if (pm(k)) rd(s%node(k)) = .true.
+                end do
+                deallocate (pm)
+            end associate
+        end do
+        box(1:3) = huge(1.0_dp)
+        box(4:6) = -huge(1.0_dp)
+        do j = 1, nn
+            if (.not. rd(j)) cycle
+            box(1:3) = min(box(1:3), real(x(:, j), dp))
+            box(4:6) = max(box(4:6), real(x(:, j), dp))
+        end do
+        if (box(1) <= box(4)) then
+            box(1:3) = box(1:3) - (reach + step)
+            box(4:6) = box(4:6) + (reach + step)
+        end if
+        call comm_gather_small(box, boxes)
+        ! the ghosts' lists, neighbour by neighbour (every other rank)
+        insd = .false.
+        do j = 1, size(dom%csurf%node)
+            insd(dom%csurf%node(j)) = .true.
+        end do
+        allocate (mo_ptr(1), mi_ptr(1), mo_node(0), mi_node(0), mo_rot(0), mi_rot(0))
+        mo_ptr = 0
+        mi_ptr = 0
+        mv = dom%mv_base
+        dom%nghost_out = 0
+        dom%nghost_in = 0
+        do k = 1, size(dom%nbr)
+            r = dom%nbr(k)
+            out = .false.
+            inn = .false.
+            brot = .false.
+            do kk = dom%bmo_ptr(k) + 1, dom%bmo_ptr(k + 1)
+                out(dom%bmo_node(kk)) = .true.
+                brot(dom%bmo_node(kk)) = dom%bmo_rot(kk)
+            end do
+            do j = 1, size(dom%csurf%node)
+                i = dom%csurf%node(j)
+                if (dom%arank(i) == dom%rank) then
+                    if (inside(i, boxes(:, r + 1)) .and. .not. out(i)) then
+                        out(i) = .true.
+                        dom%nghost_out = dom%nghost_out + 1
+                    end if
+                end if
+            end do
+            add = where_true(out)
+            mo_node = [mo_node, add]
+            mo_rot = [mo_rot, brot(add)]
+            mo_ptr = [mo_ptr, size(mo_node)]
+            brot = .false.
+            do kk = dom%bmi_ptr(k) + 1, dom%bmi_ptr(k + 1)
+                inn(dom%bmi_node(kk)) = .true.
+                brot(dom%bmi_node(kk)) = dom%bmi_rot(kk)
+            end do
+            do j = 1, size(dom%csurf%node)
+                i = dom%csurf%node(j)
+                if (dom%arank(i) == r) then
+                    if (inside(i, boxes(:, dom%rank + 1)) .and. .not. inn(i)) then
+                        inn(i) = .true.
+                        mv(i) = .true.
+                        dom%nghost_in = dom%nghost_in + 1
+                    end if
+                end if
+            end do
+            add = where_true(inn)
+            mi_node = [mi_node, add]
+            mi_rot = [mi_rot, brot(add)]
+            mi_ptr = [mi_ptr, size(mi_node)]
+        end do
+        call move_alloc(mo_ptr, dom%mo_ptr)
+        call move_alloc(mi_ptr, dom%mi_ptr)
+        call move_alloc(mo_node, dom%mo_node)
+        call move_alloc(mi_node, dom%mi_node)
+        call move_alloc(mo_rot, dom%mo_rot)
+        call move_alloc(mi_rot, dom%mi_rot)
+        call node_runs(where_true(mv), dom%mv_lo, dom%mv_hi)
+        dom%nrefresh = dom%nrefresh + 1
+        dom%ghost_out_sum = dom%ghost_out_sum + dom%nghost_out
+    contains
+        logical function inside(nd, bx)
+            integer, intent(in) :: nd
+            real(dp), intent(in) :: bx(6)
+            inside = all(real(x(:, nd), dp) >= bx(1:3)) .and. all(real(x(:, nd), dp) <= bx(4:6))
+        end function inside
+    end subroutine contact_ghosts
+
     subroutine gather_layout(arank, nranks, nodes, g)
         integer, intent(in) :: arank(:), nranks, nodes(:)
         type(node_gather_t), intent(out) :: g

@@ -30,11 +30,12 @@ module xd_solver_time_loop
     use xd_elements_beam_bs, only: beams_t
     use xd_contact_tied, only: ties_t
     use xd_contact_contact, only: contacts_t, contact_search, contact_work_end, contact_resultants, &
-                                  gather_contact_state, scatter_contact_state, gather_drift
+                                  gather_contact_state, scatter_contact_state, gather_drift, search_due
     use xd_solver_prescribed, only: prescribed_nodes_t
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t
-    use xd_solver_domain, only: neighbour_count, domain_t, gather_element_state, owned_motion, gather_layout, gather_subset
+    use xd_solver_domain, only: neighbour_count, domain_t, gather_element_state, owned_motion, gather_layout, gather_subset, &
+                                ghost_base, contact_ghosts
     use xd_core_comm, only: comm_max, comm_sum_int, comm_gather_small, comm_sum_dp
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, &
                                       hourglass_bound_report
@@ -139,7 +140,7 @@ contains
         !> order the assembly sums their slots (the same sums, without
         !> writing and reading the slots); the nodes the parts or the ranks
         !> share are summed from the slots after the pass
-        logical :: shells_direct
+        logical :: shells_direct, refresh
         integer :: i
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
@@ -164,6 +165,8 @@ contains
         call mass_scaling_begin(ms, model%ctl, lg)
         call step_stats_init(ss, solids%n, sh%n)
         if (dom%on) call choose_owned(dom, ct, rg, td, bm, pl, sh, hist, lg)
+        ! (the ghosts from the lists there are: a restart's)
+        if (dom%ghosts) call contact_ghosts(dom, ct, st%x)
         if (dom%contact_own .and. ct%n > 0) then
             ! each rank books its own slaves' contacts' work; a restart's
             ! sums (every rank read them) stay on rank 0 alone
@@ -195,10 +198,24 @@ contains
                 end if
             end if
             if (ct%n > 0) then
+                ! contact ghosts: a search reads every surface node, from its
+                ! rank, and chooses the ghosts anew after it
+                refresh = .false.
+                if (dom%ghosts) refresh = search_due(ct, st%cycle, st%time)
+                if (refresh) then
+                    call tm%start(ph_comm)
+                    call gather_subset(dom, dom%csurf, st%x, st%v)
+                    call tm%stop(ph_comm)
+                end if
                 ! step 2 where due, on x(n); steps 3-4 will follow here
                 call tm%start(ph_search)
                 call contact_search(ct, st%x, model%node_id, st%cycle, st%time)
                 call tm%stop(ph_search)
+                if (refresh) then
+                    call tm%start(ph_comm)
+                    call contact_ghosts(dom, ct, st%x)
+                    call tm%stop(ph_comm)
+                end if
             end if
             if (ms%on) call mass_scaling_targets(ms, st%cycle, solids, sh)
             call element_phase(dom, st, solids, asm, sh, tm, shells_direct, dtc, bad_kind, bad)
@@ -396,7 +413,8 @@ contains
         type(log_t), intent(in) :: lg
         character(len=8) :: env
         integer :: n, stat, i
-        integer, allocatable :: surf(:), body(:), tie(:)
+        integer, allocatable :: surf(:), body(:), tie(:), csurf(:)
+        logical :: ghosts
         integer :: wv
         real(dp) :: byt(2)
         call get_environment_variable('XDYNA_REPLICATED', env, length=n, status=stat)
@@ -420,10 +438,16 @@ contains
             ! (the contact surfaces' nodes: their velocities go to every rank)
             ! (and the pressure segments' nodes: every rank takes every
             ! segment's force, as it takes every contact)
-            allocate (surf(0))
+            allocate (surf(0), csurf(0))
             do i = 1, ct%n
-                surf = [surf, ct%ifc(i)%surf%node]
+                csurf = [csurf, ct%ifc(i)%surf%node]
             end do
+            ! XDYNA_GHOSTS=1 (with XDYNA_CONTACT_OWN): the contact surfaces'
+            ! velocities only to the ranks whose slaves are near them, chosen
+            ! at each search (contact_ghosts)
+            call get_environment_variable('XDYNA_GHOSTS', env, length=n, status=stat)
+            ghosts = dom%contact_own .and. ct%n > 0 .and. stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0'
+            if (.not. ghosts) surf = csurf
             if (pl%n > 0) surf = [surf, pack(pl%seg, pl%seg > 0)]
             allocate (body(0))
             do i = 1, rg%n
@@ -441,6 +465,13 @@ contains
                 call owned_motion(dom, surf, body, reshape(bm%conn(1:2, :), [2*bm%n]), tie)
             else
                 call owned_motion(dom, surf, body, [integer ::], tie)
+            end if
+            if (ghosts) then
+                call ghost_base(dom, csurf)
+                call log_line(lg, ' contact: ghosts by proximity (XDYNA_GHOSTS): the surfaces'' '// &
+                              itoa(size(dom%csurf%node))//' nodes'' positions and velocities gathered at each '// &
+                              'search, each rank''s box of what its slaves read to all, and until the next '// &
+                              'search a rank''s own surface nodes inside another''s box sent to it with the halo')
             end if
             if (allocated(hist%nodes)) then
                 if (size(hist%nodes) > 0) call gather_layout(dom%arank, dom%nranks, hist%nodes, dom%hist)
