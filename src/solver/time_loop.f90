@@ -498,10 +498,17 @@ contains
                    8.0_dp*6*(size(dom%rotn%node) - dom%rotn%cnt(dom%rank + 1))]
             if (allocated(dom%tie%node)) byt(2) = byt(2) + 8.0_dp*wv*(size(dom%tie%node) - dom%tie%cnt(dom%rank + 1))
             call comm_sum_dp(byt)
-            call log_line(lg, ' owned nodes'' exchange a cycle, all ranks: '//itoa(nint(byt(1)))//' bytes point-to-'// &
-                          'point (halo slots and velocities, with the contact surfaces'' and pressure '// &
-                          'segments'' to every other rank), '//itoa(nint(byt(2)))//' bytes of beam and tie '// &
-                          'velocities gathered to every rank')
+            if (ghosts) then
+                call log_line(lg, ' owned nodes'' exchange a cycle, all ranks: '//itoa(nint(byt(1)))//' bytes '// &
+                              'point-to-point (halo slots and velocities, with the pressure segments'' to every '// &
+                              'other rank; the contact ghosts'' come on top, counted at the end of the run), '// &
+                              itoa(nint(byt(2)))//' bytes of beam and tie velocities gathered to every rank')
+            else
+                call log_line(lg, ' owned nodes'' exchange a cycle, all ranks: '//itoa(nint(byt(1)))//' bytes '// &
+                              'point-to-point (halo slots and velocities, with the contact surfaces'' and pressure '// &
+                              'segments'' to every other rank), '//itoa(nint(byt(2)))//' bytes of beam and tie '// &
+                              'velocities gathered to every rank')
+            end if
         else
             call log_line(lg, ' nodal state: replicated (XDYNA_REPLICATED set): every rank integrates every node and '// &
                           'the ranks share all nodal forces each cycle')
