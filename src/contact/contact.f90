@@ -708,17 +708,7 @@ contains
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (time < it%bt .or. time > it%dt) cycle
-                allocate (due(size(it%cmin)))
-                if (it%nsearch == 0) then
-                    due = .true.
-                else if (.not. it%adaptive .and. cycle - it%last_cycle >= it%interval) then
-                    ! the fixed interval is the longest; a class is also
-                    ! searched as soon as the motion could have used up its
-                    ! margins
-                    due = .true.
-                else
-                    due = it%cused > 1.0_wp
-                end if
+                due = due_classes(it, cycle)
                 if (.not. any(due) .and. .not. any(it%resl .and. it%owned .and. it%live)) then
                     ! the lists of the last searches serve this cycle: how much
                     ! of the margins has the motion used?
@@ -765,6 +755,24 @@ contains
         end do
     end subroutine contact_search
 
+    !> The margin classes of interface it due for a search at this cycle:
+    !> all at its first search and, with a fixed interval, when the interval
+    !> is up (the longest; a class is also searched as soon as the motion
+    !> could have used up its margins), else those whose margins are used up.
+    function due_classes(it, cycle) result(due)
+        type(interface_t), intent(in) :: it
+        integer, intent(in) :: cycle
+        logical, allocatable :: due(:)
+        allocate (due(size(it%cmin)))
+        if (it%nsearch == 0) then
+            due = .true.
+        else if (.not. it%adaptive .and. cycle - it%last_cycle >= it%interval) then
+            due = .true.
+        else
+            due = it%cused > 1.0_wp
+        end if
+    end function due_classes
+
     !> Will contact_search search some interface at this cycle? (Every rank
     !> answers alike where the margins used are the ranks' maxima: a slave
     !> whose surface erosion changed counts on every rank, owned or not, a
@@ -778,10 +786,7 @@ contains
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (time < it%bt .or. time > it%dt) cycle
-                if (it%nsearch == 0) due = .true.
-                if (.not. it%adaptive .and. cycle - it%last_cycle >= it%interval) due = .true.
-                if (any(it%cused > 1.0_wp)) due = .true.
-                if (any(it%resl .and. it%live)) due = .true.
+                due = any(due_classes(it, cycle)) .or. any(it%resl .and. it%live)
             end associate
             if (due) return
         end do
@@ -1153,6 +1158,7 @@ contains
         !> largest speed is then each rank's own surface nodes' maximum,
         !> taken over the ranks: what one rank taking them all finds)
         logical, intent(in), optional :: own(:)
+        logical :: every(0)
         integer :: i
         real(wp) :: v2
         real(dp) :: red(1)
@@ -1166,7 +1172,7 @@ contains
                     call comm_max(red)
                     v2 = real(red(1), wp)
                 else
-                    call gather_nodes(x, v, s%node, it%ls%xl, it%ls%vl, v2)
+                    call gather_nodes(x, v, s%node, it%ls%xl, it%ls%vl, v2, every)
                 end if
                 ! Lagrangian projection: pairs that one step's approach (two
                 ! nodes at the largest speed) could close are found before
@@ -1229,14 +1235,14 @@ contains
 
     !> The surface's coordinates and velocities (nodes `node` of x and v),
     !> and the largest speed squared (threaded: a maximum is the same in
-    !> any order), of the nodes n with mine(n) true where it is given
-    !> (indexed by the model's nodes).
+    !> any order) of the nodes n with mine(n) true (indexed by the model's
+    !> nodes; empty: every node).
     subroutine gather_nodes(x, v, node, xl, vl, v2, mine)
         !> (explicit shape: a node's address one multiply, no descriptor)
         real(wp), intent(in) :: x(3, *), v(3, *)
         integer, intent(in) :: node(:)
         real(wp), intent(out) :: xl(3, *), vl(3, *), v2
-        logical, intent(in), optional :: mine(:)
+        logical, intent(in) :: mine(:)
         v2 = 0
         if (threaded(size(node))) then
             !$omp parallel
@@ -1251,23 +1257,10 @@ contains
         real(wp), intent(in) :: x(3, *), v(3, *)
         integer, intent(in) :: node(:)
         real(wp), intent(inout) :: xl(3, *), vl(3, *), v2
-        logical, intent(in), optional :: mine(:)
+        logical, intent(in) :: mine(:)
         integer :: k, n
-        if (present(mine)) then
-            !$omp do schedule(static) reduction(max:v2)
-            do k = 1, size(node)
-                n = node(k)
-                xl(1, k) = x(1, n)
-                xl(2, k) = x(2, n)
-                xl(3, k) = x(3, n)
-                vl(1, k) = v(1, n)
-                vl(2, k) = v(2, n)
-                vl(3, k) = v(3, n)
-                if (mine(n)) v2 = max(v2, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
-            end do
-            !$omp end do
-            return
-        end if
+        logical :: every
+        every = size(mine) == 0
         !$omp do schedule(static) reduction(max:v2)
         do k = 1, size(node)
             n = node(k)
@@ -1277,7 +1270,11 @@ contains
             vl(1, k) = v(1, n)
             vl(2, k) = v(2, n)
             vl(3, k) = v(3, n)
-            v2 = max(v2, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
+            if (every) then
+                v2 = max(v2, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
+            else if (mine(n)) then
+                v2 = max(v2, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
+            end if
         end do
         !$omp end do
     end subroutine gather_nodes_loop

@@ -9,6 +9,7 @@
 !> model alone.
 module xd_core_graph_partition
     use, intrinsic :: iso_c_binding, only: c_int, c_ptr, c_null_ptr
+    use xd_core_sorting, only: small_sort
     implicit none
     private
     public :: graph_partition, item_graph
@@ -45,35 +46,34 @@ contains
         integer, intent(in) :: n, nnode, item_ptr(:), item_node(:)
         integer, allocatable, intent(out) :: xadj(:), adjncy(:), adjwgt(:)
         integer, allocatable :: node_ptr(:), node_item(:), fill(:), mark(:), wgt(:), nb(:), seen(:)
-        integer :: i, j, k, nd, q, cnt, m
-        ! the items of each node (CSR), each item once per node
-        allocate (node_ptr(nnode + 2), mark(nnode))
+        integer :: i, j, k, nd, q, cnt, m, pass
+        ! the items of each node (CSR), each item once per node: counted on
+        ! the first pass, placed on the second
+        allocate (node_ptr(nnode + 2), mark(nnode), fill(nnode), node_item(0))
         node_ptr = 0
-        mark = 0
-        do i = 1, n
-            do j = item_ptr(i), item_ptr(i + 1) - 1
-                nd = item_node(j)
-                if (mark(nd) == i) cycle
-                mark(nd) = i
-                node_ptr(nd + 2) = node_ptr(nd + 2) + 1
-            end do
-        end do
-        node_ptr(1) = 1
-        node_ptr(2) = 1
-        do nd = 2, nnode + 1
-            node_ptr(nd + 1) = node_ptr(nd + 1) + node_ptr(nd)
-        end do
-        allocate (node_item(node_ptr(nnode + 2) - 1), fill(nnode))
         fill = 0
-        mark = 0
-        do i = 1, n
-            do j = item_ptr(i), item_ptr(i + 1) - 1
-                nd = item_node(j)
-                if (mark(nd) == i) cycle
-                mark(nd) = i
-                node_item(node_ptr(nd + 1) + fill(nd)) = i
-                fill(nd) = fill(nd) + 1
+        do pass = 1, 2
+            mark = 0
+            do i = 1, n
+                do j = item_ptr(i), item_ptr(i + 1) - 1
+                    nd = item_node(j)
+                    if (mark(nd) == i) cycle
+                    mark(nd) = i
+                    if (pass == 1) then
+                        node_ptr(nd + 2) = node_ptr(nd + 2) + 1
+                    else
+                        node_item(node_ptr(nd + 1) + fill(nd)) = i
+                        fill(nd) = fill(nd) + 1
+                    end if
+                end do
             end do
+            if (pass == 2) exit
+            node_ptr(1:2) = 1
+            do nd = 2, nnode + 1
+                node_ptr(nd + 1) = node_ptr(nd + 1) + node_ptr(nd)
+            end do
+            deallocate (node_item)
+            allocate (node_item(node_ptr(nnode + 2) - 1))
         end do
         ! each item's neighbours: the other items at its nodes, with the
         ! count of nodes shared (in ascending order: the items of a node are)
@@ -103,7 +103,7 @@ contains
                     wgt(k) = wgt(k) + 1
                 end do
             end do
-            call sort_small(nb(1:cnt))
+            call small_sort(nb(1:cnt))
             m = xadj(i)
             if (m + cnt - 1 > size(adjncy)) call grow(m + cnt)
             do q = 1, cnt
@@ -128,22 +128,6 @@ contains
             call move_alloc(t, adjwgt)
         end subroutine grow
     end subroutine item_graph
-
-    !> Insertion sort of a short list.
-    pure subroutine sort_small(a)
-        integer, intent(inout) :: a(:)
-        integer :: i, j, t
-        do i = 2, size(a)
-            t = a(i)
-            j = i - 1
-            do while (j >= 1)
-                if (a(j) <= t) exit
-                a(j + 1) = a(j)
-                j = j - 1
-            end do
-            a(j + 1) = t
-        end do
-    end subroutine sort_small
 
     !> part(i) in 1..nparts for the graph's n = size(vwgt) vertices (k-way,
     !> imbalance at most 3%, METIS's default; contiguous parts where the

@@ -96,15 +96,17 @@ module xd_solver_domain
         !> comm_neighbours). Set by the time loop, unless XDYNA_REPLICATED
         !> asks that every rank integrate every node.
         logical :: owned = .false.
-        !> owned nodes, XDYNA_CONTACT_OWN=1: the contact's motion bounds and
-        !> largest speeds taken by each rank over its own surface nodes and
-        !> reduced over the ranks (contact_drift, contact_local_search), as
-        !> ghosts by proximity will need (no rank then holds every surface
-        !> velocity); off by default until they come, since each cycle it
-        !> adds three small collectives that wait for the slowest rank (car6
-        !> on 2 ranks: time integration 1.0 -> 1.8 s of 17)
-        logical :: contact_own = .false.
-        !> with contact_own, XDYNA_GHOSTS=1: contact ghosts by proximity. The
+        !> owned nodes, XDYNA_CONTACT_OWN=1: own again, given to the contact
+        !> (unallocated otherwise, so passed as absent): the contact's motion
+        !> bounds and largest speeds taken by each rank over its own surface
+        !> nodes and reduced over the ranks (contact_drift,
+        !> contact_local_search), and the contacts' work booked by slave, as
+        !> ghosts by proximity need (no rank then holds every surface
+        !> velocity); off by default, since each cycle it adds three small
+        !> collectives that wait for the slowest rank (car6 on 2 ranks: time
+        !> integration 1.0 -> 1.8 s of 17)
+        logical, allocatable :: own_contact(:)
+        !> with own_contact, XDYNA_GHOSTS=1: contact ghosts by proximity. The
         !> contact surfaces' velocities no longer go to every rank: at each
         !> global search every surface node's position and velocity are
         !> gathered from its rank (csurf), each rank's box of the surface
@@ -116,7 +118,7 @@ module xd_solver_domain
         type(node_gather_t) :: csurf
         integer, allocatable :: bmo_ptr(:), bmo_node(:), bmi_ptr(:), bmi_node(:)
         logical, allocatable :: bmo_rot(:), bmi_rot(:), mv_base(:)
-        integer :: nghost_out = 0, nghost_in = 0   !< ghost entries of this rank's lists, last search
+        integer :: nghost_out = 0                  !< ghost entries this rank sent, last list
         integer :: nrefresh = 0                    !< ghost lists made (searches and the start)
         integer(i8) :: ghost_out_sum = 0           !< ghost entries sent, summed over the lists made
         !> with owned nodes, node_mine again; unallocated in the replicated
@@ -771,7 +773,7 @@ contains
         type(domain_t), intent(inout) :: dom
         integer, intent(in) :: nodes(:)
         logical, allocatable :: on(:), rout(:), rin(:), mo_rot(:), mi_rot(:)
-        integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:), add(:)
+        integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:)
         integer :: k, q, nn
         if (size(nodes) == 0) return
         nn = size(dom%node_mine)
@@ -786,22 +788,36 @@ contains
             rin = .false.
             rout(dom%mo_node(dom%mo_ptr(k) + 1:dom%mo_ptr(k + 1))) = .true.
             rin(dom%mi_node(dom%mi_ptr(k) + 1:dom%mi_ptr(k + 1))) = .true.
-            add = where_true(rout .or. (on .and. dom%arank == dom%rank))
-            mo_node = [mo_node, add]
-            mo_rot = [mo_rot, rout(add)]
-            mo_ptr = [mo_ptr, size(mo_node)]
-            add = where_true(rin .or. (on .and. dom%arank == q))
-            mi_node = [mi_node, add]
-            mi_rot = [mi_rot, rin(add)]
-            mi_ptr = [mi_ptr, size(mi_node)]
+            call append_entries(rout .or. (on .and. dom%arank == dom%rank), rout, mo_node, mo_rot, mo_ptr)
+            call append_entries(rin .or. (on .and. dom%arank == q), rin, mi_node, mi_rot, mi_ptr)
         end do
+        call set_motion_lists(dom, mo_ptr, mo_node, mo_rot, mi_ptr, mi_node, mi_rot)
+    end subroutine motion_to_all
+
+    !> One neighbour's entries appended to a motion list (node, rot, ptr):
+    !> the nodes with `take` true, in node order, each with its angular
+    !> velocity where rot_of is true.
+    subroutine append_entries(take, rot_of, node, rot, ptr)
+        logical, intent(in) :: take(:), rot_of(:)
+        integer, allocatable, intent(inout) :: node(:), ptr(:)
+        logical, allocatable, intent(inout) :: rot(:)
+        node = [node, where_true(take)]
+        rot = [rot, pack(rot_of, take)]
+        ptr = [ptr, size(node)]
+    end subroutine append_entries
+
+    !> The motion lists (to and from every neighbour) replaced by these.
+    subroutine set_motion_lists(dom, mo_ptr, mo_node, mo_rot, mi_ptr, mi_node, mi_rot)
+        type(domain_t), intent(inout) :: dom
+        integer, allocatable, intent(inout) :: mo_ptr(:), mo_node(:), mi_ptr(:), mi_node(:)
+        logical, allocatable, intent(inout) :: mo_rot(:), mi_rot(:)
         call move_alloc(mo_ptr, dom%mo_ptr)
         call move_alloc(mi_ptr, dom%mi_ptr)
         call move_alloc(mo_node, dom%mo_node)
         call move_alloc(mi_node, dom%mi_node)
         call move_alloc(mo_rot, dom%mo_rot)
         call move_alloc(mi_rot, dom%mi_rot)
-    end subroutine motion_to_all
+    end subroutine set_motion_lists
 
     !> The ranks this rank exchanges anything with point-to-point (the
     !> lists hold every other rank, most of them empty on many ranks).
@@ -857,7 +873,7 @@ contains
         type(contacts_t), intent(in) :: ct
         real(wp), intent(in) :: x(:, :)
         logical, allocatable :: rd(:), insd(:), out(:), inn(:), brot(:), mv(:)
-        integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:), add(:)
+        integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:)
         logical, allocatable :: mo_rot(:), mi_rot(:)
         real(dp) :: box(6), boxes(6, dom%nranks), reach, step
         logical, allocatable :: pm(:)
@@ -943,7 +959,6 @@ contains
         mi_ptr = 0
         mv = dom%mv_base
         dom%nghost_out = 0
-        dom%nghost_in = 0
         do k = 1, size(dom%nbr)
             r = dom%nbr(k)
             out = .false.
@@ -962,10 +977,7 @@ contains
                     end if
                 end if
             end do
-            add = where_true(out)
-            mo_node = [mo_node, add]
-            mo_rot = [mo_rot, brot(add)]
-            mo_ptr = [mo_ptr, size(mo_node)]
+            call append_entries(out, brot, mo_node, mo_rot, mo_ptr)
             brot = .false.
             do kk = dom%bmi_ptr(k) + 1, dom%bmi_ptr(k + 1)
                 inn(dom%bmi_node(kk)) = .true.
@@ -977,21 +989,12 @@ contains
                     if (inside(i, boxes(:, dom%rank + 1)) .and. .not. inn(i)) then
                         inn(i) = .true.
                         mv(i) = .true.
-                        dom%nghost_in = dom%nghost_in + 1
                     end if
                 end if
             end do
-            add = where_true(inn)
-            mi_node = [mi_node, add]
-            mi_rot = [mi_rot, brot(add)]
-            mi_ptr = [mi_ptr, size(mi_node)]
+            call append_entries(inn, brot, mi_node, mi_rot, mi_ptr)
         end do
-        call move_alloc(mo_ptr, dom%mo_ptr)
-        call move_alloc(mi_ptr, dom%mi_ptr)
-        call move_alloc(mo_node, dom%mo_node)
-        call move_alloc(mi_node, dom%mi_node)
-        call move_alloc(mo_rot, dom%mo_rot)
-        call move_alloc(mi_rot, dom%mi_rot)
+        call set_motion_lists(dom, mo_ptr, mo_node, mo_rot, mi_ptr, mi_node, mi_rot)
         call node_runs(where_true(mv), dom%mv_lo, dom%mv_hi)
         dom%nrefresh = dom%nrefresh + 1
         dom%ghost_out_sum = dom%ghost_out_sum + dom%nghost_out

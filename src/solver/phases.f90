@@ -624,11 +624,8 @@ contains
         call tm%start(ph_local)
         ! THKCHG: the shells' thickness of this cycle's element pass
         if (ct%thkchg .and. sh%n > 0) call contact_thickness(ct, sh%conn, sh%h, sh%mine)
-        if (dom%contact_own) then
-            call contact_local_search(ct, st%x, st%v, st%time, st%dt, dom%own)
-        else
-            call contact_local_search(ct, st%x, st%v, st%time, st%dt)
-        end if
+        ! (dom%own_contact unallocated, so absent, but under XDYNA_CONTACT_OWN)
+        call contact_local_search(ct, st%x, st%v, st%time, st%dt, dom%own_contact)
         call tm%stop(ph_local)
         call tm%start(ph_enforce)
         t_gather = ct%wall_gather
@@ -978,13 +975,7 @@ contains
             end if
             call track_rotations(hist, st)
         end if
-        if (ct%n > 0) then
-            if (dom%contact_own) then
-                call contact_drift(ct, st%v, st%dt, dom%own)
-            else
-                call contact_drift(ct, st%v, st%dt)
-            end if
-        end if
+        if (ct%n > 0) call contact_drift(ct, st%v, st%dt, dom%own_contact)
         st%time = st%time + real(st%dt, dp)
         st%cycle = st%cycle + 1
         st%dt_old = st%dt

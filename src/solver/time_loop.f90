@@ -141,7 +141,6 @@ contains
         !> writing and reading the slots); the nodes the parts or the ranks
         !> share are summed from the slots after the pass
         logical :: shells_direct, refresh
-        integer :: i
 
         allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
         shells_direct = sh%n > 0
@@ -167,17 +166,11 @@ contains
         if (dom%on) call choose_owned(dom, ct, rg, td, bm, pl, sh, hist, lg)
         ! (the ghosts from the lists there are: a restart's)
         if (dom%ghosts) call contact_ghosts(dom, ct, st%x)
-        if (dom%contact_own .and. ct%n > 0) then
+        if (allocated(dom%own_contact) .and. ct%n > 0) then
             ! each rank books its own slaves' contacts' work; a restart's
             ! sums (every rank read them) stay on rank 0 alone
             ct%own_work = .true.
-            if (dom%rank /= 0) then
-                do i = 1, ct%n
-                    ct%ifc(i)%energy = 0
-                    ct%ifc(i)%pair_imp = 0
-                    ct%ifc(i)%pair_work = 0
-                end do
-            end if
+            call scatter_contact_state(ct, dom%rank)
         end if
         ! (the scale of the momenta glstat and matsum report)
         call log_line(lg, ' initial nodal mass (the nodes'' lumped masses) .......... '//rtoa(sum(real(st%mass, dp))))
@@ -414,7 +407,7 @@ contains
         character(len=8) :: env
         integer :: n, stat, i
         integer, allocatable :: surf(:), body(:), tie(:), csurf(:)
-        logical :: ghosts
+        logical :: ghosts, own
         integer :: wv
         real(dp) :: byt(2)
         call get_environment_variable('XDYNA_REPLICATED', env, length=n, status=stat)
@@ -424,15 +417,16 @@ contains
             dom%own_solid = dom%solid_mine
             dom%own_shell = dom%shell_mine
             call get_environment_variable('XDYNA_CONTACT_OWN', env, length=n, status=stat)
-            dom%contact_own = stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0'
+            own = stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0'
             ! (the Lagrangian projection and the shell edges' pairs read
             ! every surface node: not there)
-            if (dom%contact_own .and. (ct%lagrange .or. any([(ct%ifc(i)%ed%ne > 0, i=1, ct%n)]))) then
-                dom%contact_own = .false.
+            if (own .and. (ct%lagrange .or. any([(ct%ifc(i)%ed%ne > 0, i=1, ct%n)]))) then
+                own = .false.
                 call log_line(lg, ' contact: XDYNA_CONTACT_OWN ignored: the Lagrangian projection and shell '// &
                               'edge pairs read every surface node')
             end if
-            if (dom%contact_own) call log_line(lg, ' contact: each rank bounds the motion of its own surface '// &
+            if (own) dom%own_contact = dom%node_mine
+            if (own) call log_line(lg, ' contact: each rank bounds the motion of its own surface '// &
                                                'nodes alone and books its own slaves'' contacts'' work, '// &
                                                'reduced over the ranks (XDYNA_CONTACT_OWN)')
             ! (the contact surfaces' nodes: their velocities go to every rank)
@@ -446,7 +440,7 @@ contains
             ! velocities only to the ranks whose slaves are near them, chosen
             ! at each search (contact_ghosts)
             call get_environment_variable('XDYNA_GHOSTS', env, length=n, status=stat)
-            ghosts = dom%contact_own .and. ct%n > 0 .and. stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0'
+            ghosts = own .and. ct%n > 0 .and. stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0'
             if (.not. ghosts) surf = csurf
             if (pl%n > 0) surf = [surf, pack(pl%seg, pl%seg > 0)]
             allocate (body(0))
@@ -770,7 +764,7 @@ contains
         ok = .true.
         ! (each surface node's motion bound from its rank: owned nodes keep
         ! their own alone, contact_drift)
-        if (dom%contact_own .and. ct%n > 0) call gather_drift(ct, dom%own)
+        if (allocated(dom%own_contact) .and. ct%n > 0) call gather_drift(ct, dom%own_contact)
         if (dom%on) call gather_contact_state(ct)
         if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, bm, walls, rg, ct, td, &
                                            history_marks(hist), states_marks(states), ok)
