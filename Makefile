@@ -90,10 +90,13 @@ tests: $(TEST_BIN)
 debug: deps
 	@$(MAKE) --no-print-directory bin/xdyna_debug$(SUFFIX)
 
+# the suite on every core (CHECK_JOBS=1: one at a time); tests/README.md
+CHECK_JOBS ?= $(shell nproc)
+
 check: deps
 	@sh tools/deps.sh check || echo "deps: python3-vtk9 could not be installed; the d3plot reader test will SKIP"
 	@$(MAKE) --no-print-directory all tests bin/xdyna_debug$(SUFFIX)
-	@$(PY) tests/run_tests.py
+	@$(PY) -m pytest -q -n $(CHECK_JOBS) --dist loadgroup
 
 demo: deps
 	@$(MAKE) --no-print-directory all

@@ -3,7 +3,7 @@
 # `deps.sh check`: the packages the tests need beyond those (VTK's LS-DYNA
 # reader, python3-vtk9, the independent reader of our d3plot).
 set -e
-pkgs="gfortran make time libhdf5-dev libopenmpi-dev openmpi-bin liblapack-dev libmetis-dev python3 python3-numpy python3-h5py python3-matplotlib"
+pkgs="gfortran make time libhdf5-dev libopenmpi-dev openmpi-bin liblapack-dev libmetis-dev python3 python3-numpy python3-h5py python3-matplotlib python3-pytest python3-pytest-xdist python3-pytest-subtests"
 [ "$1" = "check" ] && pkgs="python3-vtk9"
 missing=""
 for p in $pkgs; do

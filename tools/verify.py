@@ -1,10 +1,9 @@
 #!/usr/bin/python3
 """make verify: run the verification problems (the deck tests of
-tests/run_tests.py with known answers) and write doc/verification.md with
+tests/ with known answers) and write doc/verification.md with
 each check's figure, tolerance, pass/fail and the wall time of its problem.
 Exit 1 if any check fails."""
 import datetime
-import importlib.util
 import os
 import platform
 import re
@@ -13,42 +12,46 @@ import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-spec = importlib.util.spec_from_file_location("run_tests", os.path.join(ROOT, "tests", "run_tests.py"))
-rt = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(rt)
+sys.path.insert(0, os.path.join(ROOT, "tests"))
+import xdtest as rt  # noqa: E402 (the checks' record, the build, the runs' directory)
+import test_contact_decks as cd  # noqa: E402
+import test_elements as el  # noqa: E402
+import test_materials as ma  # noqa: E402
+import test_parallel as pa  # noqa: E402
+import test_walls_bodies_loads as wb  # noqa: E402
 
 PROBLEMS = [
     ("Elastic bar struck at one end (1-D wave)", "1-D theory: c = sqrt(E/rho), sigma = rho c v0",
-     rt.test_bar_impact),
-    ("Free block translating and spinning", "conservation of energy and momentum", rt.test_free_block),
-    ("Pre-stressed column released", "conservation of energy; sigma^2 V / 2E", rt.test_prestressed),
-    ("Elastic bar on a planar rigid wall", "1-D theory: 2L/c, rho c A v0, rebound at v0", rt.test_bar_wall),
+     lambda: el.test_bar_impact(rt.bar_impact_run())),
+    ("Free block translating and spinning", "conservation of energy and momentum", el.test_free_block),
+    ("Pre-stressed column released", "conservation of energy; sigma^2 V / 2E", el.test_prestressed),
+    ("Elastic bar on a planar rigid wall", "1-D theory: 2L/c, rho c A v0, rebound at v0", wb.test_bar_wall),
     ("Moving and cylindrical rigid walls", "fixed-wall limit; momentum and energy; no penetration",
-     rt.test_moving_walls),
-    ("Block dropped on a rigid wall under gravity", "v = sqrt(2 g h)", rt.test_gravity_drop),
+     wb.test_moving_walls),
+    ("Block dropped on a rigid wall under gravity", "v = sqrt(2 g h)", wb.test_gravity_drop),
     ("One element in uniaxial stress, plastic materials", "closed-form return mapping; Cowper-Symonds",
-     rt.test_plasticity),
+     ma.test_plasticity),
     ("Taylor bar (copper, 227 m/s)", "final length 21.45 mm, foot radius 7.2 mm (issue 3's reference)",
-     rt.test_taylor_bar),
+     ma.test_taylor_bar),
     ("Rigid bodies", "closed-form box inertia; torque-free conservation; rod with end mass",
-     rt.test_rigid_bodies),
+     wb.test_rigid_bodies),
     ("Rigid body on a planar rigid wall", "plastic impact: the wall takes the kinetic energy; no node behind it",
-     rt.test_rigid_wall_bodies),
+     wb.test_rigid_wall_bodies),
     ("Prescribed rigid motion and spot welds", "the prescribed curves; conservation; failure time",
-     rt.test_rigid_constraints),
-    ("Column under segment pressure", "uniaxial stress: p L / E", rt.test_pressure),
-    ("Belytschko-Tsay cantilever strip", "beam theory, first bending frequency", rt.test_shells),
-    ("Clamped square plate under pressure", "plate theory: 0.00126 q a^4 / D", rt.test_clamped_plate),
+     wb.test_rigid_constraints),
+    ("Column under segment pressure", "uniaxial stress: p L / E", wb.test_pressure),
+    ("Belytschko-Tsay cantilever strip", "beam theory, first bending frequency", el.test_shells),
+    ("Clamped square plate under pressure", "plate theory: 0.00126 q a^4 / D", el.test_clamped_plate),
     ("Two bars meeting head-on through contact", "1-D theory: 2L/c, velocities reversed; momentum",
-     rt.test_contact_bars),
-    ("Block resting on a block, penalty contact", "static penetration m g / k", rt.test_contact_block_on_block),
+     cd.test_contact_bars),
+    ("Block resting on a block, penalty contact", "static penetration m g / k", cd.test_contact_block_on_block),
     ("Contact patch test", "a uniform pressure passes through a contact interface undisturbed",
-     rt.test_contact_patch),
+     cd.test_contact_patch),
     ("Cube sliding and sticking on a plate", "Coulomb friction: deceleration mu g; static limit",
-     rt.test_contact_friction),
+     cd.test_contact_friction),
     ("Square tube axial crush (shells, self-contact)", "Abramowicz & Jones mean force; no pass-through",
-     lambda: rt.test_tube_crush(full=True)),
-    ("Thread count", "deterministic assembly: bitwise equal histories", rt.test_threads),
+     cd.test_tube_crush),
+    ("Thread count", "deterministic assembly: bitwise equal histories", pa.test_threads),
 ]
 
 
@@ -69,13 +72,13 @@ def columns(name):
 def main():
     docname = "verification-single.md" if rt.SINGLE else "verification.md"
     build = (" with the 32-bit build (`make PRECISION=single verify`: field data in 32 bits, energies and time "
-             "in 64; round-off tolerances scaled as `roundoff()` in tests/run_tests.py states)") if rt.SINGLE else ""
+             "in 64; round-off tolerances scaled as `roundoff()` in tests/xdtest.py states)") if rt.SINGLE else ""
     lines = ["# Verification" + (" (32-bit build)" if rt.SINGLE else ""), "",
              f"Written by `make verify`{build} on {datetime.date.today().isoformat()} "
              f"({platform.machine()}, {os.cpu_count()} cores). Each check states its quantity, the "
              "reference it is held to (the problem's source in the second column), its result (the error "
              "where the check is a relative one), the tolerance and pass/fail; the reasons for the "
-             "tolerances are in `tests/run_tests.py`. Wall time is that of the whole problem (all its "
+             "tolerances are in the tests (`tests/test_*.py`). Wall time is that of the whole problem (all its "
              "runs), one thread unless stated. Error against run time for each knob: `doc/accuracy.md` "
              "(`make sweeps`); stiff and extreme cases: below (`make stability`).", "",
              "| problem | reference (source) | quantity | against | result | tolerance | pass | wall (s) |",
