@@ -71,7 +71,10 @@ def record(name, ok, detail=""):
         with open(os.environ["XDYNA_CHECK_LOG"], "a") as f:
             f.write(("PASS " if ok else "FAIL ") + name + "\n")
     if _reporter is not None:
-        _reporter(name, ok, detail)
+        # a failed check names the test's line that made it
+        caller = sys._getframe(1)
+        where = f"{os.path.relpath(caller.f_code.co_filename, ROOT)}:{caller.f_lineno}"
+        _reporter(name, ok, detail if ok else f"{where}: {name}" + (f"\n{detail}" if detail else ""))
     else:
         print(("PASS " if ok else "FAIL ") + name + ("" if ok or not detail else ": " + detail), flush=True)
 
