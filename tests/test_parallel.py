@@ -236,8 +236,8 @@ def test_mpi_metis():
 
 @pytest.mark.slow(88)
 def test_mpi_contact_own():
-    """XDYNA_CONTACT_OWN=1 (issue 32, the first step of ghosts by
-    proximity): each rank bounds the motion of its own contact surface
+    """Own contact bounds (issue 32, the first step of ghosts by
+    proximity; the default, here without the ghosts, XDYNA_GHOSTS=0): each rank bounds the motion of its own contact surface
     nodes alone (the surface's mean velocity an exact fixed-point sum, the
     largest speeds and the margins used maxima, each reduced over the
     ranks), so no rank needs a surface velocity it does not own to decide
@@ -252,7 +252,7 @@ def test_mpi_contact_own():
     if shutil.which("mpirun") is None:
         record("mpirun is installed (make deps: openmpi-bin)", False)
         return
-    env = {"XDYNA_CONTACT_OWN": "1"}
+    env = {"XDYNA_CONTACT_OWN": "1", "XDYNA_GHOSTS": "0"}
     deck = with_cards("input_decks/contact/tube_crush.k", "own_tube", "*DATABASE_BINARY_D3DUMP\n         0\n")
     p0, serial = run_deck(deck, "own_serial", extra=("endtim=0.002",))
     for n in (2, 4):
@@ -282,7 +282,7 @@ def test_mpi_contact_own():
     ok, msg = same_dynamics(serial, part) if p2.returncode == 0 else (False, (p1.stderr + p2.stderr)[-300:])
     record("XDYNA_CONTACT_OWN: the tube crush dumped on 2 ranks at 1.4 ms (in contact since 1.25 ms) "
            "and restarted on 4 gives the serial run's motion bitwise, its sliding energy to 1e-12", ok, msg)
-    # XDYNA_GHOSTS=1 on top: the surfaces' velocities only to the ranks
+    # the ghosts on top (the default, named here): the surfaces' velocities only to the ranks
     # whose slaves read them, chosen at each search from gathered
     # positions and every rank's box: the tube crush (self-contact) and the
     # front frame (rigid bodies, a rigid wall, two interfaces) on 2 and 4
@@ -441,10 +441,12 @@ def test_mpi_owned():
     # velocities and the rigid bodies' nodes' forces to every rank (bitwise
     # motion on 1, 2, 4 ranks and 2 x 2: test_mpi); erosion keeps the
     # replicated state (test_erosion)
+    # (the surfaces' velocities to every rank where contact ghosts are off,
+    # XDYNA_GHOSTS=0; by default the ghosts replace them: below)
     log = {}
     for name, deck in (("tube", "input_decks/contact/tube_crush.k"), ("frame", "input_decks/paper/front_frame.k")):
         out = os.path.join(d, name)
-        p = mpirun(2, ["i=" + os.path.join(ROOT, deck), "outdir=" + out, "endcyc=2"])
+        p = mpirun(2, ["i=" + os.path.join(ROOT, deck), "outdir=" + out, "endcyc=2"], env_extra={"XDYNA_GHOSTS": "0"})
         log[name] = open(os.path.join(out, "d3hsp")).read() if p.returncode == 0 else ""
     pat = r"the contact surfaces' (\d+) nodes' velocities and the rigid bodies' (\d+) nodes' forces to every rank"
     m = re.search(pat, log["tube"])
@@ -453,6 +455,15 @@ def test_mpi_owned():
     m = re.search(pat, log["frame"])
     record(f"owned nodes: the front frame's rigid bodies and contact run with owned nodes ({m.group(2) if m else 0} "
            "body nodes' forces to every rank)", m is not None and int(m.group(2)) > 0)
+    # the default: contact ghosts by proximity (test_mpi_contact_own holds
+    # them to the serial run), named in d3hsp
+    out = os.path.join(d, "tube_default")
+    p = mpirun(2, ["i=" + os.path.join(ROOT, "input_decks/contact/tube_crush.k"), "outdir=" + out, "endcyc=2"])
+    log = open(os.path.join(out, "d3hsp")).read() if p.returncode == 0 else ""
+    record("owned nodes: by default the tube crush on 2 ranks takes contact ghosts by proximity and bounds each "
+           "rank's own surface nodes' motion, both named in d3hsp",
+           "contact: ghosts by proximity (XDYNA_GHOSTS=0: none)" in log
+           and "contact: each rank bounds the motion of its own surface nodes" in log, p.stderr[-300:])
 
 
 def test_part_sizes():
@@ -511,7 +522,7 @@ def test_part_sizes():
     # reads no angular velocity); nothing is gathered (no beams, no ties)
     if shutil.which("mpirun") is not None:
         out = os.path.join(here, "owned4")
-        q = mpirun(4, ["i=" + deck, "outdir=" + out, "endcyc=2"])
+        q = mpirun(4, ["i=" + deck, "outdir=" + out, "endcyc=2"], env_extra={"XDYNA_GHOSTS": "0"})
         log = open(os.path.join(out, "d3hsp")).read() if q.returncode == 0 else ""
         ms = re.search(r"halo exchange a cycle: (\d+) force slots", log)
         mb = re.search(r"exchange a cycle, all ranks: (\d+) bytes point-to-point \(halo slots and velocities, "
@@ -522,6 +533,22 @@ def test_part_sizes():
         record(f"owned nodes on the quadrants: bytes a cycle {gotb} against the decomposition's {want} (halo slots "
                f"{ms.group(1) if ms else '?'}, 83 halo nodes, {n * n} surface nodes)", gotb is not None and gotb == want,
                q.stderr[-300:])
+        # with contact ghosts (the default) the surfaces' velocities no
+        # longer go to every rank: a cycle's bytes are the halo's alone,
+        # each halo slot's force and moment and each of the 83 halo
+        # node-sends' velocity and angular velocity, proportional to the
+        # partition surfaces (the ghosts' own, chosen at each search, are
+        # counted at the end of the run)
+        out = os.path.join(here, "ghosts4")
+        q = mpirun(4, ["i=" + deck, "outdir=" + out, "endcyc=2"])
+        log = open(os.path.join(out, "d3hsp")).read() if q.returncode == 0 else ""
+        ms = re.search(r"halo exchange a cycle: (\d+) force slots", log)
+        mb = re.search(r"exchange a cycle, all ranks: (\d+) bytes point-to-point \(halo slots and velocities, "
+                       r"with the pressure segments' to every other rank; the contact ghosts' come on top", log)
+        want = 48 * int(ms.group(1)) + 48 * 83 if ms else None
+        gotb = int(mb.group(1)) if mb else None
+        record(f"contact ghosts on the quadrants: bytes a cycle {gotb} against the halo's alone {want} (halo slots "
+               f"{ms.group(1) if ms else '?'}, 83 halo node-sends)", gotb is not None and gotb == want, q.stderr[-300:])
 
 
 def test_stack_limit():

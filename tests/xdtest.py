@@ -88,12 +88,35 @@ def skip(reason):
         print("SKIP " + reason, flush=True)
 
 
+# the longest any one command of a test may take (XDYNA_TEST_TIMEOUT,
+# seconds): the longest takes about a minute on two cores; a run that hangs
+# (ranks waiting on each other in different collectives) fails its check
+# instead of holding make check until CI's limit
+TIMEOUT = float(os.environ.get("XDYNA_TEST_TIMEOUT", "600"))
+
+
 def run(args, cwd=None, env=None):
+    """The command's CompletedProcess; past TIMEOUT its whole process group
+    (mpirun and its ranks) is killed and the result says so (exit -9)."""
     e = dict(os.environ)
     e.setdefault("OMP_NUM_THREADS", "1")
     if env:
         e.update(env)
-    return subprocess.run(args, cwd=cwd or ROOT, env=e, capture_output=True, text=True)
+    proc = subprocess.Popen(args, cwd=cwd or ROOT, env=e, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, start_new_session=True)
+    try:
+        out, err = proc.communicate(timeout=TIMEOUT)
+    except subprocess.TimeoutExpired:
+        # SIGTERM first: mpirun passes it to its ranks (which are not in its
+        # process group) and ends them
+        os.killpg(proc.pid, 15)
+        try:
+            out, err = proc.communicate(timeout=10)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, 9)
+            out, err = proc.communicate()
+        err += f"\n(killed: still running after {TIMEOUT:.0f} s, XDYNA_TEST_TIMEOUT)"
+    return subprocess.CompletedProcess(args, proc.returncode, out, err)
 
 
 def run_deck(deck, name, env=None, extra=()):

@@ -216,7 +216,7 @@ module xd_contact_contact
         real(wp) :: dt_limit = huge(1.0_wp)   !< stable step of the stiffest contact spring
         integer :: dt_node = 0                !< the node that sets it
         logical :: distributed = .false.      !< slaves split over MPI ranks: contacts are gathered
-        !> owned nodes, XDYNA_CONTACT_OWN: each rank books the contacts' work
+        !> owned nodes (unless XDYNA_CONTACT_OWN=0): each rank books the contacts' work
         !> (sliding energy, part pairs' impulse and work) of its own slaves'
         !> pairs alone, with their own nodes' velocities; the ranks' sums are
         !> added where an energy, a dump or the report reads them
@@ -709,7 +709,12 @@ contains
             associate (it => ct%ifc(i))
                 if (time < it%bt .or. time > it%dt) cycle
                 due = due_classes(it, cycle)
-                if (.not. any(due) .and. .not. any(it%resl .and. it%owned .and. it%live)) then
+                ! (a slave whose surface erosion changed counts on every rank,
+                ! owned or not: every rank then searches at the same cycles and
+                ! keeps the same last_cycle, nsearch and margins, as search_due
+                ! and the next due classes assume; a rank without such a slave
+                ! of its own searches none)
+                if (.not. any(due) .and. .not. any(it%resl .and. it%live)) then
                     ! the lists of the last searches serve this cycle: how much
                     ! of the margins has the motion used?
                     it%worst = max(it%worst, maxval(it%cused))

@@ -96,17 +96,19 @@ module xd_solver_domain
         !> comm_neighbours). Set by the time loop, unless XDYNA_REPLICATED
         !> asks that every rank integrate every node.
         logical :: owned = .false.
-        !> owned nodes, XDYNA_CONTACT_OWN=1: own again, given to the contact
-        !> (unallocated otherwise, so passed as absent): the contact's motion
+        !> owned nodes (unless XDYNA_CONTACT_OWN=0; unallocated otherwise, so
+        !> passed as absent): own again, given to the contact: the contact's motion
         !> bounds and largest speeds taken by each rank over its own surface
         !> nodes and reduced over the ranks (contact_drift,
         !> contact_local_search), and the contacts' work booked by slave, as
         !> ghosts by proximity need (no rank then holds every surface
-        !> velocity); off by default, since each cycle it adds three small
-        !> collectives that wait for the slowest rank (car6 on 2 ranks: time
-        !> integration 1.0 -> 1.8 s of 17)
+        !> velocity). Each cycle it adds three small collectives that wait
+        !> for the slowest rank (car6 on 2 ranks: time integration 1.0 ->
+        !> 1.8 s of 17), which the ghosts it allows repay from a few ranks on
+        !> (doc/performance.md: on 16 cores, 8 and 16 ranks 1.4x and 1.47x
+        !> faster, 2 x 8 and 4 x 4 1.21x and 1.28x), so it is the default
         logical, allocatable :: own_contact(:)
-        !> with own_contact, XDYNA_GHOSTS=1: contact ghosts by proximity. The
+        !> with own_contact (XDYNA_GHOSTS=0: off): contact ghosts by proximity. The
         !> contact surfaces' velocities no longer go to every rank: at each
         !> global search every surface node's position and velocity are
         !> gathered from its rank (csurf), each rank's box of the surface

@@ -624,7 +624,7 @@ contains
         call tm%start(ph_local)
         ! THKCHG: the shells' thickness of this cycle's element pass
         if (ct%thkchg .and. sh%n > 0) call contact_thickness(ct, sh%conn, sh%h, sh%mine)
-        ! (dom%own_contact unallocated, so absent, but under XDYNA_CONTACT_OWN)
+        ! (dom%own_contact unallocated, so absent, on one rank or under XDYNA_CONTACT_OWN=0)
         call contact_local_search(ct, st%x, st%v, st%time, st%dt, dom%own_contact)
         call tm%stop(ph_local)
         call tm%start(ph_enforce)

@@ -416,19 +416,22 @@ contains
             dom%own = dom%node_mine
             dom%own_solid = dom%solid_mine
             dom%own_shell = dom%shell_mine
+            ! (the default; XDYNA_CONTACT_OWN=0 turns it off, and the ghosts
+            ! with it)
             call get_environment_variable('XDYNA_CONTACT_OWN', env, length=n, status=stat)
-            own = stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0'
+            own = .not. (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) == '0')
             ! (the Lagrangian projection and the shell edges' pairs read
             ! every surface node: not there)
             if (own .and. (ct%lagrange .or. any([(ct%ifc(i)%ed%ne > 0, i=1, ct%n)]))) then
                 own = .false.
-                call log_line(lg, ' contact: XDYNA_CONTACT_OWN ignored: the Lagrangian projection and shell '// &
+                call log_line(lg, ' contact: every rank bounds every surface node''s motion and takes the '// &
+                              'whole surfaces (no contact ghosts): the Lagrangian projection and shell '// &
                               'edge pairs read every surface node')
             end if
             if (own) dom%own_contact = dom%node_mine
             if (own) call log_line(lg, ' contact: each rank bounds the motion of its own surface '// &
                                                'nodes alone and books its own slaves'' contacts'' work, '// &
-                                               'reduced over the ranks (XDYNA_CONTACT_OWN)')
+                                               'reduced over the ranks (XDYNA_CONTACT_OWN=0: every rank all)')
             ! (the contact surfaces' nodes: their velocities go to every rank)
             ! (and the pressure segments' nodes: every rank takes every
             ! segment's force, as it takes every contact)
@@ -436,11 +439,12 @@ contains
             do i = 1, ct%n
                 csurf = [csurf, ct%ifc(i)%surf%node]
             end do
-            ! XDYNA_GHOSTS=1 (with XDYNA_CONTACT_OWN): the contact surfaces'
-            ! velocities only to the ranks whose slaves are near them, chosen
-            ! at each search (contact_ghosts)
+            ! contact ghosts (the default with own_contact; XDYNA_GHOSTS=0
+            ! turns them off): the contact surfaces' velocities only to the
+            ! ranks whose slaves are near them, chosen at each search
+            ! (contact_ghosts)
             call get_environment_variable('XDYNA_GHOSTS', env, length=n, status=stat)
-            ghosts = own .and. ct%n > 0 .and. stat == 0 .and. n > 0 .and. env(1:max(n, 1)) /= '0'
+            ghosts = own .and. ct%n > 0 .and. .not. (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) == '0')
             if (.not. ghosts) surf = csurf
             if (pl%n > 0) surf = [surf, pack(pl%seg, pl%seg > 0)]
             allocate (body(0))
@@ -462,7 +466,7 @@ contains
             end if
             if (ghosts) then
                 call ghost_base(dom, csurf)
-                call log_line(lg, ' contact: ghosts by proximity (XDYNA_GHOSTS): the surfaces'' '// &
+                call log_line(lg, ' contact: ghosts by proximity (XDYNA_GHOSTS=0: none): the surfaces'' '// &
                               itoa(size(dom%csurf%node))//' nodes'' positions and velocities gathered at each '// &
                               'search, each rank''s box of what its slaves read to all, and until the next '// &
                               'search a rank''s own surface nodes inside another''s box sent to it with the halo')
