@@ -416,10 +416,10 @@ contains
             dom%own = dom%node_mine
             dom%own_solid = dom%solid_mine
             dom%own_shell = dom%shell_mine
-            ! (the default; XDYNA_CONTACT_OWN=0 turns it off, and the ghosts
-            ! with it)
+            ! (the default where there is contact; XDYNA_CONTACT_OWN=0 turns
+            ! it off, and the ghosts with it)
             call get_environment_variable('XDYNA_CONTACT_OWN', env, length=n, status=stat)
-            own = .not. (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) == '0')
+            own = ct%n > 0 .and. .not. (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) == '0')
             ! (the Lagrangian projection and the shell edges' pairs read
             ! every surface node: not there)
             if (own .and. (ct%lagrange .or. any([(ct%ifc(i)%ed%ne > 0, i=1, ct%n)]))) then
@@ -444,7 +444,7 @@ contains
             ! ranks whose slaves are near them, chosen at each search
             ! (contact_ghosts)
             call get_environment_variable('XDYNA_GHOSTS', env, length=n, status=stat)
-            ghosts = own .and. ct%n > 0 .and. .not. (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) == '0')
+            ghosts = own .and. .not. (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) == '0')
             if (.not. ghosts) surf = csurf
             if (pl%n > 0) surf = [surf, pack(pl%seg, pl%seg > 0)]
             allocate (body(0))
