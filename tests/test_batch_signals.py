@@ -1,9 +1,8 @@
-"""Batch control: signals, sense switches, the SLURM example, a run that goes bad.
+"""Batch control: signals, sense switches, the SLURM example, a run that goes
+bad.
 
 Each check states its tolerance and why (tests/README.md: how to run
 and add tests)."""
-import pytest
-
 from xdtest import *  # noqa: F401,F403 (the shared helpers and imports)
 
 

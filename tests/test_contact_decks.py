@@ -1,4 +1,5 @@
-"""Contact decks with known answers: bars, blocks, the patch test, friction, the tube crush, folds, edges, eroding contact and the torture suite.
+"""Contact decks with known answers: bars, blocks, the patch test, friction,
+the tube crush, folds, edges, eroding contact and the torture suite.
 
 Each check states its tolerance and why (tests/README.md: how to run
 and add tests)."""

@@ -1,9 +1,9 @@
-"""The contact's stages alone: surface construction and its log, the search interval and classes, the near sets, the penetration checker, initial penetrations, PENMAX, the Lagrange step.
+"""The contact's stages alone: surface construction and its log, the search
+interval and classes, the near sets, the penetration checker, initial
+penetrations, PENMAX, the Lagrange step.
 
 Each check states its tolerance and why (tests/README.md: how to run
 and add tests)."""
-import pytest
-
 from xdtest import *  # noqa: F401,F403 (the shared helpers and imports)
 
 

@@ -1,4 +1,6 @@
-"""Elements: hexahedra, Belytschko-Tsay shells (hourglass forms, step length, thickness change, mass scaling) and beams against closed forms and conservation laws.
+"""Elements: hexahedra, Belytschko-Tsay shells (hourglass forms, step length,
+thickness change, mass scaling) and beams against closed forms and
+conservation laws.
 
 Each check states its tolerance and why (tests/README.md: how to run
 and add tests)."""

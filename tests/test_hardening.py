@@ -1,9 +1,8 @@
-"""Hardening: bad input found by others, full file systems, write failures, stiff and extreme cases.
+"""Hardening: bad input found by others, full file systems, write failures,
+stiff and extreme cases.
 
 Each check states its tolerance and why (tests/README.md: how to run
 and add tests)."""
-import pytest
-
 from xdtest import *  # noqa: F401,F403 (the shared helpers and imports)
 
 

@@ -1,4 +1,5 @@
-"""Materials: the plastic returns against closed forms, the Taylor bar, failure and erosion of shells and solids.
+"""Materials: the plastic returns against closed forms, the Taylor bar, failure
+and erosion of shells and solids.
 
 Each check states its tolerance and why (tests/README.md: how to run
 and add tests)."""

@@ -1,4 +1,5 @@
-"""Output layouts: the ASCII histories against LS-DYNA's, thist.h5's metadata, thdiff.
+"""Output layouts: the ASCII histories against LS-DYNA's, thist.h5's metadata,
+thdiff.
 
 Each check states its tolerance and why (tests/README.md: how to run
 and add tests)."""

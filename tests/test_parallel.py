@@ -1,4 +1,5 @@
-"""Threads and MPI ranks: the same answers for any count, decompositions, owned nodes, contact ghosts, stack limits.
+"""Threads and MPI ranks: the same answers for any count, decompositions, owned
+nodes, contact ghosts, stack limits.
 
 Each check states its tolerance and why (tests/README.md: how to run
 and add tests)."""

@@ -1,4 +1,5 @@
-"""The deck reader: malformed decks, format rules, fuzzed input, the command line, coordinate systems.
+"""The deck reader: malformed decks, format rules, fuzzed input, the command
+line, coordinate systems.
 
 Each check states its tolerance and why (tests/README.md: how to run
 and add tests)."""

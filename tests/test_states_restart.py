@@ -2,8 +2,6 @@
 
 Each check states its tolerance and why (tests/README.md: how to run
 and add tests)."""
-import pytest
-
 from xdtest import *  # noqa: F401,F403 (the shared helpers and imports)
 
 

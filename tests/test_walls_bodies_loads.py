@@ -1,9 +1,8 @@
-"""Rigid walls, rigid bodies, prescribed motion, constraints and loads against 1-D theory and conservation laws.
+"""Rigid walls, rigid bodies, prescribed motion, constraints and loads against
+1-D theory and conservation laws.
 
 Each check states its tolerance and why (tests/README.md: how to run
 and add tests)."""
-import pytest
-
 from xdtest import *  # noqa: F401,F403 (the shared helpers and imports)
 
 

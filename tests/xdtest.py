@@ -7,6 +7,7 @@ and a failed one fails `make check` naming the test and the check; called
 from a script (tools/verify.py) it prints PASS or FAIL and is kept in
 `results`. Every check states its tolerance and why, at the check.
 """
+# (the test modules take these imports too, through `from xdtest import *`)
 import glob
 import math
 import os
