@@ -874,14 +874,14 @@ contains
         type(domain_t), intent(inout) :: dom
         type(contacts_t), intent(in) :: ct
         real(wp), intent(in) :: x(:, :)
-        logical, allocatable :: rd(:), insd(:), out(:), inn(:), brot(:), mv(:)
+        logical, allocatable :: rd(:), out(:), inn(:), brot(:), mv(:)
         integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:)
         logical, allocatable :: mo_rot(:), mi_rot(:)
         real(dp) :: box(6), boxes(6, dom%nranks), reach, step
         logical, allocatable :: pm(:)
-        integer :: i, q, k, j, sn, nn, r, kk, g, b
+        integer :: i, q, k, j, sn, nn, r, g, b, added
         nn = size(dom%node_mine)
-        allocate (rd(nn), insd(nn), out(nn), inn(nn), brot(nn), mv(nn))
+        allocate (rd(nn), out(nn), inn(nn), brot(nn), mv(nn))
         rd = .false.
         reach = 0
         step = 0
@@ -952,10 +952,6 @@ contains
         end if
         call comm_gather_small(box, boxes)
         ! the ghosts' lists, neighbour by neighbour (every other rank)
-        insd = .false.
-        do j = 1, size(dom%csurf%node)
-            insd(dom%csurf%node(j)) = .true.
-        end do
         allocate (mo_ptr(1), mi_ptr(1), mo_node(0), mi_node(0), mo_rot(0), mi_rot(0))
         mo_ptr = 0
         mi_ptr = 0
@@ -963,37 +959,13 @@ contains
         dom%nghost_out = 0
         do k = 1, size(dom%nbr)
             r = dom%nbr(k)
-            out = .false.
-            inn = .false.
-            brot = .false.
-            do kk = dom%bmo_ptr(k) + 1, dom%bmo_ptr(k + 1)
-                out(dom%bmo_node(kk)) = .true.
-                brot(dom%bmo_node(kk)) = dom%bmo_rot(kk)
-            end do
-            do j = 1, size(dom%csurf%node)
-                i = dom%csurf%node(j)
-                if (dom%arank(i) == dom%rank) then
-                    if (inside(i, boxes(:, r + 1)) .and. .not. out(i)) then
-                        out(i) = .true.
-                        dom%nghost_out = dom%nghost_out + 1
-                    end if
-                end if
-            end do
+            ! to r: the base's entries and this rank's surface nodes in r's box
+            call side(dom%bmo_ptr, dom%bmo_node, dom%bmo_rot, dom%rank, r, out, added)
+            dom%nghost_out = dom%nghost_out + added
             call append_entries(out, brot, mo_node, mo_rot, mo_ptr)
-            brot = .false.
-            do kk = dom%bmi_ptr(k) + 1, dom%bmi_ptr(k + 1)
-                inn(dom%bmi_node(kk)) = .true.
-                brot(dom%bmi_node(kk)) = dom%bmi_rot(kk)
-            end do
-            do j = 1, size(dom%csurf%node)
-                i = dom%csurf%node(j)
-                if (dom%arank(i) == r) then
-                    if (inside(i, boxes(:, dom%rank + 1)) .and. .not. inn(i)) then
-                        inn(i) = .true.
-                        mv(i) = .true.
-                    end if
-                end if
-            end do
+            ! from r: the base's entries and r's surface nodes in this rank's
+            ! box, which this rank then moves
+            call side(dom%bmi_ptr, dom%bmi_node, dom%bmi_rot, r, dom%rank, inn, added, mv)
             call append_entries(inn, brot, mi_node, mi_rot, mi_ptr)
         end do
         call set_motion_lists(dom, mo_ptr, mo_node, mo_rot, mi_ptr, mi_node, mi_rot)
@@ -1001,6 +973,33 @@ contains
         dom%nrefresh = dom%nrefresh + 1
         dom%ghost_out_sum = dom%ghost_out_sum + dom%nghost_out
     contains
+        !> One side of the exchange with neighbour k: mark (with brot, the
+        !> angular velocities) the base lists' entries ptr(k)+1 .. ptr(k+1),
+        !> then the surface nodes of `owner` inside `reader`'s box not yet
+        !> marked (added of them; also set in moved where given).
+        subroutine side(ptr, node, rot, owner, reader, mark, added, moved)
+            integer, intent(in) :: ptr(:), node(:), owner, reader
+            logical, intent(in) :: rot(:)
+            logical, intent(out) :: mark(:)
+            integer, intent(out) :: added
+            logical, intent(inout), optional :: moved(:)
+            integer :: e, jj, nd
+            mark = .false.
+            brot = .false.
+            do e = ptr(k) + 1, ptr(k + 1)
+                mark(node(e)) = .true.
+                brot(node(e)) = rot(e)
+            end do
+            added = 0
+            do jj = 1, size(dom%csurf%node)
+                nd = dom%csurf%node(jj)
+                if (dom%arank(nd) /= owner .or. mark(nd)) cycle
+                if (.not. inside(nd, boxes(:, reader + 1))) cycle
+                mark(nd) = .true.
+                added = added + 1
+                if (present(moved)) moved(nd) = .true.
+            end do
+        end subroutine side
         logical function inside(nd, bx)
             integer, intent(in) :: nd
             real(dp), intent(in) :: bx(6)
