@@ -9,12 +9,13 @@
 module xd_core_comm
     use mpi_f08, only: MPI_Initialized, MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, &
                        MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_INTEGER8, MPI_Datatype, MPI_Request, &
-                       MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Comm_size
+                       MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Comm_size, MPI_Gatherv
     use xd_core_sorting, only: sort_index
     use xd_kinds, only: wp, dp, i8
     implicit none
     private
-    public :: comm_gather_wp, comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max, comm_gather_small, &
+    public :: comm_gather_wp, comm_gather_root_wp, comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max, &
+              comm_gather_small, &
               comm_gather_records, comm_neighbours, comm_ordered_records
 
 contains
@@ -65,6 +66,24 @@ contains
         end if
         call MPI_Allgatherv(mine(1:max(n, 1)), n, wp_type(), all(1:sum(cnt)), cnt, disp, wp_type(), MPI_COMM_WORLD)
     end subroutine comm_gather_wp
+
+    !> On rank 0 alone: all = every rank's `mine` (n values), rank after
+    !> rank (rank r - 1's cnt(r) values at offset disp(r)); the other ranks'
+    !> `all` is not read or written (it may be of size 1).
+    subroutine comm_gather_root_wp(mine, n, all, cnt, disp, root)
+        integer, intent(in) :: n, cnt(:), disp(:)
+        real(wp), intent(in) :: mine(*)
+        real(wp), intent(inout) :: all(*)
+        logical, intent(in) :: root     !< this is rank 0
+        integer :: na
+        if (.not. up()) then
+            all(disp(1) + 1:disp(1) + n) = mine(1:n)
+            return
+        end if
+        na = 1
+        if (root) na = max(sum(cnt), 1)
+        call MPI_Gatherv(mine(1:max(n, 1)), n, wp_type(), all(1:na), cnt, disp, wp_type(), 0, MPI_COMM_WORLD)
+    end subroutine comm_gather_root_wp
 
     !> In-place sum over the ranks of a(:) in double precision.
     subroutine comm_sum_dp(a)

@@ -51,7 +51,7 @@ contains
         type(material_t), intent(in) :: mat(:)
         real(dp), intent(in) :: time
         integer, allocatable, intent(out) :: newly(:)
-        integer :: i, e, ip, nfp, need
+        integer :: i, e, ip, nfp, need, is
         logical :: gone
         allocate (newly(0))
         if (.not. sh%erodible) return
@@ -71,12 +71,13 @@ contains
                     need = sh%nip(e)
                     if (m%erosion) need = min(max(m%numfip, 1), sh%nip(e))
                     nfp = 0
+                    is = sh%lix(e)      ! (the points' state's row)
                     do ip = 1, sh%nip(e)
                         if (strain_criteria(m)) then
-                            if (point_fails(m, sh%sig(e, :, ip), sh%epsp(e, ip), sh%plastic(e), &
-                                            principal_values(sh%strain(e, :, ip)))) nfp = nfp + 1
+                            if (point_fails(m, sh%sig(is, :, ip), sh%epsp(is, ip), sh%plastic(e), &
+                                            principal_values(sh%strain(is, :, ip)))) nfp = nfp + 1
                         else
-                            if (point_fails(m, sh%sig(e, :, ip), sh%epsp(e, ip), sh%plastic(e))) nfp = nfp + 1
+                            if (point_fails(m, sh%sig(is, :, ip), sh%epsp(is, ip), sh%plastic(e))) nfp = nfp + 1
                         end if
                     end do
                     gone = nfp >= need
@@ -163,7 +164,7 @@ contains
                 associate (m => model%mat(model%part(s%part(e))%mat_ix))
                     if (.not. (m%fail > 0.0_wp .or. m%erosion)) cycle
                     ep = 0
-                    if (plastic) ep = s%epsp(e)
+                    if (plastic) ep = s%epsp(s%row(e))
                     if (m%erosion .and. m%failtm > 0.0_wp .and. time >= m%failtm) then
                         newly = [newly, e]
                     else if (strain_criteria(m)) then

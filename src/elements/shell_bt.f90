@@ -6,7 +6,7 @@
 !> and the thickness strain rate iterated so that s_zz = 0.
 !> Stresses per point (local frame): xx yy xy yz zx.
 module xd_elements_shell_bt
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
     use xd_core_memory, only: alloc, alloc_dp
     use xd_core_strings, only: itoa
     use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid, hg_bounded, can_erode
@@ -14,7 +14,8 @@ module xd_elements_shell_bt
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private
-    public :: shells_t, build_shells, shell_forces, shell_masses, shell_axes, shell_blocks, point_weight, point_z
+    public :: shells_t, build_shells, shell_localize, shell_state_bytes, shell_forces, shell_masses, shell_axes, shell_blocks, &
+              point_weight, point_z
     public :: shell_name
 
     ! iteration tolerances: 1e-10 and 1e-12 relative in double precision,
@@ -58,7 +59,7 @@ module xd_elements_shell_bt
         !> loads and stores of one component are runs of memory (vector
         !> moves), not gathers and scattered stores at a stride of 5 nip
         real(wp), allocatable :: sig(:, :, :)
-        real(wp), allocatable :: qhg(:, :)    !< (n, 5) hourglass generalized forces
+        real(wp), allocatable :: qhg(:, :)    !< (nl, 5) hourglass generalized forces
         logical, allocatable :: plastic(:)
         integer, allocatable :: pmat(:)       !< index into pp
         !> the plastic law per element, for the points' loops (pp's fields
@@ -88,6 +89,21 @@ module xd_elements_shell_bt
         logical :: thickness_update = .false.   !< *CONTROL_SHELL ISTUPD
         integer :: isdo = 0                     !< *CONTROL_TIMESTEP ISDO: the step's length
         integer, allocatable :: mine(:)       !< the elements computed here (MPI: this rank's; eroded ones left out)
+        !> The points' state (sig, epsp, strain, alpha, qhg) is held for this
+        !> rank's shells alone (issue 32), in their own numbering: nl of
+        !> them, shell e's row lix(e) (0: another rank's), row i shell
+        !> gix(i), in ascending order, so that a block of consecutive shells
+        !> has consecutive rows (shell_localize). One rank: every shell,
+        !> lix(e) = e. A writer that needs every shell's state takes a
+        !> gathered copy for the time of the output (the domain's
+        !> element_view).
+        integer :: nl = 0
+        integer, allocatable :: lix(:), gix(:)
+        logical :: local = .false.            !< shell_localize made the rows this rank's (MPI)
+        !> during such a view (rank 0): the rank's own rows, kept aside
+        logical :: viewing = .false.
+        real(wp), allocatable :: own_sig(:, :, :), own_epsp(:, :), own_qhg(:, :), own_strain(:, :, :), &
+                                 own_alpha(:, :, :)
         !> the element loop's blocks: runs of consecutive elements of mine,
         !> at most nblk each (shell_blocks, whenever mine changes), so that
         !> a block's element data are read at unit stride
@@ -327,7 +343,71 @@ contains
             allocate (sh%strain(0, 6, nipmax))
         end if
         sh%strain = 0
+        ! (one rank's numbering of the points' state: every shell, as built)
+        sh%nl = sh%n
+        sh%lix = [(e, e=1, sh%n)]
+        sh%gix = sh%lix
     end subroutine build_shells
+
+    !> The points' state (sig, epsp, strain, alpha, qhg) kept for this
+    !> rank's shells `own` alone (ascending), their rows in that order: the
+    !> rest of the arrays' memory goes (issue 32). The values kept are
+    !> those of the rows as they were (a state read from a dump, initial
+    !> values).
+    subroutine shell_localize(sh, own)
+        type(shells_t), intent(inout) :: sh
+        integer, intent(in) :: own(:)
+        real(wp), allocatable :: a3(:, :, :), a2(:, :)
+        integer :: i
+        if (sh%local) error stop 'shell_localize: the state is local already'
+        if (any(own(2:) <= own(:size(own) - 1))) error stop 'shell_localize: own not ascending'
+        sh%local = .true.
+        sh%nl = size(own)
+        sh%gix = own
+        sh%lix = 0
+        sh%lix(own) = [(i, i=1, sh%nl)]
+        a3 = sh%sig(own, :, :)
+        call move_alloc(a3, sh%sig)
+        a2 = sh%epsp(own, :)
+        call move_alloc(a2, sh%epsp)
+        a2 = sh%qhg(own, :)
+        call move_alloc(a2, sh%qhg)
+        if (size(sh%strain, 1) > 0) then
+            a3 = sh%strain(own, :, :)
+            call move_alloc(a3, sh%strain)
+        end if
+        if (size(sh%alpha, 3) > 0) then
+            a3 = sh%alpha(:, :, own)
+            call move_alloc(a3, sh%alpha)
+        end if
+    end subroutine shell_localize
+
+    !> The bytes of the points' state (sig, epsp, qhg, strain, alpha) this
+    !> rank holds: every shell's on one rank, its own shells' on more.
+    integer(i8) function shell_state_bytes(sh, every) result(b)
+        type(shells_t), intent(in) :: sh
+        !> every shell's, as one rank holds them
+        logical, intent(in), optional :: every
+        integer(i8) :: w
+        b = 0
+        if (sh%n == 0 .or. .not. allocated(sh%sig)) return
+        if (present(every)) then
+            if (every) then
+                ! a row's values: sig, epsp, qhg, and strain, alpha where kept
+                w = size(sh%sig, 2)*size(sh%sig, 3) + size(sh%epsp, 2) + 5
+                if (sh%track_strain) w = w + 6*size(sh%sig, 3)
+                if (any(sh%backstress)) w = w + 6*size(sh%sig, 3)
+                b = w*sh%n*(storage_size(1.0_wp, i8)/8)
+                return
+            end if
+        end if
+        b = 0
+        if (allocated(sh%sig)) b = b + storage_size(sh%sig, i8)/8*size(sh%sig, kind=i8)
+        if (allocated(sh%epsp)) b = b + storage_size(sh%epsp, i8)/8*size(sh%epsp, kind=i8)
+        if (allocated(sh%qhg)) b = b + storage_size(sh%qhg, i8)/8*size(sh%qhg, kind=i8)
+        if (allocated(sh%strain)) b = b + storage_size(sh%strain, i8)/8*size(sh%strain, kind=i8)
+        if (allocated(sh%alpha)) b = b + storage_size(sh%alpha, i8)/8*size(sh%alpha, kind=i8)
+    end function shell_state_bytes
 
     !> Lumped masses: a quarter of rho h A on each node (a third for
     !> triangles); rotational inertia m (h^2 + 3A)/12 about every axis. With
@@ -486,7 +566,7 @@ contains
         real(wp), intent(in), contiguous :: x(:, :), v(:, :), w(:, :)
         real(dp), intent(in) :: dt_avg_prev
         real(wp), intent(inout), optional, contiguous :: f(:, :), m(:, :)
-        integer :: e, ib, p, l, nb, e0, tcrit, tbad
+        integer :: e, ib, p, l, nb, e0, s0, tcrit, tbad
         real(wp) :: dte, tmin, dtb(nblk), fs(nblk, 3, 4), ms(nblk, 3, 4)
         real(wp) :: vg(nblk, 3, 4), wg(nblk, 3, 4)
         type(block_geom_t) :: gm, gn
@@ -494,7 +574,7 @@ contains
         sh%crit = 0
         sh%bad = 0
         if (sh%tsmin > 0.0_wp) sh%low = .false.
-        !$omp parallel default(shared) private(e, ib, p, l, nb, e0, gm, gn, dte, dtb, fs, ms, vg, wg, tmin, tcrit, tbad)
+        !$omp parallel default(shared) private(e, ib, p, l, nb, e0, s0, gm, gn, dte, dtb, fs, ms, vg, wg, tmin, tcrit, tbad)
         tmin = huge(1.0_wp)
         tcrit = 0
         tbad = 0
@@ -505,12 +585,14 @@ contains
         do ib = sh%pfirst(p), sh%plast(p)
             e0 = sh%bfirst(ib) - 1
             nb = sh%bcount(ib)
+            ! (the block's rows of the points' state: consecutive too)
+            s0 = sh%lix(e0 + 1) - 1
             ! the rates on the mid-step geometry, the forces on x(n)
             call block_gather(sh, e0, nb, x, v, w, gn%xe, vg, wg)
             gm%xe(1:nb, :, :) = gn%xe(1:nb, :, :) - 0.5_wp*dt*vg(1:nb, :, :)
             call block_geometry(sh, e0, nb, gm)
             call block_geometry(sh, e0, nb, gn)
-            call block_forces(sh, ib, e0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dtb, fs, ms)
+            call block_forces(sh, ib, e0, s0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dtb, fs, ms)
             if (present(f) .and. present(m)) then
                 call block_add(sh, e0, nb, dtb, fs, ms, f, m)
             else
@@ -570,10 +652,11 @@ contains
     !> hourglass and the forces; the points' stress update per element (a
     !> yielding point's return is its own iteration). dte(l) = -1 for an
     !> element collapsed or inverted (the mid-step one is not updated).
-    subroutine block_forces(sh, ib, e0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dte, fs, ms)
+    subroutine block_forces(sh, ib, e0, s0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dte, fs, ms)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: ib       !< the block's number
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
+        integer, intent(in) :: s0       !< their points' state: rows s0 + 1 .. s0 + nb
         type(block_geom_t), intent(in) :: gm, gn
         !> the nodes' velocities and angular velocities (block_gather)
         real(wp), intent(in) :: vg(nblk, 3, 4), wg(nblk, 3, 4)
@@ -651,7 +734,7 @@ contains
                        gm%b2(l, 4)*vl(l, 3, 4)) - quarter*(((wl(l, 1, 1) + wl(l, 1, 2)) + wl(l, 1, 3)) + wl(l, 1, 4))
         end do
         ! the points' stresses, the resultants and the internal energy
-        call block_points(sh, ib, e0, nb, r, gm%a, gm%ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
+        call block_points(sh, ib, e0, s0, nb, r, gm%a, gm%ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
         ! Belytschko-Tsay hourglass: gamma = h - (h.x) b1 - (h.y) b2; stiffness
         ! form on the out-of-plane rotations and displacement and the membrane
         ! rates of a warped element (nodes zl off its mean plane) less the
@@ -693,7 +776,7 @@ contains
         ! chain of roots and divisions was 8% of car6's run)
         do k = 1, 5
             do l = 1, nb
-                hq(l, k) = sh%qhg(e0 + l, k)
+                hq(l, k) = sh%qhg(s0 + l, k)
             end do
         end do
         do l = 1, nb
@@ -722,14 +805,14 @@ contains
         ! law after (per element, with a call for each, it had been a tenth
         ! of this routine's time on car6)
         do l = 1, nb
-            sy(l) = sh%epsp(e0 + l, 1)
+            sy(l) = sh%epsp(s0 + l, 1)
         end do
         ! (the points beyond an element's nip weighed 0 against the
         ! strains, which are not negative; the elements where the bound
         ! does not act 0: no select, so that the loops vectorise)
         do k = 2, size(sh%epsp, 2)
             do l = 1, nb
-                sy(l) = max(sy(l), sh%epsp(e0 + l, k)*real(min(max(sh%nip(e0 + l) - k + 1, 0), 1), wp))
+                sy(l) = max(sy(l), sh%epsp(s0 + l, k)*real(min(max(sh%nip(e0 + l) - k + 1, 0), 1), wp))
             end do
         end do
         do l = 1, nb
@@ -740,7 +823,7 @@ contains
             do l = 1, nb
                 e = e0 + l
                 if (.not. (bnd(l) .and. sh%ycurve(e))) cycle
-                call flow_stress(sh, e, maxval(sh%epsp(e, 1:max(1, sh%nip(e)))), sy(l), hs)
+                call flow_stress(sh, e, maxval(sh%epsp(s0 + l, 1:max(1, sh%nip(e)))), sy(l), hs)
             end do
         end if
         ! The stiffness form's hourglass on a plastic material, bounded as the
@@ -857,7 +940,7 @@ contains
             end do
             do k = 1, 5
                 do l = 1, nb
-                    sh%qhg(e0 + l, k) = hq(l, k)
+                    sh%qhg(s0 + l, k) = hq(l, k)
                 end do
             end do
             if (any(capped(1:nb))) then
@@ -869,7 +952,7 @@ contains
             do l = 1, nb
                 if (.not. gm%ok(l)) cycle
                 e = e0 + l
-                sh%qhg(e, :) = hq(l, :)
+                sh%qhg(s0 + l, :) = hq(l, :)
                 if (capped(l)) sh%ncap(e) = sh%ncap(e) + 1
                 sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold(l))
                 sh%pend_hg(e) = 0.5_dp*pnew(l)
@@ -1045,10 +1128,11 @@ contains
     !> a back stress, mixed_return, each on its own); the resultants (membrane n, bending m,
     !> shear q per unit length), the thickness change (ISTUPD) and the
     !> internal energy.
-    subroutine block_points(sh, ib, e0, nb, r, a, ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
+    subroutine block_points(sh, ib, e0, s0, nb, r, a, ok, hh, ym, nu, ge, dt, dt_avg_prev, nres, mres, qres)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: ib       !< the block's number
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
+        integer, intent(in) :: s0       !< their points' state: rows s0 + 1 .. s0 + nb
         real(wp), intent(in) :: r(nblk, 8), a(nblk), dt
         !> the elements' thickness, Young's modulus, Poisson's ratio and shear modulus
         real(wp), intent(in) :: hh(nblk), ym(nblk), nu(nblk), ge(nblk)
@@ -1106,24 +1190,24 @@ contains
                     e = e0 + l
                     wf(l) = real(gw(ip, maxnip), wp)/2
                     zf(l) = real(gz(ip, maxnip), wp)*hh(l)/2
-                    so(l, 1) = sh%sig(e, 1, ip)
-                    so(l, 2) = sh%sig(e, 2, ip)
-                    so(l, 3) = sh%sig(e, 3, ip)
-                    so(l, 4) = sh%sig(e, 4, ip)
-                    so(l, 5) = sh%sig(e, 5, ip)
-                    ep(l) = sh%epsp(e, ip)
+                    so(l, 1) = sh%sig(s0 + l, 1, ip)
+                    so(l, 2) = sh%sig(s0 + l, 2, ip)
+                    so(l, 3) = sh%sig(s0 + l, 3, ip)
+                    so(l, 4) = sh%sig(s0 + l, 4, ip)
+                    so(l, 5) = sh%sig(s0 + l, 5, ip)
+                    ep(l) = sh%epsp(s0 + l, ip)
                     sy(l) = sh%sy0(e) + sh%hk(e)*ep(l)
                 end do
                 if (anyback) then
                     al(1:nb, :) = 0
                     do l = 1, nb
-                        if (sh%backstress(e0 + l)) al(l, :) = sh%alpha(:, ip, e0 + l)
+                        if (sh%backstress(e0 + l)) al(l, :) = sh%alpha(:, ip, s0 + l)
                     end do
                 end if
                 if (anycurve) then
                     do l = 1, nb
                         e = e0 + l
-                        if (sh%plastic(e) .and. sh%ycurve(e)) call flow_stress(sh, e, sh%epsp(e, ip), sy(l), h)
+                        if (sh%plastic(e) .and. sh%ycurve(e)) call flow_stress(sh, e, sh%epsp(s0 + l, ip), sy(l), h)
                     end do
                 end if
             else
@@ -1135,11 +1219,11 @@ contains
                     end if
                     wf(l) = real(gw(ip, nip(l)), wp)/2
                     zf(l) = real(gz(ip, nip(l)), wp)*hh(l)/2
-                    so(l, :) = sh%sig(e, :, ip)
+                    so(l, :) = sh%sig(s0 + l, :, ip)
                     al(l, :) = 0
-                    if (sh%backstress(e)) al(l, :) = sh%alpha(:, ip, e)
+                    if (sh%backstress(e)) al(l, :) = sh%alpha(:, ip, s0 + l)
                     sy(l) = huge(1.0_wp)
-                    if (sh%plastic(e)) call flow_stress(sh, e, sh%epsp(e, ip), sy(l), h)
+                    if (sh%plastic(e)) call flow_stress(sh, e, sh%epsp(s0 + l, ip), sy(l), h)
                 end do
             end if
             ! the elastic plane-stress trial (s_zz stays 0 with the elastic
@@ -1195,7 +1279,7 @@ contains
                 end do
                 ! (ny is 0 here: the layer before left it so)
                 if (4*count(yl(1:nb) > 0.5_wp) >= 3*nb) then
-                    call dense_returns(sh, e0, nb, ip, yl, ep, anycurve, dt, so, t, dzz)
+                    call dense_returns(sh, e0, s0, nb, ip, yl, ep, anycurve, dt, so, t, dzz)
                 else
                     do l = 1, nb
                         if (yl(l) < 0.5_wp) cycle
@@ -1227,23 +1311,23 @@ contains
                     cycle
                 end if
                 sl = so(l, :)
-                call mixed_return(sh, e, ip, dd(l, :), dt, sl, dzz(l))
+                call mixed_return(sh, e, s0 + l, ip, dd(l, :), dt, sl, dzz(l))
                 t(l, :) = sl
             end do
             if (ny > 0) then
-                call plane_stress_returns(sh, e0, ip, ny, iy, fy, anycurve, dt, so, t, dzz)
+                call plane_stress_returns(sh, e0, s0, ip, ny, iy, fy, anycurve, dt, so, t, dzz)
                 ny = 0
             end if
             if (uniform) then
                 do k = 1, 5
                     do l = 1, nb
-                        sh%sig(e0 + l, k, ip) = t(l, k)
+                        sh%sig(s0 + l, k, ip) = t(l, k)
                     end do
                 end do
             else
                 do l = 1, nb
                     if (ip > nip(l)) cycle
-                    sh%sig(e0 + l, :, ip) = t(l, :)
+                    sh%sig(s0 + l, :, ip) = t(l, :)
                 end do
             end if
             ! the points' strains (where a criterion needs them): the rates
@@ -1252,12 +1336,12 @@ contains
                 do l = 1, nb
                     if (ip > nip(l)) cycle
                     e = e0 + l
-                    sh%strain(e, 1, ip) = sh%strain(e, 1, ip) + dt*dd(l, 1)
-                    sh%strain(e, 2, ip) = sh%strain(e, 2, ip) + dt*dd(l, 2)
-                    sh%strain(e, 3, ip) = sh%strain(e, 3, ip) + dt*dzz(l)
-                    sh%strain(e, 4, ip) = sh%strain(e, 4, ip) + 0.5_wp*dt*dd(l, 3)
-                    sh%strain(e, 5, ip) = sh%strain(e, 5, ip) + 0.5_wp*dt*dd(l, 4)
-                    sh%strain(e, 6, ip) = sh%strain(e, 6, ip) + 0.5_wp*dt*dd(l, 5)
+                    sh%strain(s0 + l, 1, ip) = sh%strain(s0 + l, 1, ip) + dt*dd(l, 1)
+                    sh%strain(s0 + l, 2, ip) = sh%strain(s0 + l, 2, ip) + dt*dd(l, 2)
+                    sh%strain(s0 + l, 3, ip) = sh%strain(s0 + l, 3, ip) + dt*dzz(l)
+                    sh%strain(s0 + l, 4, ip) = sh%strain(s0 + l, 4, ip) + 0.5_wp*dt*dd(l, 3)
+                    sh%strain(s0 + l, 5, ip) = sh%strain(s0 + l, 5, ip) + 0.5_wp*dt*dd(l, 4)
+                    sh%strain(s0 + l, 6, ip) = sh%strain(s0 + l, 6, ip) + 0.5_wp*dt*dd(l, 5)
                 end do
             end if
             ! powers per unit area with the old and the new stresses,
@@ -1435,9 +1519,10 @@ contains
     !> Mixed hardening beyond the yield surface: the 3-D radial return, d_zz
     !> found by secant iteration so that s_zz = 0 (starting from the elastic
     !> and the incompressible guesses).
-    subroutine mixed_return(sh, e, ip, dd, dt, s, dzz)
+    subroutine mixed_return(sh, e, is, ip, dd, dt, s, dzz)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e, ip
+        integer, intent(in) :: is       !< its points' state's row
         real(wp), intent(in) :: dd(5), dt
         real(wp), intent(inout) :: s(5)
         real(wp), intent(out) :: dzz
@@ -1472,8 +1557,8 @@ contains
             real(wp), intent(in) :: dz
             d(1, :) = [dd(1), dd(2), dz, 0.5_wp*dd(3), 0.5_wp*dd(4), 0.5_wp*dd(5)]
             sg(1, :) = [s(1), s(2), 0.0_wp, s(3), s(4), s(5)]
-            ep(1) = sh%epsp(e, ip)
-            al(1, :) = sh%alpha(:, ip, e)
+            ep(1) = sh%epsp(is, ip)
+            al(1, :) = sh%alpha(:, ip, is)
             call plastic_update(1, lam, mu, sh%pp(sh%pmat(e)), d, dt, sg, ep, al)
         end subroutine trial
         subroutine commit(dz)
@@ -1481,8 +1566,8 @@ contains
             dzz = dz
             call trial(dz)
             s = [sg(1, 1), sg(1, 2), sg(1, 4), sg(1, 5), sg(1, 6)]
-            sh%epsp(e, ip) = ep(1)
-            sh%alpha(:, ip, e) = al(1, :)
+            sh%epsp(is, ip) = ep(1)
+            sh%alpha(:, ip, is) = al(1, :)
         end subroutine commit
     end subroutine mixed_return
 
@@ -1493,9 +1578,10 @@ contains
     !> returned ones out; so the stresses before the step; dzz the
     !> thickness strain rates; anycur: some shell of the block takes its
     !> yield from a curve.
-    subroutine plane_stress_returns(sh, e0, ip, ny, iy, fy, anycur, dt, so, t, dzz)
+    subroutine plane_stress_returns(sh, e0, s0, ip, ny, iy, fy, anycur, dt, so, t, dzz)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e0, ip, ny, iy(:)
+        integer, intent(in) :: s0       !< the block's points' state: rows s0 + 1 ..
         real(wp), intent(in) :: fy(:), dt, so(nblk, 5)
         logical, intent(in) :: anycur
         real(wp), intent(inout) :: t(nblk, 5), dzz(nblk)
@@ -1506,7 +1592,7 @@ contains
         do j = 1, ny
             l = iy(j)
             el(j) = e0 + l
-            ep0(j) = sh%epsp(e0 + l, ip)
+            ep0(j) = sh%epsp(s0 + l, ip)
             ! the law's constants held per point for the iteration (read
             ! through sh at every step, the tubes' run took 3.6% longer)
             sy0(j) = sh%sy0(e0 + l)
@@ -1525,7 +1611,7 @@ contains
             t(l, 3) = t(l, 3)*u2(j)
             t(l, 4) = t(l, 4)*u2(j)
             t(l, 5) = t(l, 5)*u2(j)
-            sh%epsp(e0 + l, ip) = ep0(j) + de(j)
+            sh%epsp(s0 + l, ip) = ep0(j) + de(j)
         end do
         ! the thickness strain rate, only where the thickness follows it
         ! (ISTUPD): otherwise no one reads it
@@ -1548,9 +1634,10 @@ contains
     !> where most of a layer yields (in a crush): the 10 x 10 tubes' returns'
     !> packing and unpacking had been two fifths of their cost. ep: the
     !> points' plastic strains before the step.
-    subroutine dense_returns(sh, e0, nb, ip, yl, ep, anycur, dt, so, t, dzz)
+    subroutine dense_returns(sh, e0, s0, nb, ip, yl, ep, anycur, dt, so, t, dzz)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e0, nb, ip
+        integer, intent(in) :: s0       !< the block's points' state: rows s0 + 1 .. s0 + nb
         real(wp), intent(in) :: yl(nblk), ep(nblk), dt, so(nblk, 5)
         logical, intent(in) :: anycur
         real(wp), intent(inout) :: t(nblk, 5), dzz(nblk)
@@ -1578,7 +1665,7 @@ contains
             t(l, 3) = t(l, 3)*u2(l)
             t(l, 4) = t(l, 4)*u2(l)
             t(l, 5) = t(l, 5)*u2(l)
-            sh%epsp(e0 + l, ip) = ep(l) + de(l)
+            sh%epsp(s0 + l, ip) = ep(l) + de(l)
         end do
         if (sh%thickness_update) then
             do l = 1, nb

@@ -4,7 +4,7 @@
 !> element's nodal forces into its own slots; the nodal sum is done later in
 !> a fixed order, so results do not depend on the thread count.
 module xd_elements_solid_groups
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
     use xd_core_memory, only: alloc, alloc_dp
     use xd_core_sorting, only: sort_index
     use xd_core_strings, only: itoa
@@ -15,7 +15,8 @@ module xd_elements_solid_groups
     use xd_materials_plasticity, only: plastic_params_t, plastic_update
     implicit none
     private
-    public :: solids_t, solid_group_t, build_solids, solid_forces, group_size, hg_viscous, hg_stiffness
+    public :: solids_t, solid_group_t, build_solids, solid_localize, solid_state_bytes, solid_forces, group_size, &
+              hg_viscous, hg_stiffness
     public :: material_plastic_law, stiff_volume_parts, solid_name
 
     integer, parameter :: group_size = 128
@@ -42,6 +43,19 @@ module xd_elements_solid_groups
         integer, allocatable :: model_ix(:)    !< index in the model's element list
         ! element state is blocked by group: group g holds the (m, 6) block of its
         ! m elements at offset 6*(first-1), so kernels see contiguous arrays
+        !> The state (sig, vol, qhg, qbv, epsp, alpha) is held for this
+        !> rank's groups alone (issue 32): group g's rows are goff(g) + 1 ..
+        !> goff(g) + m, its blocks at goff(g) times their width, its groups in
+        !> order (solid_localize); one rank, every group's, goff(g) = first -
+        !> 1. nl rows in all; `local` once localized (MPI). A writer takes
+        !> every group's, gathered, for the time of an output.
+        integer :: nl = 0
+        integer, allocatable :: goff(:)
+        logical :: local = .false.
+        logical :: plastic_state = .false.    !< epsp and alpha are kept (some group is plastic)
+        logical :: viewing = .false.
+        real(wp), allocatable :: own_sig(:), own_vol(:), own_qhg(:), own_qbv(:), own_epsp(:), own_alpha(:)
+        integer, allocatable :: own_goff(:)
         real(wp), allocatable :: sig(:)        !< Cauchy stress, xx yy zz xy yz zx
         real(wp), allocatable :: vol0(:)       !< initial volume
         real(wp), allocatable :: vol(:)        !< current volume
@@ -83,6 +97,7 @@ module xd_elements_solid_groups
     contains
         procedure :: stress => solid_stress
         procedure :: set_stress => solid_set_stress
+        procedure :: row => solid_row
     end type solids_t
 
 contains
@@ -106,7 +121,7 @@ contains
             allocate (s%group(0), s%conn(8, 0), s%part(0), s%eid(0), s%model_ix(0), s%vol0(0), s%vol(0), &
                       s%gdt(0), s%gcrit(0), s%gbad(0), s%fslot(3, 0), s%eint(0), s%ehg(0), s%pend_int(0), &
                       s%pend_hg(0), s%sig(0), s%qhg(0), s%qbv(0), s%epsp(0), s%alpha(0), s%group_of(0), &
-                      s%active(0), s%gdead(0), s%dead(0), s%xfrozen(3, 8, 0), s%low(0))
+                      s%active(0), s%gdead(0), s%dead(0), s%xfrozen(3, 8, 0), s%low(0), s%goff(0))
             return
         end if
         call alloc(s%conn, 8, s%n, 'solid connectivity')
@@ -151,6 +166,8 @@ contains
         do g = 1, s%ngroup
             s%group_of(s%group(g)%first:s%group(g)%last) = g
         end do
+        s%nl = s%n
+        s%goff = s%group(:)%first - 1
         call alloc(s%qbv, s%n, 'bulk viscosity')
         allocate (s%gdead(s%ngroup))
         s%gdead = 0
@@ -169,6 +186,7 @@ contains
         if (any(s%group%mtype == mat_plastic_kinematic .or. s%group%mtype == mat_piecewise_linear)) then
             call alloc(s%epsp, s%n, 'plastic strains')
             call alloc(s%alpha, 6*s%n, 'back stresses')
+            s%plastic_state = .true.
         else
             allocate (s%epsp(0), s%alpha(0))
         end if
@@ -268,8 +286,17 @@ contains
         g = s%group_of(e)
         a = s%group(g)%first
         m = s%group(g)%last - a + 1
-        sg = s%sig(6*(a - 1) + (e - a + 1) + m*[0, 1, 2, 3, 4, 5])
+        sg = s%sig(6*s%goff(g) + (e - a + 1) + m*[0, 1, 2, 3, 4, 5])
     end function solid_stress
+
+    !> Element e's row of the state held here (vol, qbv, epsp; its group's).
+    pure integer function solid_row(s, e) result(i)
+        class(solids_t), intent(in) :: s
+        integer, intent(in) :: e
+        integer :: g
+        g = s%group_of(e)
+        i = s%goff(g) + e - s%group(g)%first + 1
+    end function solid_row
 
     subroutine solid_set_stress(s, e, sg)
         class(solids_t), intent(inout) :: s
@@ -279,8 +306,80 @@ contains
         g = s%group_of(e)
         a = s%group(g)%first
         m = s%group(g)%last - a + 1
-        s%sig(6*(a - 1) + (e - a + 1) + m*[0, 1, 2, 3, 4, 5]) = sg
+        s%sig(6*s%goff(g) + (e - a + 1) + m*[0, 1, 2, 3, 4, 5]) = sg
     end subroutine solid_set_stress
+
+    !> The state (sig, vol, qhg, qbv, epsp, alpha) kept for this rank's
+    !> groups (active) alone, in group order (issue 32): the rest of the
+    !> arrays' memory goes. Values as they were (set up, or read from a
+    !> dump).
+    subroutine solid_localize(s)
+        type(solids_t), intent(inout) :: s
+        integer :: g, k
+        if (s%local) error stop 'solid_localize: the state is local already'
+        s%local = .true.
+        k = 0
+        do g = 1, s%ngroup
+            if (.not. s%active(g)) then
+                s%goff(g) = -1
+                cycle
+            end if
+            s%goff(g) = k
+            k = k + s%group(g)%last - s%group(g)%first + 1
+        end do
+        s%nl = k
+        call keep(s%sig, 6)
+        call keep(s%vol, 1)
+        call keep(s%qhg, 12)
+        call keep(s%qbv, 1)
+        if (s%plastic_state) then
+            call keep(s%epsp, 1)
+            call keep(s%alpha, 6)
+        end if
+    contains
+        !> a's blocks of the active groups (w values an element) in order
+        subroutine keep(a, w)
+            real(wp), allocatable, intent(inout) :: a(:)
+            integer, intent(in) :: w
+            real(wp), allocatable :: b(:)
+            integer :: g, f, l
+            allocate (b(w*s%nl))
+            do g = 1, s%ngroup
+                if (s%goff(g) < 0) cycle
+                f = s%group(g)%first
+                l = s%group(g)%last
+                b(w*s%goff(g) + 1:w*(s%goff(g) + l - f + 1)) = a(w*(f - 1) + 1:w*l)
+            end do
+            call move_alloc(b, a)
+        end subroutine keep
+    end subroutine solid_localize
+
+    !> The bytes of the state (sig, vol, qhg, qbv, epsp, alpha) this rank
+    !> holds: every solid's on one rank, its own groups' on more.
+    integer(i8) function solid_state_bytes(s, every) result(b)
+        type(solids_t), intent(in) :: s
+        !> every solid's, as one rank holds them
+        logical, intent(in), optional :: every
+        integer(i8) :: w
+        b = 0
+        if (s%n == 0) return
+        if (present(every)) then
+            if (every) then
+                ! an element's values: sig, vol, qhg, qbv, and epsp, alpha
+                w = 6 + 1 + 12 + 1
+                if (s%plastic_state) w = w + 1 + 6
+                b = w*s%n*(storage_size(1.0_wp, i8)/8)
+                return
+            end if
+        end if
+        b = 0
+        if (allocated(s%sig)) b = b + storage_size(s%sig, i8)/8*size(s%sig, kind=i8)
+        if (allocated(s%vol)) b = b + storage_size(s%vol, i8)/8*size(s%vol, kind=i8)
+        if (allocated(s%qhg)) b = b + storage_size(s%qhg, i8)/8*size(s%qhg, kind=i8)
+        if (allocated(s%qbv)) b = b + storage_size(s%qbv, i8)/8*size(s%qbv, kind=i8)
+        if (allocated(s%epsp)) b = b + storage_size(s%epsp, i8)/8*size(s%epsp, kind=i8)
+        if (allocated(s%alpha)) b = b + storage_size(s%alpha, i8)/8*size(s%alpha, kind=i8)
+    end function solid_state_bytes
 
     !> Internal forces of every solid for positions x and velocities v (the
     !> half-step velocity that acted over the last step dt). Updates stresses,
@@ -304,15 +403,16 @@ contains
         real(wp), contiguous, intent(in) :: x(:, :), v(:, :)
         real(wp), intent(in) :: dt
         real(dp), intent(in) :: dt_avg_prev
-        integer :: a, b
-        a = s%group(g)%first
-        b = s%group(g)%last
+        integer :: la, m
+        ! (the group's rows of the state held here)
+        la = s%goff(g)
+        m = s%group(g)%last - s%group(g)%first + 1
         if (size(s%epsp) > 0) then
-            call group_block(s, g, x, v, dt, dt_avg_prev, b - a + 1, s%sig(6*(a - 1) + 1:6*b), &
-                             s%qhg(12*(a - 1) + 1:12*b), s%alpha(6*(a - 1) + 1:6*b), s%epsp(a:b))
+            call group_block(s, g, x, v, dt, dt_avg_prev, m, s%sig(6*la + 1:6*(la + m)), &
+                             s%qhg(12*la + 1:12*(la + m)), s%alpha(6*la + 1:6*(la + m)), s%epsp(la + 1:la + m))
         else
-            call group_block(s, g, x, v, dt, dt_avg_prev, b - a + 1, s%sig(6*(a - 1) + 1:6*b), &
-                             s%qhg(12*(a - 1) + 1:12*b), s%alpha, s%epsp)
+            call group_block(s, g, x, v, dt, dt_avg_prev, m, s%sig(6*la + 1:6*(la + m)), &
+                             s%qhg(12*la + 1:12*(la + m)), s%alpha, s%epsp)
         end if
     end subroutine group_kernel
 
@@ -376,10 +476,10 @@ contains
         if (s%gbad(g) /= 0) then
             s%gdt(g) = huge(1.0_wp)
             s%gcrit(g) = a
-            s%vol(a:b) = vol
+            s%vol(s%goff(g) + 1:s%goff(g) + n) = vol
             return
         end if
-        s%vol(a:b) = vol
+        s%vol(s%goff(g) + 1:s%goff(g) + n) = vol
 
         ! constitutive update (one material per group)
         sold = sig
@@ -405,13 +505,13 @@ contains
         call hex_char_length(n, xl, yl, zl, vol, le)
         tr = d(:, 1) + d(:, 2) + d(:, 3)
         q = merge(rho*le*(gr%q1*le*tr*tr - gr%q2*c*tr), 0.0_wp, tr < 0.0_wp)
-        pw = 0.5_wp*(sold(:, 1)*d(:, 1) + sold(:, 2)*d(:, 2) + sold(:, 3)*d(:, 3) - s%qbv(a:b)*tr) &
+        pw = 0.5_wp*(sold(:, 1)*d(:, 1) + sold(:, 2)*d(:, 2) + sold(:, 3)*d(:, 3) - s%qbv(s%goff(g) + 1:s%goff(g) + n)*tr) &
              + sold(:, 4)*d(:, 4) + sold(:, 5)*d(:, 5) + sold(:, 6)*d(:, 6)
         s%eint(a:b) = s%eint(a:b) + dt_avg_prev*(s%pend_int(a:b) + real(pw*volh, dp))
         pw = 0.5_wp*(sig(:, 1)*d(:, 1) + sig(:, 2)*d(:, 2) + sig(:, 3)*d(:, 3) - q*tr) &
              + sig(:, 4)*d(:, 4) + sig(:, 5)*d(:, 5) + sig(:, 6)*d(:, 6)
         s%pend_int(a:b) = real(pw*volh, dp)
-        s%qbv(a:b) = q
+        s%qbv(s%goff(g) + 1:s%goff(g) + n) = q
         ! element time step, reduced by the bulk viscosity in compression
         qd = merge(gr%q1*le*abs(tr) + gr%q2*c, 0.0_wp, tr < 0.0_wp)
         dte = gr%dt_scale*le/(qd + sqrt(qd*qd + c*c))

@@ -32,7 +32,8 @@ program xdyna
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
     use xd_rigid_bodies, only: rigid_t
     use xd_solver_loads, only: pressures_t, build_pressures
-    use xd_elements_shell_bt, only: shells_t
+    use xd_elements_shell_bt, only: shells_t, shell_state_bytes
+    use xd_elements_solid_groups, only: solid_state_bytes
     use xd_output_histories, only: histories_t, open_histories, close_histories, history_marks_t
     use xd_output_states, only: states_t, open_states, close_states, states_marks_t, states_summary
     use xd_solver_restart, only: dump_meta_t, read_dump_meta, read_dump, build_tag, dump_format
@@ -41,7 +42,7 @@ program xdyna
     use xd_core_comm, only: comm_max, comm_gather_small
     use xd_core_memory, only: peak_memory_kb
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
-    use xd_solver_domain, only: domain_t, build_domain, domain_summary, decomp_rcb, decomp_metis
+    use xd_solver_domain, only: domain_t, build_domain, domain_summary, decomp_rcb, decomp_metis, localize_element_state
     use xd_contact_contact, only: gather_contact_state, scatter_contact_state
     !$ use omp_lib, only: omp_set_num_threads, omp_get_num_procs
     implicit none
@@ -354,6 +355,9 @@ program xdyna
     else
         call open_histories(model, stem, rg, hist, ok, writer=env%rank == 0, rotating=st%rot)
     end if
+    ! (the elements' state, whole as set up or read from the dump: from
+    ! here each rank keeps its own elements')
+    call localize_element_state(dom, solids, sh)
     if (.not. ok) then
         call say('xdyna: cannot create the time-history files in '//outdir)
         call finish_alone(exit_run)
@@ -423,13 +427,33 @@ contains
     !> smallest and the largest, with their ranks (a collective: every rank
     !> calls it).
     subroutine memory_line()
-        real(dp) :: rec(1), all(1, env%nranks)
+        real(dp) :: rec(3), all(3, env%nranks)
         integer :: lo, hi
         rec(1) = real(peak_memory_kb(), dp)
+        rec(2) = real(shell_state_bytes(sh) + solid_state_bytes(solids), dp)
+        ! (every element's, as one rank holds them)
+        rec(3) = real(shell_state_bytes(sh, every=.true.) + solid_state_bytes(solids, every=.true.), dp)
         if (env%nranks > 1) then
             call comm_gather_small(rec, all)
         else
-            all(1, 1) = rec(1)
+            all(:, 1) = rec
+        end if
+        ! the elements' state (the solids' stresses, volumes, hourglass
+        ! forces; the shells' points' stresses, plastic strains and
+        ! hourglass forces: most of an element's memory): each rank holds
+        ! its own elements' (issue 32)
+        if (sh%n + solids%n > 0) then
+            lo = minloc(all(2, :), 1)
+            hi = maxloc(all(2, :), 1)
+            if (env%nranks == 1) then
+                call log_line(lg, ' elements'' state (stresses, strains, hourglass forces) ......... '// &
+                              ftoa(all(2, 1)/1048576.0_dp)//' MB')
+            else
+                call log_line(lg, ' elements'' state per rank ... '//ftoa(all(2, lo)/1048576.0_dp)//' MB (rank '// &
+                              itoa(lo - 1)//') to '//ftoa(all(2, hi)/1048576.0_dp)//' MB (rank '//itoa(hi - 1)// &
+                              '), each rank its own elements'' (all elements'': '// &
+                              ftoa(maxval(all(3, :))/1048576.0_dp)//' MB)')
+            end if
         end if
         if (any(all(1, :) < 0.0_dp)) return
         lo = minloc(all(1, :), 1)

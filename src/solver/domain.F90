@@ -27,17 +27,27 @@
 !>
 !> Element state (stresses for d3plot and the restart dump) lives with the
 !> element's rank and is gathered, exactly, when an output needs it; the
-!> energies are each rank's own sums, added. The motion is bitwise that of
-!> the serial run for any rank count (the energies agree to rounding). The
-!> price is memory: the mesh and nodal arrays are on every rank.
+!> energies are each rank's own sums, added. The elements' state (the
+!> solids' stresses, volumes, hourglass forces, bulk viscosity, plastic
+!> strains, back stresses; the shells' points' stresses, plastic strains,
+!> strains, back stresses, hourglass forces) is held for the rank's own
+!> elements alone, in rows of their own (localize_element_state, once the
+!> set-up and a restart's dump have put every element's initial state in
+!> place); rank 0 takes every element's, gathered, for the time of a state
+!> or a dump it writes (solid_state_view, shell_state_view,
+!> release_element_view). The motion is bitwise that of the serial run for
+!> any rank count (the energies agree to rounding). The price is memory:
+!> the mesh, the elements' constants and slots and the nodal arrays are on
+!> every rank.
 module xd_solver_domain
     use xd_kinds, only: wp, dp, i8
     use xd_core_partition, only: rcb_partition
     use xd_core_graph_partition, only: graph_partition, item_graph
     use xd_core_threads, only: threaded
-    use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours, comm_gather_small
-    use xd_elements_solid_groups, only: solids_t
-    use xd_elements_shell_bt, only: shells_t, shell_blocks
+    use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours, comm_gather_small, &
+                            comm_gather_root_wp
+    use xd_elements_solid_groups, only: solids_t, solid_localize
+    use xd_elements_shell_bt, only: shells_t, shell_blocks, shell_localize
     use xd_solver_assembly, only: assembly_t
     use xd_contact_contact, only: contacts_t
     use xd_contact_surface, only: surface_t, seg_nodes
@@ -49,7 +59,7 @@ module xd_solver_domain
     public :: decomp_rcb, decomp_metis
     public :: domain_t, build_domain, domain_summary, gather_energy_state, gather_element_state, &
               swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout, neighbour_count, &
-              ghost_base, contact_ghosts
+              ghost_base, contact_ghosts, localize_element_state, release_element_view
 
     !> A set of nodes whose values go from their ranks to every rank (an
     !> all-gather): per rank r, its own in node(off(r) + 1 : off(r) +
@@ -72,7 +82,9 @@ module xd_solver_domain
         integer, allocatable :: split_mine(:)
         logical, allocatable :: node_mine(:)
         logical, allocatable :: solid_mine(:) !< per solid element: its group is this rank's
+        integer, allocatable :: group_rank(:) !< per solid group: its rank (0-based)
         logical, allocatable :: shell_mine(:)
+        integer, allocatable :: shell_rank(:)   !< per shell: its rank (0-based)
         integer, allocatable :: bslot(:)      !< halo: solid force slots assembled on another rank
         logical, allocatable :: bslot_mine(:)
         integer, allocatable :: bshell(:)     !< halo: shell slots likewise
@@ -236,12 +248,14 @@ contains
             dom%cost(part(i) + 1) = dom%cost(part(i) + 1) + w(i)
         end do
         solids%active = grank == rank
+        dom%group_rank = grank
         call list_parts()
         allocate (dom%solid_mine(solids%n))
         do g = 1, solids%ngroup
             dom%solid_mine(solids%group(g)%first:solids%group(g)%last) = grank(g) == rank
         end do
         dom%shell_mine = shrank == rank
+        dom%shell_rank = shrank
         sh%mine = where_true(dom%shell_mine)
 
         ! each node's assembling rank: that of its first slot; nodes of no
@@ -1108,25 +1122,239 @@ contains
         logical, intent(in) :: energies
         if (.not. dom%on) return
         if (energies) call gather_energy_state(dom, solids, sh)
-        call merge_wp(solids%sig, 6, dom%solid_mine)
-        call merge_wp(solids%vol, 1, dom%solid_mine)
-        call merge_wp(solids%qhg, 12, dom%solid_mine)
-        call merge_wp(solids%qbv, 1, dom%solid_mine)
-        if (size(solids%epsp) > 0) then
-            call merge_wp(solids%epsp, 1, dom%solid_mine)
-            call merge_wp(solids%alpha, 6, dom%solid_mine)
+        if (solids%local) then
+            call solid_state_view(dom, solids)
+        else
+            call merge_wp(solids%sig, 6, dom%solid_mine)
+            call merge_wp(solids%vol, 1, dom%solid_mine)
+            call merge_wp(solids%qhg, 12, dom%solid_mine)
+            call merge_wp(solids%qbv, 1, dom%solid_mine)
+            if (size(solids%epsp) > 0) then
+                call merge_wp(solids%epsp, 1, dom%solid_mine)
+                call merge_wp(solids%alpha, 6, dom%solid_mine)
+            end if
         end if
         if (sh%n == 0) return
         ! (the points' arrays hold as many points a shell as the most any
         ! shell has; back stresses only where a material moves them)
         ! (the shells' per-point arrays hold the element index first: a
         ! column of sh%n values per component and point)
-        call merge_columns(sh%sig, 5*size(sh%sig, 3), dom%shell_mine)
-        call merge_columns(sh%qhg, 5, dom%shell_mine)
-        call merge_columns(sh%epsp, size(sh%epsp, 2), dom%shell_mine)
-        if (sh%track_strain) call merge_columns(sh%strain, 6*size(sh%strain, 3), dom%shell_mine)
-        if (size(sh%alpha) > 0) call merge_wp(sh%alpha, 6*size(sh%alpha, 2), dom%shell_mine)
+        if (.not. sh%local) then
+            ! (the points' state still whole on every rank: before the time
+            ! loop)
+            call merge_columns(sh%sig, 5*size(sh%sig, 3), dom%shell_mine)
+            call merge_columns(sh%qhg, 5, dom%shell_mine)
+            call merge_columns(sh%epsp, size(sh%epsp, 2), dom%shell_mine)
+            if (sh%track_strain) call merge_columns(sh%strain, 6*size(sh%strain, 3), dom%shell_mine)
+            if (size(sh%alpha) > 0) call merge_wp(sh%alpha, 6*size(sh%alpha, 2), dom%shell_mine)
+        else
+            call shell_state_view(dom, sh)
+        end if
     end subroutine gather_element_state
+
+    !> The shells' points' state held for this rank's shells alone (more
+    !> than one rank; once the time loop's set-up, a restart's dump
+    !> included, has put every shell's initial state in place): the rest of
+    !> the arrays' memory goes (issue 32).
+    subroutine localize_element_state(dom, solids, sh)
+        type(domain_t), intent(in) :: dom
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        if (.not. dom%on) return
+        if (solids%n > 0) call solid_localize(solids)
+        if (sh%n > 0) call shell_localize(sh, where_true(dom%shell_mine))
+    end subroutine localize_element_state
+
+    !> Every solid's state on rank 0, for a state or a dump that rank 0
+    !> writes: each rank sends its groups' blocks (in group order), rank 0
+    !> puts them at their groups' places and keeps its own aside until
+    !> release_element_view. Exact (copies); every rank calls it.
+    subroutine solid_state_view(dom, s)
+        type(domain_t), intent(in) :: dom
+        type(solids_t), intent(inout) :: s
+        integer, allocatable :: cnt(:)
+        integer :: r, g
+        logical :: root
+        real(wp) :: none(1)
+        if (s%viewing) return
+        root = dom%rank == 0
+        allocate (cnt(dom%nranks))
+        cnt = 0
+        do g = 1, s%ngroup
+            r = dom%group_rank(g) + 1
+            cnt(r) = cnt(r) + s%group(g)%last - s%group(g)%first + 1
+        end do
+        if (root) then
+            call move_alloc(s%sig, s%own_sig)
+            call move_alloc(s%vol, s%own_vol)
+            call move_alloc(s%qhg, s%own_qhg)
+            call move_alloc(s%qbv, s%own_qbv)
+            call move_alloc(s%epsp, s%own_epsp)
+            call move_alloc(s%alpha, s%own_alpha)
+            ! (every group's rows at their places: the groups' own order)
+            call move_alloc(s%goff, s%own_goff)
+            s%goff = s%group(:)%first - 1
+            allocate (s%sig(6*s%n), s%vol(s%n), s%qhg(12*s%n), s%qbv(s%n))
+            allocate (s%epsp(merge(s%n, 0, s%plastic_state)), s%alpha(merge(6*s%n, 0, s%plastic_state)))
+            call blocks(s%own_sig, 6, s%sig)
+            call blocks(s%own_vol, 1, s%vol)
+            call blocks(s%own_qhg, 12, s%qhg)
+            call blocks(s%own_qbv, 1, s%qbv)
+            if (s%plastic_state) then
+                call blocks(s%own_epsp, 1, s%epsp)
+                call blocks(s%own_alpha, 6, s%alpha)
+            end if
+            s%viewing = .true.
+        else
+            call blocks(s%sig, 6, none)
+            call blocks(s%vol, 1, none)
+            call blocks(s%qhg, 12, none)
+            call blocks(s%qbv, 1, none)
+            if (s%plastic_state) then
+                call blocks(s%epsp, 1, none)
+                call blocks(s%alpha, 6, none)
+            end if
+        end if
+    contains
+        !> loc: this rank's groups' blocks of w values an element, to rank
+        !> 0's full (every group's at its place)
+        subroutine blocks(loc, w, full)
+            real(wp), intent(in) :: loc(*)
+            integer, intent(in) :: w
+            real(wp), intent(inout) :: full(*)
+            real(wp), allocatable :: buf(:)
+            integer, allocatable :: disp(:), pos(:)
+            integer :: r, g, f, l
+            allocate (disp(dom%nranks))
+            disp(1) = 0
+            do r = 2, dom%nranks
+                disp(r) = disp(r - 1) + w*cnt(r - 1)
+            end do
+            allocate (buf(merge(w*s%n, 1, root)))
+            call comm_gather_root_wp(loc, w*s%nl, buf, w*cnt, disp, root)
+            if (.not. root) return
+            pos = disp
+            do g = 1, s%ngroup
+                r = dom%group_rank(g) + 1
+                f = s%group(g)%first
+                l = s%group(g)%last
+                full(w*(f - 1) + 1:w*l) = buf(pos(r) + 1:pos(r) + w*(l - f + 1))
+                pos(r) = pos(r) + w*(l - f + 1)
+            end do
+        end subroutine blocks
+    end subroutine solid_state_view
+
+    !> Every shell's points' state on rank 0, for a state or a dump that
+    !> rank 0 writes: each rank sends its rows (in its shells' order), rank
+    !> 0 puts them at their shells' places in arrays of every shell and
+    !> keeps its own aside until release_element_view. Exact (copies); every
+    !> rank calls it.
+    subroutine shell_state_view(dom, sh)
+        type(domain_t), intent(in) :: dom
+        type(shells_t), intent(inout) :: sh
+        integer, allocatable :: cnt(:), order(:)
+        integer :: r, nip
+        logical :: root
+        real(wp) :: none(1)
+        logical :: back
+        if (sh%viewing) return
+        root = dom%rank == 0
+        ! (what every rank holds, whatever its own count: each gather below
+        ! is made by all or none)
+        back = any(sh%backstress)
+        ! every rank's shells, rank after rank, each's ascending
+        allocate (cnt(dom%nranks))
+        do r = 1, dom%nranks
+            cnt(r) = count(dom%shell_rank == r - 1)
+        end do
+        order = [(where_true(dom%shell_rank == r), r=0, dom%nranks - 1)]
+        nip = size(sh%sig, 3)
+        if (root) then
+            call move_alloc(sh%sig, sh%own_sig)
+            call move_alloc(sh%epsp, sh%own_epsp)
+            call move_alloc(sh%qhg, sh%own_qhg)
+            call move_alloc(sh%strain, sh%own_strain)
+            call move_alloc(sh%alpha, sh%own_alpha)
+            allocate (sh%sig(sh%n, 5, nip), sh%epsp(sh%n, nip), sh%qhg(sh%n, 5))
+            allocate (sh%strain(merge(sh%n, 0, sh%track_strain), 6, nip))
+            allocate (sh%alpha(6, nip, merge(sh%n, 0, back)))
+            call rows(sh%own_sig, 5*nip, sh%sig, .false.)
+            call rows(sh%own_epsp, nip, sh%epsp, .false.)
+            call rows(sh%own_qhg, 5, sh%qhg, .false.)
+            if (sh%track_strain) call rows(sh%own_strain, 6*nip, sh%strain, .false.)
+            if (back) call rows(sh%own_alpha, 6*nip, sh%alpha, .true.)
+            sh%viewing = .true.
+        else
+            ! (only rank 0 receives)
+            call rows(sh%sig, 5*nip, none, .false.)
+            call rows(sh%epsp, nip, none, .false.)
+            call rows(sh%qhg, 5, none, .false.)
+            if (sh%track_strain) call rows(sh%strain, 6*nip, none, .false.)
+            if (back) call rows(sh%alpha, 6*nip, none, .true.)
+        end if
+    contains
+        !> loc: this rank's nl rows of ncol values (a column of nl after
+        !> another; last: an element's ncol values together), to rank 0's
+        !> full (every shell's, likewise)
+        subroutine rows(loc, ncol, full, last)
+            real(wp), intent(in) :: loc(*)
+            integer, intent(in) :: ncol
+            real(wp), intent(inout) :: full(*)
+            logical, intent(in) :: last
+            real(wp), allocatable :: buf(:)
+            integer, allocatable :: disp(:)
+            integer :: r, c, i, o, nr
+            allocate (disp(dom%nranks))
+            disp(1) = 0
+            do r = 2, dom%nranks
+                disp(r) = disp(r - 1) + ncol*cnt(r - 1)
+            end do
+            allocate (buf(merge(ncol*sh%n, 1, root)))
+            call comm_gather_root_wp(loc, ncol*sh%nl, buf, ncol*cnt, disp, root)
+            if (.not. root) return
+            o = 0
+            do r = 1, dom%nranks
+                nr = cnt(r)
+                if (last) then
+                    do i = 1, nr
+                        full((order(o + i) - 1)*ncol + 1:order(o + i)*ncol) = buf(disp(r) + (i - 1)*ncol + 1:disp(r) + i*ncol)
+                    end do
+                else
+                    do c = 1, ncol
+                        do i = 1, nr
+                            full(order(o + i) + (c - 1)*sh%n) = buf(disp(r) + (c - 1)*nr + i)
+                        end do
+                    end do
+                end if
+                o = o + nr
+            end do
+        end subroutine rows
+    end subroutine shell_state_view
+
+    !> After the output that took it: rank 0's own rows of the solids' state
+    !> and the shells' points' state back in place of the views
+    !> (solid_state_view, shell_state_view).
+    subroutine release_element_view(solids, sh)
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        if (solids%viewing) then
+            call move_alloc(solids%own_sig, solids%sig)
+            call move_alloc(solids%own_vol, solids%vol)
+            call move_alloc(solids%own_qhg, solids%qhg)
+            call move_alloc(solids%own_qbv, solids%qbv)
+            call move_alloc(solids%own_epsp, solids%epsp)
+            call move_alloc(solids%own_alpha, solids%alpha)
+            call move_alloc(solids%own_goff, solids%goff)
+            solids%viewing = .false.
+        end if
+        if (.not. sh%viewing) return
+        call move_alloc(sh%own_sig, sh%sig)
+        call move_alloc(sh%own_epsp, sh%epsp)
+        call move_alloc(sh%own_qhg, sh%qhg)
+        call move_alloc(sh%own_strain, sh%strain)
+        call move_alloc(sh%own_alpha, sh%alpha)
+        sh%viewing = .false.
+    end subroutine release_element_view
 
     !> a holds `stride` values per element: element e's are entries
     !> stride (e-1) + 1 .. stride e (the solids' group blocks hold the same

@@ -199,10 +199,13 @@ contains
         type(shells_t), intent(in) :: sh
         integer, intent(in) :: bad_kind, bad
         character(len=:), allocatable :: txt
+        logical :: nan_vol
         select case (bad_kind)
         case (1)
-            if (solids%vol(bad) /= solids%vol(bad) .or. any(st%x(:, solids%conn(:, bad)) /= &
-                                                          st%x(:, solids%conn(:, bad)))) then
+            ! (its volume where its state is held here: on its rank)
+            nan_vol = .false.
+            if (solids%goff(solids%group_of(bad)) >= 0) nan_vol = solids%vol(solids%row(bad)) /= solids%vol(solids%row(bad))
+            if (nan_vol .or. any(st%x(:, solids%conn(:, bad)) /= st%x(:, solids%conn(:, bad)))) then
                 txt = 'NaN in the coordinates of '//solid_name(model, solids, bad)
             else
                 txt = 'negative volume in '//solid_name(model, solids, bad)

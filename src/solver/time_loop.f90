@@ -35,7 +35,7 @@ module xd_solver_time_loop
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t
     use xd_solver_domain, only: neighbour_count, domain_t, gather_element_state, owned_motion, gather_layout, gather_subset, &
-                                ghost_base, contact_ghosts
+                                ghost_base, contact_ghosts, release_element_view
     use xd_core_comm, only: comm_max, comm_sum_int, comm_gather_small, comm_sum_dp
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, &
                                       hourglass_bound_report
@@ -772,6 +772,7 @@ contains
         if (dom%on) call gather_contact_state(ct)
         if (dom%rank == 0) call write_dump(opts%dump_path, opts%meta, st, solids, sh, bm, walls, rg, ct, td, &
                                            history_marks(hist), states_marks(states), ok)
+        call release_element_view(solids, sh)
         if (dom%on) call scatter_contact_state(ct, dom%rank)
         ! rank 0 wrote it: every rank learns whether it could
         ok = .not. any_rank(dom, .not. ok)
@@ -840,6 +841,7 @@ contains
             else
                 call write_state(states, st, solids, sh, vn, en=en, bm=bm)
             end if
+            call release_element_view(solids, sh)
             lp%state_asked = .false.
         end if
         call tm%stop(ph_output)
