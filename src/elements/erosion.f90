@@ -267,7 +267,8 @@ contains
             s%ndead = s%ndead + 1
             s%gdead(s%group_of(e)) = s%gdead(s%group_of(e)) + 1
             s%xfrozen(:, :, e) = x(:, s%conn(:, e))
-            s%fslot(:, 8*e - 7:8*e) = 0
+            ! (its slots where they are held: its group's rank's rows)
+            if (s%goff(s%group_of(e)) >= 0) s%fslot(:, 8*s%row(e) - 7:8*s%row(e)) = 0
         end do
     end subroutine erode_solids
 
@@ -284,8 +285,11 @@ contains
             if (sh%dead(e)) cycle
             sh%dead(e) = .true.
             sh%ndead = sh%ndead + 1
-            sh%fslot(:, 4*e - 3:4*e) = 0
-            sh%mslot(:, 4*e - 3:4*e) = 0
+            ! (its slots where they are held: its rank's row)
+            if (sh%lix(e) > 0) then
+                sh%fslot(:, 4*sh%lix(e) - 3:4*sh%lix(e)) = 0
+                sh%mslot(:, 4*sh%lix(e) - 3:4*sh%lix(e)) = 0
+            end if
             ! the work of its last forces is not to come
             sh%pend_int(e) = 0
             sh%pend_hg(e) = 0

@@ -83,7 +83,11 @@ module xd_elements_shell_bt
         logical, allocatable :: backstress(:)
         real(dp), allocatable :: eint(:), ehg(:), pend_int(:), pend_hg(:)
         real(wp), allocatable :: area0(:)
-        real(wp), allocatable :: fslot(:, :), mslot(:, :)   !< (3, 4n) forces and moments
+        !> (3, 4n) forces and moments, slot 4 (e - 1) + k of shell e's node k;
+        !> with the state held locally (MPI), (3, 4 nl + nhalo): the rank's
+        !> shells' slots in their rows' order, 4 (lix(e) - 1) + k, then the
+        !> halo's received from the other ranks (domain's local_slots)
+        real(wp), allocatable :: fslot(:, :), mslot(:, :)
         real(wp) :: dtmin = 0
         integer :: crit = 0, bad = 0
         logical :: thickness_update = .false.   !< *CONTROL_SHELL ISTUPD
@@ -358,32 +362,64 @@ contains
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: own(:)
         real(wp), allocatable :: a3(:, :, :), a2(:, :)
-        integer :: i
+        integer :: i, j, k
         if (sh%local) error stop 'shell_localize: the state is local already'
         if (any(own(2:) <= own(:size(own) - 1))) error stop 'shell_localize: own not ascending'
         sh%local = .true.
         sh%nl = size(own)
         sh%gix = own
+        ! (loops, not vector subscripts: no temporary of the arrays' size on
+        ! the stack, which -fstack-arrays would put there)
         sh%lix = 0
-        sh%lix(own) = [(i, i=1, sh%nl)]
-        a3 = sh%sig(own, :, :)
+        do i = 1, sh%nl
+            sh%lix(own(i)) = i
+        end do
+        allocate (a3(sh%nl, size(sh%sig, 2), size(sh%sig, 3)))
+        do k = 1, size(sh%sig, 3)
+            do j = 1, size(sh%sig, 2)
+                do i = 1, sh%nl
+                    a3(i, j, k) = sh%sig(own(i), j, k)
+                end do
+            end do
+        end do
         call move_alloc(a3, sh%sig)
-        a2 = sh%epsp(own, :)
+        allocate (a2(sh%nl, size(sh%epsp, 2)))
+        do j = 1, size(sh%epsp, 2)
+            do i = 1, sh%nl
+                a2(i, j) = sh%epsp(own(i), j)
+            end do
+        end do
         call move_alloc(a2, sh%epsp)
-        a2 = sh%qhg(own, :)
+        allocate (a2(sh%nl, size(sh%qhg, 2)))
+        do j = 1, size(sh%qhg, 2)
+            do i = 1, sh%nl
+                a2(i, j) = sh%qhg(own(i), j)
+            end do
+        end do
         call move_alloc(a2, sh%qhg)
         if (size(sh%strain, 1) > 0) then
-            a3 = sh%strain(own, :, :)
+            allocate (a3(sh%nl, size(sh%strain, 2), size(sh%strain, 3)))
+            do k = 1, size(sh%strain, 3)
+                do j = 1, size(sh%strain, 2)
+                    do i = 1, sh%nl
+                        a3(i, j, k) = sh%strain(own(i), j, k)
+                    end do
+                end do
+            end do
             call move_alloc(a3, sh%strain)
         end if
         if (size(sh%alpha, 3) > 0) then
-            a3 = sh%alpha(:, :, own)
+            allocate (a3(size(sh%alpha, 1), size(sh%alpha, 2), sh%nl))
+            do i = 1, sh%nl
+                a3(:, :, i) = sh%alpha(:, :, own(i))
+            end do
             call move_alloc(a3, sh%alpha)
         end if
     end subroutine shell_localize
 
-    !> The bytes of the points' state (sig, epsp, qhg, strain, alpha) this
-    !> rank holds: every shell's on one rank, its own shells' on more.
+    !> The bytes of the points' state (sig, epsp, qhg, strain, alpha) and
+    !> the force and moment slots this rank holds: every shell's on one
+    !> rank, its own shells' (and its halo's slots) on more.
     integer(i8) function shell_state_bytes(sh, every) result(b)
         type(shells_t), intent(in) :: sh
         !> every shell's, as one rank holds them
@@ -393,8 +429,9 @@ contains
         if (sh%n == 0 .or. .not. allocated(sh%sig)) return
         if (present(every)) then
             if (every) then
-                ! a row's values: sig, epsp, qhg, and strain, alpha where kept
-                w = size(sh%sig, 2)*size(sh%sig, 3) + size(sh%epsp, 2) + 5
+                ! a row's values: sig, epsp, qhg, the slots, and strain,
+                ! alpha where kept
+                w = size(sh%sig, 2)*size(sh%sig, 3) + size(sh%epsp, 2) + 5 + 2*3*4
                 if (sh%track_strain) w = w + 6*size(sh%sig, 3)
                 if (any(sh%backstress)) w = w + 6*size(sh%sig, 3)
                 b = w*sh%n*(storage_size(1.0_wp, i8)/8)
@@ -407,6 +444,7 @@ contains
         if (allocated(sh%qhg)) b = b + storage_size(sh%qhg, i8)/8*size(sh%qhg, kind=i8)
         if (allocated(sh%strain)) b = b + storage_size(sh%strain, i8)/8*size(sh%strain, kind=i8)
         if (allocated(sh%alpha)) b = b + storage_size(sh%alpha, i8)/8*size(sh%alpha, kind=i8)
+        if (allocated(sh%fslot)) b = b + 2*storage_size(sh%fslot, i8)/8*size(sh%fslot, kind=i8)
     end function shell_state_bytes
 
     !> Lumped masses: a quarter of rho h A on each node (a third for
@@ -594,9 +632,9 @@ contains
             call block_geometry(sh, e0, nb, gn)
             call block_forces(sh, ib, e0, s0, nb, gm, gn, vg, wg, dt, dt_avg_prev, dtb, fs, ms)
             if (present(f) .and. present(m)) then
-                call block_add(sh, e0, nb, dtb, fs, ms, f, m)
+                call block_add(sh, e0, s0, nb, dtb, fs, ms, f, m)
             else
-                call block_slots(sh, e0, nb, dtb, fs, ms)
+                call block_slots(sh, s0, nb, dtb, fs, ms)
             end if
             do l = 1, nb
                 e = e0 + l
@@ -1016,13 +1054,13 @@ contains
     !> triangle's fourth node is its third); zeros from an element collapsed
     !> or inverted (dte -1: the run stops, or ERODE removes it after this
     !> pass), as block_add adds none.
-    subroutine block_slots(sh, e0, nb, dte, fs, ms)
+    subroutine block_slots(sh, s0, nb, dte, fs, ms)
         type(shells_t), intent(inout) :: sh
-        integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
+        integer, intent(in) :: s0, nb   !< the block's rows: s0 + 1 .. s0 + nb
         real(wp), intent(in) :: dte(:), fs(nblk, 3, 4), ms(nblk, 3, 4)
         integer :: l, k, e
         do l = 1, nb
-            e = e0 + l
+            e = s0 + l
             if (.not. (dte(l) > 0.0_wp)) then
                 sh%fslot(:, 4*e - 3:4*e) = 0
                 sh%mslot(:, 4*e - 3:4*e) = 0
@@ -1040,9 +1078,10 @@ contains
     !> node by node: the order in which the assembly sums the slots; into
     !> the slots for the shared nodes, which the assembly sums after the
     !> pass (the same sums, bit for bit, for any number of threads).
-    subroutine block_add(sh, e0, nb, dte, fs, ms, f, m)
+    subroutine block_add(sh, e0, s0, nb, dte, fs, ms, f, m)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: e0, nb   !< the block: shells e0 + 1 .. e0 + nb
+        integer, intent(in) :: s0       !< their rows (the slots'): s0 + 1 .. s0 + nb
         real(wp), intent(in) :: dte(:), fs(nblk, 3, 4), ms(nblk, 3, 4)
         !> (explicit shape, as block_gather's)
         real(wp), intent(inout) :: f(3, *), m(3, *)
@@ -1064,7 +1103,7 @@ contains
                     m(2, nd) = m(2, nd) + ms(l, 2, k)
                     m(3, nd) = m(3, nd) + ms(l, 3, k)
                 else
-                    j = 4*(e - 1) + k
+                    j = 4*(s0 + l - 1) + k
                     sh%fslot(:, j) = 0
                     sh%mslot(:, j) = 0
                     if (.not. ok) cycle

@@ -69,7 +69,10 @@ module xd_elements_solid_groups
         ! the power of the current forces with v(n-1/2): half their work over
         ! the coming velocity update, weighted by its step once it is known
         real(dp), allocatable :: pend_int(:), pend_hg(:)
-        real(wp), allocatable :: fslot(:, :)   !< (3, 8n) force on each element-node incidence
+        !> (3, 8n) force on each element-node incidence; with the state held
+        !> locally (MPI), (3, 8 nl + nhalo): the rank's rows' slots, then the
+        !> halo's received from the other ranks (domain's local_slots)
+        real(wp), allocatable :: fslot(:, :)
         real(wp), allocatable :: gdt(:)        !< per group: smallest element time step
         integer, allocatable :: gcrit(:)       !< per group: element that sets it
         integer, allocatable :: gbad(:)        !< per group: first element with volume <= 0
@@ -354,8 +357,9 @@ contains
         end subroutine keep
     end subroutine solid_localize
 
-    !> The bytes of the state (sig, vol, qhg, qbv, epsp, alpha) this rank
-    !> holds: every solid's on one rank, its own groups' on more.
+    !> The bytes of the state (sig, vol, qhg, qbv, epsp, alpha) and the
+    !> force slots this rank holds: every solid's on one rank, its own
+    !> groups' (and its halo's slots) on more.
     integer(i8) function solid_state_bytes(s, every) result(b)
         type(solids_t), intent(in) :: s
         !> every solid's, as one rank holds them
@@ -366,7 +370,7 @@ contains
         if (present(every)) then
             if (every) then
                 ! an element's values: sig, vol, qhg, qbv, and epsp, alpha
-                w = 6 + 1 + 12 + 1
+                w = 6 + 1 + 12 + 1 + 3*8
                 if (s%plastic_state) w = w + 1 + 6
                 b = w*s%n*(storage_size(1.0_wp, i8)/8)
                 return
@@ -379,6 +383,7 @@ contains
         if (allocated(s%qbv)) b = b + storage_size(s%qbv, i8)/8*size(s%qbv, kind=i8)
         if (allocated(s%epsp)) b = b + storage_size(s%epsp, i8)/8*size(s%epsp, kind=i8)
         if (allocated(s%alpha)) b = b + storage_size(s%alpha, i8)/8*size(s%alpha, kind=i8)
+        if (allocated(s%fslot)) b = b + storage_size(s%fslot, i8)/8*size(s%fslot, kind=i8)
     end function solid_state_bytes
 
     !> Internal forces of every solid for positions x and velocities v (the
@@ -579,7 +584,8 @@ contains
             end do
         end if
         do i = 1, n
-            e = 8*(a + i - 2)
+            ! (the slots of the group's rows held here)
+            e = 8*(s%goff(g) + i - 1)
             do k = 1, 8
                 s%fslot(1, e + k) = fx(i, k)
                 s%fslot(2, e + k) = fy(i, k)

@@ -357,7 +357,7 @@ program xdyna
     end if
     ! (the elements' state, whole as set up or read from the dump: from
     ! here each rank keeps its own elements')
-    call localize_element_state(dom, solids, sh)
+    call localize_element_state(dom, solids, sh, asm, asm_sh)
     if (.not. ok) then
         call say('xdyna: cannot create the time-history files in '//outdir)
         call finish_alone(exit_run)
@@ -440,18 +440,18 @@ contains
         end if
         ! the elements' state (the solids' stresses, volumes, hourglass
         ! forces; the shells' points' stresses, plastic strains and
-        ! hourglass forces: most of an element's memory): each rank holds
-        ! its own elements' (issue 32)
+        ! hourglass forces) and force slots: most of an element's memory;
+        ! each rank holds its own elements' and its halo's slots (issue 32)
         if (sh%n + solids%n > 0) then
             lo = minloc(all(2, :), 1)
             hi = maxloc(all(2, :), 1)
             if (env%nranks == 1) then
-                call log_line(lg, ' elements'' state (stresses, strains, hourglass forces) ......... '// &
+                call log_line(lg, ' elements'' state and force slots (stresses, strains, hourglass and nodal forces) ... '// &
                               ftoa(all(2, 1)/1048576.0_dp)//' MB')
             else
-                call log_line(lg, ' elements'' state per rank ... '//ftoa(all(2, lo)/1048576.0_dp)//' MB (rank '// &
-                              itoa(lo - 1)//') to '//ftoa(all(2, hi)/1048576.0_dp)//' MB (rank '//itoa(hi - 1)// &
-                              '), each rank its own elements'' (all elements'': '// &
+                call log_line(lg, ' elements'' state and force slots per rank ... '//ftoa(all(2, lo)/1048576.0_dp)// &
+                              ' MB (rank '//itoa(lo - 1)//') to '//ftoa(all(2, hi)/1048576.0_dp)//' MB (rank '// &
+                              itoa(hi - 1)//'), each rank its own elements'' and its halo''s slots (all elements'': '// &
                               ftoa(maxval(all(3, :))/1048576.0_dp)//' MB)')
             end if
         end if

@@ -31,14 +31,15 @@
 !> solids' stresses, volumes, hourglass forces, bulk viscosity, plastic
 !> strains, back stresses; the shells' points' stresses, plastic strains,
 !> strains, back stresses, hourglass forces) is held for the rank's own
-!> elements alone, in rows of their own (localize_element_state, once the
+!> elements alone, in rows of their own, and so are their force slots,
+!> with the halo's received ones after them (localize_element_state, once the
 !> set-up and a restart's dump have put every element's initial state in
 !> place); rank 0 takes every element's, gathered, for the time of a state
 !> or a dump it writes (solid_state_view, shell_state_view,
 !> release_element_view). The motion is bitwise that of the serial run for
 !> any rank count (the energies agree to rounding). The price is memory:
-!> the mesh, the elements' constants and slots and the nodal arrays are on
-!> every rank.
+!> the mesh, the elements' constants and energies and the nodal arrays are
+!> on every rank.
 module xd_solver_domain
     use xd_kinds, only: wp, dp, i8
     use xd_core_partition, only: rcb_partition
@@ -52,6 +53,7 @@ module xd_solver_domain
     use xd_contact_contact, only: contacts_t
     use xd_contact_surface, only: surface_t, seg_nodes
     use xd_core_sorting, only: where_true
+    use xd_core_memory, only: alloc
     use xd_core_strings, only: itoa
     use xd_model, only: model_t
     implicit none
@@ -1156,13 +1158,69 @@ contains
     !> than one rank; once the time loop's set-up, a restart's dump
     !> included, has put every shell's initial state in place): the rest of
     !> the arrays' memory goes (issue 32).
-    subroutine localize_element_state(dom, solids, sh)
-        type(domain_t), intent(in) :: dom
+    subroutine localize_element_state(dom, solids, sh, asm, asm_sh)
+        type(domain_t), intent(inout) :: dom
         type(solids_t), intent(inout) :: solids
         type(shells_t), intent(inout) :: sh
+        !> (their slot lists: to the slots held here, local_slots)
+        type(assembly_t), intent(inout) :: asm, asm_sh
+        integer, allocatable :: map(:)
+        integer :: j, e, i
         if (.not. dom%on) return
-        if (solids%n > 0) call solid_localize(solids)
-        if (sh%n > 0) call shell_localize(sh, where_true(dom%shell_mine))
+        if (solids%n > 0) then
+            call solid_localize(solids)
+            allocate (map(8*solids%n))
+            map = 0
+            do j = 1, 8*solids%n
+                e = (j - 1)/8 + 1
+                if (solids%goff(solids%group_of(e)) >= 0) map(j) = 8*(solids%row(e) - 1) + j - 8*(e - 1)
+            end do
+            call local_slots(map, 8*solids%nl, dom%so_slot, dom%si_slot, asm)
+            deallocate (solids%fslot)
+            call alloc(solids%fslot, 3, 8*solids%nl + size(dom%si_slot), 'solid force slots')
+            solids%fslot = 0
+            deallocate (map)
+        end if
+        if (sh%n > 0) then
+            call shell_localize(sh, where_true(dom%shell_mine))
+            allocate (map(4*sh%n))
+            map = 0
+            do j = 1, 4*sh%n
+                e = (j - 1)/4 + 1
+                if (sh%lix(e) > 0) map(j) = 4*(sh%lix(e) - 1) + j - 4*(e - 1)
+            end do
+            call local_slots(map, 4*sh%nl, dom%ho_slot, dom%hi_slot, asm_sh)
+            deallocate (sh%fslot, sh%mslot)
+            call alloc(sh%fslot, 3, 4*sh%nl + size(dom%hi_slot), 'shell force slots')
+            call alloc(sh%mslot, 3, 4*sh%nl + size(dom%hi_slot), 'shell moment slots')
+            sh%fslot = 0
+            sh%mslot = 0
+        end if
+    contains
+        !> The force slots held here (issue 32): the rank's own elements' (map:
+        !> a model slot's place among them, 0 if another rank's), nown of
+        !> them, then the halo's received (`inn`, each once) in their list's
+        !> order. The lists of the slots sent (`out`) and received and the
+        !> assembly's node lists take those places; a node this rank
+        !> assembles has only such slots, still in the serial order, so its
+        !> sum is the same, bit for bit.
+        subroutine local_slots(map, nown, out, inn, as)
+            integer, intent(inout) :: map(:)
+            integer, intent(in) :: nown
+            integer, intent(inout) :: out(:), inn(:)
+            type(assembly_t), intent(inout) :: as
+            ! (loops: no temporary of the lists' size on the stack)
+            do i = 1, size(inn)
+                map(inn(i)) = nown + i
+                inn(i) = nown + i
+            end do
+            do i = 1, size(out)
+                out(i) = map(out(i))
+            end do
+            do i = 1, size(as%slot)
+                as%slot(i) = map(as%slot(i))
+            end do
+        end subroutine local_slots
     end subroutine localize_element_state
 
     !> Every solid's state on rank 0, for a state or a dump that rank 0
@@ -1252,8 +1310,8 @@ contains
     subroutine shell_state_view(dom, sh)
         type(domain_t), intent(in) :: dom
         type(shells_t), intent(inout) :: sh
-        integer, allocatable :: cnt(:), order(:)
-        integer :: r, nip
+        integer, allocatable :: cnt(:), order(:), at(:)
+        integer :: r, nip, i
         logical :: root
         real(wp) :: none(1)
         logical :: back
@@ -1263,11 +1321,21 @@ contains
         ! is made by all or none)
         back = any(sh%backstress)
         ! every rank's shells, rank after rank, each's ascending
-        allocate (cnt(dom%nranks))
-        do r = 1, dom%nranks
-            cnt(r) = count(dom%shell_rank == r - 1)
+        ! (loops: no temporary of the model's size on the stack)
+        allocate (cnt(dom%nranks), order(sh%n), at(dom%nranks))
+        cnt = 0
+        do i = 1, sh%n
+            cnt(dom%shell_rank(i) + 1) = cnt(dom%shell_rank(i) + 1) + 1
         end do
-        order = [(where_true(dom%shell_rank == r), r=0, dom%nranks - 1)]
+        at(1) = 0
+        do r = 2, dom%nranks
+            at(r) = at(r - 1) + cnt(r - 1)
+        end do
+        do i = 1, sh%n
+            r = dom%shell_rank(i) + 1
+            at(r) = at(r) + 1
+            order(at(r)) = i
+        end do
         nip = size(sh%sig, 3)
         if (root) then
             call move_alloc(sh%sig, sh%own_sig)
