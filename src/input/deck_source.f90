@@ -34,6 +34,7 @@ module xd_input_deck_source
         procedure :: is_comment => source_is_comment
         procedure :: is_keyword => source_is_keyword
         procedure :: digest => source_digest
+        procedure :: release => source_release
     end type deck_source_t
 
 contains
@@ -339,5 +340,20 @@ contains
         write (buf, '(i0,a,z8.8)') n, '-', h
         d = trim(buf)
     end function source_digest
+
+    !> The deck's text and line tables freed once the model is read (every
+    !> MPI rank reads the deck: the 120,000-shell tubes' 15 MB each); the
+    !> file names stay.
+    subroutine source_release(src)
+        class(deck_source_t), intent(inout) :: src
+        integer :: k
+        if (allocated(src%files)) then
+            do k = 1, size(src%files)
+                if (allocated(src%files(k)%text)) deallocate (src%files(k)%text)
+            end do
+        end if
+        if (allocated(src%lfile)) deallocate (src%lfile, src%lstart, src%llen, src%lnum)
+        src%nline = 0
+    end subroutine source_release
 
 end module xd_input_deck_source

@@ -53,6 +53,7 @@ program xdyna
     type(run_options_t) :: opts
     type(model_t) :: model
     type(read_ctx_t) :: ctx
+    character(len=:), allocatable :: deck_digest
     type(id_maps_t) :: maps
     type(state_t) :: st
     type(solids_t) :: solids
@@ -235,6 +236,9 @@ program xdyna
             call finish(exit_input)
         end if
     end if
+    ! (the deck's fingerprint for the dumps; its text no longer needed)
+    deck_digest = ctx%src%digest()
+    call ctx%src%release()
 
     call tm%start(ph_init)
     ! tied contacts: slave nodes placed on their master surfaces (model%x0)
@@ -385,7 +389,7 @@ program xdyna
     opts%kill_path = out_path(stem, 'd3kil')
     ! absolute: a restart started from another directory finds them
     opts%meta%deck = absolute_path(deck)
-    opts%meta%digest = ctx%src%digest()
+    opts%meta%digest = deck_digest
     opts%meta%outdir = absolute_path(outdir)
     if (.not. ok) then
         call say('xdyna: cannot create the states (d3plot'//trim(merge(', d3plot.h5', '           ', &
