@@ -7,7 +7,7 @@ module xd_core_memory
     use, intrinsic :: iso_fortran_env, only: error_unit
     implicit none
     private
-    public :: alloc, alloc_dp, grow, peak_memory_kb
+    public :: alloc, alloc_dp, grow, peak_memory_kb, resident_memory_kb
 
     interface alloc
         module procedure alloc_r1, alloc_r2, alloc_r3, alloc_i1, alloc_i2
@@ -154,6 +154,18 @@ contains
     !> This process's peak resident memory in kB (VmHWM of /proc/self/status,
     !> Linux); -1 where it cannot be read.
     integer(i8) function peak_memory_kb() result(kb)
+        kb = status_kb('VmHWM:')
+    end function peak_memory_kb
+
+    !> This process's resident memory now in kB (VmRSS); -1 where it cannot
+    !> be read.
+    integer(i8) function resident_memory_kb() result(kb)
+        kb = status_kb('VmRSS:')
+    end function resident_memory_kb
+
+    !> A kB figure of /proc/self/status (Linux), by its 6-character key.
+    integer(i8) function status_kb(key) result(kb)
+        character(len=6), intent(in) :: key
         integer :: u, ios
         character(len=256) :: line
         kb = -1
@@ -162,13 +174,13 @@ contains
         do
             read (u, '(a)', iostat=ios) line
             if (ios /= 0) exit
-            if (line(1:6) == 'VmHWM:') then
+            if (line(1:6) == key) then
                 read (line(7:), *, iostat=ios) kb
                 if (ios /= 0) kb = -1
                 exit
             end if
         end do
         close (u)
-    end function peak_memory_kb
+    end function status_kb
 
 end module xd_core_memory

@@ -40,7 +40,7 @@ program xdyna
     use xd_output_h5io, only: h5_no_exit_handler
     use xd_core_signals, only: signals_install, stop_signal, hold_for_signal
     use xd_core_comm, only: comm_max, comm_gather_small
-    use xd_core_memory, only: peak_memory_kb
+    use xd_core_memory, only: peak_memory_kb, resident_memory_kb
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     use xd_solver_domain, only: domain_t, build_domain, domain_summary, decomp_rcb, decomp_metis, localize_element_state
     use xd_contact_contact, only: gather_contact_state, scatter_contact_state
@@ -431,9 +431,11 @@ contains
     !> smallest and the largest, with their ranks (a collective: every rank
     !> calls it).
     subroutine memory_line()
-        real(dp) :: rec(3), all(3, env%nranks)
+        real(dp) :: rec(4), all(4, env%nranks)
         integer :: lo, hi
         rec(1) = real(peak_memory_kb(), dp)
+        ! (at the end: what the run held, the set-up's peak past)
+        rec(4) = real(resident_memory_kb(), dp)
         rec(2) = real(shell_state_bytes(sh) + solid_state_bytes(solids), dp)
         ! (every element's, as one rank holds them)
         rec(3) = real(shell_state_bytes(sh, every=.true.) + solid_state_bytes(solids, every=.true.), dp)
@@ -467,6 +469,15 @@ contains
         else
             call log_line(lg, ' peak memory per rank (VmHWM) ........ '//ftoa(all(1, lo)/1024.0_dp)//' MB (rank '// &
                           itoa(lo - 1)//') to '//ftoa(all(1, hi)/1024.0_dp)//' MB (rank '//itoa(hi - 1)//')')
+        end if
+        if (any(all(4, :) < 0.0_dp)) return
+        lo = minloc(all(4, :), 1)
+        hi = maxloc(all(4, :), 1)
+        if (env%nranks == 1) then
+            call log_line(lg, ' resident memory at the end (VmRSS) .. '//ftoa(all(4, 1)/1024.0_dp)//' MB')
+        else
+            call log_line(lg, ' resident memory at the end per rank (VmRSS) '//ftoa(all(4, lo)/1024.0_dp)//' MB (rank '// &
+                          itoa(lo - 1)//') to '//ftoa(all(4, hi)/1024.0_dp)//' MB (rank '//itoa(hi - 1)//')')
         end if
     end subroutine memory_line
 
