@@ -14,7 +14,7 @@ module xd_elements_shell_bt
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private
-    public :: shells_t, build_shells, shell_localize, shell_state_bytes, shell_forces, shell_masses, shell_axes, shell_blocks, &
+    public :: shells_t, build_shells, shell_state_init, shell_state_bytes, shell_forces, shell_masses, shell_axes, shell_blocks, &
               point_weight, point_z
     public :: shell_name
 
@@ -102,6 +102,7 @@ module xd_elements_shell_bt
         !> gathered copy for the time of the output (the domain's
         !> element_view).
         integer :: nl = 0
+        integer :: nipmax = 1                 !< the points a row holds: the most any shell has
         integer, allocatable :: lix(:), gix(:)
         logical :: local = .false.            !< shell_localize made the rows this rank's (MPI)
         !> during such a view (rank 0): the rank's own rows, kept aside
@@ -226,7 +227,7 @@ contains
                 type(plastic_params_t), intent(out) :: pp
             end subroutine plastic_law
         end interface
-        integer :: e, p, k, mix, ee, nipmax
+        integer :: e, p, k, mix, ee
         integer, allocatable :: keep(:)
         ! rigid shells are not deformable elements (the rigid bodies take them)
         keep = pack([(e, e=1, model%nshell)], &
@@ -252,9 +253,6 @@ contains
         sh%ncap = 0
         allocate (sh%low(sh%n))
         sh%low = .false.
-        call alloc(sh%fslot, 3, 4*sh%n, 'shell force slots')
-        call alloc(sh%mslot, 3, 4*sh%n, 'shell moment slots')
-        call alloc(sh%qhg, sh%n, 5, 'shell hourglass forces')
         call alloc_dp(sh%eint, sh%n, 'shell energies')
         call alloc_dp(sh%ehg, sh%n, 'shell energies')
         call alloc_dp(sh%pend_int, sh%n, 'shell energies')
@@ -323,99 +321,53 @@ contains
         sh%cbi = sh%e/(3*(1 - sh%nu))
         sh%nue = -sh%nu/sh%e
         ! the points' state, as many per shell as the most any shell has
-        ! (NIP 2 in two columns, not five);
-        ! back stresses only where a material moves them
-        nipmax = max(1, maxval(sh%nip))
-        allocate (sh%sig(sh%n, 5, nipmax), sh%epsp(sh%n, nipmax))
-        if (any(sh%backstress)) then
-            allocate (sh%alpha(6, nipmax, sh%n))
-        else
-            allocate (sh%alpha(6, nipmax, 0))
-        end if
-        sh%sig = 0
-        sh%epsp = 0
-        sh%alpha = 0
+        ! (NIP 2 in two columns, not five), and the slots: allocated for
+        ! the shells of this rank alone once the run is split
+        ! (shell_state_init); the strains where a criterion reads them
+        sh%nipmax = max(1, maxval(sh%nip))
         do e = 1, sh%n
             associate (m => model%mat(sh%mix(e)))
                 sh%track_strain = sh%track_strain .or. (m%erosion .and. (m%mneps < 0.0_wp .or. m%mxeps > 0.0_wp .or. &
                                                        m%effeps > 0.0_wp .or. m%voleps /= 0.0_wp .or. m%epssh > 0.0_wp))
             end associate
         end do
-        if (sh%track_strain) then
-            allocate (sh%strain(sh%n, 6, nipmax))
-        else
-            allocate (sh%strain(0, 6, nipmax))
-        end if
-        sh%strain = 0
-        ! (one rank's numbering of the points' state: every shell, as built)
-        sh%nl = sh%n
-        sh%lix = [(e, e=1, sh%n)]
-        sh%gix = sh%lix
     end subroutine build_shells
 
-    !> The points' state (sig, epsp, strain, alpha, qhg) kept for this
-    !> rank's shells `own` alone (ascending), their rows in that order: the
-    !> rest of the arrays' memory goes (issue 32). The values kept are
-    !> those of the rows as they were (a state read from a dump, initial
-    !> values).
-    subroutine shell_localize(sh, own)
+    !> The points' state (sig, epsp, strain, alpha, qhg, zero) and the
+    !> force and moment slots, allocated for the shells `own` (ascending;
+    !> one rank: every shell) and `nhalo` slots received from other ranks
+    !> after theirs: their rows in that order (issue 32: a rank holds its
+    !> own shells' alone, from the start, so that the set-up's peak does
+    !> not hold every shell's). `local`: more than one rank. Once, before
+    !> a restart's dump is read into the rows.
+    subroutine shell_state_init(sh, own, nhalo, local)
         type(shells_t), intent(inout) :: sh
-        integer, intent(in) :: own(:)
-        real(wp), allocatable :: a3(:, :, :), a2(:, :)
-        integer :: i, j, k
-        if (sh%local) error stop 'shell_localize: the state is local already'
-        if (any(own(2:) <= own(:size(own) - 1))) error stop 'shell_localize: own not ascending'
-        sh%local = .true.
+        integer, intent(in) :: own(:), nhalo
+        logical, intent(in) :: local
+        integer :: i, nip
+        if (allocated(sh%sig)) error stop 'shell_state_init: the state is there already'
+        if (any(own(2:) <= own(:size(own) - 1))) error stop 'shell_state_init: own not ascending'
+        sh%local = local
         sh%nl = size(own)
         sh%gix = own
-        ! (loops, not vector subscripts: no temporary of the arrays' size on
-        ! the stack, which -fstack-arrays would put there)
+        allocate (sh%lix(sh%n))
         sh%lix = 0
         do i = 1, sh%nl
             sh%lix(own(i)) = i
         end do
-        allocate (a3(sh%nl, size(sh%sig, 2), size(sh%sig, 3)))
-        do k = 1, size(sh%sig, 3)
-            do j = 1, size(sh%sig, 2)
-                do i = 1, sh%nl
-                    a3(i, j, k) = sh%sig(own(i), j, k)
-                end do
-            end do
-        end do
-        call move_alloc(a3, sh%sig)
-        allocate (a2(sh%nl, size(sh%epsp, 2)))
-        do j = 1, size(sh%epsp, 2)
-            do i = 1, sh%nl
-                a2(i, j) = sh%epsp(own(i), j)
-            end do
-        end do
-        call move_alloc(a2, sh%epsp)
-        allocate (a2(sh%nl, size(sh%qhg, 2)))
-        do j = 1, size(sh%qhg, 2)
-            do i = 1, sh%nl
-                a2(i, j) = sh%qhg(own(i), j)
-            end do
-        end do
-        call move_alloc(a2, sh%qhg)
-        if (size(sh%strain, 1) > 0) then
-            allocate (a3(sh%nl, size(sh%strain, 2), size(sh%strain, 3)))
-            do k = 1, size(sh%strain, 3)
-                do j = 1, size(sh%strain, 2)
-                    do i = 1, sh%nl
-                        a3(i, j, k) = sh%strain(own(i), j, k)
-                    end do
-                end do
-            end do
-            call move_alloc(a3, sh%strain)
-        end if
-        if (size(sh%alpha, 3) > 0) then
-            allocate (a3(size(sh%alpha, 1), size(sh%alpha, 2), sh%nl))
-            do i = 1, sh%nl
-                a3(:, :, i) = sh%alpha(:, :, own(i))
-            end do
-            call move_alloc(a3, sh%alpha)
-        end if
-    end subroutine shell_localize
+        nip = sh%nipmax
+        allocate (sh%sig(sh%nl, 5, nip), sh%epsp(sh%nl, nip))
+        sh%sig = 0
+        sh%epsp = 0
+        ! back stresses only where a material moves them
+        allocate (sh%alpha(6, nip, merge(sh%nl, 0, any(sh%backstress))))
+        sh%alpha = 0
+        allocate (sh%strain(merge(sh%nl, 0, sh%track_strain), 6, nip))
+        sh%strain = 0
+        call alloc(sh%qhg, sh%nl, 5, 'shell hourglass forces')
+        call alloc(sh%fslot, 3, 4*sh%nl + nhalo, 'shell force slots')
+        call alloc(sh%mslot, 3, 4*sh%nl + nhalo, 'shell moment slots')
+    end subroutine shell_state_init
 
     !> The bytes of the points' state (sig, epsp, qhg, strain, alpha) and
     !> the force and moment slots this rank holds: every shell's on one

@@ -42,7 +42,8 @@ program xdyna
     use xd_core_comm, only: comm_max, comm_gather_small
     use xd_core_memory, only: peak_memory_kb, resident_memory_kb
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
-    use xd_solver_domain, only: domain_t, build_domain, domain_summary, decomp_rcb, decomp_metis, localize_element_state
+    use xd_solver_domain, only: domain_t, build_domain, domain_summary, decomp_rcb, decomp_metis, localize_element_state, &
+                                place_shell_state
     use xd_contact_contact, only: gather_contact_state, scatter_contact_state
     !$ use omp_lib, only: omp_set_num_threads, omp_get_num_procs
     implicit none
@@ -318,6 +319,8 @@ program xdyna
     end if
     call stop_before_run('setting up the model')
     call build_domain(model, st%x0, solids, sh, asm, asm_sh, ct, env%rank, env%nranks, dom, decomp)
+    ! the shells' points' state and slots: each rank's own shells' alone
+    call place_shell_state(dom, sh, asm_sh)
     if (dom%on) call log_line(lg, domain_summary(dom))
     call log_line(lg, model_summary(model, solids, rg%n))
     if (ct%n > 0) then
@@ -359,9 +362,9 @@ program xdyna
     else
         call open_histories(model, stem, rg, hist, ok, writer=env%rank == 0, rotating=st%rot)
     end if
-    ! (the elements' state, whole as set up or read from the dump: from
-    ! here each rank keeps its own elements')
-    call localize_element_state(dom, solids, sh, asm, asm_sh)
+    ! (the solids' state, whole as set up or read from the dump: from here
+    ! each rank keeps its own groups')
+    call localize_element_state(dom, solids, asm)
     if (.not. ok) then
         call say('xdyna: cannot create the time-history files in '//outdir)
         call finish_alone(exit_run)

@@ -32,9 +32,11 @@
 !> strains, back stresses; the shells' points' stresses, plastic strains,
 !> strains, back stresses, hourglass forces) is held for the rank's own
 !> elements alone, in rows of their own, and so are their force slots,
-!> with the halo's received ones after them (localize_element_state, once the
-!> set-up and a restart's dump have put every element's initial state in
-!> place); rank 0 takes every element's, gathered, for the time of a state
+!> with the halo's received ones after them (the shells' allocated so once
+!> the split is made, place_shell_state; the solids' cut to the rank's
+!> groups once the set-up and a restart's dump have put every solid's
+!> initial state in place, localize_element_state); rank 0 takes every
+!> element's, gathered, for the time of a state
 !> or a dump it writes (solid_state_view, shell_state_view,
 !> release_element_view). The motion is bitwise that of the serial run for
 !> any rank count (the energies agree to rounding). The price is memory:
@@ -48,7 +50,7 @@ module xd_solver_domain
     use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours, comm_gather_small, &
                             comm_gather_root_wp
     use xd_elements_solid_groups, only: solids_t, solid_localize
-    use xd_elements_shell_bt, only: shells_t, shell_blocks, shell_localize
+    use xd_elements_shell_bt, only: shells_t, shell_blocks, shell_state_init
     use xd_solver_assembly, only: assembly_t
     use xd_contact_contact, only: contacts_t
     use xd_contact_surface, only: surface_t, seg_nodes
@@ -61,7 +63,7 @@ module xd_solver_domain
     public :: decomp_rcb, decomp_metis
     public :: domain_t, build_domain, domain_summary, gather_energy_state, gather_element_state, &
               swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout, neighbour_count, &
-              ghost_base, contact_ghosts, localize_element_state, release_element_view
+              ghost_base, contact_ghosts, place_shell_state, localize_element_state, release_element_view
 
     !> A set of nodes whose values go from their ranks to every rank (an
     !> all-gather): per rank r, its own in node(off(r) + 1 : off(r) +
@@ -1136,92 +1138,90 @@ contains
                 call merge_wp(solids%alpha, 6, dom%solid_mine)
             end if
         end if
-        if (sh%n == 0) return
-        ! (the points' arrays hold as many points a shell as the most any
-        ! shell has; back stresses only where a material moves them)
-        ! (the shells' per-point arrays hold the element index first: a
-        ! column of sh%n values per component and point)
-        if (.not. sh%local) then
-            ! (the points' state still whole on every rank: before the time
-            ! loop)
-            call merge_columns(sh%sig, 5*size(sh%sig, 3), dom%shell_mine)
-            call merge_columns(sh%qhg, 5, dom%shell_mine)
-            call merge_columns(sh%epsp, size(sh%epsp, 2), dom%shell_mine)
-            if (sh%track_strain) call merge_columns(sh%strain, 6*size(sh%strain, 3), dom%shell_mine)
-            if (size(sh%alpha) > 0) call merge_wp(sh%alpha, 6*size(sh%alpha, 2), dom%shell_mine)
-        else
-            call shell_state_view(dom, sh)
-        end if
+        ! (the shells' points' state is each rank's own from the start:
+        ! place_shell_state)
+        if (sh%n > 0) call shell_state_view(dom, sh)
     end subroutine gather_element_state
 
-    !> The shells' points' state held for this rank's shells alone (more
-    !> than one rank; once the time loop's set-up, a restart's dump
-    !> included, has put every shell's initial state in place): the rest of
-    !> the arrays' memory goes (issue 32).
-    subroutine localize_element_state(dom, solids, sh, asm, asm_sh)
+    !> The shells' points' state and slots allocated (issue 32): on one
+    !> rank every shell's; on more, the rank's own shells' rows and then
+    !> the halo's slots received from the other ranks, the assembly's and
+    !> the halo's slot lists mapped to those places (local_slots). Once the
+    !> split is made and before a restart's dump is read into the rows.
+    subroutine place_shell_state(dom, sh, asm_sh)
+        type(domain_t), intent(inout) :: dom
+        type(shells_t), intent(inout) :: sh
+        type(assembly_t), intent(inout) :: asm_sh
+        integer, allocatable :: map(:), every(:)
+        integer :: j, e
+        if (sh%n == 0) return
+        if (.not. dom%on) then
+            allocate (every(sh%n))
+            do e = 1, sh%n
+                every(e) = e
+            end do
+            call shell_state_init(sh, every, 0, .false.)
+            return
+        end if
+        call shell_state_init(sh, where_true(dom%shell_mine), size(dom%hi_slot), .true.)
+        allocate (map(4*sh%n))
+        map = 0
+        do j = 1, 4*sh%n
+            e = (j - 1)/4 + 1
+            if (sh%lix(e) > 0) map(j) = 4*(sh%lix(e) - 1) + j - 4*(e - 1)
+        end do
+        call local_slots(map, 4*sh%nl, dom%ho_slot, dom%hi_slot, asm_sh)
+    end subroutine place_shell_state
+
+    !> The solids' state and slots held for the rank's own groups alone
+    !> (more than one rank; once the set-up, a restart's dump included, has
+    !> put every solid's initial state in place): the rest of the arrays'
+    !> memory goes (issue 32).
+    subroutine localize_element_state(dom, solids, asm)
         type(domain_t), intent(inout) :: dom
         type(solids_t), intent(inout) :: solids
-        type(shells_t), intent(inout) :: sh
-        !> (their slot lists: to the slots held here, local_slots)
-        type(assembly_t), intent(inout) :: asm, asm_sh
+        !> (its slot lists: to the slots held here, local_slots)
+        type(assembly_t), intent(inout) :: asm
         integer, allocatable :: map(:)
-        integer :: j, e, i
-        if (.not. dom%on) return
-        if (solids%n > 0) then
-            call solid_localize(solids)
-            allocate (map(8*solids%n))
-            map = 0
-            do j = 1, 8*solids%n
-                e = (j - 1)/8 + 1
-                if (solids%goff(solids%group_of(e)) >= 0) map(j) = 8*(solids%row(e) - 1) + j - 8*(e - 1)
-            end do
-            call local_slots(map, 8*solids%nl, dom%so_slot, dom%si_slot, asm)
-            deallocate (solids%fslot)
-            call alloc(solids%fslot, 3, 8*solids%nl + size(dom%si_slot), 'solid force slots')
-            solids%fslot = 0
-            deallocate (map)
-        end if
-        if (sh%n > 0) then
-            call shell_localize(sh, where_true(dom%shell_mine))
-            allocate (map(4*sh%n))
-            map = 0
-            do j = 1, 4*sh%n
-                e = (j - 1)/4 + 1
-                if (sh%lix(e) > 0) map(j) = 4*(sh%lix(e) - 1) + j - 4*(e - 1)
-            end do
-            call local_slots(map, 4*sh%nl, dom%ho_slot, dom%hi_slot, asm_sh)
-            deallocate (sh%fslot, sh%mslot)
-            call alloc(sh%fslot, 3, 4*sh%nl + size(dom%hi_slot), 'shell force slots')
-            call alloc(sh%mslot, 3, 4*sh%nl + size(dom%hi_slot), 'shell moment slots')
-            sh%fslot = 0
-            sh%mslot = 0
-        end if
-    contains
-        !> The force slots held here (issue 32): the rank's own elements' (map:
-        !> a model slot's place among them, 0 if another rank's), nown of
-        !> them, then the halo's received (`inn`, each once) in their list's
-        !> order. The lists of the slots sent (`out`) and received and the
-        !> assembly's node lists take those places; a node this rank
-        !> assembles has only such slots, still in the serial order, so its
-        !> sum is the same, bit for bit.
-        subroutine local_slots(map, nown, out, inn, as)
-            integer, intent(inout) :: map(:)
-            integer, intent(in) :: nown
-            integer, intent(inout) :: out(:), inn(:)
-            type(assembly_t), intent(inout) :: as
-            ! (loops: no temporary of the lists' size on the stack)
-            do i = 1, size(inn)
-                map(inn(i)) = nown + i
-                inn(i) = nown + i
-            end do
-            do i = 1, size(out)
-                out(i) = map(out(i))
-            end do
-            do i = 1, size(as%slot)
-                as%slot(i) = map(as%slot(i))
-            end do
-        end subroutine local_slots
+        integer :: j, e
+        if (.not. dom%on .or. solids%n == 0) return
+        call solid_localize(solids)
+        allocate (map(8*solids%n))
+        map = 0
+        do j = 1, 8*solids%n
+            e = (j - 1)/8 + 1
+            if (solids%goff(solids%group_of(e)) >= 0) map(j) = 8*(solids%row(e) - 1) + j - 8*(e - 1)
+        end do
+        call local_slots(map, 8*solids%nl, dom%so_slot, dom%si_slot, asm)
+        deallocate (solids%fslot)
+        call alloc(solids%fslot, 3, 8*solids%nl + size(dom%si_slot), 'solid force slots')
     end subroutine localize_element_state
+
+    !> The force slots held here (issue 32): the rank's own elements' (map:
+    !> a model slot's place among them, 0 if another rank's), nown of them,
+    !> then the halo's received (`inn`, each once) in their list's order.
+    !> The lists of the slots sent (`out`) and received and the assembly's
+    !> node lists take those places; a node this rank assembles has only
+    !> such slots, still in the serial order, so its sum is the same, bit
+    !> for bit.
+    subroutine local_slots(map, nown, out, inn, as)
+        integer, intent(inout) :: map(:)
+        integer, intent(in) :: nown
+        integer, intent(inout) :: out(:), inn(:)
+        type(assembly_t), intent(inout) :: as
+        integer :: i
+        ! (loops: no temporary of the lists' size on the stack)
+        do i = 1, size(inn)
+            map(inn(i)) = nown + i
+            inn(i) = nown + i
+        end do
+        do i = 1, size(out)
+            out(i) = map(out(i))
+        end do
+        do i = 1, size(as%slot)
+            as%slot(i) = map(as%slot(i))
+        end do
+    end subroutine local_slots
 
     !> Every solid's state on rank 0, for a state or a dump that rank 0
     !> writes: each rank sends its groups' blocks (in group order), rank 0
@@ -1439,22 +1439,6 @@ contains
         call comm_sum_wp(a, stride*size(mine))
     end subroutine merge_wp
 
-    !> a holds ncol columns of one value per element (element e's are
-    !> entries e, n + e, 2n + e, ..., n = size(mine)): those of the
-    !> elements this rank does not own zeroed, then summed over the ranks.
-    subroutine merge_columns(a, ncol, mine)
-        real(wp), intent(inout) :: a(*)
-        integer, intent(in) :: ncol
-        logical, intent(in) :: mine(:)
-        integer :: e, c, n
-        n = size(mine)
-        do c = 0, ncol - 1
-            do e = 1, n
-                if (.not. mine(e)) a(c*n + e) = 0
-            end do
-        end do
-        call comm_sum_wp(a, ncol*n)
-    end subroutine merge_columns
 
 #ifdef XD_SINGLE
     subroutine merge_dp(a, stride, mine)

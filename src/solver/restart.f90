@@ -457,7 +457,7 @@ contains
         type(states_marks_t), intent(out) :: sm
         character(len=:), allocatable, intent(out) :: error
         integer(hid_t) :: f, g, r
-        integer :: err, k
+        integer :: err, k, i, j, nip
         real(wp), allocatable :: bw(:)
         real(dp), allocatable :: bd(:)
         integer, allocatable :: bi(:)
@@ -529,14 +529,51 @@ contains
 
         if (sh%n > 0) then
             call h5gopen_f(f, 'shells', g, err)
-            ! (in the file each shell's values together: see the writer)
-            call getw(g, 'sig', size(sh%sig)); if (ok()) sh%sig = reshape(bw, shape(sh%sig), order=[2, 3, 1])
-            call getw(g, 'qhg', size(sh%qhg)); if (ok()) sh%qhg = reshape(bw, shape(sh%qhg), order=[2, 1])
-            call getw(g, 'epsp', size(sh%epsp)); if (ok()) sh%epsp = reshape(bw, shape(sh%epsp), order=[2, 1])
-            if (sh%track_strain) then
-                call getw(g, 'strain', size(sh%strain)); if (ok()) sh%strain = reshape(bw, shape(sh%strain))
+            ! (in the file each shell's values together: see the writer;
+            ! the rows held here are those of shells gix, every shell's on
+            ! one rank)
+            nip = size(sh%sig, 3)
+            call getw(g, 'sig', 5*nip*sh%n)
+            if (ok()) then
+                do i = 1, sh%nl
+                    sh%sig(i, :, :) = reshape(bw(5*nip*(sh%gix(i) - 1) + 1:5*nip*sh%gix(i)), [5, nip])
+                end do
             end if
-            call getw(g, 'alpha', size(sh%alpha)); if (ok()) sh%alpha = reshape(bw, shape(sh%alpha))
+            call getw(g, 'qhg', 5*sh%n)
+            if (ok()) then
+                do i = 1, sh%nl
+                    sh%qhg(i, :) = bw(5*(sh%gix(i) - 1) + 1:5*sh%gix(i))
+                end do
+            end if
+            call getw(g, 'epsp', nip*sh%n)
+            if (ok()) then
+                do i = 1, sh%nl
+                    sh%epsp(i, :) = bw(nip*(sh%gix(i) - 1) + 1:nip*sh%gix(i))
+                end do
+            end if
+            if (sh%track_strain) then
+                ! ((n, 6, nip): the shell index first)
+                call getw(g, 'strain', 6*nip*sh%n)
+                if (ok()) then
+                    do k = 1, nip
+                        do j = 1, 6
+                            do i = 1, sh%nl
+                                sh%strain(i, j, k) = bw(sh%gix(i) + sh%n*((j - 1) + 6*(k - 1)))
+                            end do
+                        end do
+                    end do
+                end if
+            end if
+            if (size(sh%alpha, 3) > 0) then
+                call getw(g, 'alpha', 6*nip*sh%n)
+                if (ok()) then
+                    do i = 1, sh%nl
+                        sh%alpha(:, :, i) = reshape(bw(6*nip*(sh%gix(i) - 1) + 1:6*nip*sh%gix(i)), [6, nip])
+                    end do
+                end if
+            else
+                call getw(g, 'alpha', 0)
+            end if
             call getd(g, 'eint', sh%n); if (ok()) sh%eint = bd
             call getd(g, 'ehg', sh%n); if (ok()) sh%ehg = bd
             call getd(g, 'pend_int', sh%n); if (ok()) sh%pend_int = bd
