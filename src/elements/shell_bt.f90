@@ -97,14 +97,14 @@ module xd_elements_shell_bt
         !> rank's shells alone (issue 32), in their own numbering: nl of
         !> them, shell e's row lix(e) (0: another rank's), row i shell
         !> gix(i), in ascending order, so that a block of consecutive shells
-        !> has consecutive rows (shell_localize). One rank: every shell,
+        !> has consecutive rows (shell_state_init). One rank: every shell,
         !> lix(e) = e. A writer that needs every shell's state takes a
         !> gathered copy for the time of the output (the domain's
-        !> element_view).
+        !> shell_state_view).
         integer :: nl = 0
         integer :: nipmax = 1                 !< the points a row holds: the most any shell has
         integer, allocatable :: lix(:), gix(:)
-        logical :: local = .false.            !< shell_localize made the rows this rank's (MPI)
+        logical :: local = .false.            !< the rows are this rank's shells' (more than one rank)
         !> during such a view (rank 0): the rank's own rows, kept aside
         logical :: viewing = .false.
         real(wp), allocatable :: own_sig(:, :, :), own_epsp(:, :), own_qhg(:, :), own_strain(:, :, :), &
@@ -346,7 +346,9 @@ contains
         logical, intent(in) :: local
         integer :: i, nip
         if (allocated(sh%sig)) error stop 'shell_state_init: the state is there already'
-        if (any(own(2:) <= own(:size(own) - 1))) error stop 'shell_state_init: own not ascending'
+        do i = 2, size(own)
+            if (own(i) <= own(i - 1)) error stop 'shell_state_init: own not ascending'
+        end do
         sh%local = local
         sh%nl = size(own)
         sh%gix = own
