@@ -4,7 +4,9 @@
 # single-surface contact) on 1, 2, 4 ... MPI ranks of one thread each: wall
 # time of the time loop, ns per element-cycle, the MPI phases' shares
 # (halo exchange, contact exchange, the wait for the slowest rank), the
-# contact's share, the peak memory per rank (VmHWM, smallest and largest)
+# contact's share, the peak memory per rank (VmHWM, smallest and largest),
+# the resident memory at the end (VmRSS) and the elements' state and force
+# slots each rank holds (its own elements' alone)
 # and the halo's bytes a cycle (with owned nodes: the halo point-to-point and
 # the contact surfaces' velocities to every rank; replicated: the slots and
 # every node's forces to every rank; and each rank's own halo nodes' share,
@@ -29,7 +31,7 @@ deck=$dir/tubes_${ntx}x${nty}.k
 /usr/bin/python3 tools/gen_decks.py --bench-tubes $ntx $nty $deck --cycles $cycles
 nel=$((ntx * nty * 1200))
 echo "bench-mpi: $ntx x $nty tubes, $nel shells, $cycles cycles, one thread a rank, $(nproc) cores here ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'))"
-printf '%6s %9s %10s %8s %9s %8s %9s %17s %16s %16s\n' ranks "wall (s)" "ns/el-cyc" "halo %" "contact%" "wait %" "c.share" "peak MB/rank" "halo B/cycle" "own-node halo B"
+printf '%6s %9s %10s %8s %9s %8s %9s %17s %17s %12s %16s %16s\n' ranks "wall (s)" "ns/el-cyc" "halo %" "contact%" "wait %" "c.share" "peak MB/rank" "end MB/rank" "elem MB/rk" "halo B/cycle" "own-node halo B"
 for r in $ranks; do
     out=$dir/r${r}_${ntx}x${nty}
     rm -rf $out
@@ -47,6 +49,10 @@ for r in $ranks; do
         /contact share of the time loop/ {cs = $(NF - 1)}
         /peak memory \(VmHWM\)/ {mem = sprintf("%.0f", $(NF - 1))}
         /peak memory per rank/ {lo = $7; hi = $12; mem = sprintf("%.0f-%.0f", lo, hi)}
+        /resident memory at the end \(VmRSS\) \.\./ {rss = sprintf("%.0f", $(NF - 1))}
+        /resident memory at the end per rank/ {rss = sprintf("%.0f-%.0f", $9, $14)}
+        /elements. state and force slots \(/ {el = sprintf("%.1f", $(NF - 1))}
+        /elements. state and force slots per rank/ {el = sprintf("%.1f", $14)}
         /halo exchange a cycle:/ {
             s = $0; sub(/.*force slots \(/, "", s); split(s, a, " "); slots = a[1]
             t = $0; sub(/.*to all too \(/, "", t); split(t, b, " "); nodes = b[1]
@@ -61,8 +67,8 @@ for r in $ranks; do
         END {
             if (r == 1) {hb = 0; own = 0}
             if (owned) hb = p2p + gat
-            printf "%6d %9.2f %10.1f %8.1f %9.1f %8.1f %8.1f%% %17s %16d %16d\n", r, tot, ns, 100 * halo / tot,
-                100 * ghost / tot, 100 * wait / tot, cs, mem, hb, own
+            printf "%6d %9.2f %10.1f %8.1f %9.1f %8.1f %8.1f%% %17s %17s %12s %16d %16d\n", r, tot, ns, 100 * halo / tot,
+                100 * ghost / tot, 100 * wait / tot, cs, mem, rss, el, hb, own
         }' $out/d3hsp
 done
 done
