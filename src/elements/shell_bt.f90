@@ -104,7 +104,6 @@ module xd_elements_shell_bt
         integer :: nl = 0
         integer :: nipmax = 1                 !< the points a row holds: the most any shell has
         integer, allocatable :: lix(:), gix(:)
-        logical :: local = .false.            !< the rows are this rank's shells' (more than one rank)
         !> during such a view (rank 0): the rank's own rows, kept aside
         logical :: viewing = .false.
         real(wp), allocatable :: own_sig(:, :, :), own_epsp(:, :), own_qhg(:, :), own_strain(:, :, :), &
@@ -338,18 +337,16 @@ contains
     !> one rank: every shell) and `nhalo` slots received from other ranks
     !> after theirs: their rows in that order (issue 32: a rank holds its
     !> own shells' alone, from the start, so that the set-up's peak does
-    !> not hold every shell's). `local`: more than one rank. Once, before
-    !> a restart's dump is read into the rows.
-    subroutine shell_state_init(sh, own, nhalo, local)
+    !> not hold every shell's). Once, before a restart's dump is read into
+    !> the rows.
+    subroutine shell_state_init(sh, own, nhalo)
         type(shells_t), intent(inout) :: sh
         integer, intent(in) :: own(:), nhalo
-        logical, intent(in) :: local
         integer :: i, nip
         if (allocated(sh%sig)) error stop 'shell_state_init: the state is there already'
         do i = 2, size(own)
             if (own(i) <= own(i - 1)) error stop 'shell_state_init: own not ascending'
         end do
-        sh%local = local
         sh%nl = size(own)
         sh%gix = own
         allocate (sh%lix(sh%n))
@@ -381,6 +378,7 @@ contains
         integer(i8) :: w
         b = 0
         if (sh%n == 0 .or. .not. allocated(sh%sig)) return
+        ! (every array real(wp); shell_state_init allocates them together)
         if (present(every)) then
             if (every) then
                 ! a row's values: sig, epsp, qhg, the slots, and strain,
@@ -392,13 +390,8 @@ contains
                 return
             end if
         end if
-        b = 0
-        if (allocated(sh%sig)) b = b + storage_size(sh%sig, i8)/8*size(sh%sig, kind=i8)
-        if (allocated(sh%epsp)) b = b + storage_size(sh%epsp, i8)/8*size(sh%epsp, kind=i8)
-        if (allocated(sh%qhg)) b = b + storage_size(sh%qhg, i8)/8*size(sh%qhg, kind=i8)
-        if (allocated(sh%strain)) b = b + storage_size(sh%strain, i8)/8*size(sh%strain, kind=i8)
-        if (allocated(sh%alpha)) b = b + storage_size(sh%alpha, i8)/8*size(sh%alpha, kind=i8)
-        if (allocated(sh%fslot)) b = b + 2*storage_size(sh%fslot, i8)/8*size(sh%fslot, kind=i8)
+        b = (size(sh%sig, kind=i8) + size(sh%epsp, kind=i8) + size(sh%qhg, kind=i8) + size(sh%strain, kind=i8) + &
+             size(sh%alpha, kind=i8) + size(sh%fslot, kind=i8) + size(sh%mslot, kind=i8))*(storage_size(1.0_wp, i8)/8)
     end function shell_state_bytes
 
     !> Lumped masses: a quarter of rho h A on each node (a third for

@@ -47,7 +47,7 @@ module xd_elements_solid_groups
         !> rank's groups alone (issue 32): group g's rows are goff(g) + 1 ..
         !> goff(g) + m, its blocks at goff(g) times their width, its groups in
         !> order (solid_localize); one rank, every group's, goff(g) = first -
-        !> 1. nl rows in all; `local` once localized (MPI). A writer takes
+        !> 1. nl rows in all; `local` once localized (MPI). Rank 0 takes
         !> every group's, gathered, for the time of an output.
         integer :: nl = 0
         integer, allocatable :: goff(:)
@@ -367,6 +367,7 @@ contains
         integer(i8) :: w
         b = 0
         if (s%n == 0) return
+        ! (every array real(wp), allocated by build_solids)
         if (present(every)) then
             if (every) then
                 ! an element's values: sig, vol, qhg, qbv, and epsp, alpha
@@ -376,14 +377,8 @@ contains
                 return
             end if
         end if
-        b = 0
-        if (allocated(s%sig)) b = b + storage_size(s%sig, i8)/8*size(s%sig, kind=i8)
-        if (allocated(s%vol)) b = b + storage_size(s%vol, i8)/8*size(s%vol, kind=i8)
-        if (allocated(s%qhg)) b = b + storage_size(s%qhg, i8)/8*size(s%qhg, kind=i8)
-        if (allocated(s%qbv)) b = b + storage_size(s%qbv, i8)/8*size(s%qbv, kind=i8)
-        if (allocated(s%epsp)) b = b + storage_size(s%epsp, i8)/8*size(s%epsp, kind=i8)
-        if (allocated(s%alpha)) b = b + storage_size(s%alpha, i8)/8*size(s%alpha, kind=i8)
-        if (allocated(s%fslot)) b = b + storage_size(s%fslot, i8)/8*size(s%fslot, kind=i8)
+        b = (size(s%sig, kind=i8) + size(s%vol, kind=i8) + size(s%qhg, kind=i8) + size(s%qbv, kind=i8) + &
+             size(s%epsp, kind=i8) + size(s%alpha, kind=i8) + size(s%fslot, kind=i8))*(storage_size(1.0_wp, i8)/8)
     end function solid_state_bytes
 
     !> Internal forces of every solid for positions x and velocities v (the

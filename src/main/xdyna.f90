@@ -435,13 +435,12 @@ contains
     !> calls it).
     subroutine memory_line()
         real(dp) :: rec(4), all(4, env%nranks)
-        integer :: lo, hi
         rec(1) = real(peak_memory_kb(), dp)
-        ! (at the end: what the run held, the set-up's peak past)
-        rec(4) = real(resident_memory_kb(), dp)
         rec(2) = real(shell_state_bytes(sh) + solid_state_bytes(solids), dp)
         ! (every element's, as one rank holds them)
         rec(3) = real(shell_state_bytes(sh, every=.true.) + solid_state_bytes(solids, every=.true.), dp)
+        ! (at the end: what the run held, the set-up's peak past)
+        rec(4) = real(resident_memory_kb(), dp)
         if (env%nranks > 1) then
             call comm_gather_small(rec, all)
         else
@@ -452,37 +451,39 @@ contains
         ! hourglass forces) and force slots: most of an element's memory;
         ! each rank holds its own elements' and its halo's slots (issue 32)
         if (sh%n + solids%n > 0) then
-            lo = minloc(all(2, :), 1)
-            hi = maxloc(all(2, :), 1)
             if (env%nranks == 1) then
                 call log_line(lg, ' elements'' state and force slots (stresses, strains, hourglass and nodal forces) ... '// &
                               ftoa(all(2, 1)/1048576.0_dp)//' MB')
             else
-                call log_line(lg, ' elements'' state and force slots per rank ... '//ftoa(all(2, lo)/1048576.0_dp)// &
-                              ' MB (rank '//itoa(lo - 1)//') to '//ftoa(all(2, hi)/1048576.0_dp)//' MB (rank '// &
-                              itoa(hi - 1)//'), each rank its own elements'' and its halo''s slots (all elements'': '// &
+                call log_line(lg, ' elements'' state and force slots per rank ... '//span(all(2, :), 1048576.0_dp)// &
+                              ', each rank its own elements'' and its halo''s slots (all elements'': '// &
                               ftoa(maxval(all(3, :))/1048576.0_dp)//' MB)')
             end if
         end if
         if (any(all(1, :) < 0.0_dp)) return
-        lo = minloc(all(1, :), 1)
-        hi = maxloc(all(1, :), 1)
         if (env%nranks == 1) then
             call log_line(lg, ' peak memory (VmHWM) ................. '//ftoa(all(1, 1)/1024.0_dp)//' MB')
         else
-            call log_line(lg, ' peak memory per rank (VmHWM) ........ '//ftoa(all(1, lo)/1024.0_dp)//' MB (rank '// &
-                          itoa(lo - 1)//') to '//ftoa(all(1, hi)/1024.0_dp)//' MB (rank '//itoa(hi - 1)//')')
+            call log_line(lg, ' peak memory per rank (VmHWM) ........ '//span(all(1, :), 1024.0_dp))
         end if
         if (any(all(4, :) < 0.0_dp)) return
-        lo = minloc(all(4, :), 1)
-        hi = maxloc(all(4, :), 1)
         if (env%nranks == 1) then
             call log_line(lg, ' resident memory at the end (VmRSS) .. '//ftoa(all(4, 1)/1024.0_dp)//' MB')
         else
-            call log_line(lg, ' resident memory at the end per rank (VmRSS) '//ftoa(all(4, lo)/1024.0_dp)//' MB (rank '// &
-                          itoa(lo - 1)//') to '//ftoa(all(4, hi)/1024.0_dp)//' MB (rank '//itoa(hi - 1)//')')
+            call log_line(lg, ' resident memory at the end per rank (VmRSS) '//span(all(4, :), 1024.0_dp))
         end if
     end subroutine memory_line
+
+    !> A figure's smallest and largest over the ranks (per, in MB units of
+    !> `unit`), with their ranks: 'a MB (rank i) to b MB (rank j)'.
+    function span(per, unit) result(t)
+        real(dp), intent(in) :: per(:), unit
+        character(len=:), allocatable :: t
+        integer :: lo, hi
+        lo = minloc(per, 1)
+        hi = maxloc(per, 1)
+        t = ftoa(per(lo)/unit)//' MB (rank '//itoa(lo - 1)//') to '//ftoa(per(hi)/unit)//' MB (rank '//itoa(hi - 1)//')'
+    end function span
 
     !> `path` when it exists and is not a regular file, else ''.
     function not_a_file(path) result(t)

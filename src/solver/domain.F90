@@ -1126,20 +1126,9 @@ contains
         logical, intent(in) :: energies
         if (.not. dom%on) return
         if (energies) call gather_energy_state(dom, solids, sh)
-        if (solids%local) then
-            call solid_state_view(dom, solids)
-        else
-            call merge_wp(solids%sig, 6, dom%solid_mine)
-            call merge_wp(solids%vol, 1, dom%solid_mine)
-            call merge_wp(solids%qhg, 12, dom%solid_mine)
-            call merge_wp(solids%qbv, 1, dom%solid_mine)
-            if (size(solids%epsp) > 0) then
-                call merge_wp(solids%epsp, 1, dom%solid_mine)
-                call merge_wp(solids%alpha, 6, dom%solid_mine)
-            end if
-        end if
-        ! (the shells' points' state is each rank's own from the start:
-        ! place_shell_state)
+        ! (the elements' state is each rank's own in the time loop, where
+        ! the outputs take this: localize_element_state, place_shell_state)
+        if (solids%n > 0) call solid_state_view(dom, solids)
         if (sh%n > 0) call shell_state_view(dom, sh)
     end subroutine gather_element_state
 
@@ -1160,10 +1149,10 @@ contains
             do e = 1, sh%n
                 every(e) = e
             end do
-            call shell_state_init(sh, every, 0, .false.)
+            call shell_state_init(sh, every, 0)
             return
         end if
-        call shell_state_init(sh, where_true(dom%shell_mine), size(dom%hi_slot), .true.)
+        call shell_state_init(sh, where_true(dom%shell_mine), size(dom%hi_slot))
         allocate (map(4*sh%n))
         map = 0
         do j = 1, 4*sh%n
@@ -1283,13 +1272,7 @@ contains
             real(wp), allocatable :: buf(:)
             integer, allocatable :: disp(:), pos(:)
             integer :: r, g, f, l
-            allocate (disp(dom%nranks))
-            disp(1) = 0
-            do r = 2, dom%nranks
-                disp(r) = disp(r - 1) + w*cnt(r - 1)
-            end do
-            allocate (buf(merge(w*s%n, 1, root)))
-            call comm_gather_root_wp(loc, w*s%nl, buf, w*cnt, disp, root)
+            call gather_to_root(dom, loc, w*s%nl, w*cnt, buf, disp)
             if (.not. root) return
             pos = disp
             do g = 1, s%ngroup
@@ -1372,13 +1355,7 @@ contains
             real(wp), allocatable :: buf(:)
             integer, allocatable :: disp(:)
             integer :: r, c, i, o, nr
-            allocate (disp(dom%nranks))
-            disp(1) = 0
-            do r = 2, dom%nranks
-                disp(r) = disp(r - 1) + ncol*cnt(r - 1)
-            end do
-            allocate (buf(merge(ncol*sh%n, 1, root)))
-            call comm_gather_root_wp(loc, ncol*sh%nl, buf, ncol*cnt, disp, root)
+            call gather_to_root(dom, loc, ncol*sh%nl, ncol*cnt, buf, disp)
             if (.not. root) return
             o = 0
             do r = 1, dom%nranks
@@ -1398,6 +1375,25 @@ contains
             end do
         end subroutine rows
     end subroutine shell_state_view
+
+    !> Every rank's n values loc (rank r - 1 gives cnt(r)) to rank 0's buf,
+    !> rank after rank, rank r - 1's from disp(r) on; buf of size 1 on the
+    !> other ranks. (The element views' one gather.)
+    subroutine gather_to_root(dom, loc, n, cnt, buf, disp)
+        type(domain_t), intent(in) :: dom
+        real(wp), intent(in) :: loc(*)
+        integer, intent(in) :: n, cnt(:)
+        real(wp), allocatable, intent(out) :: buf(:)
+        integer, allocatable, intent(out) :: disp(:)
+        integer :: r
+        allocate (disp(dom%nranks))
+        disp(1) = 0
+        do r = 2, dom%nranks
+            disp(r) = disp(r - 1) + cnt(r - 1)
+        end do
+        allocate (buf(merge(sum(cnt), 1, dom%rank == 0)))
+        call comm_gather_root_wp(loc, n, buf, cnt, disp, dom%rank == 0)
+    end subroutine gather_to_root
 
     !> After the output that took it: rank 0's own rows of the solids' state
     !> and the shells' points' state back in place of the views
