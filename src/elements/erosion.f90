@@ -64,20 +64,20 @@ contains
                     cycle
                 end if
             end if
-            associate (m => mat(sh%mix(e)))
+            associate (m => mat(sh%pc%mix(sh%part(e))))
                 if (.not. (m%fail > 0.0_wp .or. m%erosion)) cycle
                 gone = m%erosion .and. m%failtm > 0.0_wp .and. time >= m%failtm
                 if (.not. gone) then
-                    need = sh%nip(e)
-                    if (m%erosion) need = min(max(m%numfip, 1), sh%nip(e))
+                    need = sh%pc%nip(sh%part(e))
+                    if (m%erosion) need = min(max(m%numfip, 1), sh%pc%nip(sh%part(e)))
                     nfp = 0
                     is = sh%lix(e)      ! (the points' state's row)
-                    do ip = 1, sh%nip(e)
+                    do ip = 1, sh%pc%nip(sh%part(e))
                         if (strain_criteria(m)) then
-                            if (point_fails(m, sh%sig(is, :, ip), sh%epsp(is, ip), sh%plastic(e), &
+                            if (point_fails(m, sh%sig(is, :, ip), sh%epsp(is, ip), sh%pc%plastic(sh%part(e)), &
                                             principal_values(sh%strain(is, :, ip)))) nfp = nfp + 1
                         else
-                            if (point_fails(m, sh%sig(is, :, ip), sh%epsp(is, ip), sh%plastic(e))) nfp = nfp + 1
+                            if (point_fails(m, sh%sig(is, :, ip), sh%epsp(is, ip), sh%pc%plastic(sh%part(e)))) nfp = nfp + 1
                         end if
                     end do
                     gone = nfp >= need

@@ -16,7 +16,7 @@ module xd_elements_shell_bt
     private
     public :: shells_t, build_shells, shell_state_init, shell_state_bytes, shell_forces, shell_masses, shell_axes, shell_blocks, &
               point_weight, point_z
-    public :: shell_name
+    public :: shell_name, some_backstress
 
     ! iteration tolerances: 1e-10 and 1e-12 relative in double precision,
     ! ten round-offs in single (where 1e-12 cannot be reached and every
@@ -27,48 +27,59 @@ module xd_elements_shell_bt
     !> division instruction even by a constant)
     real(wp), parameter :: rr2 = 1.0_wp/sqrt(2.0_wp), c23 = sqrt(2.0_wp/3.0_wp), third = 1.0_wp/3.0_wp
 
-    type :: shells_t
-        integer :: n = 0
-        integer, allocatable :: conn(:, :)    !< (4, n)
-        integer, allocatable :: eid(:), part(:)
-        real(wp), allocatable :: h(:)         !< thickness (mean of the nodal values)
+    !> The constants a shell takes from its part: one entry per part of the
+    !> model (its part index, shells_t's part(e); the entries of parts
+    !> without deformable shells unused). Every shell had held its own
+    !> copy, 156 bytes a shell that each element-cycle read again (issue
+    !> 32: memory; issue 29: the plate's loads).
+    type :: shell_part_consts_t
         real(wp), allocatable :: e(:), nu(:), ro(:), shrf(:)
-        !> the moduli's combinations, per element once: G = E / 2(1 + nu),
-        !> E / (1 - nu^2), nu / (1 - nu), and the plate wave speed
-        !> sqrt(E / rho (1 - nu^2))
+        !> the moduli's combinations: G = E / 2(1 + nu), E / (1 - nu^2),
+        !> nu / (1 - nu), and the plate wave speed sqrt(E / rho (1 - nu^2))
         real(wp), allocatable :: ge(:), qe(:), nuf(:), wsp(:)
-        !> the plane-stress return's, per element once: the equal-biaxial
-        !> mode's modulus E / 3(1 - nu) (the shear modes' is 2 G), and -nu / E
-        !> (its thickness strain)
+        !> the plane-stress return's: the equal-biaxial mode's modulus E /
+        !> 3(1 - nu) (the shear modes' is 2 G), and -nu / E (its thickness
+        !> strain)
         real(wp), allocatable :: cbi(:), nue(:)
         !> hourglass coefficients: membrane (QM), bending (QB), warping (QW);
         !> viscous form (IHQ 1-3) or stiffness form (IHQ 4-5)
         real(wp), allocatable :: qm(:), qb(:), qw(:)
         logical, allocatable :: hg_viscous(:)
         !> *CONTROL_XDYNA_SHELL HGBOUND 1 (the default): the stiffness form of
-        !> a plastic shell bounded (block_forces); ncap counts the cycles
-        !> it acted, this run
+        !> a plastic shell bounded (block_forces)
         logical, allocatable :: hg_bound(:)
+        integer, allocatable :: nip(:)
+        integer, allocatable :: mix(:)        !< material index (into pp)
+        logical, allocatable :: plastic(:)
+        !> the plastic law for the points' loops (pp's fields one gather
+        !> away): the bilinear law's sigy and beta ep (ycurve false), a
+        !> curve's (true); huge and 0 where the part is not plastic (its
+        !> yield never reached); rated: Cowper-Symonds scales the yield
+        real(wp), allocatable :: sy0(:), hk(:)
+        logical, allocatable :: ycurve(:), rated(:)
+        !> the material can move a back stress (kinematic share of a
+        !> hardening modulus not 0); otherwise alpha stays 0 and is not read
+        logical, allocatable :: backstress(:)
+    end type shell_part_consts_t
+
+    type :: shells_t
+        integer :: n = 0
+        integer, allocatable :: conn(:, :)    !< (4, n)
+        integer, allocatable :: eid(:), part(:)
+        real(wp), allocatable :: h(:)         !< thickness (mean of the nodal values)
         !> 1 for a triangle (nodes 3 and 4 the same), 0 for a
         !> quadrilateral: the blocks' loops pick by it without a branch
         real(wp), allocatable :: tw(:)
-        integer, allocatable :: ncap(:)
-        integer, allocatable :: nip(:)
+        !> the constants of the shells' parts (section, material, hourglass
+        !> card), read through part(e)
+        type(shell_part_consts_t) :: pc
+        integer, allocatable :: ncap(:)       !< the cycles the hourglass bound acted on the shell, this run
         !> (n, 5, nip) stresses at the points (nip: the most of any shell);
         !> the element index first, as every per-point array here: a block's
         !> loads and stores of one component are runs of memory (vector
         !> moves), not gathers and scattered stores at a stride of 5 nip
         real(wp), allocatable :: sig(:, :, :)
         real(wp), allocatable :: qhg(:, :)    !< (nl, 5) hourglass generalized forces
-        logical, allocatable :: plastic(:)
-        integer, allocatable :: pmat(:)       !< index into pp
-        !> the plastic law per element, for the points' loops (pp's fields
-        !> one gather away): the bilinear law's sigy and beta ep (ycurve
-        !> false), a curve's (true); huge and 0 where the shell is not
-        !> plastic (its yield never reached); rated: Cowper-Symonds scales
-        !> the yield
-        real(wp), allocatable :: sy0(:), hk(:)
-        logical, allocatable :: ycurve(:), rated(:)
         type(plastic_params_t), allocatable :: pp(:)  !< plastic laws of the shell materials
         real(wp), allocatable :: epsp(:, :)   !< (n, nip) effective plastic strain per point
         !> (n, 6, nip) the points' logarithmic strains (xx yy zz xy yz zx,
@@ -78,9 +89,6 @@ module xd_elements_shell_bt
         logical :: track_strain = .false.
         real(wp), allocatable :: strain(:, :, :)
         real(wp), allocatable :: alpha(:, :, :)  !< (6, nip, n) back stress per point (n 0: no shell has one)
-        !> the material can move a back stress (kinematic share of a
-        !> hardening modulus not 0); otherwise alpha stays 0 and is not read
-        logical, allocatable :: backstress(:)
         real(dp), allocatable :: eint(:), ehg(:), pend_int(:), pend_hg(:)
         real(wp), allocatable :: area0(:)
         !> (3, 4n) forces and moments, slot 4 (e - 1) + k of shell e's node k;
@@ -131,7 +139,6 @@ module xd_elements_shell_bt
         !> nodes this rank assembles, and all of those with split 1
         integer, allocatable :: split(:)
         ! failure and erosion
-        integer, allocatable :: mix(:)        !< material index
         integer, allocatable :: model_ix(:)   !< index in the model's shell list
         logical, allocatable :: dead(:)       !< eroded
         logical :: erodible = .false.         !< some shell's material has a failure criterion
@@ -226,7 +233,7 @@ contains
                 type(plastic_params_t), intent(out) :: pp
             end subroutine plastic_law
         end interface
-        integer :: e, p, k, mix, ee
+        integer :: e, p, mix, ee
         integer, allocatable :: keep(:)
         ! rigid shells are not deformable elements (the rigid bodies take them)
         keep = pack([(e, e=1, model%nshell)], &
@@ -242,95 +249,116 @@ contains
         end if
         sh%thickness_update = model%ctl%istupd /= 0
         sh%isdo = model%ctl%isdo
-        allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%e(sh%n), sh%nu(sh%n), &
-                  sh%ro(sh%n), sh%shrf(sh%n), sh%qm(sh%n), sh%qb(sh%n), sh%qw(sh%n), sh%hg_viscous(sh%n), &
-                  sh%nip(sh%n), sh%area0(sh%n), sh%msq(sh%n), sh%mix(sh%n), sh%model_ix(sh%n), sh%dead(sh%n))
+        allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%area0(sh%n), sh%msq(sh%n), &
+                  sh%model_ix(sh%n), sh%dead(sh%n), sh%ncap(sh%n), sh%tw(sh%n), sh%low(sh%n))
         sh%msq = 1
         sh%dead = .false.
-        allocate (sh%ncap(sh%n), sh%hg_bound(sh%n), sh%ge(sh%n), sh%qe(sh%n), sh%nuf(sh%n), sh%wsp(sh%n))
-        allocate (sh%cbi(sh%n), sh%nue(sh%n), sh%tw(sh%n))
         sh%ncap = 0
-        allocate (sh%low(sh%n))
         sh%low = .false.
         call alloc_dp(sh%eint, sh%n, 'shell energies')
         call alloc_dp(sh%ehg, sh%n, 'shell energies')
         call alloc_dp(sh%pend_int, sh%n, 'shell energies')
         call alloc_dp(sh%pend_hg, sh%n, 'shell energies')
-        allocate (sh%plastic(sh%n), sh%backstress(sh%n), sh%pmat(sh%n), sh%pp(model%nmat))
-        allocate (sh%sy0(sh%n), sh%hk(sh%n), sh%ycurve(sh%n), sh%rated(sh%n))
+        allocate (sh%pp(model%nmat))
         do mix = 1, model%nmat
             if (model%mat(mix)%mtype == mat_plastic_kinematic .or. model%mat(mix)%mtype == mat_piecewise_linear) &
                 call plastic_law(model, mix, sh%pp(mix))
         end do
         do e = 1, sh%n
             ee = keep(e)
-            p = model%shell_part(ee)
             sh%conn(:, e) = model%shell_conn(:, ee)
             sh%tw(e) = merge(1.0_wp, 0.0_wp, sh%conn(3, e) == sh%conn(4, e))
             sh%eid(e) = model%shell_id(ee)
             sh%model_ix(e) = ee
-            sh%part(e) = p
-            sh%mix(e) = model%part(p)%mat_ix
-            sh%erodible = sh%erodible .or. can_erode(model, sh%mix(e))
+            sh%part(e) = model%shell_part(ee)
             sh%h(e) = sum(model%shell_t(:, ee))/4
-            associate (m => model%mat(model%part(p)%mat_ix), sec => model%sec_shell(model%part(p)%shell_sec_ix))
-                sh%e(e) = m%e
-                sh%nu(e) = m%pr
-                sh%ro(e) = m%ro
-                sh%shrf(e) = sec%shrf
-                sh%nip(e) = sec%nip
-                sh%plastic(e) = m%mtype == mat_plastic_kinematic .or. m%mtype == mat_piecewise_linear
-                sh%pmat(e) = model%part(p)%mat_ix
-            end associate
-            sh%sy0(e) = huge(1.0_wp)
-            sh%hk(e) = 0
-            sh%ycurve(e) = .false.
-            sh%rated(e) = .false.
-            if (sh%plastic(e)) then
-                associate (pp => sh%pp(sh%pmat(e)))
-                    sh%sy0(e) = pp%sigy
-                    sh%hk(e) = pp%beta*pp%ep
-                    sh%ycurve(e) = pp%ncurve /= 0
-                    sh%rated(e) = pp%c > 0.0_wp .and. pp%p > 0.0_wp
-                end associate
-            end if
-            sh%backstress(e) = .false.
-            if (sh%plastic(e)) sh%backstress(e) = sh%pp(sh%pmat(e))%ncurve == 0 .and. &
-                                                  sh%pp(sh%pmat(e))%beta < 1.0_wp .and. sh%pp(sh%pmat(e))%ep /= 0.0_wp
-            ! *CONTROL_HOURGLASS, then the part's *HOURGLASS (QB and QW
-            ! default to its QM; QH stands for all three)
-            sh%qm(e) = model%ctl%qh
-            sh%qb(e) = model%ctl%qh
-            sh%qw(e) = model%ctl%qh
-            sh%hg_viscous(e) = model%ctl%ihq <= 3
-            k = model%part(p)%hg_ix
-            if (k > 0) then
-                sh%qm(e) = model%hg(k)%qm
-                sh%qb(e) = model%hg(k)%qb
-                sh%qw(e) = model%hg(k)%qw
-                if (model%hg(k)%ihq > 0) sh%hg_viscous(e) = model%hg(k)%ihq <= 3
-            end if
-            sh%hg_bound(e) = hg_bounded(model, p)
+        end do
+        call part_constants(model, sh)
+        do e = 1, sh%n
+            sh%erodible = sh%erodible .or. can_erode(model, sh%pc%mix(sh%part(e)))
         end do
         call shell_blocks(sh)
-        sh%ge = sh%e/(2*(1 + sh%nu))
-        sh%qe = sh%e/(1 - sh%nu**2)
-        sh%nuf = sh%nu/(1 - sh%nu)
-        sh%wsp = sqrt(sh%e/(sh%ro*(1 - sh%nu**2)))
-        sh%cbi = sh%e/(3*(1 - sh%nu))
-        sh%nue = -sh%nu/sh%e
         ! the points' state, as many per shell as the most any shell has
         ! (NIP 2 in two columns, not five), and the slots: allocated for
         ! the shells of this rank alone once the run is split
         ! (shell_state_init); the strains where a criterion reads them
-        sh%nipmax = max(1, maxval(sh%nip))
+        sh%nipmax = 1
         do e = 1, sh%n
-            associate (m => model%mat(sh%mix(e)))
+            p = sh%part(e)
+            sh%nipmax = max(sh%nipmax, sh%pc%nip(p))
+            associate (m => model%mat(sh%pc%mix(p)))
                 sh%track_strain = sh%track_strain .or. (m%erosion .and. (m%mneps < 0.0_wp .or. m%mxeps > 0.0_wp .or. &
                                                        m%effeps > 0.0_wp .or. m%voleps /= 0.0_wp .or. m%epssh > 0.0_wp))
             end associate
         end do
     end subroutine build_shells
+
+    !> The constants of the parts that have deformable shells (sh%pc, by
+    !> part index): section, material and hourglass card; the other
+    !> parts' entries 0 (false), never read.
+    subroutine part_constants(model, sh)
+        type(model_t), intent(in) :: model
+        type(shells_t), intent(inout) :: sh
+        integer :: np, p, e, k
+        logical, allocatable :: has(:)
+        np = size(model%part)
+        allocate (has(np))
+        has = .false.
+        do e = 1, sh%n
+            has(sh%part(e)) = .true.
+        end do
+        associate (c => sh%pc)
+            allocate (c%e(np), c%nu(np), c%ro(np), c%shrf(np), c%ge(np), c%qe(np), c%nuf(np), c%wsp(np), &
+                      c%cbi(np), c%nue(np), c%qm(np), c%qb(np), c%qw(np), c%hg_viscous(np), c%hg_bound(np), &
+                      c%nip(np), c%mix(np), c%plastic(np), c%sy0(np), c%hk(np), c%ycurve(np), c%rated(np), &
+                      c%backstress(np))
+            c%e = 0; c%nu = 0; c%ro = 0; c%shrf = 0; c%ge = 0; c%qe = 0; c%nuf = 0; c%wsp = 0
+            c%cbi = 0; c%nue = 0; c%qm = 0; c%qb = 0; c%qw = 0; c%hg_viscous = .false.; c%hg_bound = .false.
+            c%nip = 0; c%mix = 0; c%plastic = .false.; c%sy0 = huge(1.0_wp); c%hk = 0
+            c%ycurve = .false.; c%rated = .false.; c%backstress = .false.
+            do p = 1, np
+                if (.not. has(p)) cycle
+                c%mix(p) = model%part(p)%mat_ix
+                associate (m => model%mat(model%part(p)%mat_ix), sec => model%sec_shell(model%part(p)%shell_sec_ix))
+                    c%e(p) = m%e
+                    c%nu(p) = m%pr
+                    c%ro(p) = m%ro
+                    c%shrf(p) = sec%shrf
+                    c%nip(p) = sec%nip
+                    c%plastic(p) = m%mtype == mat_plastic_kinematic .or. m%mtype == mat_piecewise_linear
+                end associate
+                if (c%plastic(p)) then
+                    associate (pp => sh%pp(c%mix(p)))
+                        c%sy0(p) = pp%sigy
+                        c%hk(p) = pp%beta*pp%ep
+                        c%ycurve(p) = pp%ncurve /= 0
+                        c%rated(p) = pp%c > 0.0_wp .and. pp%p > 0.0_wp
+                        c%backstress(p) = pp%ncurve == 0 .and. pp%beta < 1.0_wp .and. pp%ep /= 0.0_wp
+                    end associate
+                end if
+                ! *CONTROL_HOURGLASS, then the part's *HOURGLASS (QB and QW
+                ! default to its QM; QH stands for all three)
+                c%qm(p) = model%ctl%qh
+                c%qb(p) = model%ctl%qh
+                c%qw(p) = model%ctl%qh
+                c%hg_viscous(p) = model%ctl%ihq <= 3
+                k = model%part(p)%hg_ix
+                if (k > 0) then
+                    c%qm(p) = model%hg(k)%qm
+                    c%qb(p) = model%hg(k)%qb
+                    c%qw(p) = model%hg(k)%qw
+                    if (model%hg(k)%ihq > 0) c%hg_viscous(p) = model%hg(k)%ihq <= 3
+                end if
+                c%hg_bound(p) = hg_bounded(model, p)
+                c%ge(p) = c%e(p)/(2*(1 + c%nu(p)))
+                c%qe(p) = c%e(p)/(1 - c%nu(p)**2)
+                c%nuf(p) = c%nu(p)/(1 - c%nu(p))
+                c%wsp(p) = sqrt(c%e(p)/(c%ro(p)*(1 - c%nu(p)**2)))
+                c%cbi(p) = c%e(p)/(3*(1 - c%nu(p)))
+                c%nue(p) = -c%nu(p)/c%e(p)
+            end do
+        end associate
+    end subroutine part_constants
 
     !> The points' state (sig, epsp, strain, alpha, qhg, zero) and the
     !> force and moment slots, allocated for the shells `own` (ascending;
@@ -359,7 +387,7 @@ contains
         sh%sig = 0
         sh%epsp = 0
         ! back stresses only where a material moves them
-        allocate (sh%alpha(6, nip, merge(sh%nl, 0, any(sh%backstress))))
+        allocate (sh%alpha(6, nip, merge(sh%nl, 0, some_backstress(sh))))
         sh%alpha = 0
         allocate (sh%strain(merge(sh%nl, 0, sh%track_strain), 6, nip))
         sh%strain = 0
@@ -385,7 +413,7 @@ contains
                 ! alpha where kept
                 w = size(sh%sig, 2)*size(sh%sig, 3) + size(sh%epsp, 2) + 5 + 2*3*4
                 if (sh%track_strain) w = w + 6*size(sh%sig, 3)
-                if (any(sh%backstress)) w = w + 6*size(sh%sig, 3)
+                if (some_backstress(sh)) w = w + 6*size(sh%sig, 3)
                 b = w*sh%n*(storage_size(1.0_wp, i8)/8)
                 return
             end if
@@ -412,7 +440,7 @@ contains
             sh%area0(e) = a
             nn = 4
             if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
-            m = sh%ro(e)*sh%h(e)*a/nn
+            m = sh%pc%ro(sh%part(e))*sh%h(e)*a/nn
             do k = 1, nn
                 mass(sh%conn(k, e)) = mass(sh%conn(k, e)) + m
                 irot(sh%conn(k, e)) = irot(sh%conn(k, e)) + m*(sh%h(e)**2 + 3.0_wp*a)/12.0_wp
@@ -430,6 +458,13 @@ contains
         area = 0.5_wp*norm2([d1(2)*d2(3) - d1(3)*d2(2), d1(3)*d2(1) - d1(1)*d2(3), d1(1)*d2(2) - d1(2)*d2(1)])
     end function area
 
+    !> Some shell's material moves a back stress (so the points keep one).
+    pure logical function some_backstress(sh)
+        type(shells_t), intent(in) :: sh
+        some_backstress = .false.
+        if (allocated(sh%pc%backstress)) some_backstress = any(sh%pc%backstress)
+    end function some_backstress
+
     !> The flow stress sy and hardening slope h of shell e's material at
     !> effective plastic strain ep: the bilinear law in line (sy0 + hk ep:
     !> huge for a shell that is not plastic; a call cost as much as the
@@ -439,11 +474,13 @@ contains
         integer, intent(in) :: e
         real(wp), intent(in) :: ep
         real(wp), intent(out) :: sy, h
-        if (sh%ycurve(e)) then
-            call yield_stress(sh%pp(sh%pmat(e)), ep, sy, h)
+        integer :: p
+        p = sh%part(e)
+        if (sh%pc%ycurve(p)) then
+            call yield_stress(sh%pp(sh%pc%mix(p)), ep, sy, h)
         else
-            sy = sh%sy0(e) + sh%hk(e)*ep
-            h = sh%hk(e)
+            sy = sh%pc%sy0(p) + sh%pc%hk(p)*ep
+            h = sh%pc%hk(p)
         end if
     end subroutine flow_stress
 
@@ -484,14 +521,16 @@ contains
         if (allocated(sh%bback)) deallocate (sh%bback, sh%bcurve, sh%brated, sh%bplastic)
         allocate (sh%bback(nbk), sh%bcurve(nbk), sh%brated(nbk), sh%bplastic(nbk))
         sh%bback = .false.; sh%bcurve = .false.; sh%brated = .false.; sh%bplastic = .false.
-        if (allocated(sh%plastic)) then
+        if (allocated(sh%pc%plastic)) then
             do ib = 1, nbk
-                i0 = sh%bfirst(ib)
-                i1 = sh%bfirst(ib) + sh%bcount(ib) - 1
-                sh%bback(ib) = any(sh%backstress(i0:i1))
-                sh%bcurve(ib) = any(sh%ycurve(i0:i1))
-                sh%brated(ib) = any(sh%rated(i0:i1))
-                sh%bplastic(ib) = all(sh%plastic(i0:i1))
+                sh%bplastic(ib) = .true.
+                do e = sh%bfirst(ib), sh%bfirst(ib) + sh%bcount(ib) - 1
+                    k = sh%part(e)
+                    sh%bback(ib) = sh%bback(ib) .or. sh%pc%backstress(k)
+                    sh%bcurve(ib) = sh%bcurve(ib) .or. sh%pc%ycurve(k)
+                    sh%brated(ib) = sh%brated(ib) .or. sh%pc%rated(k)
+                    sh%bplastic(ib) = sh%bplastic(ib) .and. sh%pc%plastic(k)
+                end do
             end do
         end if
         ! each node's part: 0 none yet, -1 shared by two or more
@@ -663,15 +702,18 @@ contains
         real(wp) :: cap(nblk), bw(nblk)
         logical :: visc(nblk), bnd(nblk), capped(nblk), allok, anyvisc
         real(dp) :: pold(nblk), pnew(nblk)
-        integer :: l, k, e
-        ! gather: the elements' data
+        integer :: l, k, e, pk(nblk)
+        ! gather: the elements' data (their parts' constants)
+        do l = 1, nb
+            pk(l) = sh%part(e0 + l)
+        end do
         do l = 1, nb
             e = e0 + l
             hh(l) = sh%h(e)
-            ym(l) = sh%e(e)
-            nu(l) = sh%nu(e)
-            ro(l) = sh%ro(e)
-            ge(l) = sh%ge(e)
+            ym(l) = sh%pc%e(pk(l))
+            nu(l) = sh%pc%nu(pk(l))
+            ro(l) = sh%pc%ro(pk(l))
+            ge(l) = sh%pc%ge(pk(l))
             ! the step length's factor: a triangle's shortest altitude is
             ! twice its area over its longest side
             tf(l) = 1.0_wp + sh%tw(e)
@@ -766,12 +808,12 @@ contains
         end do
         do l = 1, nb
             e = e0 + l
-            qc(l, 1) = sh%qb(e)
-            qc(l, 2) = sh%qw(e)
-            qc(l, 3) = sh%qm(e)
-            sr(l) = sh%shrf(e)
-            visc(l) = sh%hg_viscous(e)
-            bnd(l) = sh%hg_bound(e)
+            qc(l, 1) = sh%pc%qb(pk(l))
+            qc(l, 2) = sh%pc%qw(pk(l))
+            qc(l, 3) = sh%pc%qm(pk(l))
+            sr(l) = sh%pc%shrf(pk(l))
+            visc(l) = sh%pc%hg_viscous(pk(l))
+            bnd(l) = sh%pc%hg_bound(pk(l))
             bw(l) = merge(1.0_wp, 0.0_wp, bnd(l))
         end do
         ! the modes' masses' factor: a node's share of the element mass
@@ -797,18 +839,18 @@ contains
         ! does not act 0: no select, so that the loops vectorise)
         do k = 2, size(sh%epsp, 2)
             do l = 1, nb
-                sy(l) = max(sy(l), sh%epsp(s0 + l, k)*real(min(max(sh%nip(e0 + l) - k + 1, 0), 1), wp))
+                sy(l) = max(sy(l), sh%epsp(s0 + l, k)*real(min(max(sh%pc%nip(pk(l)) - k + 1, 0), 1), wp))
             end do
         end do
         do l = 1, nb
             e = e0 + l
-            sy(l) = (sh%sy0(e) + sh%hk(e)*sy(l))*bw(l)
+            sy(l) = (sh%pc%sy0(pk(l)) + sh%pc%hk(pk(l))*sy(l))*bw(l)
         end do
         if (sh%bcurve(ib)) then
             do l = 1, nb
                 e = e0 + l
-                if (.not. (bnd(l) .and. sh%ycurve(e))) cycle
-                call flow_stress(sh, e, maxval(sh%epsp(s0 + l, 1:max(1, sh%nip(e)))), sy(l), hs)
+                if (.not. (bnd(l) .and. sh%pc%ycurve(pk(l)))) cycle
+                call flow_stress(sh, e, maxval(sh%epsp(s0 + l, 1:max(1, sh%pc%nip(pk(l))))), sy(l), hs)
             end do
         end if
         ! The stiffness form's hourglass on a plastic material, bounded as the
@@ -986,7 +1028,7 @@ contains
                       (gn%xe(l, 3, 4) - gn%xe(l, 3, 3))**2
                 s41 = (gn%xe(l, 1, 1) - gn%xe(l, 1, 4))**2 + (gn%xe(l, 2, 1) - gn%xe(l, 2, 4))**2 + &
                       (gn%xe(l, 3, 1) - gn%xe(l, 3, 4))**2
-                wsp(l) = sh%wsp(e0 + l)
+                wsp(l) = sh%pc%wsp(pk(l))
                 dte(l) = tf(l)*gn%a(l)/sqrt(max(s12, s23, s34, s41))/wsp(l)
             end do
         else
@@ -1084,7 +1126,7 @@ contains
             end do
             if (tri) sd(3) = sd(4)   ! the sides 1-2, 2-3 and 3-1 (4 = 3)
             if (sh%isdo == 1) then
-                wsp(l) = sh%wsp(e0 + l)
+                wsp(l) = sh%pc%wsp(sh%part(e0 + l))
                 if (tri) then
                     len = 2*gn%a(l)/maxval(sd(1:3))
                 else
@@ -1129,7 +1171,8 @@ contains
         real(wp) :: dd(nblk, 5), so(nblk, 5), t(nblk, 5), dzz(nblk), dzm(nblk), xeq2(nblk), pm, fac, h, sl(5)
         real(dp) :: pold(nblk), pnew(nblk)
         real(wp) :: nuf(nblk)
-        integer :: nip(nblk), l, e, ip, mix, maxnip, k
+        integer :: nip(nblk), pk(nblk), l, e, ip, mix, maxnip, k
+        real(wp) :: sy0(nblk), hk(nblk)
         !> every shell of the block has maxnip points; some moves a back
         !> stress; some takes a yield curve
         logical :: uniform, anyback, anycurve, anyrated
@@ -1149,13 +1192,16 @@ contains
         maxnip = 0
         do l = 1, nb
             e = e0 + l
-            qe(l) = sh%qe(e)
-            nuf(l) = sh%nuf(e)
+            pk(l) = sh%part(e)
+            qe(l) = sh%pc%qe(pk(l))
+            nuf(l) = sh%pc%nuf(pk(l))
             ! the transverse shear factor of an elastic shell (the plastic
             ! return takes the full shear modulus)
-            sf(l) = sh%shrf(e)
-            if (sh%plastic(e)) sf(l) = 1
-            nip(l) = sh%nip(e)
+            sf(l) = sh%pc%shrf(pk(l))
+            if (sh%pc%plastic(pk(l))) sf(l) = 1
+            sy0(l) = sh%pc%sy0(pk(l))
+            hk(l) = sh%pc%hk(pk(l))
+            nip(l) = sh%pc%nip(pk(l))
             if (.not. ok(l)) nip(l) = 0
             maxnip = max(maxnip, nip(l))
         end do
@@ -1182,18 +1228,19 @@ contains
                     so(l, 4) = sh%sig(s0 + l, 4, ip)
                     so(l, 5) = sh%sig(s0 + l, 5, ip)
                     ep(l) = sh%epsp(s0 + l, ip)
-                    sy(l) = sh%sy0(e) + sh%hk(e)*ep(l)
+                    sy(l) = sy0(l) + hk(l)*ep(l)
                 end do
                 if (anyback) then
                     al(1:nb, :) = 0
                     do l = 1, nb
-                        if (sh%backstress(e0 + l)) al(l, :) = sh%alpha(:, ip, s0 + l)
+                        if (sh%pc%backstress(pk(l))) al(l, :) = sh%alpha(:, ip, s0 + l)
                     end do
                 end if
                 if (anycurve) then
                     do l = 1, nb
                         e = e0 + l
-                        if (sh%plastic(e) .and. sh%ycurve(e)) call flow_stress(sh, e, sh%epsp(s0 + l, ip), sy(l), h)
+                        if (sh%pc%plastic(pk(l)) .and. sh%pc%ycurve(pk(l))) &
+                            call flow_stress(sh, e, sh%epsp(s0 + l, ip), sy(l), h)
                     end do
                 end if
             else
@@ -1207,9 +1254,9 @@ contains
                     zf(l) = real(gz(ip, nip(l)), wp)*hh(l)/2
                     so(l, :) = sh%sig(s0 + l, :, ip)
                     al(l, :) = 0
-                    if (sh%backstress(e)) al(l, :) = sh%alpha(:, ip, s0 + l)
+                    if (sh%pc%backstress(pk(l))) al(l, :) = sh%alpha(:, ip, s0 + l)
                     sy(l) = huge(1.0_wp)
-                    if (sh%plastic(e)) call flow_stress(sh, e, sh%epsp(s0 + l, ip), sy(l), h)
+                    if (sh%pc%plastic(pk(l))) call flow_stress(sh, e, sh%epsp(s0 + l, ip), sy(l), h)
                 end do
             end if
             ! the elastic plane-stress trial (s_zz stays 0 with the elastic
@@ -1280,14 +1327,14 @@ contains
                 if (.not. (over > 0.0_wp)) exit
                 if (ip > nip(l) .or. dt <= 0.0_wp) cycle
                 e = e0 + l
-                if (.not. sh%plastic(e)) cycle
-                mix = sh%pmat(e)
+                if (.not. sh%pc%plastic(pk(l))) cycle
+                mix = sh%pc%mix(pk(l))
                 fac = 1
-                if (sh%rated(e)) &
+                if (sh%pc%rated(pk(l))) &
                     fac = rate_factor(sh%pp(mix), [dd(l, 1), dd(l, 2), dzz(l), 0.5_wp*dd(l, 3), 0.5_wp*dd(l, 4), &
                                                    0.5_wp*dd(l, 5)])
                 if (xeq2(l) <= (fac*sy(l))**2) cycle
-                if (.not. sh%backstress(e)) then
+                if (.not. sh%pc%backstress(pk(l))) then
                     ! isotropic hardening, or none (kinematic is then the
                     ! same law, its back stress stays 0): the layer's
                     ! returns taken together below
@@ -1513,10 +1560,11 @@ contains
         real(wp), intent(inout) :: s(5)
         real(wp), intent(out) :: dzz
         real(wp) :: lam, mu, d(1, 6), sg(1, 6), ep(1), al(1, 6), z0, z1, f0, f1, z2
-        integer :: it
-        mu = sh%ge(e)
-        lam = sh%e(e)*sh%nu(e)/((1 + sh%nu(e))*(1 - 2*sh%nu(e)))
-        z0 = -sh%nu(e)/(1 - sh%nu(e))*(dd(1) + dd(2))
+        integer :: it, p
+        p = sh%part(e)
+        mu = sh%pc%ge(p)
+        lam = sh%pc%e(p)*sh%pc%nu(p)/((1 + sh%pc%nu(p))*(1 - 2*sh%pc%nu(p)))
+        z0 = -sh%pc%nu(p)/(1 - sh%pc%nu(p))*(dd(1) + dd(2))
         z1 = -(dd(1) + dd(2))
         f0 = szz(z0)
         if (abs(f0) <= tol10*max(maxval(abs(s)), 1.0_wp)) then
@@ -1545,7 +1593,7 @@ contains
             sg(1, :) = [s(1), s(2), 0.0_wp, s(3), s(4), s(5)]
             ep(1) = sh%epsp(is, ip)
             al(1, :) = sh%alpha(:, ip, is)
-            call plastic_update(1, lam, mu, sh%pp(sh%pmat(e)), d, dt, sg, ep, al)
+            call plastic_update(1, lam, mu, sh%pp(sh%pc%mix(p)), d, dt, sg, ep, al)
         end subroutine trial
         subroutine commit(dz)
             real(wp), intent(in) :: dz
@@ -1574,17 +1622,18 @@ contains
         real(wp) :: c1(nblk), c2(nblk), a1(nblk), a2(nblk), q1(nblk), rr(nblk), dg(nblk), u1(nblk), u2(nblk)
         real(wp) :: de(nblk), ep0(nblk), sy0(nblk), hk(nblk), act(nblk)
         real(wp) :: s1, s2, sold
-        integer :: el(nblk), j, l
+        integer :: el(nblk), j, l, k
         do j = 1, ny
             l = iy(j)
             el(j) = e0 + l
             ep0(j) = sh%epsp(s0 + l, ip)
             ! the law's constants held per point for the iteration (read
             ! through sh at every step, the tubes' run took 3.6% longer)
-            sy0(j) = sh%sy0(e0 + l)
-            hk(j) = sh%hk(e0 + l)
-            c1(j) = sh%cbi(e0 + l)
-            c2(j) = 2*sh%ge(e0 + l)     ! E / (1 + nu), exactly
+            k = sh%part(e0 + l)
+            sy0(j) = sh%pc%sy0(k)
+            hk(j) = sh%pc%hk(k)
+            c1(j) = sh%pc%cbi(k)
+            c2(j) = 2*sh%pc%ge(k)     ! E / (1 + nu), exactly
             call split_modes(t(l, 1), t(l, 2), t(l, 3), t(l, 4), t(l, 5), a1(j), a2(j), q1(j), rr(j))
             act(j) = 1
         end do
@@ -1607,7 +1656,7 @@ contains
                 s1 = t(l, 1)
                 s2 = t(l, 2)
                 sold = so(l, 1) + so(l, 2)
-                dzz(l) = (sh%nue(e0 + l)*(s1 + s2 - sold) - dg(j)*(s1 + s2)*third)/dt
+                dzz(l) = (sh%pc%nue(sh%part(e0 + l))*(s1 + s2 - sold) - dg(j)*(s1 + s2)*third)/dt
             end do
         end if
     end subroutine plane_stress_returns
@@ -1628,17 +1677,20 @@ contains
         logical, intent(in) :: anycur
         real(wp), intent(inout) :: t(nblk, 5), dzz(nblk)
         real(wp) :: c2(nblk), a1(nblk), a2(nblk), q1(nblk), rr(nblk), dg(nblk), u1(nblk), u2(nblk)
-        real(wp) :: de(nblk), fy(nblk)
+        real(wp) :: de(nblk), fy(nblk), c1(nblk), sy0(nblk), hk(nblk)
         real(wp) :: s1, s2, sold
-        integer :: el(nblk), l
+        integer :: el(nblk), l, k
         do l = 1, nb
             el(l) = e0 + l
-            c2(l) = 2*sh%ge(e0 + l)
+            k = sh%part(e0 + l)
+            c1(l) = sh%pc%cbi(k)
+            c2(l) = 2*sh%pc%ge(k)
+            sy0(l) = sh%pc%sy0(k)
+            hk(l) = sh%pc%hk(k)
             call split_modes(t(l, 1), t(l, 2), t(l, 3), t(l, 4), t(l, 5), a1(l), a2(l), q1(l), rr(l))
             fy(l) = 1
         end do
-        call return_newton(sh, nb, el, sh%cbi(e0 + 1:e0 + nb), c2, q1, rr, sh%sy0(e0 + 1:e0 + nb), &
-                           sh%hk(e0 + 1:e0 + nb), ep, fy, yl, anycur, dg, u1, u2, de)
+        call return_newton(sh, nb, el, c1, c2, q1, rr, sy0, hk, ep, fy, yl, anycur, dg, u1, u2, de)
         ! (the same operations as plane_stress_returns' on a yielding
         ! point: the same values. An elastic point has dg = 0, u1 = u2 =
         ! 1 and de = 0 exactly: its shears and plastic strain come out as
@@ -1658,7 +1710,7 @@ contains
                 s1 = t(l, 1)
                 s2 = t(l, 2)
                 sold = so(l, 1) + so(l, 2)
-                dzz(l) = yl(l)*((sh%nue(e0 + l)*(s1 + s2 - sold) - dg(l)*(s1 + s2)*third)/dt) + (1.0_wp - yl(l))*dzz(l)
+                dzz(l) = yl(l)*((sh%pc%nue(sh%part(e0 + l))*(s1 + s2 - sold) - dg(l)*(s1 + s2)*third)/dt) + (1.0_wp - yl(l))*dzz(l)
             end do
         end if
     end subroutine dense_returns
@@ -1727,7 +1779,7 @@ contains
         end do
         if (anycur) then
             do j = 1, n
-                if (sh%ycurve(el(j))) call flow_stress(sh, el(j), ep0(j), sy(j), h(j))
+                if (sh%pc%ycurve(sh%part(el(j)))) call flow_stress(sh, el(j), ep0(j), sy(j), h(j))
             end do
         end if
         do j = 1, n
@@ -1769,7 +1821,7 @@ contains
                 ! (h is hk but on a curve, whose points' slopes move)
                 h(1:n) = hk(1:n)
                 do j = 1, n
-                    if (sh%ycurve(el(j))) call flow_stress(sh, el(j), ep0(j) + de(j), sy(j), h(j))
+                    if (sh%pc%ycurve(sh%part(el(j)))) call flow_stress(sh, el(j), ep0(j) + de(j), sy(j), h(j))
                 end do
             end if
             do j = 1, n

@@ -249,7 +249,7 @@ contains
         m%part_id = model%part(s%dmat_part)%id
         m%part_title = model%part(s%dmat_part)%heading
         m%nrigid = count(model%mat(model%part(1:model%npart)%mat_ix)%mtype == mat_rigid)
-        if (sh%n > 0) m%maxint = max(3, maxval(sh%nip))
+        if (sh%n > 0) m%maxint = max(3, sh%nipmax)
         keep = -1
         if (present(resume)) keep = resume%n
         call d3plot_open(s%bin, out_path(outdir, 'd3plot'), m, model%db%d3plot_x*member_unit, keep, ok)
@@ -348,19 +348,19 @@ contains
                 q2 = 0
                 ep(e) = 0
                 sg = 0
-                do ip = 1, sh%nip(e)
+                do ip = 1, sh%pc%nip(sh%part(e))
                     ! local (xx yy xy yz zx) at the point, plane stress: the
                     ! squared von Mises stress, the largest kept
                     associate (p => sh%sig(e, :, ip))
                         q2 = max(q2, p(1)**2 - p(1)*p(2) + p(2)**2 + 3.0_wp*(p(3)**2 + p(4)**2 + p(5)**2))
-                        w = point_weight(ip, sh%nip(e))
+                        w = point_weight(ip, sh%pc%nip(sh%part(e)))
                         sg(1) = sg(1) + w*p(1)
                         sg(2) = sg(2) + w*p(2)
                         sg(4) = sg(4) + w*p(3)
                         sg(5) = sg(5) + w*p(4)
                         sg(6) = sg(6) + w*p(5)
                     end associate
-                    if (sh%plastic(e)) ep(e) = max(ep(e), sh%epsp(e, ip))
+                    if (sh%pc%plastic(sh%part(e))) ep(e) = max(ep(e), sh%epsp(e, ip))
                 end do
                 vm(e) = sqrt(q2)
                 call shell_axes(sh, e, st%x, r)
@@ -452,7 +452,7 @@ contains
         ! layers: per layer six global stresses and the plastic strain
         !$omp parallel do schedule(static) private(r, pt, nr, mr, h, w, z, ip, ipx, nip, l)
         do e = 1, sh%n
-            nip = sh%nip(e)
+            nip = sh%pc%nip(sh%part(e))
             call shell_axes(sh, e, st%x, r)
             pt = 0
             pt(:, 1:nip) = sh%sig(e, :, 1:nip)
@@ -468,15 +468,15 @@ contains
                 end select
                 do l = 1, 3
                     if (ipx(l) > 0) then
-                        shell(7*l - 6:7*l, e) = layer(pt(:, ipx(l)), sh%epsp(e, ipx(l)), r, sh%plastic(e))
+                        shell(7*l - 6:7*l, e) = layer(pt(:, ipx(l)), sh%epsp(e, ipx(l)), r, sh%pc%plastic(sh%part(e)))
                     else
                         shell(7*l - 6:7*l, e) = layer(0.5_wp*(pt(:, 1) + pt(:, 2)), 0.5_wp*(sh%epsp(e, 1) + sh%epsp(e, 2)), &
-                                                      r, sh%plastic(e))
+                                                      r, sh%pc%plastic(sh%part(e)))
                     end if
                 end do
             else
                 do l = 1, nip
-                    shell(7*l - 6:7*l, e) = layer(pt(:, l), sh%epsp(e, l), r, sh%plastic(e))
+                    shell(7*l - 6:7*l, e) = layer(pt(:, l), sh%epsp(e, l), r, sh%pc%plastic(sh%part(e)))
                 end do
             end if
             ! resultants per unit width in the element's frame

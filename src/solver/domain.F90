@@ -50,7 +50,7 @@ module xd_solver_domain
     use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours, comm_gather_small, &
                             comm_gather_root_wp
     use xd_elements_solid_groups, only: solids_t, solid_localize
-    use xd_elements_shell_bt, only: shells_t, shell_blocks, shell_state_init
+    use xd_elements_shell_bt, only: shells_t, shell_blocks, shell_state_init, some_backstress
     use xd_solver_assembly, only: assembly_t
     use xd_contact_contact, only: contacts_t
     use xd_contact_surface, only: surface_t, seg_nodes
@@ -236,7 +236,7 @@ contains
         end do
         do e = 1, sh%n
             xc(:, solids%ngroup + e) = sum(x0(:, sh%conn(:, e)), 2)/4
-            w(solids%ngroup + e) = 0.4_wp*sh%nip(e)
+            w(solids%ngroup + e) = 0.4_wp*sh%pc%nip(sh%part(e))
         end do
         dom%method_text = 'recursive coordinate bisection'
         if (present(method)) then
@@ -1302,7 +1302,7 @@ contains
         root = dom%rank == 0
         ! (what every rank holds, whatever its own count: each gather below
         ! is made by all or none)
-        back = any(sh%backstress)
+        back = some_backstress(sh)
         ! every rank's shells, rank after rank, each's ascending
         ! (loops: no temporary of the model's size on the stack)
         allocate (cnt(dom%nranks), order(sh%n), at(dom%nranks))

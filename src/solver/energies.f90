@@ -388,7 +388,7 @@ contains
                 ! the shell's share of its nodes' mass (a third each for triangles)
                 nn = 4
                 if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
-                mshare = real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/nn
+                mshare = real(sh%pc%ro(sh%part(e))*sh%h(e)*sh%area0(e), dp)/nn
                 if (allocated(sh%msf)) then
                     en%part_added(p) = en%part_added(p) + nn*mshare*(sh%msf(e) - 1.0_dp)
                     mshare = mshare*sh%msf(e)
@@ -538,7 +538,7 @@ contains
                 k = ash%slot(j) - 4*(e - 1)
                 ! a triangle's fourth node is its third: counted once
                 if (k == 4 .and. sh%conn(3, e) == sh%conn(4, e)) cycle
-                call add(sh%part(e), real(sh%ro(e)*sh%h(e)*sh%area0(e), dp)/merge(3, 4, sh%conn(3, e) == sh%conn(4, e)))
+                call add(sh%part(e), real(sh%pc%ro(sh%part(e))*sh%h(e)*sh%area0(e), dp)/merge(3, 4, sh%conn(3, e) == sh%conn(4, e)))
             end do
             if (present(bm)) then
                 if (bm%n > 0) then

@@ -236,7 +236,7 @@ contains
     real(dp) function shell_mass(sh, e)
         type(shells_t), intent(in) :: sh
         integer, intent(in) :: e
-        shell_mass = real(sh%ro(e), dp)*sh%h(e)*sh%area0(e)
+        shell_mass = real(sh%pc%ro(sh%part(e)), dp)*sh%h(e)*sh%area0(e)
     end function shell_mass
 
     !> Mass added to the deformable elements so far (taken away: negative).

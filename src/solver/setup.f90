@@ -157,7 +157,7 @@ contains
                         if (sh%part(e) /= p) cycle
                         nn = merge(3, 4, sh%conn(3, e) == sh%conn(4, e))
                         do k = 1, nn
-                            share(sh%conn(k, e)) = share(sh%conn(k, e)) + sh%ro(e)*sh%h(e)*sh%area0(e)/nn
+                            share(sh%conn(k, e)) = share(sh%conn(k, e)) + sh%pc%ro(sh%part(e))*sh%h(e)*sh%area0(e)/nn
                         end do
                     end do
                     mp = sum(real(share, dp))
