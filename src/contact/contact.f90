@@ -170,6 +170,16 @@ module xd_contact_contact
         !> slave is inside a part (asked at set-up): searched the next cycle
         !> it is live
         logical, allocatable :: resl(:)
+        !> MPI with contact ghosts: the surface's nodes this rank moves (its
+        !> own, its halo, the ghosts it receives), by their place in
+        !> surf%node (the domain's mark_fresh, after each choice of the
+        !> ghosts). Between two searches no other surface node's position
+        !> or velocity changes on this rank, so the local search gathers
+        !> only these; every node where regather is set (a search's
+        !> gathered positions, the first active cycle). Unallocated: every
+        !> node, each cycle.
+        integer, allocatable :: fresh(:)
+        logical :: regather = .true.
     end type interface_t
 
     !> Named in d3hsp as they happen: an initial penetration (allowed and
@@ -1170,9 +1180,19 @@ contains
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%active = time >= it%bt .and. time <= it%dt
-                if (.not. it%active) cycle
+                if (.not. it%active) then
+                    it%regather = .true.
+                    cycle
+                end if
                 if (present(own)) then
-                    call gather_nodes(x, v, s%node, it%ls%xl, it%ls%vl, v2, own)
+                    if (allocated(it%fresh) .and. .not. it%regather) then
+                        ! (the other surface nodes are as the last gather left
+                        ! them: its max speed the same, taken over own nodes)
+                        call gather_nodes(x, v, s%node, it%ls%xl, it%ls%vl, v2, own, it%fresh)
+                    else
+                        call gather_nodes(x, v, s%node, it%ls%xl, it%ls%vl, v2, own)
+                        it%regather = .false.
+                    end if
                     red = v2
                     call comm_max(red)
                     v2 = real(red(1), wp)
@@ -1241,33 +1261,42 @@ contains
     !> The surface's coordinates and velocities (nodes `node` of x and v),
     !> and the largest speed squared (threaded: a maximum is the same in
     !> any order) of the nodes n with mine(n) true (indexed by the model's
-    !> nodes; empty: every node).
-    subroutine gather_nodes(x, v, node, xl, vl, v2, mine)
+    !> nodes; empty: every node). With `only`: those places of node alone
+    !> (the others' xl and vl left as they are).
+    subroutine gather_nodes(x, v, node, xl, vl, v2, mine, only)
         !> (explicit shape: a node's address one multiply, no descriptor)
         real(wp), intent(in) :: x(3, *), v(3, *)
         integer, intent(in) :: node(:)
-        real(wp), intent(out) :: xl(3, *), vl(3, *), v2
+        real(wp), intent(inout) :: xl(3, *), vl(3, *)
+        real(wp), intent(out) :: v2
         logical, intent(in) :: mine(:)
+        integer, intent(in), optional :: only(:)
+        integer :: nk
         v2 = 0
-        if (threaded(size(node))) then
+        nk = size(node)
+        if (present(only)) nk = size(only)
+        if (threaded(nk)) then
             !$omp parallel
-            call gather_nodes_loop(x, v, node, xl, vl, v2, mine)
+            call gather_nodes_loop(x, v, node, xl, vl, v2, mine, nk, only)
             !$omp end parallel
         else
-            call gather_nodes_loop(x, v, node, xl, vl, v2, mine)
+            call gather_nodes_loop(x, v, node, xl, vl, v2, mine, nk, only)
         end if
     end subroutine gather_nodes
 
-    subroutine gather_nodes_loop(x, v, node, xl, vl, v2, mine)
+    subroutine gather_nodes_loop(x, v, node, xl, vl, v2, mine, nk, only)
         real(wp), intent(in) :: x(3, *), v(3, *)
-        integer, intent(in) :: node(:)
+        integer, intent(in) :: node(:), nk
         real(wp), intent(inout) :: xl(3, *), vl(3, *), v2
         logical, intent(in) :: mine(:)
-        integer :: k, n
+        integer, intent(in), optional :: only(:)
+        integer :: i, k, n
         logical :: every
         every = size(mine) == 0
         !$omp do schedule(static) reduction(max:v2)
-        do k = 1, size(node)
+        do i = 1, nk
+            k = i
+            if (present(only)) k = only(i)
             n = node(k)
             xl(1, k) = x(1, n)
             xl(2, k) = x(2, n)

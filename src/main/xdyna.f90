@@ -410,7 +410,9 @@ program xdyna
                                   ' times (each search and the start), '//itoa(nint(real(dom%ghost_out_sum, dp)/ &
                                   max(dom%nrefresh, 1)))//' surface nodes sent to the other ranks a list on '// &
                                   'average, '//itoa(dom%nghost_out)//' in the last (of '// &
-                                  itoa(size(dom%csurf%node))//' surface nodes)')
+                                  itoa(size(dom%csurf%node))//' surface nodes); between searches its local '// &
+                                  'search gathers '//itoa(sum([(size(ct%ifc(i)%fresh), i=1, ct%n)]))//' of its '// &
+                                  'surfaces'' '//itoa(sum(ct%ifc(:)%surf%nnode))//' nodes a cycle (those it moves)')
     if (dom%on .and. ct%n > 0) call gather_contact_state(ct, counters_only=.true.)
     if (ct%n > 0) call log_line(lg, contact_report(ct, max(abs(st%e_initial), res%e_scale)))
     if (ct%dump_unit /= 0) close (ct%dump_unit)

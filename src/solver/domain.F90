@@ -890,7 +890,7 @@ contains
     !> The moved nodes: the base's and those received.
     subroutine contact_ghosts(dom, ct, x)
         type(domain_t), intent(inout) :: dom
-        type(contacts_t), intent(in) :: ct
+        type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: x(:, :)
         logical, allocatable :: rd(:), out(:), inn(:), brot(:), mv(:)
         integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:)
@@ -990,6 +990,26 @@ contains
         call node_runs(where_true(mv), dom%mv_lo, dom%mv_hi)
         dom%nrefresh = dom%nrefresh + 1
         dom%ghost_out_sum = dom%ghost_out_sum + dom%nghost_out
+        ! each surface's nodes this rank moves until the next search: the
+        ! local search gathers those alone (after one whole gather)
+        do i = 1, ct%n
+            associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
+                ! (loops: no temporary of the surface's size on the stack)
+                g = 0
+                do k = 1, s%nnode
+                    if (mv(s%node(k))) g = g + 1
+                end do
+                if (allocated(it%fresh)) deallocate (it%fresh)
+                allocate (it%fresh(g))
+                g = 0
+                do k = 1, s%nnode
+                    if (.not. mv(s%node(k))) cycle
+                    g = g + 1
+                    it%fresh(g) = k
+                end do
+                it%regather = .true.
+            end associate
+        end do
     contains
         !> One side of the exchange with neighbour k: mark (with brot, the
         !> angular velocities) the base lists' entries ptr(k)+1 .. ptr(k+1),
