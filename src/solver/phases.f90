@@ -101,7 +101,19 @@ contains
                 else
                     call assemble(asm, solids%fslot, st%f)
                 end if
-                call zero_nodes(st%mom)
+                if (dom%owned) then
+                    call zero_nodes(st%mom, lo=dom%mv_lo, hi=dom%mv_hi)
+                else
+                    call zero_nodes(st%mom)
+                end if
+            else if (dom%owned) then
+                ! owned nodes: only the nodes this rank moves (its own, its
+                ! halo, the surfaces' ghosts, the bodies'): no other node's
+                ! force is read on this rank (a gather takes it from its
+                ! rank, as exchange_phase's assembly of the solids leaves
+                ! them), and a pass over every node of the model does not
+                ! shrink with the ranks
+                call zero_nodes(st%f, st%mom, dom%mv_lo, dom%mv_hi)
             else
                 call zero_nodes(st%f, st%mom)
             end if
@@ -253,24 +265,39 @@ contains
     end subroutine beam_phase
 
     !> Zeros in the nodes' a (and b), threaded.
-    subroutine zero_nodes(a, b)
+    !> Zeros in the columns of a (and b): every column, or those of the runs
+    !> lo(k) .. hi(k).
+    subroutine zero_nodes(a, b, lo, hi)
         real(wp), intent(inout) :: a(:, :)
         real(wp), intent(inout), optional :: b(:, :)
+        integer, intent(in), optional :: lo(:), hi(:)
         ! (a parallel region only where more than one thread runs it:
         ! xd_core_threads)
         if (threaded(size(a, 2))) then
             !$omp parallel
-            call zero_loop(a, b)
+            call zero_loop(a, b, lo, hi)
             !$omp end parallel
         else
-            call zero_loop(a, b)
+            call zero_loop(a, b, lo, hi)
         end if
     end subroutine zero_nodes
 
-    subroutine zero_loop(a, b)
+    subroutine zero_loop(a, b, lo, hi)
         real(wp), intent(inout) :: a(:, :)
         real(wp), intent(inout), optional :: b(:, :)
-        integer :: i
+        integer, intent(in), optional :: lo(:), hi(:)
+        integer :: i, k
+        if (present(lo)) then
+            !$omp do schedule(static)
+            do k = 1, size(lo)
+                do i = lo(k), hi(k)
+                    a(:, i) = 0
+                    if (present(b)) b(:, i) = 0
+                end do
+            end do
+            !$omp end do
+            return
+        end if
         !$omp do schedule(static)
         do i = 1, size(a, 2)
             a(:, i) = 0
