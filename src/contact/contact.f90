@@ -223,6 +223,10 @@ module xd_contact_contact
         logical, allocatable :: face_on(:)
         logical :: lagrange = .false.         !< Lagrangian projection instead of penalty
         real(wp), allocatable :: fnode(:, :)  !< (3, model nodes) contact force on each node this cycle
+        !> the nodes fnode holds a force at (nftouch of them, with repeats):
+        !> the next cycle zeroes those alone, not every node of the model
+        integer, allocatable :: ftouch(:)
+        integer :: nftouch = 0
         real(wp) :: dt_limit = huge(1.0_wp)   !< stable step of the stiffest contact spring
         integer :: dt_node = 0                !< the node that sets it
         logical :: distributed = .false.      !< slaves split over MPI ranks: contacts are gathered
@@ -1467,13 +1471,11 @@ contains
         real(wp) :: vrel(3), fs(3)
         real(dp) :: t0
         logical :: first
-        if (threaded(size(ct%fnode, 2))) then
-            !$omp parallel
-            call zero_columns(ct%fnode)
-            !$omp end parallel
-        else
-            call zero_columns(ct%fnode)
-        end if
+        ! (every other column is zero: the nodes written last cycle zeroed)
+        do q = 1, ct%nftouch
+            ct%fnode(:, ct%ftouch(q)) = 0
+        end do
+        ct%nftouch = 0
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%npair = 0
@@ -1511,6 +1513,7 @@ contains
                 if (ct%lagrange .and. it%npair > 0) call lagrange_projection(s, it%npair, it%pair, it%hit, it%fpair, &
                                                                       it%ls%xl, it%ls%vl, it%fr, f, mass, free, dt, &
                                                                       dt_avg, br)
+                call room(ct, 5*it%npair + 4*it%ed%nact)
                 ! both sides, in slave order (a deterministic sum)
                 do q = 1, it%npair
                     k = it%pair(q)
@@ -1523,9 +1526,13 @@ contains
                     it%fprev(:, k) = fs
                     f(:, s%node(sn)) = f(:, s%node(sn)) + fs
                     ct%fnode(:, s%node(sn)) = ct%fnode(:, s%node(sn)) + fs
+                    ct%nftouch = ct%nftouch + 1
+                    ct%ftouch(ct%nftouch) = s%node(sn)
                     do j = 1, seg_nodes(s%seg(:, m))
                         f(:, s%node(s%seg(j, m))) = f(:, s%node(s%seg(j, m))) - it%hit(k)%nshape(j)*fs
                         ct%fnode(:, s%node(s%seg(j, m))) = ct%fnode(:, s%node(s%seg(j, m))) - it%hit(k)%nshape(j)*fs
+                        ct%nftouch = ct%nftouch + 1
+                        ct%ftouch(ct%nftouch) = s%node(s%seg(j, m))
                     end do
                     if (.not. ct%own_work .or. it%owned(k)) &
                         it%pminus = it%pminus + dot_product(real(fs, dp), real(vrel, dp))
@@ -1535,21 +1542,22 @@ contains
                     it%mmaster = it%mmaster + dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
                 end do
                 it%ncontact_total = it%ncontact_total + it%npair
-                if (it%ed%np > 0) call edge_enforce(it, f, ct%fnode, dt, time, first)
+                if (it%ed%np > 0) call edge_enforce(it, f, ct%fnode, dt, time, first, ct%ftouch, ct%nftouch)
             end associate
         end do
     end subroutine contact_enforce
 
-    !> Zeros in the columns of a (a worksharing loop: xd_core_threads).
-    subroutine zero_columns(a)
-        real(wp), intent(inout) :: a(:, :)
-        integer :: k
-        !$omp do schedule(static)
-        do k = 1, size(a, 2)
-            a(:, k) = 0
-        end do
-        !$omp end do
-    end subroutine zero_columns
+    !> Room in ct%ftouch for n more nodes.
+    subroutine room(ct, n)
+        type(contacts_t), intent(inout) :: ct
+        integer, intent(in) :: n
+        integer, allocatable :: t(:)
+        if (.not. allocated(ct%ftouch)) allocate (ct%ftouch(max(1024, 2*n)))
+        if (ct%nftouch + n <= size(ct%ftouch)) return
+        allocate (t(max(2*size(ct%ftouch), ct%nftouch + n)))
+        t(1:ct%nftouch) = ct%ftouch(1:ct%nftouch)
+        call move_alloc(t, ct%ftouch)
+    end subroutine room
 
     !> The penalty forces of interface it's own slaves (contact_enforce),
     !> as a worksharing loop: each slave writes only its own entries.
@@ -1648,9 +1656,11 @@ contains
     !> rank holds every pair (the edges are few), so the sums are the same
     !> on every rank. Penalty forces also under the Lagrangian projection,
     !> which is for slave nodes.
-    subroutine edge_enforce(it, f, fnode, dt, time, first)
+    subroutine edge_enforce(it, f, fnode, dt, time, first, touch, ntouch)
         type(interface_t), intent(inout) :: it
         real(wp), intent(inout) :: f(:, :), fnode(:, :)
+        !> the nodes fnode is written at (room made for 4 a pair)
+        integer, intent(inout) :: touch(:), ntouch
         real(wp), intent(in) :: dt
         real(dp), intent(in) :: time
         logical, intent(in) :: first      !< the interface's first active cycle
@@ -1665,6 +1675,8 @@ contains
                 fw = spread(fa, 2, 4)*spread(w, 1, 3)
                 f(:, s%node(nd)) = f(:, s%node(nd)) + fw
                 fnode(:, s%node(nd)) = fnode(:, s%node(nd)) + fw
+                touch(ntouch + 1:ntouch + 4) = s%node(nd)
+                ntouch = ntouch + 4
                 vrel = matmul(it%ls%vl(:, nd), w)
                 it%pminus = it%pminus + dot_product(real(fa, dp), real(vrel, dp))
                 it%fslave = it%fslave + fa
