@@ -172,8 +172,8 @@ module xd_contact_contact
         logical, allocatable :: resl(:)
         !> MPI with contact ghosts: the surface's nodes this rank moves (its
         !> own, its halo, the ghosts it receives), by their place in
-        !> surf%node (the domain's mark_fresh, after each choice of the
-        !> ghosts). Between two searches no other surface node's position
+        !> surf%node (the domain's contact_ghosts lists them at each choice
+        !> of the ghosts). Between two searches no other surface node's position
         !> or velocity changes on this rank, so the local search gathers
         !> only these; every node where regather is set (a search's
         !> gathered positions, the first active cycle). Unallocated: every
@@ -227,6 +227,13 @@ module xd_contact_contact
         !> the next cycle zeroes those alone, not every node of the model
         integer, allocatable :: ftouch(:)
         integer :: nftouch = 0
+        !> MPI with contact ghosts: the model's nodes this rank moves (the
+        !> domain's contact_ghosts). A pair of another rank's slave that
+        !> touches none of them adds nothing this rank reads: its forces
+        !> are applied only where the outputs read the contact forces
+        !> (contact_enforce's `outputs`), its sums (rcforc's) always
+        logical, allocatable :: moves(:)
+        integer(i8) :: npair_all = 0, npair_applied = 0   !< this rank's pairs, all and applied
         real(wp) :: dt_limit = huge(1.0_wp)   !< stable step of the stiffest contact spring
         integer :: dt_node = 0                !< the node that sets it
         logical :: distributed = .false.      !< slaves split over MPI ranks: contacts are gathered
@@ -1458,19 +1465,23 @@ contains
     !> Step 4: penalty forces of the contacts found, added to f on the slave
     !> and (by the shape functions) the master nodes in slave order, so the
     !> sums do not depend on threads; the first half of their work.
-    subroutine contact_enforce(ct, f, dt, dt_avg, mass, free, time, br)
+    subroutine contact_enforce(ct, f, dt, dt_avg, mass, free, time, outputs, br)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(inout) :: f(:, :)
         real(wp), intent(in) :: dt, dt_avg
         real(wp), intent(in) :: mass(:), free(:, :)
         real(dp), intent(in) :: time
+        !> the outputs read this cycle's contact forces (ct%fnode): every
+        !> pair's applied (else, with ct%moves, those of other ranks' slaves
+        !> away from this rank's nodes are not)
+        logical, intent(in) :: outputs
         !> Lagrangian projection: how the rigid bodies answer an impulse
         !> (where the model has any)
         type(body_response_t), intent(in), optional :: br
         integer :: i, k, j, sn, m, q
         real(wp) :: vrel(3), fs(3)
         real(dp) :: t0
-        logical :: first
+        logical :: first, some
         ! (every other column is zero: the nodes written last cycle zeroed)
         do q = 1, ct%nftouch
             ct%fnode(:, ct%ftouch(q)) = 0
@@ -1515,15 +1526,34 @@ contains
                                                                       dt_avg, br)
                 call room(ct, 5*it%npair + 4*it%ed%nact)
                 ! both sides, in slave order (a deterministic sum)
+                ct%npair_all = ct%npair_all + it%npair
                 do q = 1, it%npair
                     k = it%pair(q)
                     sn = s%slave(k)
                     m = it%hit(k)%seg
                     fs = it%fpair(:, q)
-                    vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
                     it%cseg(k) = m
                     it%held(k) = m
                     it%fprev(:, k) = fs
+                    if (allocated(ct%moves) .and. .not. outputs .and. .not. it%owned(k)) then
+                        ! another rank's slave: its forces only where they
+                        ! reach a node this rank moves (every node each such
+                        ! node's sum takes, in the same order); its sums
+                        ! always
+                        some = ct%moves(s%node(sn))
+                        do j = 1, seg_nodes(s%seg(:, m))
+                            some = some .or. ct%moves(s%node(s%seg(j, m)))
+                        end do
+                        if (.not. some) then
+                            it%fslave = it%fslave + fs
+                            it%fmaster = it%fmaster - fs
+                            it%mslave = it%mslave + it%ms(sn)
+                            it%mmaster = it%mmaster + dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
+                            cycle
+                        end if
+                    end if
+                    ct%npair_applied = ct%npair_applied + 1
+                    vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
                     f(:, s%node(sn)) = f(:, s%node(sn)) + fs
                     ct%fnode(:, s%node(sn)) = ct%fnode(:, s%node(sn)) + fs
                     ct%nftouch = ct%nftouch + 1

@@ -3,7 +3,7 @@
 !> termination during the run, 3 stopped by a signal (see the manual).
 program xdyna
     use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
     use xd_core_errors, only: error_t, exit_normal, exit_input, exit_run, exit_signal, printable
     use xd_core_strings, only: to_lower, itoa, ftoa
     use xd_core_parallel_env, only: parallel_env_t, parallel_start, parallel_stop, terminate
@@ -412,7 +412,10 @@ program xdyna
                                   'average, '//itoa(dom%nghost_out)//' in the last (of '// &
                                   itoa(size(dom%csurf%node))//' surface nodes); between searches its local '// &
                                   'search gathers '//itoa(sum([(size(ct%ifc(i)%fresh), i=1, ct%n)]))//' of its '// &
-                                  'surfaces'' '//itoa(sum(ct%ifc(:)%surf%nnode))//' nodes a cycle (those it moves)')
+                                  'surfaces'' '//itoa(sum(ct%ifc(:)%surf%nnode))//' nodes a cycle (those it moves), '// &
+                                  'and it applied '//ftoa(100*real(ct%npair_applied, dp)/real(max(ct%npair_all, 1_i8), dp))// &
+                                  '% of the contact pairs its cycles listed (another rank''s slave''s pair only where it '// &
+                                  'reaches a node this rank moves or an output reads the contact forces)')
     if (dom%on .and. ct%n > 0) call gather_contact_state(ct, counters_only=.true.)
     if (ct%n > 0) call log_line(lg, contact_report(ct, max(abs(st%e_initial), res%e_scale)))
     if (ct%dump_unit /= 0) close (ct%dump_unit)

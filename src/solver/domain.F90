@@ -887,7 +887,9 @@ contains
     !> the base's entries and this rank's own surface nodes inside q's box;
     !> from q, the base's and q's surface nodes inside this rank's box, in
     !> node order (both sides decide from the same positions and boxes).
-    !> The moved nodes: the base's and those received.
+    !> The moved nodes: the base's and those received; each interface's
+    !> surface nodes among them (it%fresh, which its local search gathers
+    !> until the next search).
     subroutine contact_ghosts(dom, ct, x)
         type(domain_t), intent(inout) :: dom
         type(contacts_t), intent(inout) :: ct
@@ -990,8 +992,14 @@ contains
         call node_runs(where_true(mv), dom%mv_lo, dom%mv_hi)
         dom%nrefresh = dom%nrefresh + 1
         dom%ghost_out_sum = dom%ghost_out_sum + dom%nghost_out
-        ! each surface's nodes this rank moves until the next search: the
-        ! local search gathers those alone (after one whole gather)
+        ! the nodes this rank moves until the next search: the contact
+        ! applies another rank's slave's pair only where it reaches one
+        ! (ct%moves); each surface's among them: the local search gathers
+        ! those alone (after one whole gather)
+        if (.not. allocated(ct%moves)) allocate (ct%moves(nn))
+        do k = 1, nn
+            ct%moves(k) = mv(k)
+        end do
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 ! (loops: no temporary of the surface's size on the stack)

@@ -244,8 +244,6 @@ contains
             call tm%start(ph_integrate)
             call load_phase(model, dom, pl, st, dt_avg, g_new)
             call tm%stop(ph_integrate)
-            ! steps 3-4 of the contact on x(n): contact forces join f(n)
-            if (ct%n > 0) call contact_phase(model, dom, ct, rg, sh, st, lg, tm, dt_avg, br)
             done = st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp)
             if (model%ctl%endcyc > 0) done = done .or. st%cycle >= model%ctl%endcyc
             ! output where histories or states are due, at the first and the
@@ -255,6 +253,9 @@ contains
             output_now = histories_due(hist, st%time) .or. states_due(states, st%time) .or. done .or. &
                          st%cycle == 0 .or. lp%state_asked
             energy_now = output_now .or. mod(st%cycle, opts%energy_check_every) == 0
+            ! steps 3-4 of the contact on x(n): contact forces join f(n)
+            ! (every pair's contact forces per node where an output reads them)
+            if (ct%n > 0) call contact_phase(model, dom, ct, rg, sh, st, lg, tm, dt_avg, output_now, br)
             call tm%start(ph_integrate)
             call velocity_phase(dom, st, td, dt_avg, energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
