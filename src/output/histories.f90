@@ -19,7 +19,7 @@ module xd_output_histories
     implicit none
     private
     public :: merge_rotations
-    public :: histories_t, open_histories, histories_due, write_histories, close_histories, version_line, &
+    public :: histories_t, open_histories, histories_due, nodout_due, write_histories, close_histories, version_line, &
               flush_histories, &
               history_marks_t, history_marks, history_failure, track_rotations
 
@@ -372,6 +372,14 @@ contains
         real(dp), intent(in) :: t
         histories_due = any(h%on .and. t >= h%next*(1.0_dp - 1.0e-9_dp))
     end function histories_due
+
+    !> nodout is due at t (with contact, its rows carry each node's contact
+    !> force: the only history that reads them).
+    logical function nodout_due(h, t)
+        type(histories_t), intent(in) :: h
+        real(dp), intent(in) :: t
+        nodout_due = h%on(s_nodout) .and. t >= h%next(s_nodout)*(1.0_dp - 1.0e-9_dp)
+    end function nodout_due
 
     !> Write the databases that are due at the state's time (all of them if
     !> `force`). vn: full-step velocities; a: accelerations.

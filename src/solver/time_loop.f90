@@ -16,7 +16,7 @@ module xd_solver_time_loop
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t
     use xd_solver_energies, only: energies_t, prepare_energies
-    use xd_output_histories, only: histories_t, histories_due, write_histories, history_failure, flush_histories
+    use xd_output_histories, only: histories_t, histories_due, nodout_due, write_histories, history_failure, flush_histories
     use xd_output_states, only: states_t, states_due, write_state, states_marks, states_failure
     use xd_output_histories, only: history_marks, merge_rotations
     use xd_solver_restart, only: dump_meta_t, write_dump
@@ -254,8 +254,12 @@ contains
                          st%cycle == 0 .or. lp%state_asked
             energy_now = output_now .or. mod(st%cycle, opts%energy_check_every) == 0
             ! steps 3-4 of the contact on x(n): contact forces join f(n)
-            ! (every pair's contact forces per node where an output reads them)
-            if (ct%n > 0) call contact_phase(model, dom, ct, rg, sh, st, lg, tm, dt_avg, output_now, br)
+            ! (every pair's contact forces per node where an output reads
+            ! them: a state, nodout, or every database at once)
+            if (ct%n > 0) call contact_phase(model, dom, ct, rg, sh, st, lg, tm, dt_avg, &
+                                             output_now .and. (nodout_due(hist, st%time) .or. &
+                                             states_due(states, st%time) .or. done .or. st%cycle == 0 .or. &
+                                             lp%state_asked), br)
             call tm%start(ph_integrate)
             call velocity_phase(dom, st, td, dt_avg, energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
