@@ -42,7 +42,7 @@ module xd_contact_contact
     use xd_core_vectors, only: cross
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t, &
                                         typical_length, pool_margins, margin_floor, margin_classes
-    use xd_contact_segment_check, only: hit_t, contact_interior, segment_check
+    use xd_contact_segment_check, only: hit_t, pair_hit_t, kept, contact_interior, segment_check
     use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t, clearance_t, &
                                        reset_clearance, fresh_clearance
     use xd_contact_enforcement, only: friction_t, penalty_force, lagrange_projection, slave_stiffness, pdir, &
@@ -134,7 +134,7 @@ module xd_contact_contact
         integer :: nev = 0                    !< events not yet written to the log
         type(contact_event_t), allocatable :: ev(:)
         integer :: npair = 0                  !< slaves in contact this cycle
-        type(hit_t), allocatable :: hit(:)    !< their contacts, in slave order
+        type(pair_hit_t), allocatable :: hit(:)    !< their contacts, in slave order
         !> per slave: hit(k)%found, kept alongside in a compact array (the
         !> loops over every slave each cycle read this, not the records)
         logical, allocatable :: found(:)
@@ -1350,7 +1350,7 @@ contains
         real(wp), intent(in) :: aeff(:)
         type(search_switches_t), intent(in) :: sw
         integer, intent(in) :: mine(:)
-        type(hit_t), intent(inout) :: hit(:)
+        type(pair_hit_t), intent(inout) :: hit(:)
         logical, intent(inout) :: found(:)
         real(wp), intent(in) :: xs(:, :)     !< surface coordinates at the last search
         integer, intent(inout) :: rseg(:)    !< per slave: deepest refused segment (0: none)
@@ -1366,6 +1366,7 @@ contains
         logical :: clean
         integer :: i, k
         logical :: clear_skip, refresh
+        type(hit_t) :: hk
         clear_skip = sw%screens .and. cl%search >= 0
         refresh = clear_skip .and. allocated(lists%pool_ptr)
         if (refresh) refresh = size(lists%pool_ptr) == s%nslave
@@ -1373,7 +1374,7 @@ contains
         nf = 0
         ! (the counts in the loop's own text: a reduction's variable must
         ! not be reached through the host from a procedure it calls)
-        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k, nc, clean) reduction(+:nn, nf)
+        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k, nc, clean, hk) reduction(+:nn, nf)
         do i = 1, size(mine)
             k = mine(i)
             if (clear_skip .and. cseg(k) == 0) then
@@ -1411,9 +1412,10 @@ contains
                     nf = nf + nc
                 end if
             end if
-            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aeff(k) + allow(k), sw, hit(k), xs, rseg(k), rdep(k), &
+            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aeff(k) + allow(k), sw, hk, xs, rseg(k), rdep(k), &
                               allow(k), deep(k), held(k))
-            found(k) = hit(k)%found
+            hit(k) = kept(hk)
+            found(k) = hk%found
         end do
         !$omp end parallel do
         nnear = nnear + nn

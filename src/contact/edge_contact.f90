@@ -28,7 +28,7 @@ module xd_contact_edge_contact
     use xd_core_vectors, only: cross
     use xd_core_sorting, only: sort_index
     use xd_contact_surface, only: surface_t, seg_shell, seg_nodes
-    use xd_contact_segment_check, only: hit_t
+    use xd_contact_segment_check, only: hit_t, kept
     use xd_contact_enforcement, only: friction_t, penalty_force
     implicit none
     private
@@ -412,7 +412,7 @@ contains
             mp = (1.0_wp - sp)*ms(a1) + sp*ms(a2)
             mq = (1.0_wp - tp)*ms(b1) + tp*ms(b2)
             meff = mp*mq/max(mp + mq, tiny(1.0_wp))
-            call penalty_force(hit, ed%kp(q), vrel, meff, fr, dt, ed%ft(:, q), ed%fa(:, q))
+            call penalty_force(kept(hit), ed%kp(q), vrel, meff, fr, dt, ed%ft(:, q), ed%fa(:, q))
             ed%st(:, q) = [sp, tp]
             ed%nact = ed%nact + 1
             ed%act(ed%nact) = q

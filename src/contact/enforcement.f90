@@ -8,7 +8,7 @@
 !> force spread by the segment's shape functions (the caller assembles it).
 module xd_contact_enforcement
     use xd_kinds, only: wp
-    use xd_contact_segment_check, only: hit_t, contact_interior
+    use xd_contact_segment_check, only: pair_hit_t, contact_interior
     use xd_contact_surface, only: surface_t, seg_shell, seg_nodes, seg_normal
     use xd_core_vectors, only: cross
     implicit none
@@ -38,7 +38,7 @@ contains
     !> dt: the step; ft: the tangential (friction) force, carried from cycle
     !> to cycle (in: last cycle's, out: this cycle's).
     pure subroutine penalty_force(hit, k, vrel, meff, fr, dt, ft, f, swept, start)
-        type(hit_t), intent(in) :: hit
+        type(pair_hit_t), intent(in) :: hit
         real(wp), intent(in) :: k, vrel(3), meff, dt
         type(friction_t), intent(in) :: fr
         real(wp), intent(inout) :: ft(3)
@@ -139,7 +139,7 @@ contains
     subroutine lagrange_projection(s, npair, pair, hit, fpair, xl, vl, fr, f, mass, free, dt, dt_avg, br)
         type(surface_t), intent(in) :: s
         integer, intent(in) :: npair, pair(:)
-        type(hit_t), intent(in) :: hit(:)
+        type(pair_hit_t), intent(in) :: hit(:)
         real(wp), intent(inout) :: fpair(:, :)
         real(wp), intent(in) :: xl(:, :), vl(:, :)
         type(friction_t), intent(in) :: fr

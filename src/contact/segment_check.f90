@@ -10,7 +10,8 @@ module xd_contact_segment_check
     use xd_core_vectors, only: cross
     implicit none
     private
-    public :: hit_t, segment_check, shape4, contact_interior, contact_line, contact_point, project_segment
+    public :: hit_t, pair_hit_t, kept, segment_check, shape4, contact_interior, contact_line, contact_point, &
+              project_segment
 
     integer, parameter :: contact_interior = 0, contact_line = 1, contact_point = 2
     !> Newton's step in (xi, eta) that counts as converged: 1e-10, or what a
@@ -44,7 +45,39 @@ module xd_contact_segment_check
         logical :: within = .false.
     end type hit_t
 
+    !> A slave's contact as the enforcement and the events read it: the
+    !> fields of hit_t that outlive the local search (every slave holds one
+    !> on every rank: 104 bytes, not hit_t's 184).
+    type :: pair_hit_t
+        logical :: found = .false.
+        integer :: seg = 0
+        integer :: kind = contact_interior
+        integer :: level = 4
+        real(wp) :: a = 0
+        real(wp) :: nshape(4) = 0
+        real(wp) :: nhat(3) = 0
+        real(wp) :: tm = 0
+        real(wp) :: gap = 0
+        logical :: within = .false.
+    end type pair_hit_t
+
 contains
+
+    !> The fields of a check's result a contact keeps.
+    elemental function kept(h) result(p)
+        type(hit_t), intent(in) :: h
+        type(pair_hit_t) :: p
+        p%found = h%found
+        p%seg = h%seg
+        p%kind = h%kind
+        p%level = h%level
+        p%a = h%a
+        p%nshape = h%nshape
+        p%nhat = h%nhat
+        p%tm = h%tm
+        p%gap = h%gap
+        p%within = h%within
+    end function kept
 
     !> Bilinear shape functions at (xi, eta).
     pure function shape4(xi, eta) result(n)

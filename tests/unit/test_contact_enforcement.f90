@@ -10,7 +10,7 @@
 program test_contact_enforcement
     use xd_kinds, only: wp
     use xd_testing, only: check, check_close, test_summary
-    use xd_contact_segment_check, only: hit_t
+    use xd_contact_segment_check, only: hit_t, kept
     use xd_contact_enforcement, only: friction_t, penalty_force
     implicit none
     type(hit_t) :: h
@@ -29,32 +29,32 @@ program test_contact_enforcement
     ! deeper than h: K a, as Eq. 12 without the sweep
     h%a = -3.0e-6_wp
     ft = 0
-    call penalty_force(h, k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f, swept=.true.)
+    call penalty_force(kept(h), k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f, swept=.true.)
     call check_close(f(3), 3.0_wp, tol, 'penalty: deeper than half the step''s approach the force is K a')
     ! at the surface (a = 0, no gap): the path from -h to +h, mean K h / 4
     h%a = 0
     h%gap = 0
-    call penalty_force(h, k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f, swept=.true.)
+    call penalty_force(kept(h), k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f, swept=.true.)
     call check_close(f(3), k*hh/4.0_wp, tol, 'penalty: at the surface the swept force is K h / 4')
-    call penalty_force(h, k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f)
+    call penalty_force(kept(h), k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f)
     call check(all(f == 0.0_wp), 'penalty: at the surface the spring taken at x(n) alone has no force')
     ! found ahead by half of h: the path reaches h/2 deep, (p + h)^2 / (4 h)
     h%gap = 0.5_wp*hh
-    call penalty_force(h, k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f, swept=.true.)
+    call penalty_force(kept(h), k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f, swept=.true.)
     call check_close(f(3), k*(0.5_wp*hh)**2/(4.0_wp*hh), tol, &
                      'penalty: found ahead by h/2, the force is K (p + h)^2 / (4 h) with p = -h/2')
     ! found ahead by more than h: none, whichever way it moves
     h%gap = 1.01_wp*hh
-    call penalty_force(h, k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f, swept=.true.)
+    call penalty_force(kept(h), k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f, swept=.true.)
     call check(all(f == 0.0_wp), 'penalty: found ahead by more than half the step''s approach, no force')
     ! the start: the half step from t = 0, one-sided. 0.5 h deep moving in:
     ! the path [p, p + h], mean p + h/2; moving out: [p - h, p], mean of the
     ! positive part p^2 / (2 h)
     h%a = -0.5_wp*hh
     h%gap = 0
-    call penalty_force(h, k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f, swept=.true., start=.true.)
+    call penalty_force(kept(h), k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fr, dt, ft, f, swept=.true., start=.true.)
     call check_close(f(3), k*hh, tol, 'penalty: at the start, moving in from h/2 deep, the force is K (p + h/2)')
-    call penalty_force(h, k, [0.0_wp, 0.0_wp, v], 1.0_wp, fr, dt, ft, f, swept=.true., start=.true.)
+    call penalty_force(kept(h), k, [0.0_wp, 0.0_wp, v], 1.0_wp, fr, dt, ft, f, swept=.true., start=.true.)
     call check_close(f(3), k*(0.5_wp*hh)**2/(2.0_wp*hh), tol, &
                      'penalty: at the start, moving out from h/2 deep, the force is K p^2 / (2 h)')
     ! a slave below a shell (a > 0): pushed along -nhat, and VDC damps its
@@ -62,14 +62,14 @@ program test_contact_enforcement
     ! (VDC 0.05% of critical with m_eff 1: c = 1, c v = 2 against K a = 3)
     fv%vdc = 0.05_wp
     h%a = 3.0e-6_wp
-    call penalty_force(h, k, [0.0_wp, 0.0_wp, v], 1.0_wp, fv, dt, ft, f, swept=.true.)
+    call penalty_force(kept(h), k, [0.0_wp, 0.0_wp, v], 1.0_wp, fv, dt, ft, f, swept=.true.)
     call check_close(f(3), -5.0_wp, 1.0e-9_wp, &
                      'penalty: VDC on a slave below a shell adds c v to the push out along -nhat (approaching)')
-    call penalty_force(h, k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fv, dt, ft, f, swept=.true.)
+    call penalty_force(kept(h), k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fv, dt, ft, f, swept=.true.)
     call check_close(f(3), -1.0_wp, 1.0e-9_wp, &
                      'penalty: VDC on a slave below a shell takes c v from the push while it separates')
     fv%vdc = 20
-    call penalty_force(h, k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fv, dt, ft, f, swept=.true.)
+    call penalty_force(kept(h), k, [0.0_wp, 0.0_wp, -v], 1.0_wp, fv, dt, ft, f, swept=.true.)
     call check(all(f == 0.0_wp), 'penalty: VDC may cancel the push but never pulls the surfaces together')
 
     ! one mass on the spring, omega dt = 0.45, meeting the surface at 200
@@ -114,7 +114,7 @@ contains
         do n = 1, 100000
             c%a = min(x, 0.0_wp)
             c%gap = max(x, 0.0_wp)
-            call penalty_force(c, kk, [0.0_wp, 0.0_wp, vz], 1.0_wp, none, tstep, tt, fo, swept=swept)
+            call penalty_force(kept(c), kk, [0.0_wp, 0.0_wp, vz], 1.0_wp, none, tstep, tt, fo, swept=swept)
             vz = vz + tstep*fo(3)
             x = x + tstep*vz
             if (x > 5.0_wp .and. vz > 0.0_wp) exit
