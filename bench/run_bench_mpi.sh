@@ -6,7 +6,9 @@
 # (halo exchange, contact exchange, the wait for the slowest rank), the
 # contact's share, the peak memory per rank (VmHWM, smallest and largest),
 # the resident memory at the end (VmRSS) and the elements' state and force
-# slots each rank holds (its own elements' alone)
+# slots each rank holds (its own elements' alone), rank 0's local search's
+# gather between searches (surface nodes it moves, of all) and the share of
+# the contact pairs listed that it applied (contact ghosts)
 # and the halo's bytes a cycle (with owned nodes: the halo point-to-point and
 # the contact surfaces' velocities to every rank; replicated: the slots and
 # every node's forces to every rank; and each rank's own halo nodes' share,
@@ -31,7 +33,7 @@ deck=$dir/tubes_${ntx}x${nty}.k
 /usr/bin/python3 tools/gen_decks.py --bench-tubes $ntx $nty $deck --cycles $cycles
 nel=$((ntx * nty * 1200))
 echo "bench-mpi: $ntx x $nty tubes, $nel shells, $cycles cycles, one thread a rank, $(nproc) cores here ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'))"
-printf '%6s %9s %10s %8s %9s %8s %9s %17s %17s %12s %16s %16s\n' ranks "wall (s)" "ns/el-cyc" "halo %" "contact%" "wait %" "c.share" "peak MB/rank" "end MB/rank" "elem MB/rk" "halo B/cycle" "own-node halo B"
+printf '%6s %9s %10s %8s %9s %8s %9s %17s %17s %12s %16s %16s %18s %9s\n' ranks "wall (s)" "ns/el-cyc" "halo %" "contact%" "wait %" "c.share" "peak MB/rank" "end MB/rank" "elem MB/rk" "halo B/cycle" "own-node halo B" "srf gathered (r0)" "pairs %"
 for r in $ranks; do
     out=$dir/r${r}_${ntx}x${nty}
     rm -rf $out
@@ -64,11 +66,16 @@ for r in $ranks; do
             w = $0; sub(/.*to every other rank\), /, "", w); split(w, e, " "); gat = e[1]
         }
         /^ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9]+$/ {own += $NF}
+        /contact ghosts \(rank 0\)/ {
+            g = $0; sub(/.*local search gathers /, "", g); split(g, gg, " "); gath = gg[1] "/" gg[5]
+            q = $0; sub(/.*it applied /, "", q); split(q, qq, " "); pairs = qq[1]
+        }
         END {
             if (r == 1) {hb = 0; own = 0}
             if (owned) hb = p2p + gat
-            printf "%6d %9.2f %10.1f %8.1f %9.1f %8.1f %8.1f%% %17s %17s %12s %16d %16d\n", r, tot, ns, 100 * halo / tot,
-                100 * ghost / tot, 100 * wait / tot, cs, mem, rss, el, hb, own
+            if (gath == "") {gath = "-"; pairs = "-"}
+            printf "%6d %9.2f %10.1f %8.1f %9.1f %8.1f %8.1f%% %17s %17s %12s %16d %16d %18s %9s\n", r, tot, ns,
+                100 * halo / tot, 100 * ghost / tot, 100 * wait / tot, cs, mem, rss, el, hb, own, gath, pairs
         }' $out/d3hsp
 done
 done
