@@ -15,7 +15,7 @@ module xd_elements_solid_groups
     use xd_materials_plasticity, only: plastic_params_t, plastic_update
     implicit none
     private
-    public :: solids_t, solid_group_t, build_solids, solid_localize, solid_state_bytes, solid_forces, group_size, &
+    public :: solids_t, solid_group_t, build_solids, solid_localize, solid_state_bytes, solid_bytes, solid_forces, group_size, &
               hg_viscous, hg_stiffness
     public :: material_plastic_law, stiff_volume_parts, solid_name
 
@@ -360,6 +360,43 @@ contains
     !> The bytes of the state (sig, vol, qhg, qbv, epsp, alpha) and the
     !> force slots this rank holds: every solid's on one rank, its own
     !> groups' (and its halo's slots) on more.
+    !> The bytes of every array of the solids this rank holds (the group
+    !> records counted by their own size alone), outside an output's
+    !> gathered view.
+    integer(i8) function solid_bytes(s) result(b)
+        type(solids_t), intent(in) :: s
+        b = 0
+        if (allocated(s%group)) b = b + size(s%group, kind=i8)*(storage_size(s%group, i8)/8)
+        if (allocated(s%conn)) b = b + size(s%conn, kind=i8)*(storage_size(s%conn, i8)/8)
+        if (allocated(s%eid)) b = b + size(s%eid, kind=i8)*(storage_size(s%eid, i8)/8)
+        if (allocated(s%part)) b = b + size(s%part, kind=i8)*(storage_size(s%part, i8)/8)
+        if (allocated(s%model_ix)) b = b + size(s%model_ix, kind=i8)*(storage_size(s%model_ix, i8)/8)
+        if (allocated(s%goff)) b = b + size(s%goff, kind=i8)*(storage_size(s%goff, i8)/8)
+        if (allocated(s%sig)) b = b + size(s%sig, kind=i8)*(storage_size(s%sig, i8)/8)
+        if (allocated(s%vol0)) b = b + size(s%vol0, kind=i8)*(storage_size(s%vol0, i8)/8)
+        if (allocated(s%vol)) b = b + size(s%vol, kind=i8)*(storage_size(s%vol, i8)/8)
+        if (allocated(s%qhg)) b = b + size(s%qhg, kind=i8)*(storage_size(s%qhg, i8)/8)
+        if (allocated(s%qbv)) b = b + size(s%qbv, kind=i8)*(storage_size(s%qbv, i8)/8)
+        if (allocated(s%epsp)) b = b + size(s%epsp, kind=i8)*(storage_size(s%epsp, i8)/8)
+        if (allocated(s%alpha)) b = b + size(s%alpha, kind=i8)*(storage_size(s%alpha, i8)/8)
+        if (allocated(s%eint)) b = b + size(s%eint, kind=i8)*(storage_size(s%eint, i8)/8)
+        if (allocated(s%ehg)) b = b + size(s%ehg, kind=i8)*(storage_size(s%ehg, i8)/8)
+        if (allocated(s%pend_int)) b = b + size(s%pend_int, kind=i8)*(storage_size(s%pend_int, i8)/8)
+        if (allocated(s%pend_hg)) b = b + size(s%pend_hg, kind=i8)*(storage_size(s%pend_hg, i8)/8)
+        if (allocated(s%fslot)) b = b + size(s%fslot, kind=i8)*(storage_size(s%fslot, i8)/8)
+        if (allocated(s%gdt)) b = b + size(s%gdt, kind=i8)*(storage_size(s%gdt, i8)/8)
+        if (allocated(s%gcrit)) b = b + size(s%gcrit, kind=i8)*(storage_size(s%gcrit, i8)/8)
+        if (allocated(s%gbad)) b = b + size(s%gbad, kind=i8)*(storage_size(s%gbad, i8)/8)
+        if (allocated(s%group_of)) b = b + size(s%group_of, kind=i8)*(storage_size(s%group_of, i8)/8)
+        if (allocated(s%active)) b = b + size(s%active, kind=i8)*(storage_size(s%active, i8)/8)
+        if (allocated(s%msf)) b = b + size(s%msf, kind=i8)*(storage_size(s%msf, i8)/8)
+        if (allocated(s%ms_need)) b = b + size(s%ms_need, kind=i8)*(storage_size(s%ms_need, i8)/8)
+        if (allocated(s%dead)) b = b + size(s%dead, kind=i8)*(storage_size(s%dead, i8)/8)
+        if (allocated(s%low)) b = b + size(s%low, kind=i8)*(storage_size(s%low, i8)/8)
+        if (allocated(s%gdead)) b = b + size(s%gdead, kind=i8)*(storage_size(s%gdead, i8)/8)
+        if (allocated(s%xfrozen)) b = b + size(s%xfrozen, kind=i8)*(storage_size(s%xfrozen, i8)/8)
+    end function solid_bytes
+
     integer(i8) function solid_state_bytes(s, every) result(b)
         type(solids_t), intent(in) :: s
         !> every solid's, as one rank holds them

@@ -15,7 +15,7 @@ program xdyna
     use xd_input_keyword_table, only: skip_list_text
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t, stiff_volume_parts
-    use xd_solver_state, only: state_t
+    use xd_solver_state, only: state_t, nodal_bytes
     use xd_solver_assembly, only: assembly_t
     use xd_solver_setup, only: setup_run
     use xd_solver_time_loop, only: run_options_t, run_result_t, run_time_loop
@@ -32,8 +32,8 @@ program xdyna
     use xd_solver_prescribed, only: prescribed_nodes_t, build_prescribed
     use xd_rigid_bodies, only: rigid_t
     use xd_solver_loads, only: pressures_t, build_pressures
-    use xd_elements_shell_bt, only: shells_t, shell_state_bytes
-    use xd_elements_solid_groups, only: solid_state_bytes
+    use xd_elements_shell_bt, only: shells_t, shell_state_bytes, shell_bytes
+    use xd_elements_solid_groups, only: solid_state_bytes, solid_bytes
     use xd_output_histories, only: histories_t, open_histories, close_histories, history_marks_t
     use xd_output_states, only: states_t, open_states, close_states, states_marks_t, states_summary
     use xd_solver_restart, only: dump_meta_t, read_dump_meta, read_dump, build_tag, dump_format
@@ -439,13 +439,15 @@ contains
     !> smallest and the largest, with their ranks (a collective: every rank
     !> calls it).
     subroutine memory_line()
-        real(dp) :: rec(4), all(4, env%nranks)
+        real(dp) :: rec(5), all(5, env%nranks)
         rec(1) = real(peak_memory_kb(), dp)
         rec(2) = real(shell_state_bytes(sh) + solid_state_bytes(solids), dp)
         ! (every element's, as one rank holds them)
         rec(3) = real(shell_state_bytes(sh, every=.true.) + solid_state_bytes(solids, every=.true.), dp)
         ! (at the end: what the run held, the set-up's peak past)
         rec(4) = real(resident_memory_kb(), dp)
+        ! every nodal array and every array of the elements this rank holds
+        rec(5) = real(nodal_bytes(st) + shell_bytes(sh) + solid_bytes(solids), dp)
         if (env%nranks > 1) then
             call comm_gather_small(rec, all)
         else
@@ -464,6 +466,14 @@ contains
                               ', each rank its own elements'' and its halo''s slots (all elements'': '// &
                               ftoa(maxval(all(3, :))/1048576.0_dp)//' MB)')
             end if
+        end if
+        ! the nodal arrays (every node's on every rank, until the nodes are
+        ! numbered per rank) and the elements' (the state and slots above,
+        ! the connectivity, energies, blocks and flags, the parts' constants)
+        if (env%nranks == 1) then
+            call log_line(lg, ' nodal and element arrays ............ '//ftoa(all(5, 1)/1048576.0_dp)//' MB')
+        else
+            call log_line(lg, ' nodal and element arrays per rank ... '//span(all(5, :), 1048576.0_dp))
         end if
         if (any(all(1, :) < 0.0_dp)) return
         if (env%nranks == 1) then

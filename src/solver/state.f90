@@ -1,10 +1,10 @@
 !> Nodal state of the run: positions, half-step velocities, forces, masses,
 !> constraint masks, time and step. Passed down the call chain, never global.
 module xd_solver_state
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
     implicit none
     private
-    public :: state_t
+    public :: state_t, nodal_bytes
 
     type :: state_t
         integer :: nnode = 0
@@ -35,5 +35,26 @@ module xd_solver_state
         real(dp) :: e_initial = 0.0_dp        !< total energy at t = 0
         real(dp) :: ms_work = 0.0_dp          !< mass scaling: kinetic energy the added mass entered with
     end type state_t
+
+contains
+
+    !> The bytes of the nodal arrays this rank holds (issue 32's measure:
+    !> every node's on every rank until the nodes are numbered per rank).
+    integer(i8) function nodal_bytes(st) result(b)
+        type(state_t), intent(in) :: st
+        b = 0
+        if (allocated(st%x)) b = b + size(st%x, kind=i8)*(storage_size(st%x, i8)/8)
+        if (allocated(st%x0)) b = b + size(st%x0, kind=i8)*(storage_size(st%x0, i8)/8)
+        if (allocated(st%v)) b = b + size(st%v, kind=i8)*(storage_size(st%v, i8)/8)
+        if (allocated(st%a)) b = b + size(st%a, kind=i8)*(storage_size(st%a, i8)/8)
+        if (allocated(st%f)) b = b + size(st%f, kind=i8)*(storage_size(st%f, i8)/8)
+        if (allocated(st%mass)) b = b + size(st%mass, kind=i8)*(storage_size(st%mass, i8)/8)
+        if (allocated(st%free)) b = b + size(st%free, kind=i8)*(storage_size(st%free, i8)/8)
+        if (allocated(st%vr)) b = b + size(st%vr, kind=i8)*(storage_size(st%vr, i8)/8)
+        if (allocated(st%mom)) b = b + size(st%mom, kind=i8)*(storage_size(st%mom, i8)/8)
+        if (allocated(st%irot)) b = b + size(st%irot, kind=i8)*(storage_size(st%irot, i8)/8)
+        if (allocated(st%free_r)) b = b + size(st%free_r, kind=i8)*(storage_size(st%free_r, i8)/8)
+        if (allocated(st%jprev)) b = b + size(st%jprev, kind=i8)*(storage_size(st%jprev, i8)/8)
+    end function nodal_bytes
 
 end module xd_solver_state
