@@ -33,6 +33,7 @@ module xd_contact_contact
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
     use xd_core_threads, only: threaded
+    use xd_core_memory, only: grow
     use xd_model, only: model_t, contact_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, mat_rigid, &
                         can_erode, ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_auto, search_adaptive, find_box, in_box, box_t
@@ -1526,7 +1527,7 @@ contains
                 if (ct%lagrange .and. it%npair > 0) call lagrange_projection(s, it%npair, it%pair, it%hit, it%fpair, &
                                                                       it%ls%xl, it%ls%vl, it%fr, f, mass, free, dt, &
                                                                       dt_avg, br)
-                call room(ct, 5*it%npair + 4*it%ed%nact)
+                call grow(ct%ftouch, ct%nftouch + 5*it%npair + 4*it%ed%nact, 'contact force nodes')
                 ! both sides, in slave order (a deterministic sum)
                 ct%npair_all = ct%npair_all + it%npair
                 do q = 1, it%npair
@@ -1537,22 +1538,20 @@ contains
                     it%cseg(k) = m
                     it%held(k) = m
                     it%fprev(:, k) = fs
+                    ! (rcforc's sums: every pair)
+                    it%fslave = it%fslave + fs
+                    it%fmaster = it%fmaster - fs
+                    it%mslave = it%mslave + it%ms(sn)
+                    it%mmaster = it%mmaster + dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
                     if (allocated(ct%moves) .and. .not. outputs .and. .not. it%owned(k)) then
                         ! another rank's slave: its forces only where they
-                        ! reach a node this rank moves (every node each such
-                        ! node's sum takes, in the same order); its sums
-                        ! always
+                        ! reach a node this rank moves (every such node's
+                        ! sum takes every pair, in the same order)
                         some = ct%moves(s%node(sn))
                         do j = 1, seg_nodes(s%seg(:, m))
                             some = some .or. ct%moves(s%node(s%seg(j, m)))
                         end do
-                        if (.not. some) then
-                            it%fslave = it%fslave + fs
-                            it%fmaster = it%fmaster - fs
-                            it%mslave = it%mslave + it%ms(sn)
-                            it%mmaster = it%mmaster + dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
-                            cycle
-                        end if
+                        if (.not. some) cycle
                     end if
                     ct%npair_applied = ct%npair_applied + 1
                     vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
@@ -1568,28 +1567,12 @@ contains
                     end do
                     if (.not. ct%own_work .or. it%owned(k)) &
                         it%pminus = it%pminus + dot_product(real(fs, dp), real(vrel, dp))
-                    it%fslave = it%fslave + fs
-                    it%fmaster = it%fmaster - fs
-                    it%mslave = it%mslave + it%ms(sn)
-                    it%mmaster = it%mmaster + dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
                 end do
                 it%ncontact_total = it%ncontact_total + it%npair
                 if (it%ed%np > 0) call edge_enforce(it, f, ct%fnode, dt, time, first, ct%ftouch, ct%nftouch)
             end associate
         end do
     end subroutine contact_enforce
-
-    !> Room in ct%ftouch for n more nodes.
-    subroutine room(ct, n)
-        type(contacts_t), intent(inout) :: ct
-        integer, intent(in) :: n
-        integer, allocatable :: t(:)
-        if (.not. allocated(ct%ftouch)) allocate (ct%ftouch(max(1024, 2*n)))
-        if (ct%nftouch + n <= size(ct%ftouch)) return
-        allocate (t(max(2*size(ct%ftouch), ct%nftouch + n)))
-        t(1:ct%nftouch) = ct%ftouch(1:ct%nftouch)
-        call move_alloc(t, ct%ftouch)
-    end subroutine room
 
     !> The penalty forces of interface it's own slaves (contact_enforce),
     !> as a worksharing loop: each slave writes only its own entries.

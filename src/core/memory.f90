@@ -4,10 +4,10 @@ module xd_core_memory
     use xd_kinds, only: wp, dp, i8
     use xd_core_parallel_env, only: terminate
     use xd_core_errors, only: exit_run
-    use, intrinsic :: iso_fortran_env, only: error_unit
+    use, intrinsic :: iso_fortran_env, only: error_unit, real32, real64
     implicit none
     private
-    public :: alloc, alloc_dp, grow, peak_memory_kb, resident_memory_kb
+    public :: alloc, alloc_dp, grow, nbytes, peak_memory_kb, resident_memory_kb
 
     interface alloc
         module procedure alloc_r1, alloc_r2, alloc_r3, alloc_i1, alloc_i2
@@ -16,6 +16,11 @@ module xd_core_memory
     interface grow
         module procedure grow_r2, grow_i1, grow_i2
     end interface grow
+
+    !> The bytes an allocatable array holds (0 unallocated), any rank.
+    interface nbytes
+        module procedure nbytes_r32, nbytes_r64, nbytes_int, nbytes_log
+    end interface nbytes
 
 contains
 
@@ -153,6 +158,30 @@ contains
 
     !> This process's peak resident memory in kB (VmHWM of /proc/self/status,
     !> Linux); -1 where it cannot be read.
+    integer(i8) function nbytes_r32(a) result(b)
+        real(real32), allocatable, intent(in) :: a(..)
+        b = 0
+        if (allocated(a)) b = size(a, kind=i8)*(storage_size(1.0_real32, i8)/8)
+    end function nbytes_r32
+
+    integer(i8) function nbytes_r64(a) result(b)
+        real(real64), allocatable, intent(in) :: a(..)
+        b = 0
+        if (allocated(a)) b = size(a, kind=i8)*(storage_size(1.0_real64, i8)/8)
+    end function nbytes_r64
+
+    integer(i8) function nbytes_int(a) result(b)
+        integer, allocatable, intent(in) :: a(..)
+        b = 0
+        if (allocated(a)) b = size(a, kind=i8)*(storage_size(1, i8)/8)
+    end function nbytes_int
+
+    integer(i8) function nbytes_log(a) result(b)
+        logical, allocatable, intent(in) :: a(..)
+        b = 0
+        if (allocated(a)) b = size(a, kind=i8)*(storage_size(.true., i8)/8)
+    end function nbytes_log
+
     integer(i8) function peak_memory_kb() result(kb)
         kb = status_kb('VmHWM:')
     end function peak_memory_kb

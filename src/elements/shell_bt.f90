@@ -7,7 +7,7 @@
 !> Stresses per point (local frame): xx yy xy yz zx.
 module xd_elements_shell_bt
     use xd_kinds, only: wp, dp, i8
-    use xd_core_memory, only: alloc, alloc_dp
+    use xd_core_memory, only: alloc, alloc_dp, nbytes
     use xd_core_strings, only: itoa
     use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid, hg_bounded, can_erode
     use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
@@ -403,68 +403,19 @@ contains
     !> gathered view.
     integer(i8) function shell_bytes(sh) result(b)
         type(shells_t), intent(in) :: sh
-        b = 0
-        if (allocated(sh%conn)) b = b + size(sh%conn, kind=i8)*(storage_size(sh%conn, i8)/8)
-        if (allocated(sh%eid)) b = b + size(sh%eid, kind=i8)*(storage_size(sh%eid, i8)/8)
-        if (allocated(sh%part)) b = b + size(sh%part, kind=i8)*(storage_size(sh%part, i8)/8)
-        if (allocated(sh%h)) b = b + size(sh%h, kind=i8)*(storage_size(sh%h, i8)/8)
-        if (allocated(sh%tw)) b = b + size(sh%tw, kind=i8)*(storage_size(sh%tw, i8)/8)
-        if (allocated(sh%ncap)) b = b + size(sh%ncap, kind=i8)*(storage_size(sh%ncap, i8)/8)
-        if (allocated(sh%sig)) b = b + size(sh%sig, kind=i8)*(storage_size(sh%sig, i8)/8)
-        if (allocated(sh%qhg)) b = b + size(sh%qhg, kind=i8)*(storage_size(sh%qhg, i8)/8)
-        if (allocated(sh%epsp)) b = b + size(sh%epsp, kind=i8)*(storage_size(sh%epsp, i8)/8)
-        if (allocated(sh%strain)) b = b + size(sh%strain, kind=i8)*(storage_size(sh%strain, i8)/8)
-        if (allocated(sh%alpha)) b = b + size(sh%alpha, kind=i8)*(storage_size(sh%alpha, i8)/8)
-        if (allocated(sh%eint)) b = b + size(sh%eint, kind=i8)*(storage_size(sh%eint, i8)/8)
-        if (allocated(sh%ehg)) b = b + size(sh%ehg, kind=i8)*(storage_size(sh%ehg, i8)/8)
-        if (allocated(sh%pend_int)) b = b + size(sh%pend_int, kind=i8)*(storage_size(sh%pend_int, i8)/8)
-        if (allocated(sh%pend_hg)) b = b + size(sh%pend_hg, kind=i8)*(storage_size(sh%pend_hg, i8)/8)
-        if (allocated(sh%area0)) b = b + size(sh%area0, kind=i8)*(storage_size(sh%area0, i8)/8)
-        if (allocated(sh%fslot)) b = b + size(sh%fslot, kind=i8)*(storage_size(sh%fslot, i8)/8)
-        if (allocated(sh%mslot)) b = b + size(sh%mslot, kind=i8)*(storage_size(sh%mslot, i8)/8)
-        if (allocated(sh%mine)) b = b + size(sh%mine, kind=i8)*(storage_size(sh%mine, i8)/8)
-        if (allocated(sh%lix)) b = b + size(sh%lix, kind=i8)*(storage_size(sh%lix, i8)/8)
-        if (allocated(sh%gix)) b = b + size(sh%gix, kind=i8)*(storage_size(sh%gix, i8)/8)
-        if (allocated(sh%bfirst)) b = b + size(sh%bfirst, kind=i8)*(storage_size(sh%bfirst, i8)/8)
-        if (allocated(sh%bcount)) b = b + size(sh%bcount, kind=i8)*(storage_size(sh%bcount, i8)/8)
-        if (allocated(sh%bback)) b = b + size(sh%bback, kind=i8)*(storage_size(sh%bback, i8)/8)
-        if (allocated(sh%bcurve)) b = b + size(sh%bcurve, kind=i8)*(storage_size(sh%bcurve, i8)/8)
-        if (allocated(sh%brated)) b = b + size(sh%brated, kind=i8)*(storage_size(sh%brated, i8)/8)
-        if (allocated(sh%bplastic)) b = b + size(sh%bplastic, kind=i8)*(storage_size(sh%bplastic, i8)/8)
-        if (allocated(sh%pfirst)) b = b + size(sh%pfirst, kind=i8)*(storage_size(sh%pfirst, i8)/8)
-        if (allocated(sh%plast)) b = b + size(sh%plast, kind=i8)*(storage_size(sh%plast, i8)/8)
-        if (allocated(sh%shared)) b = b + size(sh%shared, kind=i8)*(storage_size(sh%shared, i8)/8)
-        if (allocated(sh%direct)) b = b + size(sh%direct, kind=i8)*(storage_size(sh%direct, i8)/8)
-        if (allocated(sh%split)) b = b + size(sh%split, kind=i8)*(storage_size(sh%split, i8)/8)
-        if (allocated(sh%model_ix)) b = b + size(sh%model_ix, kind=i8)*(storage_size(sh%model_ix, i8)/8)
-        if (allocated(sh%dead)) b = b + size(sh%dead, kind=i8)*(storage_size(sh%dead, i8)/8)
-        if (allocated(sh%low)) b = b + size(sh%low, kind=i8)*(storage_size(sh%low, i8)/8)
-        if (allocated(sh%msf)) b = b + size(sh%msf, kind=i8)*(storage_size(sh%msf, i8)/8)
-        if (allocated(sh%msq)) b = b + size(sh%msq, kind=i8)*(storage_size(sh%msq, i8)/8)
-        if (allocated(sh%ms_need)) b = b + size(sh%ms_need, kind=i8)*(storage_size(sh%ms_need, i8)/8)
-        if (allocated(sh%pc%e)) b = b + size(sh%pc%e, kind=i8)*(storage_size(sh%pc%e, i8)/8)
-        if (allocated(sh%pc%nu)) b = b + size(sh%pc%nu, kind=i8)*(storage_size(sh%pc%nu, i8)/8)
-        if (allocated(sh%pc%ro)) b = b + size(sh%pc%ro, kind=i8)*(storage_size(sh%pc%ro, i8)/8)
-        if (allocated(sh%pc%shrf)) b = b + size(sh%pc%shrf, kind=i8)*(storage_size(sh%pc%shrf, i8)/8)
-        if (allocated(sh%pc%ge)) b = b + size(sh%pc%ge, kind=i8)*(storage_size(sh%pc%ge, i8)/8)
-        if (allocated(sh%pc%qe)) b = b + size(sh%pc%qe, kind=i8)*(storage_size(sh%pc%qe, i8)/8)
-        if (allocated(sh%pc%nuf)) b = b + size(sh%pc%nuf, kind=i8)*(storage_size(sh%pc%nuf, i8)/8)
-        if (allocated(sh%pc%wsp)) b = b + size(sh%pc%wsp, kind=i8)*(storage_size(sh%pc%wsp, i8)/8)
-        if (allocated(sh%pc%cbi)) b = b + size(sh%pc%cbi, kind=i8)*(storage_size(sh%pc%cbi, i8)/8)
-        if (allocated(sh%pc%nue)) b = b + size(sh%pc%nue, kind=i8)*(storage_size(sh%pc%nue, i8)/8)
-        if (allocated(sh%pc%qm)) b = b + size(sh%pc%qm, kind=i8)*(storage_size(sh%pc%qm, i8)/8)
-        if (allocated(sh%pc%qb)) b = b + size(sh%pc%qb, kind=i8)*(storage_size(sh%pc%qb, i8)/8)
-        if (allocated(sh%pc%qw)) b = b + size(sh%pc%qw, kind=i8)*(storage_size(sh%pc%qw, i8)/8)
-        if (allocated(sh%pc%hg_viscous)) b = b + size(sh%pc%hg_viscous, kind=i8)*(storage_size(sh%pc%hg_viscous, i8)/8)
-        if (allocated(sh%pc%hg_bound)) b = b + size(sh%pc%hg_bound, kind=i8)*(storage_size(sh%pc%hg_bound, i8)/8)
-        if (allocated(sh%pc%nip)) b = b + size(sh%pc%nip, kind=i8)*(storage_size(sh%pc%nip, i8)/8)
-        if (allocated(sh%pc%mix)) b = b + size(sh%pc%mix, kind=i8)*(storage_size(sh%pc%mix, i8)/8)
-        if (allocated(sh%pc%plastic)) b = b + size(sh%pc%plastic, kind=i8)*(storage_size(sh%pc%plastic, i8)/8)
-        if (allocated(sh%pc%sy0)) b = b + size(sh%pc%sy0, kind=i8)*(storage_size(sh%pc%sy0, i8)/8)
-        if (allocated(sh%pc%hk)) b = b + size(sh%pc%hk, kind=i8)*(storage_size(sh%pc%hk, i8)/8)
-        if (allocated(sh%pc%ycurve)) b = b + size(sh%pc%ycurve, kind=i8)*(storage_size(sh%pc%ycurve, i8)/8)
-        if (allocated(sh%pc%rated)) b = b + size(sh%pc%rated, kind=i8)*(storage_size(sh%pc%rated, i8)/8)
-        if (allocated(sh%pc%backstress)) b = b + size(sh%pc%backstress, kind=i8)*(storage_size(sh%pc%backstress, i8)/8)
+        b = nbytes(sh%conn) + nbytes(sh%eid) + nbytes(sh%part) + nbytes(sh%h) + nbytes(sh%tw) &
+            + nbytes(sh%ncap) + nbytes(sh%sig) + nbytes(sh%qhg) + nbytes(sh%epsp) + nbytes(sh%strain) &
+            + nbytes(sh%alpha) + nbytes(sh%eint) + nbytes(sh%ehg) + nbytes(sh%pend_int) + nbytes(sh%pend_hg) &
+            + nbytes(sh%area0) + nbytes(sh%fslot) + nbytes(sh%mslot) + nbytes(sh%mine) + nbytes(sh%lix) &
+            + nbytes(sh%gix) + nbytes(sh%bfirst) + nbytes(sh%bcount) + nbytes(sh%bback) + nbytes(sh%bcurve) &
+            + nbytes(sh%brated) + nbytes(sh%bplastic) + nbytes(sh%pfirst) + nbytes(sh%plast) + nbytes(sh%shared) &
+            + nbytes(sh%direct) + nbytes(sh%split) + nbytes(sh%model_ix) + nbytes(sh%dead) + nbytes(sh%low) &
+            + nbytes(sh%msf) + nbytes(sh%msq) + nbytes(sh%ms_need) + nbytes(sh%pc%e) + nbytes(sh%pc%nu) &
+            + nbytes(sh%pc%ro) + nbytes(sh%pc%shrf) + nbytes(sh%pc%ge) + nbytes(sh%pc%qe) + nbytes(sh%pc%nuf) &
+            + nbytes(sh%pc%wsp) + nbytes(sh%pc%cbi) + nbytes(sh%pc%nue) + nbytes(sh%pc%qm) + nbytes(sh%pc%qb) &
+            + nbytes(sh%pc%qw) + nbytes(sh%pc%hg_viscous) + nbytes(sh%pc%hg_bound) + nbytes(sh%pc%nip) &
+            + nbytes(sh%pc%mix) + nbytes(sh%pc%plastic) + nbytes(sh%pc%sy0) + nbytes(sh%pc%hk) &
+            + nbytes(sh%pc%ycurve) + nbytes(sh%pc%rated) + nbytes(sh%pc%backstress)
     end function shell_bytes
 
     !> The bytes of the points' state (sig, epsp, qhg, strain, alpha) and

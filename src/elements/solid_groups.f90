@@ -5,7 +5,7 @@
 !> a fixed order, so results do not depend on the thread count.
 module xd_elements_solid_groups
     use xd_kinds, only: wp, dp, i8
-    use xd_core_memory, only: alloc, alloc_dp
+    use xd_core_memory, only: alloc, alloc_dp, nbytes
     use xd_core_sorting, only: sort_index
     use xd_core_strings, only: itoa
     use xd_model, only: model_t, material_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid, can_erode
@@ -367,34 +367,12 @@ contains
         type(solids_t), intent(in) :: s
         b = 0
         if (allocated(s%group)) b = b + size(s%group, kind=i8)*(storage_size(s%group, i8)/8)
-        if (allocated(s%conn)) b = b + size(s%conn, kind=i8)*(storage_size(s%conn, i8)/8)
-        if (allocated(s%eid)) b = b + size(s%eid, kind=i8)*(storage_size(s%eid, i8)/8)
-        if (allocated(s%part)) b = b + size(s%part, kind=i8)*(storage_size(s%part, i8)/8)
-        if (allocated(s%model_ix)) b = b + size(s%model_ix, kind=i8)*(storage_size(s%model_ix, i8)/8)
-        if (allocated(s%goff)) b = b + size(s%goff, kind=i8)*(storage_size(s%goff, i8)/8)
-        if (allocated(s%sig)) b = b + size(s%sig, kind=i8)*(storage_size(s%sig, i8)/8)
-        if (allocated(s%vol0)) b = b + size(s%vol0, kind=i8)*(storage_size(s%vol0, i8)/8)
-        if (allocated(s%vol)) b = b + size(s%vol, kind=i8)*(storage_size(s%vol, i8)/8)
-        if (allocated(s%qhg)) b = b + size(s%qhg, kind=i8)*(storage_size(s%qhg, i8)/8)
-        if (allocated(s%qbv)) b = b + size(s%qbv, kind=i8)*(storage_size(s%qbv, i8)/8)
-        if (allocated(s%epsp)) b = b + size(s%epsp, kind=i8)*(storage_size(s%epsp, i8)/8)
-        if (allocated(s%alpha)) b = b + size(s%alpha, kind=i8)*(storage_size(s%alpha, i8)/8)
-        if (allocated(s%eint)) b = b + size(s%eint, kind=i8)*(storage_size(s%eint, i8)/8)
-        if (allocated(s%ehg)) b = b + size(s%ehg, kind=i8)*(storage_size(s%ehg, i8)/8)
-        if (allocated(s%pend_int)) b = b + size(s%pend_int, kind=i8)*(storage_size(s%pend_int, i8)/8)
-        if (allocated(s%pend_hg)) b = b + size(s%pend_hg, kind=i8)*(storage_size(s%pend_hg, i8)/8)
-        if (allocated(s%fslot)) b = b + size(s%fslot, kind=i8)*(storage_size(s%fslot, i8)/8)
-        if (allocated(s%gdt)) b = b + size(s%gdt, kind=i8)*(storage_size(s%gdt, i8)/8)
-        if (allocated(s%gcrit)) b = b + size(s%gcrit, kind=i8)*(storage_size(s%gcrit, i8)/8)
-        if (allocated(s%gbad)) b = b + size(s%gbad, kind=i8)*(storage_size(s%gbad, i8)/8)
-        if (allocated(s%group_of)) b = b + size(s%group_of, kind=i8)*(storage_size(s%group_of, i8)/8)
-        if (allocated(s%active)) b = b + size(s%active, kind=i8)*(storage_size(s%active, i8)/8)
-        if (allocated(s%msf)) b = b + size(s%msf, kind=i8)*(storage_size(s%msf, i8)/8)
-        if (allocated(s%ms_need)) b = b + size(s%ms_need, kind=i8)*(storage_size(s%ms_need, i8)/8)
-        if (allocated(s%dead)) b = b + size(s%dead, kind=i8)*(storage_size(s%dead, i8)/8)
-        if (allocated(s%low)) b = b + size(s%low, kind=i8)*(storage_size(s%low, i8)/8)
-        if (allocated(s%gdead)) b = b + size(s%gdead, kind=i8)*(storage_size(s%gdead, i8)/8)
-        if (allocated(s%xfrozen)) b = b + size(s%xfrozen, kind=i8)*(storage_size(s%xfrozen, i8)/8)
+        b = b + nbytes(s%conn) + nbytes(s%eid) + nbytes(s%part) + nbytes(s%model_ix) + nbytes(s%goff) &
+            + nbytes(s%sig) + nbytes(s%vol0) + nbytes(s%vol) + nbytes(s%qhg) + nbytes(s%qbv) + nbytes(s%epsp) &
+            + nbytes(s%alpha) + nbytes(s%eint) + nbytes(s%ehg) + nbytes(s%pend_int) + nbytes(s%pend_hg) &
+            + nbytes(s%fslot) + nbytes(s%gdt) + nbytes(s%gcrit) + nbytes(s%gbad) + nbytes(s%group_of) &
+            + nbytes(s%active) + nbytes(s%msf) + nbytes(s%ms_need) + nbytes(s%dead) + nbytes(s%low) &
+            + nbytes(s%gdead) + nbytes(s%xfrozen)
     end function solid_bytes
 
     integer(i8) function solid_state_bytes(s, every) result(b)

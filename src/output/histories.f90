@@ -366,19 +366,31 @@ contains
         end subroutine legend
     end subroutine open_histories
 
+    !> The databases due at time t (every one that is on, if `force`).
+    pure function due_at(h, t, force) result(due)
+        type(histories_t), intent(in) :: h
+        real(dp), intent(in) :: t
+        logical, intent(in) :: force
+        logical :: due(ndb)
+        due = h%on .and. (force .or. t >= h%next*(1.0_dp - 1.0e-9_dp))
+    end function due_at
+
     !> Is any database due at time t?
     logical function histories_due(h, t)
         type(histories_t), intent(in) :: h
         real(dp), intent(in) :: t
-        histories_due = any(h%on .and. t >= h%next*(1.0_dp - 1.0e-9_dp))
+        histories_due = any(due_at(h, t, .false.))
     end function histories_due
 
-    !> nodout is due at t (with contact, its rows carry each node's contact
-    !> force: the only history that reads them).
-    logical function nodout_due(h, t)
+    !> nodout is due at t (or forced): with contact, its rows carry each
+    !> node's contact force, the only history that reads them.
+    logical function nodout_due(h, t, force)
         type(histories_t), intent(in) :: h
         real(dp), intent(in) :: t
-        nodout_due = h%on(s_nodout) .and. t >= h%next(s_nodout)*(1.0_dp - 1.0e-9_dp)
+        logical, intent(in) :: force
+        logical :: due(ndb)
+        due = due_at(h, t, force)
+        nodout_due = due(s_nodout)
     end function nodout_due
 
     !> Write the databases that are due at the state's time (all of them if
@@ -400,7 +412,7 @@ contains
         real(wp), intent(in), optional :: wminus(:, :)  !< (3, nodes) angular velocity at t - dt/2 (with shells)
         logical :: due(ndb)
         integer(i8) :: now, rate
-        due = h%on .and. (force .or. st%time >= h%next*(1.0_dp - 1.0e-9_dp))
+        due = due_at(h, st%time, force)
         if (h%writer) then
             if (due(s_glstat)) call write_glstat(h, st, walls, en, crit, zone_ns)
             if (due(s_rwforc)) call write_rwforc(h, model, st, walls)

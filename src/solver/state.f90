@@ -2,6 +2,7 @@
 !> constraint masks, time and step. Passed down the call chain, never global.
 module xd_solver_state
     use xd_kinds, only: wp, dp, i8
+    use xd_core_memory, only: nbytes
     implicit none
     private
     public :: state_t, nodal_bytes
@@ -42,19 +43,9 @@ contains
     !> every node's on every rank until the nodes are numbered per rank).
     integer(i8) function nodal_bytes(st) result(b)
         type(state_t), intent(in) :: st
-        b = 0
-        if (allocated(st%x)) b = b + size(st%x, kind=i8)*(storage_size(st%x, i8)/8)
-        if (allocated(st%x0)) b = b + size(st%x0, kind=i8)*(storage_size(st%x0, i8)/8)
-        if (allocated(st%v)) b = b + size(st%v, kind=i8)*(storage_size(st%v, i8)/8)
-        if (allocated(st%a)) b = b + size(st%a, kind=i8)*(storage_size(st%a, i8)/8)
-        if (allocated(st%f)) b = b + size(st%f, kind=i8)*(storage_size(st%f, i8)/8)
-        if (allocated(st%mass)) b = b + size(st%mass, kind=i8)*(storage_size(st%mass, i8)/8)
-        if (allocated(st%free)) b = b + size(st%free, kind=i8)*(storage_size(st%free, i8)/8)
-        if (allocated(st%vr)) b = b + size(st%vr, kind=i8)*(storage_size(st%vr, i8)/8)
-        if (allocated(st%mom)) b = b + size(st%mom, kind=i8)*(storage_size(st%mom, i8)/8)
-        if (allocated(st%irot)) b = b + size(st%irot, kind=i8)*(storage_size(st%irot, i8)/8)
-        if (allocated(st%free_r)) b = b + size(st%free_r, kind=i8)*(storage_size(st%free_r, i8)/8)
-        if (allocated(st%jprev)) b = b + size(st%jprev, kind=i8)*(storage_size(st%jprev, i8)/8)
+        b = nbytes(st%x) + nbytes(st%x0) + nbytes(st%v) + nbytes(st%a) + nbytes(st%f) + nbytes(st%mass) &
+            + nbytes(st%free) + nbytes(st%vr) + nbytes(st%mom) + nbytes(st%irot) + nbytes(st%free_r) &
+            + nbytes(st%jprev)
     end function nodal_bytes
 
 end module xd_solver_state

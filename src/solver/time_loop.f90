@@ -257,9 +257,8 @@ contains
             ! (every pair's contact forces per node where an output reads
             ! them: a state, nodout, or every database at once)
             if (ct%n > 0) call contact_phase(model, dom, ct, rg, sh, st, lg, tm, dt_avg, &
-                                             output_now .and. (nodout_due(hist, st%time) .or. &
-                                             states_due(states, st%time) .or. done .or. st%cycle == 0 .or. &
-                                             lp%state_asked), br)
+                                             nodout_due(hist, st%time, done .or. st%cycle == 0) .or. &
+                                             state_now(lp, states, st%time, done .or. st%cycle == 0), br)
             call tm%start(ph_integrate)
             call velocity_phase(dom, st, td, dt_avg, energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
