@@ -59,7 +59,7 @@ contains
             e = sh%mine(i)
             ! ERODE: its step fell below the minimum
             if (sh%tsmin > 0.0_wp) then
-                if (sh%low(e)) then
+                if (sh%low(sh%lix(e))) then
                     newly = [newly, e]
                     cycle
                 end if

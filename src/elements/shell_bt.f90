@@ -68,13 +68,12 @@ module xd_elements_shell_bt
         integer, allocatable :: conn(:, :)    !< (4, n)
         integer, allocatable :: eid(:), part(:)
         real(wp), allocatable :: h(:)         !< thickness (mean of the nodal values)
-        !> 1 for a triangle (nodes 3 and 4 the same), 0 for a
-        !> quadrilateral: the blocks' loops pick by it without a branch
-        real(wp), allocatable :: tw(:)
         !> the constants of the shells' parts (section, material, hourglass
         !> card), read through part(e)
         type(shell_part_consts_t) :: pc
-        integer, allocatable :: ncap(:)       !< the cycles the hourglass bound acted on the shell, this run
+        !> per row of this rank's shells (lix, below): the cycles the
+        !> hourglass bound acted on the shell, this run
+        integer, allocatable :: ncap(:)
         !> (n, 5, nip) stresses at the points (nip: the most of any shell);
         !> the element index first, as every per-point array here: a block's
         !> loads and stores of one component are runs of memory (vector
@@ -131,7 +130,7 @@ module xd_elements_shell_bt
         !> of shell e is), and its thread adds their forces to it directly;
         !> the others, `shared`, take theirs through the slots
         integer, allocatable :: pfirst(:), plast(:), shared(:)
-        logical, allocatable :: direct(:, :)
+        logical, allocatable :: direct(:, :)   !< (4, nl): by row (lix)
         !> MPI (set by the domain; unallocated on one rank): per node, 0
         !> when no other rank's element touches it, 1 when others do and
         !> this rank assembles it, 2 when another rank assembles it. Such a
@@ -146,7 +145,7 @@ module xd_elements_shell_bt
         !> ERODE 1: an element step (before TSSFAC) below this marks the
         !> shell to erode (0: off, until the first step is known)
         real(wp) :: tsmin = 0
-        logical, allocatable :: low(:)        !< (n) marked this cycle: step below tsmin, or inverted
+        logical, allocatable :: low(:)        !< (nl) by row: marked this cycle, step below tsmin, or inverted
         integer :: ndead = 0
         ! mass scaling (*CONTROL_TIMESTEP DT2MS), allocated only when it is on:
         ! an element's mass is msf times its own, so its step sqrt(msf) times
@@ -179,6 +178,9 @@ module xd_elements_shell_bt
         real(wp) :: xl(nblk, 4), yl(nblk, 4), zl(nblk, 4)
         real(wp) :: a(nblk), b1(nblk, 4), b2(nblk, 4)
         real(wp) :: gam(nblk, 4)   !< hourglass shape vector h - (h.x) b1 - (h.y) b2
+        !> 1 for a triangle (nodes 3 and 4 the same), 0 for a
+        !> quadrilateral: the blocks' loops pick by it without a branch
+        real(wp) :: tw(nblk)
         logical :: ok(nblk)
     end type block_geom_t
 
@@ -251,11 +253,9 @@ contains
         sh%thickness_update = model%ctl%istupd /= 0
         sh%isdo = model%ctl%isdo
         allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%area0(sh%n), sh%msq(sh%n), &
-                  sh%model_ix(sh%n), sh%dead(sh%n), sh%ncap(sh%n), sh%tw(sh%n), sh%low(sh%n))
+                  sh%model_ix(sh%n), sh%dead(sh%n))
         sh%msq = 1
         sh%dead = .false.
-        sh%ncap = 0
-        sh%low = .false.
         call alloc_dp(sh%eint, sh%n, 'shell energies')
         call alloc_dp(sh%ehg, sh%n, 'shell energies')
         call alloc_dp(sh%pend_int, sh%n, 'shell energies')
@@ -268,7 +268,6 @@ contains
         do e = 1, sh%n
             ee = keep(e)
             sh%conn(:, e) = model%shell_conn(:, ee)
-            sh%tw(e) = merge(1.0_wp, 0.0_wp, sh%conn(3, e) == sh%conn(4, e))
             sh%eid(e) = model%shell_id(ee)
             sh%model_ix(e) = ee
             sh%part(e) = model%shell_part(ee)
@@ -395,6 +394,11 @@ contains
         call alloc(sh%qhg, sh%nl, 5, 'shell hourglass forces')
         call alloc(sh%fslot, 3, 4*sh%nl + nhalo, 'shell force slots')
         call alloc(sh%mslot, 3, 4*sh%nl + nhalo, 'shell moment slots')
+        ! the element loop's per-shell flags and counts, by row too
+        allocate (sh%ncap(sh%nl), sh%low(sh%nl))
+        sh%ncap = 0
+        sh%low = .false.
+        call shell_blocks(sh)
     end subroutine shell_state_init
 
     !> The bytes of every array of the shells this rank holds (their
@@ -403,7 +407,7 @@ contains
     !> gathered view.
     integer(i8) function shell_bytes(sh) result(b)
         type(shells_t), intent(in) :: sh
-        b = nbytes(sh%conn) + nbytes(sh%eid) + nbytes(sh%part) + nbytes(sh%h) + nbytes(sh%tw) &
+        b = nbytes(sh%conn) + nbytes(sh%eid) + nbytes(sh%part) + nbytes(sh%h) &
             + nbytes(sh%ncap) + nbytes(sh%sig) + nbytes(sh%qhg) + nbytes(sh%epsp) + nbytes(sh%strain) &
             + nbytes(sh%alpha) + nbytes(sh%eint) + nbytes(sh%ehg) + nbytes(sh%pend_int) + nbytes(sh%pend_hg) &
             + nbytes(sh%area0) + nbytes(sh%fslot) + nbytes(sh%mslot) + nbytes(sh%mine) + nbytes(sh%lix) &
@@ -578,16 +582,19 @@ contains
                 end do
             end do
         end do
-        if (.not. allocated(sh%direct)) allocate (sh%direct(4, sh%n))
-        sh%direct = .false.
-        do p = 1, np
-            do ib = sh%pfirst(p), sh%plast(p)
-                do l = 1, sh%bcount(ib)
-                    e = sh%bfirst(ib) + l - 1
-                    sh%direct(:, e) = owner(sh%conn(:, e)) > 0
+        ! (by row: once the rows are placed, shell_state_init)
+        if (allocated(sh%lix)) then
+            if (.not. allocated(sh%direct)) allocate (sh%direct(4, sh%nl))
+            sh%direct = .false.
+            do p = 1, np
+                do ib = sh%pfirst(p), sh%plast(p)
+                    do l = 1, sh%bcount(ib)
+                        e = sh%bfirst(ib) + l - 1
+                        sh%direct(:, sh%lix(e)) = owner(sh%conn(:, e)) > 0
+                    end do
                 end do
             end do
-        end do
+        end if
         if (allocated(sh%split)) then
             ! (and every node this rank assembles that another rank's
             ! shells may touch, though none of its own does)
@@ -651,7 +658,7 @@ contains
                     ! ERODE: a shell whose step fell below the minimum (or that
                     ! turned inside out) sets no step: it erodes after this pass
                     if (.not. (dte*sh%msq(e) >= sh%tsmin)) then
-                        sh%low(e) = .true.
+                        sh%low(s0 + l) = .true.
                         cycle
                     end if
                 end if
@@ -738,7 +745,7 @@ contains
             ge(l) = sh%pc%ge(pk(l))
             ! the step length's factor: a triangle's shortest altitude is
             ! twice its area over its longest side
-            tf(l) = 1.0_wp + sh%tw(e)
+            tf(l) = 1.0_wp + gn%tw(l)
         end do
         ! The rates v(n-1/2) are taken on the mid-step geometry x(n-1/2) =
         ! x(n) - dt/2 v(n-1/2), the forces on x(n). (Rates on x(n) see a
@@ -842,7 +849,7 @@ contains
         ! (as shell_masses gives it: a third on a triangle's nodes; times
         ! the mass-scaling factor)
         do l = 1, nb
-            mf(l) = 1.0_wp/(4.0_wp - sh%tw(e0 + l))
+            mf(l) = 1.0_wp/(4.0_wp - gn%tw(l))
         end do
         if (allocated(sh%msf)) then
             do l = 1, nb
@@ -994,7 +1001,7 @@ contains
             end do
             if (any(capped(1:nb))) then
                 do l = 1, nb
-                    if (capped(l)) sh%ncap(e0 + l) = sh%ncap(e0 + l) + 1
+                    if (capped(l)) sh%ncap(s0 + l) = sh%ncap(s0 + l) + 1
                 end do
             end if
         else
@@ -1002,7 +1009,7 @@ contains
                 if (.not. gm%ok(l)) cycle
                 e = e0 + l
                 sh%qhg(s0 + l, :) = hq(l, :)
-                if (capped(l)) sh%ncap(e) = sh%ncap(e) + 1
+                if (capped(l)) sh%ncap(s0 + l) = sh%ncap(s0 + l) + 1
                 sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold(l))
                 sh%pend_hg(e) = 0.5_dp*pnew(l)
             end do
@@ -1105,7 +1112,7 @@ contains
             ok = dte(l) > 0.0_wp
             do k = 1, 4
                 nd = sh%conn(k, e)
-                if (sh%direct(k, e)) then
+                if (sh%direct(k, s0 + l)) then
                     if (.not. ok) cycle
                     f(1, nd) = f(1, nd) + fs(l, 1, k)
                     f(2, nd) = f(2, nd) + fs(l, 2, k)
@@ -1486,13 +1493,18 @@ contains
         ! of 1 and 0 (a x 1 + b x 0 is a exactly; a merge on the
         ! connectivity kept this loop scalar with a branch: a fifth of this
         ! routine's time on car6)
+        ! (tw from the connectivity in a loop of its own: held per shell
+        ! it was another stream of the element loop, 8 bytes a shell)
+        do l = 1, nb
+            g%tw(l) = merge(1.0_wp, 0.0_wp, sh%conn(3, e0 + l) == sh%conn(4, e0 + l))
+        end do
         do k = 1, 3
             do l = 1, nb
                 a1 = g%xe(l, k, 2) - g%xe(l, k, 1)
                 a2 = g%xe(l, k, 3) - g%xe(l, k, 1)
                 a3 = g%xe(l, k, 4) - g%xe(l, k, 2)
-                pd(l, k) = a1*sh%tw(e0 + l) + a2*(1.0_wp - sh%tw(e0 + l))
-                qd(l, k) = a2*sh%tw(e0 + l) + a3*(1.0_wp - sh%tw(e0 + l))
+                pd(l, k) = a1*g%tw(l) + a2*(1.0_wp - g%tw(l))
+                qd(l, k) = a2*g%tw(l) + a3*(1.0_wp - g%tw(l))
             end do
         end do
         do l = 1, nb

@@ -107,27 +107,28 @@ contains
 
     !> d3hsp's lines on the bounded shell hourglass (*CONTROL_XDYNA_SHELL
     !> HGBOUND 1) over the cycles of this run: how many shells the bound
-    !> acted on (sh%ncap, summed over the ranks by the caller), and the
+    !> acted on (ncap, by shell number, summed over the ranks by the caller), and the
     !> ten it acted on longest; nothing where it never acted.
-    subroutine hourglass_bound_report(ss, model, sh, lg)
+    subroutine hourglass_bound_report(ss, model, sh, ncap, lg)
         type(step_stats_t), intent(in) :: ss
         type(model_t), intent(in) :: model
         type(shells_t), intent(in) :: sh
+        integer, intent(in) :: ncap(:)
         type(log_t), intent(in) :: lg
         integer, parameter :: longest = 10
         integer, allocatable :: perm(:)
         integer :: i, k, nact
-        if (ss%ncycle == 0 .or. .not. allocated(sh%ncap)) return
-        nact = count(sh%ncap > 0)
+        if (ss%ncycle == 0) return
+        nact = count(ncap > 0)
         if (nact == 0) return
         call log_line(lg, '')
         call log_line(lg, ' stiffness-form hourglass of plastic shells bounded at its coefficient times the mode''s '// &
                       'plastic capacity: in '//itoa(nact)//' of '//itoa(sh%n)//' shells over the '//itoa(ss%ncycle)// &
                       ' cycles of this run (the cut-off work booked as hourglass energy); longest:')
-        call sort_index(-real(sh%ncap, dp), perm)
+        call sort_index(-real(ncap, dp), perm)
         do i = 1, min(longest, nact)
             k = perm(i)
-            call log_line(lg, '   '//shell_name(model, sh, k)//': '//share(sh%ncap(k), ss%ncycle))
+            call log_line(lg, '   '//shell_name(model, sh, k)//': '//share(ncap(k), ss%ncycle))
         end do
         if (nact > longest) call log_line(lg, '   and '//itoa(nact - longest)//' other shells')
     end subroutine hourglass_bound_report

@@ -307,8 +307,19 @@ contains
         end if
         call step_stats_report(ss, model, solids, sh, lg, merge(ct%dt_node, 0, ct%n > 0))
         if (allocated(sh%ncap)) then
-            if (dom%on) call comm_sum_int(sh%ncap, sh%n)
-            call hourglass_bound_report(ss, model, sh, lg)
+            ! (each rank counts its own shells' rows: every shell's count
+            ! by shell number, added over the ranks)
+            block
+                integer, allocatable :: ncap(:)
+                integer :: i
+                allocate (ncap(sh%n))
+                ncap = 0
+                do i = 1, sh%nl
+                    ncap(sh%gix(i)) = sh%ncap(i)
+                end do
+                if (dom%on) call comm_sum_int(ncap, sh%n)
+                call hourglass_bound_report(ss, model, sh, ncap, lg)
+            end block
         end if
         call mass_scaling_summary(ms, model, solids, sh, st, lg)
         if (res%status == exit_normal) then
