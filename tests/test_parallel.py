@@ -469,6 +469,24 @@ def test_mpi_owned():
                f"{n4.group(2) if n4 else '?'} MB a rank against the serial run's {n1.group(1) if n1 else '?'} MB "
                f"({(float(n4.group(2)) / float(n1.group(1)) if n1 and n4 else 0):.0%}; issue 32 asks under 40%), "
                f"less by at least three quarters of the state and slots a rank gave up", ok)
+    # the deck's own node and element arrays (every rank holds them whole,
+    # d3hsp names them apart): cut to their counts once the deck is read,
+    # not the room they grew into by doubling: the plate's 1,271 nodes at
+    # 40 bytes (id, coordinates, two constraint codes, source line) and
+    # 1,200 shells at 64 (id, part as read and checked, connectivity, four
+    # thicknesses, source line) to the 1e-4 MB d3hsp prints (the doubled
+    # room, 2,048 of each, would be 0.2 MB)
+    want = (1271 * 40 + 1200 * 64) / 1048576.0
+    got = []
+    for run_ in ("serial_plate", "r4t1_plate"):
+        path = os.path.join(d, run_, "d3hsp")
+        txt = open(path).read() if os.path.exists(path) else ""
+        for line in txt.splitlines():
+            if line.startswith(" the deck's node and element arrays"):
+                got += [float(x) for x in re.findall(r"([0-9.]+) MB", line)]
+    record(f"the deck's node and element arrays held at their counts: {got} MB against {want:.4f} (serial, then "
+           "4 ranks' smallest and largest)",
+           len(got) == 3 and all(abs(g - want) <= 1.5e-4 for g in got))
     with h5py.File(os.path.join(d, "serial_walled", "thist.h5"), "r") as f:
         wall_e, ext = f["glstat/stonewall_energy"][-1], f["glstat/external_work"][-1]
         ke0 = f["glstat/kinetic_energy"][0]

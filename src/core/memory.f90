@@ -7,7 +7,7 @@ module xd_core_memory
     use, intrinsic :: iso_fortran_env, only: error_unit, real32, real64
     implicit none
     private
-    public :: alloc, alloc_dp, grow, nbytes, peak_memory_kb, resident_memory_kb
+    public :: alloc, alloc_dp, grow, fit, nbytes, peak_memory_kb, resident_memory_kb
 
     interface alloc
         module procedure alloc_r1, alloc_r2, alloc_r3, alloc_i1, alloc_i2
@@ -16,6 +16,12 @@ module xd_core_memory
     interface grow
         module procedure grow_r2, grow_i1, grow_i2
     end interface grow
+
+    !> Cut a grown array to its first n entries (columns): the room grow
+    !> doubled into is given back once the last entry is in.
+    interface fit
+        module procedure fit_r2, fit_i1, fit_i2
+    end interface fit
 
     !> The bytes an allocatable array holds (0 unallocated), any rank.
     interface nbytes
@@ -155,6 +161,39 @@ contains
         tmp(:, 1:size(a, 2)) = a
         call move_alloc(tmp, a)
     end subroutine grow_i2
+
+    subroutine fit_r2(a, n)
+        real(wp), allocatable, intent(inout) :: a(:, :)
+        integer, intent(in) :: n
+        real(wp), allocatable :: tmp(:, :)
+        if (.not. allocated(a)) return
+        if (size(a, 2) == n) return
+        call alloc_r2(tmp, size(a, 1), n, 'an array cut to its size')
+        tmp = a(:, 1:n)
+        call move_alloc(tmp, a)
+    end subroutine fit_r2
+
+    subroutine fit_i1(a, n)
+        integer, allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: n
+        integer, allocatable :: tmp(:)
+        if (.not. allocated(a)) return
+        if (size(a) == n) return
+        call alloc_i1(tmp, n, 'an array cut to its size')
+        tmp = a(1:n)
+        call move_alloc(tmp, a)
+    end subroutine fit_i1
+
+    subroutine fit_i2(a, n)
+        integer, allocatable, intent(inout) :: a(:, :)
+        integer, intent(in) :: n
+        integer, allocatable :: tmp(:, :)
+        if (.not. allocated(a)) return
+        if (size(a, 2) == n) return
+        call alloc_i2(tmp, size(a, 1), n, 'an array cut to its size')
+        tmp = a(:, 1:n)
+        call move_alloc(tmp, a)
+    end subroutine fit_i2
 
     !> This process's peak resident memory in kB (VmHWM of /proc/self/status,
     !> Linux); -1 where it cannot be read.

@@ -19,7 +19,7 @@ module xd_input_deck_reader
     use xd_input_read_controls, only: read_control, read_database
     use xd_input_read_loads, only: read_load
     use xd_input_read_contacts, only: read_contact
-    use xd_model, only: model_t
+    use xd_model, only: model_t, mesh_fit
     use xd_kinds, only: dp
     use xd_input_expression, only: evaluate
     implicit none
@@ -57,6 +57,7 @@ contains
             call dispatch(ctx, kws(i), model, error)
             if (allocated(error)) return
         end do
+        call mesh_fit(model)
     end subroutine read_deck
 
     !> Keyword lines and the non-comment lines under each. *KEYWORD options

@@ -13,7 +13,7 @@ program xdyna
     use xd_input_field_reader, only: parse_real, parse_int
     use xd_input_model_check, only: check_model, id_maps_t
     use xd_input_keyword_table, only: skip_list_text
-    use xd_model, only: model_t
+    use xd_model, only: model_t, mesh_bytes
     use xd_elements_solid_groups, only: solids_t, stiff_volume_parts
     use xd_solver_state, only: state_t, nodal_bytes
     use xd_solver_assembly, only: assembly_t
@@ -439,7 +439,7 @@ contains
     !> smallest and the largest, with their ranks (a collective: every rank
     !> calls it).
     subroutine memory_line()
-        real(dp) :: rec(5), all(5, env%nranks)
+        real(dp) :: rec(6), all(6, env%nranks)
         rec(1) = real(peak_memory_kb(), dp)
         rec(2) = real(shell_state_bytes(sh) + solid_state_bytes(solids), dp)
         ! (every element's, as one rank holds them)
@@ -448,6 +448,8 @@ contains
         rec(4) = real(resident_memory_kb(), dp)
         ! every nodal array and every array of the elements this rank holds
         rec(5) = real(nodal_bytes(st) + shell_bytes(sh) + solid_bytes(solids), dp)
+        ! the deck's node and element arrays, whole on every rank
+        rec(6) = real(mesh_bytes(model), dp)
         if (env%nranks > 1) then
             call comm_gather_small(rec, all)
         else
@@ -474,6 +476,14 @@ contains
             call log_line(lg, ' nodal and element arrays ............ '//ftoa(all(5, 1)/1048576.0_dp)//' MB')
         else
             call log_line(lg, ' nodal and element arrays per rank ... '//span(all(5, :), 1048576.0_dp))
+        end if
+        ! (not in the figure above: the deck's own arrays, which every rank
+        ! holds whole)
+        if (env%nranks == 1) then
+            call log_line(lg, ' the deck''s node and element arrays .. '//ftoa(all(6, 1)/1048576.0_dp)//' MB')
+        else
+            call log_line(lg, ' the deck''s node and element arrays per rank '//span(all(6, :), 1048576.0_dp)// &
+                          ' (every rank holds them whole)')
         end if
         if (any(all(1, :) < 0.0_dp)) return
         if (env%nranks == 1) then

@@ -3,6 +3,7 @@
 !> user's until the model check resolves them to indices (`*_ix` fields).
 module xd_model
     use xd_kinds, only: wp, dp, i8
+    use xd_core_memory, only: fit, nbytes
     implicit none
     private
     public :: model_t, part_t, section_solid_t, section_shell_t, material_t, hourglass_t, set_t
@@ -13,6 +14,7 @@ module xd_model
     public :: set_node, set_part, set_shell, find_set, constraint_dirs, part_ihq, hg_bounded, hg_boundable
     public :: can_erode, any_erosion
     public :: iv_node_set, iv_node, iv_generation
+    public :: mesh_fit, mesh_bytes
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
     public :: ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface, ct_tiebreak, section_beam_t
     public :: extra_nodes_t, point_mass_t, part_mass_t, search_auto, search_fixed, search_adaptive, mnl_minimal, &
@@ -532,6 +534,44 @@ module xd_model
     end type model_t
 
 contains
+
+    !> The node and element cards' arrays cut to their counts once the deck
+    !> is read (they grow by doubling while it is: up to twice the room,
+    !> held on every rank for the whole run).
+    subroutine mesh_fit(model)
+        type(model_t), intent(inout) :: model
+        call fit(model%node_id, model%nnode)
+        call fit(model%x0, model%nnode)
+        call fit(model%node_tc, model%nnode)
+        call fit(model%node_rc, model%nnode)
+        call fit(model%node_src, model%nnode)
+        call fit(model%hex_id, model%nhex)
+        call fit(model%hex_pid, model%nhex)
+        call fit(model%hex_conn, model%nhex)
+        call fit(model%hex_src, model%nhex)
+        call fit(model%shell_id, model%nshell)
+        call fit(model%shell_pid, model%nshell)
+        call fit(model%shell_conn, model%nshell)
+        call fit(model%shell_t, model%nshell)
+        call fit(model%shell_src, model%nshell)
+        call fit(model%beam_id, model%nbeam)
+        call fit(model%beam_pid, model%nbeam)
+        call fit(model%beam_conn, model%nbeam)
+        call fit(model%beam_src, model%nbeam)
+    end subroutine mesh_fit
+
+    !> The bytes of the deck's node and element arrays (every rank holds
+    !> them whole: the set-up reads them, the outputs' mesh and the rigid
+    !> bodies' and contact's set-up take them).
+    integer(i8) function mesh_bytes(model) result(b)
+        type(model_t), intent(in) :: model
+        b = nbytes(model%node_id) + nbytes(model%x0) + nbytes(model%node_tc) + nbytes(model%node_rc) &
+            + nbytes(model%node_src) + nbytes(model%hex_id) + nbytes(model%hex_pid) + nbytes(model%hex_part) &
+            + nbytes(model%hex_conn) + nbytes(model%hex_src) + nbytes(model%shell_id) + nbytes(model%shell_pid) &
+            + nbytes(model%shell_part) + nbytes(model%shell_conn) + nbytes(model%shell_t) + nbytes(model%shell_src) &
+            + nbytes(model%beam_id) + nbytes(model%beam_pid) + nbytes(model%beam_part) + nbytes(model%beam_conn) &
+            + nbytes(model%beam_src)
+    end function mesh_bytes
 
     !> Fixed directions of a deck constraint code 0-7 (none, x, y, z, xy, yz,
     !> zx, xyz): *NODE TC/RC, *MAT_RIGID CON1/CON2.
