@@ -43,7 +43,7 @@ program xdyna
     use xd_core_memory, only: peak_memory_kb, resident_memory_kb
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     use xd_solver_domain, only: domain_t, build_domain, domain_summary, decomp_rcb, decomp_metis, localize_element_state, &
-                                place_shell_state
+                                place_shell_state, domain_bytes
     use xd_contact_contact, only: gather_contact_state, scatter_contact_state
     !$ use omp_lib, only: omp_set_num_threads, omp_get_num_procs
     implicit none
@@ -447,7 +447,9 @@ contains
         ! (at the end: what the run held, the set-up's peak past)
         rec(4) = real(resident_memory_kb(), dp)
         ! every nodal array and every array of the elements this rank holds
-        rec(5) = real(nodal_bytes(st) + shell_bytes(sh) + solid_bytes(solids), dp)
+        ! (with the time loop's own per-node arrays, the energies' tables and
+        ! the decomposition's per-node, per-element and per-slot lists)
+        rec(5) = real(nodal_bytes(st) + shell_bytes(sh) + solid_bytes(solids) + res%node_bytes + domain_bytes(dom), dp)
         ! the deck's node and element arrays, whole on every rank
         rec(6) = real(mesh_bytes(model), dp)
         if (env%nranks > 1) then

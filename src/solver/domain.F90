@@ -55,7 +55,7 @@ module xd_solver_domain
     use xd_contact_contact, only: contacts_t
     use xd_contact_surface, only: surface_t, seg_nodes
     use xd_core_sorting, only: where_true
-    use xd_core_memory, only: alloc
+    use xd_core_memory, only: alloc, nbytes
     use xd_core_strings, only: itoa
     use xd_model, only: model_t
     implicit none
@@ -63,7 +63,8 @@ module xd_solver_domain
     public :: decomp_rcb, decomp_metis
     public :: domain_t, build_domain, domain_summary, gather_energy_state, gather_element_state, &
               swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout, neighbour_count, &
-              ghost_base, contact_ghosts, place_shell_state, localize_element_state, release_element_view
+              ghost_base, contact_ghosts, place_shell_state, localize_element_state, release_element_view, &
+              domain_bytes
 
     !> A set of nodes whose values go from their ranks to every rank (an
     !> all-gather): per rank r, its own in node(off(r) + 1 : off(r) +
@@ -195,6 +196,32 @@ module xd_solver_domain
     integer, parameter :: decomp_rcb = 1, decomp_metis = 2
 
 contains
+
+    !> The bytes of the decomposition's arrays on this rank: per node (whose
+    !> it is, the rank that integrates it, the runs it moves), per element
+    !> (whose it is) and per slot and list entry (the halo's and the
+    !> gathers' lists).
+    integer(i8) function domain_bytes(dom) result(b)
+        type(domain_t), intent(in) :: dom
+        b = nbytes(dom%nodes) + nbytes(dom%split_mine) + nbytes(dom%node_mine) + nbytes(dom%solid_mine) &
+            + nbytes(dom%group_rank) + nbytes(dom%shell_mine) + nbytes(dom%shell_rank) + nbytes(dom%bslot) &
+            + nbytes(dom%bslot_mine) + nbytes(dom%bshell) + nbytes(dom%bshell_mine) + nbytes(dom%cost) &
+            + nbytes(dom%nslave) + nbytes(dom%own_contact) + nbytes(dom%bmo_ptr) + nbytes(dom%bmo_node) &
+            + nbytes(dom%bmi_ptr) + nbytes(dom%bmi_node) + nbytes(dom%bmo_rot) + nbytes(dom%bmi_rot) &
+            + nbytes(dom%mv_base) + nbytes(dom%own) + nbytes(dom%own_solid) + nbytes(dom%own_shell) &
+            + nbytes(dom%nbr) + nbytes(dom%so_ptr) + nbytes(dom%so_slot) + nbytes(dom%si_ptr) + nbytes(dom%si_slot) &
+            + nbytes(dom%ho_ptr) + nbytes(dom%ho_slot) + nbytes(dom%hi_ptr) + nbytes(dom%hi_slot) &
+            + nbytes(dom%mo_ptr) + nbytes(dom%mo_node) + nbytes(dom%mi_ptr) + nbytes(dom%mi_node) &
+            + nbytes(dom%mo_rot) + nbytes(dom%mi_rot) + nbytes(dom%arank) + nbytes(dom%kick_lo) &
+            + nbytes(dom%kick_hi) + nbytes(dom%mv_lo) + nbytes(dom%mv_hi) + gathered(dom%csurf) &
+            + gathered(dom%surf) + gathered(dom%body) + gathered(dom%every) + gathered(dom%rotn) &
+            + gathered(dom%tie) + gathered(dom%hist)
+    contains
+        integer(i8) function gathered(g)
+            type(node_gather_t), intent(in) :: g
+            gathered = nbytes(g%node) + nbytes(g%cnt) + nbytes(g%off)
+        end function gathered
+    end function domain_bytes
 
     !> Split the work of the model over `nranks` ranks; this is rank `rank`.
     !> Sets the element groups' and shells' ownership and each interface's

@@ -1,7 +1,8 @@
 !> Energy bookkeeping, global and per part: kinetic, internal, hourglass,
 !> stonewall, external work, total and energy ratio, momentum and mass per part.
 module xd_solver_energies
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
+    use xd_core_memory, only: nbytes
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_beam_bs, only: beams_t
@@ -13,7 +14,7 @@ module xd_solver_energies
     use xd_core_comm, only: comm_sum_dp
     implicit none
     private
-    public :: energies_t, compute_energies, prepare_energies
+    public :: energies_t, compute_energies, prepare_energies, energy_bytes
 
     type :: energies_t
         real(dp) :: ke = 0, ie = 0, hg = 0, ext = 0, wall = 0, slide = 0, total = 0, ratio = 1
@@ -41,6 +42,13 @@ module xd_solver_energies
     end type energies_t
 
 contains
+
+    !> The bytes of the energies' tables (per node: the node-by-part masses,
+    !> and with changing masses the nodes' kinetic energies and momenta).
+    integer(i8) function energy_bytes(en) result(b)
+        type(energies_t), intent(in) :: en
+        b = nbytes(en%kn) + nbytes(en%vn) + nbytes(en%np_ptr) + nbytes(en%np_part) + nbytes(en%np_m)
+    end function energy_bytes
 
     !> The energies' tables and arrays (the nodes' shares of the parts'
     !> masses, the parts' sums), built at set-up: in the first output they

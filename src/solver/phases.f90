@@ -908,13 +908,14 @@ contains
     end subroutine constraint_phase
 
     !> The energies at t(n) in en (the element state gathered from the
-    !> ranks first), from v(n-1/2) (vminus, vrminus) and v(n+1/2); vn the
-    !> mid-step velocities the outputs write. At cycle 0 the kinetic energy
+    !> ranks first), from v(n-1/2) (vminus, vrminus) and v(n+1/2); then
+    !> vminus becomes v(n), the mid-step velocities the outputs write (one
+    !> nodal array for both: v(n-1/2) is read no more until the next
+    !> energies save it again). At cycle 0 the kinetic energy
     !> is that of the initial velocities (the start v(1/2) = v(0) + a(0)
     !> dt/2 adds an O(dt^2) offset when a(0) /= 0), and it sets the initial
     !> energy. ke_fix: the tied contacts' kinetic energy by part.
-    subroutine energy_phase(model, dom, st, solids, sh, walls, rg, ct, td, bm, tm, vminus, vrminus, dt_avg, ke_fix, vn, &
-                            en)
+    subroutine energy_phase(model, dom, st, solids, sh, walls, rg, ct, td, bm, tm, vminus, vrminus, dt_avg, ke_fix, en)
         type(model_t), intent(in) :: model
         type(domain_t), intent(in) :: dom
         type(state_t), intent(inout) :: st
@@ -926,19 +927,18 @@ contains
         type(ties_t), intent(in) :: td
         type(beams_t), intent(in) :: bm
         type(timers_t), intent(inout) :: tm
-        real(wp), intent(in) :: vminus(:, :)
+        real(wp), intent(inout) :: vminus(:, :)
         real(wp), intent(in), allocatable :: vrminus(:, :)
         real(dp), intent(in) :: dt_avg
         real(dp), intent(inout) :: ke_fix(:)
-        real(wp), intent(inout) :: vn(:, :)
         type(energies_t), intent(inout) :: en
         call tm%start(ph_output)
         ! (owned nodes: each rank sums its own nodes and elements, then the
         ! ranks' sums are added: no element state gathered)
         if (.not. dom%owned) call gather_energy_state(dom, solids, sh)
         if (st%cycle == 0) then
-            ! (vrminus, like vminus, was taken before the update)
-            vn = vminus
+            ! (vrminus, like vminus, was taken before the update; v(n) is
+            ! vminus as it is)
             if (td%n > 0) call tie_kinetic(td, st%mass, st%irot, vminus, vminus, vrminus, vrminus, ke_fix)
             ! (dom%own, own_solid, own_shell unallocated, so absent, but with
             ! owned nodes)
@@ -953,11 +953,11 @@ contains
             ! the energies of t(1) count)
             en%ext = 0
         else
-            vn = 0.5_wp*(vminus + st%v)
             if (td%n > 0) call tie_kinetic(td, st%mass, st%irot, vminus, st%v, vrminus, st%vr, ke_fix)
             call compute_energies(model, st, solids, sh, walls, rg, vminus, st%v, vrminus, st%vr, dt_avg, en, &
                                   contact_energy(ct, dt_avg) + td%ework, ke_fix, bm, dom%own, dom%own_solid, &
                                   dom%own_shell)
+            vminus = 0.5_wp*(vminus + st%v)
         end if
         call tm%stop(ph_output)
     end subroutine energy_phase

@@ -7,7 +7,8 @@
 !> (signals, sense switches, the wall-clock limit).
 module xd_solver_time_loop
     use, intrinsic :: iso_fortran_env, only: output_unit
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
+    use xd_core_memory, only: nbytes
     use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run, exit_signal
     use xd_core_timers, only: timers_t, ph_elements, ph_integrate, ph_output, ph_search, ph_init, ph_comm
@@ -15,7 +16,7 @@ module xd_solver_time_loop
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t
-    use xd_solver_energies, only: energies_t, prepare_energies
+    use xd_solver_energies, only: energies_t, prepare_energies, energy_bytes
     use xd_output_histories, only: histories_t, histories_due, nodout_due, write_histories, history_failure, flush_histories
     use xd_output_states, only: states_t, states_due, write_state, states_marks, states_failure
     use xd_output_histories, only: history_marks, merge_rotations
@@ -75,6 +76,9 @@ module xd_solver_time_loop
         !> the run's energy scale: the largest |initial energy + external work|
         !> an energy check saw (the contact report's reference)
         real(dp) :: e_scale = 0.0_dp
+        !> the bytes of the loop's own per-node arrays (v(n-1/2), v(n), the
+        !> walls' mask) and the energies' tables
+        integer(i8) :: node_bytes = 0
     end type run_result_t
 
     !> What the time loop keeps between cycles for its output, checks and
@@ -122,7 +126,9 @@ contains
         type(step_stats_t) :: ss
         integer :: set_by
         character(len=:), allocatable :: ms_stop
-        real(wp), allocatable :: vn(:, :), vminus(:, :), vrminus(:, :)
+        !> v(n-1/2) saved before the velocity update where the energies are
+        !> due, and after them v(n), the outputs' (energy_phase)
+        real(wp), allocatable :: vminus(:, :), vrminus(:, :)
         real(dp), allocatable :: ke_fix(:)     !< tied contacts' kinetic energy by part
         type(body_response_t) :: br            !< Lagrangian contact: how the rigid bodies answer an impulse
         logical, allocatable :: no_body(:)   !< no node is a rigid body's (models without rigid bodies)
@@ -142,7 +148,7 @@ contains
         !> share are summed from the slots after the pass
         logical :: shells_direct, refresh
 
-        allocate (vn(3, st%nnode), vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
+        allocate (vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
         shells_direct = sh%n > 0
         ke_fix = 0
         no_body = .false.
@@ -151,11 +157,11 @@ contains
         ! at set-up, not as the first cycle's work (their first touch alone
         ! took 12 ms of cycle 0's time integration on 100,000 shells)
         call tm%start(ph_init)
-        vn = 0
         vminus = 0
         if (st%rot) vrminus = 0
         call prepare_energies(model, st, solids, sh, en, bm)
         call tm%stop(ph_init)
+        res%node_bytes = nbytes(vminus) + nbytes(vrminus) + nbytes(no_body) + energy_bytes(en)
         beam_crit = 0
         if (model%ctl%endeng > 0.0_wp) lp%ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
         lp%t0_wall = tm%elapsed()
@@ -276,11 +282,12 @@ contains
                     end if
                 end if
                 call energy_phase(model, dom, st, solids, sh, walls, rg, ct, td, bm, tm, vminus, vrminus, dt_avg, &
-                                  ke_fix, vn, en)
-                call energy_check(lp, model, dom, st, solids, sh, rg, ct, pn, en, vn, res, lg)
+                                  ke_fix, en)
+                ! (vminus now v(n))
+                call energy_check(lp, model, dom, st, solids, sh, rg, ct, pn, en, vminus, res, lg)
                 if (res%status /= exit_normal) exit
                 if (output_now) call output_phase(lp, done .or. st%cycle == 0, model, dom, st, solids, sh, bm, walls, &
-                                                  rg, ct, hist, states, en, vn, vrminus, tm, res, lg)
+                                                  rg, ct, hist, states, en, vminus, vrminus, tm, res, lg)
                 if (res%status /= exit_normal) exit
             end if
             ! the contact forces' work with v(n+1/2), after the energies at t(n)
