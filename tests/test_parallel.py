@@ -471,12 +471,13 @@ def test_mpi_owned():
                f"less by at least three quarters of the state and slots a rank gave up", ok)
     # the deck's own node and element arrays (every rank holds them whole,
     # d3hsp names them apart): cut to their counts once the deck is read,
-    # not the room they grew into by doubling: the plate's 1,271 nodes at
-    # 40 bytes (id, coordinates, two constraint codes, source line) and
-    # 1,200 shells at 64 (id, part as read and checked, connectivity, four
-    # thicknesses, source line) to the 1e-4 MB d3hsp prints (the doubled
-    # room, 2,048 of each, would be 0.2 MB)
-    want = (1271 * 40 + 1200 * 64) / 1048576.0
+    # not the room they grew into by doubling, and the cards' source lines
+    # released once the model check has read them: the plate's 1,271
+    # nodes at 36 bytes (id, coordinates, two constraint codes) and 1,200
+    # shells at 60 (id, part as read and checked, connectivity, four
+    # thicknesses), to the 1e-4 MB d3hsp prints (the doubled room, 2,048
+    # of each, would be 0.2 MB; with the source lines, 0.1217 MB)
+    want = (1271 * 36 + 1200 * 60) / 1048576.0
     got = []
     for run_ in ("serial_plate", "r4t1_plate"):
         path = os.path.join(d, run_, "d3hsp")

@@ -42,6 +42,11 @@ contains
         call check_loads(ctx, model, maps%node, maps%part, error); if (allocated(error)) return
         call check_contacts(ctx, model, maps%part, error); if (allocated(error)) return
         call check_controls(model, error); if (allocated(error)) return
+        ! (the cards' source lines, for the checks' messages: read no more)
+        if (allocated(model%node_src)) deallocate (model%node_src)
+        if (allocated(model%hex_src)) deallocate (model%hex_src)
+        if (allocated(model%shell_src)) deallocate (model%shell_src)
+        if (allocated(model%beam_src)) deallocate (model%beam_src)
     end subroutine check_model
 
     subroutine build_maps(ctx, model, maps, error)

@@ -263,17 +263,19 @@ program xdyna
         if (len(moved_note) > 0) call log_line(lg, moved_note)
         if (nmoved == 0) exit
     end do
+    ! (the ids' maps: the set-up's alone, released)
+    maps = id_maps_t()
     if (len(step_note) > 0) call add_warning(model, step_note)
-    call start_ties(model, td, rg%member, st%x0, st%mass, st%v, st%vr, st%irot, tie_note, error)
+    call start_ties(model, td, rg%member, model%x0, st%mass, st%v, st%vr, st%irot, tie_note, error)
     call stop_on_input_error()
     if (len(tie_note) > 0) call log_line(lg, tie_note)
-    call build_walls(model, st%x0, walls, wall_notes)
+    call build_walls(model, model%x0, walls, wall_notes)
     do while (len(wall_notes) > 0)
         i = index(wall_notes, new_line('a'))
         call add_warning(model, wall_notes(1:i - 1))
         wall_notes = wall_notes(i + 1:)
     end do
-    call build_contacts(model, st%x0, ct, error)
+    call build_contacts(model, model%x0, ct, error)
     call stop_on_input_error()
     if (ct%n > 0) call contact_masses(ct, st%mass)
     ! a cohesive tiebreak's springs bound the step as the contact's do (its
@@ -310,7 +312,7 @@ program xdyna
             write (output_unit, '(a)') model_summary(model, solids, rg%n)
             if (nparts > 0) then
                 ! the decomposition a run on nparts ranks makes
-                call build_domain(model, st%x0, solids, sh, asm, asm_sh, ct, 0, nparts, dom, decomp)
+                call build_domain(model, model%x0, solids, sh, asm, asm_sh, ct, 0, nparts, dom, decomp)
                 write (output_unit, '(a)') domain_summary(dom)
             end if
             write (output_unit, '(a)') ' xdyna --check: input is valid; nothing was run'
@@ -318,7 +320,7 @@ program xdyna
         call finish(exit_normal)
     end if
     call stop_before_run('setting up the model')
-    call build_domain(model, st%x0, solids, sh, asm, asm_sh, ct, env%rank, env%nranks, dom, decomp)
+    call build_domain(model, model%x0, solids, sh, asm, asm_sh, ct, env%rank, env%nranks, dom, decomp)
     ! the shells' points' state and slots: each rank's own shells' alone
     call place_shell_state(dom, sh, asm_sh)
     if (dom%on) call log_line(lg, domain_summary(dom))

@@ -419,7 +419,7 @@ contains
             if (due(s_rbdout)) call write_rbdout(h, st, rg)
             if (due(s_rcforc) .and. present(rc)) call write_rcforc(h, model, st, rc)
             if (due(s_matsum)) call write_matsum(h, model, st, en)
-            if (due(s_nodout)) call write_nodout(h, st, vn, fc, wminus)
+            if (due(s_nodout)) call write_nodout(h, st, model%x0, vn, fc, wminus)
         end if
         if (h%writer) then
             ! thist.h5's rows go out in blocks, the ASCII files' records with
@@ -583,9 +583,10 @@ contains
     !> shells a second block of the same step with the rotations, the
     !> angular velocities at st%time (the mean of wminus and st%vr) and
     !> accelerations (zero for nodes that do not rotate).
-    subroutine write_nodout(h, st, vn, fc, wminus)
+    subroutine write_nodout(h, st, x0, vn, fc, wminus)
         type(histories_t), intent(inout) :: h
         type(state_t), intent(in) :: st
+        real(wp), intent(in) :: x0(:, :)   !< the initial coordinates (the deck's)
         real(wp), intent(in) :: vn(:, :)
         real(wp), intent(in), optional :: fc(:, :)
         real(wp), intent(in), optional :: wminus(:, :)
@@ -599,7 +600,7 @@ contains
         allocate (vals(size(h%nodes), 12))
         do k = 1, size(h%nodes)
             nd = h%nodes(k)
-            vals(k, 1:3) = st%x(:, nd) - st%x0(:, nd)
+            vals(k, 1:3) = st%x(:, nd) - x0(:, nd)
             vals(k, 4:6) = vn(:, nd)
             vals(k, 7:9) = st%a(:, nd)
             vals(k, 10:12) = st%x(:, nd)

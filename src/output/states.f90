@@ -263,9 +263,10 @@ contains
 
     !> One state at st%time: v is the velocity at that time, fc the contact
     !> force per node (absent: zero).
-    subroutine write_state(s, st, solids, sh, v, fc, en, bm)
+    subroutine write_state(s, st, x0, solids, sh, v, fc, en, bm)
         type(states_t), intent(inout) :: s
         type(state_t), intent(in) :: st
+        real(wp), intent(in) :: x0(:, :)   !< the initial coordinates (the deck's)
         type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
         real(wp), intent(in) :: v(:, :)
@@ -306,7 +307,7 @@ contains
         call h5aclose_f(at, err)
         call h5sclose_f(sp, err)
         call put_real2(g, 'coordinates', st%x)
-        call put_real2(g, 'displacement', st%x - st%x0)
+        call put_real2(g, 'displacement', st%x - x0)
         call put_real2(g, 'velocity', v)
         if (s%contact .and. present(fc)) then
             call put_real2(g, 'contact_force', fc)

@@ -245,7 +245,7 @@ contains
                     b%mass = 1
                     b%xc = 0
                     do k = 1, st%nnode
-                        if (mark(k)) b%xc = b%xc + real(st%x0(:, k), dp)
+                        if (mark(k)) b%xc = b%xc + real(model%x0(:, k), dp)
                     end do
                     b%xc = b%xc/max(count(mark), 1)
                     jt = 0.5_dp*identity()
@@ -255,7 +255,7 @@ contains
                     ! tensor I replace the elements'; J = tr(I)/2 1 - I
                     b%mass = real(model%part(p)%tm, dp)
                     b%xc = real(model%part(p)%xc, dp)
-                    if (model%part(p)%nodeid /= 0) b%xc = real(st%x0(:, findloc(model%node_id, model%part(p)%nodeid, 1)), dp)
+                    if (model%part(p)%nodeid /= 0) b%xc = real(model%x0(:, findloc(model%node_id, model%part(p)%nodeid, 1)), dp)
                     associate (it => real(model%part(p)%itens, dp))
                         jt = -reshape([it(1), it(2), it(3), it(2), it(4), it(5), it(3), it(5), it(6)], [3, 3])
                         jt = jt + 0.5_dp*(it(1) + it(4) + it(6))*identity()
@@ -285,13 +285,13 @@ contains
                 end if
                 b%xc = 0
                 do k = 1, st%nnode
-                    if (mark(k)) b%xc = b%xc + st%mass(k)*real(st%x0(:, k), dp)
+                    if (mark(k)) b%xc = b%xc + st%mass(k)*real(model%x0(:, k), dp)
                 end do
                 b%xc = b%xc/b%mass
                 jt = 0
                 do k = 1, st%nnode
                     if (.not. mark(k)) cycle
-                    rr = real(st%x0(:, k), dp) - b%xc
+                    rr = real(model%x0(:, k), dp) - b%xc
                     jt = jt + st%mass(k)*spread(rr, 2, 3)*spread(rr, 1, 3)
                     ! a shell node's own rotational inertia: I += irot 1, i.e.
                     ! J += irot/2 1 in the second-moment form
@@ -304,7 +304,7 @@ contains
                     ! the body's
                     b%mass = real(r%tm, dp)
                     b%xc = real(r%xc, dp)
-                    if (r%nodeid /= 0) b%xc = real(st%x0(:, findloc(model%node_id, r%nodeid, 1)), dp)
+                    if (r%nodeid /= 0) b%xc = real(model%x0(:, findloc(model%node_id, r%nodeid, 1)), dp)
                     associate (it => real(r%itens, dp))
                         jt = -reshape([it(1), it(2), it(3), it(2), it(4), it(5), it(3), it(5), it(6)], [3, 3])
                         jt = jt + 0.5_dp*(it(1) + it(4) + it(6))*identity()
@@ -361,7 +361,7 @@ contains
                 if (.not. nodes(kk)) cycle
                 extra = real(st%mass(kk), dp) - rshare(kk)
                 if (extra > 1.0e-6_dp*real(st%mass(kk), dp)) then
-                    xk = real(st%x0(:, kk), dp)
+                    xk = real(model%x0(:, kk), dp)
                     b%mass = b%mass + extra
                     b%xc = b%xc + extra*xk
                     jt = jt + extra*spread(xk, 2, 3)*spread(xk, 1, 3)
@@ -414,7 +414,7 @@ contains
             b%vc = 0
             do kk = 1, size(b%node)
                 n = b%node(kk)
-                b%r(:, kk) = matmul(transpose(b%q), real(st%x0(:, n), dp) - b%xc)
+                b%r(:, kk) = matmul(transpose(b%q), real(model%x0(:, n), dp) - b%xc)
                 r = real(st%x(:, n), dp) - b%xc
                 b%vc = b%vc + st%mass(n)*real(st%v(:, n), dp)
                 lm = lm + st%mass(n)*cross(r, real(st%v(:, n), dp))

@@ -553,7 +553,7 @@ contains
                     do j = bm%ptr(nd), bm%ptr(nd + 1) - 1
                         e = (bm%inc(j) - 1)/2 + 1
                         call add(bm%part(e), real((bm%ro(e)*bm%a(e) + bm%nsm(e))* &
-                                                  norm2(st%x0(:, bm%conn(2, e)) - st%x0(:, bm%conn(1, e)))/2, dp))
+                                                  norm2(model%x0(:, bm%conn(2, e)) - model%x0(:, bm%conn(1, e)))/2, dp))
                     end do
                 end if
             end if

@@ -94,7 +94,7 @@ contains
                     case (1)
                         target = vprev + dt_avg*pm%sf*curve_value(c, t)
                     case default
-                        target = (pm%sf*curve_value(c, t + dt) - (st%x(j, nd) - st%x0(j, nd)))/dt
+                        target = (pm%sf*curve_value(c, t + dt) - (st%x(j, nd) - model%x0(j, nd)))/dt
                     end select
                     st%v(j, nd) = target
                     m = st%mass(nd)

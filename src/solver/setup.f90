@@ -41,14 +41,13 @@ contains
         integer :: i
         st%nnode = model%nnode
         call alloc(st%x, 3, st%nnode, 'coordinates')
-        call alloc(st%x0, 3, st%nnode, 'initial coordinates')
         call alloc(st%v, 3, st%nnode, 'velocities')
         call alloc(st%a, 3, st%nnode, 'accelerations')
         call alloc(st%f, 3, st%nnode, 'nodal forces')
         call alloc(st%mass, st%nnode, 'nodal masses')
         call alloc(st%free, 3, st%nnode, 'constraint masks')
-        st%x0 = model%x0(:, 1:st%nnode)
-        st%x = st%x0
+        ! (the initial coordinates are the deck's: model%x0, held once)
+        st%x = model%x0(:, 1:st%nnode)
         call build_solids(model, solids)
         call build_assembly(st%nnode, solids%conn, asm)
         call initial_volumes_and_mass(solids, st)
@@ -87,7 +86,7 @@ contains
         call build_rigid(model, st, rg, error)
         if (allocated(error)) return
         call initial_stresses(model, hex_map, solids, st)
-        call check_solid_steps(solids, st%x0, st%mass, st%free, model%ctl%tssfac, model%part(1:model%npart)%id, &
+        call check_solid_steps(solids, model%x0, st%mass, st%free, model%ctl%tssfac, model%part(1:model%npart)%id, &
                                step_note)
         ! the part masses added, named with the step's notes in d3hsp
         if (len(mass_note) > 0) step_note = step_note//merge(new_line('a'), ' ', len(step_note) > 0)// &
@@ -270,7 +269,7 @@ contains
                         if (iv%boxid /= 0) then
                             s = find_box(model, iv%boxid)
                             do k = 1, st%nnode
-                                if (.not. in_box(model%box(s), st%x0(:, k))) mark(k) = .false.
+                                if (.not. in_box(model%box(s), model%x0(:, k))) mark(k) = .false.
                             end do
                         end if
                         do k = 1, st%nnode

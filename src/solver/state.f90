@@ -10,7 +10,6 @@ module xd_solver_state
     type :: state_t
         integer :: nnode = 0
         real(wp), allocatable :: x(:, :)      !< (3, nnode) current coordinates
-        real(wp), allocatable :: x0(:, :)     !< (3, nnode) initial coordinates
         real(wp), allocatable :: v(:, :)      !< (3, nnode) velocity at t - dt/2 (t at start)
         real(wp), allocatable :: a(:, :)      !< (3, nnode) acceleration
         real(wp), allocatable :: f(:, :)      !< (3, nnode) nodal force (internal, sign: on the node)
@@ -43,7 +42,7 @@ contains
     !> every node's on every rank until the nodes are numbered per rank).
     integer(i8) function nodal_bytes(st) result(b)
         type(state_t), intent(in) :: st
-        b = nbytes(st%x) + nbytes(st%x0) + nbytes(st%v) + nbytes(st%a) + nbytes(st%f) + nbytes(st%mass) &
+        b = nbytes(st%x) + nbytes(st%v) + nbytes(st%a) + nbytes(st%f) + nbytes(st%mass) &
             + nbytes(st%free) + nbytes(st%vr) + nbytes(st%mom) + nbytes(st%irot) + nbytes(st%free_r) &
             + nbytes(st%jprev)
     end function nodal_bytes

@@ -859,9 +859,9 @@ contains
             ! cycle's energies, which every output follows)
             call gather_element_state(dom, solids, sh, energies=dom%owned)
             if (ct%n > 0) then
-                call write_state(states, st, solids, sh, vn, ct%fnode, en=en, bm=bm)
+                call write_state(states, st, model%x0, solids, sh, vn, ct%fnode, en=en, bm=bm)
             else
-                call write_state(states, st, solids, sh, vn, en=en, bm=bm)
+                call write_state(states, st, model%x0, solids, sh, vn, en=en, bm=bm)
             end if
             call release_element_view(solids, sh)
             lp%state_asked = .false.
