@@ -30,6 +30,7 @@
 !> clearances use it.
 module xd_contact_contact
     use xd_kinds, only: wp, dp, i8
+    use, intrinsic :: iso_fortran_env, only: int8
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
     use xd_core_threads, only: threaded
@@ -1468,11 +1469,12 @@ contains
     !> Step 4: penalty forces of the contacts found, added to f on the slave
     !> and (by the shape functions) the master nodes in slave order, so the
     !> sums do not depend on threads; the first half of their work.
-    subroutine contact_enforce(ct, f, dt, dt_avg, mass, free, time, outputs, br)
+    subroutine contact_enforce(ct, f, dt, dt_avg, mass, dofs, time, outputs, br)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(inout) :: f(:, :)
         real(wp), intent(in) :: dt, dt_avg
-        real(wp), intent(in) :: mass(:), free(:, :)
+        real(wp), intent(in) :: mass(:)
+        integer(int8), intent(in) :: dofs(:)   !< per node, its free directions (xd_core_dofs)
         real(dp), intent(in) :: time
         !> the outputs read this cycle's contact forces (ct%fnode): every
         !> pair's applied (else, with ct%moves, those of other ranks' slaves
@@ -1525,7 +1527,7 @@ contains
                 end if
                 call list_pairs(it, s%nslave, time)
                 if (ct%lagrange .and. it%npair > 0) call lagrange_projection(s, it%npair, it%pair, it%hit, it%fpair, &
-                                                                      it%ls%xl, it%ls%vl, it%fr, f, mass, free, dt, &
+                                                                      it%ls%xl, it%ls%vl, it%fr, f, mass, dofs, dt, &
                                                                       dt_avg, br)
                 call grow(ct%ftouch, ct%nftouch + 5*it%npair + 4*it%ed%nact, 'contact force nodes')
                 ! both sides, in slave order (a deterministic sum)

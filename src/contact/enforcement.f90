@@ -8,6 +8,8 @@
 !> force spread by the segment's shape functions (the caller assembles it).
 module xd_contact_enforcement
     use xd_kinds, only: wp
+    use xd_core_dofs, only: free_dir
+    use, intrinsic :: iso_fortran_env, only: int8
     use xd_contact_segment_check, only: pair_hit_t, contact_interior
     use xd_contact_surface, only: surface_t, seg_shell, seg_nodes, seg_normal
     use xd_core_vectors, only: cross
@@ -136,14 +138,15 @@ contains
     !> forces out; xl, vl: the surface nodes' positions x(n) and velocities
     !> v(n-1/2); f: the model's nodal forces without contact; mass, free:
     !> nodal masses and the unconstrained directions (1 or 0).
-    subroutine lagrange_projection(s, npair, pair, hit, fpair, xl, vl, fr, f, mass, free, dt, dt_avg, br)
+    subroutine lagrange_projection(s, npair, pair, hit, fpair, xl, vl, fr, f, mass, dofs, dt, dt_avg, br)
         type(surface_t), intent(in) :: s
         integer, intent(in) :: npair, pair(:)
         type(pair_hit_t), intent(in) :: hit(:)
         real(wp), intent(inout) :: fpair(:, :)
         real(wp), intent(in) :: xl(:, :), vl(:, :)
         type(friction_t), intent(in) :: fr
-        real(wp), intent(in) :: f(:, :), mass(:), free(:, :), dt, dt_avg
+        real(wp), intent(in) :: f(:, :), mass(:), dt, dt_avg
+        integer(int8), intent(in) :: dofs(:)   !< per node, its free directions (xd_core_dofs)
         type(body_response_t), intent(in), optional :: br
         real(wp), allocatable :: pv(:, :), w(:, :, :), jn(:), jt(:, :), cap(:), r(:, :), dvb(:, :), dwb(:, :)
         integer, allocatable :: bod(:)
@@ -172,7 +175,7 @@ contains
             end if
             if (mass(s%node(nd)) > 0.0_wp) then
                 do a = 1, 3
-                    w(a, a, nd) = free(a, s%node(nd))/mass(s%node(nd))
+                    w(a, a, nd) = free_dir(dofs(s%node(nd)), a)/mass(s%node(nd))
                 end do
             end if
             pv(:, nd) = vl(:, nd) + dt_avg*matmul(w(:, :, nd), f(:, s%node(nd)))

@@ -6,6 +6,7 @@
 !> stonewall energy.
 module xd_contact_rigidwall
     use xd_kinds, only: wp, dp
+    use xd_core_dofs, only: free3
     use xd_core_memory, only: alloc
     use xd_model, only: model_t, rigidwall_t, find_set, set_node, find_box, in_box
     use xd_core_strings, only: itoa
@@ -244,7 +245,7 @@ contains
                     st%v(:, nd) = st%v(:, nd) - (cut/vtn)*vt
                 end if
             end if
-            st%v(:, nd) = st%v(:, nd)*st%free(:, nd)
+            st%v(:, nd) = st%v(:, nd)*free3(st%dofs(nd))
             fk = st%mass(nd)*(st%v(:, nd) - vold)/dt_avg
             vprev = vold - dt_avg*st%a(:, nd)
             ek = st%mass(nd)*dot_product(real(st%v(:, nd) - vold, dp), 0.5_dp*real(vprev + st%v(:, nd), dp))

@@ -40,6 +40,8 @@
 !> slave's force to the body (the body's mass does not grow by it).
 module xd_contact_tied
     use xd_kinds, only: wp, dp
+    use xd_core_dofs, only: free3
+    use, intrinsic :: iso_fortran_env, only: int8
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa, rtoa
     use xd_core_sorting, only: where_true
@@ -1035,10 +1037,11 @@ contains
     !> Step 2, after the free accelerations: a master node's acceleration
     !> over its mass plus the slave mass it carries; its moment scaled so
     !> that the rotational update divides by its inertia plus the slaves'.
-    subroutine tie_accelerations(td, time, f, mass, free, a, mom, irot)
+    subroutine tie_accelerations(td, time, f, mass, dofs, a, mom, irot)
         type(ties_t), intent(inout) :: td
         real(dp), intent(in) :: time
-        real(wp), intent(in) :: f(:, :), mass(:), free(:, :)
+        real(wp), intent(in) :: f(:, :), mass(:)
+        integer(int8), intent(in) :: dofs(:)   !< per node, its free directions (xd_core_dofs)
         real(wp), intent(inout) :: a(:, :)
         real(wp), allocatable, intent(inout) :: mom(:, :)
         real(wp), allocatable, intent(in) :: irot(:)
@@ -1058,7 +1061,7 @@ contains
         do i = 1, size(td%master)
             if (td%m_rigid(i)) cycle
             j = td%master(i)
-            if (td%madd(i) > 0.0_wp) a(:, j) = f(:, j)/(mass(j) + td%madd(i))*free(:, j)
+            if (td%madd(i) > 0.0_wp) a(:, j) = f(:, j)/(mass(j) + td%madd(i))*free3(dofs(j))
             if (td%jadd(i) > 0.0_wp) mom(:, j) = mom(:, j)*(irot(j)/(irot(j) + td%jadd(i)))
         end do
     end subroutine tie_accelerations

@@ -4,7 +4,7 @@ module xd_core_memory
     use xd_kinds, only: wp, dp, i8
     use xd_core_parallel_env, only: terminate
     use xd_core_errors, only: exit_run
-    use, intrinsic :: iso_fortran_env, only: error_unit, real32, real64
+    use, intrinsic :: iso_fortran_env, only: error_unit, real32, real64, int8
     implicit none
     private
     public :: alloc, alloc_dp, grow, fit, nbytes, peak_memory_kb, resident_memory_kb
@@ -25,7 +25,7 @@ module xd_core_memory
 
     !> The bytes an allocatable array holds (0 unallocated), any rank.
     interface nbytes
-        module procedure nbytes_r32, nbytes_r64, nbytes_int, nbytes_log
+        module procedure nbytes_r32, nbytes_r64, nbytes_int, nbytes_int8, nbytes_log
     end interface nbytes
 
 contains
@@ -214,6 +214,12 @@ contains
         b = 0
         if (allocated(a)) b = size(a, kind=i8)*(storage_size(1, i8)/8)
     end function nbytes_int
+
+    integer(i8) function nbytes_int8(a) result(b)
+        integer(int8), allocatable, intent(in) :: a(..)
+        b = 0
+        if (allocated(a)) b = size(a, kind=i8)
+    end function nbytes_int8
 
     integer(i8) function nbytes_log(a) result(b)
         logical, allocatable, intent(in) :: a(..)

@@ -28,6 +28,8 @@ module xd_elements_solid_step_check
     use xd_kinds, only: wp, dp
     use xd_elements_hex8, only: hex_b_matrix, hex_char_length
     use xd_elements_solid_groups, only: solids_t
+    use xd_core_dofs, only: free3
+    use, intrinsic :: iso_fortran_env, only: int8
     implicit none
     private
     public :: check_solid_steps
@@ -40,10 +42,10 @@ contains
     !> Scale the step of the checked groups (s%group%dt_scale) where the
     !> mesh's highest frequency asks for it; `note` says what was done ('' if
     !> nothing), with the parts named by the caller's ids in part_ids.
-    subroutine check_solid_steps(s, x, mass, free, tssfac, part_ids, note)
+    subroutine check_solid_steps(s, x, mass, dofs, tssfac, part_ids, note)
         type(solids_t), intent(inout) :: s
         real(wp), intent(in) :: x(:, :), mass(:)
-        real(wp), intent(in) :: free(:, :)          !< (3, nnode) 1 where a direction is free, 0 where fixed
+        integer(int8), intent(in) :: dofs(:)        !< per node, its free directions (xd_core_dofs)
         real(wp), intent(in) :: tssfac
         integer, intent(in) :: part_ids(:)
         character(len=:), allocatable, intent(out) :: note
@@ -71,7 +73,7 @@ contains
         ! power iteration on M^-1/2 K M^-1/2, from a start with every mode in it
         allocate (u(3, size(mass)), f(3, size(mass)))
         do k = 1, size(mass)
-            u(:, k) = w(k)*[sin(1.3_dp*k), cos(2.9_dp*k + 0.4_dp), sin(0.7_dp*k + 1.1_dp)]*free(:, k)
+            u(:, k) = w(k)*[sin(1.3_dp*k), cos(2.9_dp*k + 0.4_dp), sin(0.7_dp*k + 1.1_dp)]*free3(dofs(k))
         end do
         lam_max = 0
         do it = 1, max_iter
@@ -79,7 +81,9 @@ contains
             if (nrm <= 0.0_dp) return
             u = u/nrm
             call stiffness_times(s, on, x, spread(w, 1, 3)*u, f)
-            f = spread(w, 1, 3)*f*free
+            do k = 1, size(mass)
+                f(:, k) = w(k)*f(:, k)*free3(dofs(k))
+            end do
             lam_old = lam_max
             lam_max = sum(u*f)
             u = f

@@ -3,6 +3,7 @@
 !> intervals (the first cycle at or past each output time) and at the end.
 module xd_output_histories
     use xd_kinds, only: wp, dp, i8
+    use xd_core_dofs, only: free3, free3r
     use xd_core_strings, only: itoa, join_path, out_path
     use xd_core_files, only: truncate_file, written_bytes, delete_file
     use xd_core_comm, only: comm_sum_dp
@@ -617,7 +618,7 @@ contains
                 nd = h%nodes(k)
                 rot(k, 1:3) = h%rdisp(:, k)
                 if (present(wminus)) rot(k, 4:6) = 0.5_wp*(wminus(:, nd) + st%vr(:, nd))
-                if (st%irot(nd) > 0.0_wp) rot(k, 7:9) = st%mom(:, nd)/st%irot(nd)*st%free_r(:, nd)
+                if (st%irot(nd) > 0.0_wp) rot(k, 7:9) = st%mom(:, nd)/st%irot(nd)*free3r(st%dofs(nd))
             end do
             call block_head(' nodal point  x-rot      y-rot       z-rot       x-rot vel   y-rot vel   '// &
                             'z-rot vel   x-rot acc   y-rot acc   z-rot acc')
@@ -632,7 +633,7 @@ contains
         if (h%contact) nc = 18
         vals = reshape([vals, [(0.0_dp, k=1, (nc - 12)*size(h%nodes))]], [size(h%nodes), nc])
         do k = 1, size(h%nodes)
-            vals(k, 13:15) = -st%f(:, h%nodes(k))*(1.0_wp - st%free(:, h%nodes(k)))
+            vals(k, 13:15) = -st%f(:, h%nodes(k))*(1.0_wp - free3(st%dofs(h%nodes(k))))
         end do
         if (h%contact .and. present(fc)) then
             do k = 1, size(h%nodes)

@@ -3,6 +3,7 @@
 module xd_solver_loads
     use xd_core_threads, only: threaded
     use xd_kinds, only: wp, dp
+    use xd_core_dofs, only: free3
     use xd_model, only: model_t, curve_value
     use xd_solver_state, only: state_t
     use xd_core_vectors, only: cross
@@ -77,7 +78,7 @@ contains
             if (present(mine)) then
                 if (.not. mine(nd)) cycle
             end if
-            mom = mom + st%mass(nd)*real(st%v(:, nd)*st%free(:, nd), dp)
+            mom = mom + st%mass(nd)*real(st%v(:, nd)*free3(st%dofs(nd)), dp)
         end do
         if (present(mine)) call comm_sum_dp(mom)
         p = dot_product(real(g, dp), mom)

@@ -668,9 +668,9 @@ contains
         if (ct%lagrange .and. rg%n > 0) then
             ! a master on a rigid body answers as the body
             call rigid_response(rg, st%nnode, br)
-            call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%free, st%time, outputs, br)
+            call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%dofs, st%time, outputs, br)
         else
-            call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%free, st%time, outputs)
+            call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%dofs, st%time, outputs)
         end if
         call tm%stop(ph_enforce)
         if (dom%on) call tm%move(ph_enforce, ph_ghost, ct%wall_gather - t_gather)
@@ -702,7 +702,7 @@ contains
             if (dom%owned) call gather_subset(dom, dom%tie, st%f, st%mom)
             call tie_forces(td, st%time, st%x, st%f, st%mom)
             call accelerations(st)
-            call tie_accelerations(td, st%time, st%f, st%mass, st%free, st%a, st%mom, st%irot)
+            call tie_accelerations(td, st%time, st%f, st%mass, st%dofs, st%a, st%mom, st%irot)
         end if
         ! (without ties the accelerations are taken in the kick's own loop:
         ! the same quotients, one pass over the nodes fewer)
@@ -735,9 +735,9 @@ contains
         if (from_forces) then
             !$omp do schedule(static)
             do nd = 1, st%nnode
-                a1 = free_accel(st%f(1, nd), st%mass(nd), st%free(1, nd))
-                a2 = free_accel(st%f(2, nd), st%mass(nd), st%free(2, nd))
-                a3 = free_accel(st%f(3, nd), st%mass(nd), st%free(3, nd))
+                a1 = free_accel(st%f(1, nd), st%mass(nd), real(ibits(st%dofs(nd), 0, 1), wp))
+                a2 = free_accel(st%f(2, nd), st%mass(nd), real(ibits(st%dofs(nd), 1, 1), wp))
+                a3 = free_accel(st%f(3, nd), st%mass(nd), real(ibits(st%dofs(nd), 2, 1), wp))
                 st%a(1, nd) = a1
                 st%a(2, nd) = a2
                 st%a(3, nd) = a3
@@ -758,7 +758,9 @@ contains
             ! that: no select, so that the loop vectorises)
             !$omp do schedule(static)
             do nd = 1, st%nnode
-                st%vr(:, nd) = st%vr(:, nd) + free_spin(dt, st%mom(:, nd), st%irot(nd), st%free_r(:, nd))
+                st%vr(1, nd) = st%vr(1, nd) + free_spin(dt, st%mom(1, nd), st%irot(nd), real(ibits(st%dofs(nd), 3, 1), wp))
+                st%vr(2, nd) = st%vr(2, nd) + free_spin(dt, st%mom(2, nd), st%irot(nd), real(ibits(st%dofs(nd), 4, 1), wp))
+                st%vr(3, nd) = st%vr(3, nd) + free_spin(dt, st%mom(3, nd), st%irot(nd), real(ibits(st%dofs(nd), 5, 1), wp))
             end do
             !$omp end do
         end if
@@ -778,7 +780,9 @@ contains
         do k = 1, size(lo)
             if (from_forces) then
                 do nd = lo(k), hi(k)
-                    st%a(:, nd) = free_accel(st%f(:, nd), st%mass(nd), st%free(:, nd))
+                    st%a(1, nd) = free_accel(st%f(1, nd), st%mass(nd), real(ibits(st%dofs(nd), 0, 1), wp))
+                    st%a(2, nd) = free_accel(st%f(2, nd), st%mass(nd), real(ibits(st%dofs(nd), 1, 1), wp))
+                    st%a(3, nd) = free_accel(st%f(3, nd), st%mass(nd), real(ibits(st%dofs(nd), 2, 1), wp))
                     st%v(:, nd) = st%v(:, nd) + dt*st%a(:, nd)
                 end do
             else
@@ -788,7 +792,9 @@ contains
             end if
             if (.not. st%rot) cycle
             do nd = lo(k), hi(k)
-                st%vr(:, nd) = st%vr(:, nd) + free_spin(dt, st%mom(:, nd), st%irot(nd), st%free_r(:, nd))
+                st%vr(1, nd) = st%vr(1, nd) + free_spin(dt, st%mom(1, nd), st%irot(nd), real(ibits(st%dofs(nd), 3, 1), wp))
+                st%vr(2, nd) = st%vr(2, nd) + free_spin(dt, st%mom(2, nd), st%irot(nd), real(ibits(st%dofs(nd), 4, 1), wp))
+                st%vr(3, nd) = st%vr(3, nd) + free_spin(dt, st%mom(3, nd), st%irot(nd), real(ibits(st%dofs(nd), 5, 1), wp))
             end do
         end do
         !$omp end do
@@ -811,9 +817,9 @@ contains
         integer :: i
         !$omp do schedule(static)
         do i = 1, st%nnode
-            st%a(1, i) = free_accel(st%f(1, i), st%mass(i), st%free(1, i))
-            st%a(2, i) = free_accel(st%f(2, i), st%mass(i), st%free(2, i))
-            st%a(3, i) = free_accel(st%f(3, i), st%mass(i), st%free(3, i))
+            st%a(1, i) = free_accel(st%f(1, i), st%mass(i), real(ibits(st%dofs(i), 0, 1), wp))
+            st%a(2, i) = free_accel(st%f(2, i), st%mass(i), real(ibits(st%dofs(i), 1, 1), wp))
+            st%a(3, i) = free_accel(st%f(3, i), st%mass(i), real(ibits(st%dofs(i), 2, 1), wp))
         end do
         !$omp end do
     end subroutine accelerations_loop

@@ -10,6 +10,7 @@ module xd_solver_setup
     use xd_elements_solid_groups, only: solids_t, build_solids, material_plastic_law
     use xd_elements_solid_step_check, only: check_solid_steps
     use xd_solver_state, only: state_t
+    use xd_core_dofs, only: free3, free3r, all_free
     use xd_core_vectors, only: cross
     use xd_solver_assembly, only: assembly_t, build_assembly
     use xd_rigid_bodies, only: rigid_t, rigid_lumped_mass, build_rigid
@@ -45,7 +46,7 @@ contains
         call alloc(st%a, 3, st%nnode, 'accelerations')
         call alloc(st%f, 3, st%nnode, 'nodal forces')
         call alloc(st%mass, st%nnode, 'nodal masses')
-        call alloc(st%free, 3, st%nnode, 'constraint masks')
+        allocate (st%dofs(st%nnode))
         ! (the initial coordinates are the deck's: model%x0, held once)
         st%x = model%x0(:, 1:st%nnode)
         call build_solids(model, solids)
@@ -60,7 +61,6 @@ contains
             call alloc(st%vr, 3, st%nnode, 'angular velocities')
             call alloc(st%mom, 3, st%nnode, 'nodal moments')
             call alloc(st%irot, st%nnode, 'rotational inertia')
-            call alloc(st%free_r, 3, st%nnode, 'rotation masks')
         end if
         if (sh%n > 0) then
             call shell_masses(sh, st%x, st%mass, st%irot)
@@ -79,14 +79,16 @@ contains
         nfree_nodes = count(st%mass <= 0.0_wp)
         call constraint_masks(model, st)
         call initial_velocities(model, solids, st)
-        st%v = st%v*st%free
-        if (st%rot) st%vr = st%vr*st%free_r
+        do i = 1, st%nnode
+            st%v(:, i) = st%v(:, i)*free3(st%dofs(i))
+            if (st%rot) st%vr(:, i) = st%vr(:, i)*free3r(st%dofs(i))
+        end do
         call check_speeds(model, st, error)
         if (allocated(error)) return
         call build_rigid(model, st, rg, error)
         if (allocated(error)) return
         call initial_stresses(model, hex_map, solids, st)
-        call check_solid_steps(solids, model%x0, st%mass, st%free, model%ctl%tssfac, model%part(1:model%npart)%id, &
+        call check_solid_steps(solids, model%x0, st%mass, st%dofs, model%ctl%tssfac, model%part(1:model%npart)%id, &
                                step_note)
         ! the part masses added, named with the step's notes in d3hsp
         if (len(mass_note) > 0) step_note = step_note//merge(new_line('a'), ' ', len(step_note) > 0)// &
@@ -178,21 +180,27 @@ contains
         end do
     end subroutine add_part_masses
 
-    !> *NODE TC/RC codes and *BOUNDARY_SPC: 0 in `free` (`free_r`, with
-    !> shells) for each fixed translation (rotation); massless nodes and
-    !> nodes without rotational inertia do not move in those directions.
+    !> *NODE TC/RC codes and *BOUNDARY_SPC: each fixed translation's
+    !> (rotation's, with shells or beams) bit cleared in the node's dofs
+    !> code; massless nodes and nodes without rotational inertia do not
+    !> move in those directions.
     subroutine constraint_masks(model, st)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
         integer :: i, k, s
-        st%free = 1.0_wp
-        if (st%rot) st%free_r = 1.0_wp
+        integer :: j
+        logical :: fix(3)
+        st%dofs = all_free
         do i = 1, st%nnode
-            where (constraint_dirs(model%node_tc(i))) st%free(:, i) = 0.0_wp
-            if (st%mass(i) <= 0.0_wp) st%free(:, i) = 0.0_wp
+            fix = constraint_dirs(model%node_tc(i)) .or. st%mass(i) <= 0.0_wp
+            do j = 1, 3
+                if (fix(j)) st%dofs(i) = ibclr(st%dofs(i), j - 1)
+            end do
             if (.not. st%rot) cycle
-            where (constraint_dirs(model%node_rc(i))) st%free_r(:, i) = 0.0_wp
-            if (st%irot(i) <= 0.0_wp) st%free_r(:, i) = 0.0_wp
+            fix = constraint_dirs(model%node_rc(i)) .or. st%irot(i) <= 0.0_wp
+            do j = 1, 3
+                if (fix(j)) st%dofs(i) = ibclr(st%dofs(i), j + 2)
+            end do
         end do
         do i = 1, model%nspc
             associate (c => model%spc(i))
@@ -209,10 +217,11 @@ contains
     contains
         subroutine apply_dofs(dof, nd)
             integer, intent(in) :: dof(6), nd
-            where (dof(1:3) == 1) st%free(:, nd) = 0.0_wp
-            if (st%rot) then
-                where (dof(4:6) == 1) st%free_r(:, nd) = 0.0_wp
-            end if
+            integer :: j
+            do j = 1, 3
+                if (dof(j) == 1) st%dofs(nd) = ibclr(st%dofs(nd), j - 1)
+                if (st%rot .and. dof(j + 3) == 1) st%dofs(nd) = ibclr(st%dofs(nd), j + 2)
+            end do
         end subroutine apply_dofs
     end subroutine constraint_masks
 

@@ -3,6 +3,7 @@
 module xd_solver_state
     use xd_kinds, only: wp, dp, i8
     use xd_core_memory, only: nbytes
+    use, intrinsic :: iso_fortran_env, only: int8
     implicit none
     private
     public :: state_t, nodal_bytes
@@ -14,13 +15,16 @@ module xd_solver_state
         real(wp), allocatable :: a(:, :)      !< (3, nnode) acceleration
         real(wp), allocatable :: f(:, :)      !< (3, nnode) nodal force (internal, sign: on the node)
         real(wp), allocatable :: mass(:)      !< lumped nodal mass
-        real(wp), allocatable :: free(:, :)   !< (3, nnode) 1 free, 0 fixed by an SPC
+        !> per node, its free directions (xd_core_dofs): bit j - 1 set where
+        !> direction j (x, y, z, then the rotations about them) is free,
+        !> clear where an SPC, a TC/RC code or a missing mass or inertia
+        !> fixes it (one byte a node)
+        integer(int8), allocatable :: dofs(:)
         ! rotational degrees of freedom: only when the deck has shells
         logical :: rot = .false.
         real(wp), allocatable :: vr(:, :)     !< (3, nnode) angular velocity at t - dt/2
         real(wp), allocatable :: mom(:, :)    !< (3, nnode) nodal moments
         real(wp), allocatable :: irot(:)      !< rotational inertia
-        real(wp), allocatable :: free_r(:, :) !< (3, nnode) 1 free, 0 fixed
         ! prescribed nodal motion: last cycle's imposed velocity change per
         ! component (only when the deck prescribes nodal motion)
         real(wp), allocatable :: jprev(:, :)  !< (3, nnode)
@@ -43,7 +47,7 @@ contains
     integer(i8) function nodal_bytes(st) result(b)
         type(state_t), intent(in) :: st
         b = nbytes(st%x) + nbytes(st%v) + nbytes(st%a) + nbytes(st%f) + nbytes(st%mass) &
-            + nbytes(st%free) + nbytes(st%vr) + nbytes(st%mom) + nbytes(st%irot) + nbytes(st%free_r) &
+            + nbytes(st%dofs) + nbytes(st%vr) + nbytes(st%mom) + nbytes(st%irot) &
             + nbytes(st%jprev)
     end function nodal_bytes
 

@@ -9,6 +9,7 @@ program test_phases
     use xd_kinds, only: wp, dp
     use xd_testing, only: check, test_summary
     use xd_solver_state, only: state_t
+    use xd_core_dofs, only: all_free
     use xd_solver_phases, only: velocity_phase, advance_phase, step_phase
     use xd_solver_step_control, only: by_element, by_growth, by_other, dt_growth
     use xd_solver_mass_scaling, only: mass_scaling_t
@@ -124,8 +125,8 @@ contains
     subroutine small_state(st)
         type(state_t), intent(out) :: st
         st%nnode = 3
-        allocate (st%x(3, 3), st%v(3, 3), st%a(3, 3), st%f(3, 3), st%mass(3), st%free(3, 3))
-        allocate (st%vr(3, 3), st%mom(3, 3), st%irot(3), st%free_r(3, 3))
+        allocate (st%x(3, 3), st%v(3, 3), st%a(3, 3), st%f(3, 3), st%mass(3), st%dofs(3))
+        allocate (st%vr(3, 3), st%mom(3, 3), st%irot(3))
         st%rot = .true.
         st%x = 0
         st%x(1, 1) = 1
@@ -138,12 +139,12 @@ contains
         st%f(:, 2) = [8.0_wp, 8.0_wp, 8.0_wp]
         st%f(:, 3) = [4.0_wp, 4.0_wp, 4.0_wp]
         st%mass = [2.0_wp, 0.0_wp, 4.0_wp]
-        st%free = 1
-        st%free(2, 3) = 0
+        ! (every direction free but node 3's y: its dofs code's bit 1)
+        st%dofs = all_free
+        st%dofs(3) = ibclr(st%dofs(3), 1)
         st%mom = 0
         st%mom(1, 1) = 4
         st%irot = [0.5_wp, 0.0_wp, 0.0_wp]
-        st%free_r = 1
     end subroutine small_state
 
 end program test_phases
