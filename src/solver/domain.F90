@@ -1097,16 +1097,20 @@ contains
 
     !> a(:, node) (and b, c, d) of the gather's nodes from their ranks, on
     !> every rank: each rank packs its nodes' values, all ranks gather them
-    !> in one collective. (b, c and d may be unallocated arrays, which
+    !> in one collective; with `writer`, on rank 0 alone (an output's: the
+    !> other ranks read no node they do not move, and hold no buffer of the
+    !> gather's size). (b, c and d may be unallocated arrays, which
     !> Fortran 2008 passes as absent: the angular velocities and moments of
     !> a model without rotations.)
-    subroutine gather_subset(dom, g, a, b, c, d)
+    subroutine gather_subset(dom, g, a, b, c, d, writer)
         type(domain_t), intent(in) :: dom
         type(node_gather_t), intent(in) :: g
         real(wp), intent(inout) :: a(:, :)
         real(wp), intent(inout), optional :: b(:, :), c(:, :), d(:, :)
+        logical, intent(in), optional :: writer
         real(wp), allocatable :: mine(:, :), all(:, :)
         integer :: i, r, w, nd, lo, hi, jb, jc, jd
+        logical :: to_root
         if (size(g%node) == 0) return
         ! (each present array's first row in a node's record; 0: absent)
         w = 3
@@ -1125,10 +1129,16 @@ contains
             jd = w + 1
             w = w + 3
         end if
+        to_root = .false.
+        if (present(writer)) to_root = writer
         r = dom%rank + 1
         lo = g%off(r) + 1
         hi = g%off(r) + g%cnt(r)
-        allocate (mine(w, max(g%cnt(r), 1)), all(w, size(g%node)))
+        if (to_root .and. dom%rank /= 0) then
+            allocate (mine(w, max(g%cnt(r), 1)), all(w, 1))
+        else
+            allocate (mine(w, max(g%cnt(r), 1)), all(w, size(g%node)))
+        end if
         !$omp parallel do schedule(static) private(nd) if (threaded(g%cnt(r)))
         do i = 1, g%cnt(r)
             nd = g%node(g%off(r) + i)
@@ -1138,7 +1148,12 @@ contains
             if (jd > 0) mine(jd:jd + 2, i) = d(:, nd)
         end do
         !$omp end parallel do
-        call comm_gather_wp(mine, w*g%cnt(r), all, w*g%cnt, w*g%off)
+        if (to_root) then
+            call comm_gather_root_wp(mine, w*g%cnt(r), all, w*g%cnt, w*g%off, dom%rank == 0)
+            if (dom%rank /= 0) return
+        else
+            call comm_gather_wp(mine, w*g%cnt(r), all, w*g%cnt, w*g%off)
+        end if
         ! (the other ranks' nodes: this rank's are in place)
         !$omp parallel do schedule(static) private(nd) if (threaded(size(g%node)))
         do i = 1, size(g%node)

@@ -538,8 +538,9 @@ contains
     !> Owned nodes: every node's coordinates and velocities (and angular
     !> velocities), v(n-1/2) where given, and with `outputs`
     !> the accelerations and forces (and moments: nodout, d3plot), and the
-    !> histories' tracked rotations, from the ranks that integrate them to
-    !> every rank.
+    !> histories' tracked rotations, from the ranks that integrate them: with
+    !> `outputs` (a state, a dump) to rank 0, which writes them, else (a
+    !> failure's message) to every rank.
     subroutine refresh_nodes(dom, st, hist, tm, outputs, vminus, vrminus)
         type(domain_t), intent(in) :: dom
         type(state_t), intent(inout) :: st
@@ -553,25 +554,28 @@ contains
         ! as absent: gather_subset)
         ! (a collective a call, up to four arrays each)
         if (outputs) then
-            call gather_subset(dom, dom%every, st%x, st%v, st%a, st%f)
+            ! (to rank 0 alone, which writes)
+            call gather_subset(dom, dom%every, st%x, st%v, st%a, st%f, writer=.true.)
             ! (the prescribed motions' last velocity changes: a dump's)
             if (allocated(st%jprev)) then
-                call gather_subset(dom, dom%every, st%jprev, st%vr, st%mom)
+                call gather_subset(dom, dom%every, st%jprev, st%vr, st%mom, writer=.true.)
             else if (st%rot) then
-                call gather_subset(dom, dom%every, st%vr, st%mom)
+                call gather_subset(dom, dom%every, st%vr, st%mom, writer=.true.)
             end if
+            if (present(vminus)) call gather_subset(dom, dom%every, vminus, vrminus, writer=.true.)
         else
             call gather_subset(dom, dom%every, st%x, st%v, st%vr)
+            if (present(vminus)) call gather_subset(dom, dom%every, vminus, vrminus)
         end if
-        if (present(vminus)) call gather_subset(dom, dom%every, vminus, vrminus)
         if (outputs) call merge_rotations(hist, dom%node_mine)
         call tm%stop(ph_comm)
     end subroutine refresh_nodes
 
     !> Owned nodes, at a history output without a state: the nodout nodes'
     !> coordinates, velocities (v(n-1/2) too), accelerations and forces (and
-    !> angular velocities and moments) from their ranks, and their tracked
-    !> rotations (the energies are summed by rank).
+    !> angular velocities and moments) from their ranks to rank 0, which
+    !> writes them, and their tracked rotations (the energies are summed by
+    !> rank).
     subroutine refresh_histories(dom, st, hist, tm, vminus, vrminus)
         type(domain_t), intent(in) :: dom
         type(state_t), intent(inout) :: st
@@ -582,8 +586,9 @@ contains
         if (.not. allocated(dom%hist%node)) return
         call tm%start(ph_comm)
         ! (two collectives: four arrays a call at most)
-        call gather_subset(dom, dom%hist, st%x, st%v, st%a, st%f)
-        call gather_subset(dom, dom%hist, vminus, vrminus, st%vr, st%mom)
+        ! (to rank 0 alone, which writes)
+        call gather_subset(dom, dom%hist, st%x, st%v, st%a, st%f, writer=.true.)
+        call gather_subset(dom, dom%hist, vminus, vrminus, st%vr, st%mom, writer=.true.)
         call merge_rotations(hist, dom%node_mine)
         call tm%stop(ph_comm)
     end subroutine refresh_histories
