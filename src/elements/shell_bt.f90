@@ -150,7 +150,7 @@ module xd_elements_shell_bt
         ! mass scaling (*CONTROL_TIMESTEP DT2MS), allocated only when it is on:
         ! an element's mass is msf times its own, so its step sqrt(msf) times
         real(wp), allocatable :: msf(:)       !< mass factor (1: the element's own mass)
-        real(wp), allocatable :: msq(:)       !< sqrt(msf); 1 (allocated) without mass scaling
+        real(wp), allocatable :: msq(:)       !< sqrt(msf)
         real(wp), allocatable :: ms_need(:)   !< this cycle's wanted factor (0: none wanted)
         real(wp) :: ms_target = 0             !< element step to be kept (0: no scaling this cycle)
         logical :: ms_all = .false.           !< every element brought to ms_target (positive DT2MS, cycle 0)
@@ -252,9 +252,8 @@ contains
         end if
         sh%thickness_update = model%ctl%istupd /= 0
         sh%isdo = model%ctl%isdo
-        allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%area0(sh%n), sh%msq(sh%n), &
+        allocate (sh%conn(4, sh%n), sh%eid(sh%n), sh%part(sh%n), sh%h(sh%n), sh%area0(sh%n), &
                   sh%model_ix(sh%n), sh%dead(sh%n))
-        sh%msq = 1
         sh%dead = .false.
         call alloc_dp(sh%eint, sh%n, 'shell energies')
         call alloc_dp(sh%ehg, sh%n, 'shell energies')
@@ -620,14 +619,17 @@ contains
         real(dp), intent(in) :: dt_avg_prev
         real(wp), intent(inout), optional, contiguous :: f(:, :), m(:, :)
         integer :: e, ib, p, l, nb, e0, s0, tcrit, tbad
-        real(wp) :: dte, tmin, dtb(nblk), fs(nblk, 3, 4), ms(nblk, 3, 4)
+        real(wp) :: dte, dms, tmin, dtb(nblk), fs(nblk, 3, 4), ms(nblk, 3, 4)
+        logical :: scaled
         real(wp) :: vg(nblk, 3, 4), wg(nblk, 3, 4)
         type(block_geom_t) :: gm, gn
         sh%dtmin = huge(1.0_wp)
         sh%crit = 0
         sh%bad = 0
         if (sh%tsmin > 0.0_wp) sh%low = .false.
-        !$omp parallel default(shared) private(e, ib, p, l, nb, e0, s0, gm, gn, dte, dtb, fs, ms, vg, wg, tmin, tcrit, tbad)
+        scaled = allocated(sh%msq)
+        !$omp parallel default(shared) private(e, ib, p, l, nb, e0, s0, gm, gn, dte, dms, dtb, fs, ms, vg, wg, tmin, tcrit, &
+        !$omp tbad)
         tmin = huge(1.0_wp)
         tcrit = 0
         tbad = 0
@@ -654,10 +656,14 @@ contains
             do l = 1, nb
                 e = e0 + l
                 dte = dtb(l)
+                ! mass scaling: the step of the element's scaled mass (msq,
+                ! only where mass scaling is on)
+                dms = dte
+                if (scaled) dms = dte*sh%msq(e)
                 if (sh%tsmin > 0.0_wp) then
                     ! ERODE: a shell whose step fell below the minimum (or that
                     ! turned inside out) sets no step: it erodes after this pass
-                    if (.not. (dte*sh%msq(e) >= sh%tsmin)) then
+                    if (.not. (dms >= sh%tsmin)) then
                         sh%low(s0 + l) = .true.
                         cycle
                     end if
@@ -666,10 +672,9 @@ contains
                     if (tbad == 0) tbad = e
                     cycle
                 end if
-                ! mass scaling: the step of the element's scaled mass (msq 1
-                ! without: the product is exact); one below the target asks for
-                ! the factor that brings it there
-                dte = dte*sh%msq(e)
+                ! (mass scaling: a step below the target asks for the factor
+                ! that brings it there)
+                dte = dms
                 if (dte < sh%ms_target .or. sh%ms_all) call ask_mass(sh, e, dte)
                 if (dte < tmin) then
                     tmin = dte

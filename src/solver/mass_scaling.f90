@@ -53,10 +53,11 @@ contains
         type(solids_t), intent(inout) :: solids
         type(shells_t), intent(inout) :: sh
         if (ctl%dt2ms == 0.0_wp) return
-        allocate (solids%msf(solids%n), solids%ms_need(solids%n), sh%msf(sh%n), sh%ms_need(sh%n))
+        allocate (solids%msf(solids%n), solids%ms_need(solids%n), sh%msf(sh%n), sh%ms_need(sh%n), sh%msq(sh%n))
         solids%msf = 1
         solids%ms_need = 0
         sh%msf = 1
+        sh%msq = 1
         sh%ms_need = 0
     end subroutine mass_scaling_arrays
 
