@@ -136,8 +136,8 @@ contains
     !> pair(1:npair): the slave positions in contact, in slave order; hit:
     !> every slave's contact; fpair: their penalty forces in, the projected
     !> forces out; xl, vl: the surface nodes' positions x(n) and velocities
-    !> v(n-1/2); f: the model's nodal forces without contact; mass, free:
-    !> nodal masses and the unconstrained directions (1 or 0).
+    !> v(n-1/2); f: the model's nodal forces without contact; mass, dofs:
+    !> nodal masses and each node's free directions (xd_core_dofs).
     subroutine lagrange_projection(s, npair, pair, hit, fpair, xl, vl, fr, f, mass, dofs, dt, dt_avg, br)
         type(surface_t), intent(in) :: s
         integer, intent(in) :: npair, pair(:)
