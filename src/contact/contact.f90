@@ -34,7 +34,7 @@ module xd_contact_contact
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
     use xd_core_threads, only: threaded
-    use xd_core_memory, only: grow
+    use xd_core_memory, only: grow, nbytes
     use xd_model, only: model_t, contact_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, mat_rigid, &
                         can_erode, ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_auto, search_adaptive, find_box, in_box, box_t
@@ -55,6 +55,7 @@ module xd_contact_contact
     use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max
     implicit none
     private
+    public :: contact_bytes
     public :: contacts_t, interface_t, build_contacts, faces_of, contact_erode, contact_search, contact_drift, gather_drift, &
               search_due, &
               contact_report, &
@@ -254,6 +255,59 @@ module xd_contact_contact
     end type contacts_t
 
 contains
+
+    !> The bytes of the contact's arrays on this rank: the faces, each
+    !> interface's surface (segments and nodes), its search's lists and
+    !> working arrays, its per-slave records, its edges, and the per-node
+    !> contact forces (issue 32: every slave's and every surface node's on
+    !> every rank).
+    integer(i8) function contact_bytes(ct) result(b)
+        type(contacts_t), intent(in) :: ct
+        integer :: i
+        b = nbytes(ct%faces%node) + nbytes(ct%faces%kind) + nbytes(ct%faces%part) + nbytes(ct%faces%shell) &
+            + nbytes(ct%faces%hex) + nbytes(ct%faces%thick) + nbytes(ct%faces%kgeo) + nbytes(ct%faces%area) &
+            + nbytes(ct%faces%body) + nbytes(ct%faces%rigid) + nbytes(ct%faces%across) + nbytes(ct%faces%node_thick) &
+            + nbytes(ct%faces%node_cap) + nbytes(ct%face_on) + nbytes(ct%fnode) + nbytes(ct%ftouch) + nbytes(ct%moves) &
+            + nbytes(ct%node_h0)
+        if (.not. allocated(ct%ifc)) return
+        do i = 1, size(ct%ifc)
+            b = b + interface_bytes(ct%ifc(i))
+        end do
+    contains
+        integer(i8) function interface_bytes(it) result(c)
+            type(interface_t), intent(in) :: it
+            c = surface_bytes(it%surf) + nbytes(it%lists%ptr) + nbytes(it%lists%last) + nbytes(it%lists%node) &
+                + nbytes(it%lists%trackable) + nbytes(it%lists%gap) + nbytes(it%lists%pool_ptr) &
+                + nbytes(it%lists%pool_last) + nbytes(it%lists%pool_node) + nbytes(it%lists%xg) + nbytes(it%lists%og) &
+                + nbytes(it%lists%at) + nbytes(it%ed%en) + nbytes(it%ed%eseg) + nbytes(it%ed%pa) + nbytes(it%ed%pb) &
+                + nbytes(it%ed%side) + nbytes(it%ed%named) + nbytes(it%ed%kp) + nbytes(it%ed%p0) + nbytes(it%ed%dlast) &
+                + nbytes(it%ed%ft) + nbytes(it%ed%act) + nbytes(it%ed%st) + nbytes(it%ed%fa) &
+                + nbytes(it%xl) + nbytes(it%dl) + nbytes(it%dmin) + nbytes(it%un) + nbytes(it%cls) + nbytes(it%cmin) &
+                + nbytes(it%uc) + nbytes(it%cbud) + nbytes(it%cused) + nbytes(it%dump) + nbytes(it%ls%xl) &
+                + nbytes(it%ls%vl) + nbytes(it%ls%lc) + nbytes(it%ls%lcodo) + nbytes(it%cl%g) + nbytes(it%cl%x) &
+                + nbytes(it%cl%u) + nbytes(it%cl%wait) + nbytes(it%cl%nnear) + nbytes(it%cl%near) + nbytes(it%ms) &
+                + nbytes(it%cseg) + nbytes(it%fprev) + nbytes(it%ft) + nbytes(it%p0) + nbytes(it%kp) + nbytes(it%fk) &
+                + nbytes(it%aeff) + nbytes(it%held) + nbytes(it%rseg) + nbytes(it%rdep) + nbytes(it%deep) &
+                + nbytes(it%rlast) + nbytes(it%evk) + nbytes(it%evd) + nbytes(it%found) + nbytes(it%pair) &
+                + nbytes(it%fpair) + nbytes(it%part_id) + nbytes(it%seg_lp) + nbytes(it%slave_lp) + nbytes(it%pair_imp) &
+                + nbytes(it%pair_work) + nbytes(it%owned) + nbytes(it%got) + nbytes(it%mine) + nbytes(it%live) &
+                + nbytes(it%resl) + nbytes(it%fresh)
+            if (allocated(it%hit)) c = c + size(it%hit, kind=i8)*(storage_size(it%hit, i8)/8)
+            if (allocated(it%ev)) c = c + size(it%ev, kind=i8)*(storage_size(it%ev, i8)/8)
+            if (allocated(it%ed%ev)) c = c + size(it%ed%ev, kind=i8)*(storage_size(it%ed%ev, i8)/8)
+        end function interface_bytes
+
+        integer(i8) function surface_bytes(s) result(c)
+            type(surface_t), intent(in) :: s
+            c = nbytes(s%seg) + nbytes(s%seg_face) + nbytes(s%seg_kind) + nbytes(s%seg_side) + nbytes(s%seg_body) &
+                + nbytes(s%seg_elem) + nbytes(s%seg_t) + nbytes(s%seg_tn) + nbytes(s%seg_r) + nbytes(s%seg_k) &
+                + nbytes(s%seg_area) + nbytes(s%node) + nbytes(s%node_side) + nbytes(s%node_body) + nbytes(s%node_t) &
+                + nbytes(s%node_k) + nbytes(s%node_kpa) + nbytes(s%node_area) + nbytes(s%node_rigid) &
+                + nbytes(s%seg_ptr) + nbytes(s%seg_list) + nbytes(s%nn_ptr) + nbytes(s%nn_list) + nbytes(s%seg_t_raw) &
+                + nbytes(s%seg_tn_raw) + nbytes(s%node_t_raw) + nbytes(s%seg_on) + nbytes(s%node_area0) &
+                + nbytes(s%node_kpa0) + nbytes(s%node_side_all) + nbytes(s%slave)
+        end function surface_bytes
+    end function contact_bytes
 
     !> Step 1 for every interface, from the initial coordinates x0.
     subroutine build_contacts(model, x0, ct, error)

@@ -44,7 +44,7 @@ program xdyna
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     use xd_solver_domain, only: domain_t, build_domain, domain_summary, decomp_rcb, decomp_metis, localize_element_state, &
                                 place_shell_state, domain_bytes
-    use xd_contact_contact, only: gather_contact_state, scatter_contact_state
+    use xd_contact_contact, only: gather_contact_state, scatter_contact_state, contact_bytes
     !$ use omp_lib, only: omp_set_num_threads, omp_get_num_procs
     implicit none
 
@@ -441,7 +441,7 @@ contains
     !> smallest and the largest, with their ranks (a collective: every rank
     !> calls it).
     subroutine memory_line()
-        real(dp) :: rec(6), all(6, env%nranks)
+        real(dp) :: rec(7), all(7, env%nranks)
         rec(1) = real(peak_memory_kb(), dp)
         rec(2) = real(shell_state_bytes(sh) + solid_state_bytes(solids), dp)
         ! (every element's, as one rank holds them)
@@ -454,6 +454,8 @@ contains
         rec(5) = real(nodal_bytes(st) + shell_bytes(sh) + solid_bytes(solids) + res%node_bytes + domain_bytes(dom), dp)
         ! the deck's node and element arrays, whole on every rank
         rec(6) = real(mesh_bytes(model), dp)
+        ! the contact's (its faces, surfaces, lists and per-slave records)
+        rec(7) = real(contact_bytes(ct), dp)
         if (env%nranks > 1) then
             call comm_gather_small(rec, all)
         else
@@ -488,6 +490,15 @@ contains
         else
             call log_line(lg, ' the deck''s node and element arrays per rank '//span(all(6, :), 1048576.0_dp)// &
                           ' (every rank holds them whole)')
+        end if
+        ! (the contact's arrays at the end of the run: its lists as the
+        ! last search left them)
+        if (ct%n > 0) then
+            if (env%nranks == 1) then
+                call log_line(lg, ' contact arrays at the end ............ '//ftoa(all(7, 1)/1048576.0_dp)//' MB')
+            else
+                call log_line(lg, ' contact arrays at the end per rank ... '//span(all(7, :), 1048576.0_dp))
+            end if
         end if
         if (any(all(1, :) < 0.0_dp)) return
         if (env%nranks == 1) then
