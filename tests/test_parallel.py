@@ -263,6 +263,22 @@ def test_mpi_contact_own():
         named = ok and "bounds the motion of its own surface nodes alone" in open(os.path.join(out, "d3hsp")).read()
         record(f"XDYNA_CONTACT_OWN: the tube crush on {n} ranks, each bounding its own surface nodes' motion, gives "
                "the serial run's motion bitwise, energies to 1e-12 (named in d3hsp)", ok and named, msg)
+    # the contact's arrays d3hsp counts (its surfaces, lists and per-slave
+    # records; every rank's whole until they are sized to the rank's
+    # slaves): more than nothing and less than the peak the process held,
+    # on one rank and on each of 4 (a count that missed the surfaces or
+    # counted an array twice over would leave these bounds)
+    figs = []
+    for run_, pat in ((serial, r" contact arrays at the end \.+ +([0-9.]+) MB"),
+                      (os.path.join(TMP, "own4"), r" contact arrays at the end per rank \.\.\. +([0-9.]+) MB \(rank \d+\) to "
+                                                  r"+([0-9.]+) MB")):
+        txt = open(os.path.join(run_, "d3hsp")).read() if os.path.exists(os.path.join(run_, "d3hsp")) else ""
+        c = re.search(pat, txt)
+        h = re.search(r"peak memory (?:per rank )?\(VmHWM\) \.+ +([0-9.]+) MB(?: \(rank \d+\) to +([0-9.]+) MB)?", txt)
+        if c and h:
+            figs.append((float(c.group(c.lastindex)), float(h.group(1))))
+    record(f"the contact's arrays counted in d3hsp: (arrays MB, smallest peak MB) {figs}, serial then 4 ranks' "
+           "largest", len(figs) == 2 and all(0.0 < a_ < h_ for a_, h_ in figs))
     part = os.path.join(TMP, "own_rs")
     p1 = mpirun(2, ["i=" + deck, "outdir=" + part, "endtim=0.0014"], env_extra=env)
     # the dump holds every surface node's motion bound, each from its rank:
