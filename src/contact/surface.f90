@@ -92,7 +92,8 @@ module xd_contact_surface
         integer, allocatable :: seg_ptr(:), seg_list(:)   !< node -> segments (CSR)
         integer, allocatable :: nn_ptr(:), nn_list(:)     !< node -> nodes sharing a segment (CSR)
         !> THKCHG: the thicknesses before the 40% limit (0: fixed by SST/MST,
-        !> or a solid face), which the shells' thickness ratios scale
+        !> or a solid face), which the shells' thickness ratios scale (only
+        !> where the surface follows the shells: `follow`)
         logical :: follow = .false., capped = .false.
         real(wp), allocatable :: seg_t_raw(:), seg_tn_raw(:, :), node_t_raw(:)
         integer :: nslave = 0
@@ -608,16 +609,20 @@ contains
         s%max_thick = 0
         s%capped = capped
         if (present(follow)) s%follow = follow
-        allocate (s%seg_t_raw(s%nseg), s%seg_tn_raw(4, s%nseg))
-        s%seg_t_raw = 0
-        s%seg_tn_raw = 0
+        ! (the thicknesses as the cards give them, which THKCHG scales:
+        ! kept only where the surface follows the shells)
+        if (s%follow) then
+            allocate (s%seg_t_raw(s%nseg), s%seg_tn_raw(4, s%nseg))
+            s%seg_t_raw = 0
+            s%seg_tn_raw = 0
+        end if
         do m = 1, s%nseg
             j = s%seg_face(m)
             if (s%seg_kind(m) == seg_shell) then
                 s%nshell_seg = s%nshell_seg + 1
                 s%seg_t(m) = thick(4)*f%thick(j)
                 s%seg_tn(:, m) = thick(4)*f%node_thick(f%node(:, j))
-                if (thick(2) <= 0.0_wp) then
+                if (thick(2) <= 0.0_wp .and. s%follow) then
                     s%seg_t_raw(m) = s%seg_t(m)
                     s%seg_tn_raw(:, m) = s%seg_tn(:, m)
                 end if
@@ -650,11 +655,13 @@ contains
             s%seg_r(m) = max(s%seg_t(m), maxval(s%seg_tn(:, m)))
             if (s%seg_kind(m) == seg_shell) s%seg_r(m) = 0.5_wp*s%seg_r(m)
         end do
-        allocate (s%node_t_raw(s%nnode))
-        s%node_t_raw = 0
+        if (s%follow) then
+            allocate (s%node_t_raw(s%nnode))
+            s%node_t_raw = 0
+        end if
         do nd = 1, s%nnode
             s%node_t(nd) = thick(3)*f%node_thick(s%node(nd))
-            if (thick(1) <= 0.0_wp) s%node_t_raw(nd) = s%node_t(nd)
+            if (thick(1) <= 0.0_wp .and. s%follow) s%node_t_raw(nd) = s%node_t(nd)
             if (capped .and. s%node_t(nd) > f%node_cap(s%node(nd))) then
                 s%node_t(nd) = f%node_cap(s%node(nd))
                 s%ncap = s%ncap + 1
