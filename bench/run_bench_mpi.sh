@@ -7,7 +7,8 @@
 # contact's share, the peak memory per rank (VmHWM, smallest and largest),
 # the resident memory at the end (VmRSS) and the elements' state and force
 # slots each rank holds (its own elements' alone), every nodal and element
-# array a rank holds (d3hsp's 'nodal and element arrays'), rank 0's local search's
+# array a rank holds (d3hsp's 'nodal and element arrays'), the contact's arrays
+# (d3hsp's 'contact arrays at the end'), rank 0's local search's
 # gather between searches (surface nodes it moves, of all) and the share of
 # the contact pairs listed that it applied (contact ghosts)
 # and the halo's bytes a cycle (with owned nodes: the halo point-to-point and
@@ -34,7 +35,7 @@ deck=$dir/tubes_${ntx}x${nty}.k
 /usr/bin/python3 tools/gen_decks.py --bench-tubes $ntx $nty $deck --cycles $cycles
 nel=$((ntx * nty * 1200))
 echo "bench-mpi: $ntx x $nty tubes, $nel shells, $cycles cycles, one thread a rank, $(nproc) cores here ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'))"
-printf '%6s %9s %10s %8s %9s %8s %9s %17s %17s %12s %14s %16s %16s %18s %9s\n' ranks "wall (s)" "ns/el-cyc" "halo %" "contact%" "wait %" "c.share" "peak MB/rank" "end MB/rank" "elem MB/rk" "arrays MB/rk" "halo B/cycle" "own-node halo B" "srf gathered (r0)" "pairs %"
+printf '%6s %9s %10s %8s %9s %8s %9s %17s %17s %12s %14s %14s %16s %16s %18s %9s\n' ranks "wall (s)" "ns/el-cyc" "halo %" "contact%" "wait %" "c.share" "peak MB/rank" "end MB/rank" "elem MB/rk" "arrays MB/rk" "contact MB/rk" "halo B/cycle" "own-node halo B" "srf gathered (r0)" "pairs %"
 for r in $ranks; do
     out=$dir/r${r}_${ntx}x${nty}
     rm -rf $out
@@ -58,6 +59,8 @@ for r in $ranks; do
         /elements. state and force slots per rank/ {el = sprintf("%.1f", $14)}
         /nodal and element arrays \.\./ {arr = sprintf("%.1f", $(NF - 1))}
         /nodal and element arrays per rank/ {arr = sprintf("%.1f-%.1f", $8, $13)}
+        /contact arrays at the end \.\./ {con = sprintf("%.1f", $(NF - 1))}
+        /contact arrays at the end per rank/ {con = sprintf("%.1f-%.1f", $9, $14)}
         /halo exchange a cycle:/ {
             s = $0; sub(/.*force slots \(/, "", s); split(s, a, " "); slots = a[1]
             t = $0; sub(/.*to all too \(/, "", t); split(t, b, " "); nodes = b[1]
@@ -77,8 +80,9 @@ for r in $ranks; do
             if (r == 1) {hb = 0; own = 0}
             if (owned) hb = p2p + gat
             if (gath == "") {gath = "-"; pairs = "-"}
-            printf "%6d %9.2f %10.1f %8.1f %9.1f %8.1f %8.1f%% %17s %17s %12s %14s %16d %16d %18s %9s\n", r, tot, ns,
-                100 * halo / tot, 100 * ghost / tot, 100 * wait / tot, cs, mem, rss, el, arr, hb, own, gath, pairs
+            if (con == "") con = "-"
+            printf "%6d %9.2f %10.1f %8.1f %9.1f %8.1f %8.1f%% %17s %17s %12s %14s %14s %16d %16d %18s %9s\n", r, tot, ns,
+                100 * halo / tot, 100 * ghost / tot, 100 * wait / tot, cs, mem, rss, el, arr, con, hb, own, gath, pairs
         }' $out/d3hsp
 done
 done
