@@ -40,10 +40,10 @@ module xd_contact_contact
                         styp_node_set, styp_all, styp_all_but, search_auto, search_adaptive, find_box, in_box, box_t
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell, &
                                   surface_activate, &
-                                  follow_thickness
+                                  follow_thickness, faces_bytes, surface_bytes
     use xd_core_vectors, only: cross
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t, &
-                                        typical_length, pool_margins, margin_floor, margin_classes
+                                        typical_length, pool_margins, margin_floor, margin_classes, lists_bytes
     use xd_contact_segment_check, only: hit_t, pair_hit_t, kept, contact_interior, segment_check
     use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t, clearance_t, &
                                        reset_clearance, fresh_clearance
@@ -264,10 +264,7 @@ contains
     integer(i8) function contact_bytes(ct) result(b)
         type(contacts_t), intent(in) :: ct
         integer :: i
-        b = nbytes(ct%faces%node) + nbytes(ct%faces%kind) + nbytes(ct%faces%part) + nbytes(ct%faces%shell) &
-            + nbytes(ct%faces%hex) + nbytes(ct%faces%thick) + nbytes(ct%faces%kgeo) + nbytes(ct%faces%area) &
-            + nbytes(ct%faces%body) + nbytes(ct%faces%rigid) + nbytes(ct%faces%across) + nbytes(ct%faces%node_thick) &
-            + nbytes(ct%faces%node_cap) + nbytes(ct%face_on) + nbytes(ct%fnode) + nbytes(ct%ftouch) + nbytes(ct%moves) &
+        b = faces_bytes(ct%faces) + nbytes(ct%face_on) + nbytes(ct%fnode) + nbytes(ct%ftouch) + nbytes(ct%moves) &
             + nbytes(ct%node_h0)
         if (.not. allocated(ct%ifc)) return
         do i = 1, size(ct%ifc)
@@ -276,10 +273,8 @@ contains
     contains
         integer(i8) function interface_bytes(it) result(c)
             type(interface_t), intent(in) :: it
-            c = surface_bytes(it%surf) + nbytes(it%lists%ptr) + nbytes(it%lists%last) + nbytes(it%lists%node) &
-                + nbytes(it%lists%trackable) + nbytes(it%lists%gap) + nbytes(it%lists%pool_ptr) &
-                + nbytes(it%lists%pool_last) + nbytes(it%lists%pool_node) + nbytes(it%lists%xg) + nbytes(it%lists%og) &
-                + nbytes(it%lists%at) + nbytes(it%ed%en) + nbytes(it%ed%eseg) + nbytes(it%ed%pa) + nbytes(it%ed%pb) &
+            c = surface_bytes(it%surf) + lists_bytes(it%lists) + nbytes(it%ed%en) + nbytes(it%ed%eseg) &
+                + nbytes(it%ed%pa) + nbytes(it%ed%pb) &
                 + nbytes(it%ed%side) + nbytes(it%ed%named) + nbytes(it%ed%kp) + nbytes(it%ed%p0) + nbytes(it%ed%dlast) &
                 + nbytes(it%ed%ft) + nbytes(it%ed%act) + nbytes(it%ed%st) + nbytes(it%ed%fa) &
                 + nbytes(it%xl) + nbytes(it%dl) + nbytes(it%dmin) + nbytes(it%un) + nbytes(it%cls) + nbytes(it%cmin) &
@@ -296,17 +291,6 @@ contains
             if (allocated(it%ev)) c = c + size(it%ev, kind=i8)*(storage_size(it%ev, i8)/8)
             if (allocated(it%ed%ev)) c = c + size(it%ed%ev, kind=i8)*(storage_size(it%ed%ev, i8)/8)
         end function interface_bytes
-
-        integer(i8) function surface_bytes(s) result(c)
-            type(surface_t), intent(in) :: s
-            c = nbytes(s%seg) + nbytes(s%seg_face) + nbytes(s%seg_kind) + nbytes(s%seg_side) + nbytes(s%seg_body) &
-                + nbytes(s%seg_elem) + nbytes(s%seg_t) + nbytes(s%seg_tn) + nbytes(s%seg_r) + nbytes(s%seg_k) &
-                + nbytes(s%seg_area) + nbytes(s%node) + nbytes(s%node_side) + nbytes(s%node_body) + nbytes(s%node_t) &
-                + nbytes(s%node_k) + nbytes(s%node_kpa) + nbytes(s%node_area) + nbytes(s%node_rigid) &
-                + nbytes(s%seg_ptr) + nbytes(s%seg_list) + nbytes(s%nn_ptr) + nbytes(s%nn_list) + nbytes(s%seg_t_raw) &
-                + nbytes(s%seg_tn_raw) + nbytes(s%node_t_raw) + nbytes(s%seg_on) + nbytes(s%node_area0) &
-                + nbytes(s%node_kpa0) + nbytes(s%node_side_all) + nbytes(s%slave)
-        end function surface_bytes
     end function contact_bytes
 
     !> Step 1 for every interface, from the initial coordinates x0.

@@ -32,6 +32,7 @@
 module xd_contact_global_search
     use, intrinsic :: iso_fortran_env, only: int8
     use xd_kinds, only: wp, i8
+    use xd_core_memory, only: nbytes
     use xd_contact_surface, only: surface_t, segment_diagonals, side_a, side_b, wanted_side, seg_shell
     use xd_model, only: mnl_minimal, mnl_closest1, mnl_closest3
     use xd_core_sorting, only: where_true
@@ -39,7 +40,7 @@ module xd_contact_global_search
     implicit none
     private
     public :: buckets_t, bucket_sort, bucket_radii, node_pool, levels_t, sort_levels, level_pool, typical_length
-    public :: characteristic_lengths, master_lists_t, build_master_lists
+    public :: characteristic_lengths, master_lists_t, build_master_lists, lists_bytes
     public :: search_work_t, new_search_work, mark_none, mark_trackable, mark_nontrackable, search_counts_t
     public :: compact_lists
     public :: separating_axes, reach_factor, pool_margins, margin_floor, margin_classes
@@ -148,6 +149,13 @@ module xd_contact_global_search
     real(wp), parameter :: margin_floor = 1.0_wp/32
 
 contains
+
+    !> The bytes of an interface's master lists and pool.
+    integer(i8) function lists_bytes(l) result(b)
+        type(master_lists_t), intent(in) :: l
+        b = nbytes(l%ptr) + nbytes(l%last) + nbytes(l%node) + nbytes(l%trackable) + nbytes(l%gap) &
+            + nbytes(l%pool_ptr) + nbytes(l%pool_last) + nbytes(l%pool_node) + nbytes(l%xg) + nbytes(l%og) + nbytes(l%at)
+    end function lists_bytes
 
     subroutine new_search_work(nnode, w, nseg)
         integer, intent(in) :: nnode

@@ -18,7 +18,8 @@
 !> hold every segment; the searches see the active ones (surface_activate
 !> rebuilds the node-to-segment lists and the nodes' springs from them).
 module xd_contact_surface
-    use xd_kinds, only: wp
+    use xd_kinds, only: wp, i8
+    use xd_core_memory, only: nbytes
     use xd_core_vectors, only: cross
     use xd_elements_hex8, only: hex_volume_operator
     use xd_model, only: model_t, mat_rigid
@@ -26,6 +27,7 @@ module xd_contact_surface
     implicit none
     private
     public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid, follow_thickness, surface_activate
+    public :: faces_bytes, surface_bytes
     public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side, seg_nodes, seg_normal
 
     integer, parameter :: seg_shell = 1, seg_solid = 2
@@ -117,6 +119,26 @@ module xd_contact_surface
     end type surface_t
 
 contains
+
+    !> The bytes of the faces' arrays.
+    integer(i8) function faces_bytes(f) result(b)
+        type(faces_t), intent(in) :: f
+        b = nbytes(f%node) + nbytes(f%kind) + nbytes(f%part) + nbytes(f%shell) + nbytes(f%hex) + nbytes(f%thick) &
+            + nbytes(f%kgeo) + nbytes(f%area) + nbytes(f%body) + nbytes(f%rigid) + nbytes(f%across) &
+            + nbytes(f%node_thick) + nbytes(f%node_cap)
+    end function faces_bytes
+
+    !> The bytes of a surface's arrays (its segments, nodes and lists).
+    integer(i8) function surface_bytes(s) result(b)
+        type(surface_t), intent(in) :: s
+        b = nbytes(s%seg) + nbytes(s%seg_face) + nbytes(s%seg_kind) + nbytes(s%seg_side) + nbytes(s%seg_body) &
+            + nbytes(s%seg_elem) + nbytes(s%seg_t) + nbytes(s%seg_tn) + nbytes(s%seg_r) + nbytes(s%seg_k) &
+            + nbytes(s%seg_area) + nbytes(s%node) + nbytes(s%node_side) + nbytes(s%node_body) + nbytes(s%node_t) &
+            + nbytes(s%node_k) + nbytes(s%node_kpa) + nbytes(s%node_area) + nbytes(s%node_rigid) &
+            + nbytes(s%seg_ptr) + nbytes(s%seg_list) + nbytes(s%nn_ptr) + nbytes(s%nn_list) + nbytes(s%seg_t_raw) &
+            + nbytes(s%seg_tn_raw) + nbytes(s%node_t_raw) + nbytes(s%seg_on) + nbytes(s%node_area0) &
+            + nbytes(s%node_kpa0) + nbytes(s%node_side_all) + nbytes(s%slave)
+    end function surface_bytes
 
     !> Sorted unique nodes of a face, padded with 0: the face's number
     !> independent of node order (section 3). Returns the count of unique nodes.

@@ -11,6 +11,8 @@ module xd_core_dofs
 
     !> every direction free
     integer(int8), parameter :: all_free = 63_int8
+    !> the translations' and the rotations' directions
+    integer, parameter :: translations(3) = [1, 2, 3], rotations(3) = [4, 5, 6]
 
 contains
 
@@ -25,14 +27,14 @@ contains
     pure function free3(c) result(w)
         integer(int8), intent(in) :: c
         real(wp) :: w(3)
-        w = [real(ibits(c, 0, 1), wp), real(ibits(c, 1, 1), wp), real(ibits(c, 2, 1), wp)]
+        w = free_dir(c, translations)
     end function free3
 
     !> The rotations' masks.
     pure function free3r(c) result(w)
         integer(int8), intent(in) :: c
         real(wp) :: w(3)
-        w = [real(ibits(c, 3, 1), wp), real(ibits(c, 4, 1), wp), real(ibits(c, 5, 1), wp)]
+        w = free_dir(c, rotations)
     end function free3r
 
 end module xd_core_dofs

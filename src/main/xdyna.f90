@@ -478,41 +478,35 @@ contains
         ! the nodal arrays (every node's on every rank, until the nodes are
         ! numbered per rank) and the elements' (the state and slots above,
         ! the connectivity, energies, blocks and flags, the parts' constants)
-        if (env%nranks == 1) then
-            call log_line(lg, ' nodal and element arrays ............ '//ftoa(all(5, 1)/1048576.0_dp)//' MB')
-        else
-            call log_line(lg, ' nodal and element arrays per rank ... '//span(all(5, :), 1048576.0_dp))
-        end if
+        call figure(' nodal and element arrays ............ ', ' nodal and element arrays per rank ... ', all(5, :), &
+                    1048576.0_dp, '')
         ! (not in the figure above: the deck's own arrays, which every rank
         ! holds whole)
-        if (env%nranks == 1) then
-            call log_line(lg, ' the deck''s node and element arrays .. '//ftoa(all(6, 1)/1048576.0_dp)//' MB')
-        else
-            call log_line(lg, ' the deck''s node and element arrays per rank '//span(all(6, :), 1048576.0_dp)// &
-                          ' (every rank holds them whole)')
-        end if
+        call figure(' the deck''s node and element arrays .. ', ' the deck''s node and element arrays per rank ', all(6, :), &
+                    1048576.0_dp, ' (every rank holds them whole)')
         ! (the contact's arrays at the end of the run: its lists as the
         ! last search left them)
-        if (ct%n > 0) then
-            if (env%nranks == 1) then
-                call log_line(lg, ' contact arrays at the end ............ '//ftoa(all(7, 1)/1048576.0_dp)//' MB')
-            else
-                call log_line(lg, ' contact arrays at the end per rank ... '//span(all(7, :), 1048576.0_dp))
-            end if
-        end if
+        if (ct%n > 0) call figure(' contact arrays at the end ............ ', ' contact arrays at the end per rank ... ', &
+                                  all(7, :), 1048576.0_dp, '')
         if (any(all(1, :) < 0.0_dp)) return
-        if (env%nranks == 1) then
-            call log_line(lg, ' peak memory (VmHWM) ................. '//ftoa(all(1, 1)/1024.0_dp)//' MB')
-        else
-            call log_line(lg, ' peak memory per rank (VmHWM) ........ '//span(all(1, :), 1024.0_dp))
-        end if
+        call figure(' peak memory (VmHWM) ................. ', ' peak memory per rank (VmHWM) ........ ', all(1, :), 1024.0_dp, '')
         if (any(all(4, :) < 0.0_dp)) return
-        if (env%nranks == 1) then
-            call log_line(lg, ' resident memory at the end (VmRSS) .. '//ftoa(all(4, 1)/1024.0_dp)//' MB')
-        else
-            call log_line(lg, ' resident memory at the end per rank (VmRSS) '//span(all(4, :), 1024.0_dp))
-        end if
+        call figure(' resident memory at the end (VmRSS) .. ', ' resident memory at the end per rank (VmRSS) ', all(4, :), &
+                    1024.0_dp, '')
     end subroutine memory_line
+
+    !> d3hsp's memory line of a figure: on one rank its value, on more the
+    !> ranks' smallest and largest (span), `tail` after them.
+    subroutine figure(one, per_rank, per, unit, tail)
+        character(len=*), intent(in) :: one, per_rank, tail
+        real(dp), intent(in) :: per(:)   !< per rank
+        real(dp), intent(in) :: unit
+        if (env%nranks == 1) then
+            call log_line(lg, one//ftoa(per(1)/unit)//' MB')
+        else
+            call log_line(lg, per_rank//span(per, unit)//tail)
+        end if
+    end subroutine figure
 
     !> A figure's smallest and largest over the ranks (per, in MB units of
     !> `unit`), with their ranks: 'a MB (rank i) to b MB (rank j)'.

@@ -50,7 +50,7 @@ module xd_solver_domain
     use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours, comm_gather_small, &
                             comm_gather_root_wp
     use xd_elements_solid_groups, only: solids_t, solid_localize
-    use xd_elements_shell_bt, only: shells_t, shell_blocks, shell_state_init, some_backstress
+    use xd_elements_shell_bt, only: shells_t, shell_state_init, some_backstress
     use xd_solver_assembly, only: assembly_t
     use xd_contact_contact, only: contacts_t
     use xd_contact_surface, only: surface_t, seg_nodes
@@ -319,7 +319,8 @@ contains
             where (multi .and. dom%node_mine) sh%split = 1
             where (multi .and. .not. dom%node_mine) sh%split = 2
         end if
-        call shell_blocks(sh)
+        ! (the shells' blocks and their direct nodes follow from mine and
+        ! split once the rows are placed: place_shell_state)
         dom%arank = arank
         call gather_layout(arank, nranks, [(nd, nd=1, nnode)], dom%every)
         ! the halo slots: those of elements on a node that another rank assembles

@@ -725,7 +725,10 @@ contains
 
     !> v += dt a, and vr likewise where the state has rotations; with
     !> from_forces, a = f / m in the free directions first, in the same loop
-    !> (free_accel, as accelerations_loop).
+    !> (free_accel, as accelerations_loop). (Here and in kick_runs and
+    !> accelerations_loop a direction's mask is xd_core_dofs' free_dir
+    !> written out, real(ibits(dofs, j - 1, 1)): a call to another module's
+    !> function is not inlined, and the loops would not vectorise.)
     subroutine kick(st, dt, from_forces)
         type(state_t), intent(inout) :: st
         real(wp), intent(in) :: dt

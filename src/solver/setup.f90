@@ -187,8 +187,7 @@ contains
     subroutine constraint_masks(model, st)
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
-        integer :: i, k, s
-        integer :: j
+        integer :: i, j, k, s
         logical :: fix(3)
         st%dofs = all_free
         do i = 1, st%nnode

@@ -76,8 +76,9 @@ module xd_solver_time_loop
         !> the run's energy scale: the largest |initial energy + external work|
         !> an energy check saw (the contact report's reference)
         real(dp) :: e_scale = 0.0_dp
-        !> the bytes of the loop's own per-node arrays (v(n-1/2), v(n), the
-        !> walls' mask) and the energies' tables
+        !> the bytes of the loop's own per-node arrays (v(n-1/2), which holds
+        !> v(n) after the energies, and the walls' mask) and the energies'
+        !> tables
         integer(i8) :: node_bytes = 0
     end type run_result_t
 
