@@ -350,6 +350,68 @@ def test_mpi_contact_own():
            "motion bitwise", ok, msg)
 
 
+@pytest.mark.slow(20)
+def test_mpi_memory_falls():
+    """Memory falls with the ranks (issue 32's acceptance): with the nodes
+    numbered per rank each rank's nodal arrays hold its own nodes and those
+    its elements touch, and its element arrays its own elements, so on 4
+    ranks a 100,000-shell plate (NIP 5, plastic, clamped on one edge; 20
+    cycles) holds under 40% of the serial run's nodal and element arrays a
+    rank (d3hsp's `nodal and element arrays`: every nodal array, the time
+    loop's, the energies' tables, the decomposition's lists and every
+    element array a rank holds). A quarter is the floor; the rest is the
+    halo and the arrays still held for every element (their energies,
+    flags and connectivity). The motion stays the serial run's bit for
+    bit and the energies to rounding (same_dynamics, 2e-11: sums of 1e5
+    terms), and the d3plot states,
+    which rank 0 writes from every node gathered, are the serial run's
+    bytes. Without the per-rank numbering (XDYNA_LOCAL_NODES=0, the nodes
+    whole on every rank) the same run holds 56% (measured when this was
+    written), which this test would fail."""
+    if shutil.which("mpirun") is None:
+        record("mpirun is installed (make deps: openmpi-bin)", False)
+        return
+    d = os.path.join(TMP, "memory_falls")
+    os.makedirs(d, exist_ok=True)
+    deck = os.path.join(d, "plate.k")
+    run([sys.executable, os.path.join(ROOT, "tools", "gen_decks.py"), "--bench-shells", "400", "250", deck,
+         "--cycles", "20", "--states-dt", "2.0e-6"])
+    serial, four = os.path.join(d, "serial"), os.path.join(d, "r4")
+    p1 = run([XDYNA, "i=" + deck, "outdir=" + serial])
+    p4 = mpirun(4, ["i=" + deck, "outdir=" + four])
+    if p1.returncode or p4.returncode:
+        record("the 100,000-shell plate runs serial and on 4 ranks", False, (p1.stderr + p4.stderr)[-300:])
+        return
+    l1 = open(os.path.join(serial, "d3hsp")).read()
+    l4 = open(os.path.join(four, "d3hsp")).read()
+    n1 = re.search(r"nodal and element arrays \.+ +([0-9.]+) MB", l1)
+    n4 = re.search(r"nodal and element arrays per rank \.\.\. +([0-9.]+) MB \(rank \d+\) to +([0-9.]+) MB", l4)
+    m = re.search(r"nodes numbered per rank: .*\(rank 0: (\d+) of (\d+)\)", l4)
+    share = float(n4.group(2)) / float(n1.group(1)) if n1 and n4 else 1.0
+    record(f"memory falls with the ranks: on 4 ranks the 100,000-shell plate holds {share:.1%} of the serial run's "
+           f"nodal and element arrays a rank at most ({n4.group(1) if n4 else '?'}-{n4.group(2) if n4 else '?'} MB "
+           f"against {n1.group(1) if n1 else '?'} MB; rank 0 numbers {m.group(1) if m else '?'} of "
+           f"{m.group(2) if m else '?'} nodes; issue 32 asks under 40%)",
+           n1 is not None and n4 is not None and m is not None and share < 0.40 and float(n4.group(1)) > 0)
+    # (the energies, momenta and mean velocities are sums over 100,000
+    # nodes and shells, most terms of one sign, grouped by rank: another
+    # grouping of N terms may differ by up to N eps of the sum, 1.1e-11 for
+    # N = 1e5, where the 1,200-shell plates of test_mpi_owned stay under
+    # 1e-12; measured when this was written: 2.7e-12 of the mean velocity,
+    # the same with the nodes whole on every rank)
+    ok, msg = same_dynamics(serial, four, rtol=2e-11)
+    # (the binary family; d3plot.h5 carries the energies too, which agree
+    # to rounding, as above)
+    fam = sorted(f for f in os.listdir(serial) if f.startswith("d3plot") and not f.endswith(".h5"))
+    differ = [f for f in fam if not os.path.exists(os.path.join(four, f)) or
+              open(os.path.join(serial, f), "rb").read() != open(os.path.join(four, f), "rb").read()]
+    states = len(fam) > 1 and not differ
+    if differ:
+        msg = f"{msg}; d3plot files that differ: {differ} of {len(fam)}"
+    record("the plate with its nodes numbered per rank: the serial motion bitwise, the energies to 2e-11 (the sums' "
+           "rounding over 1e5 terms), the d3plot family's bytes the serial run's", ok and states, msg)
+
+
 @pytest.mark.slow(26)
 def test_mpi_owned():
     """Owned nodes (issue 32, deliverable 1): where a model has none of the
@@ -471,9 +533,10 @@ def test_mpi_owned():
         # every nodal and element array a rank holds (d3hsp's measure for
         # issue 32's memory test): on 4 ranks each rank holds less than the
         # serial run by at least three quarters of the state and slots it
-        # no longer holds (the rest of the arrays, the nodes' above all,
-        # are still every rank's: the issue asks under 40% of the serial
-        # run's, not met yet; the figure is recorded here)
+        # no longer holds (on a model this small the halo and the arrays
+        # still held per element of the model weigh more than on a large
+        # one: test_mpi_memory_falls holds a 1e5-shell plate to the
+        # issue's 40%)
         n1 = re.search(r"nodal and element arrays \.+ +([0-9.]+) MB", logs["serial_" + tag])
         n4 = re.search(r"nodal and element arrays per rank \.\.\. +([0-9.]+) MB \(rank \d+\) to +([0-9.]+) MB",
                        logs["r4t1_" + tag])

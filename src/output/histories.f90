@@ -44,6 +44,10 @@ module xd_output_histories
         integer, allocatable :: nodes(:)     !< node indices for nodout
         integer, allocatable :: node_ids(:)  !< and their user ids
         real(dp), allocatable :: rdisp(:, :) !< (3, nodout nodes) rotation so far (models with shells)
+        !> nodes numbered per rank (MPI, issue 32): per nodout node, its
+        !> number in this rank's nodal arrays where this rank integrates it,
+        !> else 0 (unallocated otherwise: `nodes` index the nodal arrays)
+        integer, allocatable :: lnodes(:)
         character(len=72) :: title = ''
         integer :: nwritten = 0
         logical :: writer = .true.           !< this process writes the files (MPI: rank 0)
@@ -667,6 +671,13 @@ contains
         logical, intent(in), optional :: mine(:)
         integer :: k
         if (.not. allocated(h%rdisp) .or. .not. st%rot) return
+        if (allocated(h%lnodes)) then
+            ! (nodes numbered per rank: this rank's own nodout nodes)
+            do k = 1, size(h%nodes)
+                if (h%lnodes(k) > 0) h%rdisp(:, k) = h%rdisp(:, k) + real(st%dt, dp)*st%vr(:, h%lnodes(k))
+            end do
+            return
+        end if
         do k = 1, size(h%nodes)
             if (present(mine)) then
                 if (.not. mine(h%nodes(k))) cycle
@@ -684,7 +695,11 @@ contains
         integer :: k
         if (.not. allocated(h%rdisp)) return
         do k = 1, size(h%nodes)
-            if (.not. mine(h%nodes(k))) h%rdisp(:, k) = 0
+            if (allocated(h%lnodes)) then
+                if (h%lnodes(k) == 0) h%rdisp(:, k) = 0
+            else if (.not. mine(h%nodes(k))) then
+                h%rdisp(:, k) = 0
+            end if
         end do
         call sum_ranks(h%rdisp)
     end subroutine merge_rotations

@@ -61,6 +61,7 @@ module xd_solver_domain
     implicit none
     private
     public :: decomp_rcb, decomp_metis
+    public :: node_gather_t, node_runs
     public :: domain_t, build_domain, domain_summary, gather_energy_state, gather_element_state, &
               swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout, neighbour_count, &
               ghost_base, contact_ghosts, place_shell_state, localize_element_state, release_element_view, &
@@ -69,8 +70,13 @@ module xd_solver_domain
     !> A set of nodes whose values go from their ranks to every rank (an
     !> all-gather): per rank r, its own in node(off(r) + 1 : off(r) +
     !> cnt(r)), in node order.
+    !> With the nodes numbered per rank (xd_solver_local_nodes), `node`
+    !> keeps the model's numbers (rank 0 puts the values there, in its
+    !> whole view of an output) and `mine` holds this rank's own entries'
+    !> local numbers, which it sends.
     type :: node_gather_t
         integer, allocatable :: node(:), cnt(:), off(:)
+        integer, allocatable :: mine(:)
     end type node_gather_t
 
     type :: domain_t
@@ -185,6 +191,13 @@ module xd_solver_domain
         integer, allocatable :: kick_lo(:), kick_hi(:)
         !> owned nodes: the nodout nodes, gathered at a history output
         type(node_gather_t) :: hist
+        !> Nodes numbered per rank (issue 32; xd_solver_local_nodes): the
+        !> nodal arrays hold the rank's own nodes and those its elements
+        !> touch alone, numbered 1 .. size(l2g) in the model's order; l2g:
+        !> each one's number in the model, of nglobal
+        logical :: local = .false.
+        integer :: nglobal = 0
+        integer, allocatable :: l2g(:)
         !> owned nodes: the nodes this rank moves (its own, those its
         !> elements touch, the contact surfaces' and the rigid bodies') as runs
         integer, allocatable :: mv_lo(:), mv_hi(:)
@@ -215,11 +228,11 @@ contains
             + nbytes(dom%mo_rot) + nbytes(dom%mi_rot) + nbytes(dom%arank) + nbytes(dom%kick_lo) &
             + nbytes(dom%kick_hi) + nbytes(dom%mv_lo) + nbytes(dom%mv_hi) + gathered(dom%csurf) &
             + gathered(dom%surf) + gathered(dom%body) + gathered(dom%every) + gathered(dom%rotn) &
-            + gathered(dom%tie) + gathered(dom%hist)
+            + gathered(dom%tie) + gathered(dom%hist) + nbytes(dom%l2g)
     contains
         integer(i8) function gathered(g)
             type(node_gather_t), intent(in) :: g
-            gathered = nbytes(g%node) + nbytes(g%cnt) + nbytes(g%off)
+            gathered = nbytes(g%node) + nbytes(g%cnt) + nbytes(g%off) + nbytes(g%mine)
         end function gathered
     end function domain_bytes
 

@@ -14,7 +14,7 @@ module xd_solver_energies
     use xd_core_comm, only: comm_sum_dp
     implicit none
     private
-    public :: energies_t, compute_energies, prepare_energies, energy_bytes
+    public :: energies_t, compute_energies, prepare_energies, energy_bytes, localize_node_table, fixed_masses
 
     type :: energies_t
         real(dp) :: ke = 0, ie = 0, hg = 0, ext = 0, wall = 0, slide = 0, total = 0, ratio = 1
@@ -39,6 +39,9 @@ module xd_solver_energies
         logical, private :: fixed_mass = .false.
         integer, allocatable, private :: np_ptr(:), np_part(:)
         real(dp), allocatable, private :: np_m(:), part_mass0(:)
+        !> nodes numbered per rank: the model's nodal mass, summed before
+        !> the cut (each rank holds a part of the nodes; -1 otherwise)
+        real(dp), private :: mass_whole = -1
     end type energies_t
 
 contains
@@ -72,6 +75,47 @@ contains
             en%vn = 0
         end if
     end subroutine prepare_energies
+
+    !> The nodes' masses stay as set up for the whole run (no mass
+    !> scaling, no thickness update): the node-by-part table holds them.
+    logical function fixed_masses(en)
+        type(energies_t), intent(in) :: en
+        fixed_masses = en%fixed_mass
+    end function fixed_masses
+
+    !> The node-by-part table cut to the nodes l2g (of n: the nodes
+    !> numbered per rank, xd_solver_local_nodes), each kept node's entries
+    !> as they were, in the new numbers' order.
+    subroutine localize_node_table(en, l2g, n, mass)
+        type(energies_t), intent(inout) :: en
+        integer, intent(in) :: l2g(:), n
+        real(dp), intent(in) :: mass   !< the model's nodal mass, sum(real(st%mass, dp)) before the cut
+        integer, allocatable :: ptr(:), part(:)
+        real(dp), allocatable :: m(:)
+        integer :: l, g, j, nl
+        en%mass_whole = mass
+        if (.not. allocated(en%np_ptr)) return
+        if (size(en%np_ptr) /= n + 1) return
+        nl = size(l2g)
+        allocate (ptr(nl + 1))
+        ptr(1) = 1
+        do l = 1, nl
+            g = l2g(l)
+            ptr(l + 1) = ptr(l) + en%np_ptr(g + 1) - en%np_ptr(g)
+        end do
+        allocate (part(ptr(nl + 1) - 1), m(ptr(nl + 1) - 1))
+        do l = 1, nl
+            g = l2g(l)
+            do j = 0, en%np_ptr(g + 1) - en%np_ptr(g) - 1
+                part(ptr(l) + j) = en%np_part(en%np_ptr(g) + j)
+                m(ptr(l) + j) = en%np_m(en%np_ptr(g) + j)
+            end do
+        end do
+        call move_alloc(ptr, en%np_ptr)
+        call move_alloc(part, en%np_part)
+        call move_alloc(m, en%np_m)
+        ! (kn, vn: per node, only where the masses change; not cut)
+    end subroutine localize_node_table
 
     !> Energies at time t(n). Kinetic energy is 1/2 m v(n-1/2).v(n+1/2), the
     !> form that central differences conserve exactly with the trapezoidal
@@ -189,7 +233,11 @@ contains
             en%ke = en%ke + ke_b
             mom = mom + mom_b
         end do
-        en%mass = sum(real(st%mass, dp))
+        if (en%mass_whole >= 0) then
+            en%mass = en%mass_whole
+        else
+            en%mass = sum(real(st%mass, dp))
+        end if
         en%added = sum(en%part_added)
         en%vel = 0
         if (en%mass > 0) en%vel = mom/en%mass

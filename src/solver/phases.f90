@@ -204,20 +204,28 @@ contains
 
     !> The bad element element_phase found (bad_kind, bad), named: NaN in
     !> its coordinates or velocities, a negative volume, a collapsed shell.
-    function bad_element(model, st, solids, sh, bad_kind, bad) result(txt)
+    function bad_element(model, st, solids, sh, bad_kind, bad, dom) result(txt)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
         integer, intent(in) :: bad_kind, bad
+        !> (nodes numbered per rank: the element's rank looks, and every
+        !> rank learns what it saw: a collective)
+        type(domain_t), intent(in), optional :: dom
         character(len=:), allocatable :: txt
-        logical :: nan_vol
+        logical :: nan_vol, nan_x
         select case (bad_kind)
         case (1)
             ! (its volume where its state is held here: on its rank)
             nan_vol = .false.
             if (solids%goff(solids%group_of(bad)) >= 0) nan_vol = solids%vol(solids%row(bad)) /= solids%vol(solids%row(bad))
-            if (nan_vol .or. any(st%x(:, solids%conn(:, bad)) /= st%x(:, solids%conn(:, bad)))) then
+            nan_x = .false.
+            if (all(solids%conn(:, bad) > 0)) nan_x = any(st%x(:, solids%conn(:, bad)) /= st%x(:, solids%conn(:, bad)))
+            if (present(dom)) then
+                if (dom%local) nan_x = any_rank(dom, nan_x .or. nan_vol)
+            end if
+            if (nan_vol .or. nan_x) then
                 txt = 'NaN in the coordinates of '//solid_name(model, solids, bad)
             else
                 txt = 'negative volume in '//solid_name(model, solids, bad)

@@ -16,7 +16,7 @@ module xd_solver_time_loop
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t
-    use xd_solver_energies, only: energies_t, prepare_energies, energy_bytes
+    use xd_solver_energies, only: energies_t, prepare_energies, energy_bytes, fixed_masses
     use xd_output_histories, only: histories_t, histories_due, nodout_due, write_histories, history_failure, flush_histories
     use xd_output_states, only: states_t, states_due, write_state, states_marks, states_failure
     use xd_output_histories, only: history_marks, merge_rotations
@@ -42,6 +42,7 @@ module xd_solver_time_loop
                                       hourglass_bound_report
     use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
                                       mass_scaling_summary
+    use xd_solver_local_nodes, only: node_view_t, localize_nodes, open_view, close_view, global_node
     use xd_solver_phases, only: element_phase, exchange_phase, bad_element, beam_phase, erosion_phase, step_phase, &
                                 load_phase, contact_phase, velocity_phase, constraint_phase, energy_phase, &
                                 advance_phase, any_rank
@@ -105,9 +106,11 @@ contains
         type(domain_t), intent(inout) :: dom
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
-        type(assembly_t), intent(in) :: asm
+        !> (asm, asm_sh: their node lists renumbered where the nodes are
+        !> numbered per rank)
+        type(assembly_t), intent(inout) :: asm
         type(shells_t), intent(inout) :: sh
-        type(assembly_t), intent(in) :: asm_sh
+        type(assembly_t), intent(inout) :: asm_sh
         type(beams_t), intent(inout) :: bm
         type(walls_t), intent(inout) :: walls
         type(contacts_t), intent(inout) :: ct
@@ -148,21 +151,19 @@ contains
         !> writing and reading the slots); the nodes the parts or the ranks
         !> share are summed from the slots after the pass
         logical :: shells_direct, refresh
+        !> nodes numbered per rank: rank 0's whole view of the nodes for an
+        !> output (held for the output's time)
+        type(node_view_t) :: vw
+        character(len=:), allocatable :: whole
 
-        allocate (vminus(3, st%nnode), no_body(st%nnode), ke_fix(model%npart))
+        allocate (ke_fix(model%npart))
         shells_direct = sh%n > 0
         ke_fix = 0
-        no_body = .false.
-        if (st%rot) allocate (vrminus(3, st%nnode))
-        ! the outputs' arrays touched and the energies' tables built here,
-        ! at set-up, not as the first cycle's work (their first touch alone
-        ! took 12 ms of cycle 0's time integration on 100,000 shells)
+        ! the energies' tables built here, at set-up, not as the first
+        ! cycle's work
         call tm%start(ph_init)
-        vminus = 0
-        if (st%rot) vrminus = 0
         call prepare_energies(model, st, solids, sh, en, bm)
         call tm%stop(ph_init)
-        res%node_bytes = nbytes(vminus) + nbytes(vrminus) + nbytes(no_body) + energy_bytes(en)
         beam_crit = 0
         if (model%ctl%endeng > 0.0_wp) lp%ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
         lp%t0_wall = tm%elapsed()
@@ -181,6 +182,33 @@ contains
         end if
         ! (the scale of the momenta glstat and matsum report)
         call log_line(lg, ' initial nodal mass (the nodes'' lumped masses) .......... '//rtoa(sum(real(st%mass, dp))))
+        if (dom%owned) then
+            ! nodes numbered per rank where nothing reads every node
+            whole = whole_nodes_reason(model, st, solids, sh, bm, walls, ct, pn, rg, pl, td, ms, en)
+            if (len(whole) == 0) then
+                call tm%start(ph_init)
+                call localize_nodes(dom, st, solids, asm, sh, asm_sh, en, hist)
+                call tm%stop(ph_init)
+                call log_line(lg, ' nodal arrays: nodes numbered per rank: each rank holds its own nodes and those '// &
+                              'its elements touch (rank 0: '//itoa(size(dom%l2g))//' of '//itoa(dom%nglobal)// &
+                              '); rank 0 gathers every node for a state or a dump, the nodout nodes for the '// &
+                              'histories, for the output''s time')
+            else
+                call log_line(lg, ' nodal arrays: every node on every rank, for '//whole//' (nodes numbered per '// &
+                              'rank need none of these)')
+            end if
+        end if
+        allocate (vminus(3, st%nnode), no_body(st%nnode))
+        no_body = .false.
+        if (st%rot) allocate (vrminus(3, st%nnode))
+        ! the outputs' arrays touched here, at set-up, not as the first
+        ! cycle's work (their first touch alone took 12 ms of cycle 0's
+        ! time integration on 100,000 shells)
+        call tm%start(ph_init)
+        vminus = 0
+        if (st%rot) vrminus = 0
+        call tm%stop(ph_init)
+        res%node_bytes = nbytes(vminus) + nbytes(vrminus) + nbytes(no_body) + energy_bytes(en)
 
         ! cycle n: forces at t(n) on x(n) with v(n-1/2); v(n+1/2) with the
         ! constraints; output at t(n); then x(n+1)
@@ -191,8 +219,13 @@ contains
             if (opts%dump_every >= 0 .and. .not. lp%dumped_end) then
                 if (st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp) .or. &
                     (model%ctl%endcyc > 0 .and. st%cycle >= model%ctl%endcyc)) then
-                    if (dom%owned) call refresh_nodes(dom, st, hist, tm, .true.)
-                    call dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
+                    if (dom%owned) call refresh_nodes(dom, model, st, sh, hist, tm, .true., vw)
+                    if (vw%on) then
+                        call dump_phase(lp, opts, dom, vw%st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
+                    else
+                        call dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
+                    end if
+                    if (dom%local) call close_view(sh, vw)
                     lp%dumped_end = .true.
                     if (res%status /= exit_normal) exit
                 end if
@@ -221,8 +254,8 @@ contains
             call element_phase(dom, st, solids, asm, sh, tm, shells_direct, dtc, bad_kind, bad)
             call exchange_phase(dom, st, solids, asm, sh, asm_sh, tm, shells_direct, dtc, bad_kind, bad)
             if (bad_kind /= 0) then
-                if (dom%owned) call refresh_nodes(dom, st, hist, tm, .false.)
-                call fail(res, st, lg, bad_element(model, st, solids, sh, bad_kind, bad))
+                if (dom%owned) call refresh_nodes(dom, model, st, sh, hist, tm, .false., vw)
+                call fail(res, st, lg, bad_element(model, st, solids, sh, bad_kind, bad, dom))
                 exit
             end if
             if (bm%n > 0) call beam_phase(model, st, sh, bm, lg, tm, dtc, beam_crit)
@@ -277,18 +310,27 @@ contains
                 ! rank)
                 if (dom%owned .and. output_now) then
                     if (state_now(lp, states, st%time, done .or. st%cycle == 0)) then
-                        call refresh_nodes(dom, st, hist, tm, .true., vminus, vrminus)
+                        call refresh_nodes(dom, model, st, sh, hist, tm, .true., vw, vminus, vrminus)
                     else
-                        call refresh_histories(dom, st, hist, tm, vminus, vrminus)
+                        call refresh_histories(dom, model, st, sh, hist, tm, vw, vminus, vrminus)
                     end if
                 end if
                 call energy_phase(model, dom, st, solids, sh, walls, rg, ct, td, bm, tm, vminus, vrminus, dt_avg, &
                                   ke_fix, en)
-                ! (vminus now v(n))
+                ! (vminus now v(n); the view's likewise, the same operation)
+                if (vw%on .and. st%cycle > 0 .and. allocated(vw%vn)) vw%vn = 0.5_wp*(vw%vn + vw%st%v)
                 call energy_check(lp, model, dom, st, solids, sh, rg, ct, pn, en, vminus, res, lg)
                 if (res%status /= exit_normal) exit
-                if (output_now) call output_phase(lp, done .or. st%cycle == 0, model, dom, st, solids, sh, bm, walls, &
-                                                  rg, ct, hist, states, en, vminus, vrminus, tm, res, lg)
+                if (output_now) then
+                    if (vw%on) then
+                        call output_phase(lp, done .or. st%cycle == 0, model, dom, vw%st, solids, sh, bm, walls, &
+                                          rg, ct, hist, states, en, vw%vn, vw%wn, tm, res, lg)
+                    else
+                        call output_phase(lp, done .or. st%cycle == 0, model, dom, st, solids, sh, bm, walls, &
+                                          rg, ct, hist, states, en, vminus, vrminus, tm, res, lg)
+                    end if
+                end if
+                if (dom%local) call close_view(sh, vw)
                 if (res%status /= exit_normal) exit
             end if
             ! the contact forces' work with v(n+1/2), after the energies at t(n)
@@ -301,9 +343,11 @@ contains
             if (done) exit
 
             call advance_phase(dom, st, ct, hist, tm, dt_avg)
-            call batch_phase(lp, opts, model, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, en, lg, tm, res)
+            call batch_phase(lp, opts, model, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, en, lg, tm, res, vw)
             if (res%status /= exit_normal) exit
         end do
+        ! (a view an energy check's failure left open)
+        if (dom%local) call close_view(sh, vw)
 
         res%ncycle = st%cycle
         res%loop_wall = tm%elapsed() - lp%t0_wall
@@ -341,7 +385,7 @@ contains
     !> sense switches of d3kil; a dump every opts%dump_every cycles; on
     !> SIGTERM or SIGUSR1, or near the wall-clock limit, a dump and the run
     !> stopped (exit 3). The loop ends where res%status is no longer normal.
-    subroutine batch_phase(lp, opts, model, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, en, lg, tm, res)
+    subroutine batch_phase(lp, opts, model, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, en, lg, tm, res, vw)
         type(loop_t), intent(inout) :: lp
         type(run_options_t), intent(in) :: opts
         type(model_t), intent(in) :: model
@@ -360,6 +404,7 @@ contains
         type(log_t), intent(in) :: lg
         type(timers_t), intent(inout) :: tm
         type(run_result_t), intent(inout) :: res
+        type(node_view_t), intent(inout) :: vw   !< (nodes numbered per rank: rank 0's view for a dump)
         integer :: sig, sw
         logical :: limit, status
         if (allocated(opts%hold_cycles)) then
@@ -406,8 +451,13 @@ contains
         end if
     contains
         subroutine dump()
-            if (dom%owned) call refresh_nodes(dom, st, hist, tm, .true.)
-            call dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
+            if (dom%owned) call refresh_nodes(dom, model, st, sh, hist, tm, .true., vw)
+            if (vw%on) then
+                call dump_phase(lp, opts, dom, vw%st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
+            else
+                call dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
+            end if
+            if (dom%local) call close_view(sh, vw)
         end subroutine dump
     end subroutine batch_phase
 
@@ -536,20 +586,79 @@ contains
         end if
     end subroutine choose_owned
 
+    !> Why this run keeps every node's arrays on every rank (owned nodes),
+    !> or '' where its nodes can be numbered per rank: each feature named
+    !> reads nodes that no element of the rank touches (a contact surface,
+    !> a rigid body or wall, a tie, a beam, a load or a prescribed motion
+    !> taken by every rank alike), or changes the masses or the elements
+    !> during the run (mass scaling, thickness updates, erosion), which the
+    !> per-rank numbering does not follow yet.
+    function whole_nodes_reason(model, st, solids, sh, bm, walls, ct, pn, rg, pl, td, ms, en) result(why)
+        type(model_t), intent(in) :: model
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        type(beams_t), intent(in) :: bm
+        type(walls_t), intent(in) :: walls
+        type(contacts_t), intent(in) :: ct
+        type(prescribed_nodes_t), intent(in) :: pn
+        type(rigid_t), intent(in) :: rg
+        type(pressures_t), intent(in) :: pl
+        type(ties_t), intent(in) :: td
+        type(mass_scaling_t), intent(in) :: ms
+        type(energies_t), intent(in) :: en
+        character(len=:), allocatable :: why
+        character(len=8) :: env
+        integer :: n, stat
+        why = ''
+        call get_environment_variable('XDYNA_LOCAL_NODES', env, length=n, status=stat)
+        if (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) == '0') call add('XDYNA_LOCAL_NODES=0''s asking')
+        if (ct%n > 0) call add('contact')
+        if (rg%n > 0) call add('rigid bodies')
+        if (walls%n > 0) call add('rigid walls')
+        if (td%n > 0) call add('tied contacts')
+        if (bm%n > 0) call add('beams')
+        if (pl%n > 0 .or. model%nbody > 0) call add('loads')
+        if (pn%n > 0 .or. allocated(st%jprev)) call add('prescribed motion')
+        if (sh%erodible .or. solids%erodible) call add('erosion')
+        if (ms%on) call add('mass scaling')
+        if (.not. fixed_masses(en)) call add('masses that change')
+    contains
+        subroutine add(t)
+            character(len=*), intent(in) :: t
+            if (len(why) > 0) why = why//', '
+            why = why//t
+        end subroutine add
+    end function whole_nodes_reason
+
     !> Owned nodes: every node's coordinates and velocities (and angular
     !> velocities), v(n-1/2) where given, and with `outputs`
     !> the accelerations and forces (and moments: nodout, d3plot), and the
     !> histories' tracked rotations, from the ranks that integrate them: with
     !> `outputs` (a state, a dump) to rank 0, which writes them, else (a
     !> failure's message) to every rank.
-    subroutine refresh_nodes(dom, st, hist, tm, outputs, vminus, vrminus)
+    subroutine refresh_nodes(dom, model, st, sh, hist, tm, outputs, vw, vminus, vrminus)
         type(domain_t), intent(in) :: dom
+        type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
+        type(shells_t), intent(inout) :: sh
         type(histories_t), intent(inout) :: hist
         type(timers_t), intent(inout) :: tm
         logical, intent(in) :: outputs
+        !> nodes numbered per rank: with `outputs`, rank 0's whole view
+        !> (every node), which the caller closes; a failure's message takes
+        !> none (each rank names the nodes it holds)
+        type(node_view_t), intent(inout) :: vw
         real(wp), intent(inout), optional :: vminus(:, :)
         real(wp), intent(inout), allocatable, optional :: vrminus(:, :)
+        if (dom%local) then
+            if (.not. outputs) return
+            call tm%start(ph_comm)
+            call open_view(dom, dom%every, model, st, sh, vminus, vrminus, .true., vw)
+            call merge_rotations(hist, dom%node_mine)
+            call tm%stop(ph_comm)
+            return
+        end if
         call tm%start(ph_comm)
         ! (an array not allocated, as st%vr without rotations, is passed
         ! as absent: gather_subset)
@@ -577,14 +686,26 @@ contains
     !> angular velocities and moments) from their ranks to rank 0, which
     !> writes them, and their tracked rotations (the energies are summed by
     !> rank).
-    subroutine refresh_histories(dom, st, hist, tm, vminus, vrminus)
+    subroutine refresh_histories(dom, model, st, sh, hist, tm, vw, vminus, vrminus)
         type(domain_t), intent(in) :: dom
+        type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
+        type(shells_t), intent(inout) :: sh
         type(histories_t), intent(inout) :: hist
         type(timers_t), intent(inout) :: tm
+        !> nodes numbered per rank: rank 0's view of the nodout nodes, which
+        !> the caller closes
+        type(node_view_t), intent(inout) :: vw
         real(wp), intent(inout) :: vminus(:, :)
         real(wp), intent(inout), allocatable :: vrminus(:, :)
         if (.not. allocated(dom%hist%node)) return
+        if (dom%local) then
+            call tm%start(ph_comm)
+            call open_view(dom, dom%hist, model, st, sh, vminus, vrminus, .false., vw)
+            call merge_rotations(hist, dom%node_mine)
+            call tm%stop(ph_comm)
+            return
+        end if
         call tm%start(ph_comm)
         ! (two collectives: four arrays a call at most)
         ! (to rank 0 alone, which writes)
@@ -678,8 +799,14 @@ contains
                 end if
                 if (any(st%v(:, i) /= st%v(:, i)) .or. any(abs(st%v(:, i)) > huge(1.0_wp))) exit
             end do
-            if (dom%owned) i = ranks_pick(real(st%nnode + 1 - min(i, st%nnode + 1), dp), min(i, st%nnode + 1))
-            if (i > st%nnode) i = 1
+            ! (the model's number: nodes numbered per rank; none bad: past the last)
+            if (i > st%nnode) then
+                i = huge(1)/2
+            else
+                i = global_node(dom, i)
+            end if
+            if (dom%owned) i = ranks_pick(real(huge(1)/2 - i, dp), i)
+            if (i >= huge(1)/2) i = 1
             call fail(res, st, lg, 'energy is NaN or infinite; first bad node '//node_where(model, solids, sh, i))
         else if ((en%ratio < 0.0_dp .or. (en%ratio < 1.0_dp/lp%ratio_limit .and. st%cycle - lp%cycle0 >= 10)) &
                  .and. abs(st%e_initial + en%ext) > 0.0_dp) then
@@ -725,7 +852,8 @@ contains
             if (dom%owned) then
                 where (.not. dom%node_mine) e2 = -1
                 nd = maxloc(e2, 1)
-                nd = ranks_pick(e2(nd), nd)
+                ! (the model's number: nodes numbered per rank)
+                nd = ranks_pick(e2(nd), global_node(dom, nd))
             else
                 nd = maxloc(e2, 1)
             end if
@@ -925,14 +1053,16 @@ contains
         character(len=:), allocatable :: txt
         integer :: e
         txt = itoa(model%node_id(i))
+        ! (the model's connectivity: the elements' own may be numbered per
+        ! rank, and i is the model's number)
         do e = 1, solids%n
-            if (any(solids%conn(:, e) == i)) then
+            if (any(model%hex_conn(:, solids%model_ix(e)) == i)) then
                 txt = txt//' (part '//itoa(model%part(solids%part(e))%id)//')'
                 return
             end if
         end do
         do e = 1, sh%n
-            if (any(sh%conn(:, e) == i)) then
+            if (any(model%shell_conn(:, sh%model_ix(e)) == i)) then
                 txt = txt//' (part '//itoa(model%part(sh%part(e))%id)//')'
                 return
             end if

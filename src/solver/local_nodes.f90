@@ -1,0 +1,354 @@
+!> Nodes numbered per rank (issue 32, deliverable 1). With owned nodes
+!> each rank integrates the nodes it assembles and moves those its
+!> elements touch; until this step every rank still held every node's
+!> arrays. Here, once the decomposition and its lists are made, each
+!> rank's nodal arrays are cut to the nodes it moves (its own and the
+!> halo its elements touch), numbered 1 .. n in the model's order, and
+!> every list that indexes them (the elements' connectivity, the
+!> assembly's node lists, the halo's motion lists, the runs, the
+!> energies' node-by-part table, the nodout nodes) takes those numbers.
+!> Every sum keeps its order (the local numbers rise with the model's),
+!> so the motion is the serial run's bit for bit.
+!>
+!> An output is written by rank 0 from a whole view (node_view_t): every
+!> node's values (or the nodout nodes' alone) gathered from their ranks
+!> into arrays of the model's size, held for the output's time only, with
+!> the shells' connectivity in the model's numbers while it lasts.
+!>
+!> Models that hold nodes every rank reads (contact surfaces, rigid
+!> bodies and walls, ties, beams, loads and prescribed motions, erosion,
+!> mass scaling, thickness updates) keep every node on every rank:
+!> local_nodes_reason says which, and d3hsp names it.
+module xd_solver_local_nodes
+    use, intrinsic :: iso_fortran_env, only: int8
+    use xd_kinds, only: wp, dp
+    use xd_core_comm, only: comm_gather_root_wp
+    use xd_core_sorting, only: where_true
+    use xd_model, only: model_t
+    use xd_solver_state, only: state_t
+    use xd_solver_assembly, only: assembly_t
+    use xd_solver_energies, only: energies_t, localize_node_table
+    use xd_elements_solid_groups, only: solids_t
+    use xd_elements_shell_bt, only: shells_t
+    use xd_output_histories, only: histories_t
+    use xd_solver_domain, only: domain_t, node_gather_t, node_runs
+    implicit none
+    private
+    public :: node_view_t, localize_nodes, open_view, close_view, global_node
+
+    !> Rank 0's whole view of the nodes for an output (nodes numbered per
+    !> rank): the state's arrays at the model's size, v(n) and w(n-1/2)
+    !> beside them; on the other ranks nothing is held (`on` false there).
+    type :: node_view_t
+        logical :: on = .false.
+        type(state_t) :: st
+        real(wp), allocatable :: vn(:, :), wn(:, :)
+        !> the shells' connectivity in the local numbers, kept aside while
+        !> the view lends them the model's (a state's shell axes read it)
+        integer, allocatable :: sconn(:, :)
+    end type node_view_t
+
+contains
+
+    !> The nodal arrays cut to the nodes this rank moves, and every list
+    !> that indexes them renumbered (see the module's head). Once, after
+    !> the owned nodes' lists are made (choose_owned) and the energies'
+    !> node table is built, before the time loop's own per-node arrays are
+    !> allocated.
+    subroutine localize_nodes(dom, st, solids, asm, sh, asm_sh, en, hist)
+        type(domain_t), intent(inout) :: dom
+        type(state_t), intent(inout) :: st
+        type(solids_t), intent(inout) :: solids
+        type(assembly_t), intent(inout) :: asm, asm_sh
+        type(shells_t), intent(inout) :: sh
+        type(energies_t), intent(inout) :: en
+        type(histories_t), intent(inout) :: hist
+        logical, allocatable :: keep(:)
+        integer, allocatable :: g2l(:), l2g(:)
+        integer :: n, k, e, l, nl
+        n = st%nnode
+        ! the nodes this rank moves: its own, those its elements touch
+        ! (the owned lists' runs hold both; the elements' are added, so
+        ! that no connectivity entry is left without a number)
+        allocate (keep(n))
+        keep = .false.
+        do k = 1, size(dom%mv_lo)
+            keep(dom%mv_lo(k):dom%mv_hi(k)) = .true.
+        end do
+        do e = 1, solids%n
+            if (dom%own_solid(e)) keep(solids%conn(:, e)) = .true.
+        end do
+        do e = 1, sh%n
+            if (dom%own_shell(e)) keep(sh%conn(:, e)) = .true.
+        end do
+        l2g = where_true(keep)
+        deallocate (keep)
+        nl = size(l2g)
+        allocate (g2l(n))
+        g2l = 0
+        do l = 1, nl
+            g2l(l2g(l)) = l
+        end do
+
+        ! the energies' node-by-part table (each node's parts and shares),
+        ! and the model's mass, summed whole as one rank sums it
+        call localize_node_table(en, l2g, n, sum(real(st%mass, dp)))
+
+        ! the state
+        call cut2(st%x)
+        call cut2(st%v)
+        call cut2(st%a)
+        call cut2(st%f)
+        call cut1(st%mass)
+        st%dofs = st%dofs(l2g)
+        if (allocated(st%vr)) call cut2(st%vr)
+        if (allocated(st%mom)) call cut2(st%mom)
+        if (allocated(st%irot)) call cut1(st%irot)
+        st%nnode = nl
+
+        ! the elements' connectivity (another rank's element: 0, never read)
+        do e = 1, solids%n
+            if (dom%own_solid(e)) then
+                solids%conn(:, e) = g2l(solids%conn(:, e))
+            else
+                solids%conn(:, e) = 0
+            end if
+        end do
+        do e = 1, sh%n
+            if (dom%own_shell(e)) then
+                sh%conn(:, e) = g2l(sh%conn(:, e))
+            else
+                sh%conn(:, e) = 0
+            end if
+        end do
+        if (allocated(sh%split)) sh%split = sh%split(l2g)
+        if (allocated(sh%shared)) sh%shared = g2l(sh%shared)
+
+        ! the assembly's node -> slot lists, each kept node's as it was
+        call cut_assembly(asm)
+        call cut_assembly(asm_sh)
+
+        ! the decomposition's lists
+        dom%nodes = g2l(dom%nodes)
+        dom%split_mine = g2l(dom%split_mine)
+        dom%node_mine = dom%node_mine(l2g)
+        dom%own = dom%node_mine
+        dom%mo_node = g2l(dom%mo_node)
+        dom%mi_node = g2l(dom%mi_node)
+        call node_runs(where_true(dom%node_mine), dom%kick_lo, dom%kick_hi)
+        call node_runs([(l, l=1, nl)], dom%mv_lo, dom%mv_hi)
+        call mine_of(dom%every)
+        if (allocated(dom%hist%node)) call mine_of(dom%hist)
+        ! (every node's list is rank 0's alone now: the others send their
+        ! own entries, `mine`; no node's rank is looked up again)
+        if (dom%rank /= 0) then
+            deallocate (dom%every%node)
+            allocate (dom%every%node(0))
+        end if
+        if (allocated(dom%arank)) deallocate (dom%arank)
+
+        ! the energies' node-by-part table (each node's parts and shares)
+
+        ! the nodout nodes this rank integrates, by their local numbers
+        if (allocated(hist%nodes)) then
+            allocate (hist%lnodes(size(hist%nodes)))
+            do k = 1, size(hist%nodes)
+                hist%lnodes(k) = g2l(hist%nodes(k))
+                if (hist%lnodes(k) > 0) then
+                    if (.not. dom%node_mine(hist%lnodes(k))) hist%lnodes(k) = 0
+                end if
+            end do
+        end if
+
+        dom%nglobal = n
+        call move_alloc(l2g, dom%l2g)
+        dom%local = .true.
+    contains
+        subroutine cut2(a)
+            real(wp), allocatable, intent(inout) :: a(:, :)
+            real(wp), allocatable :: b(:, :)
+            integer :: i
+            allocate (b(size(a, 1), nl))
+            do i = 1, nl
+                b(:, i) = a(:, l2g(i))
+            end do
+            call move_alloc(b, a)
+        end subroutine cut2
+
+        subroutine cut1(a)
+            real(wp), allocatable, intent(inout) :: a(:)
+            real(wp), allocatable :: b(:)
+            integer :: i
+            allocate (b(nl))
+            do i = 1, nl
+                b(i) = a(l2g(i))
+            end do
+            call move_alloc(b, a)
+        end subroutine cut1
+
+        subroutine cut_assembly(as)
+            type(assembly_t), intent(inout) :: as
+            integer, allocatable :: p(:), s(:)
+            integer :: i, c
+            if (.not. allocated(as%ptr)) return
+            if (size(as%ptr) /= n + 1) return
+            allocate (p(nl + 1))
+            p(1) = 1
+            do i = 1, nl
+                p(i + 1) = p(i) + as%ptr(l2g(i) + 1) - as%ptr(l2g(i))
+            end do
+            allocate (s(p(nl + 1) - 1))
+            do i = 1, nl
+                c = as%ptr(l2g(i) + 1) - as%ptr(l2g(i))
+                s(p(i):p(i) + c - 1) = as%slot(as%ptr(l2g(i)):as%ptr(l2g(i) + 1) - 1)
+            end do
+            call move_alloc(p, as%ptr)
+            call move_alloc(s, as%slot)
+            as%nnode = nl
+        end subroutine cut_assembly
+
+        !> A gather's own entries by their local numbers.
+        subroutine mine_of(gt)
+            type(node_gather_t), intent(inout) :: gt
+            integer :: r, i
+            r = dom%rank + 1
+            allocate (gt%mine(gt%cnt(r)))
+            do i = 1, gt%cnt(r)
+                gt%mine(i) = g2l(gt%node(gt%off(r) + i))
+            end do
+        end subroutine mine_of
+    end subroutine localize_nodes
+
+    !> The model's number of this rank's node l (nodes numbered per rank),
+    !> or l itself.
+    integer function global_node(dom, l) result(g)
+        type(domain_t), intent(in) :: dom
+        integer, intent(in) :: l
+        g = l
+        if (.not. dom%local) return
+        if (l >= 1 .and. l <= size(dom%l2g)) g = dom%l2g(l)
+    end function global_node
+
+    !> Rank 0's whole view for an output (a collective: every rank calls
+    !> it): the gather g's nodes (every node for a state or a dump, the
+    !> nodout nodes for the histories) with their coordinates, velocities,
+    !> accelerations, forces, angular velocities, moments, rotary inertias
+    !> and free directions, and vminus and vrminus as given, from their
+    !> ranks. With `states`, the shells' connectivity in the model's
+    !> numbers until close_view.
+    subroutine open_view(dom, g, model, st, sh, vminus, vrminus, states, vw)
+        type(domain_t), intent(in) :: dom
+        type(node_gather_t), intent(in) :: g
+        type(model_t), intent(in) :: model
+        type(state_t), intent(in) :: st
+        type(shells_t), intent(inout) :: sh
+        real(wp), intent(in), optional :: vminus(:, :)
+        real(wp), intent(in), allocatable, optional :: vrminus(:, :)
+        logical, intent(in) :: states
+        type(node_view_t), intent(inout) :: vw
+        logical :: root
+        integer :: ng, e
+        real(wp), allocatable :: one(:, :)
+        root = dom%rank == 0
+        ng = dom%nglobal
+        vw%on = root
+        if (root) then
+            vw%st%nnode = ng
+            vw%st%rot = st%rot
+            vw%st%time = st%time
+            vw%st%dt = st%dt
+            vw%st%dt_old = st%dt_old
+            vw%st%dt_avg_prev = st%dt_avg_prev
+            vw%st%dt_first = st%dt_first
+            vw%st%cycle = st%cycle
+            vw%st%crit_elem = st%crit_elem
+            vw%st%ext_work = st%ext_work
+            vw%st%e_initial = st%e_initial
+            vw%st%ms_work = st%ms_work
+            allocate (vw%st%x(3, ng), vw%st%v(3, ng), vw%st%a(3, ng), vw%st%f(3, ng), vw%st%dofs(ng))
+        end if
+        call gather_rows(dom, g, st%x, vw%st%x)
+        call gather_rows(dom, g, st%v, vw%st%v)
+        call gather_rows(dom, g, st%a, vw%st%a)
+        call gather_rows(dom, g, st%f, vw%st%f)
+        ! (the free directions' bits, exact as reals)
+        call gather_rows(dom, g, reshape(real(st%dofs, wp), [1, st%nnode]), one, ng)
+        if (root) vw%st%dofs = int(one(1, :), int8)
+        if (st%rot) then
+            if (root) allocate (vw%st%vr(3, ng), vw%st%mom(3, ng))
+            call gather_rows(dom, g, st%vr, vw%st%vr)
+            call gather_rows(dom, g, st%mom, vw%st%mom)
+            call gather_rows(dom, g, reshape(st%irot, [1, st%nnode]), one, ng)
+            if (root) vw%st%irot = one(1, :)
+        end if
+        if (present(vminus)) then
+            if (root) allocate (vw%vn(3, ng))
+            call gather_rows(dom, g, vminus, vw%vn)
+        end if
+        if (present(vrminus)) then
+            if (allocated(vrminus)) then
+                if (root) allocate (vw%wn(3, ng))
+                call gather_rows(dom, g, vrminus, vw%wn)
+            end if
+        end if
+        if (root .and. states .and. sh%n > 0) then
+            call move_alloc(sh%conn, vw%sconn)
+            allocate (sh%conn(4, sh%n))
+            do e = 1, sh%n
+                sh%conn(:, e) = model%shell_conn(:, sh%model_ix(e))
+            end do
+        end if
+    end subroutine open_view
+
+    !> The view released (rank 0), the shells' local connectivity back.
+    subroutine close_view(sh, vw)
+        type(shells_t), intent(inout) :: sh
+        type(node_view_t), intent(inout) :: vw
+        type(state_t) :: none
+        if (allocated(vw%sconn)) then
+            deallocate (sh%conn)
+            call move_alloc(vw%sconn, sh%conn)
+        end if
+        vw%st = none
+        if (allocated(vw%vn)) deallocate (vw%vn)
+        if (allocated(vw%wn)) deallocate (vw%wn)
+        vw%on = .false.
+    end subroutine close_view
+
+    !> src(:, node) of the gather's nodes from their ranks (each sends its
+    !> own, by local number) into dst(:, node) on rank 0, by the model's
+    !> numbers (dst allocated there; unallocated elsewhere, or with
+    !> `alloc_n`, allocated (rows, alloc_n) on rank 0 here).
+    subroutine gather_rows(dom, g, src, dst, alloc_n)
+        type(domain_t), intent(in) :: dom
+        type(node_gather_t), intent(in) :: g
+        real(wp), intent(in) :: src(:, :)
+        real(wp), allocatable, intent(inout) :: dst(:, :)
+        integer, intent(in), optional :: alloc_n
+        real(wp), allocatable :: mine(:, :), all(:, :)
+        integer :: w, r, i
+        logical :: root
+        root = dom%rank == 0
+        w = size(src, 1)
+        r = dom%rank + 1
+        if (present(alloc_n) .and. root) then
+            if (allocated(dst)) deallocate (dst)
+            allocate (dst(w, alloc_n))
+        end if
+        allocate (mine(w, max(g%cnt(r), 1)))
+        do i = 1, g%cnt(r)
+            mine(:, i) = src(:, g%mine(i))
+        end do
+        if (root) then
+            allocate (all(w, max(sum(g%cnt), 1)))
+        else
+            allocate (all(w, 1))
+        end if
+        call comm_gather_root_wp(mine, w*g%cnt(r), all, w*g%cnt, w*g%off, root)
+        if (.not. root) return
+        do i = 1, size(g%node)
+            dst(:, g%node(i)) = all(:, i)
+        end do
+    end subroutine gather_rows
+
+end module xd_solver_local_nodes
