@@ -21,6 +21,11 @@ module xd_contact_rigidwall
     type :: wall_nodes_t
         integer, allocatable :: node(:)     !< nodes the wall stops
         logical, allocatable :: on(:)       !< per model node: in node(:)
+        !> nodes numbered per rank (xd_solver_local_nodes): node(:) holds
+        !> this rank's own nodes alone, by their local numbers, and key(:)
+        !> each one's place in the model's list (the order the wall's sums
+        !> take); unallocated otherwise
+        integer, allocatable :: key(:)
         real(dp) :: shift = 0               !< moving wall: distance moved along the normal
         real(dp) :: vel = 0, vel_old = 0    !< moving wall: velocity along the normal
         real(dp) :: energy = 0              !< kinetic energy removed so far
@@ -205,6 +210,7 @@ contains
             gap(nc) = dall(k)
             hn(:, nc) = hn(:, k)
             at(nc) = k
+            if (allocated(wn%key)) at(nc) = wn%key(k)
         end do
         ! the hits' sums (a moving wall's mass and impulse, then, the nodes
         ! moved, the force and energy), each taken over the hits' records in

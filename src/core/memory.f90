@@ -5,9 +5,10 @@ module xd_core_memory
     use xd_core_parallel_env, only: terminate
     use xd_core_errors, only: exit_run
     use, intrinsic :: iso_fortran_env, only: error_unit, real32, real64, int8
+    use, intrinsic :: iso_c_binding, only: c_int, c_size_t
     implicit none
     private
-    public :: alloc, alloc_dp, grow, fit, nbytes, peak_memory_kb, resident_memory_kb
+    public :: alloc, alloc_dp, grow, fit, nbytes, peak_memory_kb, resident_memory_kb, release_free_memory
 
     interface alloc
         module procedure alloc_r1, alloc_r2, alloc_r3, alloc_i1, alloc_i2
@@ -226,6 +227,21 @@ contains
         b = 0
         if (allocated(a)) b = size(a, kind=i8)*(storage_size(.true., i8)/8)
     end function nbytes_log
+
+    !> The heap's free memory handed back to the system (glibc's
+    !> malloc_trim): the set-up's many small allocations (the deck's lines,
+    !> the model's growing lists), freed, otherwise stay in the process's
+    !> resident memory for the whole run.
+    subroutine release_free_memory()
+        interface
+            integer(c_int) function malloc_trim(pad) bind(c, name='malloc_trim')
+                import :: c_int, c_size_t
+                integer(c_size_t), value :: pad
+            end function malloc_trim
+        end interface
+        integer(c_int) :: r
+        r = malloc_trim(0_c_size_t)
+    end subroutine release_free_memory
 
     integer(i8) function peak_memory_kb() result(kb)
         kb = status_kb('VmHWM:')

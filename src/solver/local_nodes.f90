@@ -31,6 +31,8 @@ module xd_solver_local_nodes
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_shell_bt, only: shells_t
     use xd_output_histories, only: histories_t
+    use xd_contact_rigidwall, only: walls_t
+    use xd_solver_prescribed, only: prescribed_nodes_t
     use xd_solver_domain, only: domain_t, node_gather_t, node_runs
     implicit none
     private
@@ -55,7 +57,7 @@ contains
     !> the owned nodes' lists are made (choose_owned) and the energies'
     !> node table is built, before the time loop's own per-node arrays are
     !> allocated.
-    subroutine localize_nodes(dom, st, solids, asm, sh, asm_sh, en, hist)
+    subroutine localize_nodes(dom, st, solids, asm, sh, asm_sh, en, hist, walls, pn)
         type(domain_t), intent(inout) :: dom
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
@@ -63,6 +65,8 @@ contains
         type(shells_t), intent(inout) :: sh
         type(energies_t), intent(inout) :: en
         type(histories_t), intent(inout) :: hist
+        type(walls_t), intent(inout) :: walls
+        type(prescribed_nodes_t), intent(inout) :: pn
         logical, allocatable :: keep(:)
         integer, allocatable :: g2l(:), l2g(:)
         integer :: n, k, e, l, nl
@@ -104,6 +108,7 @@ contains
         if (allocated(st%vr)) call cut2(st%vr)
         if (allocated(st%mom)) call cut2(st%mom)
         if (allocated(st%irot)) call cut1(st%irot)
+        if (allocated(st%jprev)) call cut2(st%jprev)
         st%nnode = nl
 
         ! the elements' connectivity (another rank's element: 0, never read)
@@ -148,6 +153,24 @@ contains
         if (allocated(dom%arank)) deallocate (dom%arank)
 
         ! the energies' node-by-part table (each node's parts and shares)
+
+        ! the rigid walls' nodes this rank integrates, by their local
+        ! numbers, each with its place in the model's list (the sums' order)
+        do k = 1, walls%n
+            call own_entries(walls%w(k)%node, walls%w(k)%key)
+            if (allocated(walls%w(k)%on)) deallocate (walls%w(k)%on)
+        end do
+        ! the prescribed motions' nodes likewise, in place (their model
+        ! numbers kept for the initial coordinates)
+        if (allocated(pn%node)) then
+            allocate (pn%lnode(size(pn%node)))
+            do k = 1, size(pn%node)
+                pn%lnode(k) = g2l(pn%node(k))
+                if (pn%lnode(k) > 0) then
+                    if (.not. dom%node_mine(pn%lnode(k))) pn%lnode(k) = 0
+                end if
+            end do
+        end if
 
         ! the nodout nodes this rank integrates, by their local numbers
         if (allocated(hist%nodes)) then
@@ -206,6 +229,26 @@ contains
             call move_alloc(s, as%slot)
             as%nnode = nl
         end subroutine cut_assembly
+
+        !> A list of nodes (the model's numbers) cut to this rank's own, by
+        !> their local numbers, with each one's place in the list.
+        subroutine own_entries(list, key)
+            integer, allocatable, intent(inout) :: list(:)
+            integer, allocatable, intent(out) :: key(:)
+            integer, allocatable :: t(:)
+            integer :: i, c
+            allocate (t(size(list)), key(size(list)))
+            c = 0
+            do i = 1, size(list)
+                if (g2l(list(i)) == 0) cycle
+                if (.not. dom%node_mine(g2l(list(i)))) cycle
+                c = c + 1
+                t(c) = g2l(list(i))
+                key(c) = i
+            end do
+            list = t(1:c)
+            key = key(1:c)
+        end subroutine own_entries
 
         !> A gather's own entries by their local numbers.
         subroutine mine_of(gt)
@@ -274,6 +317,11 @@ contains
         ! (the free directions' bits, exact as reals)
         call gather_rows(dom, g, reshape(real(st%dofs, wp), [1, st%nnode]), one, ng)
         if (root) vw%st%dofs = int(one(1, :), int8)
+        if (allocated(st%jprev)) then
+            ! (the prescribed motions' last velocity changes: a dump's)
+            if (root) allocate (vw%st%jprev(3, ng))
+            call gather_rows(dom, g, st%jprev, vw%st%jprev)
+        end if
         if (st%rot) then
             if (root) allocate (vw%st%vr(3, ng), vw%st%mom(3, ng))
             call gather_rows(dom, g, st%vr, vw%st%vr)

@@ -14,6 +14,11 @@ module xd_solver_prescribed
     type :: prescribed_nodes_t
         integer :: n = 0
         integer, allocatable :: first(:), node(:)   !< CSR: nodes of prescription i
+        !> nodes numbered per rank (xd_solver_local_nodes): per entry of
+        !> node(:), its number in this rank's nodal arrays where this rank
+        !> integrates it, else 0 (node(:) keeps the model's numbers, which
+        !> the initial coordinates take); unallocated otherwise
+        integer, allocatable :: lnode(:)
     end type prescribed_nodes_t
 
 contains
@@ -64,7 +69,7 @@ contains
         real(wp), intent(in), optional :: mextra(:)
         logical, intent(in), optional :: mine(:)
         real(dp) :: m
-        integer :: i, k, nd, j, nr
+        integer :: i, k, nd, j, nr, l
         real(wp) :: t, target, vold, vprev
         real(dp), allocatable :: rec(:, :), all(:, :)
         work = 0
@@ -82,26 +87,32 @@ contains
                 if (pm%rigid .or. t < pm%birth .or. t > pm%death) cycle
                 j = pm%dof
                 do k = pn%first(i), pn%first(i + 1) - 1
+                    ! (nd: the model's number; l: the nodal arrays')
                     nd = pn%node(k)
-                    if (present(mine)) then
-                        if (.not. mine(nd)) cycle
+                    l = nd
+                    if (allocated(pn%lnode)) then
+                        l = pn%lnode(k)
+                        if (l == 0) cycle
                     end if
-                    vold = st%v(j, nd)
-                    vprev = vold - dt_avg*st%a(j, nd)
+                    if (present(mine)) then
+                        if (.not. mine(l)) cycle
+                    end if
+                    vold = st%v(j, l)
+                    vprev = vold - dt_avg*st%a(j, l)
                     select case (pm%vad)
                     case (0)
                         target = pm%sf*curve_value(c, t + 0.5_wp*dt)
                     case (1)
                         target = vprev + dt_avg*pm%sf*curve_value(c, t)
                     case default
-                        target = (pm%sf*curve_value(c, t + dt) - (st%x(j, nd) - model%x0(j, nd)))/dt
+                        target = (pm%sf*curve_value(c, t + dt) - (st%x(j, l) - model%x0(j, nd)))/dt
                     end select
-                    st%v(j, nd) = target
-                    m = st%mass(nd)
-                    if (present(mextra)) m = m + mextra(nd)
+                    st%v(j, l) = target
+                    m = st%mass(l)
+                    if (present(mextra)) m = m + mextra(l)
                     nr = nr + 1
-                    rec(:, nr) = [real(k, dp), 0.5_dp*m*(target - vold + st%jprev(j, nd))*vprev]
-                    st%jprev(j, nd) = target - vold
+                    rec(:, nr) = [real(k, dp), 0.5_dp*m*(target - vold + st%jprev(j, l))*vprev]
+                    st%jprev(j, l) = target - vold
                 end do
             end associate
         end do

@@ -8,7 +8,7 @@
 module xd_solver_time_loop
     use, intrinsic :: iso_fortran_env, only: output_unit
     use xd_kinds, only: wp, dp, i8
-    use xd_core_memory, only: nbytes
+    use xd_core_memory, only: nbytes, release_free_memory
     use xd_core_strings, only: itoa, rtoa, ftoa
     use xd_core_errors, only: exit_normal, exit_run, exit_signal
     use xd_core_timers, only: timers_t, ph_elements, ph_integrate, ph_output, ph_search, ph_init, ph_comm
@@ -114,7 +114,8 @@ contains
         type(beams_t), intent(inout) :: bm
         type(walls_t), intent(inout) :: walls
         type(contacts_t), intent(inout) :: ct
-        type(prescribed_nodes_t), intent(in) :: pn
+        !> (its nodes' local numbers set where the nodes are numbered per rank)
+        type(prescribed_nodes_t), intent(inout) :: pn
         type(rigid_t), intent(inout) :: rg
         type(pressures_t), intent(inout) :: pl
         type(ties_t), intent(inout) :: td       !< tied contacts
@@ -187,7 +188,7 @@ contains
             whole = whole_nodes_reason(model, st, solids, sh, bm, walls, ct, pn, rg, pl, td, ms, en)
             if (len(whole) == 0) then
                 call tm%start(ph_init)
-                call localize_nodes(dom, st, solids, asm, sh, asm_sh, en, hist)
+                call localize_nodes(dom, st, solids, asm, sh, asm_sh, en, hist, walls, pn)
                 call tm%stop(ph_init)
                 call log_line(lg, ' nodal arrays: nodes numbered per rank: each rank holds its own nodes and those '// &
                               'its elements touch (rank 0: '//itoa(size(dom%l2g))//' of '//itoa(dom%nglobal)// &
@@ -209,6 +210,8 @@ contains
         if (st%rot) vrminus = 0
         call tm%stop(ph_init)
         res%node_bytes = nbytes(vminus) + nbytes(vrminus) + nbytes(no_body) + energy_bytes(en)
+        ! (what the set-up freed, back to the system before the loop)
+        call release_free_memory()
 
         ! cycle n: forces at t(n) on x(n) with v(n-1/2); v(n+1/2) with the
         ! constraints; output at t(n); then x(n+1)
@@ -589,10 +592,11 @@ contains
     !> Why this run keeps every node's arrays on every rank (owned nodes),
     !> or '' where its nodes can be numbered per rank: each feature named
     !> reads nodes that no element of the rank touches (a contact surface,
-    !> a rigid body or wall, a tie, a beam, a load or a prescribed motion
-    !> taken by every rank alike), or changes the masses or the elements
-    !> during the run (mass scaling, thickness updates, erosion), which the
-    !> per-rank numbering does not follow yet.
+    !> a rigid body, a tie, a beam, a pressure segment taken by every rank
+    !> alike), or changes the masses or the elements during the run (mass
+    !> scaling, thickness updates, erosion), which the per-rank numbering
+    !> does not follow yet. (Rigid walls, prescribed motions and body loads
+    !> act on each rank's own nodes: they follow it.)
     function whole_nodes_reason(model, st, solids, sh, bm, walls, ct, pn, rg, pl, td, ms, en) result(why)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
@@ -615,11 +619,9 @@ contains
         if (stat == 0 .and. n > 0 .and. env(1:max(n, 1)) == '0') call add('XDYNA_LOCAL_NODES=0''s asking')
         if (ct%n > 0) call add('contact')
         if (rg%n > 0) call add('rigid bodies')
-        if (walls%n > 0) call add('rigid walls')
         if (td%n > 0) call add('tied contacts')
         if (bm%n > 0) call add('beams')
-        if (pl%n > 0 .or. model%nbody > 0) call add('loads')
-        if (pn%n > 0 .or. allocated(st%jprev)) call add('prescribed motion')
+        if (pl%n > 0) call add('pressure loads')
         if (sh%erodible .or. solids%erodible) call add('erosion')
         if (ms%on) call add('mass scaling')
         if (.not. fixed_masses(en)) call add('masses that change')
@@ -776,6 +778,8 @@ contains
         type(run_result_t), intent(inout) :: res
         type(log_t), intent(in) :: lg
         integer :: i, k
+        !> (no node bad: past every model's last)
+        integer, parameter :: none_bad = huge(1) - 1
         ! a rigid body turning a radian or more in one step: no motion the
         ! step resolves (the rotation of a step is the Cayley transform of
         ! omega dt, good for small angles); a prescribed spin of 1e30 rad/s
@@ -799,14 +803,14 @@ contains
                 end if
                 if (any(st%v(:, i) /= st%v(:, i)) .or. any(abs(st%v(:, i)) > huge(1.0_wp))) exit
             end do
-            ! (the model's number: nodes numbered per rank; none bad: past the last)
+            ! (the model's number: nodes numbered per rank; none bad: none_bad)
             if (i > st%nnode) then
-                i = huge(1)/2
+                i = none_bad
             else
                 i = global_node(dom, i)
             end if
-            if (dom%owned) i = ranks_pick(real(huge(1)/2 - i, dp), i)
-            if (i >= huge(1)/2) i = 1
+            if (dom%owned) i = ranks_pick(real(none_bad - i, dp), i)
+            if (i >= none_bad) i = 1
             call fail(res, st, lg, 'energy is NaN or infinite; first bad node '//node_where(model, solids, sh, i))
         else if ((en%ratio < 0.0_dp .or. (en%ratio < 1.0_dp/lp%ratio_limit .and. st%cycle - lp%cycle0 >= 10)) &
                  .and. abs(st%e_initial + en%ext) > 0.0_dp) then
