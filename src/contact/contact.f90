@@ -75,6 +75,10 @@ module xd_contact_contact
         real(wp), allocatable :: dl(:)        !< pool margin delta_i of each surface node (its local size)
         real(wp), allocatable :: dmin(:)      !< delta_min,i (xd_contact_global_search's pool_margins)
         real(wp), allocatable :: un(:)        !< U_i: each surface node's relative motion bound since t = 0
+        !> owned nodes: the surface's nodes this rank integrates (their
+        !> places in surf%node), whose motion bounds it keeps (contact_drift;
+        !> made at its first call: the ranks' nodes do not change)
+        integer, allocatable :: drift_own(:)
         integer, allocatable :: cls(:)        !< per slave: its class by margin (margin_classes)
         real(wp), allocatable :: cmin(:)      !< per class: the least margin Delta_c of its slaves
         real(wp), allocatable :: uc(:, :)     !< (nnode, class): U_i at the class's last search
@@ -277,7 +281,8 @@ contains
                 + nbytes(it%ed%pa) + nbytes(it%ed%pb) &
                 + nbytes(it%ed%side) + nbytes(it%ed%named) + nbytes(it%ed%kp) + nbytes(it%ed%p0) + nbytes(it%ed%dlast) &
                 + nbytes(it%ed%ft) + nbytes(it%ed%act) + nbytes(it%ed%st) + nbytes(it%ed%fa) &
-                + nbytes(it%xl) + nbytes(it%dl) + nbytes(it%dmin) + nbytes(it%un) + nbytes(it%cls) + nbytes(it%cmin) &
+                + nbytes(it%xl) + nbytes(it%dl) + nbytes(it%dmin) + nbytes(it%un) + nbytes(it%drift_own) &
+                + nbytes(it%cls) + nbytes(it%cmin) &
                 + nbytes(it%uc) + nbytes(it%cbud) + nbytes(it%cused) + nbytes(it%dump) + nbytes(it%ls%xl) &
                 + nbytes(it%ls%vl) + nbytes(it%ls%lc) + nbytes(it%ls%lcodo) + nbytes(it%cl%g) + nbytes(it%cl%x) &
                 + nbytes(it%cl%u) + nbytes(it%cl%wait) + nbytes(it%cl%nnear) + nbytes(it%cl%near) + nbytes(it%ms) &
@@ -936,10 +941,32 @@ contains
             real(dp) :: red(1), sc
             real(dp), allocatable :: rc(:)
             integer(i8) :: isum(3)
+            integer :: k, nw
+            ! owned nodes: the passes over this rank's own surface nodes
+            ! alone, by their places (each pass over every surface node
+            ! with a mask did not shrink with the ranks: 3 passes and one a
+            ! margin class, a cycle); the same maximum, exact sum and
+            ! maxima as the masked passes
+            if (size(mine) > 0 .and. .not. allocated(it%drift_own)) then
+                ! (loops: no temporary of the surface's size on the stack)
+                nw = 0
+                do k = 1, it%surf%nnode
+                    if (mine(it%surf%node(k))) nw = nw + 1
+                end do
+                allocate (it%drift_own(nw))
+                nw = 0
+                do k = 1, it%surf%nnode
+                    if (.not. mine(it%surf%node(k))) cycle
+                    nw = nw + 1
+                    it%drift_own(nw) = k
+                end do
+            end if
+            nw = it%surf%nnode
+            if (size(mine) > 0) nw = size(it%drift_own)
             ! (a parallel region only where more than one thread runs it:
             ! xd_core_threads)
             vmax = 0
-            if (threaded(it%surf%nnode)) then
+            if (threaded(nw)) then
                 !$omp parallel
                 call drift_max(it, v, mine, vmax)
                 !$omp end parallel
@@ -956,7 +983,7 @@ contains
             sc = 0
             if (vmax > 0.0_wp) sc = scale(1.0_dp, 61 - exponent(real(it%surf%nnode, dp)*sqrt(real(vmax, dp))))
             isum = 0
-            if (threaded(it%surf%nnode)) then
+            if (threaded(nw)) then
                 !$omp parallel
                 call drift_sum(it, v, mine, sc, isum)
                 !$omp end parallel
@@ -967,7 +994,7 @@ contains
             vbar = 0
             if (sc > 0.0_dp) vbar = real(real(isum, dp)/sc/it%surf%nnode, wp)
             it%cused = 0
-            if (threaded(it%surf%nnode)) then
+            if (threaded(nw)) then
                 !$omp parallel
                 call drift_use(it, v, mine, dt, vbar)
                 !$omp end parallel
@@ -992,15 +1019,20 @@ contains
         real(wp), intent(in) :: v(3, *)
         logical, intent(in) :: mine(:)
         real(wp), intent(inout) :: vmax
-        integer :: k, n
-        logical :: all
-        all = size(mine) == 0
+        integer :: k, n, j
+        if (size(mine) > 0) then
+            ! (this rank's own surface nodes: contact_drift's list)
+            !$omp do schedule(static) reduction(max:vmax)
+            do j = 1, size(it%drift_own)
+                n = it%surf%node(it%drift_own(j))
+                vmax = max(vmax, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
+            end do
+            !$omp end do
+            return
+        end if
         !$omp do schedule(static) reduction(max:vmax)
         do k = 1, it%surf%nnode
             n = it%surf%node(k)
-            if (.not. all) then
-                if (.not. mine(n)) cycle
-            end if
             vmax = max(vmax, v(1, n)**2 + v(2, n)**2 + v(3, n)**2)
         end do
         !$omp end do
@@ -1016,18 +1048,19 @@ contains
         real(dp), intent(in) :: sc
         integer(i8), intent(inout) :: isum(3)
         integer(i8) :: s1, s2, s3
-        integer :: k, n
+        integer :: k, n, j, nw
         logical :: all
         all = size(mine) == 0
         s1 = 0
         s2 = 0
         s3 = 0
+        nw = it%surf%nnode
+        if (.not. all) nw = size(it%drift_own)
         !$omp do schedule(static)
-        do k = 1, it%surf%nnode
+        do j = 1, nw
+            k = j
+            if (.not. all) k = it%drift_own(j)
             n = it%surf%node(k)
-            if (.not. all) then
-                if (.not. mine(n)) cycle
-            end if
             s1 = s1 + int(real(v(1, n), dp)*sc, i8)
             s2 = s2 + int(real(v(2, n), dp)*sc, i8)
             s3 = s3 + int(real(v(3, n), dp)*sc, i8)
@@ -1050,7 +1083,7 @@ contains
         type(interface_t), intent(inout) :: it
         real(wp), intent(in) :: v(3, *), dt, vbar(3)
         logical, intent(in) :: mine(:)
-        integer :: k, n, c
+        integer :: k, n, c, j
         real(wp) :: vk, used
         if (size(mine) == 0) then
             !$omp do schedule(static)
@@ -1072,10 +1105,11 @@ contains
                 !$omp end critical (drift_used)
             end do
         else
+            ! (this rank's own surface nodes: contact_drift's list)
             !$omp do schedule(static)
-            do k = 1, it%surf%nnode
+            do j = 1, size(it%drift_own)
+                k = it%drift_own(j)
                 n = it%surf%node(k)
-                if (.not. mine(n)) cycle
                 vk = sqrt((v(1, n) - vbar(1))**2 + (v(2, n) - vbar(2))**2 + (v(3, n) - vbar(3))**2)
                 it%un(k) = it%un(k) + dt*vk
             end do
@@ -1083,8 +1117,8 @@ contains
             do c = 1, size(it%cmin)
                 used = 0
                 !$omp do schedule(static)
-                do k = 1, it%surf%nnode
-                    if (.not. mine(it%surf%node(k))) cycle
+                do j = 1, size(it%drift_own)
+                    k = it%drift_own(j)
                     used = max(used, (it%un(k) - it%uc(k, c))*it%cbud(k, c))
                 end do
                 !$omp end do nowait
