@@ -36,7 +36,7 @@ module xd_solver_local_nodes
     use xd_solver_domain, only: domain_t, node_gather_t, node_runs
     implicit none
     private
-    public :: node_view_t, localize_nodes, open_view, close_view, global_node
+    public :: node_view_t, localize_nodes, open_view, close_view, global_node, view_mid_velocities
 
     !> Rank 0's whole view of the nodes for an output (nodes numbered per
     !> rank): the state's arrays at the model's size, v(n) and w(n-1/2)
@@ -45,6 +45,9 @@ module xd_solver_local_nodes
         logical :: on = .false.
         type(state_t) :: st
         real(wp), allocatable :: vn(:, :), wn(:, :)
+        !> the nodes gathered (the model's numbers): the view's other
+        !> entries are not set
+        integer, allocatable :: nodes(:)
         !> the shells' connectivity in the local numbers, kept aside while
         !> the view lends them the model's (a state's shell axes read it)
         integer, allocatable :: sconn(:, :)
@@ -104,7 +107,7 @@ contains
         call cut2(st%a)
         call cut2(st%f)
         call cut1(st%mass)
-        st%dofs = st%dofs(l2g)
+        call cut_int8(st%dofs)
         if (allocated(st%vr)) call cut2(st%vr)
         if (allocated(st%mom)) call cut2(st%mom)
         if (allocated(st%irot)) call cut1(st%irot)
@@ -126,22 +129,26 @@ contains
                 sh%conn(:, e) = 0
             end if
         end do
-        if (allocated(sh%split)) sh%split = sh%split(l2g)
-        if (allocated(sh%shared)) sh%shared = g2l(sh%shared)
+        if (allocated(sh%split)) call cut_int(sh%split)
+        if (allocated(sh%shared)) call renumber(sh%shared)
 
         ! the assembly's node -> slot lists, each kept node's as it was
         call cut_assembly(asm)
         call cut_assembly(asm_sh)
 
         ! the decomposition's lists
-        dom%nodes = g2l(dom%nodes)
-        dom%split_mine = g2l(dom%split_mine)
-        dom%node_mine = dom%node_mine(l2g)
+        call renumber(dom%nodes)
+        call renumber(dom%split_mine)
+        call cut_log(dom%node_mine)
         dom%own = dom%node_mine
-        dom%mo_node = g2l(dom%mo_node)
-        dom%mi_node = g2l(dom%mi_node)
+        call renumber(dom%mo_node)
+        call renumber(dom%mi_node)
         call node_runs(where_true(dom%node_mine), dom%kick_lo, dom%kick_hi)
-        call node_runs([(l, l=1, nl)], dom%mv_lo, dom%mv_hi)
+        ! (every node held is moved: one run after another)
+        allocate (keep(nl))
+        keep = .true.
+        call node_runs(where_true(keep), dom%mv_lo, dom%mv_hi)
+        deallocate (keep)
         call mine_of(dom%every)
         if (allocated(dom%hist%node)) call mine_of(dom%hist)
         ! (every node's list is rank 0's alone now: the others send their
@@ -198,6 +205,50 @@ contains
             call move_alloc(b, a)
         end subroutine cut2
 
+        !> (the cuts and renumberings as loops: no temporary of the model's
+        !> size on the stack)
+        subroutine cut_int8(a)
+            integer(int8), allocatable, intent(inout) :: a(:)
+            integer(int8), allocatable :: b(:)
+            integer :: i
+            allocate (b(nl))
+            do i = 1, nl
+                b(i) = a(l2g(i))
+            end do
+            call move_alloc(b, a)
+        end subroutine cut_int8
+
+        subroutine cut_int(a)
+            integer, allocatable, intent(inout) :: a(:)
+            integer, allocatable :: b(:)
+            integer :: i
+            allocate (b(nl))
+            do i = 1, nl
+                b(i) = a(l2g(i))
+            end do
+            call move_alloc(b, a)
+        end subroutine cut_int
+
+        subroutine cut_log(a)
+            logical, allocatable, intent(inout) :: a(:)
+            logical, allocatable :: b(:)
+            integer :: i
+            allocate (b(nl))
+            do i = 1, nl
+                b(i) = a(l2g(i))
+            end do
+            call move_alloc(b, a)
+        end subroutine cut_log
+
+        !> A list of the model's node numbers, all held here, in local numbers.
+        subroutine renumber(list)
+            integer, intent(inout) :: list(:)
+            integer :: i
+            do i = 1, size(list)
+                list(i) = g2l(list(i))
+            end do
+        end subroutine renumber
+
         subroutine cut1(a)
             real(wp), allocatable, intent(inout) :: a(:)
             real(wp), allocatable :: b(:)
@@ -246,8 +297,13 @@ contains
                 t(c) = g2l(list(i))
                 key(c) = i
             end do
+            deallocate (list)
+            allocate (list(c))
             list = t(1:c)
-            key = key(1:c)
+            t(1:c) = key(1:c)
+            deallocate (key)
+            allocate (key(c))
+            key = t(1:c)
         end subroutine own_entries
 
         !> A gather's own entries by their local numbers.
@@ -290,12 +346,13 @@ contains
         logical, intent(in) :: states
         type(node_view_t), intent(inout) :: vw
         logical :: root
-        integer :: ng, e
-        real(wp), allocatable :: one(:, :)
+        integer :: ng, e, i
+        real(wp), allocatable :: one(:, :), row(:, :)
         root = dom%rank == 0
         ng = dom%nglobal
         vw%on = root
         if (root) then
+            vw%nodes = g%node
             vw%st%nnode = ng
             vw%st%rot = st%rot
             vw%st%time = st%time
@@ -314,9 +371,18 @@ contains
         call gather_rows(dom, g, st%v, vw%st%v)
         call gather_rows(dom, g, st%a, vw%st%a)
         call gather_rows(dom, g, st%f, vw%st%f)
-        ! (the free directions' bits, exact as reals)
-        call gather_rows(dom, g, reshape(real(st%dofs, wp), [1, st%nnode]), one, ng)
-        if (root) vw%st%dofs = int(one(1, :), int8)
+        ! (the free directions' bits, exact as reals; through an array of
+        ! our own, not a temporary on the stack)
+        allocate (row(1, st%nnode))
+        do i = 1, st%nnode
+            row(1, i) = real(st%dofs(i), wp)
+        end do
+        call gather_rows(dom, g, row, one, ng)
+        if (root) then
+            do i = 1, ng
+                vw%st%dofs(i) = int(one(1, i), int8)
+            end do
+        end if
         if (allocated(st%jprev)) then
             ! (the prescribed motions' last velocity changes: a dump's)
             if (root) allocate (vw%st%jprev(3, ng))
@@ -326,8 +392,12 @@ contains
             if (root) allocate (vw%st%vr(3, ng), vw%st%mom(3, ng))
             call gather_rows(dom, g, st%vr, vw%st%vr)
             call gather_rows(dom, g, st%mom, vw%st%mom)
-            call gather_rows(dom, g, reshape(st%irot, [1, st%nnode]), one, ng)
-            if (root) vw%st%irot = one(1, :)
+            row(1, :) = st%irot
+            call gather_rows(dom, g, row, one, ng)
+            if (root) then
+                allocate (vw%st%irot(ng))
+                vw%st%irot(:) = one(1, :)
+            end if
         end if
         if (present(vminus)) then
             if (root) allocate (vw%vn(3, ng))
@@ -358,10 +428,24 @@ contains
             call move_alloc(vw%sconn, sh%conn)
         end if
         vw%st = none
+        if (allocated(vw%nodes)) deallocate (vw%nodes)
         if (allocated(vw%vn)) deallocate (vw%vn)
         if (allocated(vw%wn)) deallocate (vw%wn)
         vw%on = .false.
     end subroutine close_view
+
+    !> The view's v(n): its v(n-1/2) averaged with v(n+1/2) at the nodes
+    !> gathered, the operation the energies make on each rank's own
+    !> (energy_phase), so the same bits.
+    subroutine view_mid_velocities(vw)
+        type(node_view_t), intent(inout) :: vw
+        integer :: i, nd
+        if (.not. vw%on .or. .not. allocated(vw%vn)) return
+        do i = 1, size(vw%nodes)
+            nd = vw%nodes(i)
+            vw%vn(:, nd) = 0.5_wp*(vw%vn(:, nd) + vw%st%v(:, nd))
+        end do
+    end subroutine view_mid_velocities
 
     !> src(:, node) of the gather's nodes from their ranks (each sends its
     !> own, by local number) into dst(:, node) on rank 0, by the model's
@@ -381,7 +465,10 @@ contains
         r = dom%rank + 1
         if (present(alloc_n) .and. root) then
             if (allocated(dst)) deallocate (dst)
+            ! (zero where the gather puts nothing: the nodes a history
+            ! view leaves out, which its callers convert)
             allocate (dst(w, alloc_n))
+            dst = 0
         end if
         allocate (mine(w, max(g%cnt(r), 1)))
         do i = 1, g%cnt(r)

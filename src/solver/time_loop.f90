@@ -42,7 +42,8 @@ module xd_solver_time_loop
                                       hourglass_bound_report
     use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
                                       mass_scaling_summary
-    use xd_solver_local_nodes, only: node_view_t, localize_nodes, open_view, close_view, global_node
+    use xd_solver_local_nodes, only: node_view_t, localize_nodes, open_view, close_view, global_node, &
+                                     view_mid_velocities
     use xd_solver_phases, only: element_phase, exchange_phase, bad_element, beam_phase, erosion_phase, step_phase, &
                                 load_phase, contact_phase, velocity_phase, constraint_phase, energy_phase, &
                                 advance_phase, any_rank
@@ -222,13 +223,8 @@ contains
             if (opts%dump_every >= 0 .and. .not. lp%dumped_end) then
                 if (st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp) .or. &
                     (model%ctl%endcyc > 0 .and. st%cycle >= model%ctl%endcyc)) then
-                    if (dom%owned) call refresh_nodes(dom, model, st, sh, hist, tm, .true., vw)
-                    if (vw%on) then
-                        call dump_phase(lp, opts, dom, vw%st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
-                    else
-                        call dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
-                    end if
-                    if (dom%local) call close_view(sh, vw)
+                    call dump_now(lp, opts, model, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, &
+                                  res, vw)
                     lp%dumped_end = .true.
                     if (res%status /= exit_normal) exit
                 end if
@@ -321,7 +317,7 @@ contains
                 call energy_phase(model, dom, st, solids, sh, walls, rg, ct, td, bm, tm, vminus, vrminus, dt_avg, &
                                   ke_fix, en)
                 ! (vminus now v(n); the view's likewise, the same operation)
-                if (vw%on .and. st%cycle > 0 .and. allocated(vw%vn)) vw%vn = 0.5_wp*(vw%vn + vw%st%v)
+                if (st%cycle > 0) call view_mid_velocities(vw)
                 call energy_check(lp, model, dom, st, solids, sh, rg, ct, pn, en, vminus, res, lg)
                 if (res%status /= exit_normal) exit
                 if (output_now) then
@@ -454,15 +450,40 @@ contains
         end if
     contains
         subroutine dump()
-            if (dom%owned) call refresh_nodes(dom, model, st, sh, hist, tm, .true., vw)
-            if (vw%on) then
-                call dump_phase(lp, opts, dom, vw%st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
-            else
-                call dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
-            end if
-            if (dom%local) call close_view(sh, vw)
+            call dump_now(lp, opts, model, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res, vw)
         end subroutine dump
     end subroutine batch_phase
+
+    !> A restart dump of the state now: with owned nodes every node from its
+    !> rank first (into rank 0's whole view where the nodes are numbered
+    !> per rank, which it writes from and then releases).
+    subroutine dump_now(lp, opts, model, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res, vw)
+        type(loop_t), intent(inout) :: lp
+        type(run_options_t), intent(in) :: opts
+        type(model_t), intent(in) :: model
+        type(domain_t), intent(in) :: dom
+        type(state_t), intent(inout) :: st
+        type(solids_t), intent(inout) :: solids
+        type(shells_t), intent(inout) :: sh
+        type(beams_t), intent(in) :: bm
+        type(walls_t), intent(in) :: walls
+        type(rigid_t), intent(in) :: rg
+        type(contacts_t), intent(inout) :: ct
+        type(ties_t), intent(in) :: td
+        type(histories_t), intent(inout) :: hist
+        type(states_t), intent(in) :: states
+        type(log_t), intent(in) :: lg
+        type(timers_t), intent(inout) :: tm
+        type(run_result_t), intent(inout) :: res
+        type(node_view_t), intent(inout) :: vw
+        if (dom%owned) call refresh_nodes(dom, model, st, sh, hist, tm, .true., vw)
+        if (vw%on) then
+            call dump_phase(lp, opts, dom, vw%st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
+        else
+            call dump_phase(lp, opts, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, res)
+        end if
+        if (dom%local) call close_view(sh, vw)
+    end subroutine dump_now
 
     !> Owned nodes (issue 32): each rank integrates the nodes it assembles
     !> and exchanges its halo with its neighbours alone; the nodes every
