@@ -475,8 +475,8 @@ contains
                               ftoa(maxval(all(3, :))/1048576.0_dp)//' MB)')
             end if
         end if
-        ! the nodal arrays (every node's on every rank, until the nodes are
-        ! numbered per rank) and the elements' (the state and slots above,
+        ! the nodal arrays (the rank's own and halo nodes' where they are
+        ! numbered per rank, else every node's) and the elements' (the state and slots above,
         ! the connectivity, energies, blocks and flags, the parts' constants)
         call figure(' nodal and element arrays ............ ', ' nodal and element arrays per rank ... ', all(5, :), &
                     1048576.0_dp, '')

@@ -1,6 +1,8 @@
 !> The MPI domain decomposition of a run (issue 8, issue 32). Every rank
-!> reads the deck and holds the whole mesh and the nodal arrays; the work
-!> is split:
+!> reads the deck and holds the whole mesh, and the nodal arrays unless
+!> they are numbered per rank (xd_solver_local_nodes: each rank's own
+!> nodes and those its elements touch, where no contact or other feature
+!> reads every node); the work is split:
 !>
 !> - elements: solid groups and deformable shells are cut into `nranks`
 !>   parts by recursive coordinate bisection weighted by cost (a hexahedron
@@ -40,8 +42,9 @@
 !> or a dump it writes (solid_state_view, shell_state_view,
 !> release_element_view). The motion is bitwise that of the serial run for
 !> any rank count (the energies agree to rounding). The price is memory:
-!> the mesh, the elements' constants and energies and the nodal arrays are
-!> on every rank.
+!> the mesh and the elements' energies are on every rank, and so are the
+!> nodal arrays of a model whose contact (or rigid bodies, ties, beams,
+!> pressure segments) reads every node.
 module xd_solver_domain
     use xd_kinds, only: wp, dp, i8
     use xd_core_partition, only: rcb_partition

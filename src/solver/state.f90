@@ -43,7 +43,8 @@ module xd_solver_state
 contains
 
     !> The bytes of the nodal arrays this rank holds (issue 32's measure:
-    !> every node's on every rank until the nodes are numbered per rank).
+    !> its own and halo nodes' where the nodes are numbered per rank,
+    !> xd_solver_local_nodes; else every node's).
     integer(i8) function nodal_bytes(st) result(b)
         type(state_t), intent(in) :: st
         b = nbytes(st%x) + nbytes(st%v) + nbytes(st%a) + nbytes(st%f) + nbytes(st%mass) &
