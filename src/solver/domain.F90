@@ -256,7 +256,11 @@ contains
         real(wp), allocatable :: xc(:, :), w(:)
         integer, allocatable :: part(:), arank(:), spart(:), grank(:), shrank(:)
         logical, allocatable :: multi(:)
-        logical, allocatable :: touch(:, :)   !< (node, rank): the rank's elements touch the node
+        !> (rank 0, for d3hsp's table) the nodes one rank's elements touch,
+        !> made again for each rank in turn (touched): one rank's at a time,
+        !> not every rank's at once (a (node, rank) table was 64 MB on 16
+        !> ranks of a 1,000,000-node plate, rank 0's peak)
+        logical, allocatable :: touch(:)
         integer :: ni, g, e, k, nd, j, r, i, nnode
         dom%rank = rank
         dom%nranks = nranks
@@ -426,27 +430,28 @@ contains
         subroutine part_sizes()
             logical, allocatable :: nbr(:, :)
             integer :: q, a
-            allocate (touch(nnode, nranks), nbr(nranks, nranks))
+            allocate (touch(nnode), nbr(nranks, nranks))
             allocate (dom%psolid(nranks), dom%pshell(nranks), dom%ptouch(nranks), dom%phalo(nranks), dom%pnbr(nranks))
-            touch = .false.
             dom%psolid = 0
             dom%pshell = 0
             do q = 1, solids%n
                 a = grank(solids%group_of(q)) + 1
                 dom%psolid(a) = dom%psolid(a) + 1
-                touch(solids%conn(:, q), a) = .true.
             end do
             do q = 1, sh%n
                 a = shrank(q) + 1
                 dom%pshell(a) = dom%pshell(a) + 1
-                touch(sh%conn(:, q), a) = .true.
             end do
             nbr = .false.
             do q = 1, nranks
-                dom%ptouch(q) = count(touch(:, q))
-                dom%phalo(q) = count(touch(:, q) .and. arank /= q - 1)
+                call touched(q)
+                dom%ptouch(q) = 0
+                dom%phalo(q) = 0
                 do nd = 1, nnode
-                    if (touch(nd, q) .and. arank(nd) /= q - 1) then
+                    if (.not. touch(nd)) cycle
+                    dom%ptouch(q) = dom%ptouch(q) + 1
+                    if (arank(nd) /= q - 1) then
+                        dom%phalo(q) = dom%phalo(q) + 1
                         nbr(q, arank(nd) + 1) = .true.
                         nbr(arank(nd) + 1, q) = .true.
                     end if
@@ -456,6 +461,19 @@ contains
                 dom%pnbr(q) = count(nbr(:, q))
             end do
         end subroutine part_sizes
+
+        !> touch: the nodes rank q's (1-based) elements touch.
+        subroutine touched(q)
+            integer, intent(in) :: q
+            integer :: e
+            touch = .false.
+            do e = 1, solids%n
+                if (grank(solids%group_of(e)) == q - 1) touch(solids%conn(:, e)) = .true.
+            end do
+            do e = 1, sh%n
+                if (shrank(e) == q - 1) touch(sh%conn(:, e)) = .true.
+            end do
+        end subroutine touched
 
         !> The ghosts of surface s for each rank: the segments whose box (at
         !> x0) meets the box of the rank's part of the surface (its slaves and
@@ -471,6 +489,7 @@ contains
             integer :: q, k, m, nn, c
             allocate (gn(nnode))
             do q = 1, nranks
+                call touched(q)
                 lo = huge(1.0_wp)
                 hi = -huge(1.0_wp)
                 g = 0
@@ -481,7 +500,7 @@ contains
                     g = max(g, dl(s%slave(k)))
                 end do
                 do k = 1, s%nnode
-                    if (.not. touch(s%node(k), q)) cycle
+                    if (.not. touch(s%node(k))) cycle
                     lo = min(lo, x0(:, s%node(k)))
                     hi = max(hi, x0(:, s%node(k)))
                     g = max(g, dl(k))
@@ -491,7 +510,7 @@ contains
                 gn = .false.
                 do m = 1, s%nseg
                     nn = seg_nodes(s%seg(:, m))
-                    if (all(touch(s%node(s%seg(1:nn, m)), q))) cycle
+                    if (all(touch(s%node(s%seg(1:nn, m))))) cycle
                     blo = huge(1.0_wp)
                     bhi = -huge(1.0_wp)
                     do c = 1, nn
@@ -501,7 +520,7 @@ contains
                     if (any(blo > hi) .or. any(bhi < lo)) cycle
                     dom%pgseg(q) = dom%pgseg(q) + 1
                     do c = 1, nn
-                        if (.not. touch(s%node(s%seg(c, m)), q)) gn(s%node(s%seg(c, m))) = .true.
+                        if (.not. touch(s%node(s%seg(c, m)))) gn(s%node(s%seg(c, m))) = .true.
                     end do
                 end do
                 dom%pgnode(q) = dom%pgnode(q) + count(gn)
