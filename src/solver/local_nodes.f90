@@ -104,12 +104,9 @@ contains
         ! the state
         call cut2(st%x)
         call cut2(st%v)
-        call cut2(st%a)
-        call cut2(st%f)
         call cut1(st%mass)
         call cut_int8(st%dofs)
         if (allocated(st%vr)) call cut2(st%vr)
-        if (allocated(st%mom)) call cut2(st%mom)
         if (allocated(st%irot)) call cut1(st%irot)
         if (allocated(st%jprev)) call cut2(st%jprev)
         st%nnode = nl

@@ -43,8 +43,9 @@ contains
         st%nnode = model%nnode
         call alloc(st%x, 3, st%nnode, 'coordinates')
         call alloc(st%v, 3, st%nnode, 'velocities')
-        call alloc(st%a, 3, st%nnode, 'accelerations')
-        call alloc(st%f, 3, st%nnode, 'nodal forces')
+        ! (the accelerations, forces and moments, which no set-up reads, are
+        ! allocated by the time loop, once it knows the nodes this rank
+        ! holds: allocate_force_arrays)
         call alloc(st%mass, st%nnode, 'nodal masses')
         allocate (st%dofs(st%nnode))
         ! (the initial coordinates are the deck's: model%x0, held once)
@@ -59,7 +60,6 @@ contains
         if (sh%n > 0 .or. bm%n > 0) then
             st%rot = .true.
             call alloc(st%vr, 3, st%nnode, 'angular velocities')
-            call alloc(st%mom, 3, st%nnode, 'nodal moments')
             call alloc(st%irot, st%nnode, 'rotational inertia')
         end if
         if (sh%n > 0) then

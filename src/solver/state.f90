@@ -2,11 +2,11 @@
 !> constraint masks, time and step. Passed down the call chain, never global.
 module xd_solver_state
     use xd_kinds, only: wp, dp, i8
-    use xd_core_memory, only: nbytes
+    use xd_core_memory, only: nbytes, alloc
     use, intrinsic :: iso_fortran_env, only: int8
     implicit none
     private
-    public :: state_t, nodal_bytes
+    public :: state_t, nodal_bytes, allocate_force_arrays
 
     type :: state_t
         integer :: nnode = 0
@@ -41,6 +41,17 @@ module xd_solver_state
     end type state_t
 
 contains
+
+    !> The accelerations, forces (and moments, with rotations) of the nodes
+    !> the state holds, zero: allocated by the time loop at its set-up, once
+    !> the nodes a rank holds are known (the set-up reads none of them, so
+    !> a rank that numbers its nodes apart never holds them for every node).
+    subroutine allocate_force_arrays(st)
+        type(state_t), intent(inout) :: st
+        call alloc(st%a, 3, st%nnode, 'accelerations')
+        call alloc(st%f, 3, st%nnode, 'nodal forces')
+        if (st%rot) call alloc(st%mom, 3, st%nnode, 'nodal moments')
+    end subroutine allocate_force_arrays
 
     !> The bytes of the nodal arrays this rank holds (issue 32's measure:
     !> its own and halo nodes' where the nodes are numbered per rank,

@@ -14,7 +14,7 @@ module xd_solver_time_loop
     use xd_core_timers, only: timers_t, ph_elements, ph_integrate, ph_output, ph_search, ph_init, ph_comm
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t
-    use xd_solver_state, only: state_t
+    use xd_solver_state, only: state_t, allocate_force_arrays
     use xd_solver_assembly, only: assembly_t
     use xd_solver_energies, only: energies_t, prepare_energies, energy_bytes, fixed_masses
     use xd_output_histories, only: histories_t, histories_due, nodout_due, write_histories, history_failure, flush_histories
@@ -200,6 +200,8 @@ contains
                               'rank need none of these)')
             end if
         end if
+        ! the accelerations, forces and moments, at the size the rank holds
+        call allocate_force_arrays(st)
         allocate (vminus(3, st%nnode), no_body(st%nnode))
         no_body = .false.
         if (st%rot) allocate (vrminus(3, st%nnode))
