@@ -254,7 +254,7 @@ contains
         !> decomp_rcb (absent: the same) or decomp_metis
         integer, intent(in), optional :: method
         real(wp), allocatable :: xc(:, :), w(:)
-        integer, allocatable :: part(:), arank(:), spart(:), grank(:), shrank(:)
+        integer, allocatable :: part(:), arank(:), spart(:), grank(:), shrank(:), iota(:)
         logical, allocatable :: multi(:)
         !> (rank 0, for d3hsp's table) the nodes one rank's elements touch,
         !> made again for each rank in turn (touched): one rank's at a time,
@@ -298,6 +298,9 @@ contains
         do i = 1, ni
             dom%cost(part(i) + 1) = dom%cost(part(i) + 1) + w(i)
         end do
+        ! (the items' centres and weights: no more use; the room, for what
+        ! follows)
+        deallocate (xc, w, part)
         solids%active = grank == rank
         dom%group_rank = grank
         call list_parts()
@@ -342,7 +345,13 @@ contains
         ! (the shells' blocks and their direct nodes follow from mine and
         ! split once the rows are placed: place_shell_state)
         dom%arank = arank
-        call gather_layout(arank, nranks, [(nd, nd=1, nnode)], dom%every)
+        ! (every node: an iota of our own, not a constructor on the stack)
+        allocate (iota(nnode))
+        do nd = 1, nnode
+            iota(nd) = nd
+        end do
+        call gather_layout(arank, nranks, iota, dom%every)
+        deallocate (iota)
         ! the halo slots: those of elements on a node that another rank assembles
         call halo_slots(8, solids%conn, grank(solids%group_of), dom%bslot, dom%bslot_mine)
         if (sh%n > 0) then
@@ -365,7 +374,7 @@ contains
         ct%nranks = nranks
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
-                deallocate (xc, w)
+                if (allocated(xc)) deallocate (xc, w)
                 if (allocated(spart)) deallocate (spart)
                 allocate (xc(3, s%nslave), w(s%nslave), spart(s%nslave))
                 do k = 1, s%nslave
@@ -1120,14 +1129,29 @@ contains
         integer, intent(in) :: arank(:), nranks, nodes(:)
         type(node_gather_t), intent(out) :: g
         logical, allocatable :: on(:)
-        integer :: r
-        allocate (on(size(arank)), g%node(0), g%cnt(nranks), g%off(nranks))
+        integer, allocatable :: at(:)
+        integer :: r, i, nd
+        ! (counted, then placed: one pass each, no list grown rank by rank)
+        allocate (on(size(arank)), g%cnt(nranks), g%off(nranks), at(nranks))
         on = .false.
-        on(nodes) = .true.
-        do r = 1, nranks
-            g%off(r) = size(g%node)
-            g%node = [g%node, where_true(on .and. arank == r - 1)]
-            g%cnt(r) = size(g%node) - g%off(r)
+        do i = 1, size(nodes)
+            on(nodes(i)) = .true.
+        end do
+        g%cnt = 0
+        do nd = 1, size(arank)
+            if (on(nd)) g%cnt(arank(nd) + 1) = g%cnt(arank(nd) + 1) + 1
+        end do
+        g%off(1) = 0
+        do r = 2, nranks
+            g%off(r) = g%off(r - 1) + g%cnt(r - 1)
+        end do
+        allocate (g%node(sum(g%cnt)))
+        at = g%off
+        do nd = 1, size(arank)
+            if (.not. on(nd)) cycle
+            r = arank(nd) + 1
+            at(r) = at(r) + 1
+            g%node(at(r)) = nd
         end do
     end subroutine gather_layout
 
