@@ -14,7 +14,7 @@ module xd_solver_energies
     use xd_core_comm, only: comm_sum_dp
     implicit none
     private
-    public :: energies_t, compute_energies, prepare_energies, energy_bytes, localize_node_table, fixed_masses
+    public :: energies_t, compute_energies, prepare_energies, energy_bytes, localize_node_table, masses_fixed
 
     type :: energies_t
         real(dp) :: ke = 0, ie = 0, hg = 0, ext = 0, wall = 0, slide = 0, total = 0, ratio = 1
@@ -57,18 +57,21 @@ contains
     !> masses, the parts' sums), built at set-up: in the first output they
     !> had been a one-time cost inside the time loop's timing (node_part_masses
     !> and the arrays' first touch, 8-19 ms on 100,000 shells).
-    subroutine prepare_energies(model, st, solids, sh, en, bm)
+    subroutine prepare_energies(model, st, solids, sh, en, bm, keep)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
         type(energies_t), intent(inout) :: en
         type(beams_t), intent(in), optional :: bm
+        !> (nodes numbered per rank: the model's nodes the rank holds, in
+        !> the model's numbering, before the cut; the table holds theirs)
+        logical, intent(in), optional :: keep(:)
         if (.not. allocated(en%part_ie)) then
             allocate (en%part_ie(model%npart), en%part_ke(model%npart), en%part_hg(model%npart), &
                       en%part_mass(model%npart), en%part_mom(3, model%npart), en%part_added(model%npart))
         end if
-        if (.not. allocated(en%np_ptr)) call node_part_masses(model, st, solids, sh, en, bm)
+        if (.not. allocated(en%np_ptr)) call node_part_masses(model, st, solids, sh, en, bm, keep)
         if (.not. en%fixed_mass .and. .not. allocated(en%kn)) then
             allocate (en%kn(st%nnode), en%vn(3, st%nnode))
             en%kn = 0
@@ -78,10 +81,11 @@ contains
 
     !> The nodes' masses stay as set up for the whole run (no mass
     !> scaling, no thickness update): the node-by-part table holds them.
-    logical function fixed_masses(en)
-        type(energies_t), intent(in) :: en
-        fixed_masses = en%fixed_mass
-    end function fixed_masses
+    logical function masses_fixed(solids, sh)
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        masses_fixed = .not. (allocated(solids%msf) .or. allocated(sh%msf) .or. sh%thickness_update)
+    end function masses_fixed
 
     !> The node-by-part table cut to the nodes l2g (of n: the nodes
     !> numbered per rank, xd_solver_local_nodes), each kept node's entries
@@ -552,20 +556,26 @@ contains
     !> fixed for the run: each node's incidences (the assembly's slot lists,
     !> solids then shells) with the shares of one part summed (a node has
     !> few).
-    subroutine node_part_masses(model, st, solids, sh, en, bm)
+    subroutine node_part_masses(model, st, solids, sh, en, bm, keep)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
         type(energies_t), intent(inout) :: en
         type(beams_t), intent(in), optional :: bm
+        !> the nodes whose entries the table holds (absent: every node):
+        !> every node's shares still go into the parts' masses, in node order
+        logical, intent(in), optional :: keep(:)
         type(assembly_t) :: as, ash
         integer, allocatable :: ip(:)
         real(dp), allocatable :: im(:), fp(:)
         real(dp) :: madd
-        integer :: e, k, nd, n, j
-        en%fixed_mass = .not. (allocated(solids%msf) .or. allocated(sh%msf) .or. sh%thickness_update)
-        allocate (en%np_ptr(st%nnode + 1), en%part_mass0(model%npart))
+        integer :: e, k, nd, n, j, nrow, n0, most
+        logical :: held
+        en%fixed_mass = masses_fixed(solids, sh)
+        nrow = st%nnode
+        if (present(keep)) nrow = count(keep)
+        allocate (en%np_ptr(nrow + 1), en%part_mass0(model%npart))
         en%np_ptr = 1
         en%part_mass0 = 0
         if (.not. en%fixed_mass) then
@@ -581,10 +591,31 @@ contains
         end if
         n = 0
         if (present(bm)) n = 2*bm%n
-        allocate (ip(size(as%slot) + size(ash%slot) + n), im(size(as%slot) + size(ash%slot) + n))
+        if (present(keep)) then
+            ! (room for the kept nodes' entries, and one other node's at a
+            ! time while its shares go into the parts' masses)
+            most = 0
+            j = 0
+            do nd = 1, st%nnode
+                k = as%ptr(nd + 1) - as%ptr(nd) + ash%ptr(nd + 1) - ash%ptr(nd)
+                most = max(most, k)
+                if (keep(nd)) j = j + k
+            end do
+            n = n + j + most
+        else
+            n = n + size(as%slot) + size(ash%slot)
+        end if
+        allocate (ip(n), im(n))
         n = 0
+        nrow = 0
         do nd = 1, st%nnode
-            en%np_ptr(nd) = n + 1
+            held = .true.
+            if (present(keep)) held = keep(nd)
+            n0 = n
+            if (held) then
+                nrow = nrow + 1
+                en%np_ptr(nrow) = n + 1
+            end if
             do j = as%ptr(nd), as%ptr(nd + 1) - 1
                 e = (as%slot(j) - 1)/8 + 1
                 call add(solids%part(e), real(model%mat(model%part(solids%part(e))%mat_ix)%ro, dp)*solids%vol0(e)/8.0_dp)
@@ -605,13 +636,17 @@ contains
                     end do
                 end if
             end if
+            ! the node's shares into the parts' masses (in node order, as
+            ! the whole table's were summed); another rank's node's entries
+            ! are not kept
+            do j = n0 + 1, n
+                en%part_mass0(ip(j)) = en%part_mass0(ip(j)) + im(j)
+            end do
+            if (.not. held) n = n0
         end do
-        en%np_ptr(st%nnode + 1) = n + 1
+        en%np_ptr(nrow + 1) = n + 1
         en%np_part = ip(1:n)
         en%np_m = im(1:n)
-        do j = 1, n
-            en%part_mass0(en%np_part(j)) = en%part_mass0(en%np_part(j)) + en%np_m(j)
-        end do
         ! *ELEMENT_MASS_PART: the mass added in proportion to the part's own
         ! nodal shares, so its shares scale by the part's new mass over its own
         if (allocated(model%partmass)) then
@@ -635,7 +670,7 @@ contains
             integer, intent(in) :: p
             real(dp), intent(in) :: m
             integer :: q
-            do q = en%np_ptr(nd), n
+            do q = n0 + 1, n
                 if (ip(q) == p) then
                     im(q) = im(q) + m
                     return

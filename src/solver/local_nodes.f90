@@ -36,7 +36,7 @@ module xd_solver_local_nodes
     use xd_solver_domain, only: domain_t, node_gather_t, node_runs
     implicit none
     private
-    public :: node_view_t, localize_nodes, open_view, close_view, global_node, view_mid_velocities
+    public :: node_view_t, localize_nodes, open_view, close_view, global_node, view_mid_velocities, held_nodes
 
     !> Rank 0's whole view of the nodes for an output (nodes numbered per
     !> rank): the state's arrays at the model's size, v(n) and w(n-1/2)
@@ -74,20 +74,8 @@ contains
         integer, allocatable :: g2l(:), l2g(:)
         integer :: n, k, e, l, nl
         n = st%nnode
-        ! the nodes this rank moves: its own, those its elements touch
-        ! (the owned lists' runs hold both; the elements' are added, so
-        ! that no connectivity entry is left without a number)
         allocate (keep(n))
-        keep = .false.
-        do k = 1, size(dom%mv_lo)
-            keep(dom%mv_lo(k):dom%mv_hi(k)) = .true.
-        end do
-        do e = 1, solids%n
-            if (dom%own_solid(e)) keep(solids%conn(:, e)) = .true.
-        end do
-        do e = 1, sh%n
-            if (dom%own_shell(e)) keep(sh%conn(:, e)) = .true.
-        end do
+        keep(:) = held_nodes(dom, solids, sh)
         l2g = where_true(keep)
         deallocate (keep)
         nl = size(l2g)
@@ -314,6 +302,29 @@ contains
             end do
         end subroutine mine_of
     end subroutine localize_nodes
+
+    !> The model's nodes a rank keeps where its nodes are numbered apart:
+    !> those it moves, its own and those its elements touch (the owned
+    !> lists' runs hold both; the elements' are added, so that no
+    !> connectivity entry is left without a number). Before the cut.
+    function held_nodes(dom, solids, sh) result(keep)
+        type(domain_t), intent(in) :: dom
+        type(solids_t), intent(in) :: solids
+        type(shells_t), intent(in) :: sh
+        logical, allocatable :: keep(:)
+        integer :: k, e
+        allocate (keep(size(dom%node_mine)))
+        keep = .false.
+        do k = 1, size(dom%mv_lo)
+            keep(dom%mv_lo(k):dom%mv_hi(k)) = .true.
+        end do
+        do e = 1, solids%n
+            if (dom%own_solid(e)) keep(solids%conn(:, e)) = .true.
+        end do
+        do e = 1, sh%n
+            if (dom%own_shell(e)) keep(sh%conn(:, e)) = .true.
+        end do
+    end function held_nodes
 
     !> The model's number of this rank's node l (nodes numbered per rank),
     !> or l itself.

@@ -16,7 +16,7 @@ module xd_solver_time_loop
     use xd_elements_solid_groups, only: solids_t
     use xd_solver_state, only: state_t, allocate_force_arrays
     use xd_solver_assembly, only: assembly_t
-    use xd_solver_energies, only: energies_t, prepare_energies, energy_bytes, fixed_masses
+    use xd_solver_energies, only: energies_t, prepare_energies, energy_bytes, masses_fixed
     use xd_output_histories, only: histories_t, histories_due, nodout_due, write_histories, history_failure, flush_histories
     use xd_output_states, only: states_t, states_due, write_state, states_marks, states_failure
     use xd_output_histories, only: history_marks, merge_rotations
@@ -42,7 +42,7 @@ module xd_solver_time_loop
                                       hourglass_bound_report
     use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
                                       mass_scaling_summary
-    use xd_solver_local_nodes, only: node_view_t, localize_nodes, open_view, close_view, global_node, &
+    use xd_solver_local_nodes, only: node_view_t, localize_nodes, open_view, close_view, global_node, held_nodes, &
                                      view_mid_velocities
     use xd_solver_phases, only: element_phase, exchange_phase, bad_element, beam_phase, erosion_phase, step_phase, &
                                 load_phase, contact_phase, velocity_phase, constraint_phase, energy_phase, &
@@ -161,11 +161,6 @@ contains
         allocate (ke_fix(model%npart))
         shells_direct = sh%n > 0
         ke_fix = 0
-        ! the energies' tables built here, at set-up, not as the first
-        ! cycle's work
-        call tm%start(ph_init)
-        call prepare_energies(model, st, solids, sh, en, bm)
-        call tm%stop(ph_init)
         beam_crit = 0
         if (model%ctl%endeng > 0.0_wp) lp%ratio_limit = 1.0_dp + model%ctl%endeng/100.0_dp
         lp%t0_wall = tm%elapsed()
@@ -186,9 +181,12 @@ contains
         call log_line(lg, ' initial nodal mass (the nodes'' lumped masses) .......... '//rtoa(sum(real(st%mass, dp))))
         if (dom%owned) then
             ! nodes numbered per rank where nothing reads every node
-            whole = whole_nodes_reason(model, st, solids, sh, bm, walls, ct, pn, rg, pl, td, ms, en)
+            whole = whole_nodes_reason(model, st, solids, sh, bm, walls, ct, pn, rg, pl, td, ms)
             if (len(whole) == 0) then
                 call tm%start(ph_init)
+                ! (the energies' node table for the nodes the rank keeps
+                ! alone, built before the cut from the model's connectivity)
+                call prepare_energies(model, st, solids, sh, en, bm, held_nodes(dom, solids, sh))
                 call localize_nodes(dom, st, solids, asm, sh, asm_sh, en, hist, walls, pn)
                 call tm%stop(ph_init)
                 call log_line(lg, ' nodal arrays: nodes numbered per rank: each rank holds its own nodes and those '// &
@@ -200,6 +198,11 @@ contains
                               'rank need none of these)')
             end if
         end if
+        ! the energies' tables (where the nodes were not cut, every node's),
+        ! built here, at set-up, not as the first cycle's work
+        call tm%start(ph_init)
+        call prepare_energies(model, st, solids, sh, en, bm)
+        call tm%stop(ph_init)
         ! the accelerations, forces and moments, at the size the rank holds
         call allocate_force_arrays(st)
         allocate (vminus(3, st%nnode), no_body(st%nnode))
@@ -620,7 +623,7 @@ contains
     !> scaling, thickness updates, erosion), which the per-rank numbering
     !> does not follow yet. (Rigid walls, prescribed motions and body loads
     !> act on each rank's own nodes: they follow it.)
-    function whole_nodes_reason(model, st, solids, sh, bm, walls, ct, pn, rg, pl, td, ms, en) result(why)
+    function whole_nodes_reason(model, st, solids, sh, bm, walls, ct, pn, rg, pl, td, ms) result(why)
         type(model_t), intent(in) :: model
         type(state_t), intent(in) :: st
         type(solids_t), intent(in) :: solids
@@ -633,7 +636,6 @@ contains
         type(pressures_t), intent(in) :: pl
         type(ties_t), intent(in) :: td
         type(mass_scaling_t), intent(in) :: ms
-        type(energies_t), intent(in) :: en
         character(len=:), allocatable :: why
         character(len=8) :: env
         integer :: n, stat
@@ -647,7 +649,7 @@ contains
         if (pl%n > 0) call add('pressure loads')
         if (sh%erodible .or. solids%erodible) call add('erosion')
         if (ms%on) call add('mass scaling')
-        if (.not. fixed_masses(en)) call add('masses that change')
+        if (.not. masses_fixed(solids, sh)) call add('masses that change')
     contains
         subroutine add(t)
             character(len=*), intent(in) :: t
