@@ -9,7 +9,8 @@
 #  THREADS=2 PYTHON=/usr/bin/python3 bash bench/device_scaling.sh /tmp/scal)
 # 1. the 10 x 10 array of crushing tubes (120,000 shells, whole-model
 #    single-surface contact), 300 cycles, on 1, 2, 4, 8 and 16 ranks of one
-#    thread, and on one rank of 16 threads: wall time, the time loop's,
+#    thread, on one rank of 16 threads (and ranks x threads, HYBRID): wall
+#    time, the time loop's,
 #    its MPI phases' shares, peak memory per rank;
 # 2. the 500 x 500 plate (250,000 shells, NIP 5), 20 cycles, on 1, 2, 4, 8
 #    and 16 ranks: peak memory per rank, every nodal and element array a
@@ -27,6 +28,9 @@ one() {  # deck ranks threads tag
     local t0=$(date +%s%N)
     if [ "$2" -eq 1 ]; then
         OMP_NUM_THREADS=$3 $X i=$1 outdir=$d > $d.log 2>&1 < /dev/null
+    elif [ "$3" -gt 1 ]; then
+        mpirun --allow-run-as-root --oversubscribe --map-by slot:PE=$3 --bind-to core -np $2 -x OMP_NUM_THREADS=$3 \
+            -x OMP_PROC_BIND=close -x OMP_PLACES=cores $X i=$1 outdir=$d > $d.log 2>&1 < /dev/null
     else
         mpirun --allow-run-as-root --oversubscribe --bind-to core -np $2 -x OMP_NUM_THREADS=$3 $X i=$1 outdir=$d \
             > $d.log 2>&1 < /dev/null
@@ -53,4 +57,6 @@ printf '%-14s %8s %8s %8s %7s %7s %7s %14s %14s %7s %11s %6s\n' run "wall s" "lo
     "wait%" "peak MB/rank" "arrays MB/rk" "cut" "halo B/cyc" nodes
 for r in ${RANKS:-1 2 4 8 16}; do one $out/tubes.k $r 1 tubes_r$r; done
 one $out/tubes.k 1 ${THREADS:-16} tubes_t${THREADS:-16}
+# ranks x threads (HYBRID="4x4 2x8": 4 ranks of 4 threads, 2 of 8)
+for h in ${HYBRID:-}; do one $out/tubes.k ${h%x*} ${h#*x} tubes_$h; done
 for r in ${RANKS:-1 2 4 8 16}; do one $out/plate.k $r 1 plate_r$r; done
