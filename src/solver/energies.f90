@@ -14,7 +14,7 @@ module xd_solver_energies
     use xd_core_comm, only: comm_sum_dp
     implicit none
     private
-    public :: energies_t, compute_energies, prepare_energies, energy_bytes, localize_node_table, masses_fixed
+    public :: energies_t, compute_energies, prepare_energies, energy_bytes, set_model_mass, masses_fixed
 
     type :: energies_t
         real(dp) :: ke = 0, ie = 0, hg = 0, ext = 0, wall = 0, slide = 0, total = 0, ratio = 1
@@ -87,39 +87,16 @@ contains
         masses_fixed = .not. (allocated(solids%msf) .or. allocated(sh%msf) .or. sh%thickness_update)
     end function masses_fixed
 
-    !> The node-by-part table cut to the nodes l2g (of n: the nodes
-    !> numbered per rank, xd_solver_local_nodes), each kept node's entries
-    !> as they were, in the new numbers' order.
-    subroutine localize_node_table(en, l2g, n, mass)
+    !> Nodes numbered per rank (xd_solver_local_nodes): the model's nodal
+    !> mass, sum(real(st%mass, dp)) before the cut, as one rank sums it
+    !> (glstat's mean velocities divide by it; each rank then holds a part
+    !> of the nodes). The node-by-part table is built for the kept nodes
+    !> alone (prepare_energies' keep).
+    subroutine set_model_mass(en, mass)
         type(energies_t), intent(inout) :: en
-        integer, intent(in) :: l2g(:), n
-        real(dp), intent(in) :: mass   !< the model's nodal mass, sum(real(st%mass, dp)) before the cut
-        integer, allocatable :: ptr(:), part(:)
-        real(dp), allocatable :: m(:)
-        integer :: l, g, j, nl
+        real(dp), intent(in) :: mass
         en%mass_whole = mass
-        if (.not. allocated(en%np_ptr)) return
-        if (size(en%np_ptr) /= n + 1) return
-        nl = size(l2g)
-        allocate (ptr(nl + 1))
-        ptr(1) = 1
-        do l = 1, nl
-            g = l2g(l)
-            ptr(l + 1) = ptr(l) + en%np_ptr(g + 1) - en%np_ptr(g)
-        end do
-        allocate (part(ptr(nl + 1) - 1), m(ptr(nl + 1) - 1))
-        do l = 1, nl
-            g = l2g(l)
-            do j = 0, en%np_ptr(g + 1) - en%np_ptr(g) - 1
-                part(ptr(l) + j) = en%np_part(en%np_ptr(g) + j)
-                m(ptr(l) + j) = en%np_m(en%np_ptr(g) + j)
-            end do
-        end do
-        call move_alloc(ptr, en%np_ptr)
-        call move_alloc(part, en%np_part)
-        call move_alloc(m, en%np_m)
-        ! (kn, vn: per node, only where the masses change; not cut)
-    end subroutine localize_node_table
+    end subroutine set_model_mass
 
     !> Energies at time t(n). Kinetic energy is 1/2 m v(n-1/2).v(n+1/2), the
     !> form that central differences conserve exactly with the trapezoidal

@@ -5,20 +5,23 @@
 !> rank's nodal arrays are cut to the nodes it moves (its own and the
 !> halo its elements touch), numbered 1 .. n in the model's order, and
 !> every list that indexes them (the elements' connectivity, the
-!> assembly's node lists, the halo's motion lists, the runs, the
-!> energies' node-by-part table, the nodout nodes) takes those numbers.
-!> Every sum keeps its order (the local numbers rise with the model's),
-!> so the motion is the serial run's bit for bit.
+!> assembly's node lists, the halo's motion lists, the runs, the shells'
+!> shared nodes, the nodout nodes, the rigid walls' and prescribed
+!> motions' nodes) takes those numbers; the energies' node-by-part table
+!> is built for the kept nodes alone (held_nodes, before the cut). Every
+!> sum keeps its order (the local numbers rise with the model's), so the
+!> motion is the serial run's bit for bit.
 !>
 !> An output is written by rank 0 from a whole view (node_view_t): every
 !> node's values (or the nodout nodes' alone) gathered from their ranks
 !> into arrays of the model's size, held for the output's time only, with
 !> the shells' connectivity in the model's numbers while it lasts.
 !>
-!> Models that hold nodes every rank reads (contact surfaces, rigid
-!> bodies and walls, ties, beams, loads and prescribed motions, erosion,
-!> mass scaling, thickness updates) keep every node on every rank:
-!> local_nodes_reason says which, and d3hsp names it.
+!> Models with features that read nodes no element of the rank touches
+!> (contact surfaces, rigid bodies, ties, beams, pressure segments) or
+!> change the masses or the elements during the run (erosion, mass
+!> scaling, thickness updates) keep every node on every rank: the time
+!> loop's whole_nodes_reason says which, and d3hsp names it.
 module xd_solver_local_nodes
     use, intrinsic :: iso_fortran_env, only: int8
     use xd_kinds, only: wp, dp
@@ -27,7 +30,7 @@ module xd_solver_local_nodes
     use xd_model, only: model_t
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t
-    use xd_solver_energies, only: energies_t, localize_node_table
+    use xd_solver_energies, only: energies_t, set_model_mass
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_shell_bt, only: shells_t
     use xd_output_histories, only: histories_t
@@ -58,8 +61,8 @@ contains
     !> The nodal arrays cut to the nodes this rank moves, and every list
     !> that indexes them renumbered (see the module's head). Once, after
     !> the owned nodes' lists are made (choose_owned) and the energies'
-    !> node table is built, before the time loop's own per-node arrays are
-    !> allocated.
+    !> node table is built for the kept nodes, before the time loop's own
+    !> per-node arrays are allocated.
     subroutine localize_nodes(dom, st, solids, asm, sh, asm_sh, en, hist, walls, pn)
         type(domain_t), intent(inout) :: dom
         type(state_t), intent(inout) :: st
@@ -85,9 +88,9 @@ contains
             g2l(l2g(l)) = l
         end do
 
-        ! the energies' node-by-part table (each node's parts and shares),
-        ! and the model's mass, summed whole as one rank sums it
-        call localize_node_table(en, l2g, n, sum(real(st%mass, dp)))
+        ! the model's mass, summed whole as one rank sums it (the energies'
+        ! node table is the kept nodes' already: prepare_energies' keep)
+        call set_model_mass(en, sum(real(st%mass, dp)))
 
         ! the state
         call cut2(st%x)
