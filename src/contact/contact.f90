@@ -284,7 +284,8 @@ contains
                 + nbytes(it%xl) + nbytes(it%dl) + nbytes(it%dmin) + nbytes(it%un) + nbytes(it%drift_own) &
                 + nbytes(it%cls) + nbytes(it%cmin) &
                 + nbytes(it%uc) + nbytes(it%cbud) + nbytes(it%cused) + nbytes(it%dump) + nbytes(it%ls%xl) &
-                + nbytes(it%ls%vl) + nbytes(it%ls%lc) + nbytes(it%ls%lcodo) + nbytes(it%cl%g) + nbytes(it%cl%x) &
+                + nbytes(it%ls%vl) + nbytes(it%ls%lc) + nbytes(it%ls%lcodo) + nbytes(it%cl%row) + nbytes(it%cl%g) &
+                + nbytes(it%cl%x) &
                 + nbytes(it%cl%u) + nbytes(it%cl%wait) + nbytes(it%cl%nnear) + nbytes(it%cl%near) + nbytes(it%ms) &
                 + nbytes(it%cseg) + nbytes(it%fprev) + nbytes(it%ft) + nbytes(it%p0) + nbytes(it%kp) + nbytes(it%fk) &
                 + nbytes(it%aeff) + nbytes(it%held) + nbytes(it%rseg) + nbytes(it%rdep) + nbytes(it%deep) &
@@ -1304,7 +1305,7 @@ contains
                 it%ls%odo = it%odo
                 it%ls%first = .not. it%started
                 if (it%cl%search /= it%nsearch .and. allocated(it%lists%gap)) &
-                    call reset_clearance(s, it%lists, it%nsearch, it%cl)
+                    call reset_clearance(s, it%lists, it%nsearch, it%cl, it%owned)
                 ! (the slaves' depths last cycle, aeff + p0, taken per slave in
                 ! find_contacts: as an array expression here they were a
                 ! temporary of every slave built serially each cycle)
@@ -1438,7 +1439,7 @@ contains
         integer(i8) :: nn, nf
         integer :: nc
         logical :: clean
-        integer :: i, k
+        integer :: i, k, r
         logical :: clear_skip, refresh
         type(hit_t) :: hk
         clear_skip = sw%screens .and. cl%search >= 0
@@ -1448,36 +1449,40 @@ contains
         nf = 0
         ! (the counts in the loop's own text: a reduction's variable must
         ! not be reached through the host from a procedure it calls)
-        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k, nc, clean, hk) reduction(+:nn, nf)
+        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k, r, nc, clean, hk) reduction(+:nn, nf)
         do i = 1, size(mine)
             k = mine(i)
+            ! (the slave's clearance row: mine are this rank's own, which
+            ! hold one, clearance_t)
+            r = 0
+            if (clear_skip) r = cl%row(k)
             if (clear_skip .and. cseg(k) == 0) then
                 ! the common case in line: clear on the growth of u alone,
                 ! no near set, and nothing to reset (as clear and no_contact)
-                if (cl%nnear(k) == 0) then
-                    if (cl%g(k) > 2.0_wp*(ls%odo - cl%u(k)) + 2.0_wp*ls%lead) then
+                if (cl%nnear(r) == 0) then
+                    if (cl%g(r) > 2.0_wp*(ls%odo - cl%u(r)) + 2.0_wp*ls%lead) then
                         if (found(k) .or. rseg(k) /= 0 .or. deep(k) /= 0.0_wp) call no_contact(k)
                         cycle
                     end if
                 end if
                 ! clear on the bound kept, or on one taken afresh: only the
                 ! near set (if any) can then hold a contact
-                clean = clear(k)
+                clean = clear(k, r)
                 ! (a slave without a pool, read back from a restart dump and
                 ! not searched since, takes no fresh clearance)
                 if (.not. clean .and. refresh .and. lists%pool_last(k) >= lists%pool_ptr(k) - 1) then
-                    if (cl%wait(k) == 0) then
-                        cl%g(k) = fresh_clearance(s, lists, ls, k, cl%near(:, k), cl%nnear(k))
-                        cl%x(:, k) = ls%xl(:, s%slave(k))
-                        cl%u(k) = ls%odo
-                        clean = cl%g(k) > 2.0_wp*ls%lead
-                        if (.not. clean) cl%wait(k) = back_off
+                    if (cl%wait(r) == 0) then
+                        cl%g(r) = fresh_clearance(s, lists, ls, k, cl%near(:, r), cl%nnear(r))
+                        cl%x(:, r) = ls%xl(:, s%slave(k))
+                        cl%u(r) = ls%odo
+                        clean = cl%g(r) > 2.0_wp*ls%lead
+                        if (.not. clean) cl%wait(r) = back_off
                     else
-                        cl%wait(k) = cl%wait(k) - 1
+                        cl%wait(r) = cl%wait(r) - 1
                     end if
                 end if
                 if (clean) then
-                    clean = near_clear(k, nc)
+                    clean = near_clear(k, r, nc)
                     nn = nn + nc
                     if (clean) then
                         call no_contact(k)
@@ -1499,19 +1504,19 @@ contains
         !> since it was taken. Its own displacement is at most the growth of
         !> u: most slaves are clear on that alone, without reading their
         !> positions.
-        logical function clear(k)
-            integer, intent(in) :: k
+        logical function clear(k, r)
+            integer, intent(in) :: k, r   !< the slave, its clearance row
             real(wp) :: du
-            du = ls%odo - cl%u(k)
-            clear = cl%g(k) > 2.0_wp*du + 2.0_wp*ls%lead
+            du = ls%odo - cl%u(r)
+            clear = cl%g(r) > 2.0_wp*du + 2.0_wp*ls%lead
             if (clear) return
-            clear = cl%g(k) > norm2(ls%xl(:, s%slave(k)) - cl%x(:, k)) + du + 2.0_wp*ls%lead
+            clear = cl%g(r) > norm2(ls%xl(:, s%slave(k)) - cl%x(:, r)) + du + 2.0_wp*ls%lead
         end function clear
 
         !> Slave k's near set (clearance_t) holds no contact: none, or the
         !> check of its segments alone finds none and refuses none.
-        logical function near_clear(k, checked)
-            integer, intent(in) :: k
+        logical function near_clear(k, r, checked)
+            integer, intent(in) :: k, r   !< the slave, its clearance row
             integer, intent(out) :: checked   !< 1 if there was a near set to check, else 0
             type(hit_t) :: h
             integer :: rs
@@ -1519,10 +1524,10 @@ contains
             logical :: effect
             near_clear = .true.
             checked = 0
-            if (cl%nnear(k) == 0) return
+            if (cl%nnear(r) == 0) return
             checked = 1
             call find_contact(s, lists, ls, k, 0, fprev(:, k), aeff(k) + allow(k), sw, h, xs, rs, rd, allow(k), dp_, held(k), &
-                              near=cl%near(1:cl%nnear(k), k), near_effect=effect)
+                              near=cl%near(1:cl%nnear(r), r), near_effect=effect)
             near_clear = .not. effect
         end function near_clear
 

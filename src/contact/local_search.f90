@@ -58,14 +58,18 @@ module xd_contact_local_search
     !> segments nearest the slave, its near set: the bound is then that of
     !> the others, and while it holds only the near segments can hold a
     !> contact, which the local search checks alone (find_contact's near).
+    !> Held for the slaves this rank searches alone (under MPI, issue 32:
+    !> the rank's own; on one rank every slave), in rows of their own:
+    !> slave k's is row(k) (0: another rank's).
     type :: clearance_t
         integer :: search = -1               !< the last global search whose bounds were taken in
-        real(wp), allocatable :: g(:)        !< (nslave) the bound
-        real(wp), allocatable :: x(:, :)     !< (3, nslave) the slave's position when it was taken
-        real(wp), allocatable :: u(:)        !< (nslave) the odometer when it was taken
-        integer, allocatable :: wait(:)      !< (nslave) local searches before a refresh is tried again
-        integer, allocatable :: nnear(:)     !< (nslave) segments in the near set (0: none)
-        integer, allocatable :: near(:, :)   !< (max_near, nslave) the near set
+        integer, allocatable :: row(:)       !< (nslave) each slave's row (0: not held here)
+        real(wp), allocatable :: g(:)        !< (rows) the bound
+        real(wp), allocatable :: x(:, :)     !< (3, rows) the slave's position when it was taken
+        real(wp), allocatable :: u(:)        !< (rows) the odometer when it was taken
+        integer, allocatable :: wait(:)      !< (rows) local searches before a refresh is tried again
+        integer, allocatable :: nnear(:)     !< (rows) segments in the near set (0: none)
+        integer, allocatable :: near(:, :)   !< (max_near, rows) the near set
     end type clearance_t
 
     !> The most segments a near set holds
@@ -686,24 +690,38 @@ contains
     !> taken in (lists%at beyond cl%search; all at the first call):
     !> lists%gap at the slave's position then (lists%xg) and the odometer
     !> then (lists%og). Search number nsearch is the last.
-    subroutine reset_clearance(s, lists, nsearch, cl)
+    subroutine reset_clearance(s, lists, nsearch, cl, owned)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         integer, intent(in) :: nsearch
         type(clearance_t), intent(inout) :: cl
-        integer :: k
+        !> (per slave: this rank searches it; absent: every slave) the
+        !> slaves whose bounds are held here, once, at the first call
+        logical, intent(in), optional :: owned(:)
+        integer :: k, r, n
         if (.not. allocated(cl%g)) then
-            allocate (cl%g(s%nslave), cl%x(3, s%nslave), cl%u(s%nslave), cl%wait(s%nslave), cl%nnear(s%nslave), &
-                      cl%near(max_near, s%nslave))
+            allocate (cl%row(s%nslave))
+            n = 0
+            do k = 1, s%nslave
+                cl%row(k) = 0
+                if (present(owned)) then
+                    if (.not. owned(k)) cycle
+                end if
+                n = n + 1
+                cl%row(k) = n
+            end do
+            allocate (cl%g(n), cl%x(3, n), cl%u(n), cl%wait(n), cl%nnear(n), cl%near(max_near, n))
             cl%search = -1
         end if
         do k = 1, s%nslave
+            r = cl%row(k)
+            if (r == 0) cycle
             if (lists%at(k) <= cl%search) cycle
-            cl%g(k) = lists%gap(k)
-            cl%x(:, k) = lists%xg(:, k)
-            cl%u(k) = lists%og(k)
-            cl%wait(k) = 0
-            cl%nnear(k) = 0
+            cl%g(r) = lists%gap(k)
+            cl%x(:, r) = lists%xg(:, k)
+            cl%u(r) = lists%og(k)
+            cl%wait(r) = 0
+            cl%nnear(r) = 0
         end do
         cl%search = nsearch
     end subroutine reset_clearance
