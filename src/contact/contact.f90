@@ -969,10 +969,10 @@ contains
             vmax = 0
             if (threaded(nw)) then
                 !$omp parallel
-                call drift_max(it, v, mine, vmax)
+                call drift_max(it, v, vmax)
                 !$omp end parallel
             else
-                call drift_max(it, v, mine, vmax)
+                call drift_max(it, v, vmax)
             end if
             if (present(own)) then
                 red = vmax
@@ -986,10 +986,10 @@ contains
             isum = 0
             if (threaded(nw)) then
                 !$omp parallel
-                call drift_sum(it, v, mine, sc, isum)
+                call drift_sum(it, v, sc, isum)
                 !$omp end parallel
             else
-                call drift_sum(it, v, mine, sc, isum)
+                call drift_sum(it, v, sc, isum)
             end if
             if (present(own)) call comm_sum_i8(isum)
             vbar = 0
@@ -997,10 +997,10 @@ contains
             it%cused = 0
             if (threaded(nw)) then
                 !$omp parallel
-                call drift_use(it, v, mine, dt, vbar)
+                call drift_use(it, v, dt, vbar)
                 !$omp end parallel
             else
-                call drift_use(it, v, mine, dt, vbar)
+                call drift_use(it, v, dt, vbar)
             end if
             if (present(own)) then
                 rc = it%cused
@@ -1013,15 +1013,14 @@ contains
 
     !> contact_drift's passes on interface it, as worksharing loops (each
     !> thread of a region calls them; outside one, the loops run whole):
-    !> the largest speed squared of the nodes taken (mine: the model's nodes
-    !> with true, or every node where mine is empty), ...
-    subroutine drift_max(it, v, mine, vmax)
+    !> the largest speed squared of the nodes taken (owned nodes: the
+    !> rank's own surface nodes, it%drift_own; else every surface node), ...
+    subroutine drift_max(it, v, vmax)
         type(interface_t), intent(in) :: it
         real(wp), intent(in) :: v(3, *)
-        logical, intent(in) :: mine(:)
         real(wp), intent(inout) :: vmax
         integer :: k, n, j
-        if (size(mine) > 0) then
+        if (allocated(it%drift_own)) then
             ! (this rank's own surface nodes: contact_drift's list)
             !$omp do schedule(static) reduction(max:vmax)
             do j = 1, size(it%drift_own)
@@ -1042,16 +1041,15 @@ contains
     !> ... their velocities' fixed-point sum at scale sc (each term truncated
     !> toward zero, one instruction that vectorises; the sum exact: any
     !> order) ...
-    subroutine drift_sum(it, v, mine, sc, isum)
+    subroutine drift_sum(it, v, sc, isum)
         type(interface_t), intent(in) :: it
         real(wp), intent(in) :: v(3, *)
-        logical, intent(in) :: mine(:)
         real(dp), intent(in) :: sc
         integer(i8), intent(inout) :: isum(3)
         integer(i8) :: s1, s2, s3
         integer :: k, n, j, nw
         logical :: all
-        all = size(mine) == 0
+        all = .not. allocated(it%drift_own)
         s1 = 0
         s2 = 0
         s3 = 0
@@ -1080,13 +1078,12 @@ contains
     !> zero on entry: a maximum, each thread's taken in); a loop for u, then
     !> one a class, each without a mask where every node is taken (they
     !> vectorise).
-    subroutine drift_use(it, v, mine, dt, vbar)
+    subroutine drift_use(it, v, dt, vbar)
         type(interface_t), intent(inout) :: it
         real(wp), intent(in) :: v(3, *), dt, vbar(3)
-        logical, intent(in) :: mine(:)
         integer :: k, n, c, j
         real(wp) :: vk, used
-        if (size(mine) == 0) then
+        if (.not. allocated(it%drift_own)) then
             !$omp do schedule(static)
             do k = 1, it%surf%nnode
                 n = it%surf%node(k)

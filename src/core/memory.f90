@@ -8,7 +8,7 @@ module xd_core_memory
     use, intrinsic :: iso_c_binding, only: c_int, c_size_t
     implicit none
     private
-    public :: alloc, alloc_dp, grow, fit, nbytes, peak_memory_kb, resident_memory_kb, release_free_memory
+    public :: alloc, alloc_dp, grow, fit, take, nbytes, peak_memory_kb, resident_memory_kb, release_free_memory
 
     interface alloc
         module procedure alloc_r1, alloc_r2, alloc_r3, alloc_i1, alloc_i2
@@ -23,6 +23,13 @@ module xd_core_memory
     interface fit
         module procedure fit_r2, fit_i1, fit_i2
     end interface fit
+
+    !> Keep an array's entries (columns) at idx alone, in idx's order: a(i)
+    !> becomes a(idx(i)), the rest's room given back (a loop into an array
+    !> of its own: no temporary of the array's size on the stack).
+    interface take
+        module procedure take_r1, take_r2, take_i1, take_int8, take_log
+    end interface take
 
     !> The bytes an allocatable array holds (0 unallocated), any rank.
     interface nbytes
@@ -195,6 +202,66 @@ contains
         tmp = a(:, 1:n)
         call move_alloc(tmp, a)
     end subroutine fit_i2
+
+    subroutine take_r1(a, idx)
+        real(wp), allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: idx(:)
+        real(wp), allocatable :: b(:)
+        integer :: i
+        allocate (b(size(idx)))
+        do i = 1, size(idx)
+            b(i) = a(idx(i))
+        end do
+        call move_alloc(b, a)
+    end subroutine take_r1
+
+    subroutine take_r2(a, idx)
+        real(wp), allocatable, intent(inout) :: a(:, :)
+        integer, intent(in) :: idx(:)
+        real(wp), allocatable :: b(:, :)
+        integer :: i
+        allocate (b(size(a, 1), size(idx)))
+        do i = 1, size(idx)
+            b(:, i) = a(:, idx(i))
+        end do
+        call move_alloc(b, a)
+    end subroutine take_r2
+
+    subroutine take_i1(a, idx)
+        integer, allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: idx(:)
+        integer, allocatable :: b(:)
+        integer :: i
+        allocate (b(size(idx)))
+        do i = 1, size(idx)
+            b(i) = a(idx(i))
+        end do
+        call move_alloc(b, a)
+    end subroutine take_i1
+
+    subroutine take_int8(a, idx)
+        integer(int8), allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: idx(:)
+        integer(int8), allocatable :: b(:)
+        integer :: i
+        allocate (b(size(idx)))
+        do i = 1, size(idx)
+            b(i) = a(idx(i))
+        end do
+        call move_alloc(b, a)
+    end subroutine take_int8
+
+    subroutine take_log(a, idx)
+        logical, allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: idx(:)
+        logical, allocatable :: b(:)
+        integer :: i
+        allocate (b(size(idx)))
+        do i = 1, size(idx)
+            b(i) = a(idx(i))
+        end do
+        call move_alloc(b, a)
+    end subroutine take_log
 
     !> This process's peak resident memory in kB (VmHWM of /proc/self/status,
     !> Linux); -1 where it cannot be read.

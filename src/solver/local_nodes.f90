@@ -27,6 +27,7 @@ module xd_solver_local_nodes
     use xd_kinds, only: wp, dp
     use xd_core_comm, only: comm_gather_root_wp
     use xd_core_sorting, only: where_true
+    use xd_core_memory, only: take, fit
     use xd_model, only: model_t
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t
@@ -39,7 +40,7 @@ module xd_solver_local_nodes
     use xd_solver_domain, only: domain_t, node_gather_t, node_runs
     implicit none
     private
-    public :: node_view_t, localize_nodes, open_view, close_view, global_node, view_mid_velocities, held_nodes
+    public :: node_view_t, localize_nodes, open_view, close_view, global_node, held_nodes
 
     !> Rank 0's whole view of the nodes for an output (nodes numbered per
     !> rank): the state's arrays at the model's size, v(n) and w(n-1/2)
@@ -48,9 +49,6 @@ module xd_solver_local_nodes
         logical :: on = .false.
         type(state_t) :: st
         real(wp), allocatable :: vn(:, :), wn(:, :)
-        !> the nodes gathered (the model's numbers): the view's other
-        !> entries are not set
-        integer, allocatable :: nodes(:)
         !> the shells' connectivity in the local numbers, kept aside while
         !> the view lends them the model's (a state's shell axes read it)
         integer, allocatable :: sconn(:, :)
@@ -63,8 +61,10 @@ contains
     !> the owned nodes' lists are made (choose_owned) and the energies'
     !> node table is built for the kept nodes, before the time loop's own
     !> per-node arrays are allocated.
-    subroutine localize_nodes(dom, st, solids, asm, sh, asm_sh, en, hist, walls, pn)
+    subroutine localize_nodes(dom, keep, st, solids, asm, sh, asm_sh, en, hist, walls, pn)
         type(domain_t), intent(inout) :: dom
+        !> the model's nodes this rank keeps (held_nodes)
+        logical, intent(in) :: keep(:)
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(assembly_t), intent(inout) :: asm, asm_sh
@@ -73,19 +73,20 @@ contains
         type(histories_t), intent(inout) :: hist
         type(walls_t), intent(inout) :: walls
         type(prescribed_nodes_t), intent(inout) :: pn
-        logical, allocatable :: keep(:)
+        logical, allocatable :: moved(:)
         integer, allocatable :: g2l(:), l2g(:)
-        integer :: n, k, e, l, nl
+        integer :: n, k, e, nl
         n = st%nnode
-        allocate (keep(n))
-        keep(:) = held_nodes(dom, solids, sh)
-        l2g = where_true(keep)
-        deallocate (keep)
-        nl = size(l2g)
-        allocate (g2l(n))
-        g2l = 0
-        do l = 1, nl
-            g2l(l2g(l)) = l
+        ! (l2g: the kept nodes in the model's order; g2l its inverse, 0 for
+        ! a node not kept)
+        allocate (l2g(count(keep)), g2l(n))
+        nl = 0
+        do k = 1, n
+            g2l(k) = 0
+            if (.not. keep(k)) cycle
+            nl = nl + 1
+            l2g(nl) = k
+            g2l(k) = nl
         end do
 
         ! the model's mass, summed whole as one rank sums it (the energies'
@@ -93,13 +94,13 @@ contains
         call set_model_mass(en, sum(real(st%mass, dp)))
 
         ! the state
-        call cut2(st%x)
-        call cut2(st%v)
-        call cut1(st%mass)
-        call cut_int8(st%dofs)
-        if (allocated(st%vr)) call cut2(st%vr)
-        if (allocated(st%irot)) call cut1(st%irot)
-        if (allocated(st%jprev)) call cut2(st%jprev)
+        call take(st%x, l2g)
+        call take(st%v, l2g)
+        call take(st%mass, l2g)
+        call take(st%dofs, l2g)
+        if (allocated(st%vr)) call take(st%vr, l2g)
+        if (allocated(st%irot)) call take(st%irot, l2g)
+        if (allocated(st%jprev)) call take(st%jprev, l2g)
         st%nnode = nl
 
         ! the elements' connectivity (another rank's element: 0, never read)
@@ -117,7 +118,7 @@ contains
                 sh%conn(:, e) = 0
             end if
         end do
-        if (allocated(sh%split)) call cut_int(sh%split)
+        if (allocated(sh%split)) call take(sh%split, l2g)
         if (allocated(sh%shared)) call renumber(sh%shared)
 
         ! the assembly's node -> slot lists, each kept node's as it was
@@ -127,16 +128,15 @@ contains
         ! the decomposition's lists
         call renumber(dom%nodes)
         call renumber(dom%split_mine)
-        call cut_log(dom%node_mine)
+        call take(dom%node_mine, l2g)
         dom%own = dom%node_mine
         call renumber(dom%mo_node)
         call renumber(dom%mi_node)
         call node_runs(where_true(dom%node_mine), dom%kick_lo, dom%kick_hi)
         ! (every node held is moved: one run after another)
-        allocate (keep(nl))
-        keep = .true.
-        call node_runs(where_true(keep), dom%mv_lo, dom%mv_hi)
-        deallocate (keep)
+        allocate (moved(nl))
+        moved = .true.
+        call node_runs(where_true(moved), dom%mv_lo, dom%mv_hi)
         call mine_of(dom%every)
         if (allocated(dom%hist%node)) call mine_of(dom%hist)
         ! (every node's list is rank 0's alone now: the others send their
@@ -146,8 +146,6 @@ contains
             allocate (dom%every%node(0))
         end if
         if (allocated(dom%arank)) deallocate (dom%arank)
-
-        ! the energies' node-by-part table (each node's parts and shares)
 
         ! the rigid walls' nodes this rank integrates, by their local
         ! numbers, each with its place in the model's list (the sums' order)
@@ -160,10 +158,7 @@ contains
         if (allocated(pn%node)) then
             allocate (pn%lnode(size(pn%node)))
             do k = 1, size(pn%node)
-                pn%lnode(k) = g2l(pn%node(k))
-                if (pn%lnode(k) > 0) then
-                    if (.not. dom%node_mine(pn%lnode(k))) pn%lnode(k) = 0
-                end if
+                pn%lnode(k) = own_number(pn%node(k))
             end do
         end if
 
@@ -171,10 +166,7 @@ contains
         if (allocated(hist%nodes)) then
             allocate (hist%lnodes(size(hist%nodes)))
             do k = 1, size(hist%nodes)
-                hist%lnodes(k) = g2l(hist%nodes(k))
-                if (hist%lnodes(k) > 0) then
-                    if (.not. dom%node_mine(hist%lnodes(k))) hist%lnodes(k) = 0
-                end if
+                hist%lnodes(k) = own_number(hist%nodes(k))
             end do
         end if
 
@@ -182,53 +174,17 @@ contains
         call move_alloc(l2g, dom%l2g)
         dom%local = .true.
     contains
-        subroutine cut2(a)
-            real(wp), allocatable, intent(inout) :: a(:, :)
-            real(wp), allocatable :: b(:, :)
-            integer :: i
-            allocate (b(size(a, 1), nl))
-            do i = 1, nl
-                b(:, i) = a(:, l2g(i))
-            end do
-            call move_alloc(b, a)
-        end subroutine cut2
+        !> The local number of the model's node g where this rank integrates
+        !> it, else 0.
+        integer function own_number(g) result(l)
+            integer, intent(in) :: g
+            l = g2l(g)
+            if (l == 0) return
+            if (.not. dom%node_mine(l)) l = 0
+        end function own_number
 
-        !> (the cuts and renumberings as loops: no temporary of the model's
-        !> size on the stack)
-        subroutine cut_int8(a)
-            integer(int8), allocatable, intent(inout) :: a(:)
-            integer(int8), allocatable :: b(:)
-            integer :: i
-            allocate (b(nl))
-            do i = 1, nl
-                b(i) = a(l2g(i))
-            end do
-            call move_alloc(b, a)
-        end subroutine cut_int8
-
-        subroutine cut_int(a)
-            integer, allocatable, intent(inout) :: a(:)
-            integer, allocatable :: b(:)
-            integer :: i
-            allocate (b(nl))
-            do i = 1, nl
-                b(i) = a(l2g(i))
-            end do
-            call move_alloc(b, a)
-        end subroutine cut_int
-
-        subroutine cut_log(a)
-            logical, allocatable, intent(inout) :: a(:)
-            logical, allocatable :: b(:)
-            integer :: i
-            allocate (b(nl))
-            do i = 1, nl
-                b(i) = a(l2g(i))
-            end do
-            call move_alloc(b, a)
-        end subroutine cut_log
-
-        !> A list of the model's node numbers, all held here, in local numbers.
+        !> A list of the model's node numbers, all held here, in local numbers
+        !> (a loop: no temporary of the list's size on the stack).
         subroutine renumber(list)
             integer, intent(inout) :: list(:)
             integer :: i
@@ -236,17 +192,6 @@ contains
                 list(i) = g2l(list(i))
             end do
         end subroutine renumber
-
-        subroutine cut1(a)
-            real(wp), allocatable, intent(inout) :: a(:)
-            real(wp), allocatable :: b(:)
-            integer :: i
-            allocate (b(nl))
-            do i = 1, nl
-                b(i) = a(l2g(i))
-            end do
-            call move_alloc(b, a)
-        end subroutine cut1
 
         subroutine cut_assembly(as)
             type(assembly_t), intent(inout) :: as
@@ -274,24 +219,19 @@ contains
         subroutine own_entries(list, key)
             integer, allocatable, intent(inout) :: list(:)
             integer, allocatable, intent(out) :: key(:)
-            integer, allocatable :: t(:)
-            integer :: i, c
-            allocate (t(size(list)), key(size(list)))
+            integer :: i, c, l
+            ! (compacted in place: entry c is written once entry i >= c is read)
+            allocate (key(size(list)))
             c = 0
             do i = 1, size(list)
-                if (g2l(list(i)) == 0) cycle
-                if (.not. dom%node_mine(g2l(list(i)))) cycle
+                l = own_number(list(i))
+                if (l == 0) cycle
                 c = c + 1
-                t(c) = g2l(list(i))
+                list(c) = l
                 key(c) = i
             end do
-            deallocate (list)
-            allocate (list(c))
-            list = t(1:c)
-            t(1:c) = key(1:c)
-            deallocate (key)
-            allocate (key(c))
-            key = t(1:c)
+            call fit(list, c)
+            call fit(key, c)
         end subroutine own_entries
 
         !> A gather's own entries by their local numbers.
@@ -363,7 +303,6 @@ contains
         ng = dom%nglobal
         vw%on = root
         if (root) then
-            vw%nodes = g%node
             vw%st%nnode = ng
             vw%st%rot = st%rot
             vw%st%time = st%time
@@ -439,24 +378,10 @@ contains
             call move_alloc(vw%sconn, sh%conn)
         end if
         vw%st = none
-        if (allocated(vw%nodes)) deallocate (vw%nodes)
         if (allocated(vw%vn)) deallocate (vw%vn)
         if (allocated(vw%wn)) deallocate (vw%wn)
         vw%on = .false.
     end subroutine close_view
-
-    !> The view's v(n): its v(n-1/2) averaged with v(n+1/2) at the nodes
-    !> gathered, the operation the energies make on each rank's own
-    !> (energy_phase), so the same bits.
-    subroutine view_mid_velocities(vw)
-        type(node_view_t), intent(inout) :: vw
-        integer :: i, nd
-        if (.not. vw%on .or. .not. allocated(vw%vn)) return
-        do i = 1, size(vw%nodes)
-            nd = vw%nodes(i)
-            vw%vn(:, nd) = 0.5_wp*(vw%vn(:, nd) + vw%st%v(:, nd))
-        end do
-    end subroutine view_mid_velocities
 
     !> src(:, node) of the gather's nodes from their ranks (each sends its
     !> own, by local number) into dst(:, node) on rank 0, by the model's

@@ -42,8 +42,7 @@ module xd_solver_time_loop
                                       hourglass_bound_report
     use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
                                       mass_scaling_summary
-    use xd_solver_local_nodes, only: node_view_t, localize_nodes, open_view, close_view, global_node, held_nodes, &
-                                     view_mid_velocities
+    use xd_solver_local_nodes, only: node_view_t, localize_nodes, open_view, close_view, global_node, held_nodes
     use xd_solver_phases, only: element_phase, exchange_phase, bad_element, beam_phase, erosion_phase, step_phase, &
                                 load_phase, contact_phase, velocity_phase, constraint_phase, energy_phase, &
                                 advance_phase, any_rank
@@ -157,6 +156,7 @@ contains
         !> output (held for the output's time)
         type(node_view_t) :: vw
         character(len=:), allocatable :: whole
+        logical, allocatable :: keep(:)      !< (the model's nodes a rank keeps where they are numbered per rank)
 
         allocate (ke_fix(model%npart))
         shells_direct = sh%n > 0
@@ -181,13 +181,15 @@ contains
         call log_line(lg, ' initial nodal mass (the nodes'' lumped masses) .......... '//rtoa(sum(real(st%mass, dp))))
         if (dom%owned) then
             ! nodes numbered per rank where nothing reads every node
-            whole = whole_nodes_reason(model, st, solids, sh, bm, walls, ct, pn, rg, pl, td, ms)
+            whole = whole_nodes_reason(solids, sh, bm, ct, rg, pl, td, ms)
             if (len(whole) == 0) then
                 call tm%start(ph_init)
                 ! (the energies' node table for the nodes the rank keeps
                 ! alone, built before the cut from the model's connectivity)
-                call prepare_energies(model, st, solids, sh, en, bm, held_nodes(dom, solids, sh))
-                call localize_nodes(dom, st, solids, asm, sh, asm_sh, en, hist, walls, pn)
+                keep = held_nodes(dom, solids, sh)
+                call prepare_energies(model, st, solids, sh, en, bm, keep)
+                call localize_nodes(dom, keep, st, solids, asm, sh, asm_sh, en, hist, walls, pn)
+                deallocate (keep)
                 call tm%stop(ph_init)
                 call log_line(lg, ' nodal arrays: nodes numbered per rank: each rank holds its own nodes and those '// &
                               'its elements touch (rank 0: '//itoa(size(dom%l2g))//' of '//itoa(dom%nglobal)// &
@@ -309,9 +311,11 @@ contains
             call constraint_phase(model, dom, walls, pn, rg, td, pl, st, lg, tm, dt_avg, g_new, no_body)
 
             if (energy_now) then
-                ! owned nodes: every node on every rank for a state, the
-                ! nodout nodes for the histories (the energies are summed by
-                ! rank)
+                call energy_phase(model, dom, st, solids, sh, walls, rg, ct, td, bm, tm, vminus, vrminus, dt_avg, &
+                                  ke_fix, en)
+                ! (vminus now v(n)) owned nodes: every node to rank 0 for a
+                ! state, the nodout nodes for the histories, v(n) as their
+                ! ranks averaged it (the energies are summed by rank)
                 if (dom%owned .and. output_now) then
                     if (state_now(lp, states, st%time, done .or. st%cycle == 0)) then
                         call refresh_nodes(dom, model, st, sh, hist, tm, .true., vw, vminus, vrminus)
@@ -319,10 +323,6 @@ contains
                         call refresh_histories(dom, model, st, sh, hist, tm, vw, vminus, vrminus)
                     end if
                 end if
-                call energy_phase(model, dom, st, solids, sh, walls, rg, ct, td, bm, tm, vminus, vrminus, dt_avg, &
-                                  ke_fix, en)
-                ! (vminus now v(n); the view's likewise, the same operation)
-                if (st%cycle > 0) call view_mid_velocities(vw)
                 call energy_check(lp, model, dom, st, solids, sh, rg, ct, pn, en, vminus, res, lg)
                 if (res%status /= exit_normal) exit
                 if (output_now) then
@@ -623,15 +623,11 @@ contains
     !> scaling, thickness updates, erosion), which the per-rank numbering
     !> does not follow yet. (Rigid walls, prescribed motions and body loads
     !> act on each rank's own nodes: they follow it.)
-    function whole_nodes_reason(model, st, solids, sh, bm, walls, ct, pn, rg, pl, td, ms) result(why)
-        type(model_t), intent(in) :: model
-        type(state_t), intent(in) :: st
+    function whole_nodes_reason(solids, sh, bm, ct, rg, pl, td, ms) result(why)
         type(solids_t), intent(in) :: solids
         type(shells_t), intent(in) :: sh
         type(beams_t), intent(in) :: bm
-        type(walls_t), intent(in) :: walls
         type(contacts_t), intent(in) :: ct
-        type(prescribed_nodes_t), intent(in) :: pn
         type(rigid_t), intent(in) :: rg
         type(pressures_t), intent(in) :: pl
         type(ties_t), intent(in) :: td
@@ -659,7 +655,7 @@ contains
     end function whole_nodes_reason
 
     !> Owned nodes: every node's coordinates and velocities (and angular
-    !> velocities), v(n-1/2) where given, and with `outputs`
+    !> velocities), v(n) where given (vminus after the energies), and with `outputs`
     !> the accelerations and forces (and moments: nodout, d3plot), and the
     !> histories' tracked rotations, from the ranks that integrate them: with
     !> `outputs` (a state, a dump) to rank 0, which writes them, else (a
@@ -709,7 +705,7 @@ contains
     end subroutine refresh_nodes
 
     !> Owned nodes, at a history output without a state: the nodout nodes'
-    !> coordinates, velocities (v(n-1/2) too), accelerations and forces (and
+    !> coordinates, velocities (v(n) too), accelerations and forces (and
     !> angular velocities and moments) from their ranks to rank 0, which
     !> writes them, and their tracked rotations (the energies are summed by
     !> rank).
