@@ -13,7 +13,7 @@ program xdyna
     use xd_input_field_reader, only: parse_real, parse_int
     use xd_input_model_check, only: check_model, id_maps_t
     use xd_input_keyword_table, only: skip_list_text
-    use xd_model, only: model_t, mesh_bytes
+    use xd_model, only: model_t, mesh_bytes, release_setup_mesh, release_shell_thickness
     use xd_elements_solid_groups, only: solids_t, stiff_volume_parts
     use xd_solver_state, only: state_t, nodal_bytes
     use xd_solver_assembly, only: assembly_t
@@ -286,6 +286,8 @@ program xdyna
     end if
     call build_prescribed(model, pn)
     call build_pressures(model, pl)
+    ! (the shells' nodal thicknesses: the set-up's alone, their means kept)
+    call release_shell_thickness(model)
     ! a pressure on a node without mass would push nothing (it is held
     ! fixed): a deck error, not a run
     do i = 1, pl%n
@@ -401,6 +403,8 @@ program xdyna
                  model%db%d3plot_h5))//') in '//outdir)
         call finish_alone(exit_run)
     end if
+    ! (the nodes' constraint codes: the set-up's and the summary's alone)
+    call release_setup_mesh(model)
     call tm%stop(ph_init)
 
     opts%progress = env%rank == 0

@@ -14,7 +14,7 @@ module xd_model
     public :: set_node, set_part, set_shell, find_set, constraint_dirs, part_ihq, hg_bounded, hg_boundable
     public :: can_erode, any_erosion
     public :: iv_node_set, iv_node, iv_generation
-    public :: mesh_fit, mesh_bytes
+    public :: mesh_fit, mesh_bytes, release_setup_mesh, release_shell_thickness, shell_thickness
     public :: contact_t, contact_controls_t, ct_single, ct_surface_to_surface, ct_general, ct_nodes_to_surface
     public :: ct_tied_nodes, ct_tied_shell_edge, ct_tied_surface, ct_tiebreak, section_beam_t
     public :: extra_nodes_t, point_mass_t, part_mass_t, search_auto, search_fixed, search_adaptive, mnl_minimal, &
@@ -478,6 +478,9 @@ module xd_model
         integer, allocatable :: shell_id(:), shell_pid(:), shell_part(:)
         integer, allocatable :: shell_conn(:, :)     !< (4, nshell) node ids, then indices; N3 = N4: triangle
         real(wp), allocatable :: shell_t(:, :)       !< (4, nshell) thickness from the element card, 0: section's
+        !> (nshell) the mean of the four, once the set-up is done and
+        !> shell_t released (release_setup_mesh): shell_thickness reads either
+        real(wp), allocatable :: shell_tmean(:)
         integer, allocatable :: shell_src(:)
         integer :: nsec_shell = 0
         type(section_shell_t), allocatable :: sec_shell(:)
@@ -560,6 +563,43 @@ contains
         call fit(model%beam_src, model%nbeam)
     end subroutine mesh_fit
 
+    !> The shells' four nodal thicknesses, which only the set-up reads,
+    !> replaced by their mean (the rigid shells' thickness in the states);
+    !> issue 32: every rank holds the deck's arrays whole, and this was 24
+    !> of their 92 bytes a shell, held through the set-up's peak. Once the
+    !> set-up (contact and rigid bodies included) is done.
+    subroutine release_shell_thickness(model)
+        type(model_t), intent(inout) :: model
+        integer :: e
+        if (.not. allocated(model%shell_t)) return
+        allocate (model%shell_tmean(model%nshell))
+        do e = 1, model%nshell
+            model%shell_tmean(e) = sum(model%shell_t(:, e))/4
+        end do
+        deallocate (model%shell_t)
+    end subroutine release_shell_thickness
+
+    !> Shell e's mean thickness (its element card's, or its section's).
+    pure real(wp) function shell_thickness(model, e) result(t)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: e
+        if (allocated(model%shell_t)) then
+            t = sum(model%shell_t(:, e))/4
+        else
+            t = model%shell_tmean(e)
+        end if
+    end function shell_thickness
+
+    !> The nodes' translational and rotational constraint codes, which only
+    !> the set-up and d3hsp's model summary read (the nodes' degrees of
+    !> freedom keep them), released once both are done: 8 of the deck's 48
+    !> bytes a node.
+    subroutine release_setup_mesh(model)
+        type(model_t), intent(inout) :: model
+        if (allocated(model%node_tc)) deallocate (model%node_tc)
+        if (allocated(model%node_rc)) deallocate (model%node_rc)
+    end subroutine release_setup_mesh
+
     !> The bytes of the deck's node and element arrays (every rank holds
     !> them whole: the set-up reads them, the outputs' mesh and the rigid
     !> bodies' and contact's set-up take them).
@@ -569,6 +609,7 @@ contains
             + nbytes(model%node_src) + nbytes(model%hex_id) + nbytes(model%hex_pid) + nbytes(model%hex_part) &
             + nbytes(model%hex_conn) + nbytes(model%hex_src) + nbytes(model%shell_id) + nbytes(model%shell_pid) &
             + nbytes(model%shell_part) + nbytes(model%shell_conn) + nbytes(model%shell_t) + nbytes(model%shell_src) &
+            + nbytes(model%shell_tmean) &
             + nbytes(model%beam_id) + nbytes(model%beam_pid) + nbytes(model%beam_part) + nbytes(model%beam_conn) &
             + nbytes(model%beam_src)
     end function mesh_bytes

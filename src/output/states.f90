@@ -19,7 +19,7 @@ module xd_output_states
     use xd_kinds, only: wp, dp, i8
     use xd_core_strings, only: join_path, out_path
     use xd_core_files, only: rename_file, delete_file, written_bytes
-    use xd_model, only: model_t, mat_rigid
+    use xd_model, only: model_t, mat_rigid, shell_thickness
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_beam_bs, only: beams_t
@@ -110,7 +110,7 @@ contains
             s%nbeam = bm%n
             if (bm%n > 0) s%weld = any(bm%weld)
         end if
-        s%rshell_t = [(sum(model%shell_t(:, rshell(e)))/4, e=1, s%nrshell)]
+        s%rshell_t = [(shell_thickness(model, rshell(e)), e=1, s%nrshell)]
         s%contact = model%ncontact > 0
         allocate (s%times(0))
         if (present(writer)) s%writer = writer

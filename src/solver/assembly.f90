@@ -3,11 +3,11 @@
 !> whatever the thread or rank count ("parith on").
 module xd_solver_assembly
     use xd_kinds, only: wp
-    use xd_core_memory, only: alloc
+    use xd_core_memory, only: alloc, fit
     use xd_core_threads, only: threaded
     implicit none
     private
-    public :: assembly_t, build_assembly, assemble
+    public :: assembly_t, build_assembly, assemble, keep_assembled
 
     type :: assembly_t
         integer :: nnode = 0
@@ -49,6 +49,34 @@ contains
             end do
         end do
     end subroutine build_assembly
+
+    !> The slot lists of the nodes this rank assembles (mine) alone, the
+    !> others' emptied and their room given back (issue 32: more than one
+    !> rank assembles only its own nodes, exchange_phase, so another rank's
+    !> node's list is never read; on 16 ranks of the 250,000-shell plate a
+    !> rank's shell lists went from 4 MB to a sixteenth). The pointers keep
+    !> their length (every node's, until the nodes are numbered per rank);
+    !> a kept list is unchanged, in its order.
+    subroutine keep_assembled(asm, mine)
+        type(assembly_t), intent(inout) :: asm
+        logical, intent(in) :: mine(:)
+        integer :: nd, j, q, first
+        if (.not. allocated(asm%ptr)) return
+        q = 0
+        first = asm%ptr(1)
+        do nd = 1, asm%nnode
+            ! (in place: a list only moves down)
+            if (mine(nd)) then
+                do j = first, asm%ptr(nd + 1) - 1
+                    q = q + 1
+                    asm%slot(q) = asm%slot(j)
+                end do
+            end if
+            first = asm%ptr(nd + 1)
+            asm%ptr(nd + 1) = q + 1
+        end do
+        call fit(asm%slot, q)
+    end subroutine keep_assembled
 
     !> f(:, node) = sum of its slots, in slot order (added to f with `add`),
     !> for every node or the nodes listed in `nodes`; with mslot and m, also

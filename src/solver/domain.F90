@@ -47,17 +47,17 @@
 !> pressure segments) reads every node.
 module xd_solver_domain
     use xd_kinds, only: wp, dp, i8
-    use xd_core_partition, only: rcb_partition
+    use xd_core_partition, only: rcb_partition, rcb_partition_by
     use xd_core_graph_partition, only: graph_partition, item_graph
     use xd_core_threads, only: threaded
     use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours, comm_gather_small, &
                             comm_gather_root_wp
     use xd_elements_solid_groups, only: solids_t, solid_localize
     use xd_elements_shell_bt, only: shells_t, shell_state_init, some_backstress
-    use xd_solver_assembly, only: assembly_t
+    use xd_solver_assembly, only: assembly_t, keep_assembled
     use xd_contact_contact, only: contacts_t
     use xd_contact_surface, only: surface_t, seg_nodes
-    use xd_core_sorting, only: where_true
+    use xd_core_sorting, only: where_true, sort_index
     use xd_core_memory, only: alloc, nbytes
     use xd_core_strings, only: itoa
     use xd_model, only: model_t
@@ -268,9 +268,12 @@ contains
         nnode = asm%nnode
         if (sh%n > 0) dom%width = 6
 
-        ! work items: the solid groups, then the shells
+        ! work items: the solid groups (their centres held: a group is a
+        ! run of elements), then the shells (each one's centre made when
+        ! the cut reads it, item_centre: 24 bytes a shell not held beside
+        ! the set-up's whole state)
         ni = solids%ngroup + sh%n
-        allocate (xc(3, ni), w(ni), part(ni))
+        allocate (xc(3, solids%ngroup), w(ni), part(ni))
         do g = 1, solids%ngroup
             associate (gr => solids%group(g))
                 xc(:, g) = 0
@@ -282,14 +285,13 @@ contains
             end associate
         end do
         do e = 1, sh%n
-            xc(:, solids%ngroup + e) = sum(x0(:, sh%conn(:, e)), 2)/4
             w(solids%ngroup + e) = 0.4_wp*sh%pc%nip(sh%part(e))
         end do
         dom%method_text = 'recursive coordinate bisection'
         if (present(method)) then
             if (method == decomp_metis) call metis_items()
         end if
-        if (dom%edgecut < 0) call rcb_partition(xc, w, nranks, part)
+        if (dom%edgecut < 0) call rcb_partition_by(item_centre, w, nranks, part)
         part = part - 1
         grank = part(1:solids%ngroup)
         shrank = part(solids%ngroup + 1:)
@@ -398,6 +400,17 @@ contains
         !> items' graph through their shared nodes, each item weighing its
         !> cost (in tenths); where METIS fails, the bisection, said in the
         !> heading.
+        !> work item i's centre: a solid group's (held), a shell's
+        subroutine item_centre(i, c)
+            integer, intent(in) :: i
+            real(wp), intent(out) :: c(3)
+            if (i <= solids%ngroup) then
+                c = xc(:, i)
+            else
+                c = sum(x0(:, sh%conn(:, i - solids%ngroup)), 2)/4
+            end if
+        end subroutine item_centre
+
         subroutine metis_items()
             integer, allocatable :: iptr(:), inode(:), xadj(:), adjncy(:), adjwgt(:), vwgt(:)
             integer :: status, q
@@ -1271,8 +1284,8 @@ contains
         type(domain_t), intent(inout) :: dom
         type(shells_t), intent(inout) :: sh
         type(assembly_t), intent(inout) :: asm_sh
-        integer, allocatable :: map(:), every(:)
-        integer :: j, e
+        integer, allocatable :: every(:)
+        integer :: e
         if (sh%n == 0) return
         if (.not. dom%on) then
             allocate (every(sh%n))
@@ -1282,14 +1295,11 @@ contains
             call shell_state_init(sh, every, 0)
             return
         end if
+        ! (the lists of the nodes this rank assembles alone, before the
+        ! rows are allocated and their slots take their places here)
+        call keep_assembled(asm_sh, dom%node_mine)
         call shell_state_init(sh, where_true(dom%shell_mine), size(dom%hi_slot))
-        allocate (map(4*sh%n))
-        map = 0
-        do j = 1, 4*sh%n
-            e = (j - 1)/4 + 1
-            if (sh%lix(e) > 0) map(j) = 4*(sh%lix(e) - 1) + j - 4*(e - 1)
-        end do
-        call local_slots(map, 4*sh%nl, dom%ho_slot, dom%hi_slot, asm_sh)
+        call local_slots(sh%lix, 4, 4*sh%nl, dom%ho_slot, dom%hi_slot, asm_sh)
     end subroutine place_shell_state
 
     !> The solids' state and slots held for the rank's own groups alone
@@ -1301,45 +1311,78 @@ contains
         type(solids_t), intent(inout) :: solids
         !> (its slot lists: to the slots held here, local_slots)
         type(assembly_t), intent(inout) :: asm
-        integer, allocatable :: map(:)
-        integer :: j, e
+        integer, allocatable :: row(:)
+        integer :: e
         if (.not. dom%on .or. solids%n == 0) return
         call solid_localize(solids)
-        allocate (map(8*solids%n))
-        map = 0
-        do j = 1, 8*solids%n
-            e = (j - 1)/8 + 1
-            if (solids%goff(solids%group_of(e)) >= 0) map(j) = 8*(solids%row(e) - 1) + j - 8*(e - 1)
+        ! (each solid's row here, 0 for another rank's)
+        allocate (row(solids%n))
+        do e = 1, solids%n
+            row(e) = 0
+            if (solids%goff(solids%group_of(e)) >= 0) row(e) = solids%row(e)
         end do
-        call local_slots(map, 8*solids%nl, dom%so_slot, dom%si_slot, asm)
+        call keep_assembled(asm, dom%node_mine)
+        call local_slots(row, 8, 8*solids%nl, dom%so_slot, dom%si_slot, asm)
         deallocate (solids%fslot)
         call alloc(solids%fslot, 3, 8*solids%nl + size(dom%si_slot), 'solid force slots')
     end subroutine localize_element_state
 
-    !> The force slots held here (issue 32): the rank's own elements' (map:
-    !> a model slot's place among them, 0 if another rank's), nown of them,
-    !> then the halo's received (`inn`, each once) in their list's order.
-    !> The lists of the slots sent (`out`) and received and the assembly's
-    !> node lists take those places; a node this rank assembles has only
-    !> such slots, still in the serial order, so its sum is the same, bit
-    !> for bit.
-    subroutine local_slots(map, nown, out, inn, as)
-        integer, intent(inout) :: map(:)
-        integer, intent(in) :: nown
+    !> The force slots held here (issue 32): the rank's own elements' (w
+    !> slots an element: element e's slot k at w (row(e) - 1) + k, row 0
+    !> for another rank's element), nown of them, then the halo's received
+    !> (`inn`, each once) in their list's order. The lists of the slots
+    !> sent (`out`) and received and the assembly's node lists (the nodes
+    !> this rank assembles alone: keep_assembled) take those places; a node
+    !> this rank assembles has only such slots, still in the serial order,
+    !> so its sum is the same, bit for bit. (By the rows and a sorted copy
+    !> of the halo's slots: a table of every slot's place had been 4 bytes
+    !> a slot of the model, the set-up's peak on 16 ranks of the plate.)
+    subroutine local_slots(row, w, nown, out, inn, as)
+        integer, intent(in) :: row(:), w, nown
         integer, intent(inout) :: out(:), inn(:)
         type(assembly_t), intent(inout) :: as
+        integer, allocatable :: perm(:), key(:)
         integer :: i
-        ! (loops: no temporary of the lists' size on the stack)
+        call sort_index(inn, perm)
+        allocate (key(size(inn)))
         do i = 1, size(inn)
-            map(inn(i)) = nown + i
-            inn(i) = nown + i
+            key(i) = inn(perm(i))
         end do
+        ! (loops: no temporary of the lists' size on the stack)
         do i = 1, size(out)
-            out(i) = map(out(i))
+            out(i) = place(out(i))
         end do
         do i = 1, size(as%slot)
-            as%slot(i) = map(as%slot(i))
+            as%slot(i) = place(as%slot(i))
         end do
+        do i = 1, size(inn)
+            inn(i) = nown + i
+        end do
+    contains
+        !> model slot j's place here (0: neither this rank's nor received)
+        integer function place(j) result(q)
+            integer, intent(in) :: j
+            integer :: e, lo, hi, mid
+            e = (j - 1)/w + 1
+            if (row(e) > 0) then
+                q = w*(row(e) - 1) + j - w*(e - 1)
+                return
+            end if
+            q = 0
+            lo = 1
+            hi = size(key)
+            do while (lo <= hi)
+                mid = (lo + hi)/2
+                if (key(mid) == j) then
+                    q = nown + perm(mid)
+                    return
+                else if (key(mid) < j) then
+                    lo = mid + 1
+                else
+                    hi = mid - 1
+                end if
+            end do
+        end function place
     end subroutine local_slots
 
     !> Every solid's state on rank 0, for a state or a dump that rank 0

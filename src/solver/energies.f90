@@ -65,7 +65,8 @@ contains
         type(energies_t), intent(inout) :: en
         type(beams_t), intent(in), optional :: bm
         !> (nodes numbered per rank: the model's nodes the rank holds, in
-        !> the model's numbering, before the cut; the table holds theirs)
+        !> the model's numbering; the table holds theirs. The nodal arrays
+        !> may be cut already, the elements' connectivity not yet)
         logical, intent(in), optional :: keep(:)
         if (.not. allocated(en%part_ie)) then
             allocate (en%part_ie(model%npart), en%part_ke(model%npart), en%part_hg(model%npart), &
@@ -547,10 +548,13 @@ contains
         integer, allocatable :: ip(:)
         real(dp), allocatable :: im(:), fp(:)
         real(dp) :: madd
-        integer :: e, k, nd, n, j, nrow, n0, most
+        integer :: e, k, nd, n, j, nrow, n0, most, nnode
         logical :: held
         en%fixed_mass = masses_fixed(solids, sh)
-        nrow = st%nnode
+        ! (the model's nodes: with keep, the nodal arrays may be cut already)
+        nnode = st%nnode
+        if (present(keep)) nnode = size(keep)
+        nrow = nnode
         if (present(keep)) nrow = count(keep)
         allocate (en%np_ptr(nrow + 1), en%part_mass0(model%npart))
         en%np_ptr = 1
@@ -559,11 +563,11 @@ contains
             allocate (en%np_part(0), en%np_m(0))
             return
         end if
-        call build_assembly(st%nnode, solids%conn, as)
+        call build_assembly(nnode, solids%conn, as)
         if (sh%n > 0) then
-            call build_assembly(st%nnode, sh%conn, ash)
+            call build_assembly(nnode, sh%conn, ash)
         else
-            allocate (ash%ptr(st%nnode + 1), ash%slot(0))
+            allocate (ash%ptr(nnode + 1), ash%slot(0))
             ash%ptr = 1
         end if
         n = 0
@@ -573,7 +577,7 @@ contains
             ! time while its shares go into the parts' masses)
             most = 0
             j = 0
-            do nd = 1, st%nnode
+            do nd = 1, nnode
                 k = as%ptr(nd + 1) - as%ptr(nd) + ash%ptr(nd + 1) - ash%ptr(nd)
                 most = max(most, k)
                 if (keep(nd)) j = j + k
@@ -585,7 +589,7 @@ contains
         allocate (ip(n), im(n))
         n = 0
         nrow = 0
-        do nd = 1, st%nnode
+        do nd = 1, nnode
             held = .true.
             if (present(keep)) held = keep(nd)
             n0 = n

@@ -40,7 +40,7 @@ module xd_solver_local_nodes
     use xd_solver_domain, only: domain_t, node_gather_t, node_runs
     implicit none
     private
-    public :: node_view_t, localize_nodes, open_view, close_view, global_node, held_nodes
+    public :: node_view_t, cut_state, localize_nodes, open_view, close_view, global_node, held_nodes
 
     !> Rank 0's whole view of the nodes for an output (nodes numbered per
     !> rank): the state's arrays at the model's size, v(n) and w(n-1/2)
@@ -56,12 +56,42 @@ module xd_solver_local_nodes
 
 contains
 
-    !> The nodal arrays cut to the nodes this rank moves, and every list
-    !> that indexes them renumbered (see the module's head). Once, after
-    !> the owned nodes' lists are made (choose_owned) and the energies'
-    !> node table is built for the kept nodes, before the time loop's own
-    !> per-node arrays are allocated.
-    subroutine localize_nodes(dom, keep, st, solids, asm, sh, asm_sh, en, hist, walls, pn)
+    !> The nodal arrays cut to the nodes this rank keeps (held_nodes), in
+    !> the model's order, the model's nodal mass summed first as one rank
+    !> sums it (glstat's mean velocities divide by it). First of the cut:
+    !> the energies' node table is built after it (its transient whole
+    !> lists no longer beside every node's state: the set-up's peak), and
+    !> localize_nodes renumbers the lists after that.
+    subroutine cut_state(keep, st, en)
+        logical, intent(in) :: keep(:)
+        type(state_t), intent(inout) :: st
+        type(energies_t), intent(inout) :: en
+        integer, allocatable :: l2g(:)
+        integer :: k, nl
+        call set_model_mass(en, sum(real(st%mass, dp)))
+        allocate (l2g(count(keep)))
+        nl = 0
+        do k = 1, size(keep)
+            if (.not. keep(k)) cycle
+            nl = nl + 1
+            l2g(nl) = k
+        end do
+        call take(st%x, l2g)
+        call take(st%v, l2g)
+        call take(st%mass, l2g)
+        call take(st%dofs, l2g)
+        if (allocated(st%vr)) call take(st%vr, l2g)
+        if (allocated(st%irot)) call take(st%irot, l2g)
+        if (allocated(st%jprev)) call take(st%jprev, l2g)
+        st%nnode = nl
+    end subroutine cut_state
+
+    !> Every list that indexes the nodal arrays renumbered to the nodes
+    !> this rank keeps (see the module's head), the arrays themselves cut
+    !> by cut_state before. Once, after the owned nodes' lists are made
+    !> (choose_owned) and the energies' node table is built for the kept
+    !> nodes, before the time loop's own per-node arrays are allocated.
+    subroutine localize_nodes(dom, keep, st, solids, asm, sh, asm_sh, hist, walls, pn)
         type(domain_t), intent(inout) :: dom
         !> the model's nodes this rank keeps (held_nodes)
         logical, intent(in) :: keep(:)
@@ -69,14 +99,13 @@ contains
         type(solids_t), intent(inout) :: solids
         type(assembly_t), intent(inout) :: asm, asm_sh
         type(shells_t), intent(inout) :: sh
-        type(energies_t), intent(inout) :: en
         type(histories_t), intent(inout) :: hist
         type(walls_t), intent(inout) :: walls
         type(prescribed_nodes_t), intent(inout) :: pn
         logical, allocatable :: moved(:)
         integer, allocatable :: g2l(:), l2g(:)
         integer :: n, k, e, nl
-        n = st%nnode
+        n = size(keep)
         ! (l2g: the kept nodes in the model's order; g2l its inverse, 0 for
         ! a node not kept)
         allocate (l2g(count(keep)), g2l(n))
@@ -88,20 +117,7 @@ contains
             l2g(nl) = k
             g2l(k) = nl
         end do
-
-        ! the model's mass, summed whole as one rank sums it (the energies'
-        ! node table is the kept nodes' already: prepare_energies' keep)
-        call set_model_mass(en, sum(real(st%mass, dp)))
-
-        ! the state
-        call take(st%x, l2g)
-        call take(st%v, l2g)
-        call take(st%mass, l2g)
-        call take(st%dofs, l2g)
-        if (allocated(st%vr)) call take(st%vr, l2g)
-        if (allocated(st%irot)) call take(st%irot, l2g)
-        if (allocated(st%jprev)) call take(st%jprev, l2g)
-        st%nnode = nl
+        if (st%nnode /= nl) error stop 'localize_nodes: the nodal arrays are not cut (cut_state first)'
 
         ! the elements' connectivity (another rank's element: 0, never read)
         do e = 1, solids%n

@@ -42,7 +42,7 @@ module xd_solver_time_loop
                                       hourglass_bound_report
     use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
                                       mass_scaling_summary
-    use xd_solver_local_nodes, only: node_view_t, localize_nodes, open_view, close_view, global_node, held_nodes
+    use xd_solver_local_nodes, only: node_view_t, cut_state, localize_nodes, open_view, close_view, global_node, held_nodes
     use xd_solver_phases, only: element_phase, exchange_phase, bad_element, beam_phase, erosion_phase, step_phase, &
                                 load_phase, contact_phase, velocity_phase, constraint_phase, energy_phase, &
                                 advance_phase, any_rank
@@ -184,11 +184,13 @@ contains
             whole = whole_nodes_reason(solids, sh, bm, ct, rg, pl, td, ms)
             if (len(whole) == 0) then
                 call tm%start(ph_init)
-                ! (the energies' node table for the nodes the rank keeps
-                ! alone, built before the cut from the model's connectivity)
+                ! (the nodal arrays cut first; then the energies' node table
+                ! for the nodes the rank keeps alone, from the model's
+                ! connectivity, which localize_nodes then renumbers)
                 keep = held_nodes(dom, solids, sh)
+                call cut_state(keep, st, en)
                 call prepare_energies(model, st, solids, sh, en, bm, keep)
-                call localize_nodes(dom, keep, st, solids, asm, sh, asm_sh, en, hist, walls, pn)
+                call localize_nodes(dom, keep, st, solids, asm, sh, asm_sh, hist, walls, pn)
                 deallocate (keep)
                 call tm%stop(ph_init)
                 call log_line(lg, ' nodal arrays: nodes numbered per rank: each rank holds its own nodes and those '// &
