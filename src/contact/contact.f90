@@ -873,19 +873,23 @@ contains
     !> search's margin covers) does not shrink: it is the largest thickness
     !> seen, so a thickening shell stays within the search's bound to the
     !> next search at most.
-    subroutine contact_thickness(ct, conn, h, mine)
+    subroutine contact_thickness(ct, conn, h, mine, row)
         type(contacts_t), intent(inout) :: ct
         integer, intent(in) :: conn(:, :), mine(:)
         real(wp), intent(in) :: h(:)
+        !> (the thicknesses held by row: shell e's at row(e); shell_rows)
+        integer, intent(in), optional :: row(:)
         real(dp), allocatable :: tn(:)
         real(wp), allocatable :: rho(:)
-        integer :: i, k, e, nd
+        integer :: i, k, e, nd, q
         allocate (tn(size(ct%node_h0)))
         tn = 0
         do i = 1, size(mine)
             e = mine(i)
+            q = e
+            if (present(row)) q = row(e)
             do k = 1, 4
-                tn(conn(k, e)) = max(tn(conn(k, e)), real(h(e), dp))
+                tn(conn(k, e)) = max(tn(conn(k, e)), real(h(q), dp))
             end do
         end do
         if (ct%distributed) call comm_max(tn)

@@ -14,7 +14,8 @@ module xd_core_comm
     use xd_kinds, only: wp, dp, i8
     implicit none
     private
-    public :: comm_gather_wp, comm_gather_root_wp, comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max, &
+    public :: comm_gather_wp, comm_gather_root_wp, comm_gather_root_dp, &
+              comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max, &
               comm_gather_small, &
               comm_gather_records, comm_neighbours, comm_ordered_records
 
@@ -84,6 +85,24 @@ contains
         if (root) na = max(sum(cnt), 1)
         call MPI_Gatherv(mine(1:max(n, 1)), n, wp_type(), all(1:na), cnt, disp, wp_type(), 0, MPI_COMM_WORLD)
     end subroutine comm_gather_root_wp
+
+    !> comm_gather_root_wp in double precision (values held so whatever
+    !> the build's working precision: the elements' energies).
+    subroutine comm_gather_root_dp(mine, n, all, cnt, disp, root)
+        integer, intent(in) :: n, cnt(:), disp(:)
+        real(dp), intent(in) :: mine(*)
+        real(dp), intent(inout) :: all(*)
+        logical, intent(in) :: root     !< this is rank 0
+        integer :: na
+        if (.not. up()) then
+            all(disp(1) + 1:disp(1) + n) = mine(1:n)
+            return
+        end if
+        na = 1
+        if (root) na = max(sum(cnt), 1)
+        call MPI_Gatherv(mine(1:max(n, 1)), n, MPI_DOUBLE_PRECISION, all(1:na), cnt, disp, MPI_DOUBLE_PRECISION, 0, &
+                         MPI_COMM_WORLD)
+    end subroutine comm_gather_root_dp
 
     !> In-place sum over the ranks of a(:) in double precision.
     subroutine comm_sum_dp(a)

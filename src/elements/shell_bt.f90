@@ -15,7 +15,7 @@ module xd_elements_shell_bt
     implicit none
     private
     public :: shells_t, build_shells, shell_state_init, shell_state_bytes, shell_bytes, &
-              shell_forces, shell_masses, shell_axes, shell_blocks, &
+              shell_forces, shell_masses, shell_axes, shell_blocks, shell_rows, shell_row, &
               point_weight, point_z
     public :: shell_name, some_backstress
 
@@ -111,11 +111,20 @@ module xd_elements_shell_bt
         !> shell_state_view).
         integer :: nl = 0
         integer :: nipmax = 1                 !< the points a row holds: the most any shell has
+        !> the per-shell thickness, area and energies (h, area0, eint, ehg,
+        !> pend_int, pend_hg) held by row too, for this rank's shells alone
+        !> (shell_rows: with owned nodes on more than one rank, once the
+        !> set-up is done); else by the model's number. The connectivity,
+        !> ids, parts and flags stay every shell's
+        logical :: by_row = .false.
         integer, allocatable :: lix(:), gix(:)
         !> during such a view (rank 0): the rank's own rows, kept aside
         logical :: viewing = .false.
         real(wp), allocatable :: own_sig(:, :, :), own_epsp(:, :), own_qhg(:, :), own_strain(:, :, :), &
                                  own_alpha(:, :, :)
+        !> (and with by_row, the per-shell arrays' own rows)
+        real(wp), allocatable :: own_h(:), own_area0(:)
+        real(dp), allocatable :: own_eint(:), own_ehg(:), own_pend_int(:), own_pend_hg(:)
         !> the element loop's blocks: runs of consecutive elements of mine,
         !> at most nblk each (shell_blocks, whenever mine changes), so that
         !> a block's element data are read at unit stride
@@ -399,6 +408,54 @@ contains
         sh%low = .false.
         call shell_blocks(sh)
     end subroutine shell_state_init
+
+    !> The per-shell thickness, area and energies cut to this rank's rows
+    !> (issue 32: 48 of the 96 bytes a shell that every rank held for every
+    !> shell), in the rows' order (ascending shells: a rank's sums over its
+    !> rows take its shells in the model's order, as before). Once, after
+    !> the set-up (restart dump included) and the energies' tables; an
+    !> output's view (the domain's shell_state_view) gathers them whole.
+    subroutine shell_rows(sh)
+        type(shells_t), intent(inout) :: sh
+        if (sh%by_row .or. sh%n == 0) return
+        call cut_wp(sh%h)
+        call cut_wp(sh%area0)
+        call cut_dp(sh%eint)
+        call cut_dp(sh%ehg)
+        call cut_dp(sh%pend_int)
+        call cut_dp(sh%pend_hg)
+        sh%by_row = .true.
+    contains
+        subroutine cut_wp(a)
+            real(wp), allocatable, intent(inout) :: a(:)
+            real(wp), allocatable :: t(:)
+            integer :: i
+            allocate (t(sh%nl))
+            do i = 1, sh%nl
+                t(i) = a(sh%gix(i))
+            end do
+            call move_alloc(t, a)
+        end subroutine cut_wp
+        subroutine cut_dp(a)
+            real(dp), allocatable, intent(inout) :: a(:)
+            real(dp), allocatable :: t(:)
+            integer :: i
+            allocate (t(sh%nl))
+            do i = 1, sh%nl
+                t(i) = a(sh%gix(i))
+            end do
+            call move_alloc(t, a)
+        end subroutine cut_dp
+    end subroutine shell_rows
+
+    !> Where shell e's thickness, area and energies are held: its row
+    !> (shell_rows; 0 for another rank's shell), or e.
+    pure integer function shell_row(sh, e) result(r)
+        type(shells_t), intent(in) :: sh
+        integer, intent(in) :: e
+        r = e
+        if (sh%by_row) r = sh%lix(e)
+    end function shell_row
 
     !> The bytes of every array of the shells this rank holds (their
     !> state and slots, shell_state_bytes, and the rest: connectivity,
@@ -736,14 +793,17 @@ contains
         real(wp) :: cap(nblk), bw(nblk)
         logical :: visc(nblk), bnd(nblk), capped(nblk), allok, anyvisc
         real(dp) :: pold(nblk), pnew(nblk)
-        integer :: l, k, e, pk(nblk)
+        integer :: l, k, e, pk(nblk), d0
+        ! (the per-shell arrays held by row here, or by the model's number:
+        ! shell_rows)
+        d0 = merge(s0, e0, sh%by_row)
         ! gather: the elements' data (their parts' constants)
         do l = 1, nb
             pk(l) = sh%part(e0 + l)
         end do
         do l = 1, nb
             e = e0 + l
-            hh(l) = sh%h(e)
+            hh(l) = sh%h(d0 + l)
             ym(l) = sh%pc%e(pk(l))
             nu(l) = sh%pc%nu(pk(l))
             ro(l) = sh%pc%ro(pk(l))
@@ -996,8 +1056,8 @@ contains
         if (allok) then
             do l = 1, nb
                 e = e0 + l
-                sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold(l))
-                sh%pend_hg(e) = 0.5_dp*pnew(l)
+                sh%ehg(d0 + l) = sh%ehg(d0 + l) + dt_avg_prev*(sh%pend_hg(d0 + l) + 0.5_dp*pold(l))
+                sh%pend_hg(d0 + l) = 0.5_dp*pnew(l)
             end do
             do k = 1, 5
                 do l = 1, nb
@@ -1015,8 +1075,8 @@ contains
                 e = e0 + l
                 sh%qhg(s0 + l, :) = hq(l, :)
                 if (capped(l)) sh%ncap(s0 + l) = sh%ncap(s0 + l) + 1
-                sh%ehg(e) = sh%ehg(e) + dt_avg_prev*(sh%pend_hg(e) + 0.5_dp*pold(l))
-                sh%pend_hg(e) = 0.5_dp*pnew(l)
+                sh%ehg(d0 + l) = sh%ehg(d0 + l) + dt_avg_prev*(sh%pend_hg(d0 + l) + 0.5_dp*pold(l))
+                sh%pend_hg(d0 + l) = 0.5_dp*pnew(l)
             end do
         end if
         ! the forces: on x(n); nodal forces and moments (local) are minus the
@@ -1205,7 +1265,7 @@ contains
         real(wp) :: dd(nblk, 5), so(nblk, 5), t(nblk, 5), dzz(nblk), dzm(nblk), xeq2(nblk), pm, fac, h, sl(5)
         real(dp) :: pold(nblk), pnew(nblk)
         real(wp) :: nuf(nblk)
-        integer :: nip(nblk), pk(nblk), l, e, ip, mix, maxnip, k
+        integer :: nip(nblk), pk(nblk), l, e, ip, mix, maxnip, k, d0
         real(wp) :: sy0(nblk), hk(nblk)
         !> every shell of the block has maxnip points; some moves a back
         !> stress; some takes a yield curve
@@ -1222,6 +1282,7 @@ contains
         !> 1 where a point of the layer yields, 0 elsewhere; the points'
         !> plastic strains before the step (the common block's)
         real(wp) :: yl(nblk), ep(nblk)
+        d0 = merge(s0, e0, sh%by_row)
         ny = 0
         maxnip = 0
         do l = 1, nb
@@ -1438,13 +1499,13 @@ contains
                 ! on its place in its block, which the ranks change)
                 !GCC$ novector
                 do l = 1, nb
-                    sh%h(e0 + l) = sh%h(e0 + l)*exp(dt*dzm(l))
+                    sh%h(d0 + l) = sh%h(d0 + l)*exp(dt*dzm(l))
                 end do
             end if
             do l = 1, nb
                 e = e0 + l
-                sh%eint(e) = sh%eint(e) + dt_avg_prev*(sh%pend_int(e) + 0.5_dp*pold(l)*a(l))
-                sh%pend_int(e) = 0.5_dp*pnew(l)*a(l)
+                sh%eint(d0 + l) = sh%eint(d0 + l) + dt_avg_prev*(sh%pend_int(d0 + l) + 0.5_dp*pold(l)*a(l))
+                sh%pend_int(d0 + l) = 0.5_dp*pnew(l)*a(l)
             end do
             return
         end if
@@ -1452,10 +1513,10 @@ contains
             if (.not. ok(l)) cycle
             e = e0 + l
             ! thickness change (ISTUPD): the mean thickness strain rate of the points
-            if (sh%thickness_update) sh%h(e) = sh%h(e)*exp(dt*dzm(l))
+            if (sh%thickness_update) sh%h(d0 + l) = sh%h(d0 + l)*exp(dt*dzm(l))
             ! internal energy: the rule of the solids (work f(n).(v- + v+)/2 dt_avg)
-            sh%eint(e) = sh%eint(e) + dt_avg_prev*(sh%pend_int(e) + 0.5_dp*pold(l)*a(l))
-            sh%pend_int(e) = 0.5_dp*pnew(l)*a(l)
+            sh%eint(d0 + l) = sh%eint(d0 + l) + dt_avg_prev*(sh%pend_int(d0 + l) + 0.5_dp*pold(l)*a(l))
+            sh%pend_int(d0 + l) = 0.5_dp*pnew(l)*a(l)
         end do
     end subroutine block_points
 

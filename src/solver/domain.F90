@@ -42,16 +42,17 @@
 !> or a dump it writes (solid_state_view, shell_state_view,
 !> release_element_view). The motion is bitwise that of the serial run for
 !> any rank count (the energies agree to rounding). The price is memory:
-!> the mesh and the elements' energies are on every rank, and so are the
-!> nodal arrays of a model whose contact (or rigid bodies, ties, beams,
-!> pressure segments) reads every node.
+!> the mesh is on every rank (the shells' energies, thickness and area by
+!> row with owned nodes: shell_rows; the solids' energies whole), and so
+!> are the nodal arrays of a model whose contact (or rigid bodies, ties,
+!> beams, pressure segments) reads every node.
 module xd_solver_domain
     use xd_kinds, only: wp, dp, i8
     use xd_core_partition, only: rcb_partition, rcb_partition_by
     use xd_core_graph_partition, only: graph_partition, item_graph
     use xd_core_threads, only: threaded
     use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours, comm_gather_small, &
-                            comm_gather_root_wp
+                            comm_gather_root_wp, comm_gather_root_dp
     use xd_elements_solid_groups, only: solids_t, solid_localize
     use xd_elements_shell_bt, only: shells_t, shell_state_init, some_backstress
     use xd_solver_assembly, only: assembly_t, keep_assembled
@@ -1252,7 +1253,9 @@ contains
         call merge_dp(solids%ehg, 1, dom%solid_mine)
         call merge_dp(solids%pend_int, 1, dom%solid_mine)
         call merge_dp(solids%pend_hg, 1, dom%solid_mine)
-        if (sh%n == 0) return
+        ! (held by row: the ranks' own rows, gathered whole for an output
+        ! by shell_state_view)
+        if (sh%n == 0 .or. sh%by_row) return
         call merge_dp(sh%eint, 1, dom%shell_mine)
         call merge_dp(sh%ehg, 1, dom%shell_mine)
         call merge_dp(sh%pend_int, 1, dom%shell_mine)
@@ -1470,6 +1473,7 @@ contains
         integer :: r, nip, i
         logical :: root
         real(wp) :: none(1)
+        real(dp) :: nonedp(1)
         logical :: back
         if (sh%viewing) return
         root = dom%rank == 0
@@ -1507,6 +1511,24 @@ contains
             call rows(sh%own_qhg, 5, sh%qhg, .false.)
             if (sh%track_strain) call rows(sh%own_strain, 6*nip, sh%strain, .false.)
             if (back) call rows(sh%own_alpha, 6*nip, sh%alpha, .true.)
+            if (sh%by_row) then
+                ! the per-shell arrays held by row (shell_rows), every
+                ! shell's in the model's order
+                call move_alloc(sh%h, sh%own_h)
+                call move_alloc(sh%area0, sh%own_area0)
+                call move_alloc(sh%eint, sh%own_eint)
+                call move_alloc(sh%ehg, sh%own_ehg)
+                call move_alloc(sh%pend_int, sh%own_pend_int)
+                call move_alloc(sh%pend_hg, sh%own_pend_hg)
+                allocate (sh%h(sh%n), sh%area0(sh%n), sh%eint(sh%n), sh%ehg(sh%n), sh%pend_int(sh%n), sh%pend_hg(sh%n))
+                call rows(sh%own_h, 1, sh%h, .false.)
+                call rows(sh%own_area0, 1, sh%area0, .false.)
+                call rows_dp(sh%own_eint, sh%eint)
+                call rows_dp(sh%own_ehg, sh%ehg)
+                call rows_dp(sh%own_pend_int, sh%pend_int)
+                call rows_dp(sh%own_pend_hg, sh%pend_hg)
+                sh%by_row = .false.
+            end if
             sh%viewing = .true.
         else
             ! (only rank 0 receives)
@@ -1515,8 +1537,40 @@ contains
             call rows(sh%qhg, 5, none, .false.)
             if (sh%track_strain) call rows(sh%strain, 6*nip, none, .false.)
             if (back) call rows(sh%alpha, 6*nip, none, .true.)
+            if (sh%by_row) then
+                call rows(sh%h, 1, none, .false.)
+                call rows(sh%area0, 1, none, .false.)
+                call rows_dp(sh%eint, nonedp)
+                call rows_dp(sh%ehg, nonedp)
+                call rows_dp(sh%pend_int, nonedp)
+                call rows_dp(sh%pend_hg, nonedp)
+            end if
         end if
     contains
+        !> rows for one value a shell in double precision (the energies)
+        subroutine rows_dp(loc, full)
+            real(dp), intent(in) :: loc(*)
+            real(dp), intent(inout) :: full(*)
+            real(dp), allocatable :: buf(:)
+            integer, allocatable :: disp(:)
+            integer :: r, i, o
+            allocate (disp(dom%nranks))
+            disp(1) = 0
+            do r = 2, dom%nranks
+                disp(r) = disp(r - 1) + cnt(r - 1)
+            end do
+            allocate (buf(merge(sum(cnt), 1, root)))
+            call comm_gather_root_dp(loc, sh%nl, buf, cnt, disp, root)
+            if (.not. root) return
+            o = 0
+            do r = 1, dom%nranks
+                do i = 1, cnt(r)
+                    full(order(o + i)) = buf(disp(r) + i)
+                end do
+                o = o + cnt(r)
+            end do
+        end subroutine rows_dp
+
         !> loc: this rank's nl rows of ncol values (a column of nl after
         !> another; last: an element's ncol values together), to rank 0's
         !> full (every shell's, likewise)
@@ -1590,6 +1644,16 @@ contains
         call move_alloc(sh%own_qhg, sh%qhg)
         call move_alloc(sh%own_strain, sh%strain)
         call move_alloc(sh%own_alpha, sh%alpha)
+        if (allocated(sh%own_eint)) then
+            ! (the per-shell arrays' own rows: shell_rows)
+            call move_alloc(sh%own_h, sh%h)
+            call move_alloc(sh%own_area0, sh%area0)
+            call move_alloc(sh%own_eint, sh%eint)
+            call move_alloc(sh%own_ehg, sh%ehg)
+            call move_alloc(sh%own_pend_int, sh%pend_int)
+            call move_alloc(sh%own_pend_hg, sh%pend_hg)
+            sh%by_row = .true.
+        end if
         sh%viewing = .false.
     end subroutine release_element_view
 

@@ -6,7 +6,7 @@ module xd_solver_energies
     use xd_model, only: model_t
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_beam_bs, only: beams_t
-    use xd_elements_shell_bt, only: shells_t
+    use xd_elements_shell_bt, only: shells_t, shell_row
     use xd_solver_state, only: state_t
     use xd_contact_rigidwall, only: walls_t, walls_kinetic
     use xd_rigid_bodies, only: rigid_t, rigid_energy
@@ -151,7 +151,13 @@ contains
             ! (solid_on, shell_on absent on one rank: every element)
             if (solids%n > 0) call ie_by_part(solids%part, solids%eint, solids%pend_int, solids%ehg, solids%pend_hg, &
                                               solid_on)
-            if (sh%n > 0) call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg, shell_on)
+            if (sh%n > 0) then
+                if (sh%by_row) then
+                    call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg, shell_on, sh%lix)
+                else
+                    call ie_by_part(sh%part, sh%eint, sh%pend_int, sh%ehg, sh%pend_hg, shell_on)
+                end if
+            end if
             if (split) call add_ranks(.false.)
             en%ie = sum(en%part_ie)
             en%hg = sum(en%part_hg)
@@ -237,7 +243,13 @@ contains
         ! (eroded solids likewise; owned nodes: each rank's own, the ranks'
         ! sums added)
         pie = en%part_ie
-        if (sh%n > 0 .and. sh%ndead > 0) call book_eroded(sh%part, sh%dead, sh%eint, shell_on)
+        if (sh%n > 0 .and. sh%ndead > 0) then
+            if (sh%by_row) then
+                call book_eroded(sh%part, sh%dead, sh%eint, shell_on, sh%lix)
+            else
+                call book_eroded(sh%part, sh%dead, sh%eint, shell_on)
+            end if
+        end if
         if (solids%ndead > 0) call book_eroded(solids%part, solids%dead, solids%eint, solid_on)
         if (split) then
             call comm_sum_dp(en%part_eroded)
@@ -264,20 +276,24 @@ contains
     contains
         !> The eroded elements' internal energy out of their parts' and into
         !> their parts' eroded energy.
-        subroutine book_eroded(part, dead, eint, mine)
+        subroutine book_eroded(part, dead, eint, mine, row)
             integer, intent(in) :: part(:)
             logical, intent(in) :: dead(:)
             real(dp), intent(in) :: eint(:)
             !> (owned nodes: the elements this rank books)
             logical, intent(in), optional :: mine(:)
-            integer :: e
+            !> (the energies held by row: element e's at row(e))
+            integer, intent(in), optional :: row(:)
+            integer :: e, q
             do e = 1, size(dead)
                 if (.not. dead(e)) cycle
                 if (present(mine)) then
                     if (.not. mine(e)) cycle
                 end if
-                en%part_ie(part(e)) = en%part_ie(part(e)) - eint(e)
-                en%part_eroded(part(e)) = en%part_eroded(part(e)) + eint(e)
+                q = e
+                if (present(row)) q = row(e)
+                en%part_ie(part(e)) = en%part_ie(part(e)) - eint(q)
+                en%part_eroded(part(e)) = en%part_eroded(part(e)) + eint(q)
             end do
             en%ie = sum(en%part_ie)
         end subroutine book_eroded
@@ -337,12 +353,14 @@ contains
         !> Internal and hourglass energy by part: the work booked so far and
         !> the first half of the current forces', a run of one part's
         !> elements summed in registers.
-        subroutine ie_by_part(part, eint, pend_int, ehg, pend_hg, mine)
+        subroutine ie_by_part(part, eint, pend_int, ehg, pend_hg, mine, row)
             integer, intent(in) :: part(:)
             real(dp), intent(in) :: eint(:), pend_int(:), ehg(:), pend_hg(:)
             !> (owned nodes: the elements this rank sums)
             logical, intent(in), optional :: mine(:)
-            integer :: e, p, pc, first
+            !> (the energies held by row: element p's at row(p); shell_rows)
+            integer, intent(in), optional :: row(:)
+            integer :: e, p, pc, first, q
             real(dp) :: aie, ahg
             first = 1
             do e = 1, size(part) + 1
@@ -356,8 +374,10 @@ contains
                         if (present(mine)) then
                             if (.not. mine(p)) cycle
                         end if
-                        aie = aie + (eint(p) + dt_avg*pend_int(p))
-                        ahg = ahg + (ehg(p) + dt_avg*pend_hg(p))
+                        q = p
+                        if (present(row)) q = row(p)
+                        aie = aie + (eint(q) + dt_avg*pend_int(q))
+                        ahg = ahg + (ehg(q) + dt_avg*pend_hg(q))
                     end do
                     en%part_ie(pc) = en%part_ie(pc) + aie
                     en%part_hg(pc) = en%part_hg(pc) + ahg
@@ -370,7 +390,7 @@ contains
         !> share of its nodes (mass scaling or a thickness update change the
         !> elements' masses during the run), internal and hourglass energy.
         subroutine by_elements()
-            integer :: e, k, p, nd, nn, pc
+            integer :: e, k, p, nd, nn, pc, q
             real(dp) :: mshare, ksum, msum(3), ake, amom(3), amass, aie, ahg
             do e = 1, solids%n
                 if (split) then
@@ -426,7 +446,8 @@ contains
                 ! the shell's share of its nodes' mass (a third each for triangles)
                 nn = 4
                 if (sh%conn(3, e) == sh%conn(4, e)) nn = 3
-                mshare = real(sh%pc%ro(sh%part(e))*sh%h(e)*sh%area0(e), dp)/nn
+                q = shell_row(sh, e)
+                mshare = real(sh%pc%ro(sh%part(e))*sh%h(q)*sh%area0(q), dp)/nn
                 if (allocated(sh%msf)) then
                     en%part_added(p) = en%part_added(p) + nn*mshare*(sh%msf(e) - 1.0_dp)
                     mshare = mshare*sh%msf(e)
@@ -442,8 +463,8 @@ contains
                 ake = ake + mshare*ksum
                 amom = amom + mshare*msum
                 amass = amass + mshare*nn
-                aie = aie + (sh%eint(e) + dt_avg*sh%pend_int(e))
-                ahg = ahg + (sh%ehg(e) + dt_avg*sh%pend_hg(e))
+                aie = aie + (sh%eint(q) + dt_avg*sh%pend_int(q))
+                ahg = ahg + (sh%ehg(q) + dt_avg*sh%pend_hg(q))
             end do
         end subroutine by_elements
     end subroutine compute_energies

@@ -663,7 +663,13 @@ contains
         real(dp) :: t_gather
         call tm%start(ph_local)
         ! THKCHG: the shells' thickness of this cycle's element pass
-        if (ct%thkchg .and. sh%n > 0) call contact_thickness(ct, sh%conn, sh%h, sh%mine)
+        if (ct%thkchg .and. sh%n > 0) then
+            if (sh%by_row) then
+                call contact_thickness(ct, sh%conn, sh%h, sh%mine, sh%lix)
+            else
+                call contact_thickness(ct, sh%conn, sh%h, sh%mine)
+            end if
+        end if
         ! (dom%own_contact unallocated, so absent, on one rank or under XDYNA_CONTACT_OWN=0)
         call contact_local_search(ct, st%x, st%v, st%time, st%dt, dom%own_contact)
         call tm%stop(ph_local)

@@ -34,7 +34,7 @@ module xd_solver_time_loop
                                   gather_contact_state, scatter_contact_state, gather_drift, search_due
     use xd_solver_prescribed, only: prescribed_nodes_t
     use xd_rigid_bodies, only: rigid_t
-    use xd_elements_shell_bt, only: shells_t
+    use xd_elements_shell_bt, only: shells_t, shell_rows
     use xd_solver_domain, only: neighbour_count, domain_t, gather_element_state, owned_motion, gather_layout, gather_subset, &
                                 ghost_base, contact_ghosts, release_element_view
     use xd_core_comm, only: comm_max, comm_sum_int, comm_gather_small, comm_sum_dp
@@ -206,6 +206,14 @@ contains
         ! built here, at set-up, not as the first cycle's work
         call tm%start(ph_init)
         call prepare_energies(model, st, solids, sh, en, bm)
+        ! owned nodes on more than one rank: the shells' thickness, area and
+        ! energies held for the rank's own shells alone (an output's view
+        ! gathers them), where nothing reads another rank's: not with mass
+        ! scaling (every rank scales every shell's mass) or shells that can
+        ! erode (every rank books an eroded shell's energy)
+        if (dom%on .and. dom%owned .and. sh%n > 0) then
+            if (.not. (allocated(sh%msf) .or. sh%erodible .or. model%ctl%erode == 1)) call shell_rows(sh)
+        end if
         call tm%stop(ph_init)
         ! the accelerations, forces and moments, at the size the rank holds
         call allocate_force_arrays(st)
