@@ -381,6 +381,14 @@ def test_write_failures():
         data = open(os.path.join(out, f), "rb").read()
         ends[f] = data.endswith(b"\n")
     record(f"write failures: every ASCII file ends with a complete line ({ends})", all(ends.values()))
+    # the d3plot member the limit met holds whole states alone: at the hold
+    # (cycle 1) d3plot01 held the first state, so its size is a multiple of
+    # that (a state cut short at the limit had been left at its end, and
+    # counted as written)
+    one = sizes.get("d3plot01", 0)
+    now = os.path.getsize(os.path.join(out, "d3plot01")) if os.path.exists(os.path.join(out, "d3plot01")) else -1
+    record(f"write failures: d3plot01 holds whole states of {one} bytes alone ({now} bytes)",
+           one > 0 and now > 0 and now % one == 0)
     try:
         with h5py.File(os.path.join(out, "d3plot.h5"), "r") as fh:
             nst = len(fh["states/time"])

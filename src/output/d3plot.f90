@@ -46,6 +46,7 @@ module xd_output_d3plot
     implicit none
     private
     public :: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_write, d3plot_close, d3plot_member_name, member_unit
+    public :: d3plot_begin_state, d3plot_put, d3plot_end_state
 
     integer, parameter :: nhead = 64
     real(real32), parameter :: eof_marker = -999999.0_real32
@@ -86,6 +87,9 @@ module xd_output_d3plot
         integer :: nbeam = 0
         logical :: failed = .false.
         character(len=:), allocatable :: failed_file
+        !> a state written in parts (d3plot_begin_state, d3plot_put,
+        !> d3plot_end_state): the words put so far
+        integer(int64) :: put_words = 0
     end type d3plot_t
 
 contains
@@ -286,6 +290,77 @@ contains
         integer :: ios
         integer(int64) :: pos
         if (.not. d%on .or. d%failed) return
+        call next_member(d)
+        if (d%failed) return
+        pos = 4*d%words + 1
+        write (d%u, pos=pos, iostat=ios) real(time, real32), glob, x, v, solid, beam, shell, alive
+        if (ios == 0) flush (d%u, iostat=ios)
+        if (ios /= 0) then
+            call fail_member(d)
+            return
+        end if
+        d%words = d%words + d%state_words
+        d%in_member = d%in_member + 1
+    end subroutine d3plot_write
+
+    !> A state written in parts, in the state's order (its time first), so
+    !> that no writer holds a whole state's record (issue 32: the shells'
+    !> words of a 250,000-shell plate at NIP 5 are 47 MB, which rank 0 and
+    !> the serial run held at once): d3plot_begin_state, then d3plot_put of
+    !> each part, then d3plot_end_state, which checks that the parts made a
+    !> whole state. The bytes are d3plot_write's.
+    subroutine d3plot_begin_state(d, time)
+        type(d3plot_t), intent(inout) :: d
+        real(kind(1.0d0)), intent(in) :: time
+        d%put_words = 0
+        if (.not. d%on .or. d%failed) return
+        call next_member(d)
+        call d3plot_put(d, [real(time, real32)], 1)
+    end subroutine d3plot_begin_state
+
+    !> The next part of a state (d3plot_begin_state).
+    subroutine d3plot_put(d, w, n)
+        type(d3plot_t), intent(inout) :: d
+        !> n words (an array of any shape, in its order: no copy)
+        real(real32), intent(in) :: w(*)
+        integer, intent(in) :: n
+        integer :: ios
+        if (.not. d%on .or. d%failed) return
+        if (n == 0) return
+        write (d%u, pos=4*(d%words + d%put_words) + 1, iostat=ios) w(1:n)
+        if (ios /= 0) then
+            call fail_member(d)
+            return
+        end if
+        d%put_words = d%put_words + n
+    end subroutine d3plot_put
+
+    !> The state's parts all put (d3plot_begin_state): flushed and counted.
+    subroutine d3plot_end_state(d)
+        type(d3plot_t), intent(inout) :: d
+        integer :: ios
+        integer(int64) :: sz
+        if (.not. d%on .or. d%failed) return
+        if (d%put_words /= d%state_words) error stop 'd3plot_end_state: the parts put are not a whole state'
+        flush (d%u, iostat=ios)
+        ! (and the file as long as the words put: a write cut short by a
+        ! file-size limit or a full disk had passed unseen, a state counted
+        ! that the member held only in part)
+        if (ios == 0) inquire (unit=d%u, size=sz, iostat=ios)
+        if (ios == 0 .and. sz < 4*(d%words + d%state_words)) ios = -1
+        if (ios /= 0) then
+            call fail_member(d)
+            return
+        end if
+        d%words = d%words + d%state_words
+        d%in_member = d%in_member + 1
+    end subroutine d3plot_end_state
+
+    !> Where the next state goes: a new member where the open one is full
+    !> (member_full), the last ending with the marker.
+    subroutine next_member(d)
+        type(d3plot_t), intent(inout) :: d
+        integer :: ios
         if (member_full(d)) then
             ! the next member; this one ends with the marker (the first
             ! has it before its titles)
@@ -306,21 +381,12 @@ contains
                 return
             end if
         end if
-        pos = 4*d%words + 1
-        write (d%u, pos=pos, iostat=ios) real(time, real32), glob, x, v, solid, beam, shell, alive
-        if (ios == 0) flush (d%u, iostat=ios)
-        if (ios /= 0) then
-            call fail_member(d)
-            return
-        end if
-        d%words = d%words + d%state_words
-        d%in_member = d%in_member + 1
-    end subroutine d3plot_write
+    end subroutine next_member
 
     subroutine d3plot_close(d)
         type(d3plot_t), intent(inout) :: d
         integer :: ios
-        if (d%u >= 0) close (d%u, iostat=ios)
+        if (d%u /= -1) close (d%u, iostat=ios)
         d%u = -1
     end subroutine d3plot_close
 
@@ -332,11 +398,20 @@ contains
         member_full = d%member == 0 .or. (d%in_member > 0 .and. d%words + d%state_words > d%limit)
     end function member_full
 
-    !> A write to the open member failed: no more states, the member named.
+    !> A write to the open member failed: no more states, the member named
+    !> and cut back to its complete states (a state cut short by a full
+    !> disk is not left at its end).
     subroutine fail_member(d)
         type(d3plot_t), intent(inout) :: d
+        integer :: ios
+        logical :: ok
         d%failed = .true.
         d%failed_file = d3plot_member_name(d%base, d%member)
+        if (d%u /= -1) then
+            close (d%u, iostat=ios)
+            d%u = -1
+            call truncate_file(d%failed_file, 4*int(d%words, i8), ok)
+        end if
     end subroutine fail_member
 
     !> A restart: the members as the first `keep` states left them (the

@@ -845,6 +845,10 @@ contains
         type(histories_t), intent(inout) :: h
         integer :: k, ios
         if (.not. h%writer) return
+        ! the records still in the units' buffers written out and checked
+        ! (a full disk met now, after another file's failure stopped the
+        ! run, is a failed write too: its last record may be cut)
+        call settle_ascii(h)
         do k = 1, ndb
             if (h%on(k) .and. h%unit(k) /= 0) close (h%unit(k), iostat=ios)
             h%unit(k) = 0

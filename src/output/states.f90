@@ -25,7 +25,8 @@ module xd_output_states
     use xd_elements_beam_bs, only: beams_t
     use xd_elements_shell_bt, only: shells_t, shell_axes, point_weight, point_z
     use xd_solver_energies, only: energies_t
-    use xd_output_d3plot, only: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_write, d3plot_close, member_unit
+    use xd_output_d3plot, only: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_close, member_unit, d3plot_begin_state, &
+                                d3plot_put, d3plot_end_state
     implicit none
     private
     public :: states_t, open_states, states_due, write_state, close_states, states_marks_t, states_marks, states_failure, &
@@ -415,13 +416,16 @@ contains
         type(energies_t), intent(in), optional :: en
         type(beams_t), intent(in), optional :: bm
         integer, parameter :: sp = kind(1.0e0)
+        !> the shells' and nodes' words are made and written a chunk at a
+        !> time (d3plot_put), not held for the whole model
+        integer, parameter :: chunk = 4096
         real(sp), allocatable :: beam(:, :)
-        real(sp), allocatable :: glob(:), solid(:, :), shell(:, :), alive(:)
+        real(sp), allocatable :: glob(:), solid(:, :), shell(:, :), alive(:), xs(:, :)
         real(wp) :: r(3, 3), pt(5, 10), nr(5), mr(3), h, w, z
-        integer :: e, nm, k, j, l, ip, ipx(3), nip, mx
+        integer :: e, nm, k, j, l, ip, ipx(3), nip, mx, a, b, i
         nm = size(s%dmat_part)
         mx = s%bin%maxint
-        allocate (glob(s%bin%nglbv), solid(7, s%nsolid), shell(s%bin%nv2d, s%nshell))
+        allocate (glob(s%bin%nglbv), solid(7, s%nsolid), shell(s%bin%nv2d, min(chunk, s%nshell)))
         glob = 0
         if (present(en)) then
             glob(1:6) = real([en%ke, en%ie, en%total, en%vel], sp)
@@ -449,55 +453,24 @@ contains
         end do
         !$omp end parallel do
         if (size(solids%epsp) > 0) solid(7, 1:solids%n) = real(solids%epsp, sp)
-        shell = 0
-        ! layers: per layer six global stresses and the plastic strain
-        !$omp parallel do schedule(static) private(r, pt, nr, mr, h, w, z, ip, ipx, nip, l)
-        do e = 1, sh%n
-            nip = sh%pc%nip(sh%part(e))
-            call shell_axes(sh, e, st%x, r)
-            pt = 0
-            pt(:, 1:nip) = sh%sig(e, :, 1:nip)
-            if (mx == 3) then
-                ! mid-surface, inner, outer
-                select case (nip)
-                case (1)
-                    ipx = [1, 1, 1]
-                case (2)
-                    ipx = [0, 1, 2]
-                case default
-                    ipx = [2, 1, 3]
-                end select
-                do l = 1, 3
-                    if (ipx(l) > 0) then
-                        shell(7*l - 6:7*l, e) = layer(pt(:, ipx(l)), sh%epsp(e, ipx(l)), r, sh%pc%plastic(sh%part(e)))
+        call d3plot_begin_state(s%bin, st%time)
+        call d3plot_put(s%bin, glob, size(glob))
+        ! the nodes' coordinates, then their velocities
+        allocate (xs(3, min(chunk, s%nnode)))
+        do k = 1, 2
+            do a = 1, s%nnode, chunk
+                b = min(a + chunk - 1, s%nnode)
+                do i = a, b
+                    if (k == 1) then
+                        xs(:, i - a + 1) = real(st%x(:, i), sp)
                     else
-                        shell(7*l - 6:7*l, e) = layer(0.5_wp*(pt(:, 1) + pt(:, 2)), 0.5_wp*(sh%epsp(e, 1) + sh%epsp(e, 2)), &
-                                                      r, sh%pc%plastic(sh%part(e)))
+                        xs(:, i - a + 1) = real(v(:, i), sp)
                     end if
                 end do
-            else
-                do l = 1, nip
-                    shell(7*l - 6:7*l, e) = layer(pt(:, l), sh%epsp(e, l), r, sh%pc%plastic(sh%part(e)))
-                end do
-            end if
-            ! resultants per unit width in the element's frame
-            h = sh%h(e)
-            nr = 0
-            mr = 0
-            do ip = 1, nip
-                w = point_weight(ip, nip)
-                z = point_z(ip, nip)
-                nr = nr + w*pt(:, ip)
-                mr = mr + w*z*pt(1:3, ip)
+                call d3plot_put(s%bin, xs, 3*(b - a + 1))
             end do
-            shell(7*mx + 1:7*mx + 8, e) = real([0.5_wp*h*h*mr, h*nr(4), h*nr(5), h*nr(1:3)], sp)
-            shell(7*mx + 9, e) = real(h, sp)
-            if (sh%area0(e)*h > 0) shell(7*mx + 12, e) = real(sh%eint(e)/(sh%area0(e)*h), sp)
         end do
-        !$omp end parallel do
-        do e = 1, s%nrshell
-            shell(7*mx + 9, sh%n + e) = real(s%rshell_t(e), sp)
-        end do
+        call d3plot_put(s%bin, solid, size(solid))
         ! beams: axial force, shears along s and t (the end moments' sum
         ! over the length), moments about s and t at mid-length, torque
         allocate (beam(6, s%bin%nbeam))
@@ -507,6 +480,64 @@ contains
                 beam(:, e) = real(beam_record(bm, st%x, e), sp)
             end do
         end if
+        call d3plot_put(s%bin, beam, size(beam))
+        ! the shells, a chunk at a time: the deformable ones, then the
+        ! rigid ones (their thickness alone)
+        do a = 1, s%nshell, chunk
+            b = min(a + chunk - 1, s%nshell)
+            shell = 0
+            ! layers: per layer six global stresses and the plastic strain
+            !$omp parallel do schedule(static) private(r, pt, nr, mr, h, w, z, ip, ipx, nip, l)
+            do e = a, min(b, sh%n)
+                nip = sh%pc%nip(sh%part(e))
+                call shell_axes(sh, e, st%x, r)
+                pt = 0
+                pt(:, 1:nip) = sh%sig(e, :, 1:nip)
+                if (mx == 3) then
+                    ! mid-surface, inner, outer
+                    select case (nip)
+                    case (1)
+                        ipx = [1, 1, 1]
+                    case (2)
+                        ipx = [0, 1, 2]
+                    case default
+                        ipx = [2, 1, 3]
+                    end select
+                    do l = 1, 3
+                        if (ipx(l) > 0) then
+                            shell(7*l - 6:7*l, e - a + 1) = layer(pt(:, ipx(l)), sh%epsp(e, ipx(l)), r, &
+                                                                  sh%pc%plastic(sh%part(e)))
+                        else
+                            shell(7*l - 6:7*l, e - a + 1) = layer(0.5_wp*(pt(:, 1) + pt(:, 2)), &
+                                                                  0.5_wp*(sh%epsp(e, 1) + sh%epsp(e, 2)), r, &
+                                                                  sh%pc%plastic(sh%part(e)))
+                        end if
+                    end do
+                else
+                    do l = 1, nip
+                        shell(7*l - 6:7*l, e - a + 1) = layer(pt(:, l), sh%epsp(e, l), r, sh%pc%plastic(sh%part(e)))
+                    end do
+                end if
+                ! resultants per unit width in the element's frame
+                h = sh%h(e)
+                nr = 0
+                mr = 0
+                do ip = 1, nip
+                    w = point_weight(ip, nip)
+                    z = point_z(ip, nip)
+                    nr = nr + w*pt(:, ip)
+                    mr = mr + w*z*pt(1:3, ip)
+                end do
+                shell(7*mx + 1:7*mx + 8, e - a + 1) = real([0.5_wp*h*h*mr, h*nr(4), h*nr(5), h*nr(1:3)], sp)
+                shell(7*mx + 9, e - a + 1) = real(h, sp)
+                if (sh%area0(e)*h > 0) shell(7*mx + 12, e - a + 1) = real(sh%eint(e)/(sh%area0(e)*h), sp)
+            end do
+            !$omp end parallel do
+            do e = max(a, sh%n + 1), b
+                shell(7*mx + 9, e - a + 1) = real(s%rshell_t(e - sh%n), sp)
+            end do
+            call d3plot_put(s%bin, shell, s%bin%nv2d*(b - a + 1))
+        end do
         allocate (alive(s%nsolid + s%nshell + s%bin%nbeam))
         alive = 1
         if (present(bm)) then
@@ -520,8 +551,8 @@ contains
         if (sh%n > 0) then
             if (sh%ndead > 0) where (sh%dead) alive(s%nsolid + 1:s%nsolid + sh%n) = 0
         end if
-        call d3plot_write(s%bin, st%time, glob, real(st%x(:, 1:s%nnode), sp), real(v(:, 1:s%nnode), sp), solid, beam, &
-                          shell, alive)
+        call d3plot_put(s%bin, alive, size(alive))
+        call d3plot_end_state(s%bin)
     end subroutine write_binary
 
     !> A shell layer's seven d3plot words: the local stress p (xx yy xy yz

@@ -1265,17 +1265,23 @@ contains
 
     !> All element state from the elements' ranks: for d3plot and the dump.
     !> `energies`: also the energies (not when this cycle gathered them).
-    subroutine gather_element_state(dom, solids, sh, energies)
+    !> `dump` false: what a state reads alone (not the shells' hourglass
+    !> forces, strains and back stresses, which only a dump holds).
+    subroutine gather_element_state(dom, solids, sh, energies, dump)
         type(domain_t), intent(in) :: dom
         type(solids_t), intent(inout) :: solids
         type(shells_t), intent(inout) :: sh
         logical, intent(in) :: energies
+        logical, intent(in), optional :: dump
+        logical :: every
         if (.not. dom%on) return
+        every = .true.
+        if (present(dump)) every = dump
         if (energies) call gather_energy_state(dom, solids, sh)
         ! (the elements' state is each rank's own in the time loop, where
         ! the outputs take this: localize_element_state, place_shell_state)
         if (solids%n > 0) call solid_state_view(dom, solids)
-        if (sh%n > 0) call shell_state_view(dom, sh)
+        if (sh%n > 0) call shell_state_view(dom, sh, every)
     end subroutine gather_element_state
 
     !> The shells' points' state and slots allocated (issue 32): on one
@@ -1466,9 +1472,12 @@ contains
     !> 0 puts them at their shells' places in arrays of every shell and
     !> keeps its own aside until release_element_view. Exact (copies); every
     !> rank calls it.
-    subroutine shell_state_view(dom, sh)
+    subroutine shell_state_view(dom, sh, every)
         type(domain_t), intent(in) :: dom
         type(shells_t), intent(inout) :: sh
+        !> a dump's: also the hourglass forces, strains and back stresses
+        !> (a state reads none of them)
+        logical, intent(in) :: every
         integer, allocatable :: cnt(:), order(:), at(:)
         integer :: r, nip, i
         logical :: root
@@ -1500,17 +1509,20 @@ contains
         if (root) then
             call move_alloc(sh%sig, sh%own_sig)
             call move_alloc(sh%epsp, sh%own_epsp)
-            call move_alloc(sh%qhg, sh%own_qhg)
-            call move_alloc(sh%strain, sh%own_strain)
-            call move_alloc(sh%alpha, sh%own_alpha)
-            allocate (sh%sig(sh%n, 5, nip), sh%epsp(sh%n, nip), sh%qhg(sh%n, 5))
-            allocate (sh%strain(merge(sh%n, 0, sh%track_strain), 6, nip))
-            allocate (sh%alpha(6, nip, merge(sh%n, 0, back)))
+            allocate (sh%sig(sh%n, 5, nip), sh%epsp(sh%n, nip))
             call rows(sh%own_sig, 5*nip, sh%sig, .false.)
             call rows(sh%own_epsp, nip, sh%epsp, .false.)
-            call rows(sh%own_qhg, 5, sh%qhg, .false.)
-            if (sh%track_strain) call rows(sh%own_strain, 6*nip, sh%strain, .false.)
-            if (back) call rows(sh%own_alpha, 6*nip, sh%alpha, .true.)
+            if (every) then
+                call move_alloc(sh%qhg, sh%own_qhg)
+                call move_alloc(sh%strain, sh%own_strain)
+                call move_alloc(sh%alpha, sh%own_alpha)
+                allocate (sh%qhg(sh%n, 5))
+                allocate (sh%strain(merge(sh%n, 0, sh%track_strain), 6, nip))
+                allocate (sh%alpha(6, nip, merge(sh%n, 0, back)))
+                call rows(sh%own_qhg, 5, sh%qhg, .false.)
+                if (sh%track_strain) call rows(sh%own_strain, 6*nip, sh%strain, .false.)
+                if (back) call rows(sh%own_alpha, 6*nip, sh%alpha, .true.)
+            end if
             if (sh%by_row) then
                 ! the per-shell arrays held by row (shell_rows), every
                 ! shell's in the model's order
@@ -1534,9 +1546,11 @@ contains
             ! (only rank 0 receives)
             call rows(sh%sig, 5*nip, none, .false.)
             call rows(sh%epsp, nip, none, .false.)
-            call rows(sh%qhg, 5, none, .false.)
-            if (sh%track_strain) call rows(sh%strain, 6*nip, none, .false.)
-            if (back) call rows(sh%alpha, 6*nip, none, .true.)
+            if (every) then
+                call rows(sh%qhg, 5, none, .false.)
+                if (sh%track_strain) call rows(sh%strain, 6*nip, none, .false.)
+                if (back) call rows(sh%alpha, 6*nip, none, .true.)
+            end if
             if (sh%by_row) then
                 call rows(sh%h, 1, none, .false.)
                 call rows(sh%area0, 1, none, .false.)
@@ -1573,32 +1587,45 @@ contains
 
         !> loc: this rank's nl rows of ncol values (a column of nl after
         !> another; last: an element's ncol values together), to rank 0's
-        !> full (every shell's, likewise)
+        !> full (every shell's, likewise). A column at a time: rank 0's
+        !> buffer holds one value of every shell, not all of them beside the
+        !> whole view (the sig view of a 250,000-shell plate at NIP 5 had
+        !> taken 50 MB twice over on rank 0 of 16).
         subroutine rows(loc, ncol, full, last)
             real(wp), intent(in) :: loc(*)
             integer, intent(in) :: ncol
             real(wp), intent(inout) :: full(*)
             logical, intent(in) :: last
-            real(wp), allocatable :: buf(:)
+            real(wp), allocatable :: buf(:), col(:)
             integer, allocatable :: disp(:)
             integer :: r, c, i, o, nr
-            call gather_to_root(dom, loc, ncol*sh%nl, ncol*cnt, buf, disp)
-            if (.not. root) return
-            o = 0
-            do r = 1, dom%nranks
-                nr = cnt(r)
+            allocate (col(max(sh%nl, 1)))
+            do c = 1, ncol
                 if (last) then
-                    do i = 1, nr
-                        full((order(o + i) - 1)*ncol + 1:order(o + i)*ncol) = buf(disp(r) + (i - 1)*ncol + 1:disp(r) + i*ncol)
+                    do i = 1, sh%nl
+                        col(i) = loc((i - 1)*ncol + c)
                     end do
                 else
-                    do c = 1, ncol
-                        do i = 1, nr
-                            full(order(o + i) + (c - 1)*sh%n) = buf(disp(r) + (c - 1)*nr + i)
-                        end do
+                    do i = 1, sh%nl
+                        col(i) = loc((c - 1)*sh%nl + i)
                     end do
                 end if
-                o = o + nr
+                call gather_to_root(dom, col, sh%nl, cnt, buf, disp)
+                if (.not. root) cycle
+                o = 0
+                do r = 1, dom%nranks
+                    nr = cnt(r)
+                    if (last) then
+                        do i = 1, nr
+                            full((order(o + i) - 1)*ncol + c) = buf(disp(r) + i)
+                        end do
+                    else
+                        do i = 1, nr
+                            full(order(o + i) + (c - 1)*sh%n) = buf(disp(r) + i)
+                        end do
+                    end if
+                    o = o + nr
+                end do
             end do
         end subroutine rows
     end subroutine shell_state_view
@@ -1641,9 +1668,10 @@ contains
         if (.not. sh%viewing) return
         call move_alloc(sh%own_sig, sh%sig)
         call move_alloc(sh%own_epsp, sh%epsp)
-        call move_alloc(sh%own_qhg, sh%qhg)
-        call move_alloc(sh%own_strain, sh%strain)
-        call move_alloc(sh%own_alpha, sh%alpha)
+        ! (a dump's view alone took these: shell_state_view's every)
+        if (allocated(sh%own_qhg)) call move_alloc(sh%own_qhg, sh%qhg)
+        if (allocated(sh%own_strain)) call move_alloc(sh%own_strain, sh%strain)
+        if (allocated(sh%own_alpha)) call move_alloc(sh%own_alpha, sh%alpha)
         if (allocated(sh%own_eint)) then
             ! (the per-shell arrays' own rows: shell_rows)
             call move_alloc(sh%own_h, sh%h)

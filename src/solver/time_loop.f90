@@ -1026,7 +1026,7 @@ contains
         if (state_now(lp, states, st%time, force)) then
             ! (the energies and shell thicknesses were gathered with this
             ! cycle's energies, which every output follows)
-            call gather_element_state(dom, solids, sh, energies=dom%owned)
+            call gather_element_state(dom, solids, sh, energies=dom%owned, dump=.false.)
             if (ct%n > 0) then
                 call write_state(states, st, model%x0, solids, sh, vn, ct%fnode, en=en, bm=bm)
             else
