@@ -59,7 +59,7 @@ module xd_solver_domain
     use xd_contact_contact, only: contacts_t
     use xd_contact_surface, only: surface_t, seg_nodes
     use xd_core_sorting, only: where_true, sort_index
-    use xd_core_memory, only: alloc, nbytes
+    use xd_core_memory, only: alloc, nbytes, release_free_memory
     use xd_core_strings, only: itoa
     use xd_model, only: model_t
     implicit none
@@ -1683,6 +1683,9 @@ contains
             sh%by_row = .true.
         end if
         sh%viewing = .false.
+        ! (rank 0, after the output: the view's memory handed back to the
+        ! system, not kept in the heap until the next output)
+        call release_free_memory()
     end subroutine release_element_view
 
     !> a holds `stride` values per element: element e's are entries

@@ -27,7 +27,7 @@ module xd_solver_local_nodes
     use xd_kinds, only: wp, dp
     use xd_core_comm, only: comm_gather_root_wp
     use xd_core_sorting, only: where_true
-    use xd_core_memory, only: take, fit
+    use xd_core_memory, only: take, fit, release_free_memory
     use xd_model, only: model_t
     use xd_solver_state, only: state_t
     use xd_solver_assembly, only: assembly_t
@@ -396,6 +396,9 @@ contains
         vw%st = none
         if (allocated(vw%vn)) deallocate (vw%vn)
         if (allocated(vw%wn)) deallocate (vw%wn)
+        ! (rank 0, after an output: the view's memory handed back to the
+        ! system, not kept in the heap until the next output)
+        if (vw%on) call release_free_memory()
         vw%on = .false.
     end subroutine close_view
 
