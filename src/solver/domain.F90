@@ -1280,7 +1280,7 @@ contains
         if (energies) call gather_energy_state(dom, solids, sh)
         ! (the elements' state is each rank's own in the time loop, where
         ! the outputs take this: localize_element_state, place_shell_state)
-        if (solids%n > 0) call solid_state_view(dom, solids)
+        if (solids%n > 0) call solid_state_view(dom, solids, every)
         if (sh%n > 0) call shell_state_view(dom, sh, every)
     end subroutine gather_element_state
 
@@ -1397,10 +1397,14 @@ contains
     !> Every solid's state on rank 0, for a state or a dump that rank 0
     !> writes: each rank sends its groups' blocks (in group order), rank 0
     !> puts them at their groups' places and keeps its own aside until
-    !> release_element_view. Exact (copies); every rank calls it.
-    subroutine solid_state_view(dom, s)
+    !> release_element_view. Exact (copies); every rank calls it. `every`
+    !> false (a state): the stresses and plastic strains alone (a state
+    !> reads no more; the volumes, hourglass forces, bulk viscosity and back
+    !> stresses are a dump's).
+    subroutine solid_state_view(dom, s, every)
         type(domain_t), intent(in) :: dom
         type(solids_t), intent(inout) :: s
+        logical, intent(in) :: every
         integer, allocatable :: cnt(:)
         integer :: r, g
         logical :: root
@@ -1415,54 +1419,70 @@ contains
         end do
         if (root) then
             call move_alloc(s%sig, s%own_sig)
-            call move_alloc(s%vol, s%own_vol)
-            call move_alloc(s%qhg, s%own_qhg)
-            call move_alloc(s%qbv, s%own_qbv)
             call move_alloc(s%epsp, s%own_epsp)
-            call move_alloc(s%alpha, s%own_alpha)
             ! (every group's rows at their places: the groups' own order)
             call move_alloc(s%goff, s%own_goff)
             s%goff = s%group(:)%first - 1
-            allocate (s%sig(6*s%n), s%vol(s%n), s%qhg(12*s%n), s%qbv(s%n))
-            allocate (s%epsp(merge(s%n, 0, s%plastic_state)), s%alpha(merge(6*s%n, 0, s%plastic_state)))
+            allocate (s%sig(6*s%n), s%epsp(merge(s%n, 0, s%plastic_state)))
             call blocks(s%own_sig, 6, s%sig)
-            call blocks(s%own_vol, 1, s%vol)
-            call blocks(s%own_qhg, 12, s%qhg)
-            call blocks(s%own_qbv, 1, s%qbv)
-            if (s%plastic_state) then
-                call blocks(s%own_epsp, 1, s%epsp)
-                call blocks(s%own_alpha, 6, s%alpha)
+            if (s%plastic_state) call blocks(s%own_epsp, 1, s%epsp)
+            if (every) then
+                call move_alloc(s%vol, s%own_vol)
+                call move_alloc(s%qhg, s%own_qhg)
+                call move_alloc(s%qbv, s%own_qbv)
+                call move_alloc(s%alpha, s%own_alpha)
+                allocate (s%vol(s%n), s%qhg(12*s%n), s%qbv(s%n), s%alpha(merge(6*s%n, 0, s%plastic_state)))
+                call blocks(s%own_vol, 1, s%vol)
+                call blocks(s%own_qhg, 12, s%qhg)
+                call blocks(s%own_qbv, 1, s%qbv)
+                if (s%plastic_state) call blocks(s%own_alpha, 6, s%alpha)
             end if
             s%viewing = .true.
         else
             call blocks(s%sig, 6, none)
-            call blocks(s%vol, 1, none)
-            call blocks(s%qhg, 12, none)
-            call blocks(s%qbv, 1, none)
-            if (s%plastic_state) then
-                call blocks(s%epsp, 1, none)
-                call blocks(s%alpha, 6, none)
+            if (s%plastic_state) call blocks(s%epsp, 1, none)
+            if (every) then
+                call blocks(s%vol, 1, none)
+                call blocks(s%qhg, 12, none)
+                call blocks(s%qbv, 1, none)
+                if (s%plastic_state) call blocks(s%alpha, 6, none)
             end if
         end if
     contains
-        !> loc: this rank's groups' blocks of w values an element, to rank
-        !> 0's full (every group's at its place)
+        !> loc: this rank's groups' blocks of w values an element (a
+        !> group's block its m elements' m w values), to rank 0's full
+        !> (every group's at its place). A w-th of each block at a time (its
+        !> values m (c - 1) + 1 .. m c): rank 0's buffer holds a w-th of
+        !> the model's values, not all of them beside the view.
         subroutine blocks(loc, w, full)
             real(wp), intent(in) :: loc(*)
             integer, intent(in) :: w
             real(wp), intent(inout) :: full(*)
-            real(wp), allocatable :: buf(:)
+            real(wp), allocatable :: buf(:), col(:)
             integer, allocatable :: disp(:), pos(:)
-            integer :: r, g, f, l
-            call gather_to_root(dom, loc, w*s%nl, w*cnt, buf, disp)
-            if (.not. root) return
-            pos = disp
-            do g = 1, s%ngroup
-                r = dom%group_rank(g) + 1
-                f = s%group(g)%first
-                l = s%group(g)%last
-                full(w*(f - 1) + 1:w*l) = buf(pos(r) + 1:pos(r) + w*(l - f + 1))
-                pos(r) = pos(r) + w*(l - f + 1)
+            integer :: r, g, f, m, c, off, k
+            allocate (col(max(s%nl, 1)))
+            do c = 1, w
+                ! this rank's groups, in order: their blocks' c-th part
+                off = 0
+                k = 0
+                do g = 1, s%ngroup
+                    if (dom%group_rank(g) /= dom%rank) cycle
+                    m = s%group(g)%last - s%group(g)%first + 1
+                    col(k + 1:k + m) = loc(off + m*(c - 1) + 1:off + m*c)
+                    off = off + w*m
+                    k = k + m
+                end do
+                call gather_to_root(dom, col, s%nl, cnt, buf, disp)
+                if (.not. root) cycle
+                pos = disp
+                do g = 1, s%ngroup
+                    r = dom%group_rank(g) + 1
+                    f = s%group(g)%first
+                    m = s%group(g)%last - f + 1
+                    full(w*(f - 1) + m*(c - 1) + 1:w*(f - 1) + m*c) = buf(pos(r) + 1:pos(r) + m)
+                    pos(r) = pos(r) + m
+                end do
             end do
         end subroutine blocks
     end subroutine solid_state_view
@@ -1657,13 +1677,15 @@ contains
         type(shells_t), intent(inout) :: sh
         if (solids%viewing) then
             call move_alloc(solids%own_sig, solids%sig)
-            call move_alloc(solids%own_vol, solids%vol)
-            call move_alloc(solids%own_qhg, solids%qhg)
-            call move_alloc(solids%own_qbv, solids%qbv)
             call move_alloc(solids%own_epsp, solids%epsp)
-            call move_alloc(solids%own_alpha, solids%alpha)
             call move_alloc(solids%own_goff, solids%goff)
+            ! (a dump's view alone took these: solid_state_view's every)
+            if (allocated(solids%own_vol)) call move_alloc(solids%own_vol, solids%vol)
+            if (allocated(solids%own_qhg)) call move_alloc(solids%own_qhg, solids%qhg)
+            if (allocated(solids%own_qbv)) call move_alloc(solids%own_qbv, solids%qbv)
+            if (allocated(solids%own_alpha)) call move_alloc(solids%own_alpha, solids%alpha)
             solids%viewing = .false.
+            call release_free_memory()
         end if
         if (.not. sh%viewing) return
         call move_alloc(sh%own_sig, sh%sig)
