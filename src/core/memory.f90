@@ -26,9 +26,10 @@ module xd_core_memory
 
     !> Keep an array's entries (columns) at idx alone, in idx's order: a(i)
     !> becomes a(idx(i)), the rest's room given back (a loop into an array
-    !> of its own: no temporary of the array's size on the stack).
+    !> of its own: no temporary of the array's size on the stack). Reals
+    !> of either kind, whatever the working precision.
     interface take
-        module procedure take_r1, take_r2, take_i1, take_int8, take_log
+        module procedure take_r32, take_r64, take_r2, take_i1, take_int8, take_log
     end interface take
 
     !> The bytes an allocatable array holds (0 unallocated), any rank.
@@ -203,17 +204,29 @@ contains
         call move_alloc(tmp, a)
     end subroutine fit_i2
 
-    subroutine take_r1(a, idx)
-        real(wp), allocatable, intent(inout) :: a(:)
+    subroutine take_r32(a, idx)
+        real(real32), allocatable, intent(inout) :: a(:)
         integer, intent(in) :: idx(:)
-        real(wp), allocatable :: b(:)
+        real(real32), allocatable :: b(:)
         integer :: i
         allocate (b(size(idx)))
         do i = 1, size(idx)
             b(i) = a(idx(i))
         end do
         call move_alloc(b, a)
-    end subroutine take_r1
+    end subroutine take_r32
+
+    subroutine take_r64(a, idx)
+        real(real64), allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: idx(:)
+        real(real64), allocatable :: b(:)
+        integer :: i
+        allocate (b(size(idx)))
+        do i = 1, size(idx)
+            b(i) = a(idx(i))
+        end do
+        call move_alloc(b, a)
+    end subroutine take_r64
 
     subroutine take_r2(a, idx)
         real(wp), allocatable, intent(inout) :: a(:, :)
@@ -263,8 +276,6 @@ contains
         call move_alloc(b, a)
     end subroutine take_log
 
-    !> This process's peak resident memory in kB (VmHWM of /proc/self/status,
-    !> Linux); -1 where it cannot be read.
     integer(i8) function nbytes_r32(a) result(b)
         real(real32), allocatable, intent(in) :: a(..)
         b = 0
@@ -310,6 +321,8 @@ contains
         r = malloc_trim(0_c_size_t)
     end subroutine release_free_memory
 
+    !> This process's peak resident memory in kB (VmHWM of /proc/self/status,
+    !> Linux); -1 where it cannot be read.
     integer(i8) function peak_memory_kb() result(kb)
         kb = status_kb('VmHWM:')
     end function peak_memory_kb

@@ -7,7 +7,7 @@
 !> Stresses per point (local frame): xx yy xy yz zx.
 module xd_elements_shell_bt
     use xd_kinds, only: wp, dp, i8
-    use xd_core_memory, only: alloc, alloc_dp, nbytes
+    use xd_core_memory, only: alloc, alloc_dp, nbytes, take
     use xd_core_strings, only: itoa
     use xd_model, only: model_t, mat_elastic, mat_plastic_kinematic, mat_piecewise_linear, mat_rigid, hg_bounded, can_erode
     use xd_materials_plasticity, only: plastic_params_t, plastic_update, yield_stress, rate_factor
@@ -418,34 +418,13 @@ contains
     subroutine shell_rows(sh)
         type(shells_t), intent(inout) :: sh
         if (sh%by_row .or. sh%n == 0) return
-        call cut_wp(sh%h)
-        call cut_wp(sh%area0)
-        call cut_dp(sh%eint)
-        call cut_dp(sh%ehg)
-        call cut_dp(sh%pend_int)
-        call cut_dp(sh%pend_hg)
+        call take(sh%h, sh%gix)
+        call take(sh%area0, sh%gix)
+        call take(sh%eint, sh%gix)
+        call take(sh%ehg, sh%gix)
+        call take(sh%pend_int, sh%gix)
+        call take(sh%pend_hg, sh%gix)
         sh%by_row = .true.
-    contains
-        subroutine cut_wp(a)
-            real(wp), allocatable, intent(inout) :: a(:)
-            real(wp), allocatable :: t(:)
-            integer :: i
-            allocate (t(sh%nl))
-            do i = 1, sh%nl
-                t(i) = a(sh%gix(i))
-            end do
-            call move_alloc(t, a)
-        end subroutine cut_wp
-        subroutine cut_dp(a)
-            real(dp), allocatable, intent(inout) :: a(:)
-            real(dp), allocatable :: t(:)
-            integer :: i
-            allocate (t(sh%nl))
-            do i = 1, sh%nl
-                t(i) = a(sh%gix(i))
-            end do
-            call move_alloc(t, a)
-        end subroutine cut_dp
     end subroutine shell_rows
 
     !> Where shell e's thickness, area and energies are held: its row

@@ -45,7 +45,7 @@ module xd_output_d3plot
     use xd_core_files, only: delete_file, truncate_file
     implicit none
     private
-    public :: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_write, d3plot_close, d3plot_member_name, member_unit
+    public :: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_close, d3plot_member_name, member_unit
     public :: d3plot_begin_state, d3plot_put, d3plot_end_state
 
     integer, parameter :: nhead = 64
@@ -280,35 +280,15 @@ contains
         end function chars72
     end subroutine static_words
 
-    !> One state. glob: the NGLBV global variables; x, v: coordinates and
-    !> velocities of every node; solid: (7, nsolid); shell: (nv2d, nshell);
-    !> alive: one flag per element, hexahedra first.
-    subroutine d3plot_write(d, time, glob, x, v, solid, beam, shell, alive)
-        type(d3plot_t), intent(inout) :: d
-        real(kind(1.0d0)), intent(in) :: time
-        real(real32), intent(in) :: glob(:), x(:, :), v(:, :), solid(:, :), beam(:, :), shell(:, :), alive(:)
-        integer :: ios
-        integer(int64) :: pos
-        if (.not. d%on .or. d%failed) return
-        call next_member(d)
-        if (d%failed) return
-        pos = 4*d%words + 1
-        write (d%u, pos=pos, iostat=ios) real(time, real32), glob, x, v, solid, beam, shell, alive
-        if (ios == 0) flush (d%u, iostat=ios)
-        if (ios /= 0) then
-            call fail_member(d)
-            return
-        end if
-        d%words = d%words + d%state_words
-        d%in_member = d%in_member + 1
-    end subroutine d3plot_write
-
-    !> A state written in parts, in the state's order (its time first), so
+    !> One state, written in parts in the state's order: its time, the
+    !> NGLBV global variables, the nodes' coordinates and velocities, the
+    !> solids' (7 words each), beams' (6), shells' (NV2D) and the elements'
+    !> deletion flags (hexahedra first). In parts, so
     !> that no writer holds a whole state's record (issue 32: the shells'
     !> words of a 250,000-shell plate at NIP 5 are 47 MB, which rank 0 and
     !> the serial run held at once): d3plot_begin_state, then d3plot_put of
     !> each part, then d3plot_end_state, which checks that the parts made a
-    !> whole state. The bytes are d3plot_write's.
+    !> whole state and that the member holds it.
     subroutine d3plot_begin_state(d, time)
         type(d3plot_t), intent(inout) :: d
         real(kind(1.0d0)), intent(in) :: time

@@ -422,7 +422,7 @@ contains
         real(sp), allocatable :: beam(:, :)
         real(sp), allocatable :: glob(:), solid(:, :), shell(:, :), alive(:), xs(:, :)
         real(wp) :: r(3, 3), pt(5, 10), nr(5), mr(3), h, w, z
-        integer :: e, nm, k, j, l, ip, ipx(3), nip, mx, a, b, i
+        integer :: e, nm, k, j, l, ip, ipx(3), nip, mx, a, b
         nm = size(s%dmat_part)
         mx = s%bin%maxint
         allocate (glob(s%bin%nglbv), solid(7, s%nsolid), shell(s%bin%nv2d, min(chunk, s%nshell)))
@@ -457,19 +457,8 @@ contains
         call d3plot_put(s%bin, glob, size(glob))
         ! the nodes' coordinates, then their velocities
         allocate (xs(3, min(chunk, s%nnode)))
-        do k = 1, 2
-            do a = 1, s%nnode, chunk
-                b = min(a + chunk - 1, s%nnode)
-                do i = a, b
-                    if (k == 1) then
-                        xs(:, i - a + 1) = real(st%x(:, i), sp)
-                    else
-                        xs(:, i - a + 1) = real(v(:, i), sp)
-                    end if
-                end do
-                call d3plot_put(s%bin, xs, 3*(b - a + 1))
-            end do
-        end do
+        call put_nodes(st%x)
+        call put_nodes(v)
         call d3plot_put(s%bin, solid, size(solid))
         ! beams: axial force, shears along s and t (the end moments' sum
         ! over the length), moments about s and t at mid-length, torque
@@ -553,6 +542,19 @@ contains
         end if
         call d3plot_put(s%bin, alive, size(alive))
         call d3plot_end_state(s%bin)
+    contains
+        !> a(:, 1:nnode) in single precision, a chunk of nodes at a time
+        subroutine put_nodes(a3)
+            real(wp), intent(in) :: a3(:, :)
+            integer :: a, b, i
+            do a = 1, s%nnode, chunk
+                b = min(a + chunk - 1, s%nnode)
+                do i = a, b
+                    xs(:, i - a + 1) = real(a3(:, i), sp)
+                end do
+                call d3plot_put(s%bin, xs, 3*(b - a + 1))
+            end do
+        end subroutine put_nodes
     end subroutine write_binary
 
     !> A shell layer's seven d3plot words: the local stress p (xx yy xy yz

@@ -58,7 +58,7 @@ module xd_solver_domain
     use xd_solver_assembly, only: assembly_t, keep_assembled
     use xd_contact_contact, only: contacts_t
     use xd_contact_surface, only: surface_t, seg_nodes
-    use xd_core_sorting, only: where_true, sort_index
+    use xd_core_sorting, only: where_true, id_map_t
     use xd_core_memory, only: alloc, nbytes, release_free_memory
     use xd_core_strings, only: itoa
     use xd_model, only: model_t
@@ -1343,20 +1343,17 @@ contains
     !> sent (`out`) and received and the assembly's node lists (the nodes
     !> this rank assembles alone: keep_assembled) take those places; a node
     !> this rank assembles has only such slots, still in the serial order,
-    !> so its sum is the same, bit for bit. (By the rows and a sorted copy
-    !> of the halo's slots: a table of every slot's place had been 4 bytes
-    !> a slot of the model, the set-up's peak on 16 ranks of the plate.)
+    !> so its sum is the same, bit for bit. (By the rows and a map of the
+    !> halo's slots: a table of every slot's place had been 4 bytes a slot
+    !> of the model, the set-up's peak on 16 ranks of the plate.)
     subroutine local_slots(row, w, nown, out, inn, as)
         integer, intent(in) :: row(:), w, nown
         integer, intent(inout) :: out(:), inn(:)
         type(assembly_t), intent(inout) :: as
-        integer, allocatable :: perm(:), key(:)
-        integer :: i
-        call sort_index(inn, perm)
-        allocate (key(size(inn)))
-        do i = 1, size(inn)
-            key(i) = inn(perm(i))
-        end do
+        type(id_map_t) :: halo
+        integer :: i, dup
+        ! (a received slot's place among the received: i for inn(i))
+        call halo%build(inn, dup)
         ! (loops: no temporary of the lists' size on the stack)
         do i = 1, size(out)
             out(i) = place(out(i))
@@ -1371,26 +1368,14 @@ contains
         !> model slot j's place here (0: neither this rank's nor received)
         integer function place(j) result(q)
             integer, intent(in) :: j
-            integer :: e, lo, hi, mid
+            integer :: e, k
             e = (j - 1)/w + 1
             if (row(e) > 0) then
                 q = w*(row(e) - 1) + j - w*(e - 1)
-                return
+            else
+                k = halo%find(j)
+                q = merge(nown + k, 0, k > 0)
             end if
-            q = 0
-            lo = 1
-            hi = size(key)
-            do while (lo <= hi)
-                mid = (lo + hi)/2
-                if (key(mid) == j) then
-                    q = nown + perm(mid)
-                    return
-                else if (key(mid) < j) then
-                    lo = mid + 1
-                else
-                    hi = mid - 1
-                end if
-            end do
         end function place
     end subroutine local_slots
 
@@ -1586,13 +1571,9 @@ contains
             real(dp), intent(in) :: loc(*)
             real(dp), intent(inout) :: full(*)
             real(dp), allocatable :: buf(:)
-            integer, allocatable :: disp(:)
+            integer :: disp(dom%nranks)
             integer :: r, i, o
-            allocate (disp(dom%nranks))
-            disp(1) = 0
-            do r = 2, dom%nranks
-                disp(r) = disp(r - 1) + cnt(r - 1)
-            end do
+            disp = root_displacements(cnt)
             allocate (buf(merge(sum(cnt), 1, root)))
             call comm_gather_root_dp(loc, sh%nl, buf, cnt, disp, root)
             if (.not. root) return
@@ -1659,15 +1640,23 @@ contains
         integer, intent(in) :: n, cnt(:)
         real(wp), allocatable, intent(out) :: buf(:)
         integer, allocatable, intent(out) :: disp(:)
-        integer :: r
-        allocate (disp(dom%nranks))
-        disp(1) = 0
-        do r = 2, dom%nranks
-            disp(r) = disp(r - 1) + cnt(r - 1)
-        end do
+        allocate (disp(size(cnt)))
+        disp = root_displacements(cnt)
         allocate (buf(merge(sum(cnt), 1, dom%rank == 0)))
         call comm_gather_root_wp(loc, n, buf, cnt, disp, dom%rank == 0)
     end subroutine gather_to_root
+
+    !> Where each rank's values start in a gather to rank 0 (0-based),
+    !> ranks in order, rank r - 1 giving cnt(r).
+    pure function root_displacements(cnt) result(disp)
+        integer, intent(in) :: cnt(:)
+        integer :: disp(size(cnt))
+        integer :: r
+        disp(1) = 0
+        do r = 2, size(cnt)
+            disp(r) = disp(r - 1) + cnt(r - 1)
+        end do
+    end function root_displacements
 
     !> After the output that took it: rank 0's own rows of the solids' state
     !> and the shells' points' state back in place of the views

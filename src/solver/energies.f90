@@ -243,13 +243,8 @@ contains
         ! (eroded solids likewise; owned nodes: each rank's own, the ranks'
         ! sums added)
         pie = en%part_ie
-        if (sh%n > 0 .and. sh%ndead > 0) then
-            if (sh%by_row) then
-                call book_eroded(sh%part, sh%dead, sh%eint, shell_on, sh%lix)
-            else
-                call book_eroded(sh%part, sh%dead, sh%eint, shell_on)
-            end if
-        end if
+        ! (shells that can erode keep their energies every shell's: shell_rows)
+        if (sh%n > 0 .and. sh%ndead > 0) call book_eroded(sh%part, sh%dead, sh%eint, shell_on)
         if (solids%ndead > 0) call book_eroded(solids%part, solids%dead, solids%eint, solid_on)
         if (split) then
             call comm_sum_dp(en%part_eroded)
@@ -276,24 +271,20 @@ contains
     contains
         !> The eroded elements' internal energy out of their parts' and into
         !> their parts' eroded energy.
-        subroutine book_eroded(part, dead, eint, mine, row)
+        subroutine book_eroded(part, dead, eint, mine)
             integer, intent(in) :: part(:)
             logical, intent(in) :: dead(:)
             real(dp), intent(in) :: eint(:)
             !> (owned nodes: the elements this rank books)
             logical, intent(in), optional :: mine(:)
-            !> (the energies held by row: element e's at row(e))
-            integer, intent(in), optional :: row(:)
-            integer :: e, q
+            integer :: e
             do e = 1, size(dead)
                 if (.not. dead(e)) cycle
                 if (present(mine)) then
                     if (.not. mine(e)) cycle
                 end if
-                q = e
-                if (present(row)) q = row(e)
-                en%part_ie(part(e)) = en%part_ie(part(e)) - eint(q)
-                en%part_eroded(part(e)) = en%part_eroded(part(e)) + eint(q)
+                en%part_ie(part(e)) = en%part_ie(part(e)) - eint(e)
+                en%part_eroded(part(e)) = en%part_eroded(part(e)) + eint(e)
             end do
             en%ie = sum(en%part_ie)
         end subroutine book_eroded

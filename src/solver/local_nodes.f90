@@ -62,39 +62,40 @@ contains
     !> the energies' node table is built after it (its transient whole
     !> lists no longer beside every node's state: the set-up's peak), and
     !> localize_nodes renumbers the lists after that.
-    subroutine cut_state(keep, st, en)
+    subroutine cut_state(dom, keep, st, en)
+        type(domain_t), intent(inout) :: dom
+        !> the model's nodes this rank keeps (held_nodes)
         logical, intent(in) :: keep(:)
         type(state_t), intent(inout) :: st
         type(energies_t), intent(inout) :: en
-        integer, allocatable :: l2g(:)
         integer :: k, nl
         call set_model_mass(en, sum(real(st%mass, dp)))
-        allocate (l2g(count(keep)))
+        ! (l2g: the kept nodes in the model's order)
+        dom%nglobal = size(keep)
+        allocate (dom%l2g(count(keep)))
         nl = 0
         do k = 1, size(keep)
             if (.not. keep(k)) cycle
             nl = nl + 1
-            l2g(nl) = k
+            dom%l2g(nl) = k
         end do
-        call take(st%x, l2g)
-        call take(st%v, l2g)
-        call take(st%mass, l2g)
-        call take(st%dofs, l2g)
-        if (allocated(st%vr)) call take(st%vr, l2g)
-        if (allocated(st%irot)) call take(st%irot, l2g)
-        if (allocated(st%jprev)) call take(st%jprev, l2g)
+        call take(st%x, dom%l2g)
+        call take(st%v, dom%l2g)
+        call take(st%mass, dom%l2g)
+        call take(st%dofs, dom%l2g)
+        if (allocated(st%vr)) call take(st%vr, dom%l2g)
+        if (allocated(st%irot)) call take(st%irot, dom%l2g)
+        if (allocated(st%jprev)) call take(st%jprev, dom%l2g)
         st%nnode = nl
     end subroutine cut_state
 
     !> Every list that indexes the nodal arrays renumbered to the nodes
-    !> this rank keeps (see the module's head), the arrays themselves cut
-    !> by cut_state before. Once, after the owned nodes' lists are made
+    !> this rank keeps (see the module's head; dom%l2g), the arrays
+    !> themselves cut by cut_state before. Once, after the owned nodes' lists are made
     !> (choose_owned) and the energies' node table is built for the kept
     !> nodes, before the time loop's own per-node arrays are allocated.
-    subroutine localize_nodes(dom, keep, st, solids, asm, sh, asm_sh, hist, walls, pn)
+    subroutine localize_nodes(dom, st, solids, asm, sh, asm_sh, hist, walls, pn)
         type(domain_t), intent(inout) :: dom
-        !> the model's nodes this rank keeps (held_nodes)
-        logical, intent(in) :: keep(:)
         type(state_t), intent(inout) :: st
         type(solids_t), intent(inout) :: solids
         type(assembly_t), intent(inout) :: asm, asm_sh
@@ -103,21 +104,17 @@ contains
         type(walls_t), intent(inout) :: walls
         type(prescribed_nodes_t), intent(inout) :: pn
         logical, allocatable :: moved(:)
-        integer, allocatable :: g2l(:), l2g(:)
+        integer, allocatable :: g2l(:)
         integer :: n, k, e, nl
-        n = size(keep)
-        ! (l2g: the kept nodes in the model's order; g2l its inverse, 0 for
-        ! a node not kept)
-        allocate (l2g(count(keep)), g2l(n))
-        nl = 0
-        do k = 1, n
-            g2l(k) = 0
-            if (.not. keep(k)) cycle
-            nl = nl + 1
-            l2g(nl) = k
-            g2l(k) = nl
+        if (.not. allocated(dom%l2g)) error stop 'localize_nodes: the nodal arrays are not cut (cut_state first)'
+        n = dom%nglobal
+        nl = size(dom%l2g)
+        ! (g2l: the inverse of l2g, 0 for a node not kept)
+        allocate (g2l(n))
+        g2l = 0
+        do k = 1, nl
+            g2l(dom%l2g(k)) = k
         end do
-        if (st%nnode /= nl) error stop 'localize_nodes: the nodal arrays are not cut (cut_state first)'
 
         ! the elements' connectivity (another rank's element: 0, never read)
         do e = 1, solids%n
@@ -134,7 +131,7 @@ contains
                 sh%conn(:, e) = 0
             end if
         end do
-        if (allocated(sh%split)) call take(sh%split, l2g)
+        if (allocated(sh%split)) call take(sh%split, dom%l2g)
         if (allocated(sh%shared)) call renumber(sh%shared)
 
         ! the assembly's node -> slot lists, each kept node's as it was
@@ -144,7 +141,7 @@ contains
         ! the decomposition's lists
         call renumber(dom%nodes)
         call renumber(dom%split_mine)
-        call take(dom%node_mine, l2g)
+        call take(dom%node_mine, dom%l2g)
         dom%own = dom%node_mine
         call renumber(dom%mo_node)
         call renumber(dom%mi_node)
@@ -186,8 +183,6 @@ contains
             end do
         end if
 
-        dom%nglobal = n
-        call move_alloc(l2g, dom%l2g)
         dom%local = .true.
     contains
         !> The local number of the model's node g where this rank integrates
@@ -218,12 +213,12 @@ contains
             allocate (p(nl + 1))
             p(1) = 1
             do i = 1, nl
-                p(i + 1) = p(i) + as%ptr(l2g(i) + 1) - as%ptr(l2g(i))
+                p(i + 1) = p(i) + as%ptr(dom%l2g(i) + 1) - as%ptr(dom%l2g(i))
             end do
             allocate (s(p(nl + 1) - 1))
             do i = 1, nl
-                c = as%ptr(l2g(i) + 1) - as%ptr(l2g(i))
-                s(p(i):p(i) + c - 1) = as%slot(as%ptr(l2g(i)):as%ptr(l2g(i) + 1) - 1)
+                c = as%ptr(dom%l2g(i) + 1) - as%ptr(dom%l2g(i))
+                s(p(i):p(i) + c - 1) = as%slot(as%ptr(dom%l2g(i)):as%ptr(dom%l2g(i) + 1) - 1)
             end do
             call move_alloc(p, as%ptr)
             call move_alloc(s, as%slot)

@@ -188,9 +188,9 @@ contains
                 ! for the nodes the rank keeps alone, from the model's
                 ! connectivity, which localize_nodes then renumbers)
                 keep = held_nodes(dom, solids, sh)
-                call cut_state(keep, st, en)
+                call cut_state(dom, keep, st, en)
                 call prepare_energies(model, st, solids, sh, en, bm, keep)
-                call localize_nodes(dom, keep, st, solids, asm, sh, asm_sh, hist, walls, pn)
+                call localize_nodes(dom, st, solids, asm, sh, asm_sh, hist, walls, pn)
                 deallocate (keep)
                 call tm%stop(ph_init)
                 call log_line(lg, ' nodal arrays: nodes numbered per rank: each rank holds its own nodes and those '// &
