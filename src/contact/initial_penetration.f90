@@ -21,16 +21,31 @@
 !> segment, the depth and both coordinates. The coordinates changed are
 !> the model's initial ones: the mesh, the states and the masses all start
 !> from them (a stress-free start, as LS-DYNA's).
+!>
+!> Under MPI the ranks share the searches (issue 32): each rank searches
+!> and checks its own block of each interface's slaves (global step on
+!> them alone, so its master lists are a rank's share), and the ranks
+!> agree on each pass's moves through reductions in which each value has
+!> one contributing rank: a node's deepest penetration (the lowest
+!> interface where two are as deep, as one rank's pass over the interfaces
+!> in order picks), its return direction and its move. The coordinates and
+!> the lines named are the serial run's, bit for bit and in its order.
 module xd_contact_initial_penetration
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
     use xd_core_errors, only: error_t
     use xd_core_strings, only: itoa
     use xd_model, only: model_t
     use xd_contact_contact, only: contacts_t, build_contacts, contact_masses, contact_search, contact_local_search
     use xd_contact_enforcement, only: pdir
+    use xd_core_comm, only: comm_max, comm_min_int, comm_sum_wp, comm_sum_int, comm_gather_text
     implicit none
     private
     public :: initial_penetrations
+
+    !> text lines, each ended by new_line('a')
+    type :: lines_t
+        character(len=:), allocatable :: s
+    end type lines_t
 
     integer, parameter :: max_pass = 30   !< searches and moves at most
     integer, parameter :: max_named = 2000   !< nodes named per interface (all counted)
@@ -39,21 +54,28 @@ contains
 
     !> The IGNORE rule of each interface applied to model%x0; `txt` is what
     !> d3hsp takes (empty when no interface has a penetration to move or
-    !> name).
-    subroutine initial_penetrations(model, v, mass, txt, nmoved_all, error)
+    !> name). Every rank calls it alike and ends with the same x0 and txt.
+    subroutine initial_penetrations(model, v, mass, rank, nranks, txt, nmoved_all, error)
         type(model_t), intent(inout) :: model
         !> the initial velocities and nodal masses (the local search picks a
         !> node's segment as cycle 0 will, by the velocity where several
         !> hold it)
         real(wp), intent(in) :: v(:, :), mass(:)
+        !> this rank (from 0) of nranks: it searches its block of each
+        !> interface's slaves
+        integer, intent(in) :: rank, nranks
         character(len=:), allocatable, intent(out) :: txt
         integer, intent(out) :: nmoved_all   !< nodes moved (their coordinates changed)
         type(error_t), allocatable, intent(out) :: error
         type(contacts_t) :: ct
-        real(wp), allocatable :: x(:, :), dx(:, :), depth(:), depth1(:)
-        integer, allocatable :: rule(:), by(:), by1(:), seg_of(:, :), nnamed(:), nlisted(:)
+        real(wp), allocatable :: x(:, :), dx(:, :), xnew(:, :), depth(:), depth1(:)
+        real(dp), allocatable :: red(:)
+        integer, allocatable :: rule(:), by(:), by1(:), seg_of(:, :), seg_new(:, :), nnamed(:), nlisted(:), won(:)
         real(wp), allocatable :: deepest(:)
         logical, allocatable :: moving(:)
+        !> per interface: the lines this rank names at the first pass (its
+        !> block's, in slave order)
+        type(lines_t), allocatable :: named(:)
         integer :: i, k, pass, n, nd, m, j, sn
         real(wp) :: f, a
         character(len=300) :: buf
@@ -69,15 +91,20 @@ contains
         n = model%nnode
         x = model%x0(:, 1:n)
         allocate (dx(3, n), depth(n), depth1(n), by(n), by1(n), seg_of(4, n), moving(n))
-        allocate (nnamed(model%ncontact), nlisted(model%ncontact), deepest(model%ncontact))
+        allocate (nnamed(model%ncontact), nlisted(model%ncontact), deepest(model%ncontact), named(model%ncontact))
+        if (nranks > 1) allocate (xnew(3, n), red(n), won(n), seg_new(4, n))
         ! by1: the interface that first moved a node (0: never moved)
         by1 = 0
+        do i = 1, size(named)
+            named(i)%s = ''
+        end do
         nnamed = 0
         deepest = 0
         do pass = 1, max_pass + 1
             call build_contacts(model, x, ct, error)
             if (allocated(error)) return
             call contact_masses(ct, mass)
+            if (nranks > 1) call own_block(ct, rank, nranks)
             call contact_search(ct, x, model%node_id, 0, 0.0_dp)
             call contact_local_search(ct, x, v, 0.0_dp, 0.0_wp)
             ! this pass's moves: each penetrating slave's depth and return
@@ -108,7 +135,7 @@ contains
                                         trim(merge(' (a rigid body''s node, not moved)', &
                                                    ' (IGNORE 2, tracked)             ', s%node_rigid(sn))), &
                                         '; out at', x(:, nd) - a*pdir(it%hit(k)%a)*it%hit(k)%nhat
-                                    call add_line(trim(buf))
+                                    named(i)%s = named(i)%s//trim(buf)//new_line('a')
                                 end if
                                 cycle
                             end if
@@ -123,6 +150,8 @@ contains
                     end do
                 end associate
             end do
+            if (pass == 1) call name_first(named, nnamed, deepest)
+            if (nranks > 1) call agree_moves()
             moving = depth > 0.0_wp
             if (.not. any(moving)) exit
             if (pass > max_pass) then
@@ -133,7 +162,10 @@ contains
                 call add_line(trim(buf))
                 exit
             end if
-            ! the moves: half the depth where the segment moves too
+            ! the moves: half the depth where the segment moves too (each
+            ! node by the rank whose slave it is; the others' coordinates
+            ! taken from it after)
+            if (nranks > 1) xnew = 0
             do i = 1, ct%n
                 associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                     do k = 1, s%nslave
@@ -147,13 +179,26 @@ contains
                             if (dot_product(dx(:, s%node(s%seg(j, m))), dx(:, nd)) < 0.0_wp) f = 0.5_wp
                         end do
                         ! (a hair beyond the surface: round-off leaves none)
-                        x(:, nd) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(k)%tm)*dx(:, nd)
-                        if (by1(nd) == 0) then
-                            depth1(nd) = depth(nd)
-                            by1(nd) = i
+                        if (nranks > 1) then
+                            xnew(:, nd) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(k)%tm)*dx(:, nd)
+                        else
+                            x(:, nd) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(k)%tm)*dx(:, nd)
                         end if
                     end do
                 end associate
+            end do
+            if (nranks > 1) then
+                ! (one rank gives each moved node's place, the others zero)
+                call comm_sum_wp(xnew, 3*n)
+                do nd = 1, n
+                    if (moving(nd)) x(:, nd) = xnew(:, nd)
+                end do
+            end if
+            ! (every moving node was moved: its deepest contact's slave)
+            do nd = 1, n
+                if (.not. moving(nd) .or. by1(nd) /= 0) cycle
+                depth1(nd) = depth(nd)
+                by1(nd) = by(nd)
             end do
         end do
         ! each node moved: named with its first penetration and the total move
@@ -186,6 +231,101 @@ contains
             if (len(txt) > 0) txt = txt//new_line('a')
             txt = txt//line
         end subroutine add_line
+
+        !> The first pass's lines named (IGNORE 2, rigid bodies' nodes), in
+        !> interface and slave order, and each interface's deepest, over
+        !> the ranks.
+        subroutine name_first(named, nnamed, deepest)
+            type(lines_t), intent(inout) :: named(:)
+            integer, intent(inout) :: nnamed(:)
+            real(wp), intent(inout) :: deepest(:)
+            character(len=:), allocatable :: all
+            real(dp) :: dm(size(deepest))
+            integer :: i, p, q, c
+            if (nranks > 1) then
+                dm = real(deepest, dp)
+                call comm_max(dm)
+                deepest = real(dm, wp)
+                call comm_sum_int(nnamed, size(nnamed))
+            end if
+            do i = 1, size(named)
+                if (nranks > 1) then
+                    all = comm_gather_text(named(i)%s)
+                else
+                    all = named(i)%s
+                end if
+                ! (the first max_named lines)
+                p = 1
+                c = 0
+                do while (p <= len(all) .and. c < max_named)
+                    q = index(all(p:), new_line('a')) + p - 1
+                    call add_line(all(p:q - 1))
+                    c = c + 1
+                    p = q + 1
+                end do
+                named(i)%s = ''
+            end do
+        end subroutine name_first
+
+        !> This pass's moves, agreed over the ranks: each node's deepest
+        !> penetration over the interfaces (the lowest interface of those
+        !> as deep), with that slave's return direction and segment.
+        subroutine agree_moves()
+            integer :: nd
+            red = real(depth, dp)
+            call comm_max(red)
+            do nd = 1, n
+                won(nd) = huge(1)
+                if (by(nd) > 0 .and. real(depth(nd), dp) == red(nd)) won(nd) = by(nd)
+            end do
+            call comm_min_int(won)
+            seg_new = 0
+            do nd = 1, n
+                ! (a node is one slave of an interface, in one rank's block)
+                if (by(nd) > 0 .and. by(nd) == won(nd)) then
+                    if (by1(nd) == 0) seg_new(:, nd) = seg_of(:, nd)
+                else
+                    dx(:, nd) = 0
+                end if
+                if (won(nd) == huge(1)) then
+                    by(nd) = 0
+                    depth(nd) = 0
+                else
+                    by(nd) = won(nd)
+                    depth(nd) = real(red(nd), wp)
+                end if
+            end do
+            call comm_sum_wp(dx, 3*n)
+            call comm_sum_int(seg_new, 4*n)
+            do nd = 1, n
+                if (by(nd) > 0 .and. by1(nd) == 0) seg_of(:, nd) = seg_new(:, nd)
+            end do
+        end subroutine agree_moves
     end subroutine initial_penetrations
+
+    !> MPI: this rank searches and checks its block of each interface's
+    !> slaves alone (the blocks in slave order, one a rank).
+    subroutine own_block(ct, rank, nranks)
+        type(contacts_t), intent(inout) :: ct
+        integer, intent(in) :: rank, nranks
+        integer :: i, k, lo, hi, c
+        do i = 1, ct%n
+            associate (it => ct%ifc(i))
+                lo = int(int(it%surf%nslave, i8)*rank/nranks) + 1
+                hi = int(int(it%surf%nslave, i8)*(rank + 1)/nranks)
+                it%owned = .false.
+                it%owned(lo:hi) = .true.
+                c = count(it%live(lo:hi))
+                deallocate (it%mine)
+                allocate (it%mine(c))
+                c = 0
+                do k = lo, hi
+                    if (.not. it%live(k)) cycle
+                    c = c + 1
+                    it%mine(c) = k
+                end do
+            end associate
+        end do
+    end subroutine own_block
 
 end module xd_contact_initial_penetration

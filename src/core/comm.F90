@@ -9,13 +9,13 @@
 module xd_core_comm
     use mpi_f08, only: MPI_Initialized, MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, &
                        MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_INTEGER8, MPI_Datatype, MPI_Request, &
-                       MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Comm_size, MPI_Gatherv
+                       MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Comm_size, MPI_Gatherv, MPI_MIN, MPI_CHARACTER
     use xd_core_sorting, only: sort_index
     use xd_kinds, only: wp, dp, i8
     implicit none
     private
     public :: comm_gather_wp, comm_gather_root_wp, comm_gather_root_dp, &
-              comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max, &
+              comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max, comm_min_int, comm_gather_text, &
               comm_gather_small, &
               comm_gather_records, comm_neighbours, comm_ordered_records
 
@@ -115,6 +115,33 @@ contains
         real(dp), contiguous, intent(inout) :: a(:)
         if (up()) call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
     end subroutine comm_max
+
+    !> In-place least value over the ranks of a(:).
+    subroutine comm_min_int(a)
+        integer, contiguous, intent(inout) :: a(:)
+        if (up()) call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_INTEGER, MPI_MIN, MPI_COMM_WORLD)
+    end subroutine comm_min_int
+
+    !> Every rank's text, rank after rank, on every rank.
+    function comm_gather_text(mine) result(all)
+        character(len=*), intent(in) :: mine
+        character(len=:), allocatable :: all
+        integer :: nranks, r
+        integer, allocatable :: cnt(:), disp(:)
+        if (.not. up()) then
+            all = mine
+            return
+        end if
+        call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+        allocate (cnt(nranks), disp(nranks))
+        call MPI_Allgather(len(mine), 1, MPI_INTEGER, cnt, 1, MPI_INTEGER, MPI_COMM_WORLD)
+        disp(1) = 0
+        do r = 2, nranks
+            disp(r) = disp(r - 1) + cnt(r - 1)
+        end do
+        allocate (character(len=sum(cnt)) :: all)
+        call MPI_Allgatherv(mine, len(mine), MPI_CHARACTER, all, cnt, disp, MPI_CHARACTER, MPI_COMM_WORLD)
+    end function comm_gather_text
 
     !> all(:, r) = rec from rank r - 1 (a few values per rank).
     subroutine comm_gather_small(rec, all)

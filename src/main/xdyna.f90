@@ -258,7 +258,7 @@ program xdyna
             call finish(exit_input)
         end if
         if (i == 2) exit
-        call initial_penetrations(model, st%v, st%mass, moved_note, nmoved, error)
+        call initial_penetrations(model, st%v, st%mass, env%rank, env%nranks, moved_note, nmoved, error)
         call stop_on_input_error()
         if (len(moved_note) > 0) call log_line(lg, moved_note)
         if (nmoved == 0) exit
