@@ -413,6 +413,63 @@ def test_mpi_memory_falls():
            "rounding over 1e5 terms), the d3plot family's bytes the serial run's", ok and states, msg)
 
 
+@pytest.mark.slow(10)
+def test_mpi_initial_penetrations():
+    """Initial penetrations searched by the ranks together (issue 32): each
+    rank runs the search on its block of each interface's slaves and the
+    ranks agree on each pass's moves (a node's deepest penetration, the
+    lowest interface where two are as deep, its direction and place, each
+    from one rank). Two 9 x 9 plates of 1 mm shells (contact thickness 1
+    mm) start 0.5 mm apart, offset 0.3 mm in plane, so all 162 nodes of
+    both lie in the other plate's contact zone, spread over every rank's
+    block: under IGNORE 0 each node moves out (half its depth where the
+    segment's nodes move the other way, in several passes), under IGNORE 2
+    each is named with its way out. On 2 and 3 ranks d3hsp's lines (each
+    node, its segment, depth and both coordinates, in the serial order) are
+    the serial run's, character for character: a move or a name taken on
+    the wrong rank, twice or not at all would change a line or the count;
+    and so is the motion that starts from the moved nodes (same_dynamics:
+    bitwise, energies to 1e-12)."""
+    if shutil.which("mpirun") is None:
+        record("mpirun is installed (make deps: openmpi-bin)", False)
+        return
+    n = 9
+    for ig in (0, 2):
+        lines = ["*KEYWORD", "*TITLE", "two plates overlapping at the start", "*CONTROL_TERMINATION", "  2.0e-5",
+                 "*CONTROL_TIMESTEP", "         0       0.9", "*DATABASE_GLSTAT", "  1.0e-7", "*DATABASE_NODOUT",
+                 "  1.0e-7", "*CONTROL_CONTACT", "0.1", "", "", f"{ig:10d}",
+                 "*SECTION_SHELL", "         1         2         1         3", "     0.001     0.001     0.001     0.001",
+                 "*MAT_ELASTIC", "         1      7850 2.000e+11       0.3",
+                 "*PART", "held", "         1         1         1", "*PART", "upper", "         2         1         1",
+                 "*NODE"]
+        held, held_e = shell_grid(n, 1, 1, 0)
+        upper, upper_e = shell_grid(n, 1001, 2, len(held_e), shift=0.3e-3, z=0.5e-3)
+        lines += held + upper + ["*ELEMENT_SHELL"] + held_e + upper_e + node_set(1, list(range(1, 1 + n * n)))
+        lines += ["*BOUNDARY_SPC_SET", "         1         0         1         1         1         1         1         1",
+                  "*INITIAL_VELOCITY_NODE", "      1041         0         0      -2.0",
+                  "*DATABASE_HISTORY_NODE", "      1041      1001",
+                  "*CONTACT_AUTOMATIC_SINGLE_SURFACE", "         0", "0.0", "0.0", "*END"]
+        deck = write_lines(os.path.join(TMP, f"overlap_ig{ig}.k"), lines)
+        p0, serial = run_deck(deck, f"overlap_ig{ig}_serial")
+
+        def named(out):
+            txt = open(os.path.join(out, "d3hsp")).read() if os.path.exists(os.path.join(out, "d3hsp")) else ""
+            return [ln for ln in txt.splitlines() if "initially inside" in ln or "initial penetrations" in ln
+                    or "slave nodes moved" in ln]
+        ref = named(serial)
+        what = "moved out (IGNORE 0)" if ig == 0 else "(IGNORE 2, tracked)"
+        count = sum(what in ln for ln in ref)
+        for nr in (2, 3):
+            out = os.path.join(TMP, f"overlap_ig{ig}_r{nr}")
+            p = mpirun(nr, ["i=" + deck, "outdir=" + out])
+            ok, msg = (False, (p0.stderr + p.stderr)[-300:]) if p.returncode or p0.returncode \
+                else same_dynamics(serial, out)
+            got = named(out)
+            record(f"initial penetrations on {nr} ranks, IGNORE {ig}: {count} of 162 nodes {what}, d3hsp's "
+                   f"{len(got)} lines the serial run's {len(ref)} in order, the motion from them the serial run's",
+                   ok and count == 162 and got == ref, msg)
+
+
 @pytest.mark.slow(30)
 def test_mpi_local_decks():
     """Nodes numbered per rank on the verification decks without contact
