@@ -14,7 +14,10 @@
 #    its MPI phases' shares, peak memory per rank;
 # 2. the 500 x 500 plate (250,000 shells, NIP 5), 20 cycles, on 1, 2, 4, 8
 #    and 16 ranks: peak memory per rank, every nodal and element array a
-#    rank holds, the nodes on the cuts and the halo's bytes a cycle.
+#    rank holds, the nodes on the cuts and the halo's bytes a cycle;
+# 3. the same plate with a whole-model single-surface contact (the issue's
+#    "250,000-shell plate with contact", every node a slave), 20 cycles, on
+#    1 and 16 ranks (PLATE_CONTACT_RANKS): peak memory per rank.
 set -e
 out=${1:-${OUT:-/tmp}/scaling}
 mkdir -p $out
@@ -22,6 +25,7 @@ X=${XDYNA:-$PWD/.portable/bin/xdyna}
 PY=${PYTHON:-python3}
 $PY tools/gen_decks.py --bench-tubes ${TUBES:-10 10} $out/tubes.k --cycles ${CYCLES:-300} > /dev/null
 $PY tools/gen_decks.py --bench-shells ${PLATE:-500 500} $out/plate.k --cycles 20 > /dev/null
+$PY tools/gen_decks.py --bench-shells ${PLATE:-500 500} $out/plate_contact.k --cycles 20 --contact > /dev/null
 echo "$(nproc) cores: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 one() {  # deck ranks threads tag
     local d=$out/$4
@@ -60,3 +64,4 @@ one $out/tubes.k 1 ${THREADS:-16} tubes_t${THREADS:-16}
 # ranks x threads (HYBRID="4x4 2x8": 4 ranks of 4 threads, 2 of 8)
 for h in ${HYBRID:-}; do one $out/tubes.k ${h%x*} ${h#*x} tubes_$h; done
 for r in ${RANKS:-1 2 4 8 16}; do one $out/plate.k $r 1 plate_r$r; done
+for r in ${PLATE_CONTACT_RANKS:-1 16}; do one $out/plate_contact.k $r 1 plate_contact_r$r; done

@@ -394,6 +394,20 @@ def test_mpi_memory_falls():
            f"against {n1.group(1) if n1 else '?'} MB; rank 0 numbers {m.group(1) if m else '?'} of "
            f"{m.group(2) if m else '?'} nodes; issue 32 asks under 40%)",
            n1 is not None and n4 is not None and m is not None and share < 0.40 and float(n4.group(1)) > 0)
+    # d3hsp's floor under the peak: the process before the deck is read
+    # (libraries, Open MPI's buffers), on every rank below its peak by at
+    # least the deck's own arrays, which every rank reads after it (a floor
+    # taken after the deck, or a rank's value put in another's place, would
+    # leave no room for them)
+    floors = []
+    for txt in (l1, l4):
+        fl = re.search(r"of it, the process before the deck +([0-9.]+) MB(?: \(rank \d+\) to +([0-9.]+) MB)?", txt)
+        pk = re.search(r"peak memory (?:per rank )?\(VmHWM\) \.+ +([0-9.]+) MB", txt)
+        dk = re.search(r"the deck's node and element arrays[ .a-z]* +([0-9.]+) MB", txt)
+        if fl and pk and dk:
+            floors.append((float(fl.group(fl.lastindex)), float(dk.group(1)), float(pk.group(1))))
+    record(f"d3hsp's floor under the peak, serial then 4 ranks (the process before the deck, the deck's arrays, the "
+           f"smallest peak, MB): {floors}", len(floors) == 2 and all(0 < f_ and f_ + d_ < p_ for f_, d_, p_ in floors))
     # (the energies, momenta and mean velocities are sums over 100,000
     # nodes and shells, most terms of one sign, grouped by rank: another
     # grouping of N terms may differ by up to N eps of the sum, 1.1e-11 for

@@ -1172,11 +1172,12 @@ def bench_block(nx, ny, nz, path, ncycle):
     write(path, lines)
 
 
-def bench_shells(nx, ny, path, ncycle, states_dt=None):
+def bench_shells(nx, ny, path, ncycle, states_dt=None, contact=False):
     """Benchmark: an nx x ny plate of Belytschko-Tsay shells, *MAT_024 with 5
     points through the thickness, clamped on one edge and thrown out of its
     plane hard enough to yield. Runs ncycle cycles; states every states_dt
-    if given."""
+    if given; with contact, one whole-model single-surface contact (issue
+    32's "250,000-shell plate with contact": every node a slave)."""
     a, b, t = nx * 0.01, ny * 0.01, 0.002
     lines = common(f"benchmark plate {nx}x{ny} Belytschko-Tsay shells, *MAT_024, NIP 5", 1.0, 1.0, endcyc=ncycle)
     lines += ["*SECTION_SHELL", f10(2, 2, 1.0, 5), f10(t, t, t, t)]
@@ -1188,6 +1189,8 @@ def bench_shells(nx, ny, path, ncycle, states_dt=None):
     lines += ["*INITIAL_VELOCITY", f10(0), f10(0.0, 0.0, 30.0)]
     if states_dt:
         lines += ["*DATABASE_BINARY_D3PLOT", f"{states_dt:10.4e}"]
+    if contact:
+        lines += ["*CONTACT_AUTOMATIC_SINGLE_SURFACE", f10(0), "", ""]
     lines += ["*NODE"] + [f"{nid(i, j):8d}{a * i / nx:16.9e}{b * j / ny:16.9e}{0.0:16.9e}{0:8d}{0:8d}"
                           for j in range(ny + 1) for i in range(nx + 1)]
     lines += ["*ELEMENT_SHELL"] + [f"{1 + i + nx * j:8d}{1:8d}{nid(i, j):8d}{nid(i + 1, j):8d}{nid(i + 1, j + 1):8d}"
@@ -1205,6 +1208,7 @@ def main():
     ap.add_argument("--bench-tube-plate", metavar="FILE")
     ap.add_argument("--endtim", type=float, default=0.012, help="--bench-tube-plate: end time")
     ap.add_argument("--states-dt", type=float, default=None, help="--bench-shells: states every DT")
+    ap.add_argument("--contact", action="store_true", help="--bench-shells: a whole-model single-surface contact")
     args = ap.parse_args()
     if args.bench_tube_plate:
         bench_tube_plate(args.bench_tube_plate, args.endtim)
@@ -1214,7 +1218,7 @@ def main():
         return
     if args.bench_shells:
         bench_shells(int(args.bench_shells[0]), int(args.bench_shells[1]), args.bench_shells[2], args.cycles,
-                     args.states_dt)
+                     args.states_dt, args.contact)
         return
     if args.bench:
         nx, ny, nz = (int(v) for v in args.bench[:3])

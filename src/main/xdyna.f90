@@ -85,6 +85,9 @@ program xdyna
     logical :: check_only, ok
     character(len=:), allocatable :: memory_note, hold, step_note
     real(dp) :: endtim_cli
+    !> the process's peak before the deck is read (libraries, MPI's
+    !> buffers and shared segments): the floor under every rank's peak
+    integer(i8) :: floor_kb
     integer :: i, k, ncpu, nfree, nparts, endcyc_cli, nmoved, nprocs, decomp
     character(len=:), allocatable :: bad_out
     !> the files a run writes in its output directory (besides d3hsp and
@@ -216,6 +219,7 @@ program xdyna
         end if
     end if
 
+    floor_kb = peak_memory_kb()
     call read_deck(deck, ropts, model, ctx, error)
     if (.not. allocated(error)) call check_model(ctx, model, maps, error)
     ! the command line's choices of state files over the deck's
@@ -445,8 +449,9 @@ contains
     !> smallest and the largest, with their ranks (a collective: every rank
     !> calls it).
     subroutine memory_line()
-        real(dp) :: rec(7), all(7, env%nranks)
+        real(dp) :: rec(8), all(8, env%nranks)
         rec(1) = real(peak_memory_kb(), dp)
+        rec(8) = real(floor_kb, dp)
         rec(2) = real(shell_state_bytes(sh) + solid_state_bytes(solids), dp)
         ! (every element's, as one rank holds them)
         rec(3) = real(shell_state_bytes(sh, every=.true.) + solid_state_bytes(solids, every=.true.), dp)
@@ -494,6 +499,11 @@ contains
                                   all(7, :), 1048576.0_dp, '')
         if (any(all(1, :) < 0.0_dp)) return
         call figure(' peak memory (VmHWM) ................. ', ' peak memory per rank (VmHWM) ........ ', all(1, :), 1024.0_dp, '')
+        ! (what no split of the model can take away: the process as it was
+        ! before the deck)
+        if (minval(all(8, :)) >= 0.0_dp) &
+            call figure('   of it, the process before the deck ', '   of it, the process before the deck ', all(8, :), &
+                        1024.0_dp, '')
         if (any(all(4, :) < 0.0_dp)) return
         call figure(' resident memory at the end (VmRSS) .. ', ' resident memory at the end per rank (VmRSS) ', all(4, :), &
                     1024.0_dp, '')
