@@ -296,8 +296,14 @@ contains
     !> accelerations, forces, angular velocities, moments, rotary inertias
     !> and free directions, and vminus and vrminus as given, from their
     !> ranks. With `states`, the shells' connectivity in the model's
-    !> numbers until close_view.
-    subroutine open_view(dom, g, model, st, sh, vminus, vrminus, states, vw)
+    !> numbers until close_view. With `rest` (a state: it writes every
+    !> node's coordinates and v(n) = vminus alone), the other values are
+    !> gathered for rest's nodes only (the nodout nodes, which the
+    !> histories written with the state read; none where it has no nodes):
+    !> rank 0 no longer holds every node's accelerations, forces, angular
+    !> velocities and moments for a state. The view's arrays are the
+    !> model's size either way; a node no gather reached is not read.
+    subroutine open_view(dom, g, model, st, sh, vminus, vrminus, states, vw, rest)
         type(domain_t), intent(in) :: dom
         type(node_gather_t), intent(in) :: g
         type(model_t), intent(in) :: model
@@ -307,9 +313,9 @@ contains
         real(wp), intent(in), allocatable, optional :: vrminus(:, :)
         logical, intent(in) :: states
         type(node_view_t), intent(inout) :: vw
+        type(node_gather_t), intent(in), optional :: rest
         logical :: root
-        integer :: ng, e, i
-        real(wp), allocatable :: one(:, :), row(:, :)
+        integer :: ng, e
         root = dom%rank == 0
         ng = dom%nglobal
         vw%on = root
@@ -327,48 +333,24 @@ contains
             vw%st%e_initial = st%e_initial
             vw%st%ms_work = st%ms_work
             allocate (vw%st%x(3, ng), vw%st%v(3, ng), vw%st%a(3, ng), vw%st%f(3, ng), vw%st%dofs(ng))
+            if (allocated(st%jprev)) allocate (vw%st%jprev(3, ng))
+            if (st%rot) allocate (vw%st%vr(3, ng), vw%st%mom(3, ng), vw%st%irot(ng))
+            if (present(vminus)) allocate (vw%vn(3, ng))
+            if (present(vrminus)) then
+                if (allocated(vrminus)) allocate (vw%wn(3, ng))
+            end if
         end if
         call gather_rows(dom, g, st%x, vw%st%x)
-        call gather_rows(dom, g, st%v, vw%st%v)
-        call gather_rows(dom, g, st%a, vw%st%a)
-        call gather_rows(dom, g, st%f, vw%st%f)
-        ! (the free directions' bits, exact as reals; through an array of
-        ! our own, not a temporary on the stack)
-        allocate (row(1, st%nnode))
-        do i = 1, st%nnode
-            row(1, i) = real(st%dofs(i), wp)
-        end do
-        call gather_rows(dom, g, row, one, ng)
-        if (root) then
-            do i = 1, ng
-                vw%st%dofs(i) = int(one(1, i), int8)
-            end do
-        end if
-        if (allocated(st%jprev)) then
-            ! (the prescribed motions' last velocity changes: a dump's)
-            if (root) allocate (vw%st%jprev(3, ng))
-            call gather_rows(dom, g, st%jprev, vw%st%jprev)
-        end if
-        if (st%rot) then
-            if (root) allocate (vw%st%vr(3, ng), vw%st%mom(3, ng))
-            call gather_rows(dom, g, st%vr, vw%st%vr)
-            call gather_rows(dom, g, st%mom, vw%st%mom)
-            row(1, :) = st%irot
-            call gather_rows(dom, g, row, one, ng)
-            if (root) then
-                allocate (vw%st%irot(ng))
-                vw%st%irot(:) = one(1, :)
+        if (present(vminus)) call gather_rows(dom, g, vminus, vw%vn)
+        if (present(rest)) then
+            ! (every rank alike: the nodout layout is the same on all)
+            if (allocated(rest%node)) then
+                call other_values(rest)
+            else if (root) then
+                vw%st%dofs = 0
             end if
-        end if
-        if (present(vminus)) then
-            if (root) allocate (vw%vn(3, ng))
-            call gather_rows(dom, g, vminus, vw%vn)
-        end if
-        if (present(vrminus)) then
-            if (allocated(vrminus)) then
-                if (root) allocate (vw%wn(3, ng))
-                call gather_rows(dom, g, vrminus, vw%wn)
-            end if
+        else
+            call other_values(g)
         end if
         if (root .and. states .and. sh%n > 0) then
             call move_alloc(sh%conn, vw%sconn)
@@ -377,6 +359,42 @@ contains
                 sh%conn(:, e) = model%shell_conn(:, sh%model_ix(e))
             end do
         end if
+    contains
+        !> the values besides the coordinates and v(n), for gk's nodes
+        subroutine other_values(gk)
+            type(node_gather_t), intent(in) :: gk
+            real(wp), allocatable :: one(:, :), row(:, :)
+            integer :: i
+            call gather_rows(dom, gk, st%v, vw%st%v)
+            call gather_rows(dom, gk, st%a, vw%st%a)
+            call gather_rows(dom, gk, st%f, vw%st%f)
+            ! (the free directions' bits, exact as reals; through an array of
+            ! our own, not a temporary on the stack)
+            allocate (row(1, st%nnode))
+            do i = 1, st%nnode
+                row(1, i) = real(st%dofs(i), wp)
+            end do
+            call gather_rows(dom, gk, row, one, ng)
+            if (root) then
+                do i = 1, ng
+                    vw%st%dofs(i) = int(one(1, i), int8)
+                end do
+            end if
+            if (allocated(st%jprev)) then
+                ! (the prescribed motions' last velocity changes: a dump's)
+                call gather_rows(dom, gk, st%jprev, vw%st%jprev)
+            end if
+            if (st%rot) then
+                call gather_rows(dom, gk, st%vr, vw%st%vr)
+                call gather_rows(dom, gk, st%mom, vw%st%mom)
+                row(1, :) = st%irot
+                call gather_rows(dom, gk, row, one, ng)
+                if (root) vw%st%irot(:) = one(1, :)
+            end if
+            if (present(vrminus)) then
+                if (allocated(vrminus)) call gather_rows(dom, gk, vrminus, vw%wn)
+            end if
+        end subroutine other_values
     end subroutine open_view
 
     !> The view released (rank 0), the shells' local connectivity back.

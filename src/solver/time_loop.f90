@@ -328,7 +328,7 @@ contains
                 ! ranks averaged it (the energies are summed by rank)
                 if (dom%owned .and. output_now) then
                     if (state_now(lp, states, st%time, done .or. st%cycle == 0)) then
-                        call refresh_nodes(dom, model, st, sh, hist, tm, .true., vw, vminus, vrminus)
+                        call refresh_nodes(dom, model, st, sh, hist, tm, .true., vw, vminus, vrminus, state=.true.)
                     else
                         call refresh_histories(dom, model, st, sh, hist, tm, vw, vminus, vrminus)
                     end if
@@ -670,7 +670,7 @@ contains
     !> histories' tracked rotations, from the ranks that integrate them: with
     !> `outputs` (a state, a dump) to rank 0, which writes them, else (a
     !> failure's message) to every rank.
-    subroutine refresh_nodes(dom, model, st, sh, hist, tm, outputs, vw, vminus, vrminus)
+    subroutine refresh_nodes(dom, model, st, sh, hist, tm, outputs, vw, vminus, vrminus, state)
         type(domain_t), intent(in) :: dom
         type(model_t), intent(in) :: model
         type(state_t), intent(inout) :: st
@@ -684,10 +684,21 @@ contains
         type(node_view_t), intent(inout) :: vw
         real(wp), intent(inout), optional :: vminus(:, :)
         real(wp), intent(inout), allocatable, optional :: vrminus(:, :)
+        !> for a state and the histories due with it (not a dump): every
+        !> node's coordinates and v(n), the other values of the nodout
+        !> nodes alone (open_view's `rest`)
+        logical, intent(in), optional :: state
+        logical :: slim
+        slim = .false.
+        if (present(state)) slim = state
         if (dom%local) then
             if (.not. outputs) return
             call tm%start(ph_comm)
-            call open_view(dom, dom%every, model, st, sh, vminus, vrminus, .true., vw)
+            if (slim) then
+                call open_view(dom, dom%every, model, st, sh, vminus, vrminus, .true., vw, rest=dom%hist)
+            else
+                call open_view(dom, dom%every, model, st, sh, vminus, vrminus, .true., vw)
+            end if
             call merge_rotations(hist, dom%node_mine)
             call tm%stop(ph_comm)
             return
