@@ -31,6 +31,9 @@ module xd_output_states
     private
     public :: states_t, open_states, states_due, write_state, close_states, states_marks_t, states_marks, states_failure, &
               states_summary
+    ! (a state whose shells' words the ranks make, each for its own shells:
+    ! xd_solver_state_writer)
+    public :: take_state, binary_head, shell_state_words, binary_put, binary_tail, state_nv2d
 
     type :: states_t
         logical :: on = .false.
@@ -49,9 +52,16 @@ module xd_output_states
         logical :: failed = .false.           !< a write failed (a full disk, a quota): no more states
         character(len=:), allocatable :: failed_file
         logical :: h5 = .false.               !< d3plot.h5 + d3plot.xdmf (*CONTROL_XDYNA_OUTPUT)
+        logical :: binary = .false.           !< the binary d3plot family is written (every rank knows)
+        integer :: maxint = 3                 !< the binary family's layers a shell (every rank knows)
         type(d3plot_t) :: bin                 !< the binary d3plot family
         integer, allocatable :: dmat_part(:)  !< the part of each d3plot material
     end type states_t
+
+    integer, parameter :: sp = kind(1.0e0)
+    !> the nodes' and shells' words are made and written a chunk at a time
+    !> (d3plot_put), not held for the whole model
+    integer, parameter :: chunk = 4096
 
     !> Where the states stand: enough to go on from a restart dump.
     type :: states_marks_t
@@ -116,6 +126,8 @@ contains
         allocate (s%times(0))
         if (present(writer)) s%writer = writer
         s%h5 = model%db%d3plot_h5
+        s%binary = model%db%d3plot_binary
+        if (sh%n > 0) s%maxint = max(3, sh%nipmax)
         if (present(resume)) then
             s%n = resume%n
             s%next = resume%next
@@ -282,21 +294,10 @@ contains
         real(wp) :: sg(6), r(3, 3), q2, w
         real(wp), allocatable :: bres(:, :)
         if (.not. s%on) return
-        ! (a state asked off the schedule, sense switch sw4, leaves it as it is)
-        if (states_due(s, st%time)) then
-            s%next = s%next + s%dt
-            if (st%time >= s%next) s%next = st%time + s%dt
-        end if
-        s%n = s%n + 1
-        s%times = [s%times, st%time]
-        if (.not. s%writer .or. s%failed) return
+        if (.not. take_state(s, st%time)) return
         if (s%bin%on) then
             call write_binary(s, st, solids, sh, v, en, bm)
-            if (s%bin%failed) then
-                s%failed = .true.
-                s%failed_file = s%bin%failed_file
-                return
-            end if
+            if (s%failed) return
         end if
         if (.not. s%h5) return
         write (name, '(a,i6.6)') 'states/', s%n
@@ -406,6 +407,28 @@ contains
         call write_xdmf(s)
     end subroutine write_state
 
+    !> A state at `time` taken into the schedule and counted (every rank
+    !> alike); true where this process writes it (the writer, no write
+    !> failed before).
+    logical function take_state(s, time) result(writes)
+        type(states_t), intent(inout) :: s
+        real(dp), intent(in) :: time
+        ! (a state asked off the schedule, sense switch sw4, leaves it as it is)
+        if (states_due(s, time)) then
+            s%next = s%next + s%dt
+            if (time >= s%next) s%next = time + s%dt
+        end if
+        s%n = s%n + 1
+        s%times = [s%times, time]
+        writes = s%writer .and. .not. s%failed
+    end function take_state
+
+    !> The binary family's words a shell (every rank knows it).
+    pure integer function state_nv2d(s) result(n)
+        type(states_t), intent(in) :: s
+        n = 7*s%maxint + 12
+    end function state_nv2d
+
     !> One state of the binary d3plot family.
     subroutine write_binary(s, st, solids, sh, v, en, bm)
         type(states_t), intent(inout) :: s
@@ -415,17 +438,39 @@ contains
         real(wp), intent(in) :: v(:, :)
         type(energies_t), intent(in), optional :: en
         type(beams_t), intent(in), optional :: bm
-        integer, parameter :: sp = kind(1.0e0)
-        !> the shells' and nodes' words are made and written a chunk at a
-        !> time (d3plot_put), not held for the whole model
-        integer, parameter :: chunk = 4096
+        real(sp), allocatable :: shell(:, :)
+        integer :: e, a, b
+        call binary_head(s, st, solids, v, en, bm)
+        ! the deformable shells, a chunk at a time (each element writes its
+        ! own words: threaded, the same result)
+        allocate (shell(state_nv2d(s), min(chunk, max(sh%n, 1))))
+        do a = 1, sh%n, chunk
+            b = min(a + chunk - 1, sh%n)
+            !$omp parallel do schedule(static)
+            do e = a, b
+                call shell_state_words(s, sh, st%x, e, e, e, shell(:, e - a + 1))
+            end do
+            !$omp end parallel do
+            call binary_put(s, shell, state_nv2d(s)*(b - a + 1))
+        end do
+        call binary_tail(s, sh, solids, bm)
+    end subroutine write_binary
+
+    !> A binary state's words up to the shells': the time and the global
+    !> variables, the nodes' coordinates and velocities v, the solids' and
+    !> the beams' words (the writer alone).
+    subroutine binary_head(s, st, solids, v, en, bm)
+        type(states_t), intent(inout) :: s
+        type(state_t), intent(in) :: st
+        type(solids_t), intent(in) :: solids
+        real(wp), intent(in) :: v(:, :)
+        type(energies_t), intent(in), optional :: en
+        type(beams_t), intent(in), optional :: bm
         real(sp), allocatable :: beam(:, :)
-        real(sp), allocatable :: glob(:), solid(:, :), shell(:, :), alive(:), xs(:, :)
-        real(wp) :: r(3, 3), pt(5, 10), nr(5), mr(3), h, w, z
-        integer :: e, nm, k, j, l, ip, ipx(3), nip, mx, a, b
+        real(sp), allocatable :: glob(:), solid(:, :), xs(:, :)
+        integer :: e, nm, k, j
         nm = size(s%dmat_part)
-        mx = s%bin%maxint
-        allocate (glob(s%bin%nglbv), solid(7, s%nsolid), shell(s%bin%nv2d, min(chunk, s%nshell)))
+        allocate (glob(s%bin%nglbv), solid(7, s%nsolid))
         glob = 0
         if (present(en)) then
             glob(1:6) = real([en%ke, en%ie, en%total, en%vel], sp)
@@ -470,62 +515,48 @@ contains
             end do
         end if
         call d3plot_put(s%bin, beam, size(beam))
-        ! the shells, a chunk at a time: the deformable ones, then the
-        ! rigid ones (their thickness alone)
-        do a = 1, s%nshell, chunk
-            b = min(a + chunk - 1, s%nshell)
-            shell = 0
-            ! layers: per layer six global stresses and the plastic strain
-            !$omp parallel do schedule(static) private(r, pt, nr, mr, h, w, z, ip, ipx, nip, l)
-            do e = a, min(b, sh%n)
-                nip = sh%pc%nip(sh%part(e))
-                call shell_axes(sh, e, st%x, r)
-                pt = 0
-                pt(:, 1:nip) = sh%sig(e, :, 1:nip)
-                if (mx == 3) then
-                    ! mid-surface, inner, outer
-                    select case (nip)
-                    case (1)
-                        ipx = [1, 1, 1]
-                    case (2)
-                        ipx = [0, 1, 2]
-                    case default
-                        ipx = [2, 1, 3]
-                    end select
-                    do l = 1, 3
-                        if (ipx(l) > 0) then
-                            shell(7*l - 6:7*l, e - a + 1) = layer(pt(:, ipx(l)), sh%epsp(e, ipx(l)), r, &
-                                                                  sh%pc%plastic(sh%part(e)))
-                        else
-                            shell(7*l - 6:7*l, e - a + 1) = layer(0.5_wp*(pt(:, 1) + pt(:, 2)), &
-                                                                  0.5_wp*(sh%epsp(e, 1) + sh%epsp(e, 2)), r, &
-                                                                  sh%pc%plastic(sh%part(e)))
-                        end if
-                    end do
-                else
-                    do l = 1, nip
-                        shell(7*l - 6:7*l, e - a + 1) = layer(pt(:, l), sh%epsp(e, l), r, sh%pc%plastic(sh%part(e)))
-                    end do
-                end if
-                ! resultants per unit width in the element's frame
-                h = sh%h(e)
-                nr = 0
-                mr = 0
-                do ip = 1, nip
-                    w = point_weight(ip, nip)
-                    z = point_z(ip, nip)
-                    nr = nr + w*pt(:, ip)
-                    mr = mr + w*z*pt(1:3, ip)
+    contains
+        !> a(:, 1:nnode) in single precision, a chunk of nodes at a time
+        subroutine put_nodes(a3)
+            real(wp), intent(in) :: a3(:, :)
+            integer :: a, b, i
+            do a = 1, s%nnode, chunk
+                b = min(a + chunk - 1, s%nnode)
+                do i = a, b
+                    xs(:, i - a + 1) = real(a3(:, i), sp)
                 end do
-                shell(7*mx + 1:7*mx + 8, e - a + 1) = real([0.5_wp*h*h*mr, h*nr(4), h*nr(5), h*nr(1:3)], sp)
-                shell(7*mx + 9, e - a + 1) = real(h, sp)
-                if (sh%area0(e)*h > 0) shell(7*mx + 12, e - a + 1) = real(sh%eint(e)/(sh%area0(e)*h), sp)
+                call d3plot_put(s%bin, xs, 3*(b - a + 1))
             end do
-            !$omp end parallel do
-            do e = max(a, sh%n + 1), b
-                shell(7*mx + 9, e - a + 1) = real(s%rshell_t(e - sh%n), sp)
+        end subroutine put_nodes
+    end subroutine binary_head
+
+    !> n words of the deformable shells (state_nv2d a shell, in the model's
+    !> order), after binary_head (the writer alone).
+    subroutine binary_put(s, w, n)
+        type(states_t), intent(inout) :: s
+        real(sp), intent(in) :: w(*)
+        integer, intent(in) :: n
+        call d3plot_put(s%bin, w, n)
+    end subroutine binary_put
+
+    !> A binary state's words after the deformable shells': the rigid
+    !> shells' (their thickness alone) and every element's deletion flag;
+    !> the state then ends (the writer alone; a write that failed marks s).
+    subroutine binary_tail(s, sh, solids, bm)
+        type(states_t), intent(inout) :: s
+        type(shells_t), intent(in) :: sh
+        type(solids_t), intent(in) :: solids
+        type(beams_t), intent(in), optional :: bm
+        real(sp), allocatable :: shell(:, :), alive(:)
+        integer :: e, a, b
+        allocate (shell(state_nv2d(s), min(chunk, max(s%nrshell, 1))))
+        do a = 1, s%nrshell, chunk
+            b = min(a + chunk - 1, s%nrshell)
+            shell = 0
+            do e = a, b
+                shell(7*s%maxint + 9, e - a + 1) = real(s%rshell_t(e), sp)
             end do
-            call d3plot_put(s%bin, shell, s%bin%nv2d*(b - a + 1))
+            call d3plot_put(s%bin, shell, state_nv2d(s)*(b - a + 1))
         end do
         allocate (alive(s%nsolid + s%nshell + s%bin%nbeam))
         alive = 1
@@ -542,20 +573,70 @@ contains
         end if
         call d3plot_put(s%bin, alive, size(alive))
         call d3plot_end_state(s%bin)
-    contains
-        !> a(:, 1:nnode) in single precision, a chunk of nodes at a time
-        subroutine put_nodes(a3)
-            real(wp), intent(in) :: a3(:, :)
-            integer :: a, b, i
-            do a = 1, s%nnode, chunk
-                b = min(a + chunk - 1, s%nnode)
-                do i = a, b
-                    xs(:, i - a + 1) = real(a3(:, i), sp)
-                end do
-                call d3plot_put(s%bin, xs, 3*(b - a + 1))
+        if (s%bin%failed) then
+            s%failed = .true.
+            s%failed_file = s%bin%failed_file
+        end if
+    end subroutine binary_tail
+
+    !> Deformable shell e's words of a binary state (state_nv2d of them):
+    !> the layers (per layer six global stresses and the plastic strain),
+    !> the resultants per unit width in the element's frame, the thickness
+    !> and the internal energy density. Its points' state is in row js of
+    !> sh%sig and sh%epsp, its thickness, area and energy in row jr (a view
+    !> of every shell: e and e; a rank's own shells: their rows), its nodes'
+    !> coordinates in x as its connectivity numbers them.
+    subroutine shell_state_words(s, sh, x, e, js, jr, w)
+        type(states_t), intent(in) :: s
+        type(shells_t), intent(in) :: sh
+        real(wp), intent(in) :: x(:, :)
+        integer, intent(in) :: e, js, jr
+        real(sp), intent(out) :: w(:)
+        real(wp) :: r(3, 3), pt(5, 10), nr(5), mr(3), h, wt, z
+        integer :: l, ip, ipx(3), nip, mx
+        mx = s%maxint
+        w = 0
+        nip = sh%pc%nip(sh%part(e))
+        call shell_axes(sh, e, x, r)
+        pt = 0
+        pt(:, 1:nip) = sh%sig(js, :, 1:nip)
+        if (mx == 3) then
+            ! mid-surface, inner, outer
+            select case (nip)
+            case (1)
+                ipx = [1, 1, 1]
+            case (2)
+                ipx = [0, 1, 2]
+            case default
+                ipx = [2, 1, 3]
+            end select
+            do l = 1, 3
+                if (ipx(l) > 0) then
+                    w(7*l - 6:7*l) = layer(pt(:, ipx(l)), sh%epsp(js, ipx(l)), r, sh%pc%plastic(sh%part(e)))
+                else
+                    w(7*l - 6:7*l) = layer(0.5_wp*(pt(:, 1) + pt(:, 2)), 0.5_wp*(sh%epsp(js, 1) + sh%epsp(js, 2)), r, &
+                                           sh%pc%plastic(sh%part(e)))
+                end if
             end do
-        end subroutine put_nodes
-    end subroutine write_binary
+        else
+            do l = 1, nip
+                w(7*l - 6:7*l) = layer(pt(:, l), sh%epsp(js, l), r, sh%pc%plastic(sh%part(e)))
+            end do
+        end if
+        ! resultants per unit width in the element's frame
+        h = sh%h(jr)
+        nr = 0
+        mr = 0
+        do ip = 1, nip
+            wt = point_weight(ip, nip)
+            z = point_z(ip, nip)
+            nr = nr + wt*pt(:, ip)
+            mr = mr + wt*z*pt(1:3, ip)
+        end do
+        w(7*mx + 1:7*mx + 8) = real([0.5_wp*h*h*mr, h*nr(4), h*nr(5), h*nr(1:3)], sp)
+        w(7*mx + 9) = real(h, sp)
+        if (sh%area0(jr)*h > 0) w(7*mx + 12) = real(sh%eint(jr)/(sh%area0(jr)*h), sp)
+    end subroutine shell_state_words
 
     !> A shell layer's seven d3plot words: the local stress p (xx yy xy yz
     !> zx, plane stress) in global axes from the frame r, the plastic strain.
