@@ -23,7 +23,8 @@ module xd_output_states
     use xd_solver_state, only: state_t
     use xd_elements_solid_groups, only: solids_t
     use xd_elements_beam_bs, only: beams_t
-    use xd_elements_shell_bt, only: shells_t, shell_axes, point_weight, point_z
+    use xd_elements_shell_bt, only: shells_t, shell_axes, point_weight
+    use xd_output_shell_words, only: shell_state_words, to_global
     use xd_solver_energies, only: energies_t
     use xd_output_d3plot, only: d3plot_t, d3plot_mesh_t, d3plot_open, d3plot_close, member_unit, d3plot_begin_state, &
                                 d3plot_put, d3plot_end_state
@@ -33,7 +34,7 @@ module xd_output_states
               states_summary
     ! (a state whose shells' words the ranks make, each for its own shells:
     ! xd_solver_state_writer)
-    public :: take_state, binary_head, shell_state_words, binary_put, binary_tail, state_nv2d
+    public :: take_state, binary_head, binary_put, binary_tail, state_nv2d
 
     type :: states_t
         logical :: on = .false.
@@ -448,7 +449,7 @@ contains
             b = min(a + chunk - 1, sh%n)
             !$omp parallel do schedule(static)
             do e = a, b
-                call shell_state_words(s, sh, st%x, e, e, e, shell(:, e - a + 1))
+                call shell_state_words(sh, st%x, e, e, e, s%maxint, shell(:, e - a + 1))
             end do
             !$omp end parallel do
             call binary_put(s, shell, state_nv2d(s)*(b - a + 1))
@@ -579,75 +580,7 @@ contains
         end if
     end subroutine binary_tail
 
-    !> Deformable shell e's words of a binary state (state_nv2d of them):
-    !> the layers (per layer six global stresses and the plastic strain),
-    !> the resultants per unit width in the element's frame, the thickness
-    !> and the internal energy density. Its points' state is in row js of
-    !> sh%sig and sh%epsp, its thickness, area and energy in row jr (a view
-    !> of every shell: e and e; a rank's own shells: their rows), its nodes'
-    !> coordinates in x as its connectivity numbers them.
-    subroutine shell_state_words(s, sh, x, e, js, jr, w)
-        type(states_t), intent(in) :: s
-        type(shells_t), intent(in) :: sh
-        real(wp), intent(in) :: x(:, :)
-        integer, intent(in) :: e, js, jr
-        real(sp), intent(out) :: w(:)
-        real(wp) :: r(3, 3), pt(5, 10), nr(5), mr(3), h, wt, z
-        integer :: l, ip, ipx(3), nip, mx
-        mx = s%maxint
-        w = 0
-        nip = sh%pc%nip(sh%part(e))
-        call shell_axes(sh, e, x, r)
-        pt = 0
-        pt(:, 1:nip) = sh%sig(js, :, 1:nip)
-        if (mx == 3) then
-            ! mid-surface, inner, outer
-            select case (nip)
-            case (1)
-                ipx = [1, 1, 1]
-            case (2)
-                ipx = [0, 1, 2]
-            case default
-                ipx = [2, 1, 3]
-            end select
-            do l = 1, 3
-                if (ipx(l) > 0) then
-                    w(7*l - 6:7*l) = layer(pt(:, ipx(l)), sh%epsp(js, ipx(l)), r, sh%pc%plastic(sh%part(e)))
-                else
-                    w(7*l - 6:7*l) = layer(0.5_wp*(pt(:, 1) + pt(:, 2)), 0.5_wp*(sh%epsp(js, 1) + sh%epsp(js, 2)), r, &
-                                           sh%pc%plastic(sh%part(e)))
-                end if
-            end do
-        else
-            do l = 1, nip
-                w(7*l - 6:7*l) = layer(pt(:, l), sh%epsp(js, l), r, sh%pc%plastic(sh%part(e)))
-            end do
-        end if
-        ! resultants per unit width in the element's frame
-        h = sh%h(jr)
-        nr = 0
-        mr = 0
-        do ip = 1, nip
-            wt = point_weight(ip, nip)
-            z = point_z(ip, nip)
-            nr = nr + wt*pt(:, ip)
-            mr = mr + wt*z*pt(1:3, ip)
-        end do
-        w(7*mx + 1:7*mx + 8) = real([0.5_wp*h*h*mr, h*nr(4), h*nr(5), h*nr(1:3)], sp)
-        w(7*mx + 9) = real(h, sp)
-        if (sh%area0(jr)*h > 0) w(7*mx + 12) = real(sh%eint(jr)/(sh%area0(jr)*h), sp)
-    end subroutine shell_state_words
 
-    !> A shell layer's seven d3plot words: the local stress p (xx yy xy yz
-    !> zx, plane stress) in global axes from the frame r, the plastic strain.
-    pure function layer(p, eps, r, plastic) result(w)
-        real(wp), intent(in) :: p(5), eps, r(3, 3)
-        logical, intent(in) :: plastic
-        real(kind(1.0e0)) :: w(7)
-        w(1:6) = real(to_global([p(1), p(2), 0.0_wp, p(3), p(4), p(5)], r), kind(1.0e0))
-        w(7) = 0
-        if (plastic) w(7) = real(eps, kind(1.0e0))
-    end function layer
 
     !> The d3hsp line naming the states written and where.
     function states_summary(s) result(line)
@@ -855,24 +788,6 @@ contains
         q = sqrt(0.5_wp*((s(1) - s(2))**2 + (s(2) - s(3))**2 + (s(3) - s(1))**2) + 3.0_wp*(s(4)**2 + s(5)**2 + s(6)**2))
     end function von_mises
 
-    !> A symmetric tensor (xx yy zz xy yz zx) in the frame r, to global axes.
-    pure function to_global(sl, r) result(sg)
-        real(wp), intent(in) :: sl(6), r(3, 3)
-        real(wp) :: sg(6), t(3, 3), g(3, 3)
-        integer :: i, j
-        t(:, 1) = [sl(1), sl(4), sl(6)]
-        t(:, 2) = [sl(4), sl(2), sl(5)]
-        t(:, 3) = [sl(6), sl(5), sl(3)]
-        ! g = r t r^T, written out (matmul on 3 x 3 goes through the library)
-        do j = 1, 3
-            do i = 1, 3
-                g(i, j) = r(i, 1)*(t(1, 1)*r(j, 1) + t(1, 2)*r(j, 2) + t(1, 3)*r(j, 3)) &
-                          + r(i, 2)*(t(2, 1)*r(j, 1) + t(2, 2)*r(j, 2) + t(2, 3)*r(j, 3)) &
-                          + r(i, 3)*(t(3, 1)*r(j, 1) + t(3, 2)*r(j, 2) + t(3, 3)*r(j, 3))
-            end do
-        end do
-        sg = [g(1, 1), g(2, 2), g(3, 3), g(1, 2), g(2, 3), g(3, 1)]
-    end function to_global
 
     !> A dataset of the given dims (Fortran order; h5py sees them reversed)
     !> and type from the buffer at buf.

@@ -69,7 +69,7 @@ module xd_solver_domain
     public :: domain_t, build_domain, domain_summary, gather_energy_state, gather_element_state, &
               swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout, neighbour_count, &
               ghost_base, contact_ghosts, place_shell_state, localize_element_state, release_element_view, &
-              domain_bytes
+              domain_bytes, gather_to_root
 
     !> A set of nodes whose values go from their ranks to every rank (an
     !> all-gather): per rank r, its own in node(off(r) + 1 : off(r) +
@@ -1267,21 +1267,26 @@ contains
     !> `energies`: also the energies (not when this cycle gathered them).
     !> `dump` false: what a state reads alone (not the shells' hourglass
     !> forces, strains and back stresses, which only a dump holds).
-    subroutine gather_element_state(dom, solids, sh, energies, dump)
+    subroutine gather_element_state(dom, solids, sh, energies, dump, shells)
         type(domain_t), intent(in) :: dom
         type(solids_t), intent(inout) :: solids
         type(shells_t), intent(inout) :: sh
         logical, intent(in) :: energies
         logical, intent(in), optional :: dump
-        logical :: every
+        !> false: not the shells' view (a state whose shells' words the
+        !> ranks make, xd_solver_state_writer)
+        logical, intent(in), optional :: shells
+        logical :: every, with_shells
         if (.not. dom%on) return
         every = .true.
         if (present(dump)) every = dump
+        with_shells = .true.
+        if (present(shells)) with_shells = shells
         if (energies) call gather_energy_state(dom, solids, sh)
         ! (the elements' state is each rank's own in the time loop, where
         ! the outputs take this: localize_element_state, place_shell_state)
         if (solids%n > 0) call solid_state_view(dom, solids, every)
-        if (sh%n > 0) call shell_state_view(dom, sh, every)
+        if (sh%n > 0 .and. with_shells) call shell_state_view(dom, sh, every)
     end subroutine gather_element_state
 
     !> The shells' points' state and slots allocated (issue 32): on one

@@ -42,6 +42,7 @@ module xd_solver_time_loop
                                       hourglass_bound_report
     use xd_solver_mass_scaling, only: mass_scaling_t, mass_scaling_begin, mass_scaling_targets, mass_scaling_step, &
                                       mass_scaling_summary
+    use xd_solver_state_writer, only: states_by_ranks, write_state_by_ranks
     use xd_solver_local_nodes, only: node_view_t, cut_state, localize_nodes, open_view, close_view, global_node, held_nodes
     use xd_solver_phases, only: element_phase, exchange_phase, bad_element, beam_phase, erosion_phase, step_phase, &
                                 load_phase, contact_phase, velocity_phase, constraint_phase, energy_phase, &
@@ -1037,11 +1038,17 @@ contains
         if (state_now(lp, states, st%time, force)) then
             ! (the energies and shell thicknesses were gathered with this
             ! cycle's energies, which every output follows)
-            call gather_element_state(dom, solids, sh, energies=dom%owned, dump=.false.)
-            if (ct%n > 0) then
-                call write_state(states, st, model%x0, solids, sh, vn, ct%fnode, en=en, bm=bm)
+            if (states_by_ranks(states, dom, sh)) then
+                ! (the shells' words made by their ranks, not from a view)
+                call gather_element_state(dom, solids, sh, energies=dom%owned, dump=.false., shells=.false.)
+                call write_state_by_ranks(states, dom, st, solids, sh, vn, en=en, bm=bm)
             else
-                call write_state(states, st, model%x0, solids, sh, vn, en=en, bm=bm)
+                call gather_element_state(dom, solids, sh, energies=dom%owned, dump=.false.)
+                if (ct%n > 0) then
+                    call write_state(states, st, model%x0, solids, sh, vn, ct%fnode, en=en, bm=bm)
+                else
+                    call write_state(states, st, model%x0, solids, sh, vn, en=en, bm=bm)
+                end if
             end if
             call release_element_view(solids, sh)
             lp%state_asked = .false.
