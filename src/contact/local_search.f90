@@ -303,7 +303,10 @@ contains
                 ntried = ntried + 1
                 tried(ntried) = m
             end if
-            if (any(s%seg(:, m) == sn) .or. any(s%seg_elem(:, m) == sn)) return
+            if (any(s%seg(:, m) == sn)) return
+            if (size(s%seg_elem, 2) > 0) then
+                if (any(s%seg_elem(:, m) == sn)) return
+            end if
             if (iand(s%seg_side(m), want) == 0) return
             ! a shell segment finds contact only within the two half
             ! thicknesses (and the lead) of its surface: a slave outside its

@@ -73,7 +73,9 @@ module xd_contact_surface
         integer, allocatable :: seg(:, :)      !< (4, nseg) local node numbers
         integer, allocatable :: seg_face(:)    !< index in faces_t
         integer, allocatable :: seg_kind(:), seg_side(:), seg_body(:)
-        integer, allocatable :: seg_elem(:, :) !< (8, nseg) local numbers of the owning hexahedron's nodes
+        !> (8, nseg) local numbers of the owning hexahedron's nodes (0: a
+        !> shell's face); (8, 0) where no segment is a hexahedron's face
+        integer, allocatable :: seg_elem(:, :)
                                                !< (0: not on this surface, or a shell segment)
         real(wp), allocatable :: seg_t(:)      !< segment thickness after SST/MST overrides
         real(wp), allocatable :: seg_tn(:, :)  !< (4, nseg) nodal thicknesses for the shape functions (5.2)
@@ -534,7 +536,7 @@ contains
         type(surface_t), intent(out) :: s
         integer, allocatable :: local(:)
         real(wp), allocatable :: kmin(:)
-        integer :: j, k, m, nd, i, a, nnd
+        integer :: j, k, m, nd, i, a, nnd, nhexseg
         logical :: in_any, capped
 
         capped = .false.
@@ -572,10 +574,18 @@ contains
             end if
         end do
         ! a slave never contacts a face of its own hexahedron (its opposite
-        ! face lies exactly one depth window behind the face)
-        allocate (s%seg_elem(8, s%nseg))
-        s%seg_elem = 0
+        ! face lies exactly one depth window behind the face); a surface
+        ! without a hexahedron's face holds none of these (8 integers a
+        ! segment, 8 MB on a surface of 250,000 shells)
+        nhexseg = 0
         if (present(hex_conn)) then
+            do m = 1, s%nseg
+                if (f%hex(s%seg_face(m)) > 0) nhexseg = nhexseg + 1
+            end do
+        end if
+        allocate (s%seg_elem(8, merge(s%nseg, 0, nhexseg > 0)))
+        s%seg_elem = 0
+        if (nhexseg > 0) then
             do m = 1, s%nseg
                 if (f%hex(s%seg_face(m)) > 0) s%seg_elem(:, m) = local(hex_conn(:, f%hex(s%seg_face(m))))
             end do
