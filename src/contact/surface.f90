@@ -27,7 +27,7 @@ module xd_contact_surface
     implicit none
     private
     public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid, follow_thickness, surface_activate
-    public :: faces_bytes, surface_bytes
+    public :: faces_bytes, surface_bytes, release_faces, release_activation
     public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side, seg_nodes, seg_normal
 
     integer, parameter :: seg_shell = 1, seg_solid = 2
@@ -129,6 +129,37 @@ contains
             + nbytes(f%kgeo) + nbytes(f%area) + nbytes(f%body) + nbytes(f%rigid) + nbytes(f%across) &
             + nbytes(f%node_thick) + nbytes(f%node_cap)
     end function faces_bytes
+
+    !> The model's faces' arrays released once the surfaces are built, where
+    !> nothing reads them again (no erosion, no latent faces, no shell
+    !> thickness the contact follows): 84 bytes a face. The counts stay
+    !> (d3hsp's summary reads them).
+    subroutine release_faces(f)
+        type(faces_t), intent(inout) :: f
+        if (allocated(f%node)) deallocate (f%node)
+        if (allocated(f%kind)) deallocate (f%kind)
+        if (allocated(f%part)) deallocate (f%part)
+        if (allocated(f%shell)) deallocate (f%shell)
+        if (allocated(f%hex)) deallocate (f%hex)
+        if (allocated(f%thick)) deallocate (f%thick)
+        if (allocated(f%kgeo)) deallocate (f%kgeo)
+        if (allocated(f%area)) deallocate (f%area)
+        if (allocated(f%body)) deallocate (f%body)
+        if (allocated(f%rigid)) deallocate (f%rigid)
+        if (allocated(f%across)) deallocate (f%across)
+        if (allocated(f%node_thick)) deallocate (f%node_thick)
+        if (allocated(f%node_cap)) deallocate (f%node_cap)
+    end subroutine release_faces
+
+    !> A surface's set-up values that only surface_activate reads again
+    !> (erosion): its nodes' springs and areas at set-up and their sides
+    !> from every segment, 20 bytes a node.
+    subroutine release_activation(s)
+        type(surface_t), intent(inout) :: s
+        if (allocated(s%node_area0)) deallocate (s%node_area0)
+        if (allocated(s%node_kpa0)) deallocate (s%node_kpa0)
+        if (allocated(s%node_side_all)) deallocate (s%node_side_all)
+    end subroutine release_activation
 
     !> The bytes of a surface's arrays (its segments, nodes and lists).
     integer(i8) function surface_bytes(s) result(b)

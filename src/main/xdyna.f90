@@ -24,6 +24,7 @@ program xdyna
     use xd_elements_beam_bs, only: beams_t
     use xd_contact_tied, only: ties_t, place_ties, start_ties
     use xd_contact_contact, only: contacts_t, build_contacts, interface_summary, contact_report, contact_masses, contact_erode, &
+                                  contact_release_setup, &
                                   contact_erode_solids
     use xd_contact_initial_penetration, only: initial_penetrations
     use xd_core_strings, only: join_path, out_path
@@ -282,6 +283,9 @@ program xdyna
     call build_contacts(model, model%x0, ct, error)
     call stop_on_input_error()
     if (ct%n > 0) call contact_masses(ct, st%mass)
+    ! (the model's faces and the surfaces' set-up springs: kept only where
+    ! erosion or a followed shell thickness rebuilds the surfaces)
+    call contact_release_setup(ct, sh%erodible .or. solids%erodible)
     ! a cohesive tiebreak's springs bound the step as the contact's do (its
     ! sliding contact is always there)
     if (ct%n > 0 .and. td%dt_limit < ct%dt_limit) then
