@@ -281,39 +281,50 @@ contains
     !> interface's surface (segments and nodes), its search's lists and
     !> working arrays, its per-slave records, its edges, and the per-node
     !> contact forces (issue 32: every slave's and every surface node's on
-    !> every rank).
-    integer(i8) function contact_bytes(ct) result(b)
+    !> every rank). `split`: the same bytes by kind, d3hsp's line under the
+    !> figure: (1) the faces, surfaces and edges, (2) the slaves' records
+    !> (their contacts, forces, events, clearances and flags), (3) the
+    !> search's lists, (4) the surface nodes' masses, motion bounds and
+    !> gathered coordinates and velocities, (5) the per-node contact forces
+    !> and the part pairs' tables.
+    integer(i8) function contact_bytes(ct, split) result(b)
         type(contacts_t), intent(in) :: ct
+        integer(i8), intent(out), optional :: split(5)
+        integer(i8) :: q(5)
         integer :: i
-        b = faces_bytes(ct%faces) + nbytes(ct%face_on) + nbytes(ct%fnode) + nbytes(ct%ftouch) + nbytes(ct%moves) &
-            + nbytes(ct%node_h0)
-        if (.not. allocated(ct%ifc)) return
-        do i = 1, size(ct%ifc)
-            b = b + interface_bytes(ct%ifc(i))
-        end do
+        q = 0
+        q(1) = faces_bytes(ct%faces) + nbytes(ct%face_on)
+        q(5) = nbytes(ct%fnode) + nbytes(ct%ftouch) + nbytes(ct%moves) + nbytes(ct%node_h0)
+        if (allocated(ct%ifc)) then
+            do i = 1, size(ct%ifc)
+                call interface_bytes(ct%ifc(i))
+            end do
+        end if
+        b = sum(q)
+        if (present(split)) split = q
     contains
-        integer(i8) function interface_bytes(it) result(c)
+        subroutine interface_bytes(it)
             type(interface_t), intent(in) :: it
-            c = surface_bytes(it%surf) + lists_bytes(it%lists) + nbytes(it%ed%en) + nbytes(it%ed%eseg) &
-                + nbytes(it%ed%pa) + nbytes(it%ed%pb) &
-                + nbytes(it%ed%side) + nbytes(it%ed%named) + nbytes(it%ed%kp) + nbytes(it%ed%p0) + nbytes(it%ed%dlast) &
-                + nbytes(it%ed%ft) + nbytes(it%ed%act) + nbytes(it%ed%st) + nbytes(it%ed%fa) &
-                + nbytes(it%xl) + nbytes(it%dl) + nbytes(it%dmin) + nbytes(it%un) + nbytes(it%drift_own) &
-                + nbytes(it%cls) + nbytes(it%cmin) &
-                + nbytes(it%uc) + nbytes(it%cbud) + nbytes(it%cused) + nbytes(it%dump) + nbytes(it%ls%xl) &
-                + nbytes(it%ls%vl) + nbytes(it%ls%lc) + nbytes(it%ls%lcodo) + nbytes(it%cl%row) + nbytes(it%cl%g) &
-                + nbytes(it%cl%x) &
-                + nbytes(it%cl%u) + nbytes(it%cl%wait) + nbytes(it%cl%nnear) + nbytes(it%cl%near) + nbytes(it%ms) &
-                + nbytes(it%cseg) + nbytes(it%fprev) + nbytes(it%ft) + nbytes(it%p0) + nbytes(it%kp) + nbytes(it%fk) &
-                + nbytes(it%aeff) + nbytes(it%held) + nbytes(it%rseg) + nbytes(it%rdep) + nbytes(it%deep) &
-                + nbytes(it%rlast) + nbytes(it%evk) + nbytes(it%evd) + nbytes(it%found) + nbytes(it%pair) &
-                + nbytes(it%fpair) + nbytes(it%part_id) + nbytes(it%seg_lp) + nbytes(it%slave_lp) + nbytes(it%pair_imp) &
-                + nbytes(it%pair_work) + nbytes(it%owned) + nbytes(it%got) + nbytes(it%mine) + nbytes(it%live) &
-                + nbytes(it%resl) + nbytes(it%fresh)
-            if (allocated(it%hit)) c = c + size(it%hit, kind=i8)*(storage_size(it%hit, i8)/8)
-            if (allocated(it%ev)) c = c + size(it%ev, kind=i8)*(storage_size(it%ev, i8)/8)
-            if (allocated(it%ed%ev)) c = c + size(it%ed%ev, kind=i8)*(storage_size(it%ed%ev, i8)/8)
-        end function interface_bytes
+            q(1) = q(1) + surface_bytes(it%surf) + nbytes(it%ed%en) + nbytes(it%ed%eseg) &
+                   + nbytes(it%ed%pa) + nbytes(it%ed%pb) &
+                   + nbytes(it%ed%side) + nbytes(it%ed%named) + nbytes(it%ed%kp) + nbytes(it%ed%p0) &
+                   + nbytes(it%ed%dlast) + nbytes(it%ed%ft) + nbytes(it%ed%act) + nbytes(it%ed%st) + nbytes(it%ed%fa)
+            if (allocated(it%ed%ev)) q(1) = q(1) + size(it%ed%ev, kind=i8)*(storage_size(it%ed%ev, i8)/8)
+            q(2) = q(2) + nbytes(it%cls) + nbytes(it%cl%row) + nbytes(it%cl%g) + nbytes(it%cl%x) &
+                   + nbytes(it%cl%u) + nbytes(it%cl%wait) + nbytes(it%cl%nnear) + nbytes(it%cl%near) &
+                   + nbytes(it%cseg) + nbytes(it%fprev) + nbytes(it%ft) + nbytes(it%p0) + nbytes(it%kp) + nbytes(it%fk) &
+                   + nbytes(it%aeff) + nbytes(it%held) + nbytes(it%rseg) + nbytes(it%rdep) + nbytes(it%deep) &
+                   + nbytes(it%rlast) + nbytes(it%evk) + nbytes(it%evd) + nbytes(it%found) + nbytes(it%pair) &
+                   + nbytes(it%fpair) + nbytes(it%slave_lp) + nbytes(it%owned) + nbytes(it%got) + nbytes(it%mine) &
+                   + nbytes(it%live) + nbytes(it%resl) + nbytes(it%dump)
+            if (allocated(it%hit)) q(2) = q(2) + size(it%hit, kind=i8)*(storage_size(it%hit, i8)/8)
+            if (allocated(it%ev)) q(2) = q(2) + size(it%ev, kind=i8)*(storage_size(it%ev, i8)/8)
+            q(3) = q(3) + lists_bytes(it%lists)
+            q(4) = q(4) + nbytes(it%ms) + nbytes(it%xl) + nbytes(it%dl) + nbytes(it%dmin) + nbytes(it%un) &
+                   + nbytes(it%drift_own) + nbytes(it%cmin) + nbytes(it%uc) + nbytes(it%cbud) + nbytes(it%cused) &
+                   + nbytes(it%ls%xl) + nbytes(it%ls%vl) + nbytes(it%ls%lc) + nbytes(it%ls%lcodo) + nbytes(it%fresh)
+            q(5) = q(5) + nbytes(it%part_id) + nbytes(it%seg_lp) + nbytes(it%pair_imp) + nbytes(it%pair_work)
+        end subroutine interface_bytes
     end function contact_bytes
 
     !> Step 1 for every interface, from the initial coordinates x0.

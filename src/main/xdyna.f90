@@ -453,7 +453,8 @@ contains
     !> smallest and the largest, with their ranks (a collective: every rank
     !> calls it).
     subroutine memory_line()
-        real(dp) :: rec(8), all(8, env%nranks)
+        real(dp) :: rec(13), all(13, env%nranks)
+        integer(i8) :: csplit(5)
         rec(1) = real(peak_memory_kb(), dp)
         rec(8) = real(floor_kb, dp)
         rec(2) = real(shell_state_bytes(sh) + solid_state_bytes(solids), dp)
@@ -468,7 +469,8 @@ contains
         ! the deck's node and element arrays, whole on every rank
         rec(6) = real(mesh_bytes(model), dp)
         ! the contact's (its faces, surfaces, lists and per-slave records)
-        rec(7) = real(contact_bytes(ct), dp)
+        rec(7) = real(contact_bytes(ct, csplit), dp)
+        rec(9:13) = real(csplit, dp)
         if (env%nranks > 1) then
             call comm_gather_small(rec, all)
         else
@@ -499,8 +501,17 @@ contains
                     1048576.0_dp, ' (every rank holds them whole)')
         ! (the contact's arrays at the end of the run: its lists as the
         ! last search left them)
-        if (ct%n > 0) call figure(' contact arrays at the end ............ ', ' contact arrays at the end per rank ... ', &
-                                  all(7, :), 1048576.0_dp, '')
+        if (ct%n > 0) then
+            call figure(' contact arrays at the end ............ ', ' contact arrays at the end per rank ... ', &
+                        all(7, :), 1048576.0_dp, '')
+            ! (by kind, the largest rank's each)
+            call log_line(lg, '   of them (MB'//trim(merge(', the largest rank''s', '                    ', &
+                          env%nranks > 1))//'): surfaces and faces '//ftoa(maxval(all(9, :))/1048576.0_dp)// &
+                          ', the slaves'' records '//ftoa(maxval(all(10, :))/1048576.0_dp)//', search lists '// &
+                          ftoa(maxval(all(11, :))/1048576.0_dp)//', surface nodes'' masses, motion bounds and '// &
+                          'gathers '//ftoa(maxval(all(12, :))/1048576.0_dp)//', contact forces per node and part '// &
+                          'pairs '//ftoa(maxval(all(13, :))/1048576.0_dp))
+        end if
         if (any(all(1, :) < 0.0_dp)) return
         call figure(' peak memory (VmHWM) ................. ', ' peak memory per rank (VmHWM) ........ ', all(1, :), 1024.0_dp, '')
         ! (what no split of the model can take away: the process as it was
