@@ -1228,7 +1228,10 @@ contains
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%ms = mass(s%node)
                 n = s%nslave
-                allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(n), it%fpair(3, n), it%p0(n))
+                ! (the pairs' list starts with room for 1,024 and grows with
+                ! the count: list_loops)
+                allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(min(n, 1024)), &
+                          it%fpair(3, min(n, 1024)), it%p0(n))
                 allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n), it%evk(n), it%evd(n), it%ev(16), it%found(n))
                 allocate (it%rseg(n), it%rdep(n), it%rlast(n), it%deep(n), it%held(n))
                 it%held = 0
@@ -1754,6 +1757,15 @@ contains
         cnt(1) = 0
         do c = 1, nch
             cnt(c + 1) = cnt(c + 1) + cnt(c)
+        end do
+        ! (the pairs' room: grown to this cycle's count where short, by half
+        ! again; their list is written whole each cycle)
+        if (cnt(nch + 1) > size(it%pair)) then
+            q = max(cnt(nch + 1), size(it%pair) + size(it%pair)/2)
+            deallocate (it%pair, it%fpair)
+            allocate (it%pair(q), it%fpair(3, q))
+        end if
+        do c = 1, nch
             if (.not. evc(c)) cycle
             do k = (c - 1)*pair_chunk + 1, min(c*pair_chunk, nslave)
                 if (it%evk(k) /= ev_none) call add_event(it, k, time)
