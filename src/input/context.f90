@@ -33,7 +33,7 @@ contains
         type(keyword_t), intent(in) :: kw
         integer, intent(in) :: icard, cardno
         character(len=*), intent(in) :: spec
-        type(card_t), intent(out) :: card
+        type(card_t), intent(inout) :: card
         type(error_t), allocatable, intent(out) :: error
         logical, intent(in), optional :: raw
         call get_card_fmt(ctx, kw, icard, card_format(spec, kw%width_mode), cardno, card, error, raw)
@@ -44,7 +44,7 @@ contains
         type(keyword_t), intent(in) :: kw
         integer, intent(in) :: icard, cardno
         type(card_format_t), intent(in) :: fmt
-        type(card_t), intent(out) :: card
+        type(card_t), intent(inout) :: card
         type(error_t), allocatable, intent(out) :: error
         logical, intent(in), optional :: raw
         integer :: ln, f

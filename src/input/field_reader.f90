@@ -117,7 +117,10 @@ contains
         integer, intent(in) :: line, cardno
         type(card_format_t), intent(in) :: fmt
         type(param_table_t), intent(in) :: params
-        type(card_t), intent(out) :: card
+        !> (inout, every component set here: as intent(out) its default
+        !> initialization wrote all 2.3 kB of it for each card read, then
+        !> most again)
+        type(card_t), intent(inout) :: card
         type(error_t), allocatable, intent(out) :: error
         logical, intent(in), optional :: raw
         integer :: i, p, q, w, k
@@ -130,6 +133,9 @@ contains
         card%cardno = cardno
         card%nf = fmt%nfield
         card%name(1:fmt%nfield) = fmt%name(1:fmt%nfield)
+        card%name(fmt%nfield + 1:) = ''
+        card%f = ''
+        card%col = 1
         is_raw = .false.
         if (present(raw)) is_raw = raw
         if (is_raw) then
