@@ -63,7 +63,7 @@ module xd_contact_contact
               contact_erode_solids, &
               interface_summary, contact_masses, contact_local_search, contact_enforce, contact_work_end, &
               contact_energy, contact_resultants, gather_contact_state, scatter_contact_state, contact_events, &
-              contact_thickness, contact_release_setup
+              contact_thickness, contact_release_setup, contact_slave_rows
 
     type :: interface_t
         integer :: id = 0
@@ -133,6 +133,13 @@ module xd_contact_contact
         !> per slave: the segment it held last (kept after the contact ends;
         !> 0: none yet): a slave back under it, deep, is in contact again
         integer, allocatable :: held(:)
+        !> per slave: its row in the arrays of the slaves' contact state that
+        !> only the slave's rank reads (cseg, held, fprev, ft, p0, kp, aeff,
+        !> rdep, deep, rlast: with own_work on more than one rank, the rank's
+        !> own slaves' rows alone; 0 for another rank's slave); k itself
+        !> where they hold every slave (contact_slave_rows)
+        integer, allocatable :: orow(:)
+        logical :: own_rows = .false.
         integer, allocatable :: rseg(:)       !< per slave: this cycle's deepest refused segment (0: none)
         real(wp), allocatable :: rdep(:)      !< per slave: its depth
         real(wp), allocatable :: deep(:)      !< per slave: the depth of a contact dropped beyond PENMAX (0: none)
@@ -260,6 +267,91 @@ module xd_contact_contact
     end type contacts_t
 
 contains
+
+    !> MPI with each rank's own slaves' work (own_work): the slaves' contact
+    !> state that only the slave's rank reads (cseg, held, fprev, ft, p0,
+    !> kp, aeff, rdep, deep, rlast: 100 bytes a slave) held in rows of the
+    !> rank's own slaves alone (`own`; orow), or every slave's again, the
+    !> other ranks' slaves' entries zero (a dump's gathering, which sums
+    !> them from their ranks: gather_contact_state).
+    subroutine contact_slave_rows(ct, own)
+        type(contacts_t), intent(inout) :: ct
+        logical, intent(in) :: own
+        integer, allocatable :: row(:)
+        integer :: i, k, n, ns
+        do i = 1, ct%n
+            associate (it => ct%ifc(i))
+                if (.not. allocated(it%orow)) cycle
+                if (own .eqv. it%own_rows) cycle
+                ns = size(it%orow)
+                allocate (row(ns))
+                if (own) then
+                    n = 0
+                    do k = 1, ns
+                        row(k) = 0
+                        if (.not. it%owned(k)) cycle
+                        n = n + 1
+                        row(k) = n
+                    end do
+                else
+                    do k = 1, ns
+                        row(k) = k
+                    end do
+                    n = ns
+                end if
+                ! (from the rows of it%orow to those of row)
+                call move_i(it%orow, it%cseg)
+                call move_i(it%orow, it%held)
+                call move_i(it%orow, it%rlast)
+                call move_w(it%orow, it%p0)
+                call move_w(it%orow, it%kp)
+                call move_w(it%orow, it%aeff)
+                call move_w(it%orow, it%rdep)
+                call move_w(it%orow, it%deep)
+                call move_w3(it%orow, it%fprev)
+                call move_w3(it%orow, it%ft)
+                call move_alloc(row, it%orow)
+                it%own_rows = own
+            end associate
+        end do
+    contains
+        subroutine move_i(old, a)
+            integer, intent(in) :: old(:)   !< the rows a is in now
+            integer, allocatable, intent(inout) :: a(:)
+            integer, allocatable :: b(:)
+            integer :: k
+            allocate (b(max(n, 1)))
+            b = 0
+            do k = 1, ns
+                if (row(k) > 0 .and. old(k) > 0) b(row(k)) = a(old(k))
+            end do
+            call move_alloc(b, a)
+        end subroutine move_i
+        subroutine move_w(old, a)
+            integer, intent(in) :: old(:)
+            real(wp), allocatable, intent(inout) :: a(:)
+            real(wp), allocatable :: b(:)
+            integer :: k
+            allocate (b(max(n, 1)))
+            b = 0
+            do k = 1, ns
+                if (row(k) > 0 .and. old(k) > 0) b(row(k)) = a(old(k))
+            end do
+            call move_alloc(b, a)
+        end subroutine move_w
+        subroutine move_w3(old, a)
+            integer, intent(in) :: old(:)
+            real(wp), allocatable, intent(inout) :: a(:, :)
+            real(wp), allocatable :: b(:, :)
+            integer :: k
+            allocate (b(3, max(n, 1)))
+            b = 0
+            do k = 1, ns
+                if (row(k) > 0 .and. old(k) > 0) b(:, row(k)) = a(:, old(k))
+            end do
+            call move_alloc(b, a)
+        end subroutine move_w3
+    end subroutine contact_slave_rows
 
     !> Once the contact is set up, where nothing rebuilds its surfaces (no
     !> erosion, no latent faces, no shell thickness followed: `rebuilt`
@@ -1233,7 +1325,11 @@ contains
                 allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(min(n, 1024)), &
                           it%fpair(3, min(n, 1024)), it%p0(n))
                 allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n), it%evk(n), it%evd(n), it%ev(16), it%found(n))
-                allocate (it%rseg(n), it%rdep(n), it%rlast(n), it%deep(n), it%held(n))
+                allocate (it%rseg(n), it%rdep(n), it%rlast(n), it%deep(n), it%held(n), it%orow(n))
+                do k = 1, n
+                    it%orow(k) = k
+                end do
+                it%own_rows = .false.
                 it%held = 0
                 it%deep = 0
                 it%rseg = 0
@@ -1343,7 +1439,7 @@ contains
                 ! temporary of every slave built serially each cycle)
                 call find_contacts(s, it%lists, it%ls, it%cl, it%cseg, it%held, it%fprev, it%aeff, ct%sw, &
                                    it%mine, it%hit, it%found, it%xl, it%rseg, it%rdep, it%p0, it%deep, it%nnear, &
-                                   it%nnear_full)
+                                   it%nnear_full, it%orow)
             end associate
         end do
     end subroutine contact_local_search
@@ -1444,7 +1540,7 @@ contains
     !> fresh bound for the next `back_off` cycles (its clearance would rarely
     !> have grown).
     subroutine find_contacts(s, lists, ls, cl, cseg, held, fprev, aeff, sw, mine, hit, found, xs, rseg, rdep, allow, &
-                             deep, nnear, nnear_full)
+                             deep, nnear, nnear_full, orow)
         type(surface_t), intent(in) :: s
         type(master_lists_t), intent(in) :: lists
         type(local_search_t), intent(in) :: ls
@@ -1467,11 +1563,15 @@ contains
         !> slave-cycles checked by their near sets alone, and of them those
         !> searched in full after (added to)
         integer(i8), intent(inout) :: nnear, nnear_full
+        !> per slave: its row in cseg, held, fprev, aeff, rdep, allow and
+        !> deep (the rank's own slaves' rows, slave_rows; k itself where
+        !> they are every slave's)
+        integer, intent(in) :: orow(:)
         integer, parameter :: back_off = 8
         integer(i8) :: nn, nf
         integer :: nc
         logical :: clean
-        integer :: i, k, r
+        integer :: i, k, r, o
         logical :: clear_skip, refresh
         type(hit_t) :: hk
         clear_skip = sw%screens .and. cl%search >= 0
@@ -1481,19 +1581,20 @@ contains
         nf = 0
         ! (the counts in the loop's own text: a reduction's variable must
         ! not be reached through the host from a procedure it calls)
-        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k, r, nc, clean, hk) reduction(+:nn, nf)
+        !$omp parallel do schedule(dynamic, 64) default(shared) private(i, k, r, o, nc, clean, hk) reduction(+:nn, nf)
         do i = 1, size(mine)
             k = mine(i)
+            o = orow(k)
             ! (the slave's clearance row: mine are this rank's own, which
             ! hold one, clearance_t)
             r = 0
             if (clear_skip) r = cl%row(k)
-            if (clear_skip .and. cseg(k) == 0) then
+            if (clear_skip .and. cseg(o) == 0) then
                 ! the common case in line: clear on the growth of u alone,
                 ! no near set, and nothing to reset (as clear and no_contact)
                 if (cl%nnear(r) == 0) then
                     if (cl%g(r) > 2.0_wp*(ls%odo - cl%u(r)) + 2.0_wp*ls%lead) then
-                        if (found(k) .or. rseg(k) /= 0 .or. deep(k) /= 0.0_wp) call no_contact(k)
+                        if (found(k) .or. rseg(k) /= 0 .or. deep(o) /= 0.0_wp) call no_contact(k, o)
                         cycle
                     end if
                 end if
@@ -1514,17 +1615,17 @@ contains
                     end if
                 end if
                 if (clean) then
-                    clean = near_clear(k, r, nc)
+                    clean = near_clear(k, r, o, nc)
                     nn = nn + nc
                     if (clean) then
-                        call no_contact(k)
+                        call no_contact(k, o)
                         cycle
                     end if
                     nf = nf + nc
                 end if
             end if
-            call find_contact(s, lists, ls, k, cseg(k), fprev(:, k), aeff(k) + allow(k), sw, hk, xs, rseg(k), rdep(k), &
-                              allow(k), deep(k), held(k))
+            call find_contact(s, lists, ls, k, cseg(o), fprev(:, o), aeff(o) + allow(o), sw, hk, xs, rseg(k), rdep(o), &
+                              allow(o), deep(o), held(o))
             hit(k) = kept(hk)
             found(k) = hk%found
         end do
@@ -1547,8 +1648,8 @@ contains
 
         !> Slave k's near set (clearance_t) holds no contact: none, or the
         !> check of its segments alone finds none and refuses none.
-        logical function near_clear(k, r, checked)
-            integer, intent(in) :: k, r   !< the slave, its clearance row
+        logical function near_clear(k, r, o, checked)
+            integer, intent(in) :: k, r, o   !< the slave, its clearance row, its row (orow)
             integer, intent(out) :: checked   !< 1 if there was a near set to check, else 0
             type(hit_t) :: h
             integer :: rs
@@ -1558,16 +1659,16 @@ contains
             checked = 0
             if (cl%nnear(r) == 0) return
             checked = 1
-            call find_contact(s, lists, ls, k, 0, fprev(:, k), aeff(k) + allow(k), sw, h, xs, rs, rd, allow(k), dp_, held(k), &
+            call find_contact(s, lists, ls, k, 0, fprev(:, o), aeff(o) + allow(o), sw, h, xs, rs, rd, allow(o), dp_, held(o), &
                               near=cl%near(1:cl%nnear(r), r), near_effect=effect)
             near_clear = .not. effect
         end function near_clear
 
         !> (A slave already without contact keeps its record untouched.)
-        subroutine no_contact(k)
-            integer, intent(in) :: k
+        subroutine no_contact(k, o)
+            integer, intent(in) :: k, o   !< the slave, its row (orow)
             if (rseg(k) /= 0) rseg(k) = 0
-            if (deep(k) /= 0.0_wp) deep(k) = 0
+            if (deep(o) /= 0.0_wp) deep(o) = 0
             if (.not. found(k)) return
             hit(k)%found = .false.
             hit(k)%level = 4
@@ -1592,7 +1693,7 @@ contains
         !> Lagrangian projection: how the rigid bodies answer an impulse
         !> (where the model has any)
         type(body_response_t), intent(in), optional :: br
-        integer :: i, k, j, sn, m, q
+        integer :: i, k, j, sn, m, q, o
         real(wp) :: vrel(3), fs(3)
         real(dp) :: t0
         logical :: first, some
@@ -1646,9 +1747,14 @@ contains
                     sn = s%slave(k)
                     m = it%hit(k)%seg
                     fs = it%fpair(:, q)
-                    it%cseg(k) = m
-                    it%held(k) = m
-                    it%fprev(:, k) = fs
+                    ! (the slave's contact state where its rank's rows hold
+                    ! it: every slave's, or this rank's own)
+                    o = it%orow(k)
+                    if (o > 0) then
+                        it%cseg(o) = m
+                        it%held(o) = m
+                        it%fprev(:, o) = fs
+                    end if
                     ! (rcforc's sums: every pair)
                     it%fslave = it%fslave + fs
                     it%fmaster = it%fmaster - fs
@@ -1691,18 +1797,19 @@ contains
         type(interface_t), intent(inout) :: it
         type(surface_t), intent(in) :: s
         real(wp), intent(in) :: dt
-        integer :: i2, k
+        integer :: i2, k, o
         !$omp do schedule(dynamic, 64)
         do i2 = 1, size(it%mine)
             k = it%mine(i2)
-            if (it%cseg(k) == 0 .and. .not. it%found(k)) then
+            o = it%orow(k)
+            if (it%cseg(o) == 0 .and. .not. it%found(k)) then
                 ! no contact then or now: its state is already clear
                 if (it%evk(k) /= ev_none) it%evk(k) = ev_none
-                if (it%rseg(k) /= it%rlast(k)) call refusal(it, k)
+                if (it%rseg(k) /= it%rlast(o)) call refusal(it, k)
                 cycle
             end if
             call slave_force(it, s, k, dt)
-            if (it%evk(k) == ev_none .and. it%rseg(k) /= it%rlast(k)) call refusal(it, k)
+            if (it%evk(k) == ev_none .and. it%rseg(k) /= it%rlast(o)) call refusal(it, k)
         end do
         !$omp end do
     end subroutine slave_forces
@@ -1853,24 +1960,26 @@ contains
         type(surface_t), intent(in) :: s
         integer, intent(in) :: k
         real(wp), intent(in) :: dt
-        integer :: sn, m
+        integer :: sn, m, o
         real(wp) :: kpen, vrel(3), mm, meff, reach
         sn = s%slave(k)
+        ! (its row in the rank's slaves' contact state: orow)
+        o = it%orow(k)
         it%evk(k) = ev_none
         if (.not. it%hit(k)%found) then
-            if (it%cseg(k) /= 0) then
+            if (it%cseg(o) /= 0) then
                 ! lost: by separation, or released while deeper than the
                 ! node's relative motion could undo in one step
-                m = it%cseg(k)
+                m = it%cseg(o)
                 vrel = it%ls%vl(:, sn) - sum(it%ls%vl(:, s%seg(:, m)), 2)/4.0_wp
-                if (it%deep(k) > 0.0_wp) then
+                if (it%deep(o) > 0.0_wp) then
                     ! beyond PENMAX times the thickness: released, passes
                     it%evk(k) = ev_penmax
-                    it%evd(k) = it%deep(k)
+                    it%evd(k) = it%deep(o)
                     it%hit(k)%seg = m
-                else if (it%aeff(k) > 2.0_wp*dt*norm2(vrel) + 1.0e-3_wp*s%seg_t(m)) then
+                else if (it%aeff(o) > 2.0_wp*dt*norm2(vrel) + 1.0e-3_wp*s%seg_t(m)) then
                     it%evk(k) = ev_released
-                    it%evd(k) = it%aeff(k)
+                    it%evd(k) = it%aeff(o)
                     it%hit(k)%seg = m
                 end if
             end if
@@ -1882,11 +1991,11 @@ contains
         if (.not. it%started) then
             ! initial penetration: allowed, shrinking as the node moves out
             if (abs(it%hit(k)%a) > 0.0_wp) then
-                it%p0(k) = abs(it%hit(k)%a)
+                it%p0(o) = abs(it%hit(k)%a)
                 it%evk(k) = ev_initial
-                it%evd(k) = it%p0(k)
+                it%evd(k) = it%p0(o)
             end if
-        else if (it%cseg(k) /= m) then
+        else if (it%cseg(o) /= m) then
             ! a new contact deeper than the node can have gone in one step,
             ! or a move to a segment where the depth jumps beyond the depth
             ! last cycle plus the step's approach: the node did not come
@@ -1910,39 +2019,39 @@ contains
             ! the node did not come in).
             reach = 2.0_wp*abs(dot_product(vrel, it%hit(k)%nhat))*dt + 1.0e-3_wp*it%hit(k)%tm
             if (it%hit(k)%within) reach = 0
-            if (it%cseg(k) /= 0) reach = reach + it%aeff(k) + it%p0(k)
+            if (it%cseg(o) /= 0) reach = reach + it%aeff(o) + it%p0(o)
             if (abs(it%hit(k)%a) > reach) then
                 ! (back under the segment it held last: named apart, the
                 ! local search let it through without the came-in test)
                 if (it%hit(k)%within) then
                     it%evk(k) = ev_within
                 else
-                    it%evk(k) = merge(ev_back, ev_late, m == it%held(k))
+                    it%evk(k) = merge(ev_back, ev_late, m == it%held(o))
                 end if
                 it%evd(k) = abs(it%hit(k)%a) - reach
-                it%p0(k) = it%p0(k) + it%evd(k)
-            else if (it%cseg(k) /= 0 .and. .not. it%hit(k)%within) then
-                call hand_over(it%cseg(k))
+                it%p0(o) = it%p0(o) + it%evd(k)
+            else if (it%cseg(o) /= 0 .and. .not. it%hit(k)%within) then
+                call hand_over(it%cseg(o))
             end if
         end if
-        if (it%cseg(k) /= m .or. it%kp(k) <= 0.0_wp) then
+        if (it%cseg(o) /= m .or. it%kp(o) <= 0.0_wp) then
             kpen = slave_stiffness(s, it%ls%xl, sn, m, it%hit(k)%nhat*pdir(it%hit(k)%a))
-            it%kp(k) = kpen
+            it%kp(o) = kpen
         else
-            kpen = it%kp(k)
+            kpen = it%kp(o)
         end if
-        if (it%p0(k) > 0.0_wp) then
-            it%p0(k) = min(it%p0(k), abs(it%hit(k)%a))
-            it%hit(k)%a = sign(abs(it%hit(k)%a) - it%p0(k), it%hit(k)%a)
+        if (it%p0(o) > 0.0_wp) then
+            it%p0(o) = min(it%p0(o), abs(it%hit(k)%a))
+            it%hit(k)%a = sign(abs(it%hit(k)%a) - it%p0(o), it%hit(k)%a)
         end if
-        it%aeff(k) = abs(it%hit(k)%a)
+        it%aeff(o) = abs(it%hit(k)%a)
         mm = dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
         meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
         ! the spring swept over the step where it starts at the surface; one
         ! under an allowance starts at the allowed depth, which follows the
         ! node out (no force there either side of it): taken at x(n)
-        call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, k), it%fk(:, k), &
-                           swept=it%p0(k) <= 0.0_wp, start=.not. it%started)
+        call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, o), it%fk(:, k), &
+                           swept=it%p0(o) <= 0.0_wp, start=.not. it%started)
     contains
         !> A move from segment mo to this one: the spring goes on from the
         !> depth the old segment's spring would have at the node's place now
@@ -1961,14 +2070,14 @@ contains
             call segment_check(it%ls%xl(:, s%seg(:, mo)), s%seg_tn(:, mo), s%seg_kind(mo) == seg_shell, &
                                it%ls%xl(:, sn), 0.5_wp*s%node_t(sn), ho)
             pe = 0
-            if (ho%found) pe = max(0.0_wp, abs(ho%a) - it%p0(k))
+            if (ho%found) pe = max(0.0_wp, abs(ho%a) - it%p0(o))
             ! (round-off: a node handed to and fro between two segments at
             ! the same depth; within 1e-3 of the thickness, as the other
             ! rules take it, no allowance)
-            if (abs(it%hit(k)%a) - it%p0(k) > pe + 1.0e-3_wp*it%hit(k)%tm) then
+            if (abs(it%hit(k)%a) - it%p0(o) > pe + 1.0e-3_wp*it%hit(k)%tm) then
                 it%evk(k) = ev_handover
-                it%evd(k) = abs(it%hit(k)%a) - it%p0(k) - pe
-                it%p0(k) = abs(it%hit(k)%a) - pe
+                it%evd(k) = abs(it%hit(k)%a) - it%p0(o) - pe
+                it%p0(o) = abs(it%hit(k)%a) - pe
             end if
         end subroutine hand_over
     end subroutine slave_force
@@ -1978,22 +2087,26 @@ contains
     pure subroutine refusal(it, k)
         type(interface_t), intent(inout) :: it
         integer, intent(in) :: k
-        it%rlast(k) = it%rseg(k)
+        integer :: o
+        o = it%orow(k)
+        it%rlast(o) = it%rseg(k)
         if (it%rseg(k) == 0) return
         it%evk(k) = ev_refused
-        it%evd(k) = it%rdep(k)
+        it%evd(k) = it%rdep(o)
     end subroutine refusal
 
     !> Slave k out of contact: its contact state cleared.
     pure subroutine forget_slave(it, k)
         type(interface_t), intent(inout) :: it
         integer, intent(in) :: k
-        it%cseg(k) = 0
-        it%fprev(:, k) = 0
-        it%ft(:, k) = 0
-        it%p0(k) = 0
-        it%kp(k) = 0
-        it%aeff(k) = 0
+        integer :: o
+        o = it%orow(k)
+        it%cseg(o) = 0
+        it%fprev(:, o) = 0
+        it%ft(:, o) = 0
+        it%p0(o) = 0
+        it%kp(o) = 0
+        it%aeff(o) = 0
     end subroutine forget_slave
 
     !> Book slave k's event of this cycle: counted, the deepest kept, named
@@ -2185,9 +2298,18 @@ contains
         type(contacts_t), intent(inout) :: ct
         logical, intent(in), optional :: counters_only
         integer :: i
-        logical :: whole
+        logical :: whole, rows
         whole = .true.
         if (present(counters_only)) whole = .not. counters_only
+        ! (the slaves' contact state every slave's again, each from its
+        ! rank, where the ranks held their own alone)
+        rows = .false.
+        if (whole) then
+            do i = 1, ct%n
+                rows = rows .or. ct%ifc(i)%own_rows
+            end do
+            call contact_slave_rows(ct, .false.)
+        end if
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (whole) call slave_state(it)
@@ -2215,6 +2337,12 @@ contains
                 if (.not. it%owned(k)) call forget_slave(it, k)
             end do
             call comm_sum_int(it%cseg, ns)
+            if (rows) then
+                ! (every rank had kept every slave's held segment, each pair
+                ! listed on every rank; held in rows, each rank its own)
+                where (.not. it%owned) it%held = 0
+                call comm_sum_int(it%held, ns)
+            end if
             where (.not. it%owned) it%rlast = 0
             call comm_sum_int(it%rlast, ns)
             call comm_sum_wp(it%fprev, 3*ns)
@@ -2297,6 +2425,9 @@ contains
         type(contacts_t), intent(inout) :: ct
         integer, intent(in) :: rank
         integer :: i
+        ! (each rank's own slaves' work: their contact state in its rows
+        ! again, contact_slave_rows)
+        if (ct%own_work) call contact_slave_rows(ct, .true.)
         if (rank == 0) return
         do i = 1, ct%n
             associate (it => ct%ifc(i))
@@ -2338,7 +2469,11 @@ contains
                     vrel0 = it%ls%vl(:, s%slave(k)) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
                     a = it%slave_lp(k)
                     b = it%seg_lp(m)
-                    al = merge(2, 1, it%p0(k) > 0.0_wp)
+                    ! (an allowance: the slave's rank's rows hold it)
+                    al = 1
+                    if (it%orow(k) > 0) then
+                        if (it%p0(it%orow(k)) > 0.0_wp) al = 2
+                    end if
                     it%pair_imp(a, b, al) = it%pair_imp(a, b, al) + dt_avg*norm2(real(it%fpair(:, q), dp))
                     it%pair_work(a, b, al) = it%pair_work(a, b, al) + &
                         0.5_dp*dt_avg*(fv + dot_product(real(it%fpair(:, q), dp), real(vrel0, dp)))

@@ -35,7 +35,8 @@ module xd_contact_initial_penetration
     use xd_core_errors, only: error_t
     use xd_core_strings, only: itoa
     use xd_model, only: model_t
-    use xd_contact_contact, only: contacts_t, build_contacts, contact_masses, contact_search, contact_local_search
+    use xd_contact_contact, only: contacts_t, build_contacts, contact_masses, contact_search, contact_local_search, &
+                                  contact_slave_rows
     use xd_contact_enforcement, only: pdir
     use xd_core_comm, only: comm_max, comm_min_int, comm_sum_wp, comm_sum_int, comm_gather_text
     implicit none
@@ -68,9 +69,12 @@ contains
         integer, intent(out) :: nmoved_all   !< nodes moved (their coordinates changed)
         type(error_t), allocatable, intent(out) :: error
         type(contacts_t) :: ct
-        real(wp), allocatable :: x(:, :), dx(:, :), xnew(:, :), depth(:), depth1(:)
+        real(wp), allocatable :: x(:, :), dx(:, :), xm(:, :), depth(:), depth1(:)
         real(dp), allocatable :: red(:)
-        integer, allocatable :: rule(:), by(:), by1(:), seg_of(:, :), seg_new(:, :), nnamed(:), nlisted(:), won(:)
+        integer, allocatable :: rule(:), by(:), by1(:), seg_of(:, :), nnamed(:), nlisted(:), won(:)
+        !> MPI: this pass's moving nodes (the same list on every rank) and
+        !> each node's place in it (0: not moving)
+        integer, allocatable :: mv(:), pos(:)
         real(wp), allocatable :: deepest(:)
         logical, allocatable :: moving(:)
         !> per interface: the lines this rank names at the first pass (its
@@ -92,7 +96,7 @@ contains
         x = model%x0(:, 1:n)
         allocate (dx(3, n), depth(n), depth1(n), by(n), by1(n), seg_of(4, n), moving(n))
         allocate (nnamed(model%ncontact), nlisted(model%ncontact), deepest(model%ncontact), named(model%ncontact))
-        if (nranks > 1) allocate (xnew(3, n), red(n), won(n), seg_new(4, n))
+        if (nranks > 1) allocate (red(n), won(n), pos(n))
         ! by1: the interface that first moved a node (0: never moved)
         by1 = 0
         do i = 1, size(named)
@@ -104,7 +108,11 @@ contains
             call build_contacts(model, x, ct, error)
             if (allocated(error)) return
             call contact_masses(ct, mass)
-            if (nranks > 1) call own_block(ct, rank, nranks)
+            if (nranks > 1) then
+                call own_block(ct, rank, nranks)
+                ! (the slaves' contact state in rows of this rank's block)
+                call contact_slave_rows(ct, .true.)
+            end if
             call contact_search(ct, x, model%node_id, 0, 0.0_dp)
             call contact_local_search(ct, x, v, 0.0_dp, 0.0_wp)
             ! this pass's moves: each penetrating slave's depth and return
@@ -165,7 +173,10 @@ contains
             ! the moves: half the depth where the segment moves too (each
             ! node by the rank whose slave it is; the others' coordinates
             ! taken from it after)
-            if (nranks > 1) xnew = 0
+            if (nranks > 1) then
+                allocate (xm(3, max(size(mv), 1)))
+                xm = 0
+            end if
             do i = 1, ct%n
                 associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                     do k = 1, s%nslave
@@ -180,7 +191,7 @@ contains
                         end do
                         ! (a hair beyond the surface: round-off leaves none)
                         if (nranks > 1) then
-                            xnew(:, nd) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(k)%tm)*dx(:, nd)
+                            xm(:, pos(nd)) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(k)%tm)*dx(:, nd)
                         else
                             x(:, nd) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(k)%tm)*dx(:, nd)
                         end if
@@ -189,10 +200,11 @@ contains
             end do
             if (nranks > 1) then
                 ! (one rank gives each moved node's place, the others zero)
-                call comm_sum_wp(xnew, 3*n)
-                do nd = 1, n
-                    if (moving(nd)) x(:, nd) = xnew(:, nd)
+                call comm_sum_wp(xm, 3*size(mv))
+                do j = 1, size(mv)
+                    x(:, mv(j)) = xm(:, j)
                 end do
+                deallocate (xm)
             end if
             ! (every moving node was moved: its deepest contact's slave)
             do nd = 1, n
@@ -271,7 +283,9 @@ contains
         !> penetration over the interfaces (the lowest interface of those
         !> as deep), with that slave's return direction and segment.
         subroutine agree_moves()
-            integer :: nd
+            integer :: nd, j, nm
+            real(wp), allocatable :: pd(:, :)
+            integer, allocatable :: ps(:, :)
             red = real(depth, dp)
             call comm_max(red)
             do nd = 1, n
@@ -279,14 +293,31 @@ contains
                 if (by(nd) > 0 .and. real(depth(nd), dp) == red(nd)) won(nd) = by(nd)
             end do
             call comm_min_int(won)
-            seg_new = 0
+            ! the nodes this pass moves, alike on every rank; their return
+            ! directions and first segments from the rank whose slave each
+            ! is (the others give zero), packed
+            nm = 0
             do nd = 1, n
+                pos(nd) = 0
+                if (won(nd) == huge(1)) cycle
+                nm = nm + 1
+                pos(nd) = nm
+            end do
+            if (allocated(mv)) deallocate (mv)
+            allocate (mv(nm), pd(3, max(nm, 1)), ps(4, max(nm, 1)))
+            pd = 0
+            ps = 0
+            do nd = 1, n
+                j = pos(nd)
+                if (j == 0) cycle
+                mv(j) = nd
                 ! (a node is one slave of an interface, in one rank's block)
                 if (by(nd) > 0 .and. by(nd) == won(nd)) then
-                    if (by1(nd) == 0) seg_new(:, nd) = seg_of(:, nd)
-                else
-                    dx(:, nd) = 0
+                    pd(:, j) = dx(:, nd)
+                    if (by1(nd) == 0) ps(:, j) = seg_of(:, nd)
                 end if
+            end do
+            do nd = 1, n
                 if (won(nd) == huge(1)) then
                     by(nd) = 0
                     depth(nd) = 0
@@ -295,10 +326,12 @@ contains
                     depth(nd) = real(red(nd), wp)
                 end if
             end do
-            call comm_sum_wp(dx, 3*n)
-            call comm_sum_int(seg_new, 4*n)
-            do nd = 1, n
-                if (by(nd) > 0 .and. by1(nd) == 0) seg_of(:, nd) = seg_new(:, nd)
+            call comm_sum_wp(pd, 3*nm)
+            call comm_sum_int(ps, 4*nm)
+            do j = 1, nm
+                nd = mv(j)
+                dx(:, nd) = pd(:, j)
+                if (by1(nd) == 0) seg_of(:, nd) = ps(:, j)
             end do
         end subroutine agree_moves
     end subroutine initial_penetrations

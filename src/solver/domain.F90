@@ -1021,8 +1021,8 @@ contains
                         end if
                     end if
                     do j = 1, 2
-                        g = it%held(k)
-                        if (j == 2) g = it%cseg(k)
+                        g = it%held(it%orow(k))
+                        if (j == 2) g = it%cseg(it%orow(k))
                         if (g <= 0) cycle
                         do b = 1, 4
                             pm(s%seg(b, g)) = .true.
