@@ -34,7 +34,7 @@ module xd_contact_contact
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: itoa
     use xd_core_threads, only: threaded
-    use xd_core_memory, only: grow, nbytes
+    use xd_core_memory, only: grow, nbytes, take, untake
     use xd_model, only: model_t, contact_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, mat_rigid, &
                         can_erode, ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_auto, search_adaptive, find_box, in_box, box_t
@@ -277,80 +277,60 @@ contains
     subroutine contact_slave_rows(ct, own)
         type(contacts_t), intent(inout) :: ct
         logical, intent(in) :: own
-        integer, allocatable :: row(:)
+        integer, allocatable :: mine(:)
         integer :: i, k, n, ns
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (.not. allocated(it%orow)) cycle
                 if (own .eqv. it%own_rows) cycle
                 ns = size(it%orow)
-                allocate (row(ns))
+                ! the rank's own slaves, ascending: the rows (the arrays go
+                ! from every slave's to these and back)
+                n = 0
+                do k = 1, ns
+                    if (it%owned(k)) n = n + 1
+                end do
+                allocate (mine(n))
+                n = 0
+                do k = 1, ns
+                    if (.not. it%owned(k)) cycle
+                    n = n + 1
+                    mine(n) = k
+                end do
                 if (own) then
-                    n = 0
-                    do k = 1, ns
-                        row(k) = 0
-                        if (.not. it%owned(k)) cycle
-                        n = n + 1
-                        row(k) = n
+                    call take(it%cseg, mine)
+                    call take(it%held, mine)
+                    call take(it%rlast, mine)
+                    call take(it%p0, mine)
+                    call take(it%kp, mine)
+                    call take(it%aeff, mine)
+                    call take(it%rdep, mine)
+                    call take(it%deep, mine)
+                    call take(it%fprev, mine)
+                    call take(it%ft, mine)
+                    it%orow = 0
+                    do k = 1, n
+                        it%orow(mine(k)) = k
                     end do
                 else
+                    call untake(it%cseg, mine, ns)
+                    call untake(it%held, mine, ns)
+                    call untake(it%rlast, mine, ns)
+                    call untake(it%p0, mine, ns)
+                    call untake(it%kp, mine, ns)
+                    call untake(it%aeff, mine, ns)
+                    call untake(it%rdep, mine, ns)
+                    call untake(it%deep, mine, ns)
+                    call untake(it%fprev, mine, ns)
+                    call untake(it%ft, mine, ns)
                     do k = 1, ns
-                        row(k) = k
+                        it%orow(k) = k
                     end do
-                    n = ns
                 end if
-                ! (from the rows of it%orow to those of row)
-                call move_i(it%orow, it%cseg)
-                call move_i(it%orow, it%held)
-                call move_i(it%orow, it%rlast)
-                call move_w(it%orow, it%p0)
-                call move_w(it%orow, it%kp)
-                call move_w(it%orow, it%aeff)
-                call move_w(it%orow, it%rdep)
-                call move_w(it%orow, it%deep)
-                call move_w3(it%orow, it%fprev)
-                call move_w3(it%orow, it%ft)
-                call move_alloc(row, it%orow)
+                deallocate (mine)
                 it%own_rows = own
             end associate
         end do
-    contains
-        subroutine move_i(old, a)
-            integer, intent(in) :: old(:)   !< the rows a is in now
-            integer, allocatable, intent(inout) :: a(:)
-            integer, allocatable :: b(:)
-            integer :: k
-            allocate (b(max(n, 1)))
-            b = 0
-            do k = 1, ns
-                if (row(k) > 0 .and. old(k) > 0) b(row(k)) = a(old(k))
-            end do
-            call move_alloc(b, a)
-        end subroutine move_i
-        subroutine move_w(old, a)
-            integer, intent(in) :: old(:)
-            real(wp), allocatable, intent(inout) :: a(:)
-            real(wp), allocatable :: b(:)
-            integer :: k
-            allocate (b(max(n, 1)))
-            b = 0
-            do k = 1, ns
-                if (row(k) > 0 .and. old(k) > 0) b(row(k)) = a(old(k))
-            end do
-            call move_alloc(b, a)
-        end subroutine move_w
-        subroutine move_w3(old, a)
-            integer, intent(in) :: old(:)
-            real(wp), allocatable, intent(inout) :: a(:, :)
-            real(wp), allocatable :: b(:, :)
-            integer :: k
-            allocate (b(3, max(n, 1)))
-            b = 0
-            do k = 1, ns
-                if (row(k) > 0 .and. old(k) > 0) b(:, row(k)) = a(:, old(k))
-            end do
-            call move_alloc(b, a)
-        end subroutine move_w3
     end subroutine contact_slave_rows
 
     !> Once the contact is set up, where nothing rebuilds its surfaces (no
@@ -2298,18 +2278,12 @@ contains
         type(contacts_t), intent(inout) :: ct
         logical, intent(in), optional :: counters_only
         integer :: i
-        logical :: whole, rows
+        logical :: whole
         whole = .true.
         if (present(counters_only)) whole = .not. counters_only
         ! (the slaves' contact state every slave's again, each from its
         ! rank, where the ranks held their own alone)
-        rows = .false.
-        if (whole) then
-            do i = 1, ct%n
-                rows = rows .or. ct%ifc(i)%own_rows
-            end do
-            call contact_slave_rows(ct, .false.)
-        end if
+        if (whole) call contact_slave_rows(ct, .false.)
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (whole) call slave_state(it)
@@ -2337,12 +2311,10 @@ contains
                 if (.not. it%owned(k)) call forget_slave(it, k)
             end do
             call comm_sum_int(it%cseg, ns)
-            if (rows) then
-                ! (every rank had kept every slave's held segment, each pair
-                ! listed on every rank; held in rows, each rank its own)
-                where (.not. it%owned) it%held = 0
-                call comm_sum_int(it%held, ns)
-            end if
+            ! (held from the slave's rank, as cseg: where every pair went to
+            ! every rank each kept it alike; in rows each its own)
+            where (.not. it%owned) it%held = 0
+            call comm_sum_int(it%held, ns)
             where (.not. it%owned) it%rlast = 0
             call comm_sum_int(it%rlast, ns)
             call comm_sum_wp(it%fprev, 3*ns)

@@ -136,19 +136,13 @@ contains
     !> (d3hsp's summary reads them).
     subroutine release_faces(f)
         type(faces_t), intent(inout) :: f
-        if (allocated(f%node)) deallocate (f%node)
-        if (allocated(f%kind)) deallocate (f%kind)
-        if (allocated(f%part)) deallocate (f%part)
-        if (allocated(f%shell)) deallocate (f%shell)
-        if (allocated(f%hex)) deallocate (f%hex)
-        if (allocated(f%thick)) deallocate (f%thick)
-        if (allocated(f%kgeo)) deallocate (f%kgeo)
-        if (allocated(f%area)) deallocate (f%area)
-        if (allocated(f%body)) deallocate (f%body)
-        if (allocated(f%rigid)) deallocate (f%rigid)
-        if (allocated(f%across)) deallocate (f%across)
-        if (allocated(f%node_thick)) deallocate (f%node_thick)
-        if (allocated(f%node_cap)) deallocate (f%node_cap)
+        type(faces_t) :: counts
+        counts%n = f%n
+        counts%nbody = f%nbody
+        counts%ninterior = f%ninterior
+        counts%nlatent = f%nlatent
+        ! (every array deallocated by the assignment)
+        f = counts
     end subroutine release_faces
 
     !> A surface's set-up values that only surface_activate reads again

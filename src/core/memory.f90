@@ -8,7 +8,7 @@ module xd_core_memory
     use, intrinsic :: iso_c_binding, only: c_int, c_size_t
     implicit none
     private
-    public :: alloc, alloc_dp, grow, fit, take, nbytes, peak_memory_kb, resident_memory_kb, release_free_memory
+    public :: alloc, alloc_dp, grow, fit, take, untake, nbytes, peak_memory_kb, resident_memory_kb, release_free_memory
 
     interface alloc
         module procedure alloc_r1, alloc_r2, alloc_r3, alloc_i1, alloc_i2
@@ -31,6 +31,12 @@ module xd_core_memory
     interface take
         module procedure take_r32, take_r64, take_r2, take_i1, take_int8, take_log
     end interface take
+
+    !> take undone: a(i) back to entry idx(i) of an array of n, the
+    !> others zero.
+    interface untake
+        module procedure untake_r32, untake_r64, untake_r2, untake_i1
+    end interface untake
 
     !> The bytes an allocatable array holds (0 unallocated), any rank.
     interface nbytes
@@ -203,6 +209,58 @@ contains
         tmp = a(:, 1:n)
         call move_alloc(tmp, a)
     end subroutine fit_i2
+
+    subroutine untake_r32(a, idx, n)
+        real(real32), allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: idx(:), n
+        real(real32), allocatable :: b(:)
+        integer :: i
+        allocate (b(n))
+        b = 0
+        do i = 1, size(idx)
+            b(idx(i)) = a(i)
+        end do
+        call move_alloc(b, a)
+    end subroutine untake_r32
+
+    subroutine untake_r64(a, idx, n)
+        real(real64), allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: idx(:), n
+        real(real64), allocatable :: b(:)
+        integer :: i
+        allocate (b(n))
+        b = 0
+        do i = 1, size(idx)
+            b(idx(i)) = a(i)
+        end do
+        call move_alloc(b, a)
+    end subroutine untake_r64
+
+    subroutine untake_r2(a, idx, n)
+        real(wp), allocatable, intent(inout) :: a(:, :)
+        integer, intent(in) :: idx(:), n
+        real(wp), allocatable :: b(:, :)
+        integer :: i
+        allocate (b(size(a, 1), n))
+        b = 0
+        do i = 1, size(idx)
+            b(:, idx(i)) = a(:, i)
+        end do
+        call move_alloc(b, a)
+    end subroutine untake_r2
+
+    subroutine untake_i1(a, idx, n)
+        integer, allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: idx(:), n
+        integer, allocatable :: b(:)
+        integer :: i
+        allocate (b(n))
+        b = 0
+        do i = 1, size(idx)
+            b(idx(i)) = a(i)
+        end do
+        call move_alloc(b, a)
+    end subroutine untake_i1
 
     subroutine take_r32(a, idx)
         real(real32), allocatable, intent(inout) :: a(:)
