@@ -53,7 +53,8 @@ module xd_contact_contact
     use xd_contact_edge_contact, only: edges_t, build_edges, edge_search, edge_forces, edge_unknown, edge_initial
     !$ use omp_lib, only: omp_get_wtime
     use xd_core_sorting, only: where_true, sort_index
-    use xd_core_comm, only: comm_gather_records, comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max
+    use xd_core_comm, only: comm_gather_records, comm_send_records, comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, &
+                            comm_max
     implicit none
     private
     public :: contact_bytes
@@ -264,6 +265,19 @@ module xd_contact_contact
         real(dp), allocatable :: node_h0(:)
         integer :: nranks = 1
         real(dp) :: wall_gather = 0           !< seconds gathering the ranks' contacts
+        !> owned nodes with contact ghosts: every model node's integrating
+        !> rank (the domain's arank). On a cycle where no output reads every
+        !> pair, a contact found goes only to the ranks that integrate its
+        !> slave or its segment's nodes (send_contacts); an event goes to
+        !> every rank, which books every event alike. Unallocated: every
+        !> contact to every rank, each cycle.
+        integer, allocatable :: rank_of(:)
+        integer :: rank = 0
+        !> the contacts' exchange: records this rank sent to other ranks
+        !> (a record to each rank it went to), on cycles sent to their
+        !> nodes' ranks and on cycles gathered to every rank
+        integer(i8) :: sent_p2p = 0, sent_all = 0
+        integer(i8) :: ncyc_p2p = 0, ncyc_all = 0
     end type contacts_t
 
 contains
@@ -1659,7 +1673,7 @@ contains
     !> Step 4: penalty forces of the contacts found, added to f on the slave
     !> and (by the shape functions) the master nodes in slave order, so the
     !> sums do not depend on threads; the first half of their work.
-    subroutine contact_enforce(ct, f, dt, dt_avg, mass, dofs, time, outputs, br)
+    subroutine contact_enforce(ct, f, dt, dt_avg, mass, dofs, time, outputs, sums, br)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(inout) :: f(:, :)
         real(wp), intent(in) :: dt, dt_avg
@@ -1670,6 +1684,10 @@ contains
         !> pair's applied (else, with ct%moves, those of other ranks' slaves
         !> away from this rank's nodes are not)
         logical, intent(in) :: outputs
+        !> rcforc reads this cycle's sums over every pair (it%fslave ...):
+        !> every rank takes every contact found (else, with ct%rank_of, each
+        !> contact only goes to its nodes' ranks)
+        logical, intent(in) :: sums
         !> Lagrangian projection: how the rigid bodies answer an impulse
         !> (where the model has any)
         type(body_response_t), intent(in), optional :: br
@@ -1712,7 +1730,7 @@ contains
                 ! MPI: the contacts the other ranks' slaves found
                 if (ct%distributed) then
                     t0 = wtime()
-                    call gather_contacts(it, ct%nranks)
+                    call gather_contacts(it, ct, allocated(ct%rank_of) .and. .not. (outputs .or. sums .or. ct%lagrange))
                     ct%wall_gather = ct%wall_gather + (wtime() - t0)
                 end if
                 call list_pairs(it, s%nslave, time)
@@ -2197,9 +2215,12 @@ contains
     !> MPI: every rank's own slaves' contacts of this cycle (what the pair
     !> list, the nodal sums and the work need), so that every rank holds the
     !> hits and forces of all slaves; records in slave order per rank.
-    subroutine gather_contacts(it, nranks)
+    subroutine gather_contacts(it, ct, p2p)
         type(interface_t), intent(inout) :: it
-        integer, intent(in) :: nranks
+        type(contacts_t), intent(inout) :: ct
+        !> each contact found only to the ranks that integrate its nodes
+        !> (an event to every rank); else every contact to every rank
+        logical, intent(in) :: p2p
         real(dp), allocatable :: mine(:, :), all(:, :)
         integer :: i, k, n
         ! (the compact found, not hit(k)%found: each slave's record is a
@@ -2225,7 +2246,14 @@ contains
                               real(it%evk(k), dp), real(it%evd(k), dp), real(it%rseg(k), dp), real(h%gap, dp)]
             end associate
         end do
-        call comm_gather_records(mine, nranks, all)
+        if (p2p) then
+            call send_contacts(it, ct, mine, all)
+            ct%ncyc_p2p = ct%ncyc_p2p + 1
+        else
+            call comm_gather_records(mine, ct%nranks, all)
+            ct%sent_all = ct%sent_all + int(size(mine, 2), i8)*(ct%nranks - 1)
+            ct%ncyc_all = ct%ncyc_all + 1
+        end if
         ! the other ranks' slaves back to no contact: those the last
         ! gathering set (only it sets them), every one the first time (a
         ! pass over every slave's record each cycle took about 0.3 s of
@@ -2267,6 +2295,70 @@ contains
             it%evk(q) = ev_none
         end subroutine no_remote
     end subroutine gather_contacts
+
+    !> The records of this rank's slaves' contacts (gather_contacts' mine,
+    !> a column each: slave, segment, ..., found, event) to the ranks that
+    !> need them: a contact found to the ranks that integrate its slave or
+    !> a node of its segment (ct%rank_of; they alone add its forces to a
+    !> node whose velocity they update), a record with an event to every
+    !> rank (each books every event, and counts them alike); what the
+    !> other ranks sent this one in all. Each slave has one rank, so the
+    !> records land in the slaves' places whatever the order they arrive
+    !> in, and every node's sum still takes its pairs in slave order.
+    subroutine send_contacts(it, ct, mine, all)
+        type(interface_t), intent(in) :: it
+        type(contacts_t), intent(inout) :: ct
+        real(dp), intent(in) :: mine(:, :)
+        real(dp), allocatable, intent(out) :: all(:, :)
+        real(dp), allocatable :: send(:, :)
+        integer, allocatable :: to(:, :), nto(:), scnt(:), at(:)
+        integer :: i, j, r, m, k, nr
+        nr = ct%nranks
+        ! (each record's ranks: at most its five nodes', or every rank)
+        allocate (to(max(5, nr), size(mine, 2)), nto(size(mine, 2)), scnt(nr), at(nr))
+        scnt = 0
+        do i = 1, size(mine, 2)
+            nto(i) = 0
+            if (nint(mine(16, i)) /= ev_none .or. mine(15, i) < 0.5_dp) then
+                do r = 0, nr - 1
+                    call add(r)
+                end do
+            else
+                k = nint(mine(1, i))
+                m = nint(mine(2, i))
+                associate (s => it%surf)
+                    call add(ct%rank_of(s%node(s%slave(k))))
+                    do j = 1, seg_nodes(s%seg(:, m))
+                        call add(ct%rank_of(s%node(s%seg(j, m))))
+                    end do
+                end associate
+            end if
+        end do
+        at(1) = 0
+        do r = 2, nr
+            at(r) = at(r - 1) + scnt(r - 1)
+        end do
+        allocate (send(size(mine, 1), sum(scnt)))
+        do i = 1, size(mine, 2)
+            do j = 1, nto(i)
+                r = to(j, i) + 1
+                at(r) = at(r) + 1
+                send(:, at(r)) = mine(:, i)
+            end do
+        end do
+        ct%sent_p2p = ct%sent_p2p + sum(int(scnt, i8))
+        call comm_send_records(send, scnt, all)
+    contains
+        !> rank rr (0-based) takes record i, once; not this rank
+        subroutine add(rr)
+            integer, intent(in) :: rr
+            if (rr == ct%rank) return
+            if (any(to(1:nto(i), i) == rr)) return
+            nto(i) = nto(i) + 1
+            to(nto(i), i) = rr
+            scnt(rr + 1) = scnt(rr + 1) + 1
+        end subroutine add
+    end subroutine send_contacts
 
     !> MPI, before a restart dump: every slave's state and master node list
     !> from its rank, and the search counters summed, on every rank (the

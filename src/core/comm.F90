@@ -9,7 +9,8 @@
 module xd_core_comm
     use mpi_f08, only: MPI_Initialized, MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, &
                        MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_INTEGER8, MPI_Datatype, MPI_Request, &
-                       MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Comm_size, MPI_Gatherv, MPI_MIN, MPI_CHARACTER
+                       MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Comm_size, MPI_Gatherv, MPI_MIN, MPI_CHARACTER, &
+                       MPI_Alltoall, MPI_Alltoallv
     use xd_core_sorting, only: sort_index
     use xd_kinds, only: wp, dp, i8
     implicit none
@@ -17,7 +18,7 @@ module xd_core_comm
     public :: comm_gather_wp, comm_gather_root_wp, comm_gather_root_dp, &
               comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max, comm_min_int, comm_gather_text, &
               comm_gather_small, &
-              comm_gather_records, comm_neighbours, comm_ordered_records
+              comm_gather_records, comm_neighbours, comm_ordered_records, comm_send_records
 
 contains
 
@@ -176,6 +177,34 @@ contains
         allocate (all(w, sum(cnt)/max(w, 1)))
         call MPI_Allgatherv(mine, n, MPI_DOUBLE_PRECISION, all, cnt, disp, MPI_DOUBLE_PRECISION, MPI_COMM_WORLD)
     end subroutine comm_gather_records
+
+    !> Records to chosen ranks: columns scnt(1) of send go to rank 0,
+    !> the next scnt(2) to rank 1, and so on (a rank sends itself none);
+    !> got(:, 1:total), allocated here, holds what every other rank sent
+    !> this one, rank by rank in rank order, each rank's in its order. The
+    !> counts go first (one collective), then the records (one more).
+    subroutine comm_send_records(send, scnt, got)
+        real(dp), contiguous, intent(in) :: send(:, :)
+        integer, contiguous, intent(in) :: scnt(:)
+        real(dp), allocatable, intent(out) :: got(:, :)
+        integer :: rcnt(size(scnt)), sd(size(scnt)), rd(size(scnt)), sn(size(scnt)), rn(size(scnt)), r, w
+        w = size(send, 1)
+        if (.not. up()) then
+            allocate (got(w, 0))
+            return
+        end if
+        call MPI_Alltoall(scnt, 1, MPI_INTEGER, rcnt, 1, MPI_INTEGER, MPI_COMM_WORLD)
+        sn = w*scnt
+        rn = w*rcnt
+        sd(1) = 0
+        rd(1) = 0
+        do r = 2, size(scnt)
+            sd(r) = sd(r - 1) + sn(r - 1)
+            rd(r) = rd(r - 1) + rn(r - 1)
+        end do
+        allocate (got(w, sum(rcnt)))
+        call MPI_Alltoallv(send, sn, sd, MPI_DOUBLE_PRECISION, got, rn, rd, MPI_DOUBLE_PRECISION, MPI_COMM_WORLD)
+    end subroutine comm_send_records
 
     !> Every rank's records (columns of mine, the first row each record's
     !> key, a whole number; no key on two ranks) in increasing key order:

@@ -40,7 +40,7 @@ program xdyna
     use xd_solver_restart, only: dump_meta_t, read_dump_meta, read_dump, build_tag, dump_format
     use xd_output_h5io, only: h5_no_exit_handler
     use xd_core_signals, only: signals_install, stop_signal, hold_for_signal
-    use xd_core_comm, only: comm_max, comm_gather_small
+    use xd_core_comm, only: comm_max, comm_gather_small, comm_sum_i8
     use xd_core_memory, only: peak_memory_kb, resident_memory_kb
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     use xd_solver_domain, only: domain_t, build_domain, domain_summary, decomp_rcb, decomp_metis, localize_element_state, &
@@ -430,6 +430,7 @@ program xdyna
                                   'and it applied '//ftoa(100*real(ct%npair_applied, dp)/real(max(ct%npair_all, 1_i8), dp))// &
                                   '% of the contact pairs its cycles listed (another rank''s slave''s pair only where it '// &
                                   'reaches a node this rank moves or an output reads the contact forces)')
+    if (dom%on .and. ct%n > 0) call exchange_line()
     if (dom%on .and. ct%n > 0) call gather_contact_state(ct, counters_only=.true.)
     if (ct%n > 0) call log_line(lg, contact_report(ct, max(abs(st%e_initial), res%e_scale)))
     if (ct%dump_unit /= 0) close (ct%dump_unit)
@@ -452,6 +453,24 @@ contains
     !> d3hsp's line on the peak resident memory (VmHWM) of each rank: the
     !> smallest and the largest, with their ranks (a collective: every rank
     !> calls it).
+    !> d3hsp: the contacts found, exchanged between the ranks each cycle
+    !> (records of 19 numbers, 152 bytes), summed over the ranks: to the
+    !> ranks that integrate a contact's nodes alone, or (where an output
+    !> read every pair: a state, nodout, rcforc; the Lagrangian
+    !> projection; no contact ghosts) to every other rank.
+    subroutine exchange_line()
+        integer(i8) :: t(4)
+        t = [ct%sent_p2p, ct%sent_all, ct%ncyc_p2p, ct%ncyc_all]
+        call comm_sum_i8(t)
+        ! (each rank counts the same exchanges)
+        t(3:4) = t(3:4)/env%nranks
+        call log_line(lg, ' contacts exchanged between the ranks (each interface''s, a cycle): '// &
+                      itoa(int(t(3)))//' times each contact found to its nodes'' ranks alone, '// &
+                      itoa(nint(152*real(t(1), dp)/max(t(3), 1_i8)))//' bytes sent a time over all ranks; '// &
+                      itoa(int(t(4)))//' times every contact to every rank (an output read every pair, or no '// &
+                      'contact ghosts), '//itoa(nint(152*real(t(2), dp)/max(t(4), 1_i8)))//' bytes a time')
+    end subroutine exchange_line
+
     subroutine memory_line()
         real(dp) :: rec(13), all(13, env%nranks)
         integer(i8) :: csplit(5)

@@ -1083,6 +1083,11 @@ contains
         ! (ct%moves); each surface's among them: the local search gathers
         ! those alone (after one whole gather)
         if (.not. allocated(ct%moves)) allocate (ct%moves(nn))
+        ! (and each contact found goes to its nodes' integrating ranks alone)
+        if (.not. allocated(ct%rank_of)) then
+            ct%rank_of = dom%arank
+            ct%rank = dom%rank
+        end if
         do k = 1, nn
             ct%moves(k) = mv(k)
         end do

@@ -647,7 +647,7 @@ contains
     !> (local search) and the penalty forces (or the Lagrangian projection,
     !> where a master on a rigid body answers as the body: br), added to
     !> st%f; the cycle's contact events logged.
-    subroutine contact_phase(model, dom, ct, rg, sh, st, lg, tm, dt_avg, outputs, br)
+    subroutine contact_phase(model, dom, ct, rg, sh, st, lg, tm, dt_avg, outputs, sums, br)
         type(model_t), intent(in) :: model
         type(domain_t), intent(in) :: dom
         type(contacts_t), intent(inout) :: ct
@@ -659,6 +659,8 @@ contains
         real(dp), intent(in) :: dt_avg
         !> the outputs read this cycle's contact forces per node
         logical, intent(in) :: outputs
+        !> rcforc reads this cycle's sums over every pair
+        logical, intent(in) :: sums
         type(body_response_t), intent(inout) :: br
         real(dp) :: t_gather
         call tm%start(ph_local)
@@ -682,9 +684,9 @@ contains
         if (ct%lagrange .and. rg%n > 0) then
             ! a master on a rigid body answers as the body
             call rigid_response(rg, st%nnode, br)
-            call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%dofs, st%time, outputs, br)
+            call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%dofs, st%time, outputs, sums, br)
         else
-            call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%dofs, st%time, outputs)
+            call contact_enforce(ct, st%f, st%dt, real(dt_avg, wp), st%mass, st%dofs, st%time, outputs, sums)
         end if
         call tm%stop(ph_enforce)
         if (dom%on) call tm%move(ph_enforce, ph_ghost, ct%wall_gather - t_gather)

@@ -17,7 +17,8 @@ module xd_solver_time_loop
     use xd_solver_state, only: state_t, allocate_force_arrays
     use xd_solver_assembly, only: assembly_t
     use xd_solver_energies, only: energies_t, prepare_energies, energy_bytes, masses_fixed
-    use xd_output_histories, only: histories_t, histories_due, nodout_due, write_histories, history_failure, flush_histories
+    use xd_output_histories, only: histories_t, histories_due, nodout_due, rcforc_due, write_histories, history_failure, &
+                                   flush_histories
     use xd_output_states, only: states_t, states_due, write_state, states_marks, states_failure
     use xd_output_histories, only: history_marks, merge_rotations
     use xd_solver_restart, only: dump_meta_t, write_dump
@@ -315,7 +316,8 @@ contains
             ! them: a state, nodout, or every database at once)
             if (ct%n > 0) call contact_phase(model, dom, ct, rg, sh, st, lg, tm, dt_avg, &
                                              nodout_due(hist, st%time, done .or. st%cycle == 0) .or. &
-                                             state_now(lp, states, st%time, done .or. st%cycle == 0), br)
+                                             state_now(lp, states, st%time, done .or. st%cycle == 0), &
+                                             rcforc_due(hist, st%time, done .or. st%cycle == 0), br)
             call tm%start(ph_integrate)
             call velocity_phase(dom, st, td, dt_avg, energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
