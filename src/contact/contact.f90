@@ -114,7 +114,7 @@ module xd_contact_contact
         real(wp), allocatable :: ft(:, :)     !< per slave: friction force carried over
         real(wp), allocatable :: p0(:)        !< per slave: initial penetration still allowed
         real(wp), allocatable :: kp(:)        !< per slave: the penalty stiffness of its current contact
-        real(wp), allocatable :: fk(:, :)     !< per slave: this cycle's contact force on it
+        real(wp), allocatable :: fk(:, :)     !< per slave (row hrow): this cycle's contact force on it
         real(wp), allocatable :: aeff(:)      !< per slave: its penetration last cycle, less the allowance p0
         logical :: started = .false.          !< the first active cycle has been seen
         integer :: ninit = 0                  !< initial penetrations found (allowed as IGNORE = 1)
@@ -150,7 +150,14 @@ module xd_contact_contact
         integer :: nev = 0                    !< events not yet written to the log
         type(contact_event_t), allocatable :: ev(:)
         integer :: npair = 0                  !< slaves in contact this cycle
-        type(pair_hit_t), allocatable :: hit(:)    !< their contacts, in slave order
+        !> their contacts, in rows: hrow(k) is slave k's (hit and fk)
+        type(pair_hit_t), allocatable :: hit(:)
+        !> per slave: its row in hit and fk. Every slave's own (k) where the
+        !> slaves' state is held whole; with the rank's own slaves' rows
+        !> (own_rows) their rows (orow), and after them rows for the other
+        !> ranks' slaves whose contacts the last exchange brought (0: none)
+        integer, allocatable :: hrow(:)
+        integer :: nhown = 0                  !< hit's rows of the rank's own slaves (own_rows)
         !> per slave: hit(k)%found, kept alongside in a compact array (the
         !> loops over every slave each cycle read this, not the records)
         logical, allocatable :: found(:)
@@ -322,10 +329,14 @@ contains
                     call take(it%deep, mine)
                     call take(it%fprev, mine)
                     call take(it%ft, mine)
+                    call take(it%fk, mine)
+                    call take_hits(it%hit, mine)
                     it%orow = 0
                     do k = 1, n
                         it%orow(mine(k)) = k
                     end do
+                    it%hrow = it%orow
+                    it%nhown = n
                 else
                     call untake(it%cseg, mine, ns)
                     call untake(it%held, mine, ns)
@@ -337,6 +348,15 @@ contains
                     call untake(it%deep, mine, ns)
                     call untake(it%fprev, mine, ns)
                     call untake(it%ft, mine, ns)
+                    ! (the other ranks' slaves' contacts the last exchange
+                    ! brought: none, until the next)
+                    call untake(it%fk, mine, ns)
+                    call untake_hits(it%hit, mine, ns)
+                    do k = 1, ns
+                        if (.not. it%owned(k)) it%found(k) = .false.
+                        it%hrow(k) = k
+                    end do
+                    it%nhown = ns
                     do k = 1, ns
                         it%orow(k) = k
                     end do
@@ -346,6 +366,53 @@ contains
             end associate
         end do
     end subroutine contact_slave_rows
+
+    !> The records of hit's rows 1 .. size(idx) back to the slaves idx (of
+    !> n slaves), every other slave's none (contact_slave_rows undone).
+    subroutine untake_hits(hit, idx, n)
+        type(pair_hit_t), allocatable, intent(inout) :: hit(:)
+        integer, intent(in) :: idx(:), n
+        type(pair_hit_t), allocatable :: whole(:)
+        integer :: i
+        ! (loops: no temporary of the slaves' size on the stack)
+        allocate (whole(n))
+        do i = 1, size(idx)
+            whole(idx(i)) = hit(i)
+        end do
+        call move_alloc(whole, hit)
+    end subroutine untake_hits
+
+    !> hit's records of the slaves idx alone, in rows 1 .. size(idx).
+    subroutine take_hits(hit, idx)
+        type(pair_hit_t), allocatable, intent(inout) :: hit(:)
+        integer, intent(in) :: idx(:)
+        type(pair_hit_t), allocatable :: rows(:)
+        integer :: i
+        allocate (rows(size(idx)))
+        do i = 1, size(idx)
+            rows(i) = hit(idx(i))
+        end do
+        call move_alloc(rows, hit)
+    end subroutine take_hits
+
+    !> hit's and fk's room for the rank's own slaves' rows and nrecv more
+    !> (the contacts of other ranks' slaves the exchange brought), the own
+    !> rows kept; grown by half again where short.
+    subroutine hit_room(it, nrecv)
+        type(interface_t), intent(inout) :: it
+        integer, intent(in) :: nrecv
+        type(pair_hit_t), allocatable :: h(:)
+        real(wp), allocatable :: fk(:, :)
+        integer :: n
+        if (size(it%hit) >= it%nhown + nrecv) return
+        n = max(it%nhown + nrecv, size(it%hit) + size(it%hit)/2)
+        allocate (h(n), fk(3, n))
+        h(1:it%nhown) = it%hit(1:it%nhown)
+        fk(:, 1:it%nhown) = it%fk(:, 1:it%nhown)
+        fk(:, it%nhown + 1:) = 0
+        call move_alloc(h, it%hit)
+        call move_alloc(fk, it%fk)
+    end subroutine hit_room
 
     !> Once the contact is set up, where nothing rebuilds its surfaces (no
     !> erosion, no latent faces, no shell thickness followed: `rebuilt`
@@ -1319,10 +1386,12 @@ contains
                 allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(min(n, 1024)), &
                           it%fpair(3, min(n, 1024)), it%p0(n))
                 allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n), it%evk(n), it%evd(n), it%ev(16), it%found(n))
-                allocate (it%rseg(n), it%rdep(n), it%rlast(n), it%deep(n), it%held(n), it%orow(n))
+                allocate (it%rseg(n), it%rdep(n), it%rlast(n), it%deep(n), it%held(n), it%orow(n), it%hrow(n))
                 do k = 1, n
                     it%orow(k) = k
+                    it%hrow(k) = k
                 end do
+                it%nhown = n
                 it%own_rows = .false.
                 it%held = 0
                 it%deep = 0
@@ -1620,7 +1689,7 @@ contains
             end if
             call find_contact(s, lists, ls, k, cseg(o), fprev(:, o), aeff(o) + allow(o), sw, hk, xs, rseg(k), rdep(o), &
                               allow(o), deep(o), held(o))
-            hit(k) = kept(hk)
+            hit(o) = kept(hk)
             found(k) = hk%found
         end do
         !$omp end parallel do
@@ -1664,8 +1733,8 @@ contains
             if (rseg(k) /= 0) rseg(k) = 0
             if (deep(o) /= 0.0_wp) deep(o) = 0
             if (.not. found(k)) return
-            hit(k)%found = .false.
-            hit(k)%level = 4
+            hit(o)%found = .false.
+            hit(o)%level = 4
             found(k) = .false.
         end subroutine no_contact
     end subroutine find_contacts
@@ -1691,7 +1760,7 @@ contains
         !> Lagrangian projection: how the rigid bodies answer an impulse
         !> (where the model has any)
         type(body_response_t), intent(in), optional :: br
-        integer :: i, k, j, sn, m, q, o
+        integer :: i, k, j, sn, m, q, o, h
         real(wp) :: vrel(3), fs(3)
         real(dp) :: t0
         logical :: first, some
@@ -1743,7 +1812,8 @@ contains
                 do q = 1, it%npair
                     k = it%pair(q)
                     sn = s%slave(k)
-                    m = it%hit(k)%seg
+                    h = it%hrow(k)
+                    m = it%hit(h)%seg
                     fs = it%fpair(:, q)
                     ! (the slave's contact state where its rank's rows hold
                     ! it: every slave's, or this rank's own)
@@ -1757,7 +1827,7 @@ contains
                     it%fslave = it%fslave + fs
                     it%fmaster = it%fmaster - fs
                     it%mslave = it%mslave + it%ms(sn)
-                    it%mmaster = it%mmaster + dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
+                    it%mmaster = it%mmaster + dot_product(it%hit(h)%nshape, it%ms(s%seg(:, m)))
                     if (allocated(ct%moves) .and. .not. outputs .and. .not. it%owned(k)) then
                         ! another rank's slave: its forces only where they
                         ! reach a node this rank moves (every such node's
@@ -1769,14 +1839,14 @@ contains
                         if (.not. some) cycle
                     end if
                     ct%npair_applied = ct%npair_applied + 1
-                    vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
+                    vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(h)%nshape)
                     f(:, s%node(sn)) = f(:, s%node(sn)) + fs
                     ct%fnode(:, s%node(sn)) = ct%fnode(:, s%node(sn)) + fs
                     ct%nftouch = ct%nftouch + 1
                     ct%ftouch(ct%nftouch) = s%node(sn)
                     do j = 1, seg_nodes(s%seg(:, m))
-                        f(:, s%node(s%seg(j, m))) = f(:, s%node(s%seg(j, m))) - it%hit(k)%nshape(j)*fs
-                        ct%fnode(:, s%node(s%seg(j, m))) = ct%fnode(:, s%node(s%seg(j, m))) - it%hit(k)%nshape(j)*fs
+                        f(:, s%node(s%seg(j, m))) = f(:, s%node(s%seg(j, m))) - it%hit(h)%nshape(j)*fs
+                        ct%fnode(:, s%node(s%seg(j, m))) = ct%fnode(:, s%node(s%seg(j, m))) - it%hit(h)%nshape(j)*fs
                         ct%nftouch = ct%nftouch + 1
                         ct%ftouch(ct%nftouch) = s%node(s%seg(j, m))
                     end do
@@ -1884,7 +1954,7 @@ contains
                 if (.not. it%found(k)) cycle
                 q = q + 1
                 it%pair(q) = k
-                it%fpair(:, q) = it%fk(:, k)
+                it%fpair(:, q) = it%fk(:, it%hrow(k))
             end do
         end do
         !$omp end do
@@ -1964,7 +2034,7 @@ contains
         ! (its row in the rank's slaves' contact state: orow)
         o = it%orow(k)
         it%evk(k) = ev_none
-        if (.not. it%hit(k)%found) then
+        if (.not. it%hit(o)%found) then
             if (it%cseg(o) /= 0) then
                 ! lost: by separation, or released while deeper than the
                 ! node's relative motion could undo in one step
@@ -1974,22 +2044,22 @@ contains
                     ! beyond PENMAX times the thickness: released, passes
                     it%evk(k) = ev_penmax
                     it%evd(k) = it%deep(o)
-                    it%hit(k)%seg = m
+                    it%hit(o)%seg = m
                 else if (it%aeff(o) > 2.0_wp*dt*norm2(vrel) + 1.0e-3_wp*s%seg_t(m)) then
                     it%evk(k) = ev_released
                     it%evd(k) = it%aeff(o)
-                    it%hit(k)%seg = m
+                    it%hit(o)%seg = m
                 end if
             end if
             call forget_slave(it, k)
             return
         end if
-        m = it%hit(k)%seg
-        vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
+        m = it%hit(o)%seg
+        vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(o)%nshape)
         if (.not. it%started) then
             ! initial penetration: allowed, shrinking as the node moves out
-            if (abs(it%hit(k)%a) > 0.0_wp) then
-                it%p0(o) = abs(it%hit(k)%a)
+            if (abs(it%hit(o)%a) > 0.0_wp) then
+                it%p0(o) = abs(it%hit(o)%a)
                 it%evk(k) = ev_initial
                 it%evd(k) = it%p0(o)
             end if
@@ -2015,40 +2085,40 @@ contains
             ! (within) is held where it is found: its compression stays
             ! last cycle's, without the step's approach (none to speak of:
             ! the node did not come in).
-            reach = 2.0_wp*abs(dot_product(vrel, it%hit(k)%nhat))*dt + 1.0e-3_wp*it%hit(k)%tm
-            if (it%hit(k)%within) reach = 0
+            reach = 2.0_wp*abs(dot_product(vrel, it%hit(o)%nhat))*dt + 1.0e-3_wp*it%hit(o)%tm
+            if (it%hit(o)%within) reach = 0
             if (it%cseg(o) /= 0) reach = reach + it%aeff(o) + it%p0(o)
-            if (abs(it%hit(k)%a) > reach) then
+            if (abs(it%hit(o)%a) > reach) then
                 ! (back under the segment it held last: named apart, the
                 ! local search let it through without the came-in test)
-                if (it%hit(k)%within) then
+                if (it%hit(o)%within) then
                     it%evk(k) = ev_within
                 else
                     it%evk(k) = merge(ev_back, ev_late, m == it%held(o))
                 end if
-                it%evd(k) = abs(it%hit(k)%a) - reach
+                it%evd(k) = abs(it%hit(o)%a) - reach
                 it%p0(o) = it%p0(o) + it%evd(k)
-            else if (it%cseg(o) /= 0 .and. .not. it%hit(k)%within) then
+            else if (it%cseg(o) /= 0 .and. .not. it%hit(o)%within) then
                 call hand_over(it%cseg(o))
             end if
         end if
         if (it%cseg(o) /= m .or. it%kp(o) <= 0.0_wp) then
-            kpen = slave_stiffness(s, it%ls%xl, sn, m, it%hit(k)%nhat*pdir(it%hit(k)%a))
+            kpen = slave_stiffness(s, it%ls%xl, sn, m, it%hit(o)%nhat*pdir(it%hit(o)%a))
             it%kp(o) = kpen
         else
             kpen = it%kp(o)
         end if
         if (it%p0(o) > 0.0_wp) then
-            it%p0(o) = min(it%p0(o), abs(it%hit(k)%a))
-            it%hit(k)%a = sign(abs(it%hit(k)%a) - it%p0(o), it%hit(k)%a)
+            it%p0(o) = min(it%p0(o), abs(it%hit(o)%a))
+            it%hit(o)%a = sign(abs(it%hit(o)%a) - it%p0(o), it%hit(o)%a)
         end if
-        it%aeff(o) = abs(it%hit(k)%a)
-        mm = dot_product(it%hit(k)%nshape, it%ms(s%seg(:, m)))
+        it%aeff(o) = abs(it%hit(o)%a)
+        mm = dot_product(it%hit(o)%nshape, it%ms(s%seg(:, m)))
         meff = it%ms(sn)*mm/max(it%ms(sn) + mm, tiny(1.0_wp))
         ! the spring swept over the step where it starts at the surface; one
         ! under an allowance starts at the allowed depth, which follows the
         ! node out (no force there either side of it): taken at x(n)
-        call penalty_force(it%hit(k), kpen, vrel, meff, it%fr, dt, it%ft(:, o), it%fk(:, k), &
+        call penalty_force(it%hit(o), kpen, vrel, meff, it%fr, dt, it%ft(:, o), it%fk(:, o), &
                            swept=it%p0(o) <= 0.0_wp, start=.not. it%started)
     contains
         !> A move from segment mo to this one: the spring goes on from the
@@ -2072,10 +2142,10 @@ contains
             ! (round-off: a node handed to and fro between two segments at
             ! the same depth; within 1e-3 of the thickness, as the other
             ! rules take it, no allowance)
-            if (abs(it%hit(k)%a) - it%p0(o) > pe + 1.0e-3_wp*it%hit(k)%tm) then
+            if (abs(it%hit(o)%a) - it%p0(o) > pe + 1.0e-3_wp*it%hit(o)%tm) then
                 it%evk(k) = ev_handover
-                it%evd(k) = abs(it%hit(k)%a) - it%p0(o) - pe
-                it%p0(o) = abs(it%hit(k)%a) - pe
+                it%evd(k) = abs(it%hit(o)%a) - it%p0(o) - pe
+                it%p0(o) = abs(it%hit(o)%a) - pe
             end if
         end subroutine hand_over
     end subroutine slave_force
@@ -2142,7 +2212,7 @@ contains
         end if
         it%nev = it%nev + 1
         it%ev(it%nev) = contact_event_t(kind=it%evk(k), slave=it%surf%slave(k), &
-                                        seg=merge(it%rseg(k), it%hit(k)%seg, it%evk(k) == ev_refused), &
+                                        seg=merge(it%rseg(k), it%hit(it%hrow(k))%seg, it%evk(k) == ev_refused), &
                                         time=time, depth=it%evd(k))
     contains
         !> One more event of a kind counted (n), its depth kept if the
@@ -2222,7 +2292,7 @@ contains
         !> (an event to every rank); else every contact to every rank
         logical, intent(in) :: p2p
         real(dp), allocatable :: mine(:, :), all(:, :)
-        integer :: i, k, n
+        integer :: i, k, n, r
         ! (the compact found, not hit(k)%found: each slave's record is a
         ! cache line of its own, and these loops run every cycle)
         n = 0
@@ -2240,9 +2310,9 @@ contains
             k = it%mine(i)
             if (.not. (it%found(k) .or. it%evk(k) /= ev_none)) cycle
             n = n + 1
-            associate (h => it%hit(k))
+            associate (h => it%hit(it%orow(k)))
                 mine(:, n) = [real(k, dp), real(h%seg, dp), real(h%kind, dp), real(h%a, dp), real(h%nshape, dp), &
-                              real(h%nhat, dp), real(it%fk(:, k), dp), merge(1.0_dp, 0.0_dp, h%found), &
+                              real(h%nhat, dp), real(it%fk(:, it%orow(k)), dp), merge(1.0_dp, 0.0_dp, h%found), &
                               real(it%evk(k), dp), real(it%evd(k), dp), real(it%rseg(k), dp), real(h%gap, dp)]
             end associate
         end do
@@ -2269,13 +2339,21 @@ contains
             end do
         end if
         it%got = pack(nint(all(1, :)), .not. it%owned(nint(all(1, :))))
+        ! (in the rank's own slaves' rows: a row each after the own ones)
+        if (it%own_rows) call hit_room(it, size(it%got))
+        r = it%nhown
         do i = 1, size(all, 2)
             k = nint(all(1, i))
             if (it%owned(k)) cycle
             it%evk(k) = nint(all(16, i))
             it%evd(k) = real(all(17, i), wp)
             it%rseg(k) = nint(all(18, i))
-            associate (h => it%hit(k))
+            if (it%own_rows) then
+                r = r + 1
+                it%hrow(k) = r
+            end if
+            it%hit(it%hrow(k)) = pair_hit_t()
+            associate (h => it%hit(it%hrow(k)))
                 h%found = all(15, i) > 0.5_dp
                 it%found(k) = h%found
                 h%seg = nint(all(2, i))
@@ -2283,14 +2361,18 @@ contains
                 h%a = real(all(4, i), wp)
                 h%nshape = real(all(5:8, i), wp)
                 h%nhat = real(all(9:11, i), wp)
-                it%fk(:, k) = real(all(12:14, i), wp)
+                it%fk(:, it%hrow(k)) = real(all(12:14, i), wp)
                 h%gap = real(all(19, i), wp)
             end associate
         end do
     contains
         subroutine no_remote(q)
             integer, intent(in) :: q
-            it%hit(q)%found = .false.
+            if (it%own_rows) then
+                it%hrow(q) = 0
+            else
+                it%hit(q)%found = .false.
+            end if
             it%found(q) = .false.
             it%evk(q) = ev_none
         end subroutine no_remote
@@ -2513,7 +2595,7 @@ contains
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: v(:, :)
         real(dp), intent(in) :: dt_avg
-        integer :: i, q, k, m, a, b, al, nd(4), j
+        integer :: i, q, k, m, a, b, al, nd(4), j, h
         real(wp) :: vrel(3), vrel0(3), w(4), fa(3)
         real(dp) :: pplus, fv
         do i = 1, ct%n
@@ -2524,13 +2606,14 @@ contains
                     if (ct%own_work) then
                         if (.not. it%owned(k)) cycle
                     end if
-                    m = it%hit(k)%seg
-                    vrel = v(:, s%node(s%slave(k))) - matmul(v(:, s%node(s%seg(:, m))), it%hit(k)%nshape)
+                    h = it%hrow(k)
+                    m = it%hit(h)%seg
+                    vrel = v(:, s%node(s%slave(k))) - matmul(v(:, s%node(s%seg(:, m))), it%hit(h)%nshape)
                     fv = dot_product(real(it%fpair(:, q), dp), real(vrel, dp))
                     pplus = pplus + fv
                     ! by part pair: the same rule, with the first half from
                     ! v(n-1/2) (the surface velocities the search gathered)
-                    vrel0 = it%ls%vl(:, s%slave(k)) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(k)%nshape)
+                    vrel0 = it%ls%vl(:, s%slave(k)) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(h)%nshape)
                     a = it%slave_lp(k)
                     b = it%seg_lp(m)
                     ! (an allowance: the slave's rank's rows hold it)

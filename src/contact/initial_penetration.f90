@@ -124,13 +124,13 @@ contains
                 associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                     if (.not. it%active .or. rule(i) == 1) cycle
                     do k = 1, s%nslave
-                        if (.not. it%hit(k)%found) cycle
+                        if (.not. it%found(k)) cycle
                         ! the depth |a|; the slave goes out along nhat pdir(a)
-                        a = -abs(it%hit(k)%a)
+                        a = -abs(it%hit(it%hrow(k))%a)
                         if (a >= 0.0_wp) cycle
                         sn = s%slave(k)
                         nd = s%node(sn)
-                        m = it%hit(k)%seg
+                        m = it%hit(it%hrow(k))%seg
                         if (pass == 1) then
                             deepest(i) = max(deepest(i), -a)
                             if (rule(i) == 2 .or. s%node_rigid(sn)) then
@@ -142,7 +142,7 @@ contains
                                         model%node_id(s%node(s%seg(:, m))), ' by ', -a, ': at', x(:, nd), &
                                         trim(merge(' (a rigid body''s node, not moved)', &
                                                    ' (IGNORE 2, tracked)             ', s%node_rigid(sn))), &
-                                        '; out at', x(:, nd) - a*pdir(it%hit(k)%a)*it%hit(k)%nhat
+                                        '; out at', x(:, nd) - a*pdir(it%hit(it%hrow(k))%a)*it%hit(it%hrow(k))%nhat
                                     named(i)%s = named(i)%s//trim(buf)//new_line('a')
                                 end if
                                 cycle
@@ -151,7 +151,7 @@ contains
                         if (rule(i) == 2 .or. s%node_rigid(sn)) cycle
                         if (-a > depth(nd)) then
                             depth(nd) = -a
-                            dx(:, nd) = pdir(it%hit(k)%a)*it%hit(k)%nhat
+                            dx(:, nd) = pdir(it%hit(it%hrow(k))%a)*it%hit(it%hrow(k))%nhat
                             by(nd) = i
                             if (by1(nd) == 0) seg_of(:, nd) = model%node_id(s%node(s%seg(:, m)))
                         end if
@@ -182,8 +182,8 @@ contains
                     do k = 1, s%nslave
                         nd = s%node(s%slave(k))
                         if (by(nd) /= i .or. .not. moving(nd)) cycle
-                        if (.not. it%hit(k)%found) cycle
-                        m = it%hit(k)%seg
+                        if (.not. it%found(k)) cycle
+                        m = it%hit(it%hrow(k))%seg
                         f = 1.0_wp
                         do j = 1, 4
                             if (.not. moving(s%node(s%seg(j, m)))) cycle
@@ -191,9 +191,9 @@ contains
                         end do
                         ! (a hair beyond the surface: round-off leaves none)
                         if (nranks > 1) then
-                            xm(:, pos(nd)) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(k)%tm)*dx(:, nd)
+                            xm(:, pos(nd)) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(it%hrow(k))%tm)*dx(:, nd)
                         else
-                            x(:, nd) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(k)%tm)*dx(:, nd)
+                            x(:, nd) = x(:, nd) + (f*depth(nd) + 1.0e-6_wp*it%hit(it%hrow(k))%tm)*dx(:, nd)
                         end if
                     end do
                 end associate
