@@ -303,8 +303,24 @@ contains
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (.not. allocated(it%orow)) cycle
-                if (own .eqv. it%own_rows) cycle
                 ns = size(it%orow)
+                if (.not. allocated(it%cseg)) then
+                    ! (contact_masses' rows_later: the rows made here, at once)
+                    n = ns
+                    if (own) n = count(it%owned)
+                    call slave_rows_alloc(it, n)
+                    it%orow = 0
+                    n = 0
+                    do k = 1, ns
+                        if (own .and. .not. it%owned(k)) cycle
+                        n = n + 1
+                        it%orow(k) = n
+                    end do
+                    it%hrow = it%orow
+                    it%own_rows = own
+                    cycle
+                end if
+                if (own .eqv. it%own_rows) cycle
                 ! the rank's own slaves, ascending: the rows (the arrays go
                 ! from every slave's to these and back)
                 n = 0
@@ -1371,10 +1387,19 @@ contains
     !> sqrt(2 k / m): dt < 0.35 sqrt(m / k) (contact_step_scale). Under the
     !> Lagrangian projection there are no springs and no bound (issue 28),
     !> except on an interface with shell edge pairs (their penalty springs).
-    subroutine contact_masses(ct, mass)
+    !> With `rows_later`, the slaves' contact state that the slave's rank
+    !> alone reads (slave_rows_alloc's) is not allocated here:
+    !> contact_slave_rows allocates it, in the rows of the slaves the rank
+    !> owns then (the initial penetrations' passes: their block's, without
+    !> every slave's arrays first).
+    subroutine contact_masses(ct, mass, rows_later)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: mass(:)
+        logical, intent(in), optional :: rows_later
         integer :: i, k, n
+        logical :: later
+        later = .false.
+        if (present(rows_later)) later = rows_later
         allocate (ct%fnode(3, size(mass)))
         ct%fnode = 0
         do i = 1, ct%n
@@ -1383,33 +1408,27 @@ contains
                 n = s%nslave
                 ! (the pairs' list starts with room for 1,024 and grows with
                 ! the count: list_loops)
-                allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%pair(min(n, 1024)), &
-                          it%fpair(3, min(n, 1024)), it%p0(n))
-                allocate (it%kp(n), it%aeff(n), it%fk(3, n), it%owned(n), it%evk(n), it%evd(n), it%ev(16), it%found(n))
-                allocate (it%rseg(n), it%rdep(n), it%rlast(n), it%deep(n), it%held(n), it%orow(n), it%hrow(n))
-                do k = 1, n
-                    it%orow(k) = k
-                    it%hrow(k) = k
-                end do
-                it%nhown = n
+                allocate (it%pair(min(n, 1024)), it%fpair(3, min(n, 1024)))
+                allocate (it%owned(n), it%evk(n), it%evd(n), it%ev(16), it%found(n))
+                allocate (it%rseg(n), it%orow(n), it%hrow(n))
                 it%own_rows = .false.
-                it%held = 0
-                it%deep = 0
+                if (later) then
+                    it%orow = 0
+                    it%hrow = 0
+                    it%nhown = 0
+                else
+                    call slave_rows_alloc(it, n)
+                    do k = 1, n
+                        it%orow(k) = k
+                        it%hrow(k) = k
+                    end do
+                end if
                 it%rseg = 0
-                it%rdep = 0
-                it%rlast = 0
                 it%found = .false.
                 it%evk = ev_none
                 it%evd = 0
                 it%owned = .true.
                 it%mine = where_true(it%live)
-                it%kp = 0
-                it%aeff = 0
-                it%fk = 0
-                it%p0 = 0
-                it%cseg = 0
-                it%fprev = 0
-                it%ft = 0
                 allocate (it%ls%xl(3, s%nnode), it%ls%vl(3, s%nnode))
                 ! the Lagrangian projection has no springs to bound (the edge
                 ! pairs of AUTOMATIC_GENERAL keep theirs)
@@ -1418,6 +1437,28 @@ contains
             end associate
         end do
     end subroutine contact_masses
+
+    !> The slaves' contact state that only the slave's rank reads (cseg,
+    !> held, fprev, ft, p0, kp, aeff, rdep, deep, rlast) and their contacts
+    !> found (hit, fk), in n rows, cleared.
+    subroutine slave_rows_alloc(it, n)
+        type(interface_t), intent(inout) :: it
+        integer, intent(in) :: n
+        allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%p0(n), it%kp(n), it%aeff(n), it%fk(3, n))
+        allocate (it%rdep(n), it%rlast(n), it%deep(n), it%held(n))
+        it%nhown = n
+        it%cseg = 0
+        it%held = 0
+        it%deep = 0
+        it%rdep = 0
+        it%rlast = 0
+        it%kp = 0
+        it%aeff = 0
+        it%fk = 0
+        it%p0 = 0
+        it%fprev = 0
+        it%ft = 0
+    end subroutine slave_rows_alloc
 
     !> The contact's stable step lowered to 0.35 sqrt(m / k) of the nodes
     !> `at` of interface it (their spring as slave and master, a node on

@@ -107,12 +107,11 @@ contains
         do pass = 1, max_pass + 1
             call build_contacts(model, x, ct, error)
             if (allocated(error)) return
-            call contact_masses(ct, mass)
-            if (nranks > 1) then
-                call own_block(ct, rank, nranks)
-                ! (the slaves' contact state in rows of this rank's block)
-                call contact_slave_rows(ct, .true.)
-            end if
+            ! (the slaves' contact state in rows of this rank's block, made
+            ! once the block is chosen)
+            call contact_masses(ct, mass, rows_later=.true.)
+            if (nranks > 1) call own_block(ct, rank, nranks)
+            call contact_slave_rows(ct, nranks > 1)
             call contact_search(ct, x, model%node_id, 0, 0.0_dp)
             call contact_local_search(ct, x, v, 0.0_dp, 0.0_wp)
             ! this pass's moves: each penetrating slave's depth and return
