@@ -309,7 +309,9 @@ def test_mpi_contact_own():
     # shrunk to its slaves alone, the other bar's nodes were not sent and
     # kept their positions of the last search: the bars' run differed from
     # the serial one, checked by hand when this was written).
-    genv = {"XDYNA_CONTACT_OWN": "1", "XDYNA_GHOSTS": "1"}
+    # (XDYNA_CHECK_GHOSTS=1: each search's exchange checked against every
+    # surface node gathered from its rank, below)
+    genv = {"XDYNA_CONTACT_OWN": "1", "XDYNA_GHOSTS": "1", "XDYNA_CHECK_GHOSTS": "1"}
     frame = "input_decks/paper/front_frame.k"
     # (the bars with nodout and rcforc every 1e-6 s, not every cycle: on
     # the cycles between, each contact goes only to its nodes' ranks)
@@ -359,13 +361,30 @@ def test_mpi_contact_own():
                           r"rank.*?, (\d+) bytes a time", open(os.path.join(out, "d3hsp")).read()) if ok else None
             sent = x is not None and int(x.group(1)) > 0 and int(x.group(3)) > 0
             sent = sent and (n == 2 or label != "tube crush" or int(x.group(2)) < int(x.group(4)))
+            # and at each search a rank holds current exactly what the search
+            # reads: its own surface nodes inside another rank's search box
+            # go to it, and a ghost's position and velocity come with its
+            # number. Every search checked against every surface node from
+            # its rank: none held current but not its rank's, no master node
+            # inside a rank's search box missing (sending nothing at a search
+            # left 47,468 such nodes on the tube crush on 3 ranks, and ghosts
+            # named without their positions 1,086 stale ones, while the
+            # motion stayed the serial run's on these decks: the ghosts'
+            # margins covered what the searches read; checked by hand)
+            c = re.search(r"contact ghosts checked \(XDYNA_CHECK_GHOSTS=1\) at (\d+) searches.*?: (\d+) surface nodes "
+                          r"checked, (\d+) held current but not their rank's, (\d+) master nodes within a rank's "
+                          r"search box not held current", open(os.path.join(out, "d3hsp")).read()) if ok else None
+            checked = c is not None and int(c.group(1)) > 0 and int(c.group(2)) > 0 and c.group(3) == "0" \
+                and c.group(4) == "0"
             record(f"XDYNA_GHOSTS: the {label} on {n} ranks with contact ghosts by proximity gives the serial run's "
                    f"motion bitwise, energies to 1e-12 ({m.group(1) if m else 0} ghost lists; rank 0's local search "
                    f"gathers {m.group(2) if m else '?'} of {m.group(3) if m else '?'} surface nodes a cycle and it "
                    f"applies {m.group(4) if m else '?'}% of the pairs listed; the contacts sent to their nodes' ranks "
                    f"{x.group(1) if x else '?'} times, {x.group(2) if x else '?'} bytes a time, to every rank "
-                   f"{x.group(3) if x else '?'} times, {x.group(4) if x else '?'} bytes a time)",
-                   ok and m is not None and int(m.group(1)) > 1 and fewer and sent, msg)
+                   f"{x.group(3) if x else '?'} times, {x.group(4) if x else '?'} bytes a time; checked at "
+                   f"{c.group(1) if c else '?'} searches, {c.group(2) if c else '?'} nodes: {c.group(3) if c else '?'} "
+                   f"stale, {c.group(4) if c else '?'} missing)",
+                   ok and m is not None and int(m.group(1)) > 1 and fewer and sent and checked, msg)
     part = os.path.join(TMP, "ghost_rs")
     p1 = mpirun(2, ["i=" + deck, "outdir=" + part, "endtim=0.0014"], env_extra=genv)
     p2 = mpirun(4, ["r=" + os.path.join(part, "d3dump.h5"), "endtim=0.002"], env_extra=genv) \

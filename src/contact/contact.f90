@@ -41,7 +41,7 @@ module xd_contact_contact
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell, &
                                   release_faces, release_activation, &
                                   surface_activate, &
-                                  follow_thickness, faces_bytes, surface_bytes
+                                  follow_thickness, faces_bytes, surface_bytes, side_a, side_b
     use xd_core_vectors, only: cross
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t, &
                                         typical_length, pool_margins, margin_floor, margin_classes, lists_bytes
@@ -57,7 +57,7 @@ module xd_contact_contact
                             comm_max
     implicit none
     private
-    public :: contact_bytes
+    public :: contact_bytes, search_box
     public :: contacts_t, interface_t, build_contacts, faces_of, contact_erode, contact_search, contact_drift, gather_drift, &
               search_due, &
               contact_report, &
@@ -955,18 +955,71 @@ contains
         end do
     end subroutine set_liveness
 
+    !> MPI with contact ghosts: the box around interface it's live slaves
+    !> that this rank owns, grown by what build_master_lists grows the box
+    !> of the slaves it searches by (their largest pool margin, the
+    !> surface nodes' largest characteristic length with its motion bound
+    !> and margin, the contact reach; the same expressions on the same
+    !> values), plus `span`: every master node a search of these slaves
+    !> buckets lies inside, and every node of a segment at one within span
+    !> of it. lo > hi (huge values): no such slave, an empty box.
+    function search_box(it, x, span, time) result(box)
+        type(interface_t), intent(in) :: it
+        real(wp), intent(in) :: x(:, :), span
+        real(dp), intent(in) :: time
+        real(wp) :: box(6)
+        real(wp) :: lo(3), hi(3), grow, r
+        real(wp), parameter :: zero = 0
+        integer :: k, i
+        logical :: any_slave
+        box(1:3) = huge(1.0_wp)
+        box(4:6) = -huge(1.0_wp)
+        ! (contact_search's window)
+        if (time < it%bt .or. time > it%dt) return
+        associate (s => it%surf)
+            grow = 0
+            lo = huge(1.0_wp)
+            hi = -huge(1.0_wp)
+            any_slave = .false.
+            do k = 1, s%nslave
+                if (.not. (it%owned(k) .and. it%live(k))) cycle
+                any_slave = .true.
+                lo = min(lo, x(:, s%node(s%slave(k))))
+                hi = max(hi, x(:, s%node(s%slave(k))))
+                grow = max(grow, it%dl(s%slave(k)))
+            end do
+            if (.not. any_slave) return
+            r = 0
+            do i = 1, s%nnode
+                if (iand(s%node_side(i), ior(side_a, side_b)) == 0) cycle
+                if (allocated(it%ls%lc)) then
+                    r = max(r, it%ls%lc(i) + 2*(it%odo - it%ls%lcodo(i)) + it%dl(i))
+                else
+                    ! (the search's characteristic lengths start at zero)
+                    r = max(r, zero + 2*(it%odo - zero) + it%dl(i))
+                end if
+            end do
+            box(1:3) = lo - (grow + r + it%reach) - span
+            box(4:6) = hi + (grow + r + it%reach) + span
+        end associate
+    end function search_box
+
     !> Step 2 where due: at cycle 0 every slave; then every `interval`
     !> cycles every slave (fixed), and the slaves of each class whose
     !> margins the motion could have used up (cused > 1). The master nodes
     !> are all bucketed at their positions now, whatever the slaves
     !> searched. Returns the seconds spent.
-    subroutine contact_search(ct, x, node_id, cycle, time)
+    subroutine contact_search(ct, x, node_id, cycle, time, cur)
         type(contacts_t), intent(inout) :: ct
         real(wp), intent(in) :: x(:, :)
         integer, intent(in) :: node_id(:), cycle
         real(dp), intent(in) :: time
-        integer :: i, c
-        logical, allocatable :: due(:), todo(:)
+        !> MPI with contact ghosts: per model node, its position is current
+        !> on this rank (the nodes it moves and those the search's exchange
+        !> brought, search_box); only those are bucketed (absent: every node)
+        logical, intent(in), optional :: cur(:)
+        integer :: i, c, k
+        logical, allocatable :: due(:), todo(:), fresh(:)
         type(search_counts_t) :: cnt
         real(dp) :: t0
         do i = 1, ct%n
@@ -1002,8 +1055,18 @@ contains
                 ! owners now)
                 it%resl = it%resl .and. .not. it%live
                 ! (the characteristic lengths taken there, of the nodes bucketed)
-                call build_master_lists(it%surf, it%xl, it%ls%lc, it%reach, it%dl, ct%mnl, it%lists, cnt, todo, &
-                                        it%nsearch + 1, it%odo, it%ls%lcodo)
+                if (present(cur)) then
+                    allocate (fresh(it%surf%nnode))
+                    do k = 1, it%surf%nnode
+                        fresh(k) = cur(it%surf%node(k))
+                    end do
+                    call build_master_lists(it%surf, it%xl, it%ls%lc, it%reach, it%dl, ct%mnl, it%lists, cnt, todo, &
+                                            it%nsearch + 1, it%odo, it%ls%lcodo, fresh)
+                    deallocate (fresh)
+                else
+                    call build_master_lists(it%surf, it%xl, it%ls%lc, it%reach, it%dl, ct%mnl, it%lists, cnt, todo, &
+                                            it%nsearch + 1, it%odo, it%ls%lcodo)
+                end if
                 if (it%ed%ne > 0) call edge_search(it%ed, it%surf, it%xl, it%dl)
                 it%nsearch = it%nsearch + 1
                 if (.not. all(due)) it%npartial = it%npartial + 1

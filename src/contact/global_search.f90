@@ -622,7 +622,7 @@ contains
     !> some slaves only are searched) of the bucketed ones, lcodo(m) = odo
     !> for those (a segment at m lies within lc(m) + 2 (odometer - lcodo(m))
     !> of m at any time after); without it lc is given.
-    subroutine build_master_lists(s, xl, lc, reach, dl, mnl, lists, counts, search, stamp, odo, lcodo)
+    subroutine build_master_lists(s, xl, lc, reach, dl, mnl, lists, counts, search, stamp, odo, lcodo, fresh)
         type(surface_t), intent(in) :: s
         real(wp), intent(in) :: xl(:, :), reach, dl(:)
         real(wp), intent(inout) :: lc(:)
@@ -633,6 +633,10 @@ contains
         logical, intent(in), optional :: search(:)
         integer, intent(in), optional :: stamp
         real(wp), intent(in), optional :: odo
+        !> MPI with contact ghosts: per surface node, its position xl is
+        !> current (else stale: never bucketed; every node in the grown box
+        !> of the searched slaves is current, contact's search_box)
+        logical, intent(in), optional :: fresh(:)
         type(levels_t) :: lev
         type(search_work_t) :: w
         type(block_out_t), allocatable :: blk(:)
@@ -649,7 +653,7 @@ contains
         todo = .true.
         if (present(search)) todo = search
         master = iand(s%node_side, ior(side_a, side_b)) /= 0
-        if (all(todo)) then
+        if (all(todo) .and. .not. present(fresh)) then
             if (present(lcodo)) then
                 call characteristic_lengths(s, xl, lc)
                 lcodo = odo
@@ -690,6 +694,7 @@ contains
             do i = 1, s%nnode
                 if (master(i)) master(i) = all(xl(:, i) >= lo) .and. all(xl(:, i) <= hi)
             end do
+            if (present(fresh)) master = master .and. fresh
             mnodes = where_true(master)
             ! the segments at those nodes: their boxes, and the nodes'
             ! characteristic lengths now

@@ -183,17 +183,21 @@ contains
     !> got(:, 1:total), allocated here, holds what every other rank sent
     !> this one, rank by rank in rank order, each rank's in its order. The
     !> counts go first (one collective), then the records (one more).
-    subroutine comm_send_records(send, scnt, got)
+    subroutine comm_send_records(send, scnt, got, from)
         real(dp), contiguous, intent(in) :: send(:, :)
         integer, contiguous, intent(in) :: scnt(:)
         real(dp), allocatable, intent(out) :: got(:, :)
+        !> how many records came from each rank (rank r - 1's in from(r))
+        integer, intent(out), optional :: from(:)
         integer :: rcnt(size(scnt)), sd(size(scnt)), rd(size(scnt)), sn(size(scnt)), rn(size(scnt)), r, w
         w = size(send, 1)
         if (.not. up()) then
             allocate (got(w, 0))
+            if (present(from)) from = 0
             return
         end if
         call MPI_Alltoall(scnt, 1, MPI_INTEGER, rcnt, 1, MPI_INTEGER, MPI_COMM_WORLD)
+        if (present(from)) from = rcnt
         sn = w*scnt
         rn = w*rcnt
         sd(1) = 0

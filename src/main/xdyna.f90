@@ -424,12 +424,21 @@ program xdyna
                                   ' times (each search and the start), '//itoa(nint(real(dom%ghost_out_sum, dp)/ &
                                   max(dom%nrefresh, 1)))//' surface nodes sent to the other ranks a list on '// &
                                   'average, '//itoa(dom%nghost_out)//' in the last (of '// &
-                                  itoa(size(dom%csurf%node))//' surface nodes); between searches its local '// &
+                                  itoa(size(dom%csurf%node))//' surface nodes); at a search it sent '// &
+                                  itoa(nint(real(dom%search_sent, dp)/max(dom%nsearch_ex, 1)))//' of its own '// &
+                                  'surface nodes to the ranks whose slaves'' search reaches them, on average over '// &
+                                  itoa(dom%nsearch_ex)//' searches; between searches its local '// &
                                   'search gathers '//itoa(sum([(size(ct%ifc(i)%fresh), i=1, ct%n)]))//' of its '// &
                                   'surfaces'' '//itoa(sum(ct%ifc(:)%surf%nnode))//' nodes a cycle (those it moves), '// &
                                   'and it applied '//ftoa(100*real(ct%npair_applied, dp)/real(max(ct%npair_all, 1_i8), dp))// &
                                   '% of the contact pairs its cycles listed (another rank''s slave''s pair only where it '// &
                                   'reaches a node this rank moves or an output reads the contact forces)')
+    if (dom%check_search) call log_line(lg, ' contact ghosts checked (XDYNA_CHECK_GHOSTS=1) at '// &
+                                        itoa(dom%nsearch_ex)//' searches against every surface node from its '// &
+                                        'rank: '//itoa(int(dom%search_check(1)))//' surface nodes checked, '// &
+                                        itoa(int(dom%search_check(2)))//' held current but not their rank''s, '// &
+                                        itoa(int(dom%search_check(3)))//' master nodes within a rank''s search '// &
+                                        'box not held current')
     if (dom%on .and. ct%n > 0) call exchange_line()
     if (dom%on .and. ct%n > 0) call gather_contact_state(ct, counters_only=.true.)
     if (ct%n > 0) call log_line(lg, contact_report(ct, max(abs(st%e_initial), res%e_scale)))

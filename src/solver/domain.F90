@@ -52,14 +52,15 @@ module xd_solver_domain
     use xd_core_graph_partition, only: graph_partition, item_graph
     use xd_core_threads, only: threaded
     use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours, comm_gather_small, &
-                            comm_gather_root_wp, comm_gather_root_dp
+                            comm_gather_root_wp, comm_gather_root_dp, comm_max, comm_send_records, &
+                            comm_sum_i8
     use xd_elements_solid_groups, only: solids_t, solid_localize
     use xd_elements_shell_bt, only: shells_t, shell_state_init, some_backstress
     use xd_solver_assembly, only: assembly_t, keep_assembled
-    use xd_contact_contact, only: contacts_t
-    use xd_contact_surface, only: surface_t, seg_nodes
+    use xd_contact_contact, only: contacts_t, search_box
+    use xd_contact_surface, only: surface_t, seg_nodes, side_a, side_b
     use xd_core_sorting, only: where_true, id_map_t
-    use xd_core_memory, only: alloc, nbytes, release_free_memory
+    use xd_core_memory, only: alloc, nbytes, release_free_memory, grow
     use xd_core_strings, only: itoa
     use xd_model, only: model_t
     implicit none
@@ -68,7 +69,7 @@ module xd_solver_domain
     public :: node_gather_t, node_runs
     public :: domain_t, build_domain, domain_summary, gather_energy_state, gather_element_state, &
               swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout, neighbour_count, &
-              ghost_base, contact_ghosts, place_shell_state, localize_element_state, release_element_view, &
+              ghost_base, contact_ghosts, search_exchange, place_shell_state, localize_element_state, release_element_view, &
               domain_bytes, gather_to_root
 
     !> A set of nodes whose values go from their ranks to every rank (an
@@ -137,12 +138,15 @@ module xd_solver_domain
         logical, allocatable :: own_contact(:)
         !> with own_contact (XDYNA_GHOSTS=0: off): contact ghosts by proximity. The
         !> contact surfaces' velocities no longer go to every rank: at each
-        !> global search every surface node's position and velocity are
-        !> gathered from its rank (csurf), each rank's box of the surface
-        !> nodes its slaves read goes to all, and until the next search a
-        !> rank sends its own surface nodes inside another's box to it with
-        !> its halo's motion (contact_ghosts). bmo_*, bmi_*, mv_base: the
-        !> lists and the moved nodes without the ghosts
+        !> global search each rank's box of what a search of its slaves
+        !> buckets goes to all, and each rank sends its own surface nodes
+        !> inside another's box to it (search_exchange; where no ghosts'
+        !> lists are made yet, every surface node from its rank: csurf);
+        !> after it each rank's box of the surface nodes its slaves read goes
+        !> to all, and until the next search a rank sends its own surface
+        !> nodes inside another's box to it with its halo's motion, their
+        !> position and velocity first (contact_ghosts). bmo_*, bmi_*,
+        !> mv_base: the lists and the moved nodes without the ghosts
         logical :: ghosts = .false.
         type(node_gather_t) :: csurf
         integer, allocatable :: bmo_ptr(:), bmo_node(:), bmi_ptr(:), bmi_node(:)
@@ -150,6 +154,17 @@ module xd_solver_domain
         integer :: nghost_out = 0                  !< ghost entries this rank sent, last list
         integer :: nrefresh = 0                    !< ghost lists made (searches and the start)
         integer(i8) :: ghost_out_sum = 0           !< ghost entries sent, summed over the lists made
+        !> the searches' exchanges (search_exchange): how many, and the
+        !> surface nodes this rank sent in them, summed
+        integer :: nsearch_ex = 0
+        integer(i8) :: search_sent = 0
+        !> XDYNA_CHECK_GHOSTS=1: each search's exchange checked against every
+        !> surface node gathered from its rank (check_search): the surface
+        !> nodes checked, those held current whose position or velocity is
+        !> not their rank's, and the master nodes inside the rank's search
+        !> box not held current, summed over the ranks and searches
+        logical :: check_search = .false.
+        integer(i8) :: search_check(3) = 0
         !> with owned nodes, node_mine again; unallocated in the replicated
         !> state, so that a routine's optional `mine` argument given it is
         !> absent there (every rank takes every node)
@@ -962,30 +977,38 @@ contains
         call gather_layout(dom%arank, dom%nranks, csurf, dom%csurf)
     end subroutine ghost_base
 
-    !> Contact ghosts at a search (every rank at once; the surfaces' nodes'
-    !> positions x the same on every rank, gathered just before): this
+    !> Contact ghosts at a search (every rank at once; the positions of
+    !> the surface nodes its slaves read current on each rank: its own,
+    !> those it moves, those search_exchange brought): this
     !> rank's box of what its slaves read (themselves, their pools' and
     !> lists' nodes, the segments at those and at them, the segments they
     !> hold), grown by the farthest of those nodes from its slave and by the
     !> longest diagonal of a segment (a local search's walk along the
     !> surface stays nearer the slave than where it began, and reads the
-    !> segments at the nodes it passes); the boxes to every rank; then the motion lists: to rank q,
-    !> the base's entries and this rank's own surface nodes inside q's box;
-    !> from q, the base's and q's surface nodes inside this rank's box, in
-    !> node order (both sides decide from the same positions and boxes).
+    !> segments at the nodes it passes; the diagonal over the ranks, each
+    !> taking the segments whose nodes it holds current: surface_spans);
+    !> the boxes to every rank; then the motion lists: to rank q, the
+    !> base's entries and this rank's own surface nodes inside q's box;
+    !> from q, the base's and the ghosts q names (their numbers, positions
+    !> and velocities sent with them: only the owner holds a far node's
+    !> position current), in node order.
     !> The moved nodes: the base's and those received; each interface's
     !> surface nodes among them (it%fresh, which its local search gathers
     !> until the next search).
-    subroutine contact_ghosts(dom, ct, x)
+    subroutine contact_ghosts(dom, ct, x, v)
         type(domain_t), intent(inout) :: dom
         type(contacts_t), intent(inout) :: ct
-        real(wp), intent(in) :: x(:, :)
+        !> (a new ghost's position and velocity come with its number: the
+        !> rank that takes it may hold an old one)
+        real(wp), intent(inout) :: x(:, :), v(:, :)
         logical, allocatable :: rd(:), out(:), inn(:), brot(:), mv(:)
         integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:)
         logical, allocatable :: mo_rot(:), mi_rot(:)
-        real(dp) :: box(6), boxes(6, dom%nranks), reach, step
+        real(dp) :: box(6), boxes(6, dom%nranks), reach, step, sp(2)
         logical, allocatable :: pm(:)
-        integer :: i, q, k, j, sn, nn, r, g, b, added
+        integer, allocatable :: gid(:), gcnt(:), gfrom(:)
+        real(dp), allocatable :: gsend(:, :), gin(:, :)
+        integer :: i, q, k, j, sn, nn, r, g, b, added, e, nd, ng
         nn = size(dom%node_mine)
         allocate (rd(nn), out(nn), inn(nn), brot(nn), mv(nn))
         rd = .false.
@@ -1031,9 +1054,6 @@ contains
                     end do
                 end do
                 do g = 1, s%nseg
-                    ! (the step: the farthest two nodes of a segment are apart)
-                    step = max(step, real(norm2(x(:, s%node(s%seg(1, g))) - x(:, s%node(s%seg(3, g)))), dp), &
-                               real(norm2(x(:, s%node(s%seg(2, g))) - x(:, s%node(s%seg(4, g)))), dp))
                     if (.not. any(pm(s%seg(:, g)))) cycle
                     do b = 1, 4
                         rd(s%node(s%seg(b, g))) = .true.
@@ -1045,6 +1065,14 @@ contains
                 deallocate (pm)
             end associate
         end do
+        ! (the step: the longest diagonal of a segment, over the ranks, each
+        ! taking the segments whose nodes it holds current)
+        if (allocated(ct%moves)) then
+            sp = surface_spans(ct, x, ct%moves)
+        else
+            sp = surface_spans(ct, x)
+        end if
+        step = sp(1)
         box(1:3) = huge(1.0_dp)
         box(4:6) = -huge(1.0_dp)
         do j = 1, nn
@@ -1063,15 +1091,44 @@ contains
         mi_ptr = 0
         mv = dom%mv_base
         dom%nghost_out = 0
+        ! to each other rank r: the base's entries and this rank's surface
+        ! nodes in r's box; the ghosts' numbers then go to r (which holds
+        ! another rank's surface nodes' positions current only near its
+        ! own slaves, and so cannot tell them itself)
+        allocate (gcnt(dom%nranks), gfrom(dom%nranks))
+        gcnt = 0
+        ng = 0
         do k = 1, size(dom%nbr)
             r = dom%nbr(k)
-            ! to r: the base's entries and this rank's surface nodes in r's box
             call side(dom%bmo_ptr, dom%bmo_node, dom%bmo_rot, dom%rank, r, out, added)
             dom%nghost_out = dom%nghost_out + added
+            gcnt(r + 1) = added
             call append_entries(out, brot, mo_node, mo_rot, mo_ptr)
-            ! from r: the base's entries and r's surface nodes in this rank's
-            ! box, which this rank then moves
-            call side(dom%bmi_ptr, dom%bmi_node, dom%bmi_rot, r, dom%rank, inn, added, mv)
+        end do
+        allocate (gsend(7, ng))
+        do e = 1, ng
+            gsend(:, e) = [real(gid(e), dp), real(x(:, gid(e)), dp), real(v(:, gid(e)), dp)]
+        end do
+        call comm_send_records(gsend, gcnt, gin, gfrom)
+        ! from r: the base's entries and the ghosts r sent, which this rank
+        ! then moves (r's records in gin in rank order, as nbr)
+        j = 0
+        do k = 1, size(dom%nbr)
+            r = dom%nbr(k)
+            inn = .false.
+            brot = .false.
+            do e = dom%bmi_ptr(k) + 1, dom%bmi_ptr(k + 1)
+                inn(dom%bmi_node(e)) = .true.
+                brot(dom%bmi_node(e)) = dom%bmi_rot(e)
+            end do
+            do e = 1, gfrom(r + 1)
+                nd = nint(gin(1, j + e))
+                inn(nd) = .true.
+                mv(nd) = .true.
+                x(:, nd) = real(gin(2:4, j + e), wp)
+                v(:, nd) = real(gin(5:7, j + e), wp)
+            end do
+            j = j + gfrom(r + 1)
             call append_entries(inn, brot, mi_node, mi_rot, mi_ptr)
         end do
         call set_motion_lists(dom, mo_ptr, mo_node, mo_rot, mi_ptr, mi_node, mi_rot)
@@ -1113,13 +1170,12 @@ contains
         !> One side of the exchange with neighbour k: mark (with brot, the
         !> angular velocities) the base lists' entries ptr(k)+1 .. ptr(k+1),
         !> then the surface nodes of `owner` inside `reader`'s box not yet
-        !> marked (added of them; also set in moved where given).
-        subroutine side(ptr, node, rot, owner, reader, mark, added, moved)
+        !> marked (added of them, listed in gid).
+        subroutine side(ptr, node, rot, owner, reader, mark, added)
             integer, intent(in) :: ptr(:), node(:), owner, reader
             logical, intent(in) :: rot(:)
             logical, intent(out) :: mark(:)
             integer, intent(out) :: added
-            logical, intent(inout), optional :: moved(:)
             integer :: e, jj, nd
             mark = .false.
             brot = .false.
@@ -1134,7 +1190,9 @@ contains
                 if (.not. inside(nd, boxes(:, reader + 1))) cycle
                 mark(nd) = .true.
                 added = added + 1
-                if (present(moved)) moved(nd) = .true.
+                ng = ng + 1
+                call grow(gid, ng, 'contact ghosts')
+                gid(ng) = nd
             end do
         end subroutine side
         logical function inside(nd, bx)
@@ -1143,6 +1201,159 @@ contains
             inside = all(real(x(:, nd), dp) >= bx(1:3)) .and. all(real(x(:, nd), dp) <= bx(4:6))
         end function inside
     end subroutine contact_ghosts
+
+    !> Over the ranks, the largest (1) diagonal and (2) distance between
+    !> any two nodes of a contact segment, each rank taking the segments
+    !> whose nodes it holds current (cur; absent: every segment). Every
+    !> segment is some rank's whole: its element's rank moves its nodes.
+    function surface_spans(ct, x, cur) result(sp)
+        type(contacts_t), intent(in) :: ct
+        real(wp), intent(in) :: x(:, :)
+        logical, intent(in), optional :: cur(:)
+        real(dp) :: sp(2)
+        integer :: i, g, a, b
+        integer :: nd(4)
+        sp = 0
+        do i = 1, ct%n
+            associate (s => ct%ifc(i)%surf)
+                do g = 1, s%nseg
+                    nd = s%node(s%seg(:, g))
+                    if (present(cur)) then
+                        if (.not. all(cur(nd))) cycle
+                    end if
+                    sp(1) = max(sp(1), real(norm2(x(:, nd(1)) - x(:, nd(3))), dp), real(norm2(x(:, nd(2)) - x(:, nd(4))), dp))
+                    do a = 1, 3
+                        do b = a + 1, 4
+                            sp(2) = max(sp(2), real(norm2(x(:, nd(a)) - x(:, nd(b))), dp))
+                        end do
+                    end do
+                end do
+            end associate
+        end do
+        call comm_max(sp)
+    end function surface_spans
+
+    !> MPI with contact ghosts, before a global search: the surface nodes'
+    !> positions and velocities the search reads, from their ranks. Each
+    !> rank's box of each interface (search_box: every master node a search
+    !> of its slaves buckets, and every node of a segment at one) goes to
+    !> every rank; each rank sends its own surface nodes inside another's
+    !> box to it (point-to-point, instead of every surface node to every
+    !> rank). cur: per model node, its position is current here after (the
+    !> nodes this rank moves, and those received), which the search alone
+    !> buckets.
+    subroutine search_exchange(dom, ct, x, v, time, cur)
+        type(domain_t), intent(inout) :: dom
+        type(contacts_t), intent(in) :: ct
+        real(wp), intent(inout) :: x(:, :), v(:, :)
+        real(dp), intent(in) :: time
+        logical, allocatable, intent(inout) :: cur(:)
+        real(dp), allocatable :: bx(:), boxes(:, :), send(:, :), got(:, :)
+        real(dp) :: sp(2)
+        real(wp) :: b(6)
+        integer, allocatable :: mine(:), last(:), scnt(:)
+        integer :: i, k, r, nd, q, n
+        if (.not. allocated(cur)) allocate (cur(size(x, 2)))
+        cur = ct%moves
+        sp = surface_spans(ct, x, cur)
+        allocate (bx(6*ct%n), boxes(6*ct%n, dom%nranks))
+        do i = 1, ct%n
+            bx(6*i - 5:6*i) = real(search_box(ct%ifc(i), x, real(sp(2), wp), time), dp)
+        end do
+        call comm_gather_small(bx, boxes)
+        ! this rank's own surface nodes (a node of several surfaces once a
+        ! rank: last)
+        allocate (last(size(x, 2)), scnt(dom%nranks))
+        last = -1
+        n = 0
+        do i = 1, ct%n
+            do k = 1, ct%ifc(i)%surf%nnode
+                if (ct%rank_of(ct%ifc(i)%surf%node(k)) == dom%rank) n = n + 1
+            end do
+        end do
+        allocate (mine(n))
+        n = 0
+        do i = 1, ct%n
+            do k = 1, ct%ifc(i)%surf%nnode
+                nd = ct%ifc(i)%surf%node(k)
+                if (ct%rank_of(nd) /= dom%rank) cycle
+                n = n + 1
+                mine(n) = nd
+            end do
+        end do
+        ! counted, then packed: per other rank, its nodes inside any of its boxes
+        scnt = 0
+        do q = 1, 2
+            if (q == 2) allocate (send(7, sum(scnt)))
+            n = 0
+            last = -1
+            do r = 0, dom%nranks - 1
+                if (r == dom%rank) cycle
+                do k = 1, size(mine)
+                    nd = mine(k)
+                    if (last(nd) == r) cycle
+                    do i = 1, ct%n
+                        b = real(boxes(6*i - 5:6*i, r + 1), wp)
+                        if (all(x(:, nd) >= b(1:3)) .and. all(x(:, nd) <= b(4:6))) exit
+                    end do
+                    if (i > ct%n) cycle
+                    last(nd) = r
+                    if (q == 1) then
+                        scnt(r + 1) = scnt(r + 1) + 1
+                    else
+                        n = n + 1
+                        send(:, n) = [real(nd, dp), real(x(:, nd), dp), real(v(:, nd), dp)]
+                    end if
+                end do
+            end do
+        end do
+        dom%nsearch_ex = dom%nsearch_ex + 1
+        dom%search_sent = dom%search_sent + sum(int(scnt, i8))
+        call comm_send_records(send, scnt, got)
+        do k = 1, size(got, 2)
+            nd = nint(got(1, k))
+            x(:, nd) = real(got(2:4, k), wp)
+            v(:, nd) = real(got(5:7, k), wp)
+            cur(nd) = .true.
+        end do
+        if (dom%check_search) call check_search(dom, ct, x, v, cur, real(sp(2), wp), time)
+    end subroutine search_exchange
+
+    !> XDYNA_CHECK_GHOSTS=1: what search_exchange leaves held against every
+    !> surface node's position and velocity gathered from its rank (as
+    !> before the exchange, csurf): a node held current (cur) must hold its
+    !> rank's values, and every master node inside this rank's search box
+    !> (at its true position) must be held current (the search buckets
+    !> those alone). Counts summed over the ranks into dom%search_check.
+    subroutine check_search(dom, ct, x, v, cur, span, time)
+        type(domain_t), intent(inout) :: dom
+        type(contacts_t), intent(in) :: ct
+        real(wp), intent(in) :: x(:, :), v(:, :), span
+        logical, intent(in) :: cur(:)
+        real(dp), intent(in) :: time
+        real(wp), allocatable :: xc(:, :), vc(:, :)
+        real(wp) :: b(6)
+        integer(i8) :: c(3)
+        integer :: i, k, nd
+        xc = x
+        vc = v
+        call gather_subset(dom, dom%csurf, xc, vc)
+        c = 0
+        do i = 1, ct%n
+            associate (s => ct%ifc(i)%surf)
+                b = search_box(ct%ifc(i), x, span, time)
+                do k = 1, s%nnode
+                    nd = s%node(k)
+                    c(1) = c(1) + 1
+                    if (cur(nd) .and. (any(x(:, nd) /= xc(:, nd)) .or. any(v(:, nd) /= vc(:, nd)))) c(2) = c(2) + 1
+                    if (iand(s%node_side(k), ior(side_a, side_b)) == 0 .or. cur(nd)) cycle
+                    if (all(xc(:, nd) >= b(1:3)) .and. all(xc(:, nd) <= b(4:6))) c(3) = c(3) + 1
+                end do
+            end associate
+        end do
+        call comm_sum_i8(c)
+        dom%search_check = dom%search_check + c
+    end subroutine check_search
 
     subroutine gather_layout(arank, nranks, nodes, g)
         integer, intent(in) :: arank(:), nranks, nodes(:)

@@ -37,7 +37,7 @@ module xd_solver_time_loop
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t, shell_rows
     use xd_solver_domain, only: neighbour_count, domain_t, gather_element_state, owned_motion, gather_layout, gather_subset, &
-                                ghost_base, contact_ghosts, release_element_view
+                                ghost_base, contact_ghosts, search_exchange, release_element_view
     use xd_core_comm, only: comm_max, comm_sum_int, comm_gather_small, comm_sum_dp
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, &
                                       hourglass_bound_report
@@ -139,6 +139,9 @@ contains
         real(dp), allocatable :: ke_fix(:)     !< tied contacts' kinetic energy by part
         type(body_response_t) :: br            !< Lagrangian contact: how the rigid bodies answer an impulse
         logical, allocatable :: no_body(:)   !< no node is a rigid body's (models without rigid bodies)
+        !> contact ghosts: per model node, its position is current on this rank
+        !> at a search (search_exchange)
+        logical, allocatable :: cur(:)
         real(wp) :: dtc, g_new(3)
         real(dp) :: dt_avg
         real(wp) :: dt_ref
@@ -172,7 +175,7 @@ contains
         call step_stats_init(ss, solids%n, sh%n)
         if (dom%on) call choose_owned(dom, ct, rg, td, bm, pl, sh, hist, lg)
         ! (the ghosts from the lists there are: a restart's)
-        if (dom%ghosts) call contact_ghosts(dom, ct, st%x)
+        if (dom%ghosts) call contact_ghosts(dom, ct, st%x, st%v)
         if (allocated(dom%own_contact) .and. ct%n > 0) then
             ! each rank books its own slaves' contacts' work; a restart's
             ! sums (every rank read them) stay on rank 0 alone
@@ -255,16 +258,28 @@ contains
                 if (dom%ghosts) refresh = search_due(ct, st%cycle, st%time)
                 if (refresh) then
                     call tm%start(ph_comm)
-                    call gather_subset(dom, dom%csurf, st%x, st%v)
+                    ! (the surface nodes within reach of the rank's slaves,
+                    ! from their ranks; where the ghosts' lists are not made
+                    ! yet, every surface node)
+                    if (allocated(ct%rank_of)) then
+                        call search_exchange(dom, ct, st%x, st%v, st%time, cur)
+                    else
+                        call gather_subset(dom, dom%csurf, st%x, st%v)
+                    end if
                     call tm%stop(ph_comm)
                 end if
                 ! step 2 where due, on x(n); steps 3-4 will follow here
+                ! (with the ghosts, of the nodes current here: cur)
                 call tm%start(ph_search)
-                call contact_search(ct, st%x, model%node_id, st%cycle, st%time)
+                if (refresh .and. allocated(ct%rank_of)) then
+                    call contact_search(ct, st%x, model%node_id, st%cycle, st%time, cur)
+                else
+                    call contact_search(ct, st%x, model%node_id, st%cycle, st%time)
+                end if
                 call tm%stop(ph_search)
                 if (refresh) then
                     call tm%start(ph_comm)
-                    call contact_ghosts(dom, ct, st%x)
+                    call contact_ghosts(dom, ct, st%x, st%v)
                     call tm%stop(ph_comm)
                 end if
             end if
@@ -581,10 +596,16 @@ contains
             end if
             if (ghosts) then
                 call ghost_base(dom, csurf)
-                call log_line(lg, ' contact: ghosts by proximity (XDYNA_GHOSTS=0: none): the surfaces'' '// &
-                              itoa(size(dom%csurf%node))//' nodes'' positions and velocities gathered at each '// &
-                              'search, each rank''s box of what its slaves read to all, and until the next '// &
-                              'search a rank''s own surface nodes inside another''s box sent to it with the halo')
+                ! (XDYNA_CHECK_GHOSTS=1: each search's exchange checked
+                ! against every surface node from its rank)
+                call get_environment_variable('XDYNA_CHECK_GHOSTS', env, length=n, status=stat)
+                dom%check_search = stat == 0 .and. n > 0 .and. env(1:max(n, 1)) == '1'
+                call log_line(lg, ' contact: ghosts by proximity (XDYNA_GHOSTS=0: none): at each search each '// &
+                              'rank''s box of what a search of its slaves buckets goes to all and a rank sends its own '// &
+                              'surface nodes inside another''s box to it (of the surfaces'' '// &
+                              itoa(size(dom%csurf%node))//' nodes; the first search gathers every one), then each '// &
+                              'rank''s box of what its slaves read to all, and until the next search a rank''s own '// &
+                              'surface nodes inside another''s box sent to it with the halo')
             end if
             if (allocated(hist%nodes)) then
                 if (size(hist%nodes) > 0) call gather_layout(dom%arank, dom%nranks, hist%nodes, dom%hist)
