@@ -22,10 +22,15 @@
 !>   nodes' ranks (gather_subset, xd_core_comm's comm_ordered_records).
 !>   In the replicated nodal state (XDYNA_REPLICATED=1) every rank
 !>   integrates every node from forces shared by an exact sum;
-!> - contact: each interface's slave nodes are cut by coordinate bisection;
-!>   a rank searches (global and local) and computes the penalty forces of
-!>   its own slaves against every master segment, and the contacts found are
-!>   gathered so that every rank adds them to the nodal forces in slave order.
+!> - contact: each interface's slave nodes are cut by coordinate bisection
+!>   (with owned nodes, a slave is its node's rank's); a rank searches
+!>   (global and local) and computes the penalty forces of its own slaves
+!>   against every master segment, and the contacts found go to the ranks
+!>   that integrate their nodes (every rank where an output reads every
+!>   pair, or without contact ghosts), which add them to the nodal forces in
+!>   slave order. With contact ghosts a rank holds current only the surface
+!>   nodes near its slaves: those a search reads (search_exchange) and
+!>   those its local search reads until the next (contact_ghosts).
 !>
 !> Element state (stresses for d3plot and the restart dump) lives with the
 !> element's rank and is gathered, exactly, when an output needs it; the
