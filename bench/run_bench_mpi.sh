@@ -10,7 +10,10 @@
 # array a rank holds (d3hsp's 'nodal and element arrays'), the contact's arrays
 # (d3hsp's 'contact arrays at the end'), rank 0's local search's
 # gather between searches (surface nodes it moves, of all) and the share of
-# the contact pairs listed that it applied (contact ghosts)
+# the contact pairs listed that it applied (contact ghosts), the surface
+# nodes rank 0 sent to the other ranks at a search (search_exchange) and
+# the contacts' bytes exchanged a cycle over all ranks (each to its nodes'
+# ranks: send_contacts)
 # and the halo's bytes a cycle (with owned nodes: the halo point-to-point and
 # the contact surfaces' velocities to every rank; replicated: the slots and
 # every node's forces to every rank; and each rank's own halo nodes' share,
@@ -35,7 +38,7 @@ deck=$dir/tubes_${ntx}x${nty}.k
 /usr/bin/python3 tools/gen_decks.py --bench-tubes $ntx $nty $deck --cycles $cycles
 nel=$((ntx * nty * 1200))
 echo "bench-mpi: $ntx x $nty tubes, $nel shells, $cycles cycles, one thread a rank, $(nproc) cores here ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'))"
-printf '%6s %9s %10s %8s %9s %8s %9s %17s %17s %12s %14s %14s %16s %16s %18s %9s\n' ranks "wall (s)" "ns/el-cyc" "halo %" "contact%" "wait %" "c.share" "peak MB/rank" "end MB/rank" "elem MB/rk" "arrays MB/rk" "contact MB/rk" "halo B/cycle" "own-node halo B" "srf gathered (r0)" "pairs %"
+printf '%6s %9s %10s %8s %9s %8s %9s %17s %17s %12s %14s %14s %16s %16s %18s %9s %14s %14s\n' ranks "wall (s)" "ns/el-cyc" "halo %" "contact%" "wait %" "c.share" "peak MB/rank" "end MB/rank" "elem MB/rk" "arrays MB/rk" "contact MB/rk" "halo B/cycle" "own-node halo B" "srf gathered (r0)" "pairs %" "srf sent/srch" "contacts B/cyc"
 for r in $ranks; do
     out=$dir/r${r}_${ntx}x${nty}
     rm -rf $out
@@ -75,15 +78,22 @@ for r in $ranks; do
         /contact ghosts \(rank 0\)/ {
             g = $0; sub(/.*local search gathers /, "", g); split(g, gg, " "); gath = gg[1] "/" gg[5]
             q = $0; sub(/.*it applied /, "", q); split(q, qq, " "); pairs = qq[1]
+            x = $0; sub(/.*at a search it sent /, "", x); split(x, xx, " "); srch = xx[1]
+        }
+        /contacts exchanged between the ranks/ {
+            y = $0; sub(/.*ranks alone, /, "", y); split(y, yy, " "); cex = yy[1]
         }
         END {
             if (r == 1) {hb = 0; own = 0}
             if (owned) hb = p2p + gat
             if (gath == "") {gath = "-"; pairs = "-"}
+            if (srch == "") srch = "-"
+            if (cex == "") cex = "-"
             if (con == "") con = "-"
-            printf "%6d %9.2f %10.1f %8.1f %9.1f %8.1f %8.1f%% %17s %17s %12s %14s %14s %16d %16d %18s %9s\n", r, tot, ns,
-                100 * halo / tot, 100 * ghost / tot, 100 * wait / tot, cs, mem, rss, el, arr, con, hb, own, gath, pairs
+            printf "%6d %9.2f %10.1f %8.1f %9.1f %8.1f %8.1f%% %17s %17s %12s %14s %14s %16d %16d %18s %9s %14s %14s\n", r,
+                tot, ns, 100 * halo / tot, 100 * ghost / tot, 100 * wait / tot, cs, mem, rss, el, arr, con, hb, own, gath,
+                pairs, srch, cex
         }' $out/d3hsp
 done
 done
-echo "bench-mpi: halo B/cycle: with owned nodes (d3hsp's nodal state), the halo's slots and velocities point-to-point, the contact surfaces' velocities with them to every other rank (all of a shell model's nodes: O(surface nodes x ranks) until ghosts by proximity), the beams' and ties' gathered; replicated, the force slots plus every node's forces to every rank (O(nodes x ranks)); own-node halo: each rank's halo nodes' forces out and motion back (O(partition surfaces))"
+echo "bench-mpi: halo B/cycle: with owned nodes (d3hsp's nodal state), the halo's slots and velocities point-to-point, the contact surfaces' velocities with them to every other rank (all of a shell model's nodes: O(surface nodes x ranks) until ghosts by proximity), the beams' and ties' gathered; replicated, the force slots plus every node's forces to every rank (O(nodes x ranks)); own-node halo: each rank's halo nodes' forces out and motion back (O(partition surfaces)); srf sent/srch: the surface nodes rank 0 sent at a search to the ranks whose search box holds them (every surface node to every rank before); contacts B/cyc: the contacts found sent to their nodes' ranks a cycle, over all ranks"
