@@ -41,10 +41,11 @@ module xd_contact_contact
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell, &
                                   release_faces, release_activation, &
                                   surface_activate, &
-                                  follow_thickness, faces_bytes, surface_bytes, side_a, side_b
+                                  follow_thickness, faces_bytes, surface_bytes
     use xd_core_vectors, only: cross
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t, &
-                                        typical_length, pool_margins, margin_floor, margin_classes, lists_bytes
+                                        typical_length, pool_margins, margin_floor, margin_classes, lists_bytes, &
+                                        pool_reach
     use xd_contact_segment_check, only: hit_t, pair_hit_t, kept, contact_interior, segment_check
     use xd_contact_local_search, only: local_search_t, find_contact, search_switches_t, clearance_t, &
                                        reset_clearance, fresh_clearance
@@ -157,7 +158,6 @@ module xd_contact_contact
         !> (own_rows) their rows (orow), and after them rows for the other
         !> ranks' slaves whose contacts the last exchange brought (0: none)
         integer, allocatable :: hrow(:)
-        integer :: nhown = 0                  !< hit's rows of the rank's own slaves (own_rows)
         !> per slave: hit(k)%found, kept alongside in a compact array (the
         !> loops over every slave each cycle read this, not the records)
         logical, allocatable :: found(:)
@@ -289,12 +289,15 @@ module xd_contact_contact
 
 contains
 
-    !> MPI with each rank's own slaves' work (own_work): the slaves' contact
-    !> state that only the slave's rank reads (cseg, held, fprev, ft, p0,
-    !> kp, aeff, rdep, deep, rlast: 100 bytes a slave) held in rows of the
-    !> rank's own slaves alone (`own`; orow), or every slave's again, the
-    !> other ranks' slaves' entries zero (a dump's gathering, which sums
-    !> them from their ranks: gather_contact_state).
+    !> The slaves' contact state that only the slave's rank reads (cseg,
+    !> held, fprev, ft, p0, kp, aeff, rdep, deep, rlast: 100 bytes a slave)
+    !> and their contacts found (hit, fk: 128) in rows: with each rank's own
+    !> slaves' work (`own`) the rank's own slaves' alone (orow; hit's and
+    !> fk's other ranks' slaves' rows follow at each exchange, hrow), else
+    !> every slave's, the other ranks' slaves' entries zero (a dump's
+    !> gathering, which sums them from their ranks: gather_contact_state).
+    !> Where the rows are not made yet (contact_masses' rows_later, and its
+    !> every-slave's rows) they are made here, cleared.
     subroutine contact_slave_rows(ct, own)
         type(contacts_t), intent(inout) :: ct
         logical, intent(in) :: own
@@ -303,24 +306,8 @@ contains
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (.not. allocated(it%orow)) cycle
+                if (allocated(it%cseg) .and. (own .eqv. it%own_rows)) cycle
                 ns = size(it%orow)
-                if (.not. allocated(it%cseg)) then
-                    ! (contact_masses' rows_later: the rows made here, at once)
-                    n = ns
-                    if (own) n = count(it%owned)
-                    call slave_rows_alloc(it, n)
-                    it%orow = 0
-                    n = 0
-                    do k = 1, ns
-                        if (own .and. .not. it%owned(k)) cycle
-                        n = n + 1
-                        it%orow(k) = n
-                    end do
-                    it%hrow = it%orow
-                    it%own_rows = own
-                    cycle
-                end if
-                if (own .eqv. it%own_rows) cycle
                 ! the rank's own slaves, ascending: the rows (the arrays go
                 ! from every slave's to these and back)
                 n = 0
@@ -334,7 +321,9 @@ contains
                     n = n + 1
                     mine(n) = k
                 end do
-                if (own) then
+                if (.not. allocated(it%cseg)) then
+                    call slave_rows_alloc(it, merge(n, ns, own))
+                else if (own) then
                     call take(it%cseg, mine)
                     call take(it%held, mine)
                     call take(it%rlast, mine)
@@ -347,12 +336,6 @@ contains
                     call take(it%ft, mine)
                     call take(it%fk, mine)
                     call take_hits(it%hit, mine)
-                    it%orow = 0
-                    do k = 1, n
-                        it%orow(mine(k)) = k
-                    end do
-                    it%hrow = it%orow
-                    it%nhown = n
                 else
                     call untake(it%cseg, mine, ns)
                     call untake(it%held, mine, ns)
@@ -364,19 +347,23 @@ contains
                     call untake(it%deep, mine, ns)
                     call untake(it%fprev, mine, ns)
                     call untake(it%ft, mine, ns)
-                    ! (the other ranks' slaves' contacts the last exchange
-                    ! brought: none, until the next)
                     call untake(it%fk, mine, ns)
                     call untake_hits(it%hit, mine, ns)
-                    do k = 1, ns
-                        if (.not. it%owned(k)) it%found(k) = .false.
-                        it%hrow(k) = k
+                end if
+                if (own) then
+                    it%orow = 0
+                    do k = 1, n
+                        it%orow(mine(k)) = k
                     end do
-                    it%nhown = ns
+                else
                     do k = 1, ns
                         it%orow(k) = k
+                        ! (the other ranks' slaves' contacts the last
+                        ! exchange brought: none, until the next)
+                        if (.not. it%owned(k)) it%found(k) = .false.
                     end do
                 end if
+                it%hrow = it%orow
                 deallocate (mine)
                 it%own_rows = own
             end associate
@@ -419,13 +406,15 @@ contains
         integer, intent(in) :: nrecv
         type(pair_hit_t), allocatable :: h(:)
         real(wp), allocatable :: fk(:, :)
-        integer :: n
-        if (size(it%hit) >= it%nhown + nrecv) return
-        n = max(it%nhown + nrecv, size(it%hit) + size(it%hit)/2)
+        integer :: n, nown
+        ! (the own rows: as many as of the rest of their contact state)
+        nown = size(it%cseg)
+        if (size(it%hit) >= nown + nrecv) return
+        n = max(nown + nrecv, size(it%hit) + size(it%hit)/2)
         allocate (h(n), fk(3, n))
-        h(1:it%nhown) = it%hit(1:it%nhown)
-        fk(:, 1:it%nhown) = it%fk(:, 1:it%nhown)
-        fk(:, it%nhown + 1:) = 0
+        h(1:nown) = it%hit(1:nown)
+        fk(:, 1:nown) = it%fk(:, 1:nown)
+        fk(:, nown + 1:) = 0
         call move_alloc(h, it%hit)
         call move_alloc(fk, it%fk)
     end subroutine hit_room
@@ -957,50 +946,36 @@ contains
 
     !> MPI with contact ghosts: the box around interface it's live slaves
     !> that this rank owns, grown by what build_master_lists grows the box
-    !> of the slaves it searches by (their largest pool margin, the
-    !> surface nodes' largest characteristic length with its motion bound
-    !> and margin, the contact reach; the same expressions on the same
-    !> values), plus `span`: every master node a search of these slaves
-    !> buckets lies inside, and every node of a segment at one within span
-    !> of it. lo > hi (huge values): no such slave, an empty box.
+    !> of the slaves it searches by (pool_reach of these), plus `span`:
+    !> every master node a search of these slaves buckets lies inside, and
+    !> every node of a segment at one within span of it. lo > hi (huge
+    !> values): no such slave, an empty box.
     function search_box(it, x, span, time) result(box)
         type(interface_t), intent(in) :: it
         real(wp), intent(in) :: x(:, :), span
         real(dp), intent(in) :: time
         real(wp) :: box(6)
-        real(wp) :: lo(3), hi(3), grow, r
-        real(wp), parameter :: zero = 0
-        integer :: k, i
-        logical :: any_slave
+        real(wp) :: lo(3), hi(3), g
+        logical, allocatable :: mine(:)
+        integer :: k
         box(1:3) = huge(1.0_wp)
         box(4:6) = -huge(1.0_wp)
         ! (contact_search's window)
         if (time < it%bt .or. time > it%dt) return
         associate (s => it%surf)
-            grow = 0
+            allocate (mine(s%nslave))
             lo = huge(1.0_wp)
             hi = -huge(1.0_wp)
-            any_slave = .false.
             do k = 1, s%nslave
-                if (.not. (it%owned(k) .and. it%live(k))) cycle
-                any_slave = .true.
+                mine(k) = it%owned(k) .and. it%live(k)
+                if (.not. mine(k)) cycle
                 lo = min(lo, x(:, s%node(s%slave(k))))
                 hi = max(hi, x(:, s%node(s%slave(k))))
-                grow = max(grow, it%dl(s%slave(k)))
             end do
-            if (.not. any_slave) return
-            r = 0
-            do i = 1, s%nnode
-                if (iand(s%node_side(i), ior(side_a, side_b)) == 0) cycle
-                if (allocated(it%ls%lc)) then
-                    r = max(r, it%ls%lc(i) + 2*(it%odo - it%ls%lcodo(i)) + it%dl(i))
-                else
-                    ! (the search's characteristic lengths start at zero)
-                    r = max(r, zero + 2*(it%odo - zero) + it%dl(i))
-                end if
-            end do
-            box(1:3) = lo - (grow + r + it%reach) - span
-            box(4:6) = hi + (grow + r + it%reach) + span
+            if (.not. any(mine)) return
+            g = pool_reach(s, it%ls%lc, it%dl, it%reach, mine, it%odo, it%ls%lcodo)
+            box(1:3) = lo - g - span
+            box(4:6) = hi + g + span
         end associate
     end function search_box
 
@@ -1040,14 +1015,6 @@ contains
                 end if
                 t0 = wtime()
                 if (.not. allocated(it%xl)) allocate (it%xl(3, it%surf%nnode))
-                if (.not. allocated(it%ls%lc)) then
-                    allocate (it%ls%lc(it%surf%nnode))
-                    it%ls%lc = 0
-                end if
-                if (.not. allocated(it%ls%lcodo)) then
-                    allocate (it%ls%lcodo(it%surf%nnode))
-                    it%ls%lcodo = 0
-                end if
                 call gather_x(x, it%surf%node, it%xl)
                 ! (and the slaves whose surface erosion changed)
                 todo = it%owned .and. it%live .and. (due(it%cls) .or. it%resl)
@@ -1450,10 +1417,10 @@ contains
     !> sqrt(2 k / m): dt < 0.35 sqrt(m / k) (contact_step_scale). Under the
     !> Lagrangian projection there are no springs and no bound (issue 28),
     !> except on an interface with shell edge pairs (their penalty springs).
-    !> With `rows_later`, the slaves' contact state that the slave's rank
-    !> alone reads (slave_rows_alloc's) is not allocated here:
-    !> contact_slave_rows allocates it, in the rows of the slaves the rank
-    !> owns then (the initial penetrations' passes: their block's, without
+    !> The slaves' contact state that the slave's rank alone reads is
+    !> allocated for every slave (contact_slave_rows), or with `rows_later`
+    !> left to the caller's contact_slave_rows once the rank's slaves are
+    !> chosen (the initial penetrations' passes: their block's rows, without
     !> every slave's arrays first).
     subroutine contact_masses(ct, mass, rows_later)
         type(contacts_t), intent(inout) :: ct
@@ -1475,17 +1442,8 @@ contains
                 allocate (it%owned(n), it%evk(n), it%evd(n), it%ev(16), it%found(n))
                 allocate (it%rseg(n), it%orow(n), it%hrow(n))
                 it%own_rows = .false.
-                if (later) then
-                    it%orow = 0
-                    it%hrow = 0
-                    it%nhown = 0
-                else
-                    call slave_rows_alloc(it, n)
-                    do k = 1, n
-                        it%orow(k) = k
-                        it%hrow(k) = k
-                    end do
-                end if
+                it%orow = 0
+                it%hrow = 0
                 it%rseg = 0
                 it%found = .false.
                 it%evk = ev_none
@@ -1493,12 +1451,17 @@ contains
                 it%owned = .true.
                 it%mine = where_true(it%live)
                 allocate (it%ls%xl(3, s%nnode), it%ls%vl(3, s%nnode))
+                ! (the characteristic lengths the searches take, none yet)
+                allocate (it%ls%lc(s%nnode), it%ls%lcodo(s%nnode))
+                it%ls%lc = 0
+                it%ls%lcodo = 0
                 ! the Lagrangian projection has no springs to bound (the edge
                 ! pairs of AUTOMATIC_GENERAL keep theirs)
                 if (ct%lagrange .and. it%ed%ne == 0) cycle
                 call spring_step(ct, it, [(.true., k=1, s%nnode)])
             end associate
         end do
+        if (.not. later) call contact_slave_rows(ct, .false.)
     end subroutine contact_masses
 
     !> The slaves' contact state that only the slave's rank reads (cseg,
@@ -1509,7 +1472,6 @@ contains
         integer, intent(in) :: n
         allocate (it%cseg(n), it%fprev(3, n), it%ft(3, n), it%hit(n), it%p0(n), it%kp(n), it%aeff(n), it%fk(3, n))
         allocate (it%rdep(n), it%rlast(n), it%deep(n), it%held(n))
-        it%nhown = n
         it%cseg = 0
         it%held = 0
         it%deep = 0
@@ -1903,7 +1865,7 @@ contains
                 ! MPI: the contacts the other ranks' slaves found
                 if (ct%distributed) then
                     t0 = wtime()
-                    call gather_contacts(it, ct, allocated(ct%rank_of) .and. .not. (outputs .or. sums .or. ct%lagrange))
+                    call gather_contacts(it, ct, allocated(ct%rank_of) .and. .not. (outputs .or. sums))
                     ct%wall_gather = ct%wall_gather + (wtime() - t0)
                 end if
                 call list_pairs(it, s%nslave, time)
@@ -2445,7 +2407,8 @@ contains
         it%got = pack(nint(all(1, :)), .not. it%owned(nint(all(1, :))))
         ! (in the rank's own slaves' rows: a row each after the own ones)
         if (it%own_rows) call hit_room(it, size(it%got))
-        r = it%nhown
+        ! (the own rows: as many as of the rest of their contact state)
+        r = size(it%cseg)
         do i = 1, size(all, 2)
             k = nint(all(1, i))
             if (it%owned(k)) cycle
@@ -2505,7 +2468,7 @@ contains
         scnt = 0
         do i = 1, size(mine, 2)
             nto(i) = 0
-            if (nint(mine(16, i)) /= ev_none .or. mine(15, i) < 0.5_dp) then
+            if (nint(mine(16, i)) /= ev_none) then
                 do r = 0, nr - 1
                     call add(r)
                 end do

@@ -40,7 +40,7 @@ module xd_contact_global_search
     implicit none
     private
     public :: buckets_t, bucket_sort, bucket_radii, node_pool, levels_t, sort_levels, level_pool, typical_length
-    public :: characteristic_lengths, master_lists_t, build_master_lists, lists_bytes
+    public :: characteristic_lengths, master_lists_t, build_master_lists, lists_bytes, pool_reach
     public :: search_work_t, new_search_work, mark_none, mark_trackable, mark_nontrackable, search_counts_t
     public :: compact_lists
     public :: separating_axes, reach_factor, pool_margins, margin_floor, margin_classes
@@ -622,6 +622,35 @@ contains
     !> some slaves only are searched) of the bucketed ones, lcodo(m) = odo
     !> for those (a segment at m lies within lc(m) + 2 (odometer - lcodo(m))
     !> of m at any time after); without it lc is given.
+    !> How far beyond the box of the slaves `todo` a master node can lie in
+    !> one of their pools: their largest pool margin, the master nodes'
+    !> largest characteristic length (with lcodo and odo, grown by the
+    !> motion bound since it was taken) and margin, and the contact reach.
+    !> build_master_lists buckets what lies within it; MPI's search
+    !> exchange sends what lies within it of a rank's slaves.
+    pure real(wp) function pool_reach(s, lc, dl, reach, todo, odo, lcodo) result(g)
+        type(surface_t), intent(in) :: s
+        real(wp), intent(in) :: lc(:), dl(:), reach
+        logical, intent(in) :: todo(:)
+        real(wp), intent(in), optional :: odo, lcodo(:)
+        real(wp) :: grow, r
+        integer :: i
+        grow = 0
+        do i = 1, s%nslave
+            if (todo(i)) grow = max(grow, dl(s%slave(i)))
+        end do
+        r = 0
+        do i = 1, s%nnode
+            if (iand(s%node_side(i), ior(side_a, side_b)) == 0) cycle
+            if (present(lcodo)) then
+                r = max(r, lc(i) + 2*(odo - lcodo(i)) + dl(i))
+            else
+                r = max(r, lc(i) + dl(i))
+            end if
+        end do
+        g = grow + r + reach
+    end function pool_reach
+
     subroutine build_master_lists(s, xl, lc, reach, dl, mnl, lists, counts, search, stamp, odo, lcodo, fresh)
         type(surface_t), intent(in) :: s
         real(wp), intent(in) :: xl(:, :), reach, dl(:)
@@ -671,26 +700,16 @@ contains
             ! those within the box of the searched slaves grown by the
             ! largest radius (each node's characteristic length bounded as
             ! local_search_t%lcodo says)
-            grow = 0
             lo = huge(1.0_wp)
             hi = -huge(1.0_wp)
             do i = 1, s%nslave
                 if (.not. todo(i)) cycle
                 lo = min(lo, xl(:, s%slave(i)))
                 hi = max(hi, xl(:, s%slave(i)))
-                grow = max(grow, dl(s%slave(i)))
             end do
-            r = 0
-            do i = 1, s%nnode
-                if (.not. master(i)) cycle
-                if (present(lcodo)) then
-                    r = max(r, lc(i) + 2*(odo - lcodo(i)) + dl(i))
-                else
-                    r = max(r, lc(i) + dl(i))
-                end if
-            end do
-            lo = lo - (grow + r + reach)
-            hi = hi + (grow + r + reach)
+            grow = pool_reach(s, lc, dl, reach, todo, odo, lcodo)
+            lo = lo - grow
+            hi = hi + grow
             do i = 1, s%nnode
                 if (master(i)) master(i) = all(xl(:, i) >= lo) .and. all(xl(:, i) <= hi)
             end do

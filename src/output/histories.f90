@@ -20,7 +20,8 @@ module xd_output_histories
     implicit none
     private
     public :: merge_rotations
-    public :: histories_t, open_histories, histories_due, nodout_due, rcforc_due, write_histories, close_histories, version_line, &
+    public :: histories_t, open_histories, histories_due, database_due, s_nodout, s_rcforc, write_histories, &
+              close_histories, version_line, &
               flush_histories, &
               history_marks_t, history_marks, history_failure, track_rotations
 
@@ -387,27 +388,18 @@ contains
         histories_due = any(due_at(h, t, .false.))
     end function histories_due
 
-    !> nodout is due at t (or forced): with contact, its rows carry each
-    !> node's contact force, the only history that reads them.
-    logical function nodout_due(h, t, force)
+    !> Database db (s_nodout, s_rcforc, ...) is due at t (or forced). With
+    !> contact, nodout's rows carry each node's contact force and rcforc's
+    !> are sums over every contact pair of the cycle: the contact asks.
+    logical function database_due(h, db, t, force)
         type(histories_t), intent(in) :: h
+        integer, intent(in) :: db
         real(dp), intent(in) :: t
         logical, intent(in) :: force
         logical :: due(ndb)
         due = due_at(h, t, force)
-        nodout_due = due(s_nodout)
-    end function nodout_due
-
-    !> rcforc is due at t (or forced): its rows are sums over every contact
-    !> pair of the cycle.
-    logical function rcforc_due(h, t, force)
-        type(histories_t), intent(in) :: h
-        real(dp), intent(in) :: t
-        logical, intent(in) :: force
-        logical :: due(ndb)
-        due = due_at(h, t, force)
-        rcforc_due = due(s_rcforc)
-    end function rcforc_due
+        database_due = due(db)
+    end function database_due
 
     !> Write the databases that are due at the state's time (all of them if
     !> `force`). vn: full-step velocities; a: accelerations.

@@ -74,7 +74,8 @@ module xd_solver_domain
     public :: node_gather_t, node_runs
     public :: domain_t, build_domain, domain_summary, gather_energy_state, gather_element_state, &
               swap_slots, swap_velocities, owned_motion, gather_subset, gather_layout, neighbour_count, &
-              ghost_base, contact_ghosts, search_exchange, place_shell_state, localize_element_state, release_element_view, &
+              ghost_base, contact_ghosts, search_exchange, surface_spans, place_shell_state, localize_element_state, &
+              release_element_view, &
               domain_bytes, gather_to_root
 
     !> A set of nodes whose values go from their ranks to every rank (an
@@ -145,8 +146,8 @@ module xd_solver_domain
         !> contact surfaces' velocities no longer go to every rank: at each
         !> global search each rank's box of what a search of its slaves
         !> buckets goes to all, and each rank sends its own surface nodes
-        !> inside another's box to it (search_exchange; where no ghosts'
-        !> lists are made yet, every surface node from its rank: csurf);
+        !> inside another's box to it (search_exchange; csurf, every surface
+        !> node by rank, is what the sides and XDYNA_CHECK_GHOSTS read);
         !> after it each rank's box of the surface nodes its slaves read goes
         !> to all, and until the next search a rank sends its own surface
         !> nodes inside another's box to it with its halo's motion, their
@@ -1000,16 +1001,19 @@ contains
     !> The moved nodes: the base's and those received; each interface's
     !> surface nodes among them (it%fresh, which its local search gathers
     !> until the next search).
-    subroutine contact_ghosts(dom, ct, x, v)
+    subroutine contact_ghosts(dom, ct, x, v, spans)
         type(domain_t), intent(inout) :: dom
         type(contacts_t), intent(inout) :: ct
         !> (a new ghost's position and velocity come with its number: the
         !> rank that takes it may hold an old one)
         real(wp), intent(inout) :: x(:, :), v(:, :)
+        !> surface_spans now: the search's (search_exchange), or at the
+        !> start every segment's
+        real(dp), intent(in) :: spans(2)
         logical, allocatable :: rd(:), out(:), inn(:), brot(:), mv(:)
         integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:)
         logical, allocatable :: mo_rot(:), mi_rot(:)
-        real(dp) :: box(6), boxes(6, dom%nranks), reach, step, sp(2)
+        real(dp) :: box(6), boxes(6, dom%nranks), reach, step
         logical, allocatable :: pm(:)
         integer, allocatable :: gid(:), gcnt(:), gfrom(:)
         real(dp), allocatable :: gsend(:, :), gin(:, :)
@@ -1070,14 +1074,8 @@ contains
                 deallocate (pm)
             end associate
         end do
-        ! (the step: the longest diagonal of a segment, over the ranks, each
-        ! taking the segments whose nodes it holds current)
-        if (allocated(ct%moves)) then
-            sp = surface_spans(ct, x, ct%moves)
-        else
-            sp = surface_spans(ct, x)
-        end if
-        step = sp(1)
+        ! (the step: the longest diagonal of a segment)
+        step = spans(1)
         box(1:3) = huge(1.0_dp)
         box(4:6) = -huge(1.0_dp)
         do j = 1, nn
@@ -1105,7 +1103,7 @@ contains
         ng = 0
         do k = 1, size(dom%nbr)
             r = dom%nbr(k)
-            call side(dom%bmo_ptr, dom%bmo_node, dom%bmo_rot, dom%rank, r, out, added)
+            call side(r, out, added)
             dom%nghost_out = dom%nghost_out + added
             gcnt(r + 1) = added
             call append_entries(out, brot, mo_node, mo_rot, mo_ptr)
@@ -1172,26 +1170,25 @@ contains
             end associate
         end do
     contains
-        !> One side of the exchange with neighbour k: mark (with brot, the
-        !> angular velocities) the base lists' entries ptr(k)+1 .. ptr(k+1),
-        !> then the surface nodes of `owner` inside `reader`'s box not yet
-        !> marked (added of them, listed in gid).
-        subroutine side(ptr, node, rot, owner, reader, mark, added)
-            integer, intent(in) :: ptr(:), node(:), owner, reader
-            logical, intent(in) :: rot(:)
+        !> What this rank sends neighbour k (rank `reader`): mark (with brot,
+        !> the angular velocities) the base lists' entries bmo_ptr(k)+1 ..
+        !> bmo_ptr(k+1), then this rank's surface nodes inside reader's box
+        !> not yet marked (added of them, listed in gid).
+        subroutine side(reader, mark, added)
+            integer, intent(in) :: reader
             logical, intent(out) :: mark(:)
             integer, intent(out) :: added
             integer :: e, jj, nd
             mark = .false.
             brot = .false.
-            do e = ptr(k) + 1, ptr(k + 1)
-                mark(node(e)) = .true.
-                brot(node(e)) = rot(e)
+            do e = dom%bmo_ptr(k) + 1, dom%bmo_ptr(k + 1)
+                mark(dom%bmo_node(e)) = .true.
+                brot(dom%bmo_node(e)) = dom%bmo_rot(e)
             end do
             added = 0
             do jj = 1, size(dom%csurf%node)
                 nd = dom%csurf%node(jj)
-                if (dom%arank(nd) /= owner .or. mark(nd)) cycle
+                if (dom%arank(nd) /= dom%rank .or. mark(nd)) cycle
                 if (.not. inside(nd, boxes(:, reader + 1))) cycle
                 mark(nd) = .true.
                 added = added + 1
@@ -1247,14 +1244,17 @@ contains
     !> rank). cur: per model node, its position is current here after (the
     !> nodes this rank moves, and those received), which the search alone
     !> buckets.
-    subroutine search_exchange(dom, ct, x, v, time, cur)
+    subroutine search_exchange(dom, ct, x, v, time, cur, sp)
         type(domain_t), intent(inout) :: dom
         type(contacts_t), intent(in) :: ct
         real(wp), intent(inout) :: x(:, :), v(:, :)
         real(dp), intent(in) :: time
         logical, allocatable, intent(inout) :: cur(:)
+        !> surface_spans over the nodes held current before the exchange
+        !> (their positions do not change in it: the ghosts' choice after
+        !> the search takes them)
+        real(dp), intent(out) :: sp(2)
         real(dp), allocatable :: bx(:), boxes(:, :), send(:, :), got(:, :)
-        real(dp) :: sp(2)
         real(wp) :: b(6)
         integer, allocatable :: mine(:), last(:), scnt(:)
         integer :: i, k, r, nd, q, n
@@ -1340,6 +1340,7 @@ contains
         real(wp) :: b(6)
         integer(i8) :: c(3)
         integer :: i, k, nd
+        allocate (xc(size(x, 1), size(x, 2)), vc(size(v, 1), size(v, 2)))
         xc = x
         vc = v
         call gather_subset(dom, dom%csurf, xc, vc)

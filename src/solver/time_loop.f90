@@ -17,7 +17,8 @@ module xd_solver_time_loop
     use xd_solver_state, only: state_t, allocate_force_arrays
     use xd_solver_assembly, only: assembly_t
     use xd_solver_energies, only: energies_t, prepare_energies, energy_bytes, masses_fixed
-    use xd_output_histories, only: histories_t, histories_due, nodout_due, rcforc_due, write_histories, history_failure, &
+    use xd_output_histories, only: histories_t, histories_due, database_due, s_nodout, s_rcforc, write_histories, &
+                                   history_failure, &
                                    flush_histories
     use xd_output_states, only: states_t, states_due, write_state, states_marks, states_failure
     use xd_output_histories, only: history_marks, merge_rotations
@@ -37,7 +38,8 @@ module xd_solver_time_loop
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t, shell_rows
     use xd_solver_domain, only: neighbour_count, domain_t, gather_element_state, owned_motion, gather_layout, gather_subset, &
-                                ghost_base, contact_ghosts, search_exchange, release_element_view
+                                ghost_base, contact_ghosts, search_exchange, surface_spans, &
+                                release_element_view
     use xd_core_comm, only: comm_max, comm_sum_int, comm_gather_small, comm_sum_dp
     use xd_solver_step_control, only: step_stats_t, step_stats_init, step_stats_count, step_stats_report, &
                                       hourglass_bound_report
@@ -142,6 +144,7 @@ contains
         !> contact ghosts: per model node, its position is current on this rank
         !> at a search (search_exchange)
         logical, allocatable :: cur(:)
+        real(dp) :: spans(2)   !< the search's surface_spans, which the ghosts' choice after it reads
         real(wp) :: dtc, g_new(3)
         real(dp) :: dt_avg
         real(wp) :: dt_ref
@@ -175,7 +178,7 @@ contains
         call step_stats_init(ss, solids%n, sh%n)
         if (dom%on) call choose_owned(dom, ct, rg, td, bm, pl, sh, hist, lg)
         ! (the ghosts from the lists there are: a restart's)
-        if (dom%ghosts) call contact_ghosts(dom, ct, st%x, st%v)
+        if (dom%ghosts) call contact_ghosts(dom, ct, st%x, st%v, surface_spans(ct, st%x))
         if (allocated(dom%own_contact) .and. ct%n > 0) then
             ! each rank books its own slaves' contacts' work; a restart's
             ! sums (every rank read them) stay on rank 0 alone
@@ -252,26 +255,19 @@ contains
                 end if
             end if
             if (ct%n > 0) then
-                ! contact ghosts: a search reads every surface node, from its
-                ! rank, and chooses the ghosts anew after it
+                ! contact ghosts: a search reads the surface nodes within reach
+                ! of the rank's slaves, from their ranks (cur: the nodes held
+                ! current), and chooses the ghosts anew after it
                 refresh = .false.
                 if (dom%ghosts) refresh = search_due(ct, st%cycle, st%time)
                 if (refresh) then
                     call tm%start(ph_comm)
-                    ! (the surface nodes within reach of the rank's slaves,
-                    ! from their ranks; where the ghosts' lists are not made
-                    ! yet, every surface node)
-                    if (allocated(ct%rank_of)) then
-                        call search_exchange(dom, ct, st%x, st%v, st%time, cur)
-                    else
-                        call gather_subset(dom, dom%csurf, st%x, st%v)
-                    end if
+                    call search_exchange(dom, ct, st%x, st%v, st%time, cur, spans)
                     call tm%stop(ph_comm)
                 end if
                 ! step 2 where due, on x(n); steps 3-4 will follow here
-                ! (with the ghosts, of the nodes current here: cur)
                 call tm%start(ph_search)
-                if (refresh .and. allocated(ct%rank_of)) then
+                if (refresh) then
                     call contact_search(ct, st%x, model%node_id, st%cycle, st%time, cur)
                 else
                     call contact_search(ct, st%x, model%node_id, st%cycle, st%time)
@@ -279,7 +275,7 @@ contains
                 call tm%stop(ph_search)
                 if (refresh) then
                     call tm%start(ph_comm)
-                    call contact_ghosts(dom, ct, st%x, st%v)
+                    call contact_ghosts(dom, ct, st%x, st%v, spans)
                     call tm%stop(ph_comm)
                 end if
             end if
@@ -330,9 +326,9 @@ contains
             ! (every pair's contact forces per node where an output reads
             ! them: a state, nodout, or every database at once)
             if (ct%n > 0) call contact_phase(model, dom, ct, rg, sh, st, lg, tm, dt_avg, &
-                                             nodout_due(hist, st%time, done .or. st%cycle == 0) .or. &
+                                             database_due(hist, s_nodout, st%time, done .or. st%cycle == 0) .or. &
                                              state_now(lp, states, st%time, done .or. st%cycle == 0), &
-                                             rcforc_due(hist, st%time, done .or. st%cycle == 0), br)
+                                             database_due(hist, s_rcforc, st%time, done .or. st%cycle == 0), br)
             call tm%start(ph_integrate)
             call velocity_phase(dom, st, td, dt_avg, energy_now, vminus, vrminus)
             call tm%stop(ph_integrate)
@@ -603,7 +599,7 @@ contains
                 call log_line(lg, ' contact: ghosts by proximity (XDYNA_GHOSTS=0: none): at each search each '// &
                               'rank''s box of what a search of its slaves buckets goes to all and a rank sends its own '// &
                               'surface nodes inside another''s box to it (of the surfaces'' '// &
-                              itoa(size(dom%csurf%node))//' nodes; the first search gathers every one), then each '// &
+                              itoa(size(dom%csurf%node))//' nodes), then each '// &
                               'rank''s box of what its slaves read to all, and until the next search a rank''s own '// &
                               'surface nodes inside another''s box sent to it with the halo')
             end if
