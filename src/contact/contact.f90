@@ -44,6 +44,7 @@ module xd_contact_contact
                                   follow_thickness, faces_bytes, surface_bytes
     use xd_core_vectors, only: cross
     use xd_contact_global_search, only: master_lists_t, build_master_lists, characteristic_lengths, search_counts_t, &
+                                        lists_rows, list_row, list_rows, &
                                         typical_length, pool_margins, margin_floor, margin_classes, lists_bytes, &
                                         pool_reach
     use xd_contact_segment_check, only: hit_t, pair_hit_t, kept, contact_interior, segment_check
@@ -364,6 +365,8 @@ contains
                     end do
                 end if
                 it%hrow = it%orow
+                ! (the search lists' per-slave arrays in the same rows)
+                call lists_rows(it%lists, it%orow, merge(n, ns, own))
                 deallocate (mine)
                 it%own_rows = own
             end associate
@@ -1389,8 +1392,10 @@ contains
         integer :: k, j, sl, sn, m
         character(len=1) :: tag
         do k = 1, size(it%dump)
-            sl = it%dump(k)
-            sn = it%surf%slave(sl)
+            sn = it%surf%slave(it%dump(k))
+            ! (the lists of a slave searched here: another rank's are not held)
+            sl = list_row(it%lists, it%dump(k))
+            if (sl == 0) cycle
             write (u, '(a,i0,a,i0,a,i0,a,es16.8,a,i0,a,3es16.8,a,i0)') 'search ', it%nsearch, ' interface ', it%id, &
                 ' cycle ', cycle, ' time ', time, ' slave ', node_id(it%surf%node(sn)), ' at ', it%xl(:, sn), &
                 ' masters ', it%lists%last(sl) - it%lists%ptr(sl) + 1
@@ -1705,7 +1710,7 @@ contains
         type(hit_t) :: hk
         clear_skip = sw%screens .and. cl%search >= 0
         refresh = clear_skip .and. allocated(lists%pool_ptr)
-        if (refresh) refresh = size(lists%pool_ptr) == s%nslave
+        if (refresh) refresh = size(lists%pool_ptr) == list_rows(lists, s%nslave)
         nn = 0
         nf = 0
         ! (the counts in the loop's own text: a reduction's variable must
@@ -1732,7 +1737,8 @@ contains
                 clean = clear(k, r)
                 ! (a slave without a pool, read back from a restart dump and
                 ! not searched since, takes no fresh clearance)
-                if (.not. clean .and. refresh .and. lists%pool_last(k) >= lists%pool_ptr(k) - 1) then
+                if (.not. clean .and. refresh .and. &
+                    lists%pool_last(list_row(lists, k)) >= lists%pool_ptr(list_row(lists, k)) - 1) then
                     if (cl%wait(r) == 0) then
                         cl%g(r) = fresh_clearance(s, lists, ls, k, cl%near(:, r), cl%nnear(r))
                         cl%x(:, r) = ls%xl(:, s%slave(k))

@@ -42,7 +42,7 @@ module xd_contact_global_search
     public :: buckets_t, bucket_sort, bucket_radii, node_pool, levels_t, sort_levels, level_pool, typical_length
     public :: characteristic_lengths, master_lists_t, build_master_lists, lists_bytes, pool_reach
     public :: search_work_t, new_search_work, mark_none, mark_trackable, mark_nontrackable, search_counts_t
-    public :: compact_lists
+    public :: compact_lists, lists_rows, list_row, list_rows
     public :: separating_axes, reach_factor, pool_margins, margin_floor, margin_classes
 
     integer(int8), parameter :: mark_none = 0, mark_trackable = 1, mark_nontrackable = 2
@@ -105,6 +105,12 @@ module xd_contact_global_search
         !> search, and the number of that search
         real(wp), allocatable :: og(:)
         integer, allocatable :: at(:)
+        !> (nslave) the slave's row in the per-slave arrays above (ptr,
+        !> last, gap, pool_ptr, pool_last, xg, og, at; 0: none held here),
+        !> nrow rows (lists_rows: on a rank of several, its own slaves',
+        !> issue 32). Unallocated: slave k's row is k, nslave rows
+        integer, allocatable :: row(:)
+        integer :: nrow = 0
     end type master_lists_t
 
     !> Sizes summed over the slaves of one search.
@@ -154,8 +160,110 @@ contains
     integer(i8) function lists_bytes(l) result(b)
         type(master_lists_t), intent(in) :: l
         b = nbytes(l%ptr) + nbytes(l%last) + nbytes(l%node) + nbytes(l%trackable) + nbytes(l%gap) &
-            + nbytes(l%pool_ptr) + nbytes(l%pool_last) + nbytes(l%pool_node) + nbytes(l%xg) + nbytes(l%og) + nbytes(l%at)
+            + nbytes(l%pool_ptr) + nbytes(l%pool_last) + nbytes(l%pool_node) + nbytes(l%xg) + nbytes(l%og) &
+            + nbytes(l%at) + nbytes(l%row)
     end function lists_bytes
+
+    !> Slave k's row in the lists' per-slave arrays (0: none held here).
+    pure integer function list_row(l, k) result(r)
+        type(master_lists_t), intent(in) :: l
+        integer, intent(in) :: k
+        r = k
+        if (allocated(l%row)) r = l%row(k)
+    end function list_row
+
+    !> The number of rows the lists' per-slave arrays hold, of nslave slaves.
+    pure integer function list_rows(l, nslave) result(n)
+        type(master_lists_t), intent(in) :: l
+        integer, intent(in) :: nslave
+        n = nslave
+        if (allocated(l%row)) n = l%nrow
+    end function list_rows
+
+    !> The lists' per-slave arrays re-laid in new rows: slave k's at row(k)
+    !> (0: not held), nrow rows. A slave that had no row keeps no list and
+    !> no pool and has no clearance taken (as a slave never searched); the
+    !> stores are compacted, the entries of the slaves left out dropped.
+    !> Each kept slave's list, pool, gap and search stamps are as they were.
+    subroutine lists_rows(l, row, nrow)
+        type(master_lists_t), intent(inout) :: l
+        integer, intent(in) :: row(:), nrow
+        integer, allocatable :: ia(:), ib(:), iat(:)
+        real(wp), allocatable :: ga(:), xa(:, :), oa(:)
+        integer :: k, o, r
+        if (allocated(l%ptr)) then
+            allocate (ia(nrow), ib(nrow))
+            ia = 1
+            ib = 0
+            do k = 1, size(row)
+                r = row(k)
+                o = list_row(l, k)
+                if (r == 0 .or. o == 0) cycle
+                ia(r) = l%ptr(o)
+                ib(r) = l%last(o)
+            end do
+            call move_alloc(ia, l%ptr)
+            call move_alloc(ib, l%last)
+        end if
+        if (allocated(l%pool_ptr)) then
+            allocate (ia(nrow), ib(nrow))
+            ia = 1
+            ib = -1
+            do k = 1, size(row)
+                r = row(k)
+                o = list_row(l, k)
+                if (r == 0 .or. o == 0) cycle
+                ia(r) = l%pool_ptr(o)
+                ib(r) = l%pool_last(o)
+            end do
+            call move_alloc(ia, l%pool_ptr)
+            call move_alloc(ib, l%pool_last)
+        end if
+        if (allocated(l%gap)) then
+            allocate (ga(nrow))
+            ga = -huge(1.0_wp)
+            do k = 1, size(row)
+                r = row(k)
+                o = list_row(l, k)
+                if (r == 0 .or. o == 0) cycle
+                ga(r) = l%gap(o)
+            end do
+            call move_alloc(ga, l%gap)
+        end if
+        if (allocated(l%xg)) then
+            allocate (xa(3, nrow), oa(nrow), iat(nrow))
+            xa = 0
+            oa = 0
+            iat = 0
+            do k = 1, size(row)
+                r = row(k)
+                o = list_row(l, k)
+                if (r == 0 .or. o == 0) cycle
+                xa(:, r) = l%xg(:, o)
+                oa(r) = l%og(o)
+                iat(r) = l%at(o)
+            end do
+            call move_alloc(xa, l%xg)
+            call move_alloc(oa, l%og)
+            call move_alloc(iat, l%at)
+        end if
+        ! (every slave's rows in slave order: no map kept)
+        r = 0
+        if (nrow == size(row)) then
+            do k = 1, size(row)
+                if (row(k) /= k) exit
+                r = k
+            end do
+        end if
+        if (r == size(row)) then
+            if (allocated(l%row)) deallocate (l%row)
+        else
+            l%row = row
+        end if
+        l%nrow = nrow
+        if (allocated(l%ptr) .and. allocated(l%node)) call compact_lists(l)
+        if (allocated(l%pool_ptr) .and. allocated(l%pool_node)) call compact_pools(l)
+    end subroutine lists_rows
 
     subroutine new_search_work(nnode, w, nseg)
         integer, intent(in) :: nnode
@@ -781,13 +889,14 @@ contains
         k = 0
         if (present(stamp)) k = stamp
         nm = 0
-        !$omp parallel do schedule(static) reduction(+:nm)
+        !$omp parallel do schedule(static) private(q) reduction(+:nm)
         do i = 1, s%nslave
             if (.not. todo(i)) cycle
-            lists%xg(:, i) = xl(:, s%slave(i))
-            lists%og(i) = r
-            lists%at(i) = k
-            nm = nm + (lists%last(i) - lists%ptr(i) + 1)
+            q = list_row(lists, i)
+            lists%xg(:, q) = xl(:, s%slave(i))
+            lists%og(q) = r
+            lists%at(q) = k
+            nm = nm + (lists%last(q) - lists%ptr(q) + 1)
         end do
         !$omp end parallel do
         counts%masters = nm
@@ -808,10 +917,12 @@ contains
         logical, intent(in) :: todo(:)
         type(block_out_t), intent(in) :: blk(:)
         type(master_lists_t), intent(inout) :: lists
-        integer :: ib, i, k, first, qb, pb, c, pc
+        integer :: ib, i, k, first, qb, pb, c, pc, nr
+        ! (the rows: the slaves' own, or one a slave where no rows are set)
+        nr = list_rows(lists, s%nslave)
         ! (another number of slaves: the lists start afresh)
         if (allocated(lists%ptr)) then
-            if (size(lists%ptr) /= s%nslave) then
+            if (size(lists%ptr) /= nr) then
                 deallocate (lists%ptr)
                 if (allocated(lists%pool_ptr)) deallocate (lists%pool_ptr, lists%pool_last)
                 if (allocated(lists%gap)) deallocate (lists%gap)
@@ -820,7 +931,7 @@ contains
         end if
         if (.not. allocated(lists%ptr)) then
             if (allocated(lists%last)) deallocate (lists%last)
-            allocate (lists%ptr(s%nslave), lists%last(s%nslave))
+            allocate (lists%ptr(nr), lists%last(nr))
             lists%ptr = 1
             lists%last = 0
             lists%nused = 0
@@ -831,7 +942,7 @@ contains
         ! next search a slave has none, pool_last = pool_ptr - 2, and its
         ! clearance is not taken afresh)
         if (.not. allocated(lists%pool_ptr)) then
-            allocate (lists%pool_ptr(s%nslave), lists%pool_last(s%nslave))
+            allocate (lists%pool_ptr(nr), lists%pool_last(nr))
             lists%pool_ptr = 1
             lists%pool_last = -1
             lists%pused = 0
@@ -839,11 +950,11 @@ contains
         end if
         if (.not. allocated(lists%pool_node)) allocate (lists%pool_node(0))
         if (.not. allocated(lists%gap)) then
-            allocate (lists%gap(s%nslave))
+            allocate (lists%gap(nr))
             lists%gap = -huge(1.0_wp)
         end if
         if (.not. allocated(lists%xg)) then
-            allocate (lists%xg(3, s%nslave), lists%og(s%nslave), lists%at(s%nslave))
+            allocate (lists%xg(3, nr), lists%og(nr), lists%at(nr))
             lists%xg = 0
             lists%og = 0
             lists%at = 0
@@ -854,8 +965,8 @@ contains
         do ib = 1, size(blk)
             first = (ib - 1)*block_size + 1
             do i = 1, size(blk(ib)%cnt)
-                k = first + i - 1
-                if (.not. todo(k)) cycle
+                if (.not. todo(first + i - 1)) cycle
+                k = list_row(lists, first + i - 1)
                 lists%gap(k) = blk(ib)%gap(i)
                 call slot(lists%ptr(k), lists%last(k), lists%nused, lists%ndead, blk(ib)%cnt(i))
                 call slot(lists%pool_ptr(k), lists%pool_last(k), lists%pused, lists%pdead, blk(ib)%pcnt(i))
@@ -869,8 +980,8 @@ contains
             qb = 0
             pb = 0
             do i = 1, size(blk(ib)%cnt)
-                k = first + i - 1
-                if (.not. todo(k)) cycle
+                if (.not. todo(first + i - 1)) cycle
+                k = list_row(lists, first + i - 1)
                 c = blk(ib)%cnt(i)
                 pc = blk(ib)%pcnt(i)
                 lists%node(lists%ptr(k):lists%last(k)) = blk(ib)%node(qb + 1:qb + c)

@@ -13,7 +13,7 @@ module xd_contact_local_search
     use xd_core_vectors, only: cross
     use xd_contact_surface, only: surface_t, seg_shell, wanted_side, seg_nodes, seg_normal
     use xd_contact_segment_check, only: hit_t, segment_check, contact_interior
-    use xd_contact_global_search, only: master_lists_t, separating_axes, reach_factor
+    use xd_contact_global_search, only: master_lists_t, separating_axes, reach_factor, list_row
     implicit none
     private
     public :: local_search_t, find_contact, search_switches_t, clearance_t, reset_clearance, &
@@ -215,7 +215,7 @@ contains
         ! v . n
         have_v = any(fprev /= 0.0_wp)
         cv = -fprev
-        do j = lists%ptr(i), lists%last(i)
+        do j = lists%ptr(list_row(lists, i)), lists%last(list_row(lists, i))
             mn = lists%node(j)
             if (.not. have_v) cv = ls%vl(:, sn) - ls%vl(:, mn)      ! Eq. (4)
             if (lists%trackable(j) .and. sw%tracking) mn = track(mn)
@@ -701,7 +701,7 @@ contains
         !> (per slave: this rank searches it; absent: every slave) the
         !> slaves whose bounds are held here, once, at the first call
         logical, intent(in), optional :: owned(:)
-        integer :: k, r, n
+        integer :: k, r, n, o
         if (.not. allocated(cl%g)) then
             allocate (cl%row(s%nslave))
             n = 0
@@ -719,10 +719,12 @@ contains
         do k = 1, s%nslave
             r = cl%row(k)
             if (r == 0) cycle
-            if (lists%at(k) <= cl%search) cycle
-            cl%g(r) = lists%gap(k)
-            cl%x(:, r) = lists%xg(:, k)
-            cl%u(r) = lists%og(k)
+            o = list_row(lists, k)
+            if (o == 0) cycle
+            if (lists%at(o) <= cl%search) cycle
+            cl%g(r) = lists%gap(o)
+            cl%x(:, r) = lists%xg(:, o)
+            cl%u(r) = lists%og(o)
             cl%wait(r) = 0
             cl%nnear(r) = 0
         end do
@@ -756,7 +758,7 @@ contains
         g = huge(1.0_wp)
         nseen = 0
         nnear = 0
-        do j = lists%pool_ptr(i), lists%pool_last(i)
+        do j = lists%pool_ptr(list_row(lists, i)), lists%pool_last(list_row(lists, i))
             m = lists%pool_node(j)
             ! every point of a segment at m lay within L_m of m at the
             ! search, and now within L_m + 2u (a near segment's bound is

@@ -64,6 +64,7 @@ module xd_solver_domain
     use xd_solver_assembly, only: assembly_t, keep_assembled
     use xd_contact_contact, only: contacts_t, search_box
     use xd_contact_surface, only: surface_t, seg_nodes, side_a, side_b
+    use xd_contact_global_search, only: list_row, list_rows
     use xd_core_sorting, only: where_true, id_map_t
     use xd_core_memory, only: alloc, nbytes, release_free_memory, grow
     use xd_core_strings, only: itoa
@@ -1017,7 +1018,7 @@ contains
         logical, allocatable :: pm(:)
         integer, allocatable :: gid(:), gcnt(:), gfrom(:)
         real(dp), allocatable :: gsend(:, :), gin(:, :)
-        integer :: i, q, k, j, sn, nn, r, g, b, added, e, nd, ng
+        integer :: i, q, k, j, sn, nn, r, g, b, added, e, nd, ng, lr
         nn = size(dom%node_mine)
         allocate (rd(nn), out(nn), inn(nn), brot(nn), mv(nn))
         rd = .false.
@@ -1034,18 +1035,20 @@ contains
                     k = it%mine(q)
                     sn = s%slave(k)
                     pm(sn) = .true.
-                    if (allocated(it%lists%pool_ptr)) then
-                        if (size(it%lists%pool_ptr) == s%nslave) then
-                            do j = it%lists%pool_ptr(k), it%lists%pool_last(k)
+                    ! (the lists' row of the slave: lists_rows)
+                    lr = list_row(it%lists, k)
+                    if (allocated(it%lists%pool_ptr) .and. lr > 0) then
+                        if (size(it%lists%pool_ptr) == list_rows(it%lists, s%nslave)) then
+                            do j = it%lists%pool_ptr(lr), it%lists%pool_last(lr)
                                 pm(it%lists%pool_node(j)) = .true.
                                 reach = max(reach, real(norm2(x(:, s%node(it%lists%pool_node(j))) - &
                                                               x(:, s%node(sn))), dp))
                             end do
                         end if
                     end if
-                    if (allocated(it%lists%ptr)) then
-                        if (size(it%lists%ptr) == s%nslave) then
-                            do j = it%lists%ptr(k), it%lists%last(k)
+                    if (allocated(it%lists%ptr) .and. lr > 0) then
+                        if (size(it%lists%ptr) == list_rows(it%lists, s%nslave)) then
+                            do j = it%lists%ptr(lr), it%lists%last(lr)
                                 if (pm(it%lists%node(j))) cycle
                                 pm(it%lists%node(j)) = .true.
                                 reach = max(reach, real(norm2(x(:, s%node(it%lists%node(j))) - x(:, s%node(sn))), dp))

@@ -14,6 +14,10 @@
 !> every segment they can reach (a finely sampled distance, on the
 !> crumpled sheet) and are not all trivial; so are the clearances the local
 !> search takes afresh over the search's pools after the sheet has moved.
+!> Lists in rows (a rank's own slaves', issue 32): a search of some slaves
+!> into their rows gives each the list, pool, gap and stamps a search of
+!> every slave gives it, and every slave's lists re-laid in those rows and
+!> back keep them (the others then have none).
 program test_contact_global_search
     use xd_kinds, only: wp
     use xd_testing, only: check, test_summary
@@ -21,7 +25,8 @@ program test_contact_global_search
     use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface
     use xd_contact_global_search, only: buckets_t, bucket_sort, bucket_radii, node_pool, search_work_t, new_search_work, &
                                         characteristic_lengths, master_lists_t, build_master_lists, search_counts_t, &
-                                        levels_t, sort_levels, level_pool, typical_length, pool_margins, margin_classes
+                                        levels_t, sort_levels, level_pool, typical_length, pool_margins, margin_classes, &
+                                        lists_rows, list_row
     use xd_contact_surface, only: wanted_side
     use xd_contact_local_search, only: local_search_t, fresh_clearance, max_near
     use xd_core_strings, only: ftoa
@@ -37,6 +42,7 @@ program test_contact_global_search
     call fine_patch_levels()
     call local_margin_bound()
     call class_search_bound()
+    call lists_in_rows()
     call crumpled_sheet()
     call figure4()
     call figure4_paper()
@@ -297,6 +303,90 @@ contains
         call check(nbad0 > 0, 'class search: without the patch''s search some patch slave misses a segment', &
                    'missed '//itoa(nbad0))
     end subroutine class_search_bound
+
+    !> The lists' per-slave arrays in rows: every other slave "own" (rows
+    !> 1 .. n in slave order), searched alone into their rows, against
+    !> every slave searched into its own; the whole lists re-laid in the
+    !> rows (lists_rows) and back.
+    subroutine lists_in_rows()
+        type(surface_t) :: s
+        type(master_lists_t) :: l, lr, lt
+        type(search_counts_t) :: cnt
+        real(wp), allocatable :: xl(:, :), lc(:), dl(:), dlmin(:)
+        integer, allocatable :: row(:), ident(:)
+        logical, allocatable :: own(:)
+        integer :: i, k, nnc, nraised, n, nbad, nrow
+        real(wp) :: typ
+        call patch_on_plate(s, xl, nnc)
+        allocate (lc(s%nnode))
+        call characteristic_lengths(s, xl, lc)
+        typ = 0.25_wp*typical_length(pack(lc, lc > 0.0_wp), 0.5_wp)
+        call pool_margins(s, lc, 0.25_wp, typ, dl, dlmin, nraised)
+        call build_master_lists(s, xl, lc, s%max_thick, dl, mnl_minimal, l, cnt, stamp=1)
+        allocate (row(s%nslave), own(s%nslave), ident(s%nslave))
+        n = 0
+        do k = 1, s%nslave
+            ident(k) = k
+            own(k) = mod(k, 2) == 1
+            row(k) = 0
+            if (.not. own(k)) cycle
+            n = n + 1
+            row(k) = n
+        end do
+        nrow = n
+        ! (the searched slaves' rows set before their first search)
+        call lists_rows(lr, row, nrow)
+        call build_master_lists(s, xl, lc, s%max_thick, dl, mnl_minimal, lr, cnt, own, stamp=1)
+        call check(size(lr%ptr) == nrow .and. size(lr%gap) == nrow .and. size(lr%xg, 2) == nrow, &
+                   'lists in rows: the per-slave arrays hold the rows alone', 'rows '//itoa(size(lr%ptr))//' of '// &
+                   itoa(s%nslave)//' slaves')
+        nbad = mismatches(lr, l, own)
+        call check(nbad == 0, 'lists in rows: a search of the rows'' slaves gives each the list, pool, gap and '// &
+                   'stamps of a search of every slave', 'slaves differing '//itoa(nbad))
+        ! every slave's lists into the rows and back
+        lt = l
+        call lists_rows(lt, row, nrow)
+        nbad = mismatches(lt, l, own)
+        call lists_rows(lt, ident, s%nslave)
+        nbad = nbad + mismatches(lt, l, own)
+        n = 0
+        do k = 1, s%nslave
+            if (own(k)) cycle
+            i = list_row(lt, k)
+            if (lt%last(i) >= lt%ptr(i) .or. lt%pool_last(i) >= lt%pool_ptr(i) - 1 .or. lt%at(i) /= 0) n = n + 1
+        end do
+        call check(nbad == 0 .and. n == 0 .and. .not. allocated(lt%row) .and. size(lt%node) >= lt%nused, &
+                   'lists in rows: every slave''s lists re-laid in the rows and back keep the rows'' slaves'' '// &
+                   'lists, the others none', 'slaves differing '//itoa(nbad)//', others with a list '//itoa(n))
+    end subroutine lists_in_rows
+
+    !> The slaves of `which` whose list, pool, gap or stamps differ
+    !> between a (in its rows) and b.
+    integer function mismatches(a, b, which) result(nb)
+        type(master_lists_t), intent(in) :: a, b
+        logical, intent(in) :: which(:)
+        integer :: k, ra, rb
+        nb = 0
+        do k = 1, size(which)
+            if (.not. which(k)) cycle
+            ra = list_row(a, k)
+            rb = list_row(b, k)
+            if (ra == 0) then
+                nb = nb + 1
+                cycle
+            end if
+            if (a%last(ra) - a%ptr(ra) /= b%last(rb) - b%ptr(rb) .or. &
+                a%pool_last(ra) - a%pool_ptr(ra) /= b%pool_last(rb) - b%pool_ptr(rb)) then
+                nb = nb + 1
+                cycle
+            end if
+            if (any(a%node(a%ptr(ra):a%last(ra)) /= b%node(b%ptr(rb):b%last(rb))) .or. &
+                any(a%trackable(a%ptr(ra):a%last(ra)) .neqv. b%trackable(b%ptr(rb):b%last(rb))) .or. &
+                any(a%pool_node(a%pool_ptr(ra):a%pool_last(ra)) /= b%pool_node(b%pool_ptr(rb):b%pool_last(rb))) .or. &
+                a%gap(ra) /= b%gap(rb) .or. any(a%xg(:, ra) /= b%xg(:, rb)) .or. a%og(ra) /= b%og(rb) .or. &
+                a%at(ra) /= b%at(rb)) nb = nb + 1
+        end do
+    end function mismatches
 
     !> Slave-segment pairs within reach at xn (sampled distance) and
     !> those with a node outside the slave's pool in lists ll.
