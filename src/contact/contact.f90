@@ -38,7 +38,7 @@ module xd_contact_contact
     use xd_model, only: model_t, contact_t, find_set, set_node, ct_single, ct_general, ct_surface_to_surface, mat_rigid, &
                         can_erode, ct_nodes_to_surface, styp_segment_set, styp_shell_set, styp_part_set, styp_part, &
                         styp_node_set, styp_all, styp_all_but, search_auto, search_adaptive, find_box, in_box, box_t
-    use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_nodes, seg_shell, &
+    use xd_contact_surface, only: faces_t, surface_t, build_faces, build_surface, face_key, seg_thicknesses, seg_nodes, seg_shell, &
                                   release_faces, release_activation, &
                                   surface_activate, &
                                   follow_thickness, faces_bytes, surface_bytes
@@ -2207,7 +2207,7 @@ contains
             integer, intent(in) :: mo
             type(hit_t) :: ho
             real(wp) :: pe
-            call segment_check(it%ls%xl(:, s%seg(:, mo)), s%seg_tn(:, mo), s%seg_kind(mo) == seg_shell, &
+            call segment_check(it%ls%xl(:, s%seg(:, mo)), seg_thicknesses(s, mo), s%seg_kind(mo) == seg_shell, &
                                it%ls%xl(:, sn), 0.5_wp*s%node_t(sn), ho)
             pe = 0
             if (ho%found) pe = max(0.0_wp, abs(ho%a) - it%p0(o))

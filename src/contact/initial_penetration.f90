@@ -36,7 +36,7 @@ module xd_contact_initial_penetration
     use xd_core_strings, only: itoa
     use xd_model, only: model_t
     use xd_contact_contact, only: contacts_t, build_contacts, contact_masses, contact_search, contact_local_search, &
-                                  contact_slave_rows
+                                  contact_slave_rows, contact_release_setup
     use xd_contact_enforcement, only: pdir
     use xd_core_comm, only: comm_max, comm_min_int, comm_sum_wp, comm_sum_int, comm_gather_text
     implicit none
@@ -107,6 +107,9 @@ contains
         do pass = 1, max_pass + 1
             call build_contacts(model, x, ct, error)
             if (allocated(error)) return
+            ! (the model's faces and the surfaces' set-up values: this pass
+            ! searches, it rebuilds nothing)
+            call contact_release_setup(ct, .false.)
             ! (the slaves' contact state in rows of this rank's block, made
             ! once the block is chosen)
             call contact_masses(ct, mass, rows_later=.true.)

@@ -11,7 +11,7 @@
 module xd_contact_local_search
     use xd_kinds, only: wp
     use xd_core_vectors, only: cross
-    use xd_contact_surface, only: surface_t, seg_shell, wanted_side, seg_nodes, seg_normal
+    use xd_contact_surface, only: surface_t, seg_shell, wanted_side, seg_nodes, seg_normal, seg_thicknesses
     use xd_contact_segment_check, only: hit_t, segment_check, contact_interior
     use xd_contact_global_search, only: master_lists_t, separating_axes, reach_factor, list_row
     implicit none
@@ -269,7 +269,7 @@ contains
             type(hit_t) :: h0
             came_in = .true.
             if (.not. present(xs)) return
-            call segment_check(xs(:, s%seg(:, m)), s%seg_tn(:, m), s%seg_kind(m) == seg_shell, xs(:, sn), ts, h0, &
+            call segment_check(xs(:, s%seg(:, m)), seg_thicknesses(s, m), s%seg_kind(m) == seg_shell, xs(:, sn), ts, h0, &
                                touching=s%seg_body(m) /= s%node_body(sn))
             ! (a node on the surface then, within 1% of the thickness or window,
             ! by round-off or a touch, counts as outside)
@@ -285,7 +285,7 @@ contains
             type(hit_t), intent(out) :: h
             real(wp) :: xm(3, 4), tn(4)
             xm = ls%xl(:, s%seg(:, m))
-            tn = s%seg_tn(:, m)
+            tn = seg_thicknesses(s, m)
             call segment_check(xm, tn, s%seg_kind(m) == seg_shell, ls%xl(:, sn), ts, h, &
                                touching=s%seg_body(m) /= s%node_body(sn), lead=ls%lead)
             h%seg = m

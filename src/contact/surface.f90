@@ -27,7 +27,7 @@ module xd_contact_surface
     implicit none
     private
     public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid, follow_thickness, surface_activate
-    public :: faces_bytes, surface_bytes, release_faces, release_activation
+    public :: faces_bytes, surface_bytes, release_faces, release_activation, seg_thicknesses
     public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side, seg_nodes, seg_normal
 
     integer, parameter :: seg_shell = 1, seg_solid = 2
@@ -145,15 +145,45 @@ contains
         f = counts
     end subroutine release_faces
 
-    !> A surface's set-up values that only surface_activate reads again
-    !> (erosion): its nodes' springs and areas at set-up and their sides
-    !> from every segment, 20 bytes a node.
+    !> A surface's set-up values that only surface_activate or erosion
+    !> read again, where nothing rebuilds the surface: its nodes' springs
+    !> and areas at set-up and their sides from every segment (20 bytes a
+    !> node) and the segments' faces (4 bytes a segment); and where every
+    !> segment's nodal thicknesses are its thickness (a uniform shell or a
+    !> solid face, thickness not followed), the nodal thicknesses, 32
+    !> bytes a segment (seg_thicknesses gives the same values from seg_t).
     subroutine release_activation(s)
         type(surface_t), intent(inout) :: s
+        integer :: m
+        logical :: uniform
         if (allocated(s%node_area0)) deallocate (s%node_area0)
         if (allocated(s%node_kpa0)) deallocate (s%node_kpa0)
         if (allocated(s%node_side_all)) deallocate (s%node_side_all)
+        if (allocated(s%seg_face)) deallocate (s%seg_face)
+        if (s%follow .or. .not. allocated(s%seg_tn)) return
+        uniform = .true.
+        do m = 1, s%nseg
+            if (all(s%seg_tn(:, m) == s%seg_t(m))) cycle
+            uniform = .false.
+            exit
+        end do
+        if (.not. uniform) return
+        deallocate (s%seg_tn)
+        allocate (s%seg_tn(4, 0))
     end subroutine release_activation
+
+    !> Segment m's nodal thicknesses (5.2): seg_tn's, or its thickness at
+    !> each node where they were all its thickness (release_activation).
+    pure function seg_thicknesses(s, m) result(tn)
+        type(surface_t), intent(in) :: s
+        integer, intent(in) :: m
+        real(wp) :: tn(4)
+        if (size(s%seg_tn, 2) > 0) then
+            tn = s%seg_tn(:, m)
+        else
+            tn = s%seg_t(m)
+        end if
+    end function seg_thicknesses
 
     !> The bytes of a surface's arrays (its segments, nodes and lists).
     integer(i8) function surface_bytes(s) result(b)

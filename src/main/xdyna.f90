@@ -282,10 +282,11 @@ program xdyna
     end do
     call build_contacts(model, model%x0, ct, error)
     call stop_on_input_error()
-    if (ct%n > 0) call contact_masses(ct, st%mass)
     ! (the model's faces and the surfaces' set-up springs: kept only where
-    ! erosion or a followed shell thickness rebuilds the surfaces)
+    ! erosion or a followed shell thickness rebuilds the surfaces; released
+    ! before the slaves' state is allocated, the set-up's peak)
     call contact_release_setup(ct, sh%erodible .or. solids%erodible)
+    if (ct%n > 0) call contact_masses(ct, st%mass)
     ! a cohesive tiebreak's springs bound the step as the contact's do (its
     ! sliding contact is always there)
     if (ct%n > 0 .and. td%dt_limit < ct%dt_limit) then
