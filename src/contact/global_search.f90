@@ -32,7 +32,7 @@
 module xd_contact_global_search
     use, intrinsic :: iso_fortran_env, only: int8
     use xd_kinds, only: wp, i8
-    use xd_core_memory, only: nbytes
+    use xd_core_memory, only: nbytes, fit
     use xd_contact_surface, only: surface_t, segment_diagonals, side_a, side_b, wanted_side, seg_shell
     use xd_model, only: mnl_minimal, mnl_closest1, mnl_closest3
     use xd_core_sorting, only: where_true
@@ -261,8 +261,19 @@ contains
             l%row = row
         end if
         l%nrow = nrow
-        if (allocated(l%ptr) .and. allocated(l%node)) call compact_lists(l)
-        if (allocated(l%pool_ptr) .and. allocated(l%pool_node)) call compact_pools(l)
+        ! (the stores cut to their entries and a quarter's room: those of
+        ! every slave, a dump's gathering, do not stay with the rows)
+        if (allocated(l%ptr) .and. allocated(l%node)) then
+            call compact_lists(l)
+            if (size(l%node) > l%nused + l%nused/4 + 64) then
+                call fit(l%node, l%nused + l%nused/4 + 64)
+                call fit(l%trackable, l%nused + l%nused/4 + 64)
+            end if
+        end if
+        if (allocated(l%pool_ptr) .and. allocated(l%pool_node)) then
+            call compact_pools(l)
+            if (size(l%pool_node) > l%pused + l%pused/4 + 64) call fit(l%pool_node, l%pused + l%pused/4 + 64)
+        end if
     end subroutine lists_rows
 
     subroutine new_search_work(nnode, w, nseg)

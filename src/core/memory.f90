@@ -21,7 +21,7 @@ module xd_core_memory
     !> Cut a grown array to its first n entries (columns): the room grow
     !> doubled into is given back once the last entry is in.
     interface fit
-        module procedure fit_r2, fit_i1, fit_i2
+        module procedure fit_r2, fit_i1, fit_i2, fit_l1
     end interface fit
 
     !> Keep an array's entries (columns) at idx alone, in idx's order: a(i)
@@ -198,6 +198,17 @@ contains
         tmp = a(1:n)
         call move_alloc(tmp, a)
     end subroutine fit_i1
+
+    subroutine fit_l1(a, n)
+        logical, allocatable, intent(inout) :: a(:)
+        integer, intent(in) :: n
+        logical, allocatable :: tmp(:)
+        if (.not. allocated(a)) return
+        if (size(a) == n) return
+        allocate (tmp(n))
+        tmp = a(1:n)
+        call move_alloc(tmp, a)
+    end subroutine fit_l1
 
     subroutine fit_i2(a, n)
         integer, allocatable, intent(inout) :: a(:, :)
