@@ -246,7 +246,10 @@ module xd_contact_contact
         !> faces of eroded elements gone (size 0 without latent faces)
         logical, allocatable :: face_on(:)
         logical :: lagrange = .false.         !< Lagrangian projection instead of penalty
-        real(wp), allocatable :: fnode(:, :)  !< (3, model nodes) contact force on each node this cycle
+        !> (3, model nodes) contact force on each node this cycle, on the
+        !> cycles whose outputs read it (a state, nodout): unallocated until
+        !> the first (contact_enforce's outputs), stale between them
+        real(wp), allocatable :: fnode(:, :)
         !> the nodes fnode holds a force at (nftouch of them, with repeats):
         !> the next cycle zeroes those alone, not every node of the model
         integer, allocatable :: ftouch(:)
@@ -1435,8 +1438,6 @@ contains
         logical :: later
         later = .false.
         if (present(rows_later)) later = rows_later
-        allocate (ct%fnode(3, size(mass)))
-        ct%fnode = 0
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%ms = mass(s%node)
@@ -1836,11 +1837,19 @@ contains
         real(wp) :: vrel(3), fs(3)
         real(dp) :: t0
         logical :: first, some
-        ! (every other column is zero: the nodes written last cycle zeroed)
-        do q = 1, ct%nftouch
-            ct%fnode(:, ct%ftouch(q)) = 0
-        end do
-        ct%nftouch = 0
+        ! the contact forces per node (fnode) only on a cycle whose outputs
+        ! read them: allocated at the first, where the deck writes any; every
+        ! other column zero (the nodes written at the last such cycle zeroed)
+        if (outputs) then
+            if (.not. allocated(ct%fnode)) then
+                allocate (ct%fnode(3, size(f, 2)))
+                ct%fnode = 0
+            end if
+            do q = 1, ct%nftouch
+                ct%fnode(:, ct%ftouch(q)) = 0
+            end do
+            ct%nftouch = 0
+        end if
         do i = 1, ct%n
             associate (it => ct%ifc(i), s => ct%ifc(i)%surf)
                 it%npair = 0
@@ -1878,7 +1887,7 @@ contains
                 if (ct%lagrange .and. it%npair > 0) call lagrange_projection(s, it%npair, it%pair, it%hit, it%fpair, &
                                                                       it%ls%xl, it%ls%vl, it%fr, f, mass, dofs, dt, &
                                                                       dt_avg, br)
-                call grow(ct%ftouch, ct%nftouch + 5*it%npair + 4*it%ed%nact, 'contact force nodes')
+                if (outputs) call grow(ct%ftouch, ct%nftouch + 5*it%npair + 4*it%ed%nact, 'contact force nodes')
                 ! both sides, in slave order (a deterministic sum)
                 ct%npair_all = ct%npair_all + it%npair
                 do q = 1, it%npair
@@ -1913,20 +1922,25 @@ contains
                     ct%npair_applied = ct%npair_applied + 1
                     vrel = it%ls%vl(:, sn) - matmul(it%ls%vl(:, s%seg(:, m)), it%hit(h)%nshape)
                     f(:, s%node(sn)) = f(:, s%node(sn)) + fs
-                    ct%fnode(:, s%node(sn)) = ct%fnode(:, s%node(sn)) + fs
-                    ct%nftouch = ct%nftouch + 1
-                    ct%ftouch(ct%nftouch) = s%node(sn)
                     do j = 1, seg_nodes(s%seg(:, m))
                         f(:, s%node(s%seg(j, m))) = f(:, s%node(s%seg(j, m))) - it%hit(h)%nshape(j)*fs
-                        ct%fnode(:, s%node(s%seg(j, m))) = ct%fnode(:, s%node(s%seg(j, m))) - it%hit(h)%nshape(j)*fs
-                        ct%nftouch = ct%nftouch + 1
-                        ct%ftouch(ct%nftouch) = s%node(s%seg(j, m))
                     end do
+                    if (outputs) then
+                        ct%fnode(:, s%node(sn)) = ct%fnode(:, s%node(sn)) + fs
+                        ct%nftouch = ct%nftouch + 1
+                        ct%ftouch(ct%nftouch) = s%node(sn)
+                        do j = 1, seg_nodes(s%seg(:, m))
+                            ct%fnode(:, s%node(s%seg(j, m))) = ct%fnode(:, s%node(s%seg(j, m))) - &
+                                                               it%hit(h)%nshape(j)*fs
+                            ct%nftouch = ct%nftouch + 1
+                            ct%ftouch(ct%nftouch) = s%node(s%seg(j, m))
+                        end do
+                    end if
                     if (.not. ct%own_work .or. it%owned(k)) &
                         it%pminus = it%pminus + dot_product(real(fs, dp), real(vrel, dp))
                 end do
                 it%ncontact_total = it%ncontact_total + it%npair
-                if (it%ed%np > 0) call edge_enforce(it, f, ct%fnode, dt, time, first, ct%ftouch, ct%nftouch)
+                if (it%ed%np > 0) call edge_enforce(it, f, ct%fnode, dt, time, first, ct%ftouch, ct%nftouch, outputs)
             end associate
         end do
     end subroutine contact_enforce
@@ -2038,11 +2052,16 @@ contains
     !> rank holds every pair (the edges are few), so the sums are the same
     !> on every rank. Penalty forces also under the Lagrangian projection,
     !> which is for slave nodes.
-    subroutine edge_enforce(it, f, fnode, dt, time, first, touch, ntouch)
+    subroutine edge_enforce(it, f, fnode, dt, time, first, touch, ntouch, outputs)
         type(interface_t), intent(inout) :: it
-        real(wp), intent(inout) :: f(:, :), fnode(:, :)
+        real(wp), intent(inout) :: f(:, :)
+        !> the contact forces per node, written where an output reads them
+        !> (outputs; else not allocated, perhaps)
+        real(wp), allocatable, intent(inout) :: fnode(:, :)
         !> the nodes fnode is written at (room made for 4 a pair)
-        integer, intent(inout) :: touch(:), ntouch
+        integer, allocatable, intent(inout) :: touch(:)
+        integer, intent(inout) :: ntouch
+        logical, intent(in) :: outputs
         real(wp), intent(in) :: dt
         real(dp), intent(in) :: time
         logical, intent(in) :: first      !< the interface's first active cycle
@@ -2056,9 +2075,11 @@ contains
                 fa = ed%fa(:, q)
                 fw = spread(fa, 2, 4)*spread(w, 1, 3)
                 f(:, s%node(nd)) = f(:, s%node(nd)) + fw
-                fnode(:, s%node(nd)) = fnode(:, s%node(nd)) + fw
-                touch(ntouch + 1:ntouch + 4) = s%node(nd)
-                ntouch = ntouch + 4
+                if (outputs) then
+                    fnode(:, s%node(nd)) = fnode(:, s%node(nd)) + fw
+                    touch(ntouch + 1:ntouch + 4) = s%node(nd)
+                    ntouch = ntouch + 4
+                end if
                 vrel = matmul(it%ls%vl(:, nd), w)
                 it%pminus = it%pminus + dot_product(real(fa, dp), real(vrel, dp))
                 it%fslave = it%fslave + fa
