@@ -792,13 +792,12 @@ contains
         real(wp) :: cmax, lo(3), hi(3), grow
         logical, allocatable :: master(:), todo(:)
         integer :: nblk, ib, i, first, last, q, k, m
-        integer, allocatable :: mnodes(:), brow(:)
-        integer :: nbox
+        integer, allocatable :: mnodes(:)
         real(wp), allocatable :: dmax(:)
         real(wp) :: r, dmin
         integer(i8) :: npool, nred, nm
 
-        allocate (base(s%nnode), master(s%nnode), todo(s%nslave))
+        allocate (base(s%nnode), master(s%nnode), todo(s%nslave), box(6, s%nseg))
         todo = .true.
         if (present(search)) todo = search
         master = iand(s%node_side, ior(side_a, side_b)) /= 0
@@ -810,10 +809,6 @@ contains
             mnodes = where_true(master)
             ! the bounding box of each segment (the slaves' clearances; their
             ! separating axes are taken where needed, one_slave)
-            allocate (box(6, s%nseg), brow(s%nseg))
-            do i = 1, s%nseg
-                brow(i) = i
-            end do
             !$omp parallel do schedule(static)
             do i = 1, s%nseg
                 call seg_box(i)
@@ -839,21 +834,9 @@ contains
             end do
             if (present(fresh)) master = master .and. fresh
             mnodes = where_true(master)
-            ! the segments at those nodes: their boxes (in rows of their own,
-            ! brow: a search of some slaves holds the boxes near them alone),
-            ! and the nodes' characteristic lengths now
-            allocate (dmax(s%nseg), brow(s%nseg))
-            brow = 0
-            nbox = 0
-            do q = 1, size(mnodes)
-                do k = s%seg_ptr(mnodes(q)), s%seg_ptr(mnodes(q) + 1) - 1
-                    m = s%seg_list(k)
-                    if (brow(m) > 0) cycle
-                    nbox = nbox + 1
-                    brow(m) = nbox
-                end do
-            end do
-            allocate (box(6, nbox))
+            ! the segments at those nodes: their boxes, and the nodes'
+            ! characteristic lengths now
+            allocate (dmax(s%nseg))
             dmax = -1
             do q = 1, size(mnodes)
                 do k = s%seg_ptr(mnodes(q)), s%seg_ptr(mnodes(q) + 1) - 1
@@ -901,7 +884,7 @@ contains
             blk(ib)%cnt = 0
             do i = first, last
                 if (.not. todo(i)) cycle
-                call one_slave(s, lev, xl, lc, dl, box, brow, cmax, reach, mnl, s%slave(i), w, blk(ib), i - first + 1, &
+                call one_slave(s, lev, xl, lc, dl, box, cmax, reach, mnl, s%slave(i), w, blk(ib), i - first + 1, &
                                npool, nred)
             end do
         end do
@@ -931,8 +914,8 @@ contains
     contains
         subroutine seg_box(m)
             integer, intent(in) :: m
-            box(1:3, brow(m)) = min(xl(:, s%seg(1, m)), xl(:, s%seg(2, m)), xl(:, s%seg(3, m)), xl(:, s%seg(4, m)))
-            box(4:6, brow(m)) = max(xl(:, s%seg(1, m)), xl(:, s%seg(2, m)), xl(:, s%seg(3, m)), xl(:, s%seg(4, m)))
+            box(1:3, m) = min(xl(:, s%seg(1, m)), xl(:, s%seg(2, m)), xl(:, s%seg(3, m)), xl(:, s%seg(4, m)))
+            box(4:6, m) = max(xl(:, s%seg(1, m)), xl(:, s%seg(2, m)), xl(:, s%seg(3, m)), xl(:, s%seg(4, m)))
         end subroutine seg_box
     end subroutine build_master_lists
 
@@ -1119,11 +1102,10 @@ contains
     end subroutine compact_pools
 
     !> One slave node: node pool, reduced pool, master node list.
-    subroutine one_slave(s, lev, xl, lc, dl, box, brow, cmax, reach, mnl, sn, w, out, iloc, npool, nred)
+    subroutine one_slave(s, lev, xl, lc, dl, box, cmax, reach, mnl, sn, w, out, iloc, npool, nred)
         type(surface_t), intent(in) :: s
         type(levels_t), intent(in) :: lev
         real(wp), intent(in) :: xl(:, :), lc(:), dl(:), box(:, :), reach
-        integer, intent(in) :: brow(:)   !< segment m's box: box(:, brow(m))
         real(wp), intent(in) :: cmax     !< the largest segment part of a clearance's c (below)
         integer, intent(in) :: mnl, sn, iloc
         type(search_work_t), intent(inout) :: w
@@ -1169,7 +1151,7 @@ contains
                 if (any(s%seg(:, sg) == sn)) cycle
                 ! the distance to the segment is at least that to its box and
                 ! its separation along each of its axes
-                e = max(box(1:3, brow(sg)) - xs, xs - box(4:6, brow(sg)), 0.0_wp)
+                e = max(box(1:3, sg) - xs, xs - box(4:6, sg), 0.0_wp)
                 d2 = sqrt(e(1)**2 + e(2)**2 + e(3)**2)
                 c = reach_factor(s, sg)*(ts + s%seg_r(sg))
                 if (d2 - c >= g) cycle      ! the box alone keeps it farther

@@ -267,9 +267,11 @@ contains
         logical function came_in(m)
             integer, intent(in) :: m
             type(hit_t) :: h0
+            real(wp) :: tn(4)
             came_in = .true.
             if (.not. present(xs)) return
-            call segment_check(xs(:, s%seg(:, m)), seg_thicknesses(s, m), s%seg_kind(m) == seg_shell, xs(:, sn), ts, h0, &
+            call seg_thicknesses(s, m, tn)
+            call segment_check(xs(:, s%seg(:, m)), tn, s%seg_kind(m) == seg_shell, xs(:, sn), ts, h0, &
                                touching=s%seg_body(m) /= s%node_body(sn))
             ! (a node on the surface then, within 1% of the thickness or window,
             ! by round-off or a touch, counts as outside)
@@ -285,7 +287,7 @@ contains
             type(hit_t), intent(out) :: h
             real(wp) :: xm(3, 4), tn(4)
             xm = ls%xl(:, s%seg(:, m))
-            tn = seg_thicknesses(s, m)
+            call seg_thicknesses(s, m, tn)
             call segment_check(xm, tn, s%seg_kind(m) == seg_shell, ls%xl(:, sn), ts, h, &
                                touching=s%seg_body(m) /= s%node_body(sn), lead=ls%lead)
             h%seg = m

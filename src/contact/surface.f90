@@ -174,16 +174,19 @@ contains
 
     !> Segment m's nodal thicknesses (5.2): seg_tn's, or its thickness at
     !> each node where they were all its thickness (release_activation).
-    pure function seg_thicknesses(s, m) result(tn)
+    !> (A subroutine: as a function returning the array, inlined into the
+    !> slaves' force loop, it made car6's and the plate's enforcement
+    !> phase a third slower, though the loop never called it.)
+    pure subroutine seg_thicknesses(s, m, tn)
         type(surface_t), intent(in) :: s
         integer, intent(in) :: m
-        real(wp) :: tn(4)
+        real(wp), intent(out) :: tn(4)
         if (size(s%seg_tn, 2) > 0) then
             tn = s%seg_tn(:, m)
         else
             tn = s%seg_t(m)
         end if
-    end function seg_thicknesses
+    end subroutine seg_thicknesses
 
     !> The bytes of a surface's arrays (its segments, nodes and lists).
     integer(i8) function surface_bytes(s) result(b)
