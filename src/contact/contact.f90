@@ -178,6 +178,9 @@ module xd_contact_contact
         !> the slaves (negative: the contact resisted the approach)
         real(dp), allocatable :: pair_imp(:, :, :), pair_work(:, :, :)
         integer(i8) :: ncontact_total = 0     !< slave-cycles in contact
+        !> cycles whose pairs list_pairs listed from the rank's own and the
+        !> received slaves alone (pair_candidates), not every slave
+        integer(i8) :: ncand = 0
         logical :: active = .false.           !< between birth and death this cycle
         logical, allocatable :: owned(:)      !< per slave: searched and enforced here (MPI: this rank's)
         !> MPI: the other ranks' slaves the last gathering set (the next
@@ -1995,6 +1998,7 @@ contains
         if (some) then
             call pair_candidates(it, cand)
             n = size(cand)
+            it%ncand = it%ncand + 1
         else
             allocate (cand(0))
         end if

@@ -469,16 +469,19 @@ contains
     !> read every pair: a state, nodout, rcforc; the Lagrangian
     !> projection; no contact ghosts) to every other rank.
     subroutine exchange_line()
-        integer(i8) :: t(4)
-        t = [ct%sent_p2p, ct%sent_all, ct%ncyc_p2p, ct%ncyc_all]
+        integer(i8) :: t(5)
+        t = [ct%sent_p2p, ct%sent_all, ct%ncyc_p2p, ct%ncyc_all, sum(ct%ifc(:)%ncand)]
         call comm_sum_i8(t)
-        ! (each rank counts the same exchanges)
-        t(3:4) = t(3:4)/env%nranks
+        ! (each rank counts the same exchanges; the candidates' cycles: a
+        ! rank's mean)
+        t(3:5) = t(3:5)/env%nranks
         call log_line(lg, ' contacts exchanged between the ranks (each interface''s, a cycle): '// &
                       itoa(int(t(3)))//' times each contact found to its nodes'' ranks alone, '// &
                       itoa(nint(152*real(t(1), dp)/max(t(3), 1_i8)))//' bytes sent a time over all ranks; '// &
                       itoa(int(t(4)))//' times every contact to every rank (an output read every pair, or no '// &
-                      'contact ghosts), '//itoa(nint(152*real(t(2), dp)/max(t(4), 1_i8)))//' bytes a time')
+                      'contact ghosts), '//itoa(nint(152*real(t(2), dp)/max(t(4), 1_i8)))//' bytes a time; '// &
+                      'the pairs listed from a rank''s own and received slaves alone (not every slave) '// &
+                      itoa(int(t(5)))//' times (a rank''s mean)')
     end subroutine exchange_line
 
     subroutine memory_line()
