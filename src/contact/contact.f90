@@ -197,6 +197,10 @@ module xd_contact_contact
         !> slave is inside a part (asked at set-up): searched the next cycle
         !> it is live
         logical, allocatable :: resl(:)
+        !> some slave's resl may be set (a deck whose surfaces erosion
+        !> changes): else the cycles do not look for one (a scan of every
+        !> slave, twice a cycle on every rank)
+        logical :: resl_on = .false.
         !> MPI with contact ghosts: the surface's nodes this rank moves (its
         !> own, its halo, the ghosts it receives), by their place in
         !> surf%node (the domain's contact_ghosts lists them at each choice
@@ -616,6 +620,7 @@ contains
             ! exposes it
             do k = 1, ct%n
                 ct%ifc(k)%resl = .not. ct%ifc(k)%live
+                ct%ifc(k)%resl_on = any(ct%ifc(k)%resl)
             end do
         end if
         if (ct%thkchg) then
@@ -911,7 +916,10 @@ contains
             do k = 1, s%nslave
                 p = x(:, s%node(s%slave(k)))
                 if (any(p < lo) .or. any(p > hi)) cycle
-                if (minval(sum((pts - spread(p, 2, size(pts, 2)))**2, 1)) <= r*r) it%resl(k) = .true.
+                if (minval(sum((pts - spread(p, 2, size(pts, 2)))**2, 1)) <= r*r) then
+                    it%resl(k) = .true.
+                    it%resl_on = .true.
+                end if
             end do
         end associate
     end subroutine ask_near
@@ -1015,7 +1023,7 @@ contains
                 ! keeps the same last_cycle, nsearch and margins, as search_due
                 ! and the next due classes assume; a rank without such a slave
                 ! of its own searches none)
-                if (.not. any(due) .and. .not. any(it%resl .and. it%live)) then
+                if (.not. any(due) .and. .not. resl_due(it)) then
                     ! the lists of the last searches serve this cycle: how much
                     ! of the margins has the motion used?
                     it%worst = max(it%worst, maxval(it%cused))
@@ -1030,6 +1038,7 @@ contains
                 ! (every rank alike: the live ones are searched by their
                 ! owners now)
                 it%resl = it%resl .and. .not. it%live
+                if (it%resl_on) it%resl_on = any(it%resl)
                 ! (the characteristic lengths taken there, of the nodes bucketed)
                 if (present(cur)) then
                     allocate (fresh(it%surf%nnode))
@@ -1094,11 +1103,19 @@ contains
         do i = 1, ct%n
             associate (it => ct%ifc(i))
                 if (time < it%bt .or. time > it%dt) cycle
-                due = any(due_classes(it, cycle)) .or. any(it%resl .and. it%live)
+                due = any(due_classes(it, cycle)) .or. resl_due(it)
             end associate
             if (due) return
         end do
     end function search_due
+
+    !> Some live slave of interface it is to be searched because erosion
+    !> changed the surface near it (resl), or exposed it.
+    logical function resl_due(it) result(due)
+        type(interface_t), intent(in) :: it
+        due = .false.
+        if (it%resl_on) due = any(it%resl .and. it%live)
+    end function resl_due
 
     !> THKCHG (with ISTUPD): the shell contact thicknesses of the interfaces
     !> that follow the shells, scaled at each node by the ratio of its

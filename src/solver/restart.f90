@@ -750,6 +750,7 @@ contains
                 call geti(r, 'held', size(it%held)); if (ok()) it%held = bi
                 if (ct%faces%nlatent > 0) then
                     call geti(r, 'research', size(it%resl)); if (ok()) it%resl = bi /= 0
+                    it%resl_on = any(it%resl)
                 end if
                 call getw(r, 'fprev', size(it%fprev)); if (ok()) it%fprev = reshape(bw, shape(it%fprev))
                 call getw(r, 'ft', size(it%ft)); if (ok()) it%ft = reshape(bw, shape(it%ft))
