@@ -334,32 +334,25 @@ contains
                 end do
                 if (.not. allocated(it%cseg)) then
                     call slave_rows_alloc(it, merge(n, ns, own))
-                else if (own) then
-                    call take(it%cseg, mine)
-                    call take(it%held, mine)
-                    call take(it%rlast, mine)
-                    call take(it%p0, mine)
-                    call take(it%kp, mine)
-                    call take(it%aeff, mine)
-                    call take(it%rdep, mine)
-                    call take(it%deep, mine)
-                    call take(it%fprev, mine)
-                    call take(it%ft, mine)
-                    call take(it%fk, mine)
-                    call take_hits(it%hit, mine)
                 else
-                    call untake(it%cseg, mine, ns)
-                    call untake(it%held, mine, ns)
-                    call untake(it%rlast, mine, ns)
-                    call untake(it%p0, mine, ns)
-                    call untake(it%kp, mine, ns)
-                    call untake(it%aeff, mine, ns)
-                    call untake(it%rdep, mine, ns)
-                    call untake(it%deep, mine, ns)
-                    call untake(it%fprev, mine, ns)
-                    call untake(it%ft, mine, ns)
-                    call untake(it%fk, mine, ns)
-                    call untake_hits(it%hit, mine, ns)
+                    ! (each array to the rank's own slaves' rows, or back to
+                    ! every slave's, the others' entries zero)
+                    call relay_i(it%cseg)
+                    call relay_i(it%held)
+                    call relay_i(it%rlast)
+                    call relay_r(it%p0)
+                    call relay_r(it%kp)
+                    call relay_r(it%aeff)
+                    call relay_r(it%rdep)
+                    call relay_r(it%deep)
+                    call relay_r2(it%fprev)
+                    call relay_r2(it%ft)
+                    call relay_r2(it%fk)
+                    if (own) then
+                        call take_hits(it%hit, mine)
+                    else
+                        call untake_hits(it%hit, mine, ns)
+                    end if
                 end if
                 if (own) then
                     it%orow = 0
@@ -381,6 +374,31 @@ contains
                 it%own_rows = own
             end associate
         end do
+    contains
+        subroutine relay_i(a)
+            integer, allocatable, intent(inout) :: a(:)
+            if (own) then
+                call take(a, mine)
+            else
+                call untake(a, mine, ns)
+            end if
+        end subroutine relay_i
+        subroutine relay_r(a)
+            real(wp), allocatable, intent(inout) :: a(:)
+            if (own) then
+                call take(a, mine)
+            else
+                call untake(a, mine, ns)
+            end if
+        end subroutine relay_r
+        subroutine relay_r2(a)
+            real(wp), allocatable, intent(inout) :: a(:, :)
+            if (own) then
+                call take(a, mine)
+            else
+                call untake(a, mine, ns)
+            end if
+        end subroutine relay_r2
     end subroutine contact_slave_rows
 
     !> The records of hit's rows 1 .. size(idx) back to the slaves idx (of

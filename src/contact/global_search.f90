@@ -188,64 +188,33 @@ contains
     subroutine lists_rows(l, row, nrow)
         type(master_lists_t), intent(inout) :: l
         integer, intent(in) :: row(:), nrow
-        integer, allocatable :: ia(:), ib(:), iat(:)
-        real(wp), allocatable :: ga(:), xa(:, :), oa(:)
-        integer :: k, o, r
-        if (allocated(l%ptr)) then
-            allocate (ia(nrow), ib(nrow))
-            ia = 1
-            ib = 0
-            do k = 1, size(row)
-                r = row(k)
-                o = list_row(l, k)
-                if (r == 0 .or. o == 0) cycle
-                ia(r) = l%ptr(o)
-                ib(r) = l%last(o)
-            end do
-            call move_alloc(ia, l%ptr)
-            call move_alloc(ib, l%last)
-        end if
-        if (allocated(l%pool_ptr)) then
-            allocate (ia(nrow), ib(nrow))
-            ia = 1
-            ib = -1
-            do k = 1, size(row)
-                r = row(k)
-                o = list_row(l, k)
-                if (r == 0 .or. o == 0) cycle
-                ia(r) = l%pool_ptr(o)
-                ib(r) = l%pool_last(o)
-            end do
-            call move_alloc(ia, l%pool_ptr)
-            call move_alloc(ib, l%pool_last)
-        end if
-        if (allocated(l%gap)) then
-            allocate (ga(nrow))
-            ga = -huge(1.0_wp)
-            do k = 1, size(row)
-                r = row(k)
-                o = list_row(l, k)
-                if (r == 0 .or. o == 0) cycle
-                ga(r) = l%gap(o)
-            end do
-            call move_alloc(ga, l%gap)
-        end if
+        integer, allocatable :: old(:)
+        integer :: k, r
+        ! (old(r): new row r's row before, 0 where its slave had none)
+        allocate (old(nrow))
+        old = 0
+        do k = 1, size(row)
+            if (row(k) > 0) old(row(k)) = list_row(l, k)
+        end do
+        ! (an empty list: ptr 1, last 0; no pool: pool_last = pool_ptr - 2;
+        ! no clearance taken: gap -huge)
+        call relay_int(l%ptr, 1)
+        call relay_int(l%last, 0)
+        call relay_int(l%pool_ptr, 1)
+        call relay_int(l%pool_last, -1)
+        call relay_int(l%at, 0)
+        call relay_real(l%gap, -huge(1.0_wp))
+        call relay_real(l%og, 0.0_wp)
         if (allocated(l%xg)) then
-            allocate (xa(3, nrow), oa(nrow), iat(nrow))
-            xa = 0
-            oa = 0
-            iat = 0
-            do k = 1, size(row)
-                r = row(k)
-                o = list_row(l, k)
-                if (r == 0 .or. o == 0) cycle
-                xa(:, r) = l%xg(:, o)
-                oa(r) = l%og(o)
-                iat(r) = l%at(o)
-            end do
-            call move_alloc(xa, l%xg)
-            call move_alloc(oa, l%og)
-            call move_alloc(iat, l%at)
+            block
+                real(wp), allocatable :: xa(:, :)
+                allocate (xa(3, nrow))
+                do r = 1, nrow
+                    xa(:, r) = 0
+                    if (old(r) > 0) xa(:, r) = l%xg(:, old(r))
+                end do
+                call move_alloc(xa, l%xg)
+            end block
         end if
         ! (every slave's rows in slave order: no map kept)
         r = 0
@@ -274,6 +243,34 @@ contains
             call compact_pools(l)
             if (size(l%pool_node) > l%pused + l%pused/4 + 64) call fit(l%pool_node, l%pused + l%pused/4 + 64)
         end if
+    contains
+        !> a's entries in the new rows (dflt where a row had none before)
+        subroutine relay_int(a, dflt)
+            integer, allocatable, intent(inout) :: a(:)
+            integer, intent(in) :: dflt
+            integer, allocatable :: b(:)
+            integer :: q
+            if (.not. allocated(a)) return
+            allocate (b(nrow))
+            do q = 1, nrow
+                b(q) = dflt
+                if (old(q) > 0) b(q) = a(old(q))
+            end do
+            call move_alloc(b, a)
+        end subroutine relay_int
+        subroutine relay_real(a, dflt)
+            real(wp), allocatable, intent(inout) :: a(:)
+            real(wp), intent(in) :: dflt
+            real(wp), allocatable :: b(:)
+            integer :: q
+            if (.not. allocated(a)) return
+            allocate (b(nrow))
+            do q = 1, nrow
+                b(q) = dflt
+                if (old(q) > 0) b(q) = a(old(q))
+            end do
+            call move_alloc(b, a)
+        end subroutine relay_real
     end subroutine lists_rows
 
     subroutine new_search_work(nnode, w, nseg)

@@ -1121,12 +1121,7 @@ contains
         j = 0
         do k = 1, size(dom%nbr)
             r = dom%nbr(k)
-            inn = .false.
-            brot = .false.
-            do e = dom%bmi_ptr(k) + 1, dom%bmi_ptr(k + 1)
-                inn(dom%bmi_node(e)) = .true.
-                brot(dom%bmi_node(e)) = dom%bmi_rot(e)
-            end do
+            call mark_base(dom%bmi_ptr, dom%bmi_node, dom%bmi_rot, inn)
             do e = 1, gfrom(r + 1)
                 nd = nint(gin(1, j + e))
                 inn(nd) = .true.
@@ -1181,13 +1176,8 @@ contains
             integer, intent(in) :: reader
             logical, intent(out) :: mark(:)
             integer, intent(out) :: added
-            integer :: e, jj, nd
-            mark = .false.
-            brot = .false.
-            do e = dom%bmo_ptr(k) + 1, dom%bmo_ptr(k + 1)
-                mark(dom%bmo_node(e)) = .true.
-                brot(dom%bmo_node(e)) = dom%bmo_rot(e)
-            end do
+            integer :: jj, nd
+            call mark_base(dom%bmo_ptr, dom%bmo_node, dom%bmo_rot, mark)
             added = 0
             do jj = 1, size(dom%csurf%node)
                 nd = dom%csurf%node(jj)
@@ -1200,6 +1190,20 @@ contains
                 gid(ng) = nd
             end do
         end subroutine side
+        !> Neighbour k's entries of a base list (ptr, node, rot) marked in
+        !> mark, their angular velocities' flags in brot, nothing else.
+        subroutine mark_base(ptr, node, rot, mark)
+            integer, intent(in) :: ptr(:), node(:)
+            logical, intent(in) :: rot(:)
+            logical, intent(out) :: mark(:)
+            integer :: e
+            mark = .false.
+            brot = .false.
+            do e = ptr(k) + 1, ptr(k + 1)
+                mark(node(e)) = .true.
+                brot(node(e)) = rot(e)
+            end do
+        end subroutine mark_base
         logical function inside(nd, bx)
             integer, intent(in) :: nd
             real(dp), intent(in) :: bx(6)

@@ -1048,14 +1048,11 @@ contains
         end if
         ns = 0
         if (st%cycle > 0) ns = 1.0e9_dp*(tm%elapsed() - lp%t0_wall)/(real(st%cycle, dp)*max(solids%n + sh%n, 1))
-        if (ct%n > 0 .and. allocated(ct%fnode)) then
+        ! (the contact forces per node, ct%fnode, absent where no output has
+        ! read them yet: an unallocated actual is an absent optional)
+        if (ct%n > 0) then
             call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, contact_resultants(ct), &
                                  ct%fnode, wminus=vrminus)
-        else if (ct%n > 0) then
-            ! (no output has read the contact forces per node yet: nodout
-            ! is not due, fnode not made)
-            call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, contact_resultants(ct), &
-                                 wminus=vrminus)
         else
             call write_histories(hist, model, st, solids, walls, rg, en, vn, crit, ns, force, wminus=vrminus)
         end if
@@ -1068,11 +1065,7 @@ contains
                 call write_state_by_ranks(states, dom, st, solids, sh, vn, en=en, bm=bm)
             else
                 call gather_element_state(dom, solids, sh, energies=dom%owned, dump=.false.)
-                if (ct%n > 0 .and. allocated(ct%fnode)) then
-                    call write_state(states, st, model%x0, solids, sh, vn, ct%fnode, en=en, bm=bm)
-                else
-                    call write_state(states, st, model%x0, solids, sh, vn, en=en, bm=bm)
-                end if
+                call write_state(states, st, model%x0, solids, sh, vn, ct%fnode, en=en, bm=bm)
             end if
             call release_element_view(solids, sh)
             lp%state_asked = .false.
