@@ -191,12 +191,11 @@ contains
         character(len=*), intent(in) :: text
         integer, intent(in) :: pos
         integer, intent(out) :: last, eol
-        eol = index(text(pos:), achar(10))
-        if (eol == 0) then
-            eol = len(text) + 1
-        else
-            eol = pos + eol - 1
-        end if
+        ! (a loop over the characters: the library's index() took 700
+        ! instructions a line of a large deck)
+        do eol = pos, len(text)
+            if (iachar(text(eol:eol)) == 10) exit
+        end do
         last = eol - 1
         if (last >= pos) then
             if (text(last:last) == achar(13)) last = last - 1

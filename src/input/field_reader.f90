@@ -5,7 +5,7 @@
 !> and echoes the line with a caret under the field.
 module xd_input_field_reader
     use, intrinsic :: iso_c_binding, only: c_char, c_double, c_ptr, c_null_ptr, c_null_char
-    use xd_kinds, only: wp, dp
+    use xd_kinds, only: wp, dp, i8
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: to_upper, itoa
     implicit none
@@ -18,6 +18,12 @@ module xd_input_field_reader
     integer, parameter :: maxf = 16
     integer, parameter :: max_card = 400   !< longest card kept (LONG cards are 200)
     integer, parameter :: width_standard = 0, width_long = 1, width_i10 = 2
+    !> 2^53, and the powers of ten exact in double precision (parse_real)
+    integer(i8), parameter :: two53 = 9007199254740992_i8
+    real(dp), parameter :: pow10(0:22) = [1.0e0_dp, 1.0e1_dp, 1.0e2_dp, 1.0e3_dp, 1.0e4_dp, 1.0e5_dp, 1.0e6_dp, &
+                                          1.0e7_dp, 1.0e8_dp, 1.0e9_dp, 1.0e10_dp, 1.0e11_dp, 1.0e12_dp, 1.0e13_dp, &
+                                          1.0e14_dp, 1.0e15_dp, 1.0e16_dp, 1.0e17_dp, 1.0e18_dp, 1.0e19_dp, 1.0e20_dp, &
+                                          1.0e21_dp, 1.0e22_dp]
 
     interface
         !> C's correctly rounded decimal conversion; the text is validated first.
@@ -56,6 +62,11 @@ module xd_input_field_reader
         integer :: nf = 0
         character(len=80) :: f(maxf) = ''
         integer :: col(maxf) = 1
+        !> each field's length without its trailing blanks, and the card's:
+        !> set with them (split_card, substitute), so that a blank test or a
+        !> number's conversion does not scan 80 (400) padded characters
+        integer :: flen(maxf) = 0
+        integer :: tlen = 0
         character(len=8) :: name(maxf) = ''
         character(len=max_card) :: text = ''
         character(len=256) :: file = ''
@@ -127,6 +138,7 @@ contains
         logical :: is_raw
 
         card%text = text
+        card%tlen = min(len_trim(text), max_card)
         card%file = file
         card%line = line
         card%keyword = keyword
@@ -135,16 +147,18 @@ contains
         card%name(1:fmt%nfield) = fmt%name(1:fmt%nfield)
         card%name(fmt%nfield + 1:) = ''
         card%f = ''
+        card%flen = 0
         card%col = 1
         is_raw = .false.
         if (present(raw)) is_raw = raw
         if (is_raw) then
             card%nf = 1
             card%f(1) = text
+            card%flen(1) = len_trim(card%f(1))
             return
         end if
 
-        if (index(text, ',') > 0) then
+        if (has_comma(text)) then
             p = 1
             do i = 1, maxf
                 q = index(text(p:), ',')
@@ -154,7 +168,7 @@ contains
                     q = p + q - 1
                 end if
                 if (i <= fmt%nfield) then
-                    card%f(i) = adjustl(text(p:q - 1))
+                    call put_field(i, p, q - 1)
                     card%col(i) = p
                 else if (len_trim(text(p:q - 1)) > 0) then
                     call card_error(card, i, 'more fields than the card has ('// &
@@ -171,7 +185,7 @@ contains
                 card%col(i) = p
                 if (p <= len(text)) then
                     q = min(len(text), p + w - 1)
-                    card%f(i) = adjustl(text(p:q))
+                    call put_field(i, p, q)
                 end if
                 p = p + w
             end do
@@ -186,7 +200,45 @@ contains
                 if (allocated(error)) return
             end if
         end do
+    contains
+        !> Field i from text(a:b) without its leading blanks (adjustl's
+        !> value, cut to the field's 80 characters as an assignment cuts
+        !> it), its length without trailing blanks with it: two scans of
+        !> the field's own characters, no temporary.
+        subroutine put_field(i, a, b)
+            integer, intent(in) :: i, a, b
+            integer :: lo, hi
+            lo = a
+            do while (lo <= b)
+                if (iachar(text(lo:lo)) /= 32) exit
+                lo = lo + 1
+            end do
+            hi = b
+            do while (hi >= lo)
+                if (iachar(text(hi:hi)) /= 32) exit
+                hi = hi - 1
+            end do
+            if (hi < lo) return
+            card%f(i) = text(lo:hi)
+            card%flen(i) = hi - lo + 1
+            ! (cut: the kept part's own trailing blanks)
+            if (card%flen(i) > len(card%f(i))) card%flen(i) = len_trim(card%f(i))
+        end subroutine put_field
     end subroutine split_card
+
+    !> Does the text hold a comma (a free-format card)? A loop over its
+    !> characters: the library's index() took 680 instructions a card.
+    pure logical function has_comma(text)
+        character(len=*), intent(in) :: text
+        integer :: i
+        has_comma = .false.
+        do i = 1, len(text)
+            if (text(i:i) == ',') then
+                has_comma = .true.
+                return
+            end if
+        end do
+    end function has_comma
 
     subroutine substitute(card, i, k, params, error)
         type(card_t), intent(inout) :: card
@@ -211,13 +263,14 @@ contains
             end if
         end if
         card%f(i) = v
+        card%flen(i) = len_trim(card%f(i))
     end subroutine substitute
 
     logical function field_blank(card, i)
         type(card_t), intent(in) :: card
         integer, intent(in) :: i
         field_blank = .true.
-        if (i <= card%nf) field_blank = len_trim(card%f(i)) == 0
+        if (i <= card%nf) field_blank = card%flen(i) == 0
     end function field_blank
 
     !> 'file:line' of the card.
@@ -229,7 +282,7 @@ contains
 
     logical function card_blank(card)
         type(card_t), intent(in) :: card
-        card_blank = len_trim(card%text) == 0
+        card_blank = card%tlen == 0
     end function card_blank
 
     !> Real field i; blank gives `default`; with `zero_default`, 0 does too.
@@ -244,7 +297,7 @@ contains
         logical :: ok, outside
         x = default
         if (field_blank(card, i)) return
-        call parse_real(card%f(i), v, ok, outside)
+        call parse_real(card%f(i)(1:card%flen(i)), v, ok, outside)
         if (outside) then
             call card_error(card, i, ''''//trim(card%f(i))//''' is out of range', error)
             return
@@ -276,7 +329,7 @@ contains
         logical :: ok
         n = default
         if (field_blank(card, i)) return
-        call parse_int(card%f(i), n, ok)
+        call parse_int(card%f(i)(1:card%flen(i)), n, ok)
         if (.not. ok) then
             call card_error(card, i, ''''//trim(card%f(i))//''' is not an integer', error)
             n = default
@@ -301,13 +354,22 @@ contains
     !> range (above 1e307 or below 1e-307 in size, not zero) is not
     !> converted (the conversion would overflow, a trap in a debug build):
     !> ok is false and `out_of_range` true.
+    !>
+    !> The conversion: where the significant digits (at most 18) make an
+    !> integer M no larger than 2^53 and the value is M x 10^e with |e| <= 22,
+    !> it is M times or divided by 10^|e|, both exact in double precision,
+    !> so that the one rounding of that operation gives the correctly
+    !> rounded value (Clinger's fast path), which is what C's strtod gives;
+    !> any other text goes to strtod. A deck's coordinates and ids almost
+    !> all take the first way (strtod took 500 instructions a field).
     pure subroutine parse_real(s, x, ok, out_of_range)
         character(len=*), intent(in) :: s
         real(dp), intent(out) :: x
         logical, intent(out) :: ok
         logical, intent(out), optional :: out_of_range
-        integer :: i, n, ndig, m, nint_sig, nlead, ex, exsign
-        logical :: nonzero, seen_nonzero
+        integer :: i, n, ndig, m, nint_sig, nlead, ex, exsign, nsig, fdig, d, e10
+        integer(i8) :: mant
+        logical :: nonzero, seen_nonzero, neg, exact
         character(kind=c_char) :: buf(64)
         x = 0.0_dp
         ok = .false.
@@ -316,16 +378,30 @@ contains
         if (n == 0 .or. n > 60) return
         m = 0
         i = 1
+        neg = s(1:1) == '-'
         if (s(i:i) == '+' .or. s(i:i) == '-') call put(buf, m, i, s(i:i))
         ndig = 0
         nint_sig = 0          ! significant digits before the point
         nlead = 0             ! zeros after the point before the first nonzero digit
         seen_nonzero = .false.
+        ! (M: the significant digits, nsig of them; fdig: the digits after
+        ! the point taken into M; exact: M holds every significant digit)
+        mant = 0
+        nsig = 0
+        fdig = 0
+        exact = .true.
         do while (i <= n)
             if (.not. is_digit(s(i:i))) exit
             ndig = ndig + 1
             if (s(i:i) /= '0') seen_nonzero = .true.
             if (seen_nonzero) nint_sig = nint_sig + 1
+            if (seen_nonzero .and. exact) then
+                ! (M takes the digit while it can hold it)
+                d = ichar(s(i:i)) - ichar('0')
+                nsig = nsig + 1
+                exact = nsig <= 18
+                if (exact) mant = 10*mant + d
+            end if
             call put(buf, m, i, s(i:i))
         end do
         if (i <= n) then
@@ -336,6 +412,16 @@ contains
                     ndig = ndig + 1
                     if (.not. seen_nonzero .and. s(i:i) == '0') nlead = nlead + 1
                     if (s(i:i) /= '0') seen_nonzero = .true.
+                    if (exact) then
+                        ! (after the point: the digit counts in fdig)
+                        d = ichar(s(i:i)) - ichar('0')
+                        if (mant > 0 .or. d > 0) nsig = nsig + 1
+                        exact = nsig <= 18
+                        if (exact) then
+                            mant = 10*mant + d
+                            fdig = fdig + 1
+                        end if
+                    end if
                     call put(buf, m, i, s(i:i))
                 end do
             end if
@@ -365,6 +451,7 @@ contains
             end do
             ex = exsign*ex
         end if
+        e10 = ex - fdig
         ! the decimal exponent of the leading significant digit
         if (nonzero) then
             if (nint_sig > 0) then
@@ -374,6 +461,22 @@ contains
             end if
             if (ex > 307 .or. ex < -307) then
                 if (present(out_of_range)) out_of_range = .true.
+                return
+            end if
+        end if
+        if (exact .and. mant <= two53) then
+            if (mant == 0) then
+                x = 0.0_dp
+            else if (e10 >= 0 .and. e10 <= 22) then
+                x = real(mant, dp)*pow10(e10)
+            else if (e10 < 0 .and. e10 >= -22) then
+                x = real(mant, dp)/pow10(-e10)
+            else
+                exact = .false.
+            end if
+            if (exact) then
+                if (neg) x = -x
+                ok = x == x .and. abs(x) <= huge(x)
                 return
             end if
         end if
@@ -398,7 +501,34 @@ contains
         integer, intent(out) :: n
         logical, intent(out) :: ok
         real(dp) :: x
+        integer :: i, k, nt
+        integer(i8) :: v
+        logical :: neg
+        ! [sign] up to 9 digits: the value itself (what the conversion
+        ! through a real gives, without it)
         n = 0
+        nt = len_trim(s)
+        k = 1
+        neg = .false.
+        if (nt > 0) then
+            if (s(1:1) == '-' .or. s(1:1) == '+') then
+                neg = s(1:1) == '-'
+                k = 2
+            end if
+        end if
+        if (nt >= k .and. nt - k < 9) then
+            v = 0
+            do i = k, nt
+                if (.not. is_digit(s(i:i))) exit
+                v = 10*v + (ichar(s(i:i)) - ichar('0'))
+            end do
+            if (i > nt) then
+                if (neg) v = -v
+                n = int(v)
+                ok = .true.
+                return
+            end if
+        end if
         call parse_real(s, x, ok)
         if (.not. ok) return
         ok = x == aint(x) .and. abs(x) <= real(huge(n), dp)

@@ -9,6 +9,9 @@ program test_field_reader
     use xd_input_field_reader, only: card_format_t, card_format, card_t, param_table_t, split_card, &
                                      get_real, get_int, get_text, field_blank, parse_real, parse_int, &
                                      width_standard, width_long, width_i10
+    use, intrinsic :: iso_c_binding, only: c_char, c_double, c_ptr, c_null_ptr, c_null_char
+    use, intrinsic :: iso_fortran_env, only: int64
+    use xd_core_strings, only: itoa
     implicit none
     type(param_table_t) :: params
     type(card_t) :: card
@@ -16,6 +19,7 @@ program test_field_reader
     type(error_t), allocatable :: error
     real(wp) :: x
     integer :: n
+    integer(int64) :: seed   !< same_as_strtod's sequence
 
     ! numbers
     call real_ok('1.5', 1.5_dp)
@@ -42,6 +46,15 @@ program test_field_reader
     call int_bad('1.5')
     call int_bad('abc')
     call int_bad('2147483648')
+    call int_ok('-2147483647', -2147483647)
+    call int_ok('+000000042', 42)
+    call int_ok('-0', 0)
+
+    ! the conversion bit for bit C's strtod (parse_real's own path for up to
+    ! 18 significant digits within 10^+-22, strtod's beyond), over texts
+    ! made to cross each of the fast path's bounds: 1 to 20 digits, the
+    ! point anywhere, exponents -40 to 40, leading zeros, both signs
+    call same_as_strtod()
 
     ! fixed fields that touch, values anywhere in their field
     fmt = card_format('A B')
@@ -139,6 +152,72 @@ program test_field_reader
     call test_summary()
 
 contains
+
+    subroutine same_as_strtod()
+        interface
+            function c_strtod(str, endptr) bind(c, name='strtod') result(d)
+                import :: c_char, c_double, c_ptr
+                character(kind=c_char), intent(in) :: str(*)
+                type(c_ptr), value :: endptr
+                real(c_double) :: d
+            end function c_strtod
+        end interface
+        character(len=40) :: t
+        character(kind=c_char) :: cs(41)
+        integer :: k, nd, pt, ex, j, nbad, nfast, nlz
+        real(dp) :: v, w
+        logical :: ok
+        character(len=*), parameter :: fixed(12) = [character(len=24) :: '9007199254740992', &
+            '9007199254740993', '1e22', '1e23', '0.1', '123456789012345678', '1234567890123456789', &
+            '-0.0', '4.9e-324', '2.2250738585072014e-308', '0.000000000000000000001', '1797693134862315.7e293']
+        seed = 12345_int64
+        nbad = 0
+        nfast = 0
+        do k = 1, 200000 + size(fixed)
+            if (k <= size(fixed)) then
+                t = fixed(k)
+            else
+                nd = 1 + next(20)
+                pt = next(nd + 1)
+                nlz = next(3)
+                t = ''
+                if (next(2) == 1) t = '-'
+                do j = 1, nlz
+                    t = trim(t)//'0'
+                end do
+                do j = 1, nd
+                    if (j == pt + 1) t = trim(t)//'.'
+                    t = trim(t)//achar(iachar('0') + next(10))
+                end do
+                if (next(3) > 0) then
+                    ex = next(81) - 40
+                    write (t(len_trim(t) + 1:), '(a,i0)') 'e', ex
+                end if
+            end if
+            call parse_real(trim(t), v, ok)
+            if (.not. ok) cycle
+            cs = c_null_char
+            do j = 1, len_trim(t)
+                cs(j) = t(j:j)
+            end do
+            w = c_strtod(cs, c_null_ptr)
+            if (transfer(v, 1_int64) /= transfer(w, 1_int64)) then
+                nbad = nbad + 1
+                if (nbad <= 5) print '(a,a,a,es25.17,a,es25.17)', ' parse_real ', trim(t), ': ', v, ' strtod ', w
+            end if
+            nfast = nfast + 1
+        end do
+        call check(nbad == 0 .and. nfast > 190000, 'parse_real bit for bit strtod on '//itoa(nfast)//' texts')
+        call parse_real('-0.0', v, ok)
+        call check(ok .and. v == 0.0_dp .and. sign(1.0_dp, v) < 0.0_dp, '-0.0 keeps its sign')
+    end subroutine same_as_strtod
+
+    !> 0 .. n-1 from a 64-bit linear congruential sequence
+    integer function next(n)
+        integer, intent(in) :: n
+        seed = seed*6364136223846793005_int64 + 1442695040888963407_int64
+        next = int(modulo(ishft(seed, -33), int(n, int64)))
+    end function next
 
     subroutine split(text, f, c)
         character(len=*), intent(in) :: text
