@@ -892,6 +892,12 @@ def test_part_sizes():
         out = os.path.join(here, "ghosts4")
         q = mpirun(4, ["i=" + deck, "outdir=" + out, "endcyc=2"])
         log = open(os.path.join(out, "d3hsp")).read() if q.returncode == 0 else ""
+        # the run's table, each rank's row made by that rank and summed over
+        # the ranks, is the one --check parts=4 makes alone, row for row
+        run_rows = re.findall(r"^\s+(\d)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+(\d+)\s+([0-9.]+)\s+(\d+)$",
+                              log, re.M)
+        record(f"the 4-rank run's table of what each rank holds (each rank's own row) is --check parts=4's "
+               f"({len(run_rows)} rows)", len(rows) == 4 and run_rows == rows, log[-600:] + q.stderr[-300:])
         ms = re.search(r"halo exchange a cycle: (\d+) force slots", log)
         mb = re.search(r"exchange a cycle, all ranks: (\d+) bytes point-to-point \(halo slots and velocities, "
                        r"with the pressure segments' to every other rank; the contact ghosts' come on top", log)

@@ -93,19 +93,40 @@ contains
         real(dp), intent(in) :: keys(:)
         integer, allocatable, intent(out) :: perm(:)
         integer, allocatable :: tmp(:)
-        integer :: n, i, width, lo, mid, hi
+        integer :: n, i, j, t, width, lo, mid, hi
+        integer, parameter :: run = 16
         n = size(keys)
         allocate (perm(n), tmp(n))
         do i = 1, n
             perm(i) = i
         end do
-        width = 1
+        ! runs of `run` by a stable insertion (an element moves past those
+        ! strictly greater alone), then merged in pairs; two runs already in
+        ! order (the first's last no greater than the second's first: a mesh
+        ! numbered along its axis) are left as they are. The result is the
+        ! one stable order either way.
+        do lo = 1, n, run
+            hi = min(lo + run - 1, n)
+            do i = lo + 1, hi
+                t = perm(i)
+                j = i - 1
+                do while (j >= lo)
+                    if (.not. keys(t) < keys(perm(j))) exit
+                    perm(j + 1) = perm(j)
+                    j = j - 1
+                end do
+                perm(j + 1) = t
+            end do
+        end do
+        width = run
         do while (width < n)
             lo = 1
             do while (lo <= n)
                 mid = min(lo + width - 1, n)
                 hi = min(lo + 2*width - 1, n)
-                if (mid < hi) call merge_runs(lo, mid, hi)
+                if (mid < hi) then
+                    if (keys(perm(mid + 1)) < keys(perm(mid))) call merge_runs(lo, mid, hi)
+                end if
                 lo = lo + 2*width
             end do
             width = 2*width

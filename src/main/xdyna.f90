@@ -323,7 +323,7 @@ program xdyna
             write (output_unit, '(a)') model_summary(model, solids, rg%n)
             if (nparts > 0) then
                 ! the decomposition a run on nparts ranks makes
-                call build_domain(model, model%x0, solids, sh, asm, asm_sh, ct, 0, nparts, dom, decomp)
+                call build_domain(model, model%x0, solids, sh, asm, asm_sh, ct, 0, nparts, dom, decomp, alone=.true.)
                 write (output_unit, '(a)') domain_summary(dom)
             end if
             write (output_unit, '(a)') ' xdyna --check: input is valid; nothing was run'

@@ -58,7 +58,7 @@ module xd_solver_domain
     use xd_core_threads, only: threaded
     use xd_core_comm, only: comm_sum_wp, comm_sum_dp, comm_gather_wp, comm_neighbours, comm_gather_small, &
                             comm_gather_root_wp, comm_gather_root_dp, comm_max, comm_send_records, &
-                            comm_sum_i8
+                            comm_sum_i8, comm_sum_int
     use xd_elements_solid_groups, only: solids_t, solid_localize
     use xd_elements_shell_bt, only: shells_t, shell_state_init, some_backstress
     use xd_solver_assembly, only: assembly_t, keep_assembled
@@ -265,7 +265,7 @@ contains
     !> Split the work of the model over `nranks` ranks; this is rank `rank`.
     !> Sets the element groups' and shells' ownership and each interface's
     !> own slave nodes.
-    subroutine build_domain(model, x0, solids, sh, asm, asm_sh, ct, rank, nranks, dom, method)
+    subroutine build_domain(model, x0, solids, sh, asm, asm_sh, ct, rank, nranks, dom, method, alone)
         type(model_t), intent(in) :: model
         real(wp), intent(in) :: x0(:, :)
         type(solids_t), intent(inout) :: solids
@@ -276,13 +276,18 @@ contains
         type(domain_t), intent(out) :: dom
         !> decomp_rcb (absent: the same) or decomp_metis
         integer, intent(in), optional :: method
+        !> --check parts=N: one process makes every rank's row of the
+        !> summary's table itself (absent: each rank makes its own, summed
+        !> over the ranks, a collective)
+        logical, intent(in), optional :: alone
+        integer, allocatable :: rows(:)
         real(wp), allocatable :: xc(:, :), w(:)
         integer, allocatable :: part(:), arank(:), spart(:), grank(:), shrank(:), iota(:)
         logical, allocatable :: multi(:)
-        !> (rank 0, for d3hsp's table) the nodes one rank's elements touch,
-        !> made again for each rank in turn (touched): one rank's at a time,
-        !> not every rank's at once (a (node, rank) table was 64 MB on 16
-        !> ranks of a 1,000,000-node plate, rank 0's peak)
+        !> (d3hsp's table) the nodes one rank's elements touch, made for
+        !> each row in turn (touched): one rank's at a time, not every
+        !> rank's at once (a (node, rank) table was 64 MB on 16 ranks of a
+        !> 1,000,000-node plate, rank 0's peak)
         logical, allocatable :: touch(:)
         integer :: ni, g, e, k, nd, j, r, i, nnode
         dom%rank = rank
@@ -385,7 +390,14 @@ contains
             allocate (dom%bshell(0), dom%bshell_mine(0))
         end if
 
-        if (nranks > 1 .and. rank == 0) call part_sizes()
+        ! (the table's rows: each rank its own, or with `alone` every one:
+        ! rank 0 making all of them, O(ranks x nodes), held every rank at the
+        ! start until it was done)
+        if (present(alone)) then
+            if (alone) rows = [(r, r=1, nranks)]
+        end if
+        if (.not. allocated(rows)) rows = [rank + 1]
+        if (nranks > 1) call part_sizes()
         call neighbour_lists()
 
         ! contact: each interface's slaves by coordinate bisection (slaves
@@ -414,9 +426,13 @@ contains
                 do r = 1, nranks
                     dom%nslave(r) = dom%nslave(r) + count(spart == r - 1)
                 end do
-                if (nranks > 1 .and. rank == 0) call ghosts(it%surf, it%dl, it%reach, spart)
+                if (nranks > 1) call ghosts(it%surf, it%dl, it%reach, spart)
             end associate
         end do
+        if (nranks > 1 .and. size(rows) == 1) then
+            call comm_sum_int(dom%pgseg, nranks)
+            call comm_sum_int(dom%pgnode, nranks)
+        end if
         if (allocated(touch)) deallocate (touch)
     contains
         !> METIS's k-way partition of the work items (decomp=metis): the
@@ -427,10 +443,18 @@ contains
         subroutine item_centre(i, c)
             integer, intent(in) :: i
             real(wp), intent(out) :: c(3)
+            integer :: k
             if (i <= solids%ngroup) then
                 c = xc(:, i)
             else
-                c = sum(x0(:, sh%conn(:, i - solids%ngroup)), 2)/4
+                ! (sum(x0(:, conn), 2)/4 in the same order, without the
+                ! temporary the array expression made at each of the cut's
+                ! reads: 1,500 instructions a shell)
+                c = 0
+                do k = 1, 4
+                    c = c + x0(:, sh%conn(k, i - solids%ngroup))
+                end do
+                c = c/4
             end if
         end subroutine item_centre
 
@@ -469,12 +493,14 @@ contains
             end if
         end subroutine metis_items
 
-        !> Per rank: its elements, the nodes they touch (touch, kept for the
-        !> ghosts), the halo, and the ranks it shares a node with: those
-        !> that assemble a node it touches or touch a node it assembles.
+        !> Per rank: its elements, the nodes they touch, the halo, and the
+        !> ranks it shares a node with: those that assemble a node it
+        !> touches or touch a node it assembles. The rows `rows` made here,
+        !> the others' summed in from their ranks.
         subroutine part_sizes()
             logical, allocatable :: nbr(:, :)
-            integer :: q, a
+            integer, allocatable :: inbr(:)
+            integer :: q, a, iq
             allocate (touch(nnode), nbr(nranks, nranks))
             allocate (dom%psolid(nranks), dom%pshell(nranks), dom%ptouch(nranks), dom%phalo(nranks), dom%pnbr(nranks))
             dom%psolid = 0
@@ -488,10 +514,11 @@ contains
                 dom%pshell(a) = dom%pshell(a) + 1
             end do
             nbr = .false.
-            do q = 1, nranks
+            dom%ptouch = 0
+            dom%phalo = 0
+            do iq = 1, size(rows)
+                q = rows(iq)
                 call touched(q)
-                dom%ptouch(q) = 0
-                dom%phalo(q) = 0
                 do nd = 1, nnode
                     if (.not. touch(nd)) cycle
                     dom%ptouch(q) = dom%ptouch(q) + 1
@@ -502,6 +529,14 @@ contains
                     end if
                 end do
             end do
+            if (size(rows) == 1) then
+                call comm_sum_int(dom%ptouch, nranks)
+                call comm_sum_int(dom%phalo, nranks)
+                allocate (inbr(nranks*nranks))
+                inbr = merge(1, 0, reshape(nbr, [nranks*nranks]))
+                call comm_sum_int(inbr, nranks*nranks)
+                nbr = reshape(inbr > 0, [nranks, nranks])
+            end if
             do q = 1, nranks
                 dom%pnbr(q) = count(nbr(:, q))
             end do
@@ -531,9 +566,10 @@ contains
             integer, intent(in) :: spart(:)
             real(wp) :: lo(3), hi(3), g, blo(3), bhi(3)
             logical, allocatable :: gn(:)
-            integer :: q, k, m, nn, c
+            integer :: q, k, m, nn, c, iq
             allocate (gn(nnode))
-            do q = 1, nranks
+            do iq = 1, size(rows)
+                q = rows(iq)
                 call touched(q)
                 lo = huge(1.0_wp)
                 hi = -huge(1.0_wp)
@@ -934,6 +970,58 @@ contains
         ptr = [ptr, size(node)]
     end subroutine append_entries
 
+    !> Motion lists made anew (ptr, node, rot) from a base list (bptr, bnode,
+    !> brot: each neighbour's entries in node order) and, for each
+    !> neighbour k in turn, cnt(nbr(k) + 1) more nodes from `extra` (in node
+    !> order, none in the base's entries for k; no angular velocity): each
+    !> neighbour's two lists merged in node order. What masks over every
+    !> node, one per neighbour, gave (append_entries), in the lists' own
+    !> length: at each search on 16 ranks those masks were 30 passes over
+    !> the model's nodes.
+    subroutine merged_lists(dom, bptr, bnode, brot, cnt, extra, ptr, node, rot)
+        type(domain_t), intent(in) :: dom
+        integer, intent(in) :: bptr(:), bnode(:), cnt(:), extra(:)
+        logical, intent(in) :: brot(:)
+        integer, allocatable, intent(out) :: ptr(:), node(:)
+        logical, allocatable, intent(out) :: rot(:)
+        integer :: k, a, ae, b, be, n
+        allocate (ptr(size(dom%nbr) + 1))
+        allocate (node(bptr(size(bptr)) + sum(cnt)), rot(bptr(size(bptr)) + sum(cnt)))
+        ptr(1) = 0
+        n = 0
+        be = 0
+        do k = 1, size(dom%nbr)
+            a = bptr(k) + 1
+            ae = bptr(k + 1)
+            b = be + 1
+            be = be + cnt(dom%nbr(k) + 1)
+            do while (a <= ae .or. b <= be)
+                n = n + 1
+                if (b > be) then
+                    call base_entry()
+                else if (a > ae) then
+                    call extra_entry()
+                else if (bnode(a) < extra(b)) then
+                    call base_entry()
+                else
+                    call extra_entry()
+                end if
+            end do
+            ptr(k + 1) = n
+        end do
+    contains
+        subroutine base_entry()
+            node(n) = bnode(a)
+            rot(n) = brot(a)
+            a = a + 1
+        end subroutine base_entry
+        subroutine extra_entry()
+            node(n) = extra(b)
+            rot(n) = .false.
+            b = b + 1
+        end subroutine extra_entry
+    end subroutine merged_lists
+
     !> The motion lists (to and from every neighbour) replaced by these.
     subroutine set_motion_lists(dom, mo_ptr, mo_node, mo_rot, mi_ptr, mi_node, mi_rot)
         type(domain_t), intent(inout) :: dom
@@ -1011,8 +1099,8 @@ contains
         !> surface_spans now: the search's (search_exchange), or at the
         !> start every segment's
         real(dp), intent(in) :: spans(2)
-        logical, allocatable :: rd(:), out(:), inn(:), brot(:), mv(:)
-        integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:)
+        logical, allocatable :: rd(:), out(:), mv(:)
+        integer, allocatable :: mo_ptr(:), mi_ptr(:), mo_node(:), mi_node(:), rid(:)
         logical, allocatable :: mo_rot(:), mi_rot(:)
         real(dp) :: box(6), boxes(6, dom%nranks), reach, step
         logical, allocatable :: pm(:)
@@ -1020,7 +1108,7 @@ contains
         real(dp), allocatable :: gsend(:, :), gin(:, :)
         integer :: i, q, k, j, sn, nn, r, g, b, added, e, nd, ng, lr
         nn = size(dom%node_mine)
-        allocate (rd(nn), out(nn), inn(nn), brot(nn), mv(nn))
+        allocate (rd(nn), out(nn), mv(nn))
         rd = .false.
         reach = 0
         step = 0
@@ -1092,46 +1180,42 @@ contains
         end if
         call comm_gather_small(box, boxes)
         ! the ghosts' lists, neighbour by neighbour (every other rank)
-        allocate (mo_ptr(1), mi_ptr(1), mo_node(0), mi_node(0), mo_rot(0), mi_rot(0))
-        mo_ptr = 0
-        mi_ptr = 0
         mv = dom%mv_base
         dom%nghost_out = 0
         ! to each other rank r: the base's entries and this rank's surface
         ! nodes in r's box; the ghosts' numbers then go to r (which holds
         ! another rank's surface nodes' positions current only near its
         ! own slaves, and so cannot tell them itself)
-        allocate (gcnt(dom%nranks), gfrom(dom%nranks))
+        allocate (gcnt(dom%nranks), gfrom(dom%nranks), gid(0))
         gcnt = 0
         ng = 0
+        out = .false.
         do k = 1, size(dom%nbr)
             r = dom%nbr(k)
             call side(r, out, added)
             dom%nghost_out = dom%nghost_out + added
             gcnt(r + 1) = added
-            call append_entries(out, brot, mo_node, mo_rot, mo_ptr)
         end do
+        ! (each neighbour's list: its base entries and its ghosts, both in
+        ! node order, merged; gid holds the ghosts neighbour by neighbour)
+        call merged_lists(dom, dom%bmo_ptr, dom%bmo_node, dom%bmo_rot, gcnt, gid, mo_ptr, mo_node, mo_rot)
         allocate (gsend(7, ng))
         do e = 1, ng
             gsend(:, e) = [real(gid(e), dp), real(x(:, gid(e)), dp), real(v(:, gid(e)), dp)]
         end do
         call comm_send_records(gsend, gcnt, gin, gfrom)
-        ! from r: the base's entries and the ghosts r sent, which this rank
-        ! then moves (r's records in gin in rank order, as nbr)
-        j = 0
-        do k = 1, size(dom%nbr)
-            r = dom%nbr(k)
-            call mark_base(dom%bmi_ptr, dom%bmi_node, dom%bmi_rot, inn)
-            do e = 1, gfrom(r + 1)
-                nd = nint(gin(1, j + e))
-                inn(nd) = .true.
-                mv(nd) = .true.
-                x(:, nd) = real(gin(2:4, j + e), wp)
-                v(:, nd) = real(gin(5:7, j + e), wp)
-            end do
-            j = j + gfrom(r + 1)
-            call append_entries(inn, brot, mi_node, mi_rot, mi_ptr)
+        ! from r: the base's entries and the ghosts r sent (in node order),
+        ! which this rank then moves (r's records in gin in rank order, as
+        ! nbr)
+        allocate (rid(size(gin, 2)))
+        do e = 1, size(gin, 2)
+            nd = nint(gin(1, e))
+            rid(e) = nd
+            mv(nd) = .true.
+            x(:, nd) = real(gin(2:4, e), wp)
+            v(:, nd) = real(gin(5:7, e), wp)
         end do
+        call merged_lists(dom, dom%bmi_ptr, dom%bmi_node, dom%bmi_rot, gfrom, rid, mi_ptr, mi_node, mi_rot)
         call set_motion_lists(dom, mo_ptr, mo_node, mo_rot, mi_ptr, mi_node, mi_rot)
         call node_runs(where_true(mv), dom%mv_lo, dom%mv_hi)
         dom%nrefresh = dom%nrefresh + 1
@@ -1174,36 +1258,30 @@ contains
         !> not yet marked (added of them, listed in gid).
         subroutine side(reader, mark, added)
             integer, intent(in) :: reader
-            logical, intent(out) :: mark(:)
+            logical, intent(inout) :: mark(:)
             integer, intent(out) :: added
-            integer :: jj, nd
-            call mark_base(dom%bmo_ptr, dom%bmo_node, dom%bmo_rot, mark)
+            integer :: jj, nd, e
+            ! (mark: false on entry and on return; set for the base's
+            ! entries alone while they are read)
+            do e = dom%bmo_ptr(k) + 1, dom%bmo_ptr(k + 1)
+                mark(dom%bmo_node(e)) = .true.
+            end do
             added = 0
-            do jj = 1, size(dom%csurf%node)
+            ! (this rank's own surface nodes: its block of csurf, in node
+            ! order)
+            do jj = dom%csurf%off(dom%rank + 1) + 1, dom%csurf%off(dom%rank + 1) + dom%csurf%cnt(dom%rank + 1)
                 nd = dom%csurf%node(jj)
-                if (dom%arank(nd) /= dom%rank .or. mark(nd)) cycle
+                if (mark(nd)) cycle
                 if (.not. inside(nd, boxes(:, reader + 1))) cycle
-                mark(nd) = .true.
                 added = added + 1
                 ng = ng + 1
                 call grow(gid, ng, 'contact ghosts')
                 gid(ng) = nd
             end do
-        end subroutine side
-        !> Neighbour k's entries of a base list (ptr, node, rot) marked in
-        !> mark, their angular velocities' flags in brot, nothing else.
-        subroutine mark_base(ptr, node, rot, mark)
-            integer, intent(in) :: ptr(:), node(:)
-            logical, intent(in) :: rot(:)
-            logical, intent(out) :: mark(:)
-            integer :: e
-            mark = .false.
-            brot = .false.
-            do e = ptr(k) + 1, ptr(k + 1)
-                mark(node(e)) = .true.
-                brot(node(e)) = rot(e)
+            do e = dom%bmo_ptr(k) + 1, dom%bmo_ptr(k + 1)
+                mark(dom%bmo_node(e)) = .false.
             end do
-        end subroutine mark_base
+        end subroutine side
         logical function inside(nd, bx)
             integer, intent(in) :: nd
             real(dp), intent(in) :: bx(6)
