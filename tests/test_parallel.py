@@ -594,6 +594,51 @@ def test_mpi_local_decks():
 
 
 @pytest.mark.slow(26)
+def test_mpi_cards_in_blocks():
+    """Under MPI each rank reads its block of a large *NODE and
+    *ELEMENT_SHELL keyword's cards and every card's record goes to all
+    (xd_input_read_geometry's card_block, from 1,000 cards a rank): a
+    60 x 60 shell plate with whole-model contact (3,721 nodes, 3,600
+    shells: blocks of 1,860 and 1,800 cards on 2 ranks) runs on 2 ranks as
+    on one (ranks_match: the motion bitwise). A bad card in the second
+    rank's block stops both runs with exit 1 and the same message naming
+    its file, line, keyword and field (every rank reads the cards again in
+    order once some rank found an error): a node's X and a shell's node
+    id. Exact: no tolerance."""
+    if shutil.which("mpirun") is None:
+        record("mpirun is installed (make deps: openmpi-bin)", False)
+        return
+    d = os.path.join(TMP, "cards_in_blocks")
+    os.makedirs(d, exist_ok=True)
+    deck = os.path.join(d, "plate.k")
+    run([sys.executable, os.path.join(ROOT, "tools", "gen_decks.py"), "--bench-shells", "60", "60", deck,
+         "--cycles", "30", "--contact"])
+    text = open(deck).read()
+    serial = os.path.join(d, "one")
+    p = run([XDYNA, "i=" + deck, "outdir=" + serial])
+    ok, msg = two_ranks_match(deck, serial) if p.returncode == 0 else (False, p.stderr[-300:])
+    record(f"cards read in blocks by 2 ranks: the 60 x 60 plate's run is the serial one's ({msg})", ok, msg)
+    lines = text.split("\n")
+    node0 = lines.index("*NODE")
+    shell0 = lines.index("*ELEMENT_SHELL")
+    for what, k, old, new in (("a node's X", node0 + 3000, None, "1.2.3"), ("a shell's node id", shell0 + 3000, None, "0")):
+        bad = list(lines)
+        if what.startswith("a node"):
+            bad[k] = bad[k][:8] + f"{new:>16s}" + bad[k][24:]
+        else:
+            bad[k] = bad[k][:16] + f"{new:>8s}" + bad[k][24:]
+        path = os.path.join(d, "bad.k")
+        write_lines(path, bad)
+        one = run([XDYNA, "i=" + path, "outdir=" + os.path.join(d, "bad1")])
+        two = mpirun(2, ["i=" + path, "outdir=" + os.path.join(d, "bad2")])
+        e1 = [ln for ln in one.stderr.splitlines() if "bad.k:" in ln]
+        e2 = [ln for ln in two.stderr.splitlines() if "bad.k:" in ln]
+        ok = (one.returncode == 1 and two.returncode == 1 and len(e1) > 0 and len(e2) > 0 and e2[0] == e1[0]
+              and f"bad.k:{k + 1}:" in e1[0])
+        record(f"a bad card in the second rank's block ({what}, line {k + 1}): exit 1 on 1 and 2 ranks, the same "
+               f"message ({e1[0] if e1 else '?'})", ok, one.stderr[-300:] + two.stderr[-300:])
+
+
 def test_mpi_owned():
     """Owned nodes (issue 32, deliverable 1): where a model has none of the
     features that still need every node on every rank (contact, walls,

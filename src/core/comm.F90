@@ -10,7 +10,7 @@ module xd_core_comm
     use mpi_f08, only: MPI_Initialized, MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, &
                        MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_INTEGER8, MPI_Datatype, MPI_Request, &
                        MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Comm_size, MPI_Gatherv, MPI_MIN, MPI_CHARACTER, &
-                       MPI_Alltoall, MPI_Alltoallv
+                       MPI_Alltoall, MPI_Alltoallv, MPI_Comm_rank
     use xd_core_sorting, only: sort_index
     use xd_kinds, only: wp, dp, i8
     implicit none
@@ -18,7 +18,7 @@ module xd_core_comm
     public :: comm_gather_wp, comm_gather_root_wp, comm_gather_root_dp, &
               comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max, comm_min_int, comm_gather_text, &
               comm_gather_small, &
-              comm_gather_records, comm_neighbours, comm_ordered_records, comm_send_records
+              comm_gather_records, comm_neighbours, comm_ordered_records, comm_send_records, comm_rank_size
 
 contains
 
@@ -26,6 +26,17 @@ contains
     logical function up()
         call MPI_Initialized(up)
     end function up
+
+    !> This process's rank (from 0) and the number of ranks (0 and 1 where
+    !> MPI was not started).
+    subroutine comm_rank_size(rank, nranks)
+        integer, intent(out) :: rank, nranks
+        rank = 0
+        nranks = 1
+        if (.not. up()) return
+        call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+        call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+    end subroutine comm_rank_size
 
     type(MPI_Datatype) function wp_type()
 #ifdef XD_SINGLE

@@ -1,6 +1,7 @@
 !> Readers for *NODE, *ELEMENT_SOLID and *PART.
 module xd_input_read_geometry
-    use xd_kinds, only: wp
+    use xd_kinds, only: wp, dp
+    use xd_core_comm, only: comm_rank_size, comm_min_int, comm_gather_records
     use xd_core_errors, only: error_t, make_error
     use xd_core_memory, only: grow
     use xd_core_strings, only: itoa
@@ -45,13 +46,50 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         type(card_format_t) :: fmt
-        integer :: ic, n, tc, rc
+        integer :: ic, n, tc, rc, lo, hi, k, m
         real(wp) :: xyz(3)
+        logical :: skip
+        real(dp), allocatable :: mine(:, :), all(:, :)
         fmt = card_format('NID:8 X:16 Y:16 Z:16 TC:8 RC:8', kw%width_mode)
+        if (card_block(kw%ncard, lo, hi)) then
+            ! each rank its block of the cards, every node's record to all
+            allocate (mine(7, max(hi - lo + 1, 0)))
+            m = 0
+            do ic = lo, hi
+                call node_card(ic, skip)
+                if (allocated(error)) exit
+                if (skip) cycle
+                m = m + 1
+                mine(:, m) = [real(n, dp), real(xyz, dp), real(tc, dp), real(rc, dp), real(kw%card_line(ic), dp)]
+            end do
+            if (block_read(allocated(error), ic)) then
+                call comm_gather_records(mine(:, 1:m), size_of_ranks(), all)
+                do k = 1, size(all, 2)
+                    call add_node(nint(all(1, k)), real(all(2:4, k), wp), nint(all(5, k)), nint(all(6, k)), &
+                                  nint(all(7, k)))
+                end do
+                return
+            end if
+            ! (an error on some rank: the cards read in order, which stops
+            ! at the first, as one rank reading them does)
+            if (allocated(error)) deallocate (error)
+        end if
         do ic = 1, kw%ncard
+            call node_card(ic, skip)
+            if (allocated(error)) return
+            if (skip) cycle
+            call add_node(n, xyz, tc, rc, kw%card_line(ic))
+        end do
+    contains
+        !> Card ic's node (n, xyz, tc, rc), or skip (a blank card), or error.
+        subroutine node_card(ic, skip)
+            integer, intent(in) :: ic
+            logical, intent(out) :: skip
+            skip = .false.
             call get_card(ctx, kw, ic, fmt, 1, card, error)
             if (allocated(error)) return
-            if (card_blank(card)) cycle
+            skip = card_blank(card)
+            if (skip) return
             call get_int(card, 1, n, 0, error); if (allocated(error)) return
             if (n <= 0) then
                 call card_error(card, 1, 'node id must be a positive integer', error)
@@ -70,19 +108,61 @@ contains
                 call card_error(card, 6, 'constraint code '//itoa(rc)//' is not 0-7', error)
                 return
             end if
+        end subroutine node_card
+
+        subroutine add_node(id, x, t, r, line)
+            integer, intent(in) :: id, t, r, line
+            real(wp), intent(in) :: x(3)
             model%nnode = model%nnode + 1
             call grow(model%node_id, model%nnode, 'node ids')
             call grow(model%x0, model%nnode, 'node coordinates')
             call grow(model%node_tc, model%nnode, 'node constraints')
             call grow(model%node_rc, model%nnode, 'node constraints')
             call grow(model%node_src, model%nnode, 'node lines')
-            model%node_id(model%nnode) = n
-            model%x0(:, model%nnode) = xyz
-            model%node_tc(model%nnode) = tc
-            model%node_rc(model%nnode) = rc
-            model%node_src(model%nnode) = kw%card_line(ic)
-        end do
+            model%node_id(model%nnode) = id
+            model%x0(:, model%nnode) = x
+            model%node_tc(model%nnode) = t
+            model%node_rc(model%nnode) = r
+            model%node_src(model%nnode) = line
+        end subroutine add_node
     end subroutine read_node
+
+    !> Under MPI, a keyword's cards read in blocks, one a rank (every rank
+    !> reads the whole deck: the large blocks of *NODE and *ELEMENT_SHELL
+    !> cards were a fifth of a rank's start on 16 ranks of a 120,000-shell
+    !> model): true with this rank's cards lo .. hi where there are ranks
+    !> and cards enough (at least min_block a rank).
+    logical function card_block(ncard, lo, hi) result(on)
+        integer, intent(in) :: ncard
+        integer, intent(out) :: lo, hi
+        integer, parameter :: min_block = 1000
+        integer :: rank, nranks
+        call comm_rank_size(rank, nranks)
+        on = nranks > 1 .and. ncard >= min_block*nranks
+        lo = 1
+        hi = ncard
+        if (.not. on) return
+        lo = int(int(ncard, dp)*rank/nranks) + 1
+        hi = int(int(ncard, dp)*(rank + 1)/nranks)
+    end function card_block
+
+    !> Did every rank read its block without an error (a collective)? If
+    !> not, every rank reads the cards again in order (the first error is
+    !> then the one reading alone gives, on every rank alike).
+    logical function block_read(failed, ic) result(ok)
+        logical, intent(in) :: failed
+        integer, intent(in) :: ic
+        integer :: first(1)
+        first = huge(1)
+        if (failed) first = ic
+        call comm_min_int(first)
+        ok = first(1) == huge(1)
+    end function block_read
+
+    integer function size_of_ranks() result(n)
+        integer :: r
+        call comm_rank_size(r, n)
+    end function size_of_ranks
 
     !> *ELEMENT_MASS: EID NID MASS PID (I8 I8 E16 I8), a point mass on a
     !> node. PID (a part for the mass's energy in matsum) is warned: the mass
@@ -241,30 +321,46 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         type(card_format_t) :: fmt1, fmt2
-        integer :: ic, eid, pid, k, nodes(4), e
+        integer :: ic, eid, pid, k, nodes(4), e, lo, hi, m
         real(wp) :: th(4)
         logical :: thick
+        real(dp), allocatable :: mine(:, :), all(:, :)
         fmt1 = card_format('EID:8 PID:8 N1:8 N2:8 N3:8 N4:8', kw%width_mode)
         fmt2 = card_format('THIC1:16 THIC2:16 THIC3:16 THIC4:16 BETA:16', kw%width_mode)
         thick = kw%name == 'ELEMENT_SHELL_THICKNESS'
+        ! (one card a shell: each rank its block, every shell's record to all;
+        ! with thicknesses, a shell's second card follows its first past any
+        ! blank card, so those are read in order)
+        if (.not. thick .and. card_block(kw%ncard, lo, hi)) then
+            allocate (mine(7, max(hi - lo + 1, 0)))
+            m = 0
+            do ic = lo, hi
+                call get_card(ctx, kw, ic, fmt1, 1, card, error)
+                if (allocated(error)) exit
+                if (card_blank(card)) cycle
+                call first_card()
+                if (allocated(error)) exit
+                m = m + 1
+                mine(:, m) = real([eid, pid, nodes, kw%card_line(ic)], dp)
+            end do
+            if (block_read(allocated(error), ic)) then
+                call comm_gather_records(mine(:, 1:m), size_of_ranks(), all)
+                th = 0
+                do k = 1, size(all, 2)
+                    call add_shell(nint(all(1, k)), nint(all(2, k)), nint(all(3:6, k)), nint(all(7, k)))
+                end do
+                return
+            end if
+            if (allocated(error)) deallocate (error)
+        end if
         ic = 0
         do while (ic < kw%ncard)
             ic = ic + 1
             call get_card(ctx, kw, ic, fmt1, 1, card, error)
             if (allocated(error)) return
             if (card_blank(card)) cycle
-            call get_int(card, 1, eid, 0, error); if (allocated(error)) return
-            call get_int(card, 2, pid, 0, error); if (allocated(error)) return
-            do k = 1, 4
-                call get_int(card, 2 + k, nodes(k), 0, error); if (allocated(error)) return
-            end do
-            if (eid <= 0) then
-                call card_error(card, 1, 'element id must be a positive integer', error); return
-            end if
-            if (nodes(4) == 0) nodes(4) = nodes(3)
-            if (any(nodes <= 0)) then
-                call card_error(card, 2 + minloc(nodes, 1), 'node id must be a positive integer', error); return
-            end if
+            call first_card()
+            if (allocated(error)) return
             th = 0
             if (thick) then
                 if (ic == kw%ncard) then
@@ -277,6 +373,28 @@ contains
                     call get_real(card, k, th(k), 0.0_wp, error); if (allocated(error)) return
                 end do
             end if
+            call add_shell(eid, pid, nodes, kw%card_line(ic))
+        end do
+    contains
+        !> The first card's shell (eid, pid, nodes), or error.
+        subroutine first_card()
+            call get_int(card, 1, eid, 0, error); if (allocated(error)) return
+            call get_int(card, 2, pid, 0, error); if (allocated(error)) return
+            do k = 1, 4
+                call get_int(card, 2 + k, nodes(k), 0, error); if (allocated(error)) return
+            end do
+            if (eid <= 0) then
+                call card_error(card, 1, 'element id must be a positive integer', error); return
+            end if
+            if (nodes(4) == 0) nodes(4) = nodes(3)
+            if (any(nodes <= 0)) then
+                call card_error(card, 2 + minloc(nodes, 1), 'node id must be a positive integer', error); return
+            end if
+        end subroutine first_card
+
+        !> A shell appended to the model (its thicknesses th).
+        subroutine add_shell(id, part, nd, line)
+            integer, intent(in) :: id, part, nd(4), line
             model%nshell = model%nshell + 1
             e = model%nshell
             call grow(model%shell_id, e, 'shell ids')
@@ -284,13 +402,12 @@ contains
             call grow(model%shell_conn, 4, e, 'shell connectivity')
             call grow(model%shell_src, e, 'shell lines')
             call grow_thick(e)
-            model%shell_id(e) = eid
-            model%shell_pid(e) = pid
-            model%shell_conn(:, e) = nodes
+            model%shell_id(e) = id
+            model%shell_pid(e) = part
+            model%shell_conn(:, e) = nd
             model%shell_t(:, e) = th
-            model%shell_src(e) = kw%card_line(ic)
-        end do
-    contains
+            model%shell_src(e) = line
+        end subroutine add_shell
         subroutine grow_thick(need)
             integer, intent(in) :: need
             real(wp), allocatable :: tmp(:, :)
