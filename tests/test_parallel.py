@@ -621,12 +621,12 @@ def test_mpi_cards_in_blocks():
     lines = text.split("\n")
     node0 = lines.index("*NODE")
     shell0 = lines.index("*ELEMENT_SHELL")
-    for what, k, old, new in (("a node's X", node0 + 3000, None, "1.2.3"), ("a shell's node id", shell0 + 3000, None, "0")):
+    # (the bad text in its field's columns: a node's X in 9-24, a shell's
+    # N1 in 17-24)
+    for what, k, a, new in (("a node's X", node0 + 3000, 8, f"{'1.2.3':>16s}"),
+                            ("a shell's node id", shell0 + 3000, 16, f"{'0':>8s}")):
         bad = list(lines)
-        if what.startswith("a node"):
-            bad[k] = bad[k][:8] + f"{new:>16s}" + bad[k][24:]
-        else:
-            bad[k] = bad[k][:16] + f"{new:>8s}" + bad[k][24:]
+        bad[k] = bad[k][:a] + new + bad[k][24:]
         path = os.path.join(d, "bad.k")
         write_lines(path, bad)
         one = run([XDYNA, "i=" + path, "outdir=" + os.path.join(d, "bad1")])

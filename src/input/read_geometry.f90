@@ -14,6 +14,21 @@ module xd_input_read_geometry
     private
     public :: read_geometry
 
+    abstract interface
+        !> Card ic as a record, or skip (a blank card), or failed (an error
+        !> the caller holds).
+        subroutine card_record_t(ic, rec, skip, failed)
+            import :: dp
+            integer, intent(in) :: ic
+            real(dp), intent(out) :: rec(:)
+            logical, intent(out) :: skip, failed
+        end subroutine card_record_t
+        subroutine add_record_t(rec)
+            import :: dp
+            real(dp), intent(in) :: rec(:)
+        end subroutine add_record_t
+    end interface
+
 contains
 
     subroutine read_geometry(ctx, kw, model, error)
@@ -46,34 +61,13 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         type(card_format_t) :: fmt
-        integer :: ic, n, tc, rc, lo, hi, k, m
+        integer :: ic, n, tc, rc
         real(wp) :: xyz(3)
         logical :: skip
-        real(dp), allocatable :: mine(:, :), all(:, :)
         fmt = card_format('NID:8 X:16 Y:16 Z:16 TC:8 RC:8', kw%width_mode)
-        if (card_block(kw%ncard, lo, hi)) then
-            ! each rank its block of the cards, every node's record to all
-            allocate (mine(7, max(hi - lo + 1, 0)))
-            m = 0
-            do ic = lo, hi
-                call node_card(ic, skip)
-                if (allocated(error)) exit
-                if (skip) cycle
-                m = m + 1
-                mine(:, m) = [real(n, dp), real(xyz, dp), real(tc, dp), real(rc, dp), real(kw%card_line(ic), dp)]
-            end do
-            if (block_read(allocated(error), ic)) then
-                call comm_gather_records(mine(:, 1:m), size_of_ranks(), all)
-                do k = 1, size(all, 2)
-                    call add_node(nint(all(1, k)), real(all(2:4, k), wp), nint(all(5, k)), nint(all(6, k)), &
-                                  nint(all(7, k)))
-                end do
-                return
-            end if
-            ! (an error on some rank: the cards read in order, which stops
-            ! at the first, as one rank reading them does)
-            if (allocated(error)) deallocate (error)
-        end if
+        ! (under MPI each rank its block of the cards: read_in_blocks)
+        if (read_in_blocks(kw%ncard, 7, node_record, add_record)) return
+        if (allocated(error)) deallocate (error)
         do ic = 1, kw%ncard
             call node_card(ic, skip)
             if (allocated(error)) return
@@ -110,6 +104,22 @@ contains
             end if
         end subroutine node_card
 
+        !> Card ic's node as a record (id, x, y, z, tc, rc, line).
+        subroutine node_record(ic, rec, skip, failed)
+            integer, intent(in) :: ic
+            real(dp), intent(out) :: rec(:)
+            logical, intent(out) :: skip, failed
+            call node_card(ic, skip)
+            failed = allocated(error)
+            if (failed .or. skip) return
+            rec = [real(n, dp), real(xyz, dp), real(tc, dp), real(rc, dp), real(kw%card_line(ic), dp)]
+        end subroutine node_record
+
+        subroutine add_record(rec)
+            real(dp), intent(in) :: rec(:)
+            call add_node(nint(rec(1)), real(rec(2:4), wp), nint(rec(5)), nint(rec(6)), nint(rec(7)))
+        end subroutine add_record
+
         subroutine add_node(id, x, t, r, line)
             integer, intent(in) :: id, t, r, line
             real(wp), intent(in) :: x(3)
@@ -130,39 +140,46 @@ contains
     !> Under MPI, a keyword's cards read in blocks, one a rank (every rank
     !> reads the whole deck: the large blocks of *NODE and *ELEMENT_SHELL
     !> cards were a fifth of a rank's start on 16 ranks of a 120,000-shell
-    !> model): true with this rank's cards lo .. hi where there are ranks
-    !> and cards enough (at least min_block a rank).
-    logical function card_block(ncard, lo, hi) result(on)
-        integer, intent(in) :: ncard
-        integer, intent(out) :: lo, hi
+    !> model), where there are ranks and cards enough (at least min_block a
+    !> rank): each rank turns its block's cards into records of `width`
+    !> values (card_record; a blank card gives none) and every rank adds
+    !> every rank's records in card order (add_record). True where that was
+    !> done; false where the cards are to be read in order: too few of them,
+    !> or a bad card on some rank (the first error is then the one reading
+    !> alone gives, on every rank alike). A collective where there are
+    !> ranks.
+    logical function read_in_blocks(ncard, width, card_record, add_record) result(done)
+        integer, intent(in) :: ncard, width
+        procedure(card_record_t) :: card_record
+        procedure(add_record_t) :: add_record
         integer, parameter :: min_block = 1000
-        integer :: rank, nranks
+        real(dp), allocatable :: mine(:, :), all(:, :)
+        integer :: rank, nranks, lo, hi, ic, m, k, first(1)
+        logical :: skip, failed
+        done = .false.
         call comm_rank_size(rank, nranks)
-        on = nranks > 1 .and. ncard >= min_block*nranks
-        lo = 1
-        hi = ncard
-        if (.not. on) return
+        if (nranks <= 1 .or. ncard < min_block*nranks) return
         lo = int(int(ncard, dp)*rank/nranks) + 1
         hi = int(int(ncard, dp)*(rank + 1)/nranks)
-    end function card_block
-
-    !> Did every rank read its block without an error (a collective)? If
-    !> not, every rank reads the cards again in order (the first error is
-    !> then the one reading alone gives, on every rank alike).
-    logical function block_read(failed, ic) result(ok)
-        logical, intent(in) :: failed
-        integer, intent(in) :: ic
-        integer :: first(1)
+        allocate (mine(width, hi - lo + 1))
+        m = 0
         first = huge(1)
-        if (failed) first = ic
+        do ic = lo, hi
+            call card_record(ic, mine(:, m + 1), skip, failed)
+            if (failed) then
+                first = ic
+                exit
+            end if
+            if (.not. skip) m = m + 1
+        end do
         call comm_min_int(first)
-        ok = first(1) == huge(1)
-    end function block_read
-
-    integer function size_of_ranks() result(n)
-        integer :: r
-        call comm_rank_size(r, n)
-    end function size_of_ranks
+        if (first(1) /= huge(1)) return
+        call comm_gather_records(mine(:, 1:m), nranks, all)
+        do k = 1, size(all, 2)
+            call add_record(all(:, k))
+        end do
+        done = .true.
+    end function read_in_blocks
 
     !> *ELEMENT_MASS: EID NID MASS PID (I8 I8 E16 I8), a point mass on a
     !> node. PID (a part for the mass's energy in matsum) is warned: the mass
@@ -321,36 +338,18 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
         type(card_format_t) :: fmt1, fmt2
-        integer :: ic, eid, pid, k, nodes(4), e, lo, hi, m
+        integer :: ic, eid, pid, k, nodes(4), e
         real(wp) :: th(4)
         logical :: thick
-        real(dp), allocatable :: mine(:, :), all(:, :)
         fmt1 = card_format('EID:8 PID:8 N1:8 N2:8 N3:8 N4:8', kw%width_mode)
         fmt2 = card_format('THIC1:16 THIC2:16 THIC3:16 THIC4:16 BETA:16', kw%width_mode)
         thick = kw%name == 'ELEMENT_SHELL_THICKNESS'
         ! (one card a shell: each rank its block, every shell's record to all;
         ! with thicknesses, a shell's second card follows its first past any
         ! blank card, so those are read in order)
-        if (.not. thick .and. card_block(kw%ncard, lo, hi)) then
-            allocate (mine(7, max(hi - lo + 1, 0)))
-            m = 0
-            do ic = lo, hi
-                call get_card(ctx, kw, ic, fmt1, 1, card, error)
-                if (allocated(error)) exit
-                if (card_blank(card)) cycle
-                call first_card()
-                if (allocated(error)) exit
-                m = m + 1
-                mine(:, m) = real([eid, pid, nodes, kw%card_line(ic)], dp)
-            end do
-            if (block_read(allocated(error), ic)) then
-                call comm_gather_records(mine(:, 1:m), size_of_ranks(), all)
-                th = 0
-                do k = 1, size(all, 2)
-                    call add_shell(nint(all(1, k)), nint(all(2, k)), nint(all(3:6, k)), nint(all(7, k)))
-                end do
-                return
-            end if
+        th = 0
+        if (.not. thick) then
+            if (read_in_blocks(kw%ncard, 7, shell_record, add_record)) return
             if (allocated(error)) deallocate (error)
         end if
         ic = 0
@@ -391,6 +390,25 @@ contains
                 call card_error(card, 2 + minloc(nodes, 1), 'node id must be a positive integer', error); return
             end if
         end subroutine first_card
+
+        !> Card ic's shell as a record (id, part, four nodes, line).
+        subroutine shell_record(ic, rec, skip, failed)
+            integer, intent(in) :: ic
+            real(dp), intent(out) :: rec(:)
+            logical, intent(out) :: skip, failed
+            skip = .false.
+            call get_card(ctx, kw, ic, fmt1, 1, card, error)
+            if (.not. allocated(error)) skip = card_blank(card)
+            if (.not. (allocated(error) .or. skip)) call first_card()
+            failed = allocated(error)
+            if (failed .or. skip) return
+            rec = real([eid, pid, nodes, kw%card_line(ic)], dp)
+        end subroutine shell_record
+
+        subroutine add_record(rec)
+            real(dp), intent(in) :: rec(:)
+            call add_shell(nint(rec(1)), nint(rec(2)), nint(rec(3:6)), nint(rec(7)))
+        end subroutine add_record
 
         !> A shell appended to the model (its thicknesses th).
         subroutine add_shell(id, part, nd, line)

@@ -1252,10 +1252,10 @@ contains
             end associate
         end do
     contains
-        !> What this rank sends neighbour k (rank `reader`): mark (with brot,
-        !> the angular velocities) the base lists' entries bmo_ptr(k)+1 ..
-        !> bmo_ptr(k+1), then this rank's surface nodes inside reader's box
-        !> not yet marked (added of them, listed in gid).
+        !> The ghosts this rank sends neighbour k (rank `reader`): its own
+        !> surface nodes inside reader's box that are not among the base
+        !> list's entries for k (bmo_ptr(k)+1 .. bmo_ptr(k+1), marked in
+        !> mark while they are read): `added` of them, appended to gid.
         subroutine side(reader, mark, added)
             integer, intent(in) :: reader
             logical, intent(inout) :: mark(:)
