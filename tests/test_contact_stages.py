@@ -43,6 +43,19 @@ def test_contact_surface_log():
             ok = got == want and "contact ................... on" in log
         record(f"contact {name}: runs, log counts segments/shell/solid/nodes/slaves {want}", ok,
                f"got {got} {p.stderr[-200:]}")
+    # the same decks under the debug build, which traps invalid operations,
+    # divisions by zero and overflows (-ffpe-trap) and checks every bound:
+    # an elastic shell's yield stress had been huge(1.0), whose square in
+    # the shells' elastic test overflowed (exit 136 on the two decks with
+    # NIP 2 elastic shells); it must run to its end with no trap
+    debug = os.path.join(ROOT, "bin", "xdyna_debug")
+    for name in cases:
+        out = os.path.join(TMP, "contact_debug_" + name)
+        shutil.rmtree(out, ignore_errors=True)
+        p = run([debug, "i=" + os.path.join(ROOT, f"input_decks/contact/{name}.k"), "outdir=" + out])
+        ends = p.returncode == 0 and "N o r m a l    t e r m i n a t i o n" in open(os.path.join(out, "d3hsp")).read()
+        record(f"contact {name} under the debug build (floating-point traps, bound checks): exit "
+               f"{p.returncode}, normal termination", ends, p.stderr[-400:])
     # SSTHK (*CONTROL_CONTACT card 2): a single-surface contact's shell
     # thickness is limited to 40% of the element's shortest edge (LS-DYNA's
     # default, SSTHK 0) unless SSTHK 1: the folding strip (5 mm elements)

@@ -27,6 +27,12 @@ module xd_elements_shell_bt
     !> the plane-stress returns' constants (as products: a quotient is a
     !> division instruction even by a constant)
     real(wp), parameter :: rr2 = 1.0_wp/sqrt(2.0_wp), c23 = sqrt(2.0_wp/3.0_wp), third = 1.0_wp/3.0_wp
+    !> the yield stress of a shell that is not plastic (its yield never
+    !> reached): large beyond any stress, with a square that is still a
+    !> number (the elastic test compares the trial's von Mises value,
+    !> squared, with it squared; huge(1.0) squared overflowed there, which
+    !> a build trapping floating-point exceptions stopped on)
+    real(wp), parameter :: no_yield = sqrt(huge(1.0_wp))/4
 
     !> The constants a shell takes from its part: one entry per part of the
     !> model (its part index, shells_t's part(e); the entries of parts
@@ -54,7 +60,7 @@ module xd_elements_shell_bt
         logical, allocatable :: plastic(:)
         !> the plastic law for the points' loops (pp's fields one gather
         !> away): the bilinear law's sigy and beta ep (ycurve false), a
-        !> curve's (true); huge and 0 where the part is not plastic (its
+        !> curve's (true); no_yield and 0 where the part is not plastic (its
         !> yield never reached); rated: Cowper-Symonds scales the yield
         real(wp), allocatable :: sy0(:), hk(:)
         logical, allocatable :: ycurve(:), rated(:)
@@ -322,7 +328,7 @@ contains
                       c%backstress(np))
             c%e = 0; c%nu = 0; c%ro = 0; c%shrf = 0; c%ge = 0; c%qe = 0; c%nuf = 0; c%wsp = 0
             c%cbi = 0; c%nue = 0; c%qm = 0; c%qb = 0; c%qw = 0; c%hg_viscous = .false.; c%hg_bound = .false.
-            c%nip = 0; c%mix = 0; c%plastic = .false.; c%sy0 = huge(1.0_wp); c%hk = 0
+            c%nip = 0; c%mix = 0; c%plastic = .false.; c%sy0 = no_yield; c%hk = 0
             c%ycurve = .false.; c%rated = .false.; c%backstress = .false.
             do p = 1, np
                 if (.not. has(p)) cycle
@@ -528,7 +534,7 @@ contains
 
     !> The flow stress sy and hardening slope h of shell e's material at
     !> effective plastic strain ep: the bilinear law in line (sy0 + hk ep:
-    !> huge for a shell that is not plastic; a call cost as much as the
+    !> no_yield for a shell that is not plastic; a call cost as much as the
     !> rest of a return step), a curve's through yield_stress.
     pure subroutine flow_stress(sh, e, ep, sy, h)
         type(shells_t), intent(in) :: sh
@@ -1290,7 +1296,7 @@ contains
         do ip = 1, maxnip
             if (uniform) then
                 ! (the common block: one section and law, no branch per
-                ! element; a shell that is not plastic has sy0 huge and hk 0;
+                ! element; a shell that is not plastic has sy0 no_yield and hk 0;
                 ! the 3 x 3 tubes, NIP 5, 4% faster than by the general loop)
                 do l = 1, nb
                     e = e0 + l
@@ -1321,7 +1327,7 @@ contains
                 do l = 1, nb
                     e = e0 + l
                     if (ip > nip(l)) then
-                        wf(l) = 0; zf(l) = 0; so(l, :) = 0; al(l, :) = 0; sy(l) = huge(1.0_wp)
+                        wf(l) = 0; zf(l) = 0; so(l, :) = 0; al(l, :) = 0; sy(l) = no_yield
                         cycle
                     end if
                     wf(l) = real(gw(ip, nip(l)), wp)/2
@@ -1329,7 +1335,7 @@ contains
                     so(l, :) = sh%sig(s0 + l, :, ip)
                     al(l, :) = 0
                     if (sh%pc%backstress(pk(l))) al(l, :) = sh%alpha(:, ip, s0 + l)
-                    sy(l) = huge(1.0_wp)
+                    sy(l) = no_yield
                     if (sh%pc%plastic(pk(l))) call flow_stress(sh, e, sh%epsp(s0 + l, ip), sy(l), h)
                 end do
             end if
