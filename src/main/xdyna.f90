@@ -286,7 +286,11 @@ program xdyna
     ! erosion or a followed shell thickness rebuilds the surfaces; released
     ! before the slaves' state is allocated, the set-up's peak)
     call contact_release_setup(ct, sh%erodible .or. solids%erodible)
-    if (ct%n > 0) call contact_masses(ct, st%mass)
+    ! (the slaves' contact state: allocated by the time loop, in the rows of
+    ! the rank's own slaves once the decomposition has chosen them, not
+    ! every slave's here, the set-up's peak; a restart reads every slave's
+    ! from the dump first)
+    if (ct%n > 0) call contact_masses(ct, st%mass, rows_later=len(restart) == 0)
     ! a cohesive tiebreak's springs bound the step as the contact's do (its
     ! sliding contact is always there)
     if (ct%n > 0 .and. td%dt_limit < ct%dt_limit) then

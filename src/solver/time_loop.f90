@@ -33,7 +33,8 @@ module xd_solver_time_loop
     use xd_elements_beam_bs, only: beams_t
     use xd_contact_tied, only: ties_t
     use xd_contact_contact, only: contacts_t, contact_search, contact_work_end, contact_resultants, &
-                                  gather_contact_state, scatter_contact_state, gather_drift, search_due
+                                  gather_contact_state, scatter_contact_state, gather_drift, search_due, &
+                                  contact_slave_rows
     use xd_solver_prescribed, only: prescribed_nodes_t
     use xd_rigid_bodies, only: rigid_t
     use xd_elements_shell_bt, only: shells_t, shell_rows
@@ -177,14 +178,20 @@ contains
         call mass_scaling_begin(ms, model%ctl, lg)
         call step_stats_init(ss, solids%n, sh%n)
         if (dom%on) call choose_owned(dom, ct, rg, td, bm, pl, sh, hist, lg)
-        ! (the ghosts from the lists there are: a restart's)
-        if (dom%ghosts) call contact_ghosts(dom, ct, st%x, st%v, surface_spans(ct, st%x))
         if (allocated(dom%own_contact) .and. ct%n > 0) then
             ! each rank books its own slaves' contacts' work; a restart's
-            ! sums (every rank read them) stay on rank 0 alone
+            ! sums (every rank read them) stay on rank 0 alone; the slaves'
+            ! contact state in the rows of the rank's own slaves (made here,
+            ! at their size, where the set-up left them for later)
             ct%own_work = .true.
             call scatter_contact_state(ct, dom%rank)
+        else if (ct%n > 0) then
+            ! (every slave's rows, where the set-up left them for later)
+            call contact_slave_rows(ct, .false.)
         end if
+        ! (the ghosts from the lists there are: a restart's; they read the
+        ! rank's own slaves' contacts, in the rows made above)
+        if (dom%ghosts) call contact_ghosts(dom, ct, st%x, st%v, surface_spans(ct, st%x))
         ! (the scale of the momenta glstat and matsum report)
         call log_line(lg, ' initial nodal mass (the nodes'' lumped masses) .......... '//rtoa(sum(real(st%mass, dp))))
         if (dom%owned) then
