@@ -788,7 +788,7 @@ contains
         real(wp), allocatable :: base(:), box(:, :)
         real(wp) :: cmax, lo(3), hi(3), grow
         logical, allocatable :: master(:), todo(:)
-        integer :: nblk, ib, i, first, last, q, k, m
+        integer :: nblk, ib, i, first, last, q, k, m, nt
         integer, allocatable :: mnodes(:)
         real(wp), allocatable :: dmax(:)
         real(wp) :: r, dmin
@@ -862,7 +862,7 @@ contains
         allocate (blk(nblk))
         npool = 0
         nred = 0
-        !$omp parallel private(w, i, first, last) reduction(+:npool, nred)
+        !$omp parallel private(w, i, first, last, nt) reduction(+:npool, nred)
         call new_search_work(s%nnode, w, s%nseg)
         !$omp do schedule(dynamic)
         do ib = 1, nblk
@@ -873,9 +873,12 @@ contains
                 allocate (blk(ib)%cnt(0), blk(ib)%pcnt(0), blk(ib)%gap(0))
                 cycle
             end if
-            allocate (blk(ib)%cnt(last - first + 1), blk(ib)%node(8*(last - first + 1)), &
-                      blk(ib)%trk(8*(last - first + 1)), blk(ib)%gap(last - first + 1), &
-                      blk(ib)%pcnt(last - first + 1), blk(ib)%pool(32*(last - first + 1)))
+            ! (the lists' and pools' room for the block's searched slaves,
+            ! grown where short: a rank's own slaves, with contact ghosts,
+            ! are a few in each of many blocks)
+            nt = count(todo(first:last))
+            allocate (blk(ib)%cnt(last - first + 1), blk(ib)%node(8*nt), blk(ib)%trk(8*nt), &
+                      blk(ib)%gap(last - first + 1), blk(ib)%pcnt(last - first + 1), blk(ib)%pool(32*nt))
             blk(ib)%gap = -huge(1.0_wp)
             blk(ib)%pcnt = 0
             blk(ib)%cnt = 0

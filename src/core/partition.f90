@@ -28,11 +28,13 @@ contains
     !> side is cut again. Equal coordinates keep the order of the elements,
     !> so the partition depends on the model alone (and not on the ranks or
     !> threads that compute it).
-    subroutine rcb_partition(xc, w, nparts, part)
+    !> With `only`: that part's items alone (rcb_partition_by).
+    subroutine rcb_partition(xc, w, nparts, part, only)
         real(wp), intent(in) :: xc(:, :), w(:)
         integer, intent(in) :: nparts
         integer, intent(out) :: part(:)
-        call rcb_partition_by(stored, w, nparts, part)
+        integer, intent(in), optional :: only
+        call rcb_partition_by(stored, w, nparts, part, only)
     contains
         subroutine stored(i, c)
             integer, intent(in) :: i
@@ -45,15 +47,23 @@ contains
     !> (centre), not held for every item: the domain's set-up, whose peak
     !> held 24 bytes a work item of centres beside the whole model's state
     !> (issue 32). The same partition as rcb_partition's of the centres.
-    subroutine rcb_partition_by(centre, w, nparts, part)
+    !> With `only`: the cuts that lead to part `only` alone are made (the
+    !> other side of each cut is not cut further), and only that part's
+    !> items are given it, every other item 0: the part each of nparts
+    !> callers needs is its own, at about half the sorting (n log n at
+    !> the first cut, half that at the next, ...), and the callers' parts
+    !> summed are the whole partition, the same as without `only`.
+    subroutine rcb_partition_by(centre, w, nparts, part, only)
         procedure(centre_of) :: centre
         real(wp), intent(in) :: w(:)
         integer, intent(in) :: nparts
         integer, intent(out) :: part(:)
+        integer, intent(in), optional :: only
         integer, allocatable :: all(:)
         integer :: e
         part = 1
         if (nparts <= 1 .or. size(w) == 0) return
+        if (present(only)) part = 0
         ! (on the heap, as every set below: a model's worth of temporaries on
         ! the stack overflowed it at 1e6 shells)
         allocate (all(size(w)))
@@ -71,6 +81,10 @@ contains
             integer :: nl, k, ax, n, i
             n = size(set)
             if (np == 1 .or. n <= 1) then
+                if (present(only)) then
+                    ! (a set too small to cut goes whole to its first part)
+                    if (only /= first) return
+                end if
                 part(set) = first
                 return
             end if
@@ -104,14 +118,27 @@ contains
             if (k > 1) then
                 if (target - (cum - w(set(perm(k)))) < cum - target) k = k - 1
             end if
-            allocate (sub(k))
-            sub = set(perm(1:k))
-            call bisect(sub, first, nl)
-            deallocate (sub)
-            allocate (sub(n - k))
-            sub = set(perm(k + 1:n))
-            call bisect(sub, first + nl, np - nl)
+            ! (with `only`, the side whose parts hold it alone)
+            if (want(first, nl)) then
+                allocate (sub(k))
+                sub = set(perm(1:k))
+                call bisect(sub, first, nl)
+                deallocate (sub)
+            end if
+            if (want(first + nl, np - nl)) then
+                allocate (sub(n - k))
+                sub = set(perm(k + 1:n))
+                call bisect(sub, first + nl, np - nl)
+            end if
         end subroutine bisect
+
+        !> Parts first .. first + np - 1 are cut further: every one, or
+        !> with `only` those that hold it.
+        logical function want(first, np)
+            integer, intent(in) :: first, np
+            want = .true.
+            if (present(only)) want = only >= first .and. only < first + np
+        end function want
     end subroutine rcb_partition_by
 
 end module xd_core_partition

@@ -6,9 +6,9 @@ program test_partition
     implicit none
     integer, parameter :: nx = 20, ny = 10, nz = 5, n = nx*ny*nz
     real(wp) :: xc(3, n), w(n), cost(8), vol
-    integer :: part(n), again(n), i, j, k, e, np, p
+    integer :: part(n), again(n), one(n), i, j, k, e, np, p
     real(wp) :: lo(3), hi(3)
-    logical :: balanced, compact, weighted
+    logical :: balanced, compact, weighted, alone
     character(len=120) :: msg
 
     e = 0
@@ -65,5 +65,36 @@ program test_partition
     call check(maxval([(count(part == p), p=1, 6)]) >= 2.8*minval([(count(part == p), p=1, 6)]), trim(msg))
     call rcb_partition(xc, w, 6, again)
     call check(all(again == part), 'the same model gives the same partition')
+    ! each rank's cuts alone (`only`): its own part's items and no other's,
+    ! and the ranks' parts summed (as build_domain sums them over the ranks)
+    ! are the whole partition, for 1 to 8 parts and both cost fields, ties
+    ! in the coordinates included (the grid's equal centres)
+    alone = .true.
+    do k = 1, 2
+        ! (the weighted costs, then unit ones)
+        if (k == 2) w = 1
+        do np = 1, 8
+            call rcb_partition(xc, w, np, part)
+            again = 0
+            do p = 1, np
+                call rcb_partition(xc, w, np, one, only=p)
+                alone = alone .and. all(pack(one, one /= 0) == p) .and. count(one == p) == count(part == p)
+                again = again + one
+            end do
+            alone = alone .and. all(again == part)
+        end do
+    end do
+    ! (and 3 items for 8 parts: sets too small to cut go whole to their
+    ! first part, on that part's caller alone)
+    call rcb_partition(xc(:, 1:3), w(1:3), 8, part(1:3))
+    again(1:3) = 0
+    do p = 1, 8
+        call rcb_partition(xc(:, 1:3), w(1:3), 8, one(1:3), only=p)
+        alone = alone .and. all(pack(one(1:3), one(1:3) /= 0) == p)
+        again(1:3) = again(1:3) + one(1:3)
+    end do
+    alone = alone .and. all(again(1:3) == part(1:3))
+    call check(alone, 'each part''s cuts alone (only): its items alone, and the parts summed are the whole '// &
+               'partition, 1 to 8 parts, weighted and unit costs, and 3 items in 8 parts')
     call test_summary()
 end program test_partition
