@@ -191,7 +191,7 @@ contains
         end if
         ! (the ghosts from the lists there are: a restart's; they read the
         ! rank's own slaves' contacts, in the rows made above)
-        if (dom%ghosts) call contact_ghosts(dom, ct, st%x, st%v, surface_spans(ct, st%x))
+        if (dom%ghosts) call contact_ghosts(dom, ct, st%x, st%v, surface_spans(ct, st%x, block=[dom%rank, dom%nranks]))
         ! (the scale of the momenta glstat and matsum report)
         call log_line(lg, ' initial nodal mass (the nodes'' lumped masses) .......... '//rtoa(sum(real(st%mass, dp))))
         if (dom%owned) then
