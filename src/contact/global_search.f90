@@ -379,15 +379,20 @@ contains
         type(surface_t), intent(in) :: s
         real(wp), intent(in) :: xl(:, :)
         real(wp), intent(out) :: lc(:)
-        integer :: m, i
-        real(wp) :: dmin
+        integer :: m, i, k
+        real(wp) :: dmin, xs(3, 4)
         real(wp), allocatable :: dmax(:)
         allocate (dmax(s%nseg))
         ! (each segment's, then each node's largest over its segments:
         ! threaded, a maximum is the same in any order)
-        !$omp parallel do schedule(static) private(dmin)
+        ! (the corners gathered here: a section with a vector subscript
+        ! passed on is packed into a temporary at each call)
+        !$omp parallel do schedule(static) private(dmin, xs, k)
         do m = 1, s%nseg
-            call segment_diagonals(xl(:, s%seg(:, m)), dmin, dmax(m))
+            do k = 1, 4
+                xs(:, k) = xl(:, s%seg(k, m))
+            end do
+            call segment_diagonals(xs, dmin, dmax(m))
         end do
         !$omp end parallel do
         lc = 0
@@ -788,10 +793,10 @@ contains
         real(wp), allocatable :: base(:), box(:, :)
         real(wp) :: cmax, lo(3), hi(3), grow
         logical, allocatable :: master(:), todo(:)
-        integer :: nblk, ib, i, first, last, q, k, m, nt
+        integer :: nblk, ib, i, first, last, q, k, m, nt, jc
         integer, allocatable :: mnodes(:)
         real(wp), allocatable :: dmax(:)
-        real(wp) :: r, dmin
+        real(wp) :: r, dmin, xs(3, 4)
         integer(i8) :: npool, nred, nm
 
         allocate (base(s%nnode), master(s%nnode), todo(s%nslave), box(6, s%nseg))
@@ -840,7 +845,10 @@ contains
                     m = s%seg_list(k)
                     if (dmax(m) >= 0.0_wp) cycle
                     call seg_box(m)
-                    call segment_diagonals(xl(:, s%seg(:, m)), dmin, dmax(m))
+                    do jc = 1, 4
+                        xs(:, jc) = xl(:, s%seg(jc, m))
+                    end do
+                    call segment_diagonals(xs, dmin, dmax(m))
                 end do
             end do
             if (present(lcodo)) then

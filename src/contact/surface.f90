@@ -229,8 +229,11 @@ contains
             dmin = minval(e)
             dmax = maxval(e)
         else
-            dmin = min(norm2(xs(:, 3) - xs(:, 1)), norm2(xs(:, 4) - xs(:, 2)))
-            dmax = max(norm2(xs(:, 3) - xs(:, 1)), norm2(xs(:, 4) - xs(:, 2)))
+            ! (each diagonal's length once)
+            e(1) = norm2(xs(:, 3) - xs(:, 1))
+            e(2) = norm2(xs(:, 4) - xs(:, 2))
+            dmin = min(e(1), e(2))
+            dmax = max(e(1), e(2))
         end if
     end subroutine segment_diagonals
 
@@ -271,7 +274,7 @@ contains
         integer, allocatable :: cnode(:, :), ckey(:, :), chex(:), cshell(:), ptr(:), item(:), rep(:), ncont(:)
         integer, allocatable :: shell_on(:)
         real(wp), allocatable :: vol(:)
-        real(wp) :: emin
+        real(wp) :: emin, xs(3, 4)
         logical :: same
         integer :: nd(4), key(4)
 
@@ -376,7 +379,12 @@ contains
         f%node_thick = 0
         f%node_cap = 0
         do e = 1, model%nshell
-            emin = shortest_edge(x(:, model%shell_conn(:, e)))
+            ! (the corners gathered here: a section with a vector subscript
+            ! passed on is packed into a temporary at each call)
+            do k = 1, 4
+                xs(:, k) = x(:, model%shell_conn(k, e))
+            end do
+            emin = shortest_edge(xs)
             do k = 1, 4
                 f%node_thick(model%shell_conn(k, e)) = max(f%node_thick(model%shell_conn(k, e)), model%shell_t(k, e))
                 f%node_cap(model%shell_conn(k, e)) = max(f%node_cap(model%shell_conn(k, e)), 0.4_wp*emin)
@@ -396,12 +404,12 @@ contains
                 f%kind(j) = seg_solid
                 f%hex(j) = chex(e)
                 call solid_segment(chex(e), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
-                f%area(j) = segment_area(x(:, f%node(:, j)))
+                f%area(j) = face_area(f%node(:, j))
             else
                 f%node(:, j) = cnode(:, c)
                 f%kind(j) = seg_shell
                 call shell_segment(cshell(c), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
-                f%area(j) = segment_area(x(:, f%node(:, j)))
+                f%area(j) = face_area(f%node(:, j))
             end if
         end do
         if (f%nlatent > 0) then
@@ -415,7 +423,7 @@ contains
                 f%hex(j) = chex(c)
                 f%across(j) = chex(partner(c))
                 call solid_segment(chex(c), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
-                f%area(j) = segment_area(x(:, f%node(:, j)))
+                f%area(j) = face_area(f%node(:, j))
             end do
             f%n = f%n + f%nlatent
         end if
@@ -438,6 +446,18 @@ contains
                 end if
             end do
         end function partner
+
+        !> The area of the face with nodes nd (segment_area of their
+        !> coordinates, gathered here).
+        real(wp) function face_area(nd) result(a)
+            integer, intent(in) :: nd(4)
+            real(wp) :: xq(3, 4)
+            integer :: q
+            do q = 1, 4
+                xq(:, q) = x(:, nd(q))
+            end do
+            a = segment_area(xq)
+        end function face_area
 
         !> The shortest edge of a quadrilateral (a triangle's repeated node
         !> gives no edge).
