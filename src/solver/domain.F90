@@ -1180,14 +1180,19 @@ contains
                         end do
                     end do
                 end do
-                do g = 1, s%nseg
-                    if (.not. any(pm(s%seg(:, g)))) cycle
-                    do b = 1, 4
-                        rd(s%node(s%seg(b, g))) = .true.
-                    end do
-                end do
+                ! (the segments at the marked nodes from the node-to-segment
+                ! lists, not a scan of every segment of the surface at each
+                ! search on every rank: those lists hold the active
+                ! segments, the only ones a search or a local search reads)
                 do k = 1, s%nnode
-                    if (pm(k)) rd(s%node(k)) = .true.
+                    if (.not. pm(k)) cycle
+                    do j = s%seg_ptr(k), s%seg_ptr(k + 1) - 1
+                        g = s%seg_list(j)
+                        do b = 1, 4
+                            rd(s%node(s%seg(b, g))) = .true.
+                        end do
+                    end do
+                    rd(s%node(k)) = .true.
                 end do
                 deallocate (pm)
             end associate
@@ -1330,7 +1335,7 @@ contains
         logical, intent(in), optional :: cur(:)
         integer, intent(in), optional :: block(2)
         real(dp) :: sp(2)
-        integer :: i, g, a, b, lo, hi
+        integer :: i, g, lo, hi, k, j
         integer :: nd(4)
         sp = 0
         do i = 1, ct%n
@@ -1341,21 +1346,45 @@ contains
                     lo = int(int(s%nseg, i8)*block(1)/block(2)) + 1
                     hi = int(int(s%nseg, i8)*(block(1) + 1)/block(2))
                 end if
-                do g = lo, hi
-                    nd = s%node(s%seg(:, g))
-                    if (present(cur)) then
-                        if (.not. all(cur(nd))) cycle
-                    end if
-                    sp(1) = max(sp(1), real(norm2(x(:, nd(1)) - x(:, nd(3))), dp), real(norm2(x(:, nd(2)) - x(:, nd(4))), dp))
-                    do a = 1, 3
-                        do b = a + 1, 4
-                            sp(2) = max(sp(2), real(norm2(x(:, nd(a)) - x(:, nd(b))), dp))
+                if (present(cur) .and. all(s%seg_on)) then
+                    ! (every segment active: those whose nodes are all
+                    ! current, each from its first node's segment list, not
+                    ! a scan of every segment of the surface at each search
+                    ! on every rank)
+                    do k = 1, s%nnode
+                        if (.not. cur(s%node(k))) cycle
+                        do j = s%seg_ptr(k), s%seg_ptr(k + 1) - 1
+                            g = s%seg_list(j)
+                            if (s%seg(1, g) /= k) cycle
+                            nd = s%node(s%seg(:, g))
+                            if (.not. all(cur(nd))) cycle
+                            call take(nd)
                         end do
                     end do
-                end do
+                else
+                    do g = lo, hi
+                        nd = s%node(s%seg(:, g))
+                        if (present(cur)) then
+                            if (.not. all(cur(nd))) cycle
+                        end if
+                        call take(nd)
+                    end do
+                end if
             end associate
         end do
         call comm_max(sp)
+    contains
+        !> The spans of the segment with model nodes nd.
+        subroutine take(nd)
+            integer, intent(in) :: nd(4)
+            integer :: a, b
+            sp(1) = max(sp(1), real(norm2(x(:, nd(1)) - x(:, nd(3))), dp), real(norm2(x(:, nd(2)) - x(:, nd(4))), dp))
+            do a = 1, 3
+                do b = a + 1, 4
+                    sp(2) = max(sp(2), real(norm2(x(:, nd(a)) - x(:, nd(b))), dp))
+                end do
+            end do
+        end subroutine take
     end function surface_spans
 
     !> MPI with contact ghosts, before a global search: the surface nodes'
