@@ -23,9 +23,11 @@ module xd_input_read_geometry
             real(dp), intent(out) :: rec(:)
             logical, intent(out) :: skip, failed
         end subroutine card_record_t
+        !> (rec: assumed size, the record's width known to each keyword: a
+        !> column of the gathered records passed without a descriptor)
         subroutine add_record_t(rec)
             import :: dp
-            real(dp), intent(in) :: rec(:)
+            real(dp), intent(in) :: rec(*)
         end subroutine add_record_t
     end interface
 
@@ -65,6 +67,9 @@ contains
         real(wp) :: xyz(3)
         logical :: skip
         fmt = card_format('NID:8 X:16 Y:16 Z:16 TC:8 RC:8', kw%width_mode)
+        ! (room for a node a card at once, not grown by doubling as they
+        ! come: the arrays are cut to their size after the deck)
+        call add_room(model%nnode + kw%ncard)
         ! (under MPI each rank its block of the cards: read_in_blocks)
         if (read_in_blocks(kw%ncard, 7, node_record, add_record)) return
         if (allocated(error)) deallocate (error)
@@ -115,26 +120,34 @@ contains
             rec = [real(n, dp), real(xyz, dp), real(tc, dp), real(rc, dp), real(kw%card_line(ic), dp)]
         end subroutine node_record
 
+        !> (the record's integers are whole numbers held exactly: int, not
+        !> nint's rounding call)
         subroutine add_record(rec)
-            real(dp), intent(in) :: rec(:)
-            call add_node(nint(rec(1)), real(rec(2:4), wp), nint(rec(5)), nint(rec(6)), nint(rec(7)))
+            real(dp), intent(in) :: rec(*)
+            call add_node(int(rec(1)), real(rec(2:4), wp), int(rec(5)), int(rec(6)), int(rec(7)))
         end subroutine add_record
 
         subroutine add_node(id, x, t, r, line)
             integer, intent(in) :: id, t, r, line
             real(wp), intent(in) :: x(3)
             model%nnode = model%nnode + 1
-            call grow(model%node_id, model%nnode, 'node ids')
-            call grow(model%x0, model%nnode, 'node coordinates')
-            call grow(model%node_tc, model%nnode, 'node constraints')
-            call grow(model%node_rc, model%nnode, 'node constraints')
-            call grow(model%node_src, model%nnode, 'node lines')
+            call add_room(model%nnode)
             model%node_id(model%nnode) = id
             model%x0(:, model%nnode) = x
             model%node_tc(model%nnode) = t
             model%node_rc(model%nnode) = r
             model%node_src(model%nnode) = line
         end subroutine add_node
+
+        !> The nodes' arrays with room for n nodes.
+        subroutine add_room(n)
+            integer, intent(in) :: n
+            call grow(model%node_id, n, 'node ids')
+            call grow(model%x0, n, 'node coordinates')
+            call grow(model%node_tc, n, 'node constraints')
+            call grow(model%node_rc, n, 'node constraints')
+            call grow(model%node_src, n, 'node lines')
+        end subroutine add_room
     end subroutine read_node
 
     !> Under MPI, a keyword's cards read in blocks, one a rank (every rank
@@ -348,6 +361,8 @@ contains
         ! with thicknesses, a shell's second card follows its first past any
         ! blank card, so those are read in order)
         th = 0
+        ! (room for a shell a card at once: add_room)
+        call add_room(model%nshell + kw%ncard)
         if (.not. thick) then
             if (read_in_blocks(kw%ncard, 7, shell_record, add_record)) return
             if (allocated(error)) deallocate (error)
@@ -405,9 +420,10 @@ contains
             rec = real([eid, pid, nodes, kw%card_line(ic)], dp)
         end subroutine shell_record
 
+        !> (the record's integers are whole numbers held exactly: int)
         subroutine add_record(rec)
-            real(dp), intent(in) :: rec(:)
-            call add_shell(nint(rec(1)), nint(rec(2)), nint(rec(3:6)), nint(rec(7)))
+            real(dp), intent(in) :: rec(*)
+            call add_shell(int(rec(1)), int(rec(2)), int(rec(3:6)), int(rec(7)))
         end subroutine add_record
 
         !> A shell appended to the model (its thicknesses th).
@@ -415,23 +431,29 @@ contains
             integer, intent(in) :: id, part, nd(4), line
             model%nshell = model%nshell + 1
             e = model%nshell
-            call grow(model%shell_id, e, 'shell ids')
-            call grow(model%shell_pid, e, 'shell parts')
-            call grow(model%shell_conn, 4, e, 'shell connectivity')
-            call grow(model%shell_src, e, 'shell lines')
-            call grow_thick(e)
+            call add_room(e)
             model%shell_id(e) = id
             model%shell_pid(e) = part
             model%shell_conn(:, e) = nd
             model%shell_t(:, e) = th
             model%shell_src(e) = line
         end subroutine add_shell
+
+        !> The shells' arrays with room for n shells.
+        subroutine add_room(n)
+            integer, intent(in) :: n
+            call grow(model%shell_id, n, 'shell ids')
+            call grow(model%shell_pid, n, 'shell parts')
+            call grow(model%shell_conn, 4, n, 'shell connectivity')
+            call grow(model%shell_src, n, 'shell lines')
+            call grow_thick(n)
+        end subroutine add_room
         subroutine grow_thick(need)
             integer, intent(in) :: need
             real(wp), allocatable :: tmp(:, :)
             if (.not. allocated(model%shell_t)) allocate (model%shell_t(4, 1024))
             if (size(model%shell_t, 2) >= need) return
-            allocate (tmp(4, 2*size(model%shell_t, 2)))
+            allocate (tmp(4, max(need, 2*size(model%shell_t, 2))))
             tmp(:, 1:size(model%shell_t, 2)) = model%shell_t
             call move_alloc(tmp, model%shell_t)
         end subroutine grow_thick
