@@ -41,7 +41,7 @@ program xdyna
     use xd_output_h5io, only: h5_no_exit_handler
     use xd_core_signals, only: signals_install, stop_signal, hold_for_signal
     use xd_core_comm, only: comm_max, comm_gather_small, comm_sum_i8
-    use xd_core_memory, only: peak_memory_kb, resident_memory_kb
+    use xd_core_memory, only: peak_memory_kb, resident_memory_kb, release_free_memory
     use xd_output_d3hsp, only: log_t, log_open, log_line, log_close, model_summary, timing_table
     use xd_solver_domain, only: domain_t, build_domain, domain_summary, decomp_rcb, decomp_metis, localize_element_state, &
                                 place_shell_state, domain_bytes
@@ -264,6 +264,10 @@ program xdyna
         end if
         if (i == 2) exit
         call initial_penetrations(model, st%v, st%mass, env%rank, env%nranks, moved_note, nmoved, error)
+        ! (the pass's whole contact, freed, back to the system: the
+        ! allocator kept it, and the run's contact and decomposition came
+        ! on top of it, the set-up's peak)
+        call release_free_memory()
         call stop_on_input_error()
         if (len(moved_note) > 0) call log_line(lg, moved_note)
         if (nmoved == 0) exit
