@@ -280,6 +280,9 @@ contains
         !> summary's table itself (absent: each rank makes its own, summed
         !> over the ranks, a collective)
         logical, intent(in), optional :: alone
+        !> (with `alone`: the bisection's every cut made here, not each
+        !> rank's to its own part)
+        logical :: every_cut
         integer, allocatable :: rows(:)
         real(wp), allocatable :: xc(:, :), w(:)
         integer, allocatable :: part(:), arank(:), spart(:), grank(:), shrank(:), iota(:)
@@ -319,14 +322,12 @@ contains
         if (present(method)) then
             if (method == decomp_metis) call metis_items()
         end if
+        ! (--check parts=N: one process makes every part)
+        every_cut = .false.
+        if (present(alone)) every_cut = alone
         if (dom%edgecut < 0) then
-            if (present(alone)) then
-                if (alone) then
-                    ! (--check parts=N: one process makes every part)
-                    call rcb_partition_by(item_centre, w, nranks, part)
-                else
-                    call own_part()
-                end if
+            if (every_cut) then
+                call rcb_partition_by(item_centre, w, nranks, part)
             else
                 call own_part()
             end if
@@ -429,7 +430,7 @@ contains
                     xc(:, k) = x0(:, s%node(s%slave(k)))
                 end do
                 w = 1
-                if (nranks > 1 .and. size(rows) == 1) then
+                if (nranks > 1 .and. .not. every_cut) then
                     ! (each rank the cuts to its own part, summed: own_part)
                     call rcb_partition(xc, w, nranks, spart, only=rank + 1)
                     call comm_sum_int(spart, s%nslave)
@@ -452,10 +453,6 @@ contains
         end if
         if (allocated(touch)) deallocate (touch)
     contains
-        !> METIS's k-way partition of the work items (decomp=metis): the
-        !> items' graph through their shared nodes, each item weighing its
-        !> cost (in tenths); where METIS fails, the bisection, said in the
-        !> heading.
         !> The bisection of the ranks: each rank makes the cuts that lead to
         !> its own part (about half the sorting every rank repeated when
         !> each made every cut: 0.36e9 instructions on each of 16 ranks for
@@ -485,6 +482,10 @@ contains
             end if
         end subroutine item_centre
 
+        !> METIS's k-way partition of the work items (decomp=metis): the
+        !> items' graph through their shared nodes, each item weighing its
+        !> cost (in tenths); where METIS fails, the bisection, said in the
+        !> heading.
         subroutine metis_items()
             integer, allocatable :: iptr(:), inode(:), xadj(:), adjncy(:), adjwgt(:), vwgt(:)
             integer :: status, q

@@ -245,7 +245,7 @@ contains
             if (opts%dump_every >= 0 .and. .not. lp%dumped_end) then
                 if (st%time >= opts%endtim*(1.0_dp - 1.0e-12_dp) .or. &
                     (model%ctl%endcyc > 0 .and. st%cycle >= model%ctl%endcyc)) then
-                    call node_work_arrays()
+                    call node_work_arrays(st, en, tm, vminus, vrminus, no_body, res)
                     call dump_now(lp, opts, model, dom, st, solids, sh, bm, walls, rg, ct, td, hist, states, lg, tm, &
                                   res, vw)
                     lp%dumped_end = .true.
@@ -278,7 +278,7 @@ contains
                 end if
             end if
             if (ms%on) call mass_scaling_targets(ms, st%cycle, solids, sh)
-            if (.not. allocated(st%f)) call node_work_arrays()
+            if (.not. allocated(st%f)) call node_work_arrays(st, en, tm, vminus, vrminus, no_body, res)
             call element_phase(dom, st, solids, asm, sh, tm, shells_direct, dtc, bad_kind, bad)
             call exchange_phase(dom, st, solids, asm, sh, asm_sh, tm, shells_direct, dtc, bad_kind, bad)
             if (bad_kind /= 0) then
@@ -406,31 +406,36 @@ contains
             call log_line(lg, ' N o r m a l    t e r m i n a t i o n   at time '//rtoa(st%time)// &
                           ', cycle '//itoa(st%cycle))
         end if
-    contains
-        !> The accelerations, forces and moments, at the size the rank
-        !> holds, and the velocities the energies save, allocated once: by
-        !> the first cycle after its contact search (whose work arrays, the
-        !> surface's size, then come back to the allocator for these: the
-        !> 250,000-shell plate's peak a rank on 16 ranks held both), or
-        !> before a dump at the start. Their first touch is the set-up's
-        !> time (it took 12 ms of cycle 0's time integration on 100,000
-        !> shells).
-        subroutine node_work_arrays()
-            if (allocated(st%f)) return
-            call tm%start(ph_init)
-            ! (the search's freed work arrays back to the system first: the
-            ! allocator takes these from fresh pages, not from them)
-            call release_free_memory()
-            call allocate_force_arrays(st)
-            allocate (vminus(3, st%nnode), no_body(st%nnode))
-            no_body = .false.
-            if (st%rot) allocate (vrminus(3, st%nnode))
-            vminus = 0
-            if (st%rot) vrminus = 0
-            call tm%stop(ph_init)
-            res%node_bytes = nbytes(vminus) + nbytes(vrminus) + nbytes(no_body) + energy_bytes(en)
-        end subroutine node_work_arrays
     end subroutine run_time_loop
+
+    !> The accelerations, forces and moments, at the size the rank holds,
+    !> and the velocities the energies save (vminus, vrminus) and no_body,
+    !> allocated once: by the first cycle after its contact search, or
+    !> before a dump at the start. The search's work arrays (the surface's
+    !> size), freed, are handed back to the system first: the allocator
+    !> took these from fresh pages beside them, and the 250,000-shell
+    !> plate's peak a rank on 16 ranks held both. Their first touch is the
+    !> set-up's time (it took 12 ms of cycle 0's time integration on
+    !> 100,000 shells).
+    subroutine node_work_arrays(st, en, tm, vminus, vrminus, no_body, res)
+        type(state_t), intent(inout) :: st
+        type(energies_t), intent(in) :: en
+        type(timers_t), intent(inout) :: tm
+        real(wp), allocatable, intent(inout) :: vminus(:, :), vrminus(:, :)
+        logical, allocatable, intent(inout) :: no_body(:)
+        type(run_result_t), intent(inout) :: res
+        if (allocated(st%f)) return
+        call tm%start(ph_init)
+        call release_free_memory()
+        call allocate_force_arrays(st)
+        allocate (vminus(3, st%nnode), no_body(st%nnode))
+        no_body = .false.
+        if (st%rot) allocate (vrminus(3, st%nnode))
+        vminus = 0
+        if (st%rot) vrminus = 0
+        call tm%stop(ph_init)
+        res%node_bytes = nbytes(vminus) + nbytes(vrminus) + nbytes(no_body) + energy_bytes(en)
+    end subroutine node_work_arrays
 
     !> Batch control at the end of a cycle: a status line on SIGUSR2; the
     !> sense switches of d3kil; a dump every opts%dump_every cycles; on
