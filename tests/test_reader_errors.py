@@ -136,6 +136,47 @@ def test_cli():
     record("parts=0 is an input error (exit 1)", p.returncode == 1 and "parts=0" in p.stderr)
 
 
+def test_large_keywords_debug():
+    """A keyword's arrays get room for a record a card at once before its cards
+    are read, and grow again as each record is added where that room was short
+    (read_geometry's add_room): a 50 x 50 plate whose 2,601 nodes come in two
+    *NODE keywords (the room added to what the first left) and whose 2,500
+    shells are *ELEMENT_SHELL_THICKNESS cards (5,000 cards, two a shell: more
+    room than shells, cut after the deck), read by the debug build, whose
+    bound checks stop on any write past an array's end. The counts read are
+    the deck's."""
+    n = 50
+    lines = ["*KEYWORD", "*TITLE", "a plate of thickness cards", "*CONTROL_TERMINATION", "   1.0e-06",
+             "*SECTION_SHELL", "         1         2       1.0         2", "     0.001     0.001     0.001     0.001",
+             "*MAT_ELASTIC", "         1      7850     2e+11       0.3", "*PART", "plate", "         1         1         1"]
+    ids = [(j * (n + 1) + i + 1, i * 0.01, j * 0.01) for j in range(n + 1) for i in range(n + 1)]
+    half = len(ids) // 2
+    for block in (ids[:half], ids[half:]):
+        lines.append("*NODE")
+        lines += [f"{k:8d}{x:16.6e}{y:16.6e}{0.0:16.6e}       0       0" for k, x, y in block]
+    lines.append("*ELEMENT_SHELL_THICKNESS")
+    e = 0
+    for j in range(n):
+        for i in range(n):
+            e += 1
+            a = j * (n + 1) + i + 1
+            lines.append(f"{e:8d}{1:8d}{a:8d}{a + 1:8d}{a + n + 2:8d}{a + n + 1:8d}")
+            t = 0.001 + 1e-6 * (e % 7)
+            lines.append(f"{t:16.6e}{t:16.6e}{t:16.6e}{t:16.6e}{0.0:16.6e}")
+    lines.append("*END")
+    deck = os.path.join(TMP, "thickness_cards.k")
+    with open(deck, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    debug = os.path.join(ROOT, "bin", "xdyna_debug")
+    p = run([debug, "--check", "i=" + deck])
+    m = re.search(r"nodes \.+\s+(\d+)", p.stdout)
+    k = re.search(r"shell elements \.+\s+(\d+)", p.stdout)
+    got = (int(m.group(1)) if m else None, int(k.group(1)) if k else None)
+    record(f"two *NODE keywords and 5,000 *ELEMENT_SHELL_THICKNESS cards read by the debug build (bound checks): "
+           f"exit {p.returncode}, nodes and shells {got} (the deck's {(len(ids), n * n)})",
+           p.returncode == 0 and got == (len(ids), n * n), p.stderr[-400:])
+
+
 def test_coordinate_systems():
     """*DEFINE_COORDINATE_SYSTEM and _NODES where a CID is taken: the bar on
     the wall (input_decks/verify/bar_wall.k, -10 m/s along x) given its
