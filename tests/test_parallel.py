@@ -67,8 +67,7 @@ def test_mpi():
     owned nodes (issue 32), whose energies, momenta and mean velocities are
     each rank's sums added over the ranks: those agree to rounding
     (same_dynamics: 1e-12 of their scale), every other series bitwise."""
-    if shutil.which("mpirun") is None:
-        record("mpirun is installed (make deps: openmpi-bin)", False)
+    if mpi_missing():
         return
     cases = [("solids: Taylor bar (972 hexahedra)", "input_decks/verify/taylor_bar_coarse.k", ()),
              ("shells with self-contact: tube crush", "input_decks/contact/tube_crush.k", ("endtim=0.0015",)),
@@ -206,8 +205,7 @@ def test_mpi_metis():
     the parts are balanced within METIS's 3% imbalance (ufactor 30) plus
     the rounding of the costs to tenths: at most 1.05 of the mean; a value
     other than rcb or metis is an input error naming it."""
-    if shutil.which("mpirun") is None:
-        record("mpirun is installed (make deps: openmpi-bin)", False)
+    if mpi_missing():
         return
     cases = [("shells with self-contact: tube crush", "input_decks/contact/tube_crush.k", ("endtim=0.0015",)),
              ("rigid wall, rigid bodies, shells and contact: front frame", "input_decks/paper/front_frame.k",
@@ -250,8 +248,7 @@ def test_mpi_contact_own():
     to 1e-12 of its peak, same_dynamics; a restart's sums stay on rank 0:
     left on every rank, the restarted run's sliding energy came out too
     large, checked by hand when this was written)."""
-    if shutil.which("mpirun") is None:
-        record("mpirun is installed (make deps: openmpi-bin)", False)
+    if mpi_missing():
         return
     env = {"XDYNA_CONTACT_OWN": "1", "XDYNA_GHOSTS": "0"}
     deck = with_cards("input_decks/contact/tube_crush.k", "own_tube", "*DATABASE_BINARY_D3DUMP\n         0\n")
@@ -448,14 +445,12 @@ def test_mpi_memory_falls():
     bytes. Without the per-rank numbering (XDYNA_LOCAL_NODES=0, the nodes
     whole on every rank) the same run holds 56% (measured when this was
     written), which this test would fail."""
-    if shutil.which("mpirun") is None:
-        record("mpirun is installed (make deps: openmpi-bin)", False)
+    if mpi_missing():
         return
     d = os.path.join(TMP, "memory_falls")
     os.makedirs(d, exist_ok=True)
     deck = os.path.join(d, "plate.k")
-    run([sys.executable, os.path.join(ROOT, "tools", "gen_decks.py"), "--bench-shells", "400", "250", deck,
-         "--cycles", "20", "--states-dt", "2.0e-6"])
+    gen_deck("--bench-shells", "400", "250", deck, "--cycles", "20", "--states-dt", "2.0e-6")
     serial, four = os.path.join(d, "serial"), os.path.join(d, "r4")
     p1 = run([XDYNA, "i=" + deck, "outdir=" + serial])
     p4 = mpirun(4, ["i=" + deck, "outdir=" + four])
@@ -523,8 +518,7 @@ def test_mpi_initial_penetrations():
     the wrong rank, twice or not at all would change a line or the count;
     and so is the motion that starts from the moved nodes (same_dynamics:
     bitwise, energies to 1e-12)."""
-    if shutil.which("mpirun") is None:
-        record("mpirun is installed (make deps: openmpi-bin)", False)
+    if mpi_missing():
         return
     n = 9
     for ig in (0, 2):
@@ -575,8 +569,7 @@ def test_mpi_local_decks():
     energies to rounding (same_dynamics: 1e-12 of their scale). A wrong
     renumbering (a list left in the model's numbers) moves a node or
     fails the run."""
-    if shutil.which("mpirun") is None:
-        record("mpirun is installed (make deps: openmpi-bin)", False)
+    if mpi_missing():
         return
     for name in ("bar_heavy_wall", "bar_on_pole", "gravity_drop", "prestressed_block", "taylor_bar_coarse",
                  "free_block_spin", "shell_cantilever", "shell_warped_spin", "shell_tension_tri"):
@@ -597,7 +590,7 @@ def test_mpi_local_decks():
 def test_mpi_cards_in_blocks():
     """Under MPI each rank reads its block of a large *NODE and
     *ELEMENT_SHELL keyword's cards and every card's record goes to all
-    (xd_input_read_geometry's card_block, from 1,000 cards a rank): a
+    (xd_input_read_geometry's read_in_blocks, from 1,000 cards a rank): a
     60 x 60 shell plate with whole-model contact (3,721 nodes, 3,600
     shells: blocks of 1,860 and 1,800 cards on 2 ranks) runs on 2 ranks as
     on one (ranks_match: the motion bitwise). A bad card in the second
@@ -605,14 +598,12 @@ def test_mpi_cards_in_blocks():
     its file, line, keyword and field (every rank reads the cards again in
     order once some rank found an error): a node's X and a shell's node
     id. Exact: no tolerance."""
-    if shutil.which("mpirun") is None:
-        record("mpirun is installed (make deps: openmpi-bin)", False)
+    if mpi_missing():
         return
     d = os.path.join(TMP, "cards_in_blocks")
     os.makedirs(d, exist_ok=True)
     deck = os.path.join(d, "plate.k")
-    run([sys.executable, os.path.join(ROOT, "tools", "gen_decks.py"), "--bench-shells", "60", "60", deck,
-         "--cycles", "30", "--contact"])
+    gen_deck("--bench-shells", "60", "60", deck, "--cycles", "30", "--contact")
     text = open(deck).read()
     serial = os.path.join(d, "one")
     p = run([XDYNA, "i=" + deck, "outdir=" + serial])
@@ -658,15 +649,13 @@ def test_mpi_owned():
     whose halo motion was left out differs from the serial one at the
     first energy row: checked by hand when this was written, 17 of 20
     series, at 1e-6 and more.)"""
-    if shutil.which("mpirun") is None:
-        record("mpirun is installed (make deps: openmpi-bin)", False)
+    if mpi_missing():
         return
     d = os.path.join(TMP, "owned")
     os.makedirs(d, exist_ok=True)
     plate, hexes = os.path.join(d, "plate.k"), os.path.join(d, "hex.k")
-    gen = [sys.executable, os.path.join(ROOT, "tools", "gen_decks.py")]
-    run(gen + ["--bench-shells", "40", "30", plate, "--cycles", "200", "--states-dt", "2e-5"])
-    run(gen + ["--bench", "20", "10", "6", hexes, "--cycles", "200"])
+    gen_deck("--bench-shells", "40", "30", plate, "--cycles", "200", "--states-dt", "2e-5")
+    gen_deck("--bench", "20", "10", "6", hexes, "--cycles", "200")
     text = open(plate).read().replace("*KEYWORD\n", "*KEYWORD\n*DATABASE_BINARY_D3DUMP\n         0\n"
                                       "*DATABASE_NODOUT\n1.0e-6\n*DATABASE_HISTORY_NODE\n1,21,641,660,1271\n", 1)
     with open(plate, "w") as fh:
@@ -963,8 +952,7 @@ def test_stack_limit():
     the model's nodes or elements would not fit (the build before the
     change died on 2 ranks so), while the fixed per-thread work arrays do."""
     deck = os.path.join(TMP, "stack_tubes.k")
-    g = run(["/usr/bin/python3", os.path.join(ROOT, "tools", "gen_decks.py"), "--bench-tubes", "10", "10", deck,
-             "--cycles", "2"])
+    g = gen_deck("--bench-tubes", "10", "10", deck, "--cycles", "2")
     if g.returncode:
         record("stack limit: the 10 x 10 tubes deck is generated", False, g.stderr[-300:])
         return

@@ -370,6 +370,20 @@ def vtk_blocks(reader):
     return blocks
 
 
+def mpi_missing():
+    """True (and a failed check recorded) where mpirun is not installed: an
+    MPI test then has nothing to run."""
+    if shutil.which("mpirun") is None:
+        record("mpirun is installed (make deps: openmpi-bin)", False)
+        return True
+    return False
+
+
+def gen_deck(*args):
+    """tools/gen_decks.py with these arguments (a generated model deck)."""
+    return run([sys.executable, os.path.join(ROOT, "tools", "gen_decks.py"), *args])
+
+
 def mpirun(np_, args, threads=1, env_extra=None):
     """xdyna on np_ MPI ranks with `threads` OpenMP threads each: Open MPI
     as root needs the two ALLOW variables, and more ranks than this machine's

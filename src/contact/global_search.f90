@@ -33,7 +33,7 @@ module xd_contact_global_search
     use, intrinsic :: iso_fortran_env, only: int8
     use xd_kinds, only: wp, i8
     use xd_core_memory, only: nbytes, fit
-    use xd_contact_surface, only: surface_t, segment_diagonals, side_a, side_b, wanted_side, seg_shell
+    use xd_contact_surface, only: surface_t, segment_diagonals, side_a, side_b, wanted_side, seg_shell, corners
     use xd_model, only: mnl_minimal, mnl_closest1, mnl_closest3
     use xd_core_sorting, only: where_true
     use xd_core_vectors, only: cross
@@ -379,19 +379,15 @@ contains
         type(surface_t), intent(in) :: s
         real(wp), intent(in) :: xl(:, :)
         real(wp), intent(out) :: lc(:)
-        integer :: m, i, k
+        integer :: m, i
         real(wp) :: dmin, xs(3, 4)
         real(wp), allocatable :: dmax(:)
         allocate (dmax(s%nseg))
         ! (each segment's, then each node's largest over its segments:
         ! threaded, a maximum is the same in any order)
-        ! (the corners gathered here: a section with a vector subscript
-        ! passed on is packed into a temporary at each call)
-        !$omp parallel do schedule(static) private(dmin, xs, k)
+        !$omp parallel do schedule(static) private(dmin, xs)
         do m = 1, s%nseg
-            do k = 1, 4
-                xs(:, k) = xl(:, s%seg(k, m))
-            end do
+            call corners(xl, s%seg(:, m), xs)
             call segment_diagonals(xs, dmin, dmax(m))
         end do
         !$omp end parallel do
@@ -793,7 +789,7 @@ contains
         real(wp), allocatable :: base(:), box(:, :)
         real(wp) :: cmax, lo(3), hi(3), grow
         logical, allocatable :: master(:), todo(:)
-        integer :: nblk, ib, i, first, last, q, k, m, nt, jc
+        integer :: nblk, ib, i, first, last, q, k, m, nt
         integer, allocatable :: mnodes(:)
         real(wp), allocatable :: dmax(:)
         real(wp) :: r, dmin, xs(3, 4)
@@ -845,9 +841,7 @@ contains
                     m = s%seg_list(k)
                     if (dmax(m) >= 0.0_wp) cycle
                     call seg_box(m)
-                    do jc = 1, 4
-                        xs(:, jc) = xl(:, s%seg(jc, m))
-                    end do
+                    call corners(xl, s%seg(:, m), xs)
                     call segment_diagonals(xs, dmin, dmax(m))
                 end do
             end do

@@ -28,7 +28,7 @@ module xd_contact_surface
     private
     public :: faces_t, surface_t, build_faces, build_surface, seg_shell, seg_solid, follow_thickness, surface_activate
     public :: faces_bytes, surface_bytes, release_faces, release_activation, seg_thicknesses
-    public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side, seg_nodes, seg_normal
+    public :: side_a, side_b, side_slave, face_key, segment_diagonals, wanted_side, seg_nodes, seg_normal, corners
 
     integer, parameter :: seg_shell = 1, seg_solid = 2
     !> Bits of a node's or segment's side in an interface: on a segment of
@@ -220,6 +220,19 @@ contains
 
     !> The two diagonals of a quadrilateral segment; a triangle's "diagonals"
     !> are its shortest and longest edges.
+    !> The corners xq of a segment or face with nodes nd, gathered from x (a
+    !> section with a vector subscript passed on to a routine is packed into
+    !> a temporary at each call).
+    pure subroutine corners(x, nd, xq)
+        real(wp), intent(in) :: x(:, :)
+        integer, intent(in) :: nd(4)
+        real(wp), intent(out) :: xq(3, 4)
+        integer :: q
+        do q = 1, 4
+            xq(:, q) = x(:, nd(q))
+        end do
+    end subroutine corners
+
     pure subroutine segment_diagonals(xs, dmin, dmax)
         real(wp), intent(in) :: xs(3, 4)
         real(wp), intent(out) :: dmin, dmax
@@ -379,11 +392,7 @@ contains
         f%node_thick = 0
         f%node_cap = 0
         do e = 1, model%nshell
-            ! (the corners gathered here: a section with a vector subscript
-            ! passed on is packed into a temporary at each call)
-            do k = 1, 4
-                xs(:, k) = x(:, model%shell_conn(k, e))
-            end do
+            call corners(x, model%shell_conn(:, e), xs)
             emin = shortest_edge(xs)
             do k = 1, 4
                 f%node_thick(model%shell_conn(k, e)) = max(f%node_thick(model%shell_conn(k, e)), model%shell_t(k, e))
@@ -404,12 +413,14 @@ contains
                 f%kind(j) = seg_solid
                 f%hex(j) = chex(e)
                 call solid_segment(chex(e), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
-                f%area(j) = face_area(f%node(:, j))
+                call corners(x, f%node(:, j), xs)
+                f%area(j) = segment_area(xs)
             else
                 f%node(:, j) = cnode(:, c)
                 f%kind(j) = seg_shell
                 call shell_segment(cshell(c), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
-                f%area(j) = face_area(f%node(:, j))
+                call corners(x, f%node(:, j), xs)
+                f%area(j) = segment_area(xs)
             end if
         end do
         if (f%nlatent > 0) then
@@ -423,7 +434,8 @@ contains
                 f%hex(j) = chex(c)
                 f%across(j) = chex(partner(c))
                 call solid_segment(chex(c), f%node(:, j), f%part(j), f%thick(j), f%kgeo(j))
-                f%area(j) = face_area(f%node(:, j))
+                call corners(x, f%node(:, j), xs)
+                f%area(j) = segment_area(xs)
             end do
             f%n = f%n + f%nlatent
         end if
@@ -446,18 +458,6 @@ contains
                 end if
             end do
         end function partner
-
-        !> The area of the face with nodes nd (segment_area of their
-        !> coordinates, gathered here).
-        real(wp) function face_area(nd) result(a)
-            integer, intent(in) :: nd(4)
-            real(wp) :: xq(3, 4)
-            integer :: q
-            do q = 1, 4
-                xq(:, q) = x(:, nd(q))
-            end do
-            a = segment_area(xq)
-        end function face_area
 
         !> The shortest edge of a quadrilateral (a triangle's repeated node
         !> gives no edge).
