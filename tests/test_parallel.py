@@ -663,8 +663,10 @@ def test_mpi_owned():
     # the plate again under a moving rigid wall 2 mm above it (NSID 0: every
     # node; mass 2 kg) and a prescribed velocity on its far edge (nodes
     # 1231-1271, across the cuts) ramped from 30 m/s to 0: the wall's
-    # mass, impulse, force and energy and the prescribed work are sums
-    # over nodes of every rank, taken in the serial order
+    # mass, impulse, force and energy are sums over nodes of every rank,
+    # taken in the serial order (the motion reads them); the prescribed
+    # work is each rank's nodes' sum added over the ranks, as the other
+    # energies (to 1e-12: same_dynamics)
     walled = os.path.join(d, "walled.k")
     edge = "\n".join("".join(f"{n:10d}" for n in range(a, min(a + 8, 1272))) for a in range(1231, 1272, 8))
     with open(walled, "w") as fh:
@@ -970,3 +972,42 @@ def test_stack_limit():
                            capture_output=True, text=True, preexec_fn=one_mb, cwd=ROOT)
         record(f"stack limit: 120,000 shells with contact run 2 cycles on {label} with a 1 MB stack",
                p.returncode == 0 and "normal termination" in p.stdout, f"rc={p.returncode} {p.stderr[-300:]}")
+
+
+@pytest.mark.slow(20)
+def test_mpi_deck_read_by_rank0():
+    """Under MPI rank 0 alone opens the deck and its includes, and every
+    rank takes their text from it (issue 32: one process reads a deck on a
+    cluster's shared file system; a deck on a disk only rank 0's node sees
+    runs). The tube crush with its nodes in an included file one folder
+    down, on 2 ranks launched in two folders (MPMD): rank 0 where the deck
+    is, rank 1 in an empty one, the deck named by a relative path. Had rank
+    1 opened the files itself it would not find them and the run would stop
+    or hang (before: it hung, the other rank waiting in a collective;
+    tried). The motion must be the serial run's bitwise, energies to 1e-12
+    (same_dynamics)."""
+    if mpi_missing():
+        return
+    d = os.path.join(TMP, "deck_rank0")
+    shutil.rmtree(d, ignore_errors=True)
+    here, empty = os.path.join(d, "deck"), os.path.join(d, "elsewhere")
+    os.makedirs(os.path.join(here, "sub"))
+    os.makedirs(empty)
+    text = open(os.path.join(ROOT, "input_decks/contact/tube_crush.k")).read()
+    a, b = text.index("*NODE\n"), text.index("*ELEMENT_SHELL")
+    with open(os.path.join(here, "sub", "nodes.k"), "w") as fh:
+        fh.write("*KEYWORD\n" + text[a:b] + "*END\n")
+    with open(os.path.join(here, "main.k"), "w") as fh:
+        fh.write(text[:a] + "*INCLUDE\nsub/nodes.k\n" + text[b:])
+    extra = ["endtim=0.0005"]
+    p0, serial = run_deck(os.path.join(here, "main.k"), "deck_rank0_serial", extra=extra)
+    out = os.path.join(d, "out")
+    args = ["i=main.k", "outdir=" + out, *extra]
+    env = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
+    # (a hang ended after 2 minutes: the run takes under 2 s)
+    p = run(["timeout", "120", "mpirun", "--oversubscribe", "-np", "1", "--wdir", here, XDYNA, *args, ":",
+             "-np", "1", "--wdir", empty, XDYNA, *args], env=env)
+    ok, msg = (False, (p0.stderr + p.stdout + p.stderr)[-400:]) if p.returncode or p0.returncode \
+        else same_dynamics(serial, out)
+    record("a deck and its include read by rank 0 for every rank: 2 ranks, rank 1 in a folder without them, give "
+           f"the serial motion bitwise, energies to 1e-12 (rc {p.returncode})", ok, msg)

@@ -10,7 +10,7 @@ module xd_core_comm
     use mpi_f08, only: MPI_Initialized, MPI_Allreduce, MPI_Allgather, MPI_Allgatherv, MPI_IN_PLACE, MPI_SUM, MPI_MAX, &
                        MPI_COMM_WORLD, MPI_DOUBLE_PRECISION, MPI_REAL, MPI_INTEGER, MPI_INTEGER8, MPI_Datatype, MPI_Request, &
                        MPI_Irecv, MPI_Isend, MPI_Waitall, MPI_STATUSES_IGNORE, MPI_Comm_size, MPI_Gatherv, MPI_MIN, MPI_CHARACTER, &
-                       MPI_Alltoall, MPI_Alltoallv, MPI_Comm_rank
+                       MPI_Alltoall, MPI_Alltoallv, MPI_Comm_rank, MPI_Bcast
     use xd_core_sorting, only: sort_index
     use xd_kinds, only: wp, dp, i8
     implicit none
@@ -18,7 +18,8 @@ module xd_core_comm
     public :: comm_gather_wp, comm_gather_root_wp, comm_gather_root_dp, &
               comm_sum_wp, comm_sum_int, comm_sum_i8, comm_sum_dp, comm_max, comm_min_int, comm_gather_text, &
               comm_gather_small, &
-              comm_gather_records, comm_neighbours, comm_ordered_records, comm_send_records, comm_rank_size
+              comm_gather_records, comm_neighbours, comm_ordered_records, comm_send_records, comm_rank_size, &
+              comm_bcast_text
 
 contains
 
@@ -133,6 +134,23 @@ contains
         integer, contiguous, intent(inout) :: a(:)
         if (up()) call MPI_Allreduce(MPI_IN_PLACE, a, size(a), MPI_INTEGER, MPI_MIN, MPI_COMM_WORLD)
     end subroutine comm_min_int
+
+    !> Rank 0's text on every rank (its length first): what one rank read
+    !> for all. Without MPI the text stays as it is.
+    subroutine comm_bcast_text(text)
+        character(len=:), allocatable, intent(inout) :: text
+        integer :: n(1), rank
+        if (.not. up()) return
+        call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+        n = 0
+        if (rank == 0) n = len(text)
+        call MPI_Bcast(n, 1, MPI_INTEGER, 0, MPI_COMM_WORLD)
+        if (rank /= 0) then
+            if (allocated(text)) deallocate (text)
+            allocate (character(len=n(1)) :: text)
+        end if
+        if (n(1) > 0) call MPI_Bcast(text, n(1), MPI_CHARACTER, 0, MPI_COMM_WORLD)
+    end subroutine comm_bcast_text
 
     !> Every rank's text, rank after rank, on every rank.
     function comm_gather_text(mine) result(all)

@@ -1,11 +1,17 @@
 !> The deck as a list of lines in reading order: files loaded whole, `*INCLUDE`
 !> expanded in place, `*END` honoured per file, every line tagged with its
-!> file and line number for error messages.
+!> file and line number for error messages. Under MPI rank 0 alone opens
+!> the files (the deck and its includes) and every rank takes their text
+!> from it (read_whole, find_include): one process reads a deck on a
+!> cluster's shared file system, and a deck only rank 0 can see (a local
+!> disk of its node) runs; before, every rank read every file, and a rank
+!> that could not stopped the run in a hang.
 module xd_input_deck_source
     use xd_core_errors, only: error_t, make_error
     use xd_core_strings, only: to_upper, dirname, join_path, itoa
     use xd_core_memory, only: grow
     use xd_core_files, only: file_kind, fk_directory, fk_other
+    use xd_core_comm, only: comm_rank_size, comm_bcast_text
     implicit none
     private
     public :: deck_source_t, load_deck, max_include_depth
@@ -171,17 +177,25 @@ contains
         character(len=*), intent(in) :: here, fname
         character(len=:), allocatable :: p
         logical :: there
-        integer :: i
+        integer :: i, rank, nranks
         p = join_path(here, fname)
-        inquire (file=p, exist=there)
-        if (there) return
-        do i = 1, src%ndir
-            inquire (file=join_path(src%dirs(i)%name, fname), exist=there)
-            if (there) then
-                p = join_path(src%dirs(i)%name, fname)
-                return
-            end if
-        end do
+        ! (under MPI rank 0 looks, and every rank takes its choice: the
+        ! files are read by it, read_whole)
+        call comm_rank_size(rank, nranks)
+        if (rank == 0) call look()
+        if (nranks > 1) call comm_bcast_text(p)
+    contains
+        subroutine look()
+            inquire (file=p, exist=there)
+            if (there) return
+            do i = 1, src%ndir
+                inquire (file=join_path(src%dirs(i)%name, fname), exist=there)
+                if (there) then
+                    p = join_path(src%dirs(i)%name, fname)
+                    return
+                end if
+            end do
+        end subroutine look
     end function find_include
 
     !> The line that starts at `pos`: its last character `last` (a carriage
@@ -238,6 +252,38 @@ contains
         character(len=*), intent(in) :: path
         integer, intent(out) :: n
         type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: why
+        integer :: rank, nranks
+        call comm_rank_size(rank, nranks)
+        if (nranks <= 1) then
+            call read_file(text, path, n, error)
+            return
+        end if
+        ! (under MPI rank 0 reads the file for every rank, which takes its
+        ! text, or the reason it could not, from it: one process opens a
+        ! deck on a cluster's shared file system, not every rank)
+        why = ''
+        if (rank == 0) then
+            call read_file(text, path, n, error)
+            if (allocated(error)) why = error%message
+        end if
+        call comm_bcast_text(why)
+        if (len(why) > 0) then
+            if (rank /= 0) call make_error(error, why)
+            n = 0
+            return
+        end if
+        if (.not. allocated(text)) allocate (character(len=0) :: text)
+        call comm_bcast_text(text)
+        n = len(text)
+    end subroutine read_whole
+
+    !> The whole of the regular file at path (n characters).
+    subroutine read_file(text, path, n, error)
+        character(len=:), allocatable, intent(out) :: text
+        character(len=*), intent(in) :: path
+        integer, intent(out) :: n
+        type(error_t), allocatable, intent(out) :: error
         integer :: u, st
         logical :: there
         inquire (file=path, exist=there)
@@ -267,7 +313,7 @@ contains
         if (n > 0) read (u, iostat=st) text
         close (u)
         if (st /= 0) call make_error(error, 'cannot read')
-    end subroutine read_whole
+    end subroutine read_file
 
     pure function first_token(s) result(w)
         character(len=*), intent(in) :: s
@@ -341,8 +387,8 @@ contains
     end function source_digest
 
     !> The deck's text and line tables freed once the model is read (every
-    !> MPI rank reads the deck: the 120,000-shell tubes' 15 MB each); the
-    !> file names stay.
+    !> MPI rank holds the deck's text, read by rank 0: the 120,000-shell
+    !> tubes' 15 MB each); the file names stay.
     subroutine source_release(src)
         class(deck_source_t), intent(inout) :: src
         integer :: k
