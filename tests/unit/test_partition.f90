@@ -2,13 +2,14 @@
 program test_partition
     use xd_kinds, only: wp
     use xd_testing, only: check, test_summary
-    use xd_core_partition, only: rcb_partition
+    use xd_kinds, only: dp
+    use xd_core_partition, only: rcb_partition, weighted_cut
     implicit none
     integer, parameter :: nx = 20, ny = 10, nz = 5, n = nx*ny*nz
     real(wp) :: xc(3, n), w(n), cost(8), vol
     integer :: part(n), again(n), one(n), i, j, k, e, np, p
     real(wp) :: lo(3), hi(3)
-    logical :: balanced, compact, weighted, alone
+    logical :: balanced, compact, weighted, alone, same_cut
     character(len=120) :: msg
 
     e = 0
@@ -96,5 +97,66 @@ program test_partition
     alone = alone .and. all(again(1:3) == part(1:3))
     call check(alone, 'each part''s cuts alone (only): its items alone, and the parts summed are the whole '// &
                'partition, 1 to 8 parts, weighted and unit costs, and 3 items in 8 parts')
+    ! the cut by selection (weighted_cut) against the definition taken by a
+    ! plain stable sort: 2 to 60 items, keys from 4 values (many equal, the
+    ! ids breaking the ties) or all different, whole-number costs 1 to 5 (so
+    ! every sum is exact in either order) and targets across the total:
+    ! the same side for every item. A cut one item off, or ties broken
+    ! another way, fails it.
+    same_cut = .true.
+    call random_seed(size=k)
+    call random_seed(put=[(7919*i, i=1, k)])
+    do k = 1, 400
+        call one_cut(2 + mod(k*37, 59), mod(k, 2) == 0, mod(k, 7)/7.0_dp + 0.03_dp)
+    end do
+    call check(same_cut, 'the cut by selection puts every item on the side the sorted order puts it '// &
+               '(400 sets of 2 to 60 items, equal keys and costs 1 to 5)')
     call test_summary()
+contains
+    subroutine one_cut(m, ties, frac)
+        integer, intent(in) :: m
+        logical, intent(in) :: ties
+        real(dp), intent(in) :: frac
+        real(dp) :: key(m), cost(m), r(m), target, cum
+        integer :: id(m), ord(m), a, b, t, kk
+        logical :: left(m), want(m)
+        call random_number(r)
+        key = r
+        if (ties) key = real(int(4*r), dp)
+        call random_number(r)
+        cost = real(1 + int(5*r), dp)
+        ! (ids: a permutation, not the positions)
+        do a = 1, m
+            id(a) = 1000 - 3*a
+        end do
+        target = frac*sum(cost)
+        call weighted_cut(key, id, cost, target, left)
+        ! the definition: a stable insertion sort by (key, id), the first
+        ! count whose sum reaches target (at most m - 1), one fewer where nearer
+        do a = 1, m
+            ord(a) = a
+        end do
+        do a = 2, m
+            t = ord(a)
+            b = a - 1
+            do while (b >= 1)
+                if (.not. (key(t) < key(ord(b)) .or. (key(t) == key(ord(b)) .and. id(t) < id(ord(b))))) exit
+                ord(b + 1) = ord(b)
+                b = b - 1
+            end do
+            ord(b + 1) = t
+        end do
+        cum = 0
+        do kk = 1, m - 1
+            cum = cum + cost(ord(kk))
+            if (cum >= target) exit
+        end do
+        kk = min(kk, m - 1)
+        if (kk > 1) then
+            if (target - (cum - cost(ord(kk))) < cum - target) kk = kk - 1
+        end if
+        want = .false.
+        want(ord(1:kk)) = .true.
+        same_cut = same_cut .and. all(left .eqv. want)
+    end subroutine one_cut
 end program test_partition
