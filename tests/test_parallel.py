@@ -1011,3 +1011,19 @@ def test_mpi_deck_read_by_rank0():
         else same_dynamics(serial, out)
     record("a deck and its include read by rank 0 for every rank: 2 ranks, rank 1 in a folder without them, give "
            f"the serial motion bitwise, energies to 1e-12 (rc {p.returncode})", ok, msg)
+    # a restart dump that rank 1 cannot read (named relative to rank 0's
+    # folder): every rank stops with exit 1, rank 1 naming its failure;
+    # before, rank 1 stopped alone and rank 0 waited for it (a hang)
+    dumped = os.path.join(d, "dumped")
+    with open(os.path.join(here, "main.k")) as fh:
+        text = fh.read()
+    with open(os.path.join(here, "main.k"), "w") as fh:
+        fh.write(text.replace("*KEYWORD\n", "*KEYWORD\n*DATABASE_BINARY_D3DUMP\n         0\n", 1))
+    p1 = run([XDYNA, "i=" + os.path.join(here, "main.k"), "outdir=" + dumped, "endtim=0.0002"])
+    shutil.copy(os.path.join(dumped, "d3dump.h5"), os.path.join(here, "d3dump.h5"))
+    args = ["r=d3dump.h5", "endtim=0.0004"]
+    p = run(["timeout", "120", "mpirun", "--oversubscribe", "-np", "1", "--wdir", here, XDYNA, *args, ":",
+             "-np", "1", "--wdir", empty, XDYNA, *args], env=env)
+    named = "xdyna: r=d3dump.h5: the dump does not exist (rank 1)" in p.stderr
+    record(f"a restart dump only rank 0 can read: every rank stops, exit 1 (got {p.returncode}), rank 1 naming "
+           "why", p1.returncode == 0 and p.returncode == 1 and named, (p1.stderr + p.stderr)[-400:])

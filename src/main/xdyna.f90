@@ -84,7 +84,7 @@ program xdyna
     type(error_t), allocatable :: error
     character(len=:), allocatable :: deck, outdir, arg, restart, printed, jobid, stem
     logical :: check_only, ok
-    character(len=:), allocatable :: memory_note, hold, step_note
+    character(len=:), allocatable :: memory_note, hold, step_note, why
     real(dp) :: endtim_cli
     !> the process's peak before the deck is read (libraries, MPI's
     !> buffers and shared segments): the floor under every rank's peak
@@ -147,25 +147,18 @@ program xdyna
         ! a restart: the dump names its deck and output directory, and must
         ! come from this build
         call read_dump_meta(restart, meta, ok)
+        why = ''
         if (len(meta%damage) > 0) then
-            call say('xdyna: r='//restart//': the dump '//meta%damage)
-            call finish(exit_input)
+            why = 'the dump '//meta%damage
+        else if (.not. ok) then
+            why = 'not a readable restart dump (not an HDF5 file, or damaged)'
+        else if (meta%format == 0 .or. len(meta%build) == 0) then
+            why = 'the dump is damaged or is not an xdyna dump (its format and build records cannot be read)'
+        else if (meta%format /= dump_format .or. meta%build /= build_tag()) then
+            why = 'the dump was written by another build ('//meta%build//', format '//itoa(meta%format)// &
+                  '); this is '//build_tag()//', format '//itoa(dump_format)
         end if
-        if (.not. ok) then
-            call say('xdyna: r='//restart//': not a readable restart dump (not an HDF5 file, or damaged)')
-            call finish(exit_input)
-        end if
-        if (meta%format == 0 .or. len(meta%build) == 0) then
-            call say('xdyna: r='//restart//': the dump is damaged or is not an xdyna dump (its format '// &
-                     'and build records cannot be read)')
-            call finish(exit_input)
-        end if
-        if (meta%format /= dump_format .or. meta%build /= build_tag()) then
-            call say('xdyna: r='//restart//': the dump was written by another build ('// &
-                meta%build//', format '//itoa(meta%format)//'); this is '//build_tag()//', format '// &
-                itoa(dump_format))
-            call finish(exit_input)
-        end if
+        call stop_if_any('xdyna: r='//restart//': ', why)
         if (len(deck) == 0) deck = meta%deck
         if (.not. outdir_given) outdir = meta%outdir
     end if
@@ -356,10 +349,9 @@ program xdyna
     if (opts%endtim <= 0.0_dp) opts%endtim = huge(1.0_dp)
     if (len(restart) > 0) then
         call read_dump(restart, st, solids, sh, bm, walls, rg, ct, td, hmarks, smarks, dump_error)
-        if (allocated(dump_error)) then
-            call say('xdyna: r='//restart//': cannot restart from this dump: '//dump_error)
-            call finish(exit_input)
-        end if
+        why = ''
+        if (allocated(dump_error)) why = 'cannot restart from this dump: '//dump_error
+        call stop_if_any('xdyna: r='//restart//': ', why)
         if (dom%on) call scatter_contact_state(ct, env%rank)
         ! shells eroded before the dump: out of the element loops and the
         ! contact's surfaces again
@@ -867,6 +859,29 @@ contains
         call log_line(lg, ' S t o p p e d   by signal '//itoa(nint(fl(1)))//' while '//stage//', before the first cycle')
         call finish(exit_signal)
     end subroutine stop_before_run
+
+    !> An input failure `why` (empty: none) of this rank, agreed over the
+    !> ranks: where any rank failed every rank exits 1, rank 0 naming its
+    !> own failure (prefix, then why), and a rank whose failure rank 0 did
+    !> not share naming its own, with its rank (a file that only some ranks
+    !> can read: a dump on a disk of one node). Before, a rank that failed
+    !> alone stopped while the others waited for it in a collective: the
+    !> run hung.
+    subroutine stop_if_any(prefix, why)
+        character(len=*), intent(in) :: prefix, why
+        real(dp) :: fl(2)
+        fl = 0
+        if (len(why) > 0) fl(1) = 1
+        if (env%rank == 0 .and. len(why) > 0) fl(2) = 1
+        if (env%nranks > 1) call comm_max(fl)
+        if (fl(1) == 0) return
+        if (env%rank == 0 .and. len(why) > 0) then
+            write (error_unit, '(a)') printable(prefix//why)
+        else if (len(why) > 0 .and. fl(2) == 0) then
+            write (error_unit, '(a)') printable(prefix//why//' (rank '//itoa(env%rank)//')')
+        end if
+        call finish(exit_input)
+    end subroutine stop_if_any
 
     !> A message for standard error, from rank 0 alone.
     subroutine say(text)
