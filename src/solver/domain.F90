@@ -885,27 +885,39 @@ contains
         real(wp), intent(inout) :: v(:, :)
         real(wp), intent(inout), optional :: vr(:, :)
         real(wp), allocatable :: sb(:), rb(:)
-        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), i, nd, p, k
+        integer :: soff(size(dom%nbr) + 1), roff(size(dom%nbr) + 1), i, nd, p, k, cs, cr
         logical :: rot
         rot = present(vr)
-        ! (3 values a node, 6 where its angular velocity travels too)
+        ! (3 values a node, 6 where its angular velocity travels too; the
+        ! rotations counted neighbour by neighbour and summed: counted from
+        ! the first entry for each neighbour, they took rank 0 of 16 on the
+        ! 10 x 10 tubes 2.4e7 instructions in 100 cycles, half of this
+        ! routine's)
         soff = 3*dom%mo_ptr
         roff = 3*dom%mi_ptr
         if (rot) then
+            cs = 0
+            cr = 0
             do k = 1, size(dom%nbr)
-                soff(k + 1) = soff(k + 1) + 3*count(dom%mo_rot(1:dom%mo_ptr(k + 1)))
-                roff(k + 1) = roff(k + 1) + 3*count(dom%mi_rot(1:dom%mi_ptr(k + 1)))
+                cs = cs + count(dom%mo_rot(dom%mo_ptr(k) + 1:dom%mo_ptr(k + 1)))
+                cr = cr + count(dom%mi_rot(dom%mi_ptr(k) + 1:dom%mi_ptr(k + 1)))
+                soff(k + 1) = soff(k + 1) + 3*cs
+                roff(k + 1) = roff(k + 1) + 3*cr
             end do
         end if
         allocate (sb(max(soff(size(soff)), 1)), rb(max(roff(size(roff)), 1)))
         p = 0
         do i = 1, size(dom%mo_node)
             nd = dom%mo_node(i)
-            sb(p + 1:p + 3) = v(:, nd)
+            sb(p + 1) = v(1, nd)
+            sb(p + 2) = v(2, nd)
+            sb(p + 3) = v(3, nd)
             p = p + 3
             if (rot) then
                 if (dom%mo_rot(i)) then
-                    sb(p + 1:p + 3) = vr(:, nd)
+                    sb(p + 1) = vr(1, nd)
+                    sb(p + 2) = vr(2, nd)
+                    sb(p + 3) = vr(3, nd)
                     p = p + 3
                 end if
             end if
@@ -914,11 +926,15 @@ contains
         p = 0
         do i = 1, size(dom%mi_node)
             nd = dom%mi_node(i)
-            v(:, nd) = rb(p + 1:p + 3)
+            v(1, nd) = rb(p + 1)
+            v(2, nd) = rb(p + 2)
+            v(3, nd) = rb(p + 3)
             p = p + 3
             if (rot) then
                 if (dom%mi_rot(i)) then
-                    vr(:, nd) = rb(p + 1:p + 3)
+                    vr(1, nd) = rb(p + 1)
+                    vr(2, nd) = rb(p + 2)
+                    vr(3, nd) = rb(p + 3)
                     p = p + 3
                 end if
             end if
