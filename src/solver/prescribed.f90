@@ -73,9 +73,15 @@ contains
         real(wp), intent(in), optional :: mextra(:)
         logical, intent(in), optional :: mine(:)
         real(dp) :: m, ranks(1)
-        integer :: i, k, nd, j, l
+        integer :: i, k, nd, j, l, nr
         real(wp) :: t, target, vold, vprev, cv
+        !> each node's term, kept and then summed in order (summed as it
+        !> came, the sum was contracted with the term's last product: the
+        !> serial external work moved in its last bit)
+        real(dp), allocatable :: term(:)
         work = 0
+        allocate (term(size(pn%node)))
+        nr = 0
         t = real(st%time, wp)
         if (.not. allocated(st%jprev)) then
             allocate (st%jprev(3, st%nnode))
@@ -118,10 +124,14 @@ contains
                     st%v(j, l) = target
                     m = st%mass(l)
                     if (present(mextra)) m = m + mextra(l)
-                    work = work + 0.5_dp*m*(target - vold + st%jprev(j, l))*vprev
+                    nr = nr + 1
+                    term(nr) = 0.5_dp*m*(target - vold + st%jprev(j, l))*vprev
                     st%jprev(j, l) = target - vold
                 end do
             end associate
+        end do
+        do k = 1, nr
+            work = work + term(k)
         end do
         if (present(mine)) then
             ranks = work
