@@ -218,8 +218,6 @@ contains
         key(nuniq + 1:) = 0
     end subroutine face_key
 
-    !> The two diagonals of a quadrilateral segment; a triangle's "diagonals"
-    !> are its shortest and longest edges.
     !> The corners xq of a segment or face with nodes nd, gathered from x (a
     !> section with a vector subscript passed on to a routine is packed into
     !> a temporary at each call).
@@ -233,6 +231,8 @@ contains
         end do
     end subroutine corners
 
+    !> The two diagonals of a quadrilateral segment; a triangle's "diagonals"
+    !> are its shortest and longest edges.
     pure subroutine segment_diagonals(xs, dmin, dmax)
         real(wp), intent(in) :: xs(3, 4)
         real(wp), intent(out) :: dmin, dmax

@@ -126,19 +126,19 @@ contains
     end subroutine alloc_dp
 
     !> Make room for at least `need` columns, doubling, keeping the contents.
-    subroutine grow_r2(a, need, name)
+    subroutine grow_r2(a, n1, need, name)
         real(wp), allocatable, intent(inout) :: a(:, :)
-        integer, intent(in) :: need
+        integer, intent(in) :: n1, need
         character(len=*), intent(in) :: name
         real(wp), allocatable :: tmp(:, :)
         integer :: n
         if (.not. allocated(a)) then
-            call alloc_r2(a, 3, max(need, 1024), name)
+            call alloc_r2(a, n1, max(need, 1024), name)
             return
         end if
         if (size(a, 2) >= need) return
         n = max(need, 2*size(a, 2))
-        call alloc_r2(tmp, size(a, 1), n, name)
+        call alloc_r2(tmp, n1, n, name)
         tmp(:, 1:size(a, 2)) = a
         call move_alloc(tmp, a)
     end subroutine grow_r2

@@ -143,12 +143,28 @@ contains
         subroutine add_room(n)
             integer, intent(in) :: n
             call grow(model%node_id, n, 'node ids')
-            call grow(model%x0, n, 'node coordinates')
+            call grow(model%x0, 3, n, 'node coordinates')
             call grow(model%node_tc, n, 'node constraints')
             call grow(model%node_rc, n, 'node constraints')
             call grow(model%node_src, n, 'node lines')
         end subroutine add_room
     end subroutine read_node
+
+    !> An element card's id (field 1, a positive integer), part (field 2)
+    !> and size(nodes) node ids (fields 3 on), or error (the shells' and
+    !> the beams' first cards).
+    subroutine element_ids(card, eid, pid, nodes, error)
+        type(card_t), intent(in) :: card
+        integer, intent(out) :: eid, pid, nodes(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer :: k
+        call get_int(card, 1, eid, 0, error); if (allocated(error)) return
+        call get_int(card, 2, pid, 0, error); if (allocated(error)) return
+        do k = 1, size(nodes)
+            call get_int(card, 2 + k, nodes(k), 0, error); if (allocated(error)) return
+        end do
+        if (eid <= 0) call card_error(card, 1, 'element id must be a positive integer', error)
+    end subroutine element_ids
 
     !> Under MPI, a keyword's cards read in blocks, one a rank (every rank
     !> reads the whole deck: the large blocks of *NODE and *ELEMENT_SHELL
@@ -392,14 +408,7 @@ contains
     contains
         !> The first card's shell (eid, pid, nodes), or error.
         subroutine first_card()
-            call get_int(card, 1, eid, 0, error); if (allocated(error)) return
-            call get_int(card, 2, pid, 0, error); if (allocated(error)) return
-            do k = 1, 4
-                call get_int(card, 2 + k, nodes(k), 0, error); if (allocated(error)) return
-            end do
-            if (eid <= 0) then
-                call card_error(card, 1, 'element id must be a positive integer', error); return
-            end if
+            call element_ids(card, eid, pid, nodes, error); if (allocated(error)) return
             if (nodes(4) == 0) nodes(4) = nodes(3)
             if (any(nodes <= 0)) then
                 call card_error(card, 2 + minloc(nodes, 1), 'node id must be a positive integer', error); return
@@ -446,17 +455,8 @@ contains
             call grow(model%shell_pid, n, 'shell parts')
             call grow(model%shell_conn, 4, n, 'shell connectivity')
             call grow(model%shell_src, n, 'shell lines')
-            call grow_thick(n)
+            call grow(model%shell_t, 4, n, 'shell thicknesses')
         end subroutine add_room
-        subroutine grow_thick(need)
-            integer, intent(in) :: need
-            real(wp), allocatable :: tmp(:, :)
-            if (.not. allocated(model%shell_t)) allocate (model%shell_t(4, 1024))
-            if (size(model%shell_t, 2) >= need) return
-            allocate (tmp(4, max(need, 2*size(model%shell_t, 2))))
-            tmp(:, 1:size(model%shell_t, 2)) = model%shell_t
-            call move_alloc(tmp, model%shell_t)
-        end subroutine grow_thick
     end subroutine read_element_shell
 
     !> *ELEMENT_BEAM: EID PID N1 N2 N3 RT1 RR1 RT2 RR2 LOCAL (N3 the
@@ -474,14 +474,7 @@ contains
             call get_card(ctx, kw, ic, fmt, 1, card, error)
             if (allocated(error)) return
             if (card_blank(card)) cycle
-            call get_int(card, 1, eid, 0, error); if (allocated(error)) return
-            call get_int(card, 2, pid, 0, error); if (allocated(error)) return
-            do k = 1, 3
-                call get_int(card, 2 + k, nodes(k), 0, error); if (allocated(error)) return
-            end do
-            if (eid <= 0) then
-                call card_error(card, 1, 'element id must be a positive integer', error); return
-            end if
+            call element_ids(card, eid, pid, nodes, error); if (allocated(error)) return
             if (nodes(1) <= 0 .or. nodes(2) <= 0) then
                 call card_error(card, merge(3, 4, nodes(1) <= 0), 'node id must be a positive integer', error); return
             end if

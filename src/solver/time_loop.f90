@@ -278,7 +278,8 @@ contains
                 end if
             end if
             if (ms%on) call mass_scaling_targets(ms, st%cycle, solids, sh)
-            if (.not. allocated(st%f)) call node_work_arrays(st, en, tm, vminus, vrminus, no_body, res)
+            ! (the first cycle's, after its search: node_work_arrays)
+            call node_work_arrays(st, en, tm, vminus, vrminus, no_body, res)
             call element_phase(dom, st, solids, asm, sh, tm, shells_direct, dtc, bad_kind, bad)
             call exchange_phase(dom, st, solids, asm, sh, asm_sh, tm, shells_direct, dtc, bad_kind, bad)
             if (bad_kind /= 0) then
